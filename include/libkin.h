@@ -1,0 +1,15 @@
+/* libkin: kinematic paths and bifurcations of pin-jointed bar assemblies.
+ *
+ * Umbrella header. The conventions (coordinate order, matrix layout,
+ * ownership, threads) are stated once, in libkin/kin_assembly.h. */
+#ifndef LIBKIN_H
+#define LIBKIN_H
+
+#include "libkin/kin_export.h"
+#include "libkin/kin_version.h"
+#include "libkin/kin_status.h"
+#include "libkin/kin_assembly.h"
+#include "libkin/kin_path.h"
+#include "libkin/kin_models.h"
+
+#endif /* LIBKIN_H */

@@ -1,0 +1,154 @@
+/* libkin: the assembly handle, its model, and the first-order analysis
+ * (paper section 3.1).
+ *
+ * CONVENTIONS (stated once, used by every libkin call)
+ *  - Joint coordinates are joint-major: xyz[j*dim + k] is coordinate k
+ *    (0 = x, 1 = y, 2 = z) of joint j. Indices are 0-based.
+ *  - Free coordinates are the unknowns: taken joint by joint, and within a
+ *    joint in the order x, y, z, skipping fixed ones. Free coordinate i is
+ *    row i of the equilibrium matrix H and entry i of every mechanism vector.
+ *    kin_free_index() maps (joint, axis) to that row.
+ *  - Matrices are column-major and are passed as (ptr, ld, rows, cols): entry
+ *    (i, k) is ptr[i + k*ld], ld >= rows. H has nfree rows and nbars columns;
+ *    column k belongs to bar k. A mechanism matrix has nfree rows, a
+ *    self-stress matrix nbars rows; one column per vector.
+ *  - Lengths are in the user's units; singular values scale like H (unitless
+ *    direction cosines), so relative tolerances are relative to v_max.
+ *
+ * OWNERSHIP: libkin copies every array passed in; it never keeps, frees or
+ * changes caller memory except the output arrays a call is documented to fill.
+ * THREADS: a handle is used by one thread at a time; separate handles are
+ * independent (the library has no mutable global state). */
+#ifndef KIN_ASSEMBLY_H
+#define KIN_ASSEMBLY_H
+
+#include <stddef.h>
+#include "kin_export.h"
+
+typedef struct kin_assembly kin_assembly;
+
+/* Create an assembly in its initial configuration.
+ *  dim          2 or 3.
+ *  njoints      number of joints, >= 2.
+ *  xyz          njoints*dim coordinates (joint-major); finite.
+ *  fixed        njoints*dim flags, nonzero = that coordinate is fixed (a
+ *               support); NULL = every coordinate free.
+ *  nbars        number of bars, >= 1.
+ *  bars         2*nbars joint indices: bar k joins bars[2k] and bars[2k+1].
+ *  rest_lengths nbars lengths to keep (finite, > 0); NULL = the initial
+ *               lengths.
+ *  out          receives the new handle; set to NULL on failure.
+ *  errbuf       optional (may be NULL): on failure receives a message with
+ *               detail, NUL-terminated, truncated to errlen bytes.
+ * Allocates all workspace (including the LAPACK work arrays, whose sizes are
+ * queried once here). Nothing is half-built: on failure everything allocated
+ * is released.
+ * Returns KIN_OK, or KIN_ENULL, KIN_EDIM, KIN_EINVAL (counts), KIN_EJOINT,
+ * KIN_ESELFBAR, KIN_EDUPBAR, KIN_EGEOM, KIN_ENOFREE, KIN_ENOMEM,
+ * KIN_ELAPACK_ARG. */
+KIN_API int kin_assembly_create(int dim, int njoints, const double *xyz,
+                                const unsigned char *fixed, int nbars, const int *bars,
+                                const double *rest_lengths, kin_assembly **out,
+                                char *errbuf, size_t errlen);
+
+/* Deep copy of an assembly: model, current configuration, options and path
+ * state. *out is NULL on failure. Returns KIN_OK, KIN_ENULL or KIN_ENOMEM. */
+KIN_API int kin_assembly_clone(const kin_assembly *a, kin_assembly **out);
+
+/* Release a handle. kin_assembly_free(NULL) does nothing. */
+KIN_API void kin_assembly_free(kin_assembly *a);
+
+/* Message with detail about the last failed call on this handle ("" if
+ * none). Valid until the next call on the handle. Never NULL (a NULL handle
+ * gives a static message). */
+KIN_API const char *kin_last_error(const kin_assembly *a);
+
+/* Sizes. Return -1 for a NULL handle. */
+KIN_API int kin_dim(const kin_assembly *a);
+KIN_API int kin_njoints(const kin_assembly *a);
+KIN_API int kin_nbars(const kin_assembly *a);
+KIN_API int kin_nfree(const kin_assembly *a);
+
+/* Row of H (index into mechanism vectors) of coordinate `axis` of `joint`,
+ * or -1 if that coordinate is fixed or the arguments are out of range. */
+KIN_API int kin_free_index(const kin_assembly *a, int joint, int axis);
+
+/* Copy the bar list (2*nbars ints) / rest lengths (nbars) / fixity flags
+ * (njoints*dim, 1 = fixed) into caller arrays. Return KIN_OK or KIN_ENULL. */
+KIN_API int kin_get_bars(const kin_assembly *a, int *bars);
+KIN_API int kin_get_rest_lengths(const kin_assembly *a, double *lengths);
+KIN_API int kin_get_fixed(const kin_assembly *a, unsigned char *fixed);
+
+/* Current joint coordinates, njoints*dim, joint-major. KIN_OK or KIN_ENULL. */
+KIN_API int kin_get_coords(const kin_assembly *a, double *xyz);
+
+/* Move the assembly to new coordinates (njoints*dim, joint-major, finite).
+ * Fixed coordinates must equal their current values (supports do not move).
+ * Resets the path state (path length, orientation, step count) and
+ * invalidates the analysis. Rest lengths are unchanged: the new
+ * configuration may be strained. Returns KIN_OK, KIN_ENULL, KIN_EGEOM, or
+ * KIN_EINVAL (a fixed coordinate changed, or a bar collapsed to zero length);
+ * on error the assembly is unchanged. */
+KIN_API int kin_set_coords(kin_assembly *a, const double *xyz);
+
+/* Current bar lengths (nbars). KIN_OK or KIN_ENULL. */
+KIN_API int kin_get_lengths(const kin_assembly *a, double *lengths);
+
+/* Largest relative bar strain max_k |L_k - L0_k| / L0_k now, or -1 if a is
+ * NULL. */
+KIN_API double kin_max_strain(const kin_assembly *a);
+
+/* Equilibrium matrix H at the current configuration into (H, ldh, nfree,
+ * nbars). Column k is bar k's direction cosines: +(X_A - X_B)/L at A's free
+ * rows, -(X_A - X_B)/L at B's, for bar k = (A, B). H^T = C is the
+ * compatibility matrix (C d = e). Returns KIN_OK, KIN_ENULL, KIN_ERANGE
+ * (ldh < nfree). */
+KIN_API int kin_get_equilibrium_matrix(const kin_assembly *a, double *H, int ldh);
+
+/* ---- First-order analysis (paper 3.1) -------------------------------- */
+
+typedef struct kin_analysis {
+    int rank;       /* r: singular values > rank_tol * v_max */
+    int m;          /* nfree - r: all infinitesimal mechanisms */
+    int m_rigid;    /* rigid-body mechanisms allowed by the supports */
+    int m_internal; /* m - m_rigid: 1 on a path, >= 2 at a bifurcation */
+    int s;          /* nbars - r: states of self-stress */
+    double v_max;   /* largest singular value */
+    double v_r;     /* lowest non-zero singular value (v_r of the paper) */
+} kin_analysis;
+
+/* Factorize H at the current configuration (LAPACK dgesdd, falling back to
+ * dgesvd if dgesdd fails), count rank, mechanisms and self-stresses, and
+ * split the mechanisms into rigid-body ones (infinitesimal rigid motions of
+ * the whole assembly that keep every fixed coordinate fixed; Pellegrino &
+ * Calladine 1986) and internal ones (the orthonormal complement of the rigid
+ * ones within the null space). out may be NULL. The results stay readable
+ * through the getters below until the configuration changes.
+ * Returns KIN_OK, KIN_ENULL, KIN_ELAPACK_ARG, KIN_ELAPACK_CONV. */
+KIN_API int kin_analyse(kin_assembly *a, kin_analysis *out);
+
+/* Last analysis, if current. KIN_ESTATE if kin_analyse() has not been run
+ * since the configuration last changed (kin_step() keeps it current). */
+KIN_API int kin_get_analysis(const kin_assembly *a, kin_analysis *out);
+
+/* All min(nfree, nbars) singular values, descending, into sv[0..n-1];
+ * n must be >= min(nfree, nbars). KIN_OK, KIN_ENULL, KIN_ERANGE, KIN_ESTATE. */
+KIN_API int kin_get_singular_values(const kin_assembly *a, double *sv, int n);
+
+/* Which mechanisms kin_get_mechanisms() returns. */
+enum kin_mech_kind {
+    KIN_MECH_INTERNAL = 0, /* m_internal columns, orthonormal */
+    KIN_MECH_RIGID = 1,    /* m_rigid columns, orthonormal */
+    KIN_MECH_ALL = 2       /* m columns: U_m of the SVD, orthonormal */
+};
+
+/* Mechanisms of the last analysis into (U, ldu, nfree, cols); cols must be
+ * >= the count of that kind (extra columns are left untouched).
+ * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (kind), KIN_ERANGE, KIN_ESTATE. */
+KIN_API int kin_get_mechanisms(const kin_assembly *a, int kind, double *U, int ldu, int cols);
+
+/* States of self-stress W_s of the last analysis into (W, ldw, nbars, cols),
+ * cols >= s, orthonormal columns. KIN_OK, KIN_ENULL, KIN_ERANGE, KIN_ESTATE. */
+KIN_API int kin_get_self_stresses(const kin_assembly *a, double *W, int ldw, int cols);
+
+#endif /* KIN_ASSEMBLY_H */

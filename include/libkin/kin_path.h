@@ -1,0 +1,105 @@
+/* libkin: options and predictor-corrector path following (paper 3.2).
+ *
+ * A step moves the assembly along its single internal mechanism:
+ *   predictor  R' = R + t*delta                      (eq. 9)
+ *   corrector  d = -sum_{i<=r} (w_i^T e / v_i) u_i   (eq. 11), repeated
+ * until max_k |L_k - L0_k| / L0_k <= corrector_tol. The corrector first
+ * iterates with the factorization of the start point (a chord method: no new
+ * factorization); if that contracts too slowly (near a bifurcation) it
+ * switches to Newton on the bordered system [C(R); t^T] d = [-e; 0], which
+ * refactorizes each iteration. Both keep the correction orthogonal to t.
+ * The new configuration is then analysed (one SVD), its internal mechanism
+ * oriented so that it continues the motion (eq. 10, checked against the
+ * chord of the step), and the step is accepted only if
+ *  - the corrector converged,
+ *  - the correction stayed small next to the step (|d| <= max_correction*|delta|),
+ *  - the new mechanism agrees with the chord: |t_new . chord|/|chord| >= direction_tol.
+ * A failed attempt is retried with delta halved, up to max_halvings times;
+ * if every attempt fails the call returns a status and the assembly,
+ * its analysis and its path state are exactly as before the call. */
+#ifndef KIN_PATH_H
+#define KIN_PATH_H
+
+#include "kin_export.h"
+#include "kin_assembly.h"
+
+/* Tunable tolerances. Get the defaults with kin_options_default(). */
+typedef struct kin_options {
+    double rank_tol;        /* singular values <= rank_tol*v_max count as zero. Default 1e-9 */
+    double corrector_tol;   /* target max |L-L0|/L0 of a step. Default 1e-12 */
+    int corrector_max_iter; /* chord + Newton iterations per attempt. Default 60 */
+    double step_fraction;   /* largest |delta| = step_fraction * RMS rest length. Default 0.1 */
+    int max_halvings;       /* retries of a failed step with delta/2. Default 12 */
+    double direction_tol;   /* minimum |cos| between new mechanism and chord. Default 0.9 */
+    double max_correction;  /* largest |correction| / |delta| accepted. Default 0.5 */
+} kin_options;
+
+/* Fill *o with the defaults above. Does nothing if o is NULL. */
+KIN_API void kin_options_default(kin_options *o);
+
+/* Replace the handle's options. Validated first (tolerances finite and in
+ * (0,1), counts >= 0 (iterations >= 1), step_fraction > 0); on KIN_EINVAL
+ * nothing changes. Changing rank_tol invalidates the analysis.
+ * Returns KIN_OK, KIN_ENULL, KIN_EINVAL. */
+KIN_API int kin_set_options(kin_assembly *a, const kin_options *o);
+
+/* Copy the handle's options. KIN_OK or KIN_ENULL. */
+KIN_API int kin_get_options(const kin_assembly *a, kin_options *o);
+
+/* What one step did. */
+typedef struct kin_step_info {
+    double l;           /* signed path length after the step (sum of chords) */
+    double delta;       /* amplitude actually used (after clamping/halving) */
+    double v_r;         /* lowest non-zero singular value at the new point */
+    double residual;    /* final max |L-L0|/L0 */
+    double cos_turn;    /* |t_new . chord| / |chord| */
+    int iterations;     /* corrector iterations of the accepted attempt */
+    int halvings;       /* failed attempts before the accepted one */
+    int factorizations; /* SVD/least-squares factorizations in this call */
+    int m_internal;     /* internal mechanisms at the new point (1 on a path) */
+} kin_step_info;
+
+/* Take one predictor-corrector step of amplitude delta along the oriented
+ * internal mechanism: delta > 0 forwards, delta < 0 backwards, delta == 0
+ * the largest step. |delta| is clamped to step_fraction*RMS rest length.
+ * If the current point is a bifurcation (m_internal >= 2) a direction must
+ * have been given with kin_path_set_direction(). info may be NULL.
+ * Returns KIN_OK; KIN_ENULL; KIN_EINVAL (non-finite delta);
+ * KIN_ENOMECH (m_internal == 0); KIN_EBIFURCATION (no direction chosen at a
+ * bifurcation); KIN_ENOTCONVERGED or KIN_EPATHJUMP (every attempt failed:
+ * the reason of the last attempt; state unchanged); LAPACK codes. */
+KIN_API int kin_step(kin_assembly *a, double delta, kin_step_info *info);
+
+/* Choose the direction of motion: dir (nfree entries, finite, nonzero) is
+ * projected on the internal mechanisms of the current point. At a regular
+ * point it only orients the mechanism (t.dir > 0); at a bifurcation the
+ * normalised projection is the predictor direction of the next step (e.g.
+ * U_m*beta from the second-order analysis). Runs kin_analyse() if needed.
+ * Returns KIN_OK, KIN_ENULL, KIN_ERANGE (n != nfree), KIN_EGEOM (non-finite),
+ * KIN_EINVAL (projection vanishes: dir is not a first-order mechanism),
+ * KIN_ENOMECH, LAPACK codes. */
+KIN_API int kin_path_set_direction(kin_assembly *a, const double *dir, int n);
+
+/* Oriented tangent (unit, nfree entries) that the next step will use.
+ * KIN_OK, KIN_ENULL, KIN_ERANGE, KIN_ESTATE (no analysis yet),
+ * KIN_EBIFURCATION (at a bifurcation with no direction chosen). */
+KIN_API int kin_get_tangent(const kin_assembly *a, double *t, int n);
+
+/* Signed path length travelled since creation, kin_set_coords() or
+ * kin_path_reset(); 0 for NULL. */
+KIN_API double kin_path_length(const kin_assembly *a);
+
+/* Forget the orientation and the path length (the configuration is kept).
+ * KIN_OK or KIN_ENULL. */
+KIN_API int kin_path_reset(kin_assembly *a);
+
+/* Move the free coordinates to a nearby strain-free configuration
+ * (Gauss-Newton with minimum-norm least-squares corrections, one
+ * factorization per iteration) until max |L-L0|/L0 <= corrector_tol, e.g. to
+ * clean up coordinates typed in or imported with few digits. Resets the
+ * path state. residual (may be NULL) receives the final max |L-L0|/L0.
+ * Returns KIN_OK; KIN_ENULL; KIN_EINVAL (max_iter < 1); KIN_ENOTCONVERGED
+ * (assembly unchanged); LAPACK codes. */
+KIN_API int kin_relax(kin_assembly *a, int max_iter, double *residual);
+
+#endif /* KIN_PATH_H */

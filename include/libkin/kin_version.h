@@ -1,0 +1,22 @@
+/* libkin: version. CMake reads the three numbers below, so this is the one
+ * place the version is written. */
+#ifndef KIN_VERSION_H
+#define KIN_VERSION_H
+
+#include "kin_export.h"
+
+#define KIN_VERSION_MAJOR 0
+#define KIN_VERSION_MINOR 1
+#define KIN_VERSION_PATCH 0
+#define KIN_VERSION_NUMBER (KIN_VERSION_MAJOR * 10000 + KIN_VERSION_MINOR * 100 + KIN_VERSION_PATCH)
+#define KIN_VERSION_STRING "0.1.0"
+
+/* Version of the library actually linked, as KIN_VERSION_NUMBER.
+ * Compare with KIN_VERSION_NUMBER to detect a header/library mismatch. */
+KIN_API int kin_version_number(void);
+
+/* Version of the library actually linked, as "MAJOR.MINOR.PATCH".
+ * Returns a static string; never NULL. */
+KIN_API const char *kin_version_string(void);
+
+#endif /* KIN_VERSION_H */

@@ -1,0 +1,293 @@
+/* First-order analysis (paper 3.1): SVD of H, rank, mechanisms and
+ * self-stresses, and the split of the mechanisms into rigid-body and internal
+ * ones (Pellegrino & Calladine 1986). */
+#include <math.h>
+#include <string.h>
+
+#include "internal.h"
+#include "lapack.h"
+
+/* Rigid motions that move a support are not mechanisms; a rigid motion is
+ * "zero at the supports" when its singular value there is below this
+ * fraction of the largest. The motions are built from centred coordinates
+ * scaled by their RMS radius, so this is a relative, unit-free test. */
+static const double RIGID_SUPPORT_TOL = 1e-10;
+/* A candidate basis vector whose norm after orthogonalisation falls below
+ * this is linearly dependent on the ones kept (two Gram-Schmidt passes make
+ * the test reliable down to ~1e-15). */
+static const double GS_DROP_TOL = 1e-8;
+
+/* Orthonormalise column j of X (n rows, ld) against columns 0..k-1 (two
+ * passes of modified Gram-Schmidt) and normalise it; returns its norm after
+ * orthogonalisation relative to before. */
+static double gs_column(int n, double *X, int ld, int k, double *v)
+{
+    double before = kin__norm(n, v);
+    if (before == 0.0) return 0.0;
+    for (int pass = 0; pass < 2; ++pass)
+        for (int c = 0; c < k; ++c) {
+            const double *q = X + (size_t)c * ld;
+            double p = kin__dot(n, q, v);
+            for (int i = 0; i < n; ++i) v[i] -= p * q[i];
+        }
+    double after = kin__norm(n, v);
+    if (after > 0.0)
+        for (int i = 0; i < n; ++i) v[i] /= after;
+    return after / before;
+}
+
+/* Make the largest-magnitude entry of v positive: a deterministic sign. */
+static void orient(int n, double *v)
+{
+    int im = 0;
+    for (int i = 1; i < n; ++i)
+        if (fabs(v[i]) > fabs(v[im]) * (1.0 + 1e-12)) im = i;
+    if (v[im] < 0.0)
+        for (int i = 0; i < n; ++i) v[i] = -v[i];
+}
+
+/* Rigid-body motion fields of the whole assembly, evaluated at every
+ * coordinate (nj*dim rows, ld nj*dim), into a->G. */
+static void rigid_fields(kin_assembly *a, const double *xyz)
+{
+    int d = a->dim, nj = a->nj, n = nj * d;
+    double c[3] = {0, 0, 0}, rho = 0.0;
+    for (int j = 0; j < nj; ++j)
+        for (int k = 0; k < d; ++k) c[k] += xyz[j * d + k] / nj;
+    for (int j = 0; j < nj; ++j)
+        for (int k = 0; k < d; ++k) rho += (xyz[j * d + k] - c[k]) * (xyz[j * d + k] - c[k]);
+    rho = sqrt(rho / nj);
+    if (!(rho > 0.0)) rho = 1.0;
+    memset(a->G, 0, sizeof(double) * (size_t)n * (size_t)a->nrig);
+    for (int j = 0; j < nj; ++j) {
+        double p[3] = {0, 0, 0};
+        for (int k = 0; k < d; ++k) p[k] = (xyz[j * d + k] - c[k]) / rho;
+        for (int k = 0; k < d; ++k) a->G[j * d + k + (size_t)k * n] = 1.0; /* translations */
+        double *rot = a->G + (size_t)d * n;
+        if (d == 2) {
+            rot[j * 2 + 0] = -p[1];
+            rot[j * 2 + 1] = p[0];
+        } else {
+            /* rotations about x, y, z: omega x p */
+            rot[j * 3 + 1] = -p[2]; rot[j * 3 + 2] = p[1];
+            rot += n;
+            rot[j * 3 + 0] = p[2]; rot[j * 3 + 2] = -p[0];
+            rot += n;
+            rot[j * 3 + 0] = -p[1]; rot[j * 3 + 1] = p[0];
+        }
+    }
+}
+
+/* Split U_m (the last m columns of f->U) into rigid and internal parts. */
+static int split_mechanisms(kin_assembly *a, const double *xyz, kin_factor *f)
+{
+    int nf = a->nf, m = f->an.m, nr = a->nrig, n = a->nj * a->dim;
+    const double *Um = f->U + (size_t)f->an.rank * nf;
+    f->an.m_rigid = 0;
+    if (m == 0) {
+        f->an.m_internal = 0;
+        return KIN_OK;
+    }
+    rigid_fields(a, xyz);
+    /* combinations alpha of rigid motions that keep every fixed coordinate:
+     * null space of G restricted to the fixed rows */
+    double *Gfix = a->Gs + 6 * 6 + 6 + 6 * (size_t)nf; /* nfix x nr */
+    double *vt = a->Gs, *svg = a->Gs + 36, *R = a->Gs + 42; /* R: nf x nr */
+    int nnull = 0;
+    if (a->nfix == 0) {
+        memset(vt, 0, sizeof(double) * 36);
+        for (int i = 0; i < nr; ++i) vt[i + i * nr] = 1.0;
+        nnull = nr; /* rows 0..nr-1 of vt are all null */
+    } else {
+        int r = 0, mf = a->nfix, one = 1, info = 0;
+        for (int i = 0; i < n; ++i)
+            if (a->fixed[i]) {
+                for (int c = 0; c < nr; ++c) Gfix[r + (size_t)c * mf] = a->G[i + (size_t)c * n];
+                ++r;
+            }
+        double udum = 0.0;
+        dgesvd_("N", "A", &mf, &nr, Gfix, &mf, svg, &udum, &one, vt, &nr, a->work, &a->lwork, &info,
+                1, 1);
+        if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgesvd (supports) info = %d", info);
+        if (info > 0) return kin__fail(a, KIN_ELAPACK_CONV, "dgesvd (supports) info = %d", info);
+        int ns = mf < nr ? mf : nr, rk = 0;
+        for (int i = 0; i < ns; ++i)
+            if (svg[i] > RIGID_SUPPORT_TOL * svg[0]) ++rk;
+        /* null rows are rk..nr-1 of vt; move them to the front */
+        for (int i = rk; i < nr; ++i)
+            for (int c = 0; c < nr; ++c) vt[(i - rk) + (size_t)c * nr] = vt[i + (size_t)c * nr];
+        nnull = nr - rk;
+    }
+    /* rigid mechanisms: G_free * alpha, projected on U_m, orthonormalised */
+    double *P = a->mwork;                  /* m x nr : U_m^T R */
+    double *v = a->mwork + (size_t)m * nr; /* scratch nf */
+    int kept = 0;
+    for (int q = 0; q < nnull; ++q) {
+        for (int i = 0; i < nf; ++i) {
+            double s = 0.0;
+            for (int c = 0; c < nr; ++c) s += a->G[a->free_coord[i] + (size_t)c * n] * vt[q + (size_t)c * nr];
+            R[i] = s;
+        }
+        /* project on U_m: v = U_m (U_m^T R) */
+        double *p = P + (size_t)kept * m;
+        for (int c = 0; c < m; ++c) p[c] = kin__dot(nf, Um + (size_t)c * nf, R);
+        for (int i = 0; i < nf; ++i) {
+            double s = 0.0;
+            for (int c = 0; c < m; ++c) s += Um[i + (size_t)c * nf] * p[c];
+            v[i] = s;
+        }
+        if (gs_column(nf, f->Urig, nf, kept, v) > GS_DROP_TOL) {
+            memcpy(f->Urig + (size_t)kept * nf, v, sizeof(double) * (size_t)nf);
+            ++kept;
+        }
+    }
+    f->an.m_rigid = kept;
+    f->an.m_internal = m - kept;
+    /* internal mechanisms: orthonormal complement of span(Urig) in span(U_m),
+     * found in the m-dimensional coefficient space: Z = complement of
+     * U_m^T Urig, chosen by pivoted Gram-Schmidt on the unit vectors */
+    double *Z = a->mwork;                    /* m x m: [Prig | complement] */
+    double *w = a->mwork + (size_t)m * m;    /* m scratch */
+    double *best = w + m;                    /* m scratch */
+    for (int c = 0; c < kept; ++c)
+        for (int r = 0; r < m; ++r) Z[r + (size_t)c * m] = kin__dot(nf, Um + (size_t)r * nf, f->Urig + (size_t)c * nf);
+    for (int c = 0; c < kept; ++c) gs_column(m, Z, m, c, Z + (size_t)c * m);
+    int have = kept;
+    while (have < m) {
+        double bestn = -1.0;
+        for (int r = 0; r < m; ++r) {
+            memset(w, 0, sizeof(double) * (size_t)m);
+            w[r] = 1.0;
+            double nrm = gs_column(m, Z, m, have, w);
+            if (nrm > bestn) {
+                bestn = nrm;
+                memcpy(best, w, sizeof(double) * (size_t)m);
+            }
+        }
+        memcpy(Z + (size_t)have * m, best, sizeof(double) * (size_t)m);
+        ++have;
+    }
+    /* Uint = U_m * Z[:, kept:] */
+    int mi = m - kept;
+    if (mi > 0) {
+        double one = 1.0, zero = 0.0;
+        dgemm_("N", "N", &nf, &mi, &m, &one, Um, &nf, Z + (size_t)kept * m, &m, &zero, f->Uint, &nf, 1, 1);
+        if (mi == 1) orient(nf, f->Uint);
+        else
+            for (int c = 0; c < mi; ++c) orient(nf, f->Uint + (size_t)c * nf);
+    }
+    for (int c = 0; c < kept; ++c) orient(nf, f->Urig + (size_t)c * nf);
+    return KIN_OK;
+}
+
+int kin__analyse_into(kin_assembly *a, const double *xyz, int idx)
+{
+    kin_factor *f = &a->fac[idx];
+    int nf = a->nf, nb = a->nb, info = 0;
+    int mn = nf < nb ? nf : nb;
+    f->valid = 0;
+    kin__build_H(a, xyz, a->H, nf);
+    memcpy(a->A, a->H, sizeof(double) * (size_t)nf * (size_t)nb);
+    a->nfact++;
+    dgesdd_("A", &nf, &nb, a->A, &nf, f->sv, f->U, &nf, f->VT, &nb, a->work, &a->lwork, a->iwork,
+            &info, 1);
+    if (a->fault == KIN__FAULT_SVD_ARG) info = -4;
+    if (a->fault == KIN__FAULT_SVD_CONV || a->fault == KIN__FAULT_SDD_CONV) info = 1;
+    if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgesdd info = %d", info);
+    if (info > 0) {
+        /* dgesdd's divide and conquer failed; the QR-iteration SVD may not */
+        memcpy(a->A, a->H, sizeof(double) * (size_t)nf * (size_t)nb);
+        a->nfact++;
+        dgesvd_("A", "A", &nf, &nb, a->A, &nf, f->sv, f->U, &nf, f->VT, &nb, a->work, &a->lwork,
+                &info, 1, 1);
+        if (a->fault == KIN__FAULT_SVD_CONV) info = 1;
+        if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgesvd info = %d", info);
+        if (info > 0)
+            return kin__fail(a, KIN_ELAPACK_CONV, "dgesdd and dgesvd failed (dgesvd info = %d)",
+                             info);
+    }
+    kin_analysis *an = &f->an;
+    an->v_max = mn > 0 ? f->sv[0] : 0.0;
+    an->rank = 0;
+    for (int i = 0; i < mn; ++i)
+        if (f->sv[i] > a->opt.rank_tol * an->v_max) an->rank++;
+    an->m = nf - an->rank;
+    an->s = nb - an->rank;
+    an->v_r = an->rank > 0 ? f->sv[an->rank - 1] : 0.0;
+    int rc = split_mechanisms(a, xyz, f);
+    if (rc) return rc;
+    f->valid = 1;
+    return KIN_OK;
+}
+
+void kin__set_fault(kin_assembly *a, int fault) { a->fault = fault; }
+
+int kin_analyse(kin_assembly *a, kin_analysis *out)
+{
+    if (!a) return KIN_ENULL;
+    int trial = 1 - a->cur;
+    int rc = kin__analyse_into(a, a->xyz, trial);
+    if (rc) return rc;
+    a->cur = trial;
+    /* a tangent chosen or inherited at this very point stays valid */
+    if (out) *out = a->fac[a->cur].an;
+    return KIN_OK;
+}
+
+static int need_analysis(const kin_assembly *a)
+{
+    return !kin__cur(a)->valid ? KIN_ESTATE : KIN_OK;
+}
+
+int kin_get_analysis(const kin_assembly *a, kin_analysis *out)
+{
+    if (!a || !out) return KIN_ENULL;
+    if (need_analysis(a)) return KIN_ESTATE;
+    *out = kin__cur(a)->an;
+    return KIN_OK;
+}
+
+int kin_get_singular_values(const kin_assembly *a, double *sv, int n)
+{
+    if (!a || !sv) return KIN_ENULL;
+    if (need_analysis(a)) return KIN_ESTATE;
+    int mn = a->nf < a->nb ? a->nf : a->nb;
+    if (n < mn) return KIN_ERANGE;
+    memcpy(sv, kin__cur(a)->sv, sizeof(double) * (size_t)mn);
+    return KIN_OK;
+}
+
+static int copy_cols(const double *src, int rows, int cols, double *dst, int ld, int dcols)
+{
+    if (ld < rows || dcols < cols) return KIN_ERANGE;
+    for (int c = 0; c < cols; ++c)
+        memcpy(dst + (size_t)c * ld, src + (size_t)c * rows, sizeof(double) * (size_t)rows);
+    return KIN_OK;
+}
+
+int kin_get_mechanisms(const kin_assembly *a, int kind, double *U, int ldu, int cols)
+{
+    if (!a || !U) return KIN_ENULL;
+    if (need_analysis(a)) return KIN_ESTATE;
+    const kin_factor *f = kin__cur(a);
+    switch (kind) {
+    case KIN_MECH_INTERNAL: return copy_cols(f->Uint, a->nf, f->an.m_internal, U, ldu, cols);
+    case KIN_MECH_RIGID: return copy_cols(f->Urig, a->nf, f->an.m_rigid, U, ldu, cols);
+    case KIN_MECH_ALL:
+        return copy_cols(f->U + (size_t)f->an.rank * a->nf, a->nf, f->an.m, U, ldu, cols);
+    default: return KIN_EINVAL;
+    }
+}
+
+int kin_get_self_stresses(const kin_assembly *a, double *W, int ldw, int cols)
+{
+    if (!a || !W) return KIN_ENULL;
+    if (need_analysis(a)) return KIN_ESTATE;
+    const kin_factor *f = kin__cur(a);
+    int nb = a->nb, s = f->an.s, r = f->an.rank;
+    if (ldw < nb || cols < s) return KIN_ERANGE;
+    /* W_s = rows r..nb-1 of VT, transposed */
+    for (int c = 0; c < s; ++c)
+        for (int k = 0; k < nb; ++k) W[k + (size_t)c * ldw] = f->VT[(r + c) + (size_t)k * nb];
+    return KIN_OK;
+}

@@ -1,0 +1,108 @@
+/* Private: the assembly structure and helpers shared by the library's files.
+ * Not installed. */
+#ifndef KIN_INTERNAL_H
+#define KIN_INTERNAL_H
+
+#include <stdarg.h>
+#include <stddef.h>
+
+#include "libkin.h"
+
+#define KIN_ERRLEN 512
+
+/* One factorization of H and everything derived from it. The handle keeps
+ * two, `cur` and `trial`, and swaps them when a trial configuration is
+ * accepted, so a rejected step leaves the current analysis untouched. */
+typedef struct kin_factor {
+    int valid;      /* analysis matches the configuration it was made for */
+    kin_analysis an;
+    double *sv;     /* min(nf, nb) singular values, descending */
+    double *U;      /* nf x nf left singular vectors (ld nf) */
+    double *VT;     /* nb x nb right singular vectors, transposed (ld nb) */
+    double *Uint;   /* nf x m_internal internal mechanisms (ld nf) */
+    double *Urig;   /* nf x m_rigid rigid-body mechanisms (ld nf) */
+} kin_factor;
+
+struct kin_assembly {
+    int dim, nj, nb, nf;
+    double *xyz;             /* nj*dim current coordinates */
+    unsigned char *fixed;    /* nj*dim, 1 = fixed */
+    int *bars;               /* 2*nb */
+    double *L0;              /* nb rest lengths */
+    int *free_index;         /* nj*dim -> row of H or -1 */
+    int *free_coord;         /* nf -> j*dim + k */
+    double rms_length;       /* RMS of rest lengths: the step scale */
+    kin_options opt;
+    char err[KIN_ERRLEN];
+
+    /* factorizations */
+    kin_factor fac[2];
+    int cur;                 /* index of the current factor in fac[] */
+    double *H;               /* nf x nb equilibrium matrix scratch */
+    double *A;               /* nf x nb copy destroyed by LAPACK */
+    double *work;            /* LAPACK workspace, lwork doubles */
+    int lwork;
+    int *iwork;              /* lwork_i ints */
+    int lwork_i;
+    long nfact;              /* factorizations made by this handle, ever */
+    int nrig;                /* 3 (2D) or 6 (3D) rigid motions */
+    int nfix;                /* number of fixed coordinates */
+    double *G;               /* (nj*dim) x nrig rigid motions (ld nj*dim) */
+    double *Gs;              /* small scratch: nrig*nrig + nrig + nrig*nf */
+    double *mwork;           /* scratch for the mechanism split: 2*nf*nf */
+
+    /* bordered Newton system [C; t^T] ((nb+1) x nf, ld = max(nb+1, nf)) */
+    double *B;
+    double *rhs;             /* max(nb+1, nf) */
+    double *svB;             /* min(nb+1, nf) */
+
+    /* path state */
+    double *t;               /* oriented tangent, nf */
+    int have_t;              /* t is valid for the current point */
+    int t_chosen;            /* t was set by kin_path_set_direction at a bifurcation */
+    double l;                /* signed path length */
+
+    /* step scratch, each nf or nb */
+    double *x0, *x, *xp, *d, *y, *e, *len, *chord;
+    double *xyz_trial;       /* nj*dim full coordinates of a trial point */
+
+    /* test hook: makes LAPACK report failures (enum kin__fault) */
+    int fault;
+};
+
+/* Fault injection for the tests (not exported): the SVD of the next analyses
+ * reports info < 0, info > 0 in both dgesdd and dgesvd, or info > 0 in dgesdd
+ * only (exercising the dgesvd fallback). */
+enum kin__fault { KIN__FAULT_NONE = 0, KIN__FAULT_SVD_ARG, KIN__FAULT_SVD_CONV, KIN__FAULT_SDD_CONV };
+void kin__set_fault(kin_assembly *a, int fault);
+
+/* error helpers: set the handle's message and return the code */
+int kin__fail(kin_assembly *a, int code, const char *fmt, ...);
+int kin__failv(char *buf, size_t len, int code, const char *fmt, va_list ap);
+
+/* free coordinates <-> full coordinates */
+void kin__gather(const kin_assembly *a, const double *xyz, double *x);
+void kin__scatter(const kin_assembly *a, const double *x, double *xyz);
+
+/* bar lengths of configuration xyz; returns max |L-L0|/L0 */
+double kin__lengths(const kin_assembly *a, const double *xyz, double *len);
+/* e = L - L0, computed as (L^2 - L0^2)/(L + L0) for accuracy; returns max relative */
+double kin__extensions(const kin_assembly *a, const double *xyz, double *e);
+/* equilibrium matrix of configuration xyz into H (ld ldh) */
+void kin__build_H(const kin_assembly *a, const double *xyz, double *H, int ldh);
+
+/* factorize the configuration xyz into fac[idx] (SVD, rank, mechanisms) */
+int kin__analyse_into(kin_assembly *a, const double *xyz, int idx);
+
+/* min-norm least-squares solve of the bordered Newton system at xyz:
+ * [C(xyz); t^T] d = [-e; 0]; d has nf entries */
+int kin__bordered_solve(kin_assembly *a, const double *xyz, const double *t, const double *e,
+                        double *d);
+
+static inline const kin_factor *kin__cur(const kin_assembly *a) { return &a->fac[a->cur]; }
+
+/* small dense helpers */
+double kin__dot(int n, const double *x, const double *y);
+double kin__norm(int n, const double *x);
+
+#endif /* KIN_INTERNAL_H */

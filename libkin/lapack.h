@@ -1,0 +1,35 @@
+/* Private: Fortran LAPACK/BLAS prototypes (the only place they are written).
+ *
+ * Fortran passes everything by reference; CHARACTER arguments carry a hidden
+ * length appended after the last argument (size_t with gfortran >= 8, which
+ * is what reference LAPACK and OpenBLAS on Debian are built with). */
+#ifndef KIN_LAPACK_H
+#define KIN_LAPACK_H
+
+#include <stddef.h>
+
+typedef size_t kin_fstrlen;
+
+void dgesdd_(const char *jobz, const int *m, const int *n, double *a, const int *lda, double *s,
+             double *u, const int *ldu, double *vt, const int *ldvt, double *work,
+             const int *lwork, int *iwork, int *info, kin_fstrlen jobz_len);
+
+void dgesvd_(const char *jobu, const char *jobvt, const int *m, const int *n, double *a,
+             const int *lda, double *s, double *u, const int *ldu, double *vt, const int *ldvt,
+             double *work, const int *lwork, int *info, kin_fstrlen jobu_len,
+             kin_fstrlen jobvt_len);
+
+void dgelsd_(const int *m, const int *n, const int *nrhs, double *a, const int *lda, double *b,
+             const int *ldb, double *s, const double *rcond, int *rank, double *work,
+             const int *lwork, int *iwork, int *info);
+
+void dgemv_(const char *trans, const int *m, const int *n, const double *alpha, const double *a,
+            const int *lda, const double *x, const int *incx, const double *beta, double *y,
+            const int *incy, kin_fstrlen trans_len);
+
+void dgemm_(const char *transa, const char *transb, const int *m, const int *n, const int *k,
+            const double *alpha, const double *a, const int *lda, const double *b,
+            const int *ldb, const double *beta, double *c, const int *ldc, kin_fstrlen ta_len,
+            kin_fstrlen tb_len);
+
+#endif /* KIN_LAPACK_H */

@@ -1,0 +1,347 @@
+/* Options and predictor-corrector path following (paper 3.2). */
+#include <math.h>
+#include <string.h>
+
+#include "internal.h"
+#include "lapack.h"
+
+/* The chord corrector (factorization of the start point) hands over to
+ * Newton when an iteration reduces the residual by less than this factor:
+ * near a bifurcation the start point's Jacobian is a poor model. */
+static const double CHORD_MIN_CONTRACTION = 0.25;
+/* Projections of a requested direction onto the internal mechanisms shorter
+ * than this (relative to |dir|) mean "not a first-order mechanism". */
+static const double DIRECTION_MIN_PROJECTION = 1e-6;
+
+void kin_options_default(kin_options *o)
+{
+    if (!o) return;
+    o->rank_tol = 1e-9;
+    o->corrector_tol = 1e-12;
+    o->corrector_max_iter = 60;
+    o->step_fraction = 0.1;
+    o->max_halvings = 12;
+    o->direction_tol = 0.9;
+    o->max_correction = 0.5;
+}
+
+static int unit_open(double v) { return isfinite(v) && v > 0.0 && v < 1.0; }
+
+int kin_set_options(kin_assembly *a, const kin_options *o)
+{
+    if (!a) return KIN_ENULL;
+    if (!o) return kin__fail(a, KIN_ENULL, "options pointer is NULL");
+    if (!unit_open(o->rank_tol)) return kin__fail(a, KIN_EINVAL, "rank_tol = %g, need 0 < tol < 1", o->rank_tol);
+    if (!unit_open(o->corrector_tol))
+        return kin__fail(a, KIN_EINVAL, "corrector_tol = %g, need 0 < tol < 1", o->corrector_tol);
+    if (o->corrector_max_iter < 1 || o->corrector_max_iter > 100000)
+        return kin__fail(a, KIN_EINVAL, "corrector_max_iter = %d, need 1..100000", o->corrector_max_iter);
+    if (!(isfinite(o->step_fraction) && o->step_fraction > 0.0))
+        return kin__fail(a, KIN_EINVAL, "step_fraction = %g, need finite > 0", o->step_fraction);
+    if (o->max_halvings < 0 || o->max_halvings > 60)
+        return kin__fail(a, KIN_EINVAL, "max_halvings = %d, need 0..60", o->max_halvings);
+    if (!(isfinite(o->direction_tol) && o->direction_tol >= 0.0 && o->direction_tol < 1.0))
+        return kin__fail(a, KIN_EINVAL, "direction_tol = %g, need 0 <= tol < 1", o->direction_tol);
+    if (!(isfinite(o->max_correction) && o->max_correction > 0.0))
+        return kin__fail(a, KIN_EINVAL, "max_correction = %g, need finite > 0", o->max_correction);
+    if (o->rank_tol != a->opt.rank_tol) a->fac[0].valid = a->fac[1].valid = 0;
+    a->opt = *o;
+    return KIN_OK;
+}
+
+int kin_get_options(const kin_assembly *a, kin_options *o)
+{
+    if (!a || !o) return KIN_ENULL;
+    *o = a->opt;
+    return KIN_OK;
+}
+
+double kin_path_length(const kin_assembly *a) { return a ? a->l : 0.0; }
+
+int kin_path_reset(kin_assembly *a)
+{
+    if (!a) return KIN_ENULL;
+    a->l = 0.0;
+    a->have_t = a->t_chosen = 0;
+    return KIN_OK;
+}
+
+static int ensure_analysis(kin_assembly *a)
+{
+    if (kin__cur(a)->valid) return KIN_OK;
+    int rc = kin__analyse_into(a, a->xyz, a->cur);
+    return rc;
+}
+
+/* Default tangent of a regular point: its (deterministically oriented)
+ * internal mechanism. */
+static void ensure_tangent(kin_assembly *a)
+{
+    const kin_factor *f = kin__cur(a);
+    if (!a->have_t && f->valid && f->an.m_internal == 1) {
+        memcpy(a->t, f->Uint, sizeof(double) * (size_t)a->nf);
+        a->have_t = 1;
+    }
+}
+
+/* v := projection of v on span(Uint[:, 0..mi-1]); returns its norm */
+static double project_internal(const kin_assembly *a, const kin_factor *f, double *v, double *c)
+{
+    int nf = a->nf, mi = f->an.m_internal;
+    for (int k = 0; k < mi; ++k) c[k] = kin__dot(nf, f->Uint + (size_t)k * nf, v);
+    for (int i = 0; i < nf; ++i) {
+        double s = 0.0;
+        for (int k = 0; k < mi; ++k) s += f->Uint[i + (size_t)k * nf] * c[k];
+        v[i] = s;
+    }
+    return kin__norm(nf, v);
+}
+
+int kin_path_set_direction(kin_assembly *a, const double *dir, int n)
+{
+    if (!a) return KIN_ENULL;
+    if (!dir) return kin__fail(a, KIN_ENULL, "dir is NULL");
+    if (n != a->nf) return kin__fail(a, KIN_ERANGE, "dir has %d entries, need nfree = %d", n, a->nf);
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(dir[i])) return kin__fail(a, KIN_EGEOM, "dir[%d] is not finite", i);
+    int rc = ensure_analysis(a);
+    if (rc) return rc;
+    const kin_factor *f = kin__cur(a);
+    if (f->an.m_internal == 0) return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");
+    double nd = kin__norm(n, dir);
+    memcpy(a->d, dir, sizeof(double) * (size_t)n);
+    double np = project_internal(a, f, a->d, a->y);
+    if (!(nd > 0.0) || !(np > DIRECTION_MIN_PROJECTION * nd))
+        return kin__fail(a, KIN_EINVAL,
+                         "dir is not a first-order mechanism here (|projection|/|dir| = %.3g)",
+                         nd > 0.0 ? np / nd : 0.0);
+    for (int i = 0; i < n; ++i) a->t[i] = a->d[i] / np;
+    a->have_t = 1;
+    a->t_chosen = f->an.m_internal >= 2;
+    return KIN_OK;
+}
+
+int kin_get_tangent(const kin_assembly *a, double *t, int n)
+{
+    if (!a || !t) return KIN_ENULL;
+    if (n != a->nf) return KIN_ERANGE;
+    const kin_factor *f = kin__cur(a);
+    if (!f->valid && !a->have_t) return KIN_ESTATE;
+    if (a->have_t && (f->an.m_internal == 1 || a->t_chosen || !f->valid)) {
+        memcpy(t, a->t, sizeof(double) * (size_t)n);
+        return KIN_OK;
+    }
+    if (f->an.m_internal == 1) {
+        memcpy(t, f->Uint, sizeof(double) * (size_t)n);
+        return KIN_OK;
+    }
+    return f->an.m_internal == 0 ? KIN_ENOMECH : KIN_EBIFURCATION;
+}
+
+int kin__bordered_solve(kin_assembly *a, const double *xyz, const double *t, const double *e,
+                        double *d)
+{
+    int nf = a->nf, nb = a->nb, m1 = t ? nb + 1 : nb, ldr = nb + 1 > nf ? nb + 1 : nf;
+    int one = 1, rank = 0, info = 0;
+    /* B = [C; t^T] (or just C when t is NULL), C = H^T built row by row (ld m1) */
+    kin__build_H(a, xyz, a->H, nf);
+    for (int k = 0; k < nb; ++k)
+        for (int i = 0; i < nf; ++i) a->B[k + (size_t)i * m1] = a->H[i + (size_t)k * nf];
+    if (t)
+        for (int i = 0; i < nf; ++i) a->B[nb + (size_t)i * m1] = t[i];
+    for (int k = 0; k < nb; ++k) a->rhs[k] = -e[k];
+    for (int k = nb; k < ldr; ++k) a->rhs[k] = 0.0;
+    double rcond = a->opt.rank_tol;
+    a->nfact++;
+    dgelsd_(&m1, &nf, &one, a->B, &m1, a->rhs, &ldr, a->svB, &rcond, &rank, a->work, &a->lwork,
+            a->iwork, &info);
+    if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgelsd info = %d", info);
+    if (info > 0) return kin__fail(a, KIN_ELAPACK_CONV, "dgelsd info = %d", info);
+    memcpy(d, a->rhs, sizeof(double) * (size_t)nf);
+    return KIN_OK;
+}
+
+/* Chord correction with the current factor: d = sum_{i<r} u_i (w_i^T e)/v_i */
+static void chord_correction(kin_assembly *a, const double *e, double *d)
+{
+    const kin_factor *f = kin__cur(a);
+    int nf = a->nf, nb = a->nb, r = f->an.rank, inc = 1;
+    double one = 1.0, zero = 0.0;
+    if (r == 0) {
+        memset(d, 0, sizeof(double) * (size_t)nf);
+        return;
+    }
+    dgemv_("N", &r, &nb, &one, f->VT, &nb, e, &inc, &zero, a->y, &inc, 1);
+    for (int i = 0; i < r; ++i) a->y[i] /= f->sv[i];
+    dgemv_("N", &nf, &r, &one, f->U, &nf, a->y, &inc, &zero, d, &inc, 1);
+}
+
+/* One attempt at amplitude delta from x0 along t. On success the trial
+ * factor holds the analysis of the new point and a->x the new free
+ * coordinates. */
+typedef struct attempt_result {
+    int iterations;
+    double residual, cos_turn, chord_len;
+    int m_internal;
+} attempt_result;
+
+static int attempt(kin_assembly *a, double delta, int use_chord, attempt_result *res)
+{
+    int nf = a->nf, trial = 1 - a->cur;
+    double *xyz = a->xyz_trial;
+    int ncoord = a->nj * a->dim;
+    memcpy(xyz, a->xyz, sizeof(double) * (size_t)ncoord);
+    for (int i = 0; i < nf; ++i) a->xp[i] = a->x[i] = a->x0[i] + delta * a->t[i];
+    kin__scatter(a, a->x, xyz);
+    double r = kin__extensions(a, xyz, a->e);
+    int it = 0, chord = use_chord;
+    while (!(r <= a->opt.corrector_tol)) {
+        if (it >= a->opt.corrector_max_iter || !isfinite(r)) {
+            res->iterations = it;
+            res->residual = r;
+            return kin__fail(a, KIN_ENOTCONVERGED,
+                             "corrector: residual %.3g after %d iterations (delta = %.3g)", r, it,
+                             delta);
+        }
+        if (chord) {
+            chord_correction(a, a->e, a->d);
+        } else {
+            int rc = kin__bordered_solve(a, xyz, a->t, a->e, a->d);
+            if (rc) return rc;
+            for (int i = 0; i < nf; ++i) a->d[i] = -a->d[i];
+        }
+        for (int i = 0; i < nf; ++i) a->x[i] -= a->d[i];
+        kin__scatter(a, a->x, xyz);
+        double rn = kin__extensions(a, xyz, a->e);
+        ++it;
+        if (chord && !(rn <= CHORD_MIN_CONTRACTION * r) && rn > a->opt.corrector_tol) {
+            /* chord stalls or diverges: restart Newton from the predictor */
+            chord = 0;
+            for (int i = 0; i < nf; ++i) a->x[i] = a->xp[i];
+            kin__scatter(a, a->x, xyz);
+            rn = kin__extensions(a, xyz, a->e);
+        }
+        r = rn;
+    }
+    res->iterations = it;
+    res->residual = r;
+    /* the correction must stay small next to the step */
+    for (int i = 0; i < nf; ++i) a->d[i] = a->x[i] - a->xp[i];
+    double corr = kin__norm(nf, a->d);
+    if (corr > a->opt.max_correction * fabs(delta))
+        return kin__fail(a, KIN_EPATHJUMP, "correction %.3g exceeds %.3g * |delta| = %.3g", corr,
+                         a->opt.max_correction, a->opt.max_correction * fabs(delta));
+    int rc = kin__analyse_into(a, xyz, trial);
+    if (rc) return rc;
+    const kin_factor *f = &a->fac[trial];
+    res->m_internal = f->an.m_internal;
+    if (f->an.m_internal == 0)
+        return kin__fail(a, KIN_ENOMECH, "no internal mechanism at the new point");
+    double sgn = delta > 0.0 ? 1.0 : -1.0;
+    for (int i = 0; i < nf; ++i) a->chord[i] = sgn * (a->x[i] - a->x0[i]);
+    double cl = kin__norm(nf, a->chord);
+    res->chord_len = cl;
+    /* new tangent, oriented along the motion (eq. 10 against the chord) */
+    if (f->an.m_internal == 1) {
+        memcpy(a->d, f->Uint, sizeof(double) * (size_t)nf);
+    } else {
+        memcpy(a->d, a->chord, sizeof(double) * (size_t)nf);
+        project_internal(a, f, a->d, a->y);
+    }
+    double nt = kin__norm(nf, a->d);
+    double c = nt > 0.0 && cl > 0.0 ? kin__dot(nf, a->d, a->chord) / (nt * cl) : 0.0;
+    res->cos_turn = fabs(c);
+    if (fabs(c) < a->opt.direction_tol)
+        return kin__fail(a, KIN_EPATHJUMP,
+                         "mechanism turned: |cos| = %.3g between new mechanism and chord, need >= %.3g",
+                         fabs(c), a->opt.direction_tol);
+    for (int i = 0; i < nf; ++i) a->d[i] = (c < 0.0 ? -a->d[i] : a->d[i]) / nt;
+    return KIN_OK;
+}
+
+int kin_step(kin_assembly *a, double delta, kin_step_info *info)
+{
+    if (!a) return KIN_ENULL;
+    if (!isfinite(delta)) return kin__fail(a, KIN_EINVAL, "delta is not finite");
+    long f0 = a->nfact;
+    int rc = ensure_analysis(a);
+    if (rc) return rc;
+    const kin_factor *f = kin__cur(a);
+    if (f->an.m_internal == 0) return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");
+    if (f->an.m_internal >= 2 && !a->t_chosen)
+        return kin__fail(a, KIN_EBIFURCATION,
+                         "%d internal mechanisms here: choose one with kin_path_set_direction()",
+                         f->an.m_internal);
+    ensure_tangent(a);
+    double dmax = a->opt.step_fraction * a->rms_length;
+    if (delta == 0.0) delta = dmax;
+    if (fabs(delta) > dmax) delta = delta > 0.0 ? dmax : -dmax;
+    kin__gather(a, a->xyz, a->x0);
+    int use_chord = f->an.m_internal == 1;
+    attempt_result res = {0, 0.0, 0.0, 0.0, 0};
+    int h;
+    for (h = 0; h <= a->opt.max_halvings; ++h, delta *= 0.5) {
+        rc = attempt(a, delta, use_chord, &res);
+        if (rc == KIN_OK) break;
+        if (rc == KIN_ELAPACK_ARG) return rc;
+    }
+    if (rc != KIN_OK) {
+        /* every attempt failed: the current point, analysis and tangent are untouched */
+        if (info) {
+            memset(info, 0, sizeof *info);
+            info->l = a->l;
+            info->halvings = h;
+            info->factorizations = (int)(a->nfact - f0);
+            info->residual = res.residual;
+        }
+        return rc;
+    }
+    /* accept */
+    kin__scatter(a, a->x, a->xyz);
+    a->cur = 1 - a->cur;
+    memcpy(a->t, a->d, sizeof(double) * (size_t)a->nf);
+    a->have_t = 1;
+    a->t_chosen = 0;
+    a->l += (delta > 0.0 ? 1.0 : -1.0) * res.chord_len;
+    if (info) {
+        info->l = a->l;
+        info->delta = delta;
+        info->v_r = kin__cur(a)->an.v_r;
+        info->residual = res.residual;
+        info->cos_turn = res.cos_turn;
+        info->iterations = res.iterations;
+        info->halvings = h;
+        info->factorizations = (int)(a->nfact - f0);
+        info->m_internal = res.m_internal;
+    }
+    a->err[0] = '\0';
+    return KIN_OK;
+}
+
+int kin_relax(kin_assembly *a, int max_iter, double *residual)
+{
+    if (!a) return KIN_ENULL;
+    if (max_iter < 1) return kin__fail(a, KIN_EINVAL, "max_iter = %d, need >= 1", max_iter);
+    int nf = a->nf;
+    double *xyz = a->xyz_trial;
+    memcpy(xyz, a->xyz, sizeof(double) * (size_t)(a->nj * a->dim));
+    kin__gather(a, xyz, a->x);
+    double r = kin__extensions(a, xyz, a->e);
+    int it = 0;
+    while (!(r <= a->opt.corrector_tol) && it < max_iter && isfinite(r)) {
+        int rc = kin__bordered_solve(a, xyz, NULL, a->e, a->d);
+        if (rc) return rc;
+        for (int i = 0; i < nf; ++i) a->x[i] += a->d[i];
+        kin__scatter(a, a->x, xyz);
+        r = kin__extensions(a, xyz, a->e);
+        ++it;
+    }
+    if (residual) *residual = r;
+    if (!(r <= a->opt.corrector_tol))
+        return kin__fail(a, KIN_ENOTCONVERGED, "relax: residual %.3g after %d iterations", r, it);
+    memcpy(a->xyz, xyz, sizeof(double) * (size_t)(a->nj * a->dim));
+    a->fac[0].valid = a->fac[1].valid = 0;
+    a->have_t = a->t_chosen = 0;
+    a->l = 0.0;
+    return KIN_OK;
+}

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Every test: the C suite through `make check` (ctest), then the Python suite
+# (pytest in a virtual environment) when the package is present.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash tools/build.sh
+cmake --build build --target check
+if [ -d python/tests ]; then
+  python3 -m venv build/venv
+  build/venv/bin/pip install -q --upgrade pip
+  build/venv/bin/pip install -q -r python/requirements-dev.txt
+  LIBKIN_LIBRARY="$PWD/build/libkin.so" PYTHONPATH="$PWD/python/src" \
+    build/venv/bin/python -m pytest -q python/tests
+fi
