@@ -196,6 +196,10 @@ static int query_lwork(kin_assembly *a, int *lwork, int *liwork)
     if (info < 0) return KIN_ELAPACK_ARG;
     if (w > best) best = w;
     if (iw > ibest) ibest = iw;
+    /* dgels (QR/LQ) on the same bordered system */
+    dgels_("N", &m1, &nf, &one, &dummy, &m1, &dummy, &ld, &w, &q, &info, 1);
+    if (info < 0) return KIN_ELAPACK_ARG;
+    if (w > best) best = w;
     *lwork = (int)best + 1;
     *liwork = ibest;
     return KIN_OK;

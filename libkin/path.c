@@ -8,10 +8,12 @@
 /* The chord corrector (factorization of the start point) hands over to
  * Newton when an iteration reduces the residual by less than this factor:
  * near a bifurcation the start point's Jacobian is a poor model. */
-static const double CHORD_MIN_CONTRACTION = 0.25;
+static const double CHORD_MIN_CONTRACTION = 0.7;
 /* Projections of a requested direction onto the internal mechanisms shorter
  * than this (relative to |dir|) mean "not a first-order mechanism". */
 static const double DIRECTION_MIN_PROJECTION = 1e-6;
+/* kin_relax halves a Gauss-Newton correction at most this many times. */
+enum { RELAX_MAX_BACKTRACK = 30 };
 
 void kin_options_default(kin_options *o)
 {
@@ -153,6 +155,22 @@ int kin__bordered_solve(kin_assembly *a, const double *xyz, const double *t, con
     for (int k = nb; k < ldr; ++k) a->rhs[k] = 0.0;
     double rcond = a->opt.rank_tol;
     a->nfact++;
+    if (t) {
+        /* the bordered system is square (or wide, with rigid mechanisms) and
+         * of full rank off a bifurcation: a QR/LQ factorization (dgels) costs
+         * a fraction of an SVD. Exactly singular: fall through to dgelsd. */
+        dgels_("N", &m1, &nf, &one, a->B, &m1, a->rhs, &ldr, a->work, &a->lwork, &info, 1);
+        if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgels info = %d", info);
+        if (info == 0) {
+            memcpy(d, a->rhs, sizeof(double) * (size_t)nf);
+            return KIN_OK;
+        }
+        for (int k = 0; k < nb; ++k)
+            for (int i = 0; i < nf; ++i) a->B[k + (size_t)i * m1] = a->H[i + (size_t)k * nf];
+        for (int i = 0; i < nf; ++i) a->B[nb + (size_t)i * m1] = t[i];
+        for (int k = 0; k < nb; ++k) a->rhs[k] = -e[k];
+        for (int k = nb; k < ldr; ++k) a->rhs[k] = 0.0;
+    }
     dgelsd_(&m1, &nf, &one, a->B, &m1, a->rhs, &ldr, a->svB, &rcond, &rank, a->work, &a->lwork,
             a->iwork, &info);
     if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgelsd info = %d", info);
@@ -326,14 +344,23 @@ int kin_relax(kin_assembly *a, int max_iter, double *residual)
     double *xyz = a->xyz_trial;
     memcpy(xyz, a->xyz, sizeof(double) * (size_t)(a->nj * a->dim));
     kin__gather(a, xyz, a->x);
-    double r = kin__extensions(a, xyz, a->e);
+    double r = kin__extensions(a, xyz, a->e), merit = kin__norm(a->nb, a->e);
     int it = 0;
     while (!(r <= a->opt.corrector_tol) && it < max_iter && isfinite(r)) {
         int rc = kin__bordered_solve(a, xyz, NULL, a->e, a->d);
         if (rc) return rc;
-        for (int i = 0; i < nf; ++i) a->x[i] += a->d[i];
-        kin__scatter(a, a->x, xyz);
-        r = kin__extensions(a, xyz, a->e);
+        /* damped Gauss-Newton: halve the correction until |e| decreases, so
+         * a far start does not throw the assembly away */
+        memcpy(a->x0, a->x, sizeof(double) * (size_t)nf);
+        double lambda = 1.0, m2 = merit;
+        for (int k = 0; k < RELAX_MAX_BACKTRACK; ++k, lambda *= 0.5) {
+            for (int i = 0; i < nf; ++i) a->x[i] = a->x0[i] + lambda * a->d[i];
+            kin__scatter(a, a->x, xyz);
+            r = kin__extensions(a, xyz, a->e);
+            m2 = kin__norm(a->nb, a->e);
+            if (m2 < merit) break;
+        }
+        merit = m2;
         ++it;
     }
     if (residual) *residual = r;
