@@ -1,0 +1,133 @@
+"""Command line: python -m libkin (or `libkin`) SUBCOMMAND ..."""
+import argparse
+import json
+import pathlib
+import sys
+
+import numpy as np
+
+from .assembly import Assembly
+from .errors import KinError
+
+
+def _load(spec):
+    """MODEL is a JSON file, or a built-in: threebar:RA|RB|RC, sail:N:LOOPS."""
+    if spec.startswith("threebar:"):
+        return Assembly.threebar(spec.split(":", 1)[1])
+    if spec.startswith("sail:"):
+        parts = spec.split(":")
+        return Assembly.sail(int(parts[1]), int(parts[2]) if len(parts) > 2 else 1)
+    return Assembly.from_json(spec)
+
+
+def cmd_analyse(args):
+    a = _load(args.model)
+    an = a.analyse()
+    print(f"{a.name}: dim {a.dim}, {a.njoints} joints, {a.nbars} bars, H is {a.nfree} x {a.nbars}")
+    print(f"rank r = {an.rank}; mechanisms m = {an.m} (internal {an.m_internal}, rigid {an.m_rigid}); "
+          f"self-stress states s = {an.s}")
+    print(f"v_max = {an.v_max:.6g}, v_r (lowest non-zero) = {an.v_r:.6g}, max strain {a.max_strain:.3g}")
+    print("state:", "bifurcation point" if an.m_internal >= 2 else
+          "on a single path" if an.m_internal == 1 else "rigid (no internal mechanism)")
+    if args.singular_values:
+        print("singular values:", " ".join(f"{v:.6g}" for v in an.singular_values))
+    return 0
+
+
+def cmd_follow(args):
+    a = _load(args.model)
+    if args.perturb:
+        # a generic start near the model: lift the free coordinates of the last
+        # axis (z in 3D, y in 2D) pseudo-randomly and relax to zero strain
+        rng = np.random.default_rng(args.seed)
+        xyz = a.coords
+        free = a.free_map()[:, -1] >= 0
+        xyz[free, -1] += args.perturb * (rng.random(free.sum()) - 0.5)
+        a.coords = xyz
+        a.relax(max_iter=200)
+    an = a.analyse()
+    if an.m_internal != 1:
+        print(f"{a.name} has {an.m_internal} internal mechanisms here: it is at a bifurcation; "
+              "start from a regular configuration (or relax a perturbed one)", file=sys.stderr)
+        return 2
+    ls, svs, frames = [0.0], [an.singular_values], [a.coords]
+    try:
+        for info in a.follow(steps=args.steps, delta=args.delta, progress=not args.quiet):
+            ls.append(info.l)
+            svs.append(a.analyse().singular_values)
+            frames.append(a.coords)
+    except KinError as exc:
+        print(f"stopped after {len(ls) - 1} steps: {exc}", file=sys.stderr)
+    print(f"{len(ls) - 1} steps, path length {ls[-1]:.6g}, max strain {a.max_strain:.3g}, "
+          f"smallest v_r {min(s[s > 0].min() for s in svs):.3g}")
+    if args.plot:
+        from . import plot
+        plot.singular_values(ls, np.array(svs), path=args.plot, count=args.count)
+        print("wrote", args.plot)
+    if args.gif:
+        from . import plot
+        plot.animate(frames[:: max(1, len(frames) // 60)], a.bars, args.gif, plane=args.plane)
+        print("wrote", args.gif)
+    if args.out:
+        a.to_json(args.out)
+        print("wrote", args.out)
+    return 0
+
+
+def cmd_draw(args):
+    from . import plot
+    a = _load(args.model)
+    plot.draw(a, plane=args.plane, path=args.png)
+    print("wrote", args.png)
+    return 0
+
+
+def cmd_models(args):
+    out = pathlib.Path(args.dir)
+    out.mkdir(parents=True, exist_ok=True)
+    for spec, name in [("threebar:RA", "threebar_RA"), ("threebar:RB", "threebar_RB"),
+                       ("threebar:RC", "threebar_RC"), ("sail:4:1", "square_sail"), ("sail:6:2", "hex_sail")]:
+        a = _load(spec)
+        a.name = name
+        a.to_json(out / f"{name}.json")
+        print("wrote", out / f"{name}.json")
+    return 0
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(prog="libkin", description=(
+        "Kinematic analysis of pin-jointed bar assemblies. MODEL is a JSON model file "
+        "(schema: python/README.md) or a built-in: threebar:RA|RB|RC, sail:N_SIDES:N_LOOPS."))
+    sub = p.add_subparsers(dest="cmd", required=True)
+    s = sub.add_parser("analyse", help="first-order analysis: rank, mechanisms, self-stresses")
+    s.add_argument("model")
+    s.add_argument("--singular-values", action="store_true", help="print all singular values")
+    s.set_defaults(fn=cmd_analyse)
+    s = sub.add_parser("follow", help="follow the path from a regular configuration")
+    s.add_argument("model")
+    s.add_argument("--steps", type=int, default=50, help="number of steps (default 50)")
+    s.add_argument("--delta", type=float, default=0.0, help="step amplitude (0 = largest allowed)")
+    s.add_argument("--plot", help="write the singular values along the path to this PNG")
+    s.add_argument("--count", type=int, default=15, help="how many of the lowest singular values to plot")
+    s.add_argument("--gif", help="write an animation of the path to this GIF")
+    s.add_argument("--plane", default="xy", choices=["xy", "xz", "yz"], help="projection of 3D models")
+    s.add_argument("--out", help="write the final configuration as a JSON model")
+    s.add_argument("--quiet", action="store_true", help="no progress bar")
+    s.add_argument("--perturb", type=float, default=0.0,
+                   help="start from a generic point: lift free nodes by up to this amount and relax")
+    s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
+    s.set_defaults(fn=cmd_follow)
+    s = sub.add_parser("draw", help="draw a model to a PNG")
+    s.add_argument("model")
+    s.add_argument("png")
+    s.add_argument("--plane", default="xy", choices=["xy", "xz", "yz"])
+    s.set_defaults(fn=cmd_draw)
+    s = sub.add_parser("models", help="write the built-in models as JSON files")
+    s.add_argument("dir")
+    s.set_defaults(fn=cmd_models)
+    args = p.parse_args(argv)
+    try:
+        return args.fn(args)
+    except (KinError, OSError) as exc:
+        print(f"libkin: {exc}", file=sys.stderr)
+        return 1

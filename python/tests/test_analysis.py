@@ -1,0 +1,56 @@
+"""Numbers from the paper through the Python API."""
+import numpy as np
+
+import libkin
+
+
+def test_threebar_rc_eq27():
+    a = libkin.Assembly.threebar("RC")
+    an = a.analyse()
+    assert (an.rank, an.m, an.s, an.m_internal, an.m_rigid) == (2, 2, 1, 2, 0)
+    np.testing.assert_allclose(an.singular_values[:2], [np.sqrt(3), 1.0], rtol=1e-15)
+    H = a.equilibrium_matrix()
+    assert H.shape == (4, 3)
+    # invariants: H^T U_m = 0, H W_s = 0, orthonormal columns
+    assert np.abs(H.T @ an.internal_mechanisms).max() < 1e-15
+    assert np.abs(H @ an.self_stresses).max() < 1e-15
+    np.testing.assert_allclose(an.internal_mechanisms.T @ an.internal_mechanisms, np.eye(2), atol=1e-15)
+    np.testing.assert_allclose(np.abs(an.self_stresses[:, 0]), np.full(3, 1 / np.sqrt(3)), rtol=1e-15)
+
+
+def test_sails():
+    sq = libkin.Assembly.sail(4, 1).analyse()
+    assert (sq.rank, sq.m, sq.m_rigid, sq.m_internal, sq.s) == (12, 6, 1, 5, 4)
+    hx = libkin.Assembly.sail(6, 2)
+    assert (hx.nfree, hx.nbars) == (46, 45)
+    an = hx.analyse()
+    assert (an.m, an.s) == (16, 15)
+    assert an.internal_mechanisms.shape == (46, 16) and an.self_stresses.shape == (45, 15)
+
+
+def test_follow_parallelogram():
+    a = libkin.Assembly.threebar("RC")
+    xyz = a.coords
+    xyz[:2] = [[0.6, 0.8], [1.6, 0.8]]
+    a.coords = xyz
+    infos = list(a.follow(steps=10, delta=0.05))
+    assert len(infos) == 10 and all(i.m_internal == 1 for i in infos)
+    c = a.coords
+    np.testing.assert_allclose(c[1] - c[0], [1.0, 0.0], atol=1e-12)
+    assert a.max_strain <= 1e-12
+    assert abs(a.path_length - infos[-1].l) == 0
+    t = a.tangent()
+    assert abs(np.linalg.norm(t) - 1) < 1e-14
+    b = a.clone()
+    assert np.array_equal(b.coords, a.coords)
+    assert len(list(a.follow(length=0.2, delta=0.05))) >= 4
+
+
+def test_leave_bifurcation_along_chosen_direction():
+    a = libkin.Assembly.threebar("RC")
+    a.set_direction([0, 1.0, 0, 1.0])
+    a.step(1e-3)
+    for _ in range(5):
+        a.step(0.05)
+    c = a.coords
+    np.testing.assert_allclose(c[1] - c[0], [1.0, 0.0], atol=1e-12)
