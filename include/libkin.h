@@ -11,5 +11,6 @@
 #include "libkin/kin_assembly.h"
 #include "libkin/kin_path.h"
 #include "libkin/kin_models.h"
+#include "libkin/kin_branch.h"
 
 #endif /* LIBKIN_H */

@@ -5,37 +5,20 @@
 
 #include "check.h"
 #include "libkin.h"
+#include "sail_states.h"
 
-#define PI 3.14159265358979323846
 
 static kin_assembly *sail(int n, int loops)
 {
-    kin_sail_params p;
-    kin_sail_params_default(&p, n, loops);
-    kin_assembly *a = NULL;
-    char msg[256];
-    CHECK_RC(kin_model_sail(&p, &a, msg, sizeof msg), KIN_OK);
+    kin_assembly *a = test_sail(n, loops);
+    CHECK(a != NULL);
     return a;
 }
 
-/* A generic strain-free configuration near the flat one: lift the free
- * nodes by a deterministic pseudo-random amount and relax. */
 static void make_generic(kin_assembly *a, double amp)
 {
-    int nj = kin_njoints(a);
-    double *xyz = malloc(sizeof(double) * 3 * nj);
-    kin_get_coords(a, xyz);
-    unsigned s = 12345u;
-    for (int j = 0; j < nj; ++j)
-        if (kin_free_index(a, j, 2) >= 0) {
-            s = s * 1103515245u + 12345u;
-            xyz[3 * j + 2] += amp * ((double)(s >> 8) / (1u << 24) - 0.5);
-        }
-    CHECK_RC(kin_set_coords(a, xyz), KIN_OK);
-    double res;
-    CHECK_RC(kin_relax(a, 100, &res), KIN_OK);
-    CHECK(res <= 1e-12);
-    free(xyz);
+    CHECK_RC(test_make_generic(a, amp), KIN_OK);
+    CHECK(kin_max_strain(a) <= 1e-12);
 }
 
 static void square(void)
@@ -85,34 +68,8 @@ static void hexagon(void)
            an.m_internal, an.s);
     CHECK(an.rank == 30 && an.m == 16 && an.m_rigid == 0 && an.m_internal == 16 && an.s == 15);
 
-    /* R^B: hub flat, A_k = V_k +- w e_z alternating, loop 2 solved for
-     * strain-free lengths with only the B nodes free */
-    int nj = kin_njoints(a), nb = kin_nbars(a);
-    double xyz[57], L0[45];
-    int bars[90];
-    unsigned char fixed[57];
-    kin_get_coords(a, xyz);
-    kin_get_bars(a, bars);
-    kin_get_rest_lengths(a, L0);
-    double w = tan(PI / 6);
-    for (int k = 0; k < 6; ++k) {
-        int A = 7 + k, V = 1 + k, B = 13 + k;
-        double sgn = k % 2 ? -1.0 : 1.0;
-        xyz[3 * A] = xyz[3 * V];
-        xyz[3 * A + 1] = xyz[3 * V + 1];
-        xyz[3 * A + 2] = sgn * w;
-        /* start B on the outward continuation of the (now vertical) fold */
-        xyz[3 * B + 2] = sgn * w;
-    }
-    for (int j = 0; j < nj; ++j)
-        for (int c = 0; c < 3; ++c) fixed[3 * j + c] = j < 13;
-    kin_assembly *loop2 = NULL;
-    CHECK_RC(kin_assembly_create(3, nj, xyz, fixed, nb, bars, L0, &loop2, NULL, 0), KIN_OK);
-    double res;
-    CHECK_RC(kin_relax(loop2, 100, &res), KIN_OK);
-    kin_get_coords(loop2, xyz);
-    kin_assembly_free(loop2);
-    CHECK_RC(kin_set_coords(a, xyz), KIN_OK);
+    /* R^B: hub flat, A_k = V_k +- w e_z alternating, loop 2 relaxed */
+    CHECK_RC(test_hex_to_RB(a), KIN_OK);
     CHECK(kin_max_strain(a) <= 1e-12);
     CHECK_RC(kin_analyse(a, &an), KIN_OK);
     printf("hex R^B: r=%d m=%d (rigid %d, internal %d) s=%d, strain %.2e\n", an.rank, an.m,

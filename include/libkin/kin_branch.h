@@ -1,0 +1,85 @@
+/* libkin: the paths out of a bifurcation point (paper 3.3-3.4).
+ *
+ * At a bifurcation the assembly has m >= 2 internal mechanisms U_m and
+ * s >= 1 self-stresses W_s. A first-order motion U_m*beta extends to second
+ * order only if beta^T Q_j beta = 0 for j = 1..s, with (derived from the
+ * exact bar-length relation, eq. 12)
+ *     Q_j = sum_i (t_ij / L_i) D_i^T D_i,
+ * D_i (dim x m) the rows of U_m at bar i's end A minus those at end B (fixed
+ * coordinates contribute nothing), t_ij = W_s(i, j), L_i the bar length.
+ * The paper's printed eq. 14/17 drops the 1/L_i; that changes the answer
+ * whenever bar lengths differ (the sails), see docs/branches.md. */
+#ifndef KIN_BRANCH_H
+#define KIN_BRANCH_H
+
+#include "kin_export.h"
+#include "kin_assembly.h"
+
+/* Which weighting of the second-order matrices. */
+enum kin_q_weighting {
+    KIN_Q_EXACT = 0,     /* t_ij / L_i: from eq. 12 (default, correct) */
+    KIN_Q_PAPER_EQ17 = 1 /* t_ij as printed in eq. 17 (for comparison only) */
+};
+
+/* Second-order compatibility matrices at the current point, from the last
+ * analysis (kin_analyse). Q receives s matrices of m x m (m = m_internal),
+ * column-major, one after another (Q[j*m*m + r + c*m]); nq must be >= m*m*s.
+ * normalise != 0 applies eq. 18: the matrices, as vectors of length m^2, are
+ * orthonormalised by modified Gram-Schmidt (twice); *s_out receives how many
+ * independent matrices remain (< s if some Q_j are dependent). Without
+ * normalisation *s_out = s.
+ * Returns KIN_OK, KIN_ENULL, KIN_ESTATE (no current analysis), KIN_EINVAL
+ * (weighting, or not a bifurcation: m_internal < 2 or s < 1), KIN_ERANGE. */
+KIN_API int kin_second_order(const kin_assembly *a, int weighting, int normalise, double *Q, int nq,
+                             int *s_out);
+
+/* What a quadric solve found. */
+typedef struct kin_solve_info {
+    int starts;      /* starting points tried */
+    int converged;   /* starts that converged to a root */
+    int distinct;    /* distinct real solutions (beta and -beta counted once) */
+    int gsl_errors;  /* starts GSL gave up on */
+    double max_residual; /* max_j |beta^T Q_j beta| over the solutions */
+} kin_solve_info;
+
+/* The paper's root scan (3.3.1): solve beta^T Q_j beta = 0 (j < s),
+ * |beta| = 1, with m = s + 1 unknowns, by GSL's hybridsj solver with the
+ * analytic Jacobian from `starts` points spread over the unit sphere
+ * (normalised Gaussian draws from a fixed generator seeded by `seed`: the
+ * result is deterministic). Duplicates are dropped by eq. 20 (|beta_i .
+ * beta_j| ~ 1). Solutions go to betas (m x maxsol, column-major), each with
+ * its largest-magnitude entry positive; *nsol receives their number (at most
+ * maxsol; info->distinct may be larger). Q is as from kin_second_order.
+ * GSL's abort handler is switched off for the call's thread of use.
+ * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (m != s+1, m < 2, starts < 1,
+ * maxsol < 1), KIN_ERANGE (m > 256), KIN_ENOMEM. */
+KIN_API int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long seed,
+                              double *betas, int maxsol, int *nsol, kin_solve_info *info);
+
+/* One candidate path out of a bifurcation (paper 3.4). */
+typedef struct kin_branch_path {
+    int beta;        /* index of the second-order solution */
+    int sign;        /* +1 or -1: direction of motion along U_m*beta */
+    int exists;      /* the first step converged and the path was followed */
+    int tangent_ok;  /* the first small step left along U_m*beta (|cos| >= tol) */
+    int path_id;     /* distinct-path id (eq. 21-22), -1 if it does not exist */
+    double length;   /* path length reached */
+    double tangent_cos; /* cos between the first chord and U_m*beta */
+} kin_branch_path;
+
+/* Follow every candidate: for each solution beta (columns of betas, m x
+ * nbeta) and each sign, on a clone of a: choose U_m*beta*sign, take a small
+ * first step (1e-3 x the largest step) and check its chord is parallel to
+ * U_m*beta (a wrong second-order solution can still let the corrector
+ * converge), then follow the path to path length l_target. Paths whose
+ * displacements T = R - R0 coincide (cos >= 1 - 1e-6, eq. 22 with the sign
+ * kept, since +beta and -beta are different motions) share a path_id.
+ * paths receives 2*nbeta entries (beta 0 +, beta 0 -, beta 1 +, ...);
+ * final_xyz (optional, njoints*dim x 2*nbeta) the end configurations.
+ * The caller's assembly is not changed. *ndistinct receives the number of
+ * distinct paths. Returns KIN_OK, KIN_ENULL, KIN_ESTATE, KIN_EINVAL
+ * (not a bifurcation, nbeta < 1, l_target <= 0), KIN_ENOMEM. */
+KIN_API int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, double l_target,
+                             kin_branch_path *paths, double *final_xyz, int *ndistinct);
+
+#endif /* KIN_BRANCH_H */

@@ -1,0 +1,115 @@
+/* Finite paths out of a bifurcation (paper 3.4, eq. 21-22). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal.h"
+
+/* the first step is this fraction of the largest step: small enough that its
+ * chord shows the direction the path leaves in */
+static const double FIRST_STEP_FRACTION = 1e-3;
+/* the first chord must be parallel to U_m*beta to this |cos| */
+static const double TANGENT_COS_TOL = 0.99;
+/* eq. 22: two displacements T_i, T_j are one path if cos >= 1 - this */
+static const double SAME_PATH_TOL = 1e-6;
+/* step budget per path, in largest steps per unit of l_target / step */
+enum { PATH_STEP_FACTOR = 20 };
+
+static int follow_one(const kin_assembly *a0, const double *dir, double l_target,
+                      kin_branch_path *p, double *xyz_out)
+{
+    kin_assembly *a = NULL;
+    int rc = kin_assembly_clone(a0, &a);
+    if (rc) return rc;
+    int nf = a->nf;
+    p->exists = p->tangent_ok = 0;
+    p->length = 0.0;
+    p->tangent_cos = 0.0;
+    if (kin_path_set_direction(a, dir, nf) != KIN_OK) goto done;
+    double dmax = a->opt.step_fraction * a->rms_length;
+    double *x0 = malloc(sizeof(double) * (size_t)nf), *x1 = malloc(sizeof(double) * (size_t)nf);
+    if (!x0 || !x1) {
+        free(x0); free(x1);
+        kin_assembly_free(a);
+        return KIN_ENOMEM;
+    }
+    kin__gather(a, a->xyz, x0);
+    kin_step_info info;
+    if (kin_step(a, FIRST_STEP_FRACTION * dmax, &info) != KIN_OK) goto out;
+    kin__gather(a, a->xyz, x1);
+    double nd = kin__norm(nf, dir), dot = 0.0, nc;
+    for (int i = 0; i < nf; ++i) x1[i] -= x0[i];
+    nc = kin__norm(nf, x1);
+    dot = kin__dot(nf, x1, dir);
+    p->tangent_cos = nc > 0 && nd > 0 ? dot / (nc * nd) : 0.0;
+    p->tangent_ok = p->tangent_cos >= TANGENT_COS_TOL;
+    long budget = (long)(PATH_STEP_FACTOR * (l_target / dmax + 10));
+    while (kin_path_length(a) < l_target && budget-- > 0) {
+        double d = fmin(dmax, l_target - kin_path_length(a));
+        if (kin_step(a, d, &info) != KIN_OK) break;
+    }
+    p->length = kin_path_length(a);
+    p->exists = 1;
+out:
+    if (xyz_out) memcpy(xyz_out, a->xyz, sizeof(double) * (size_t)(a->nj * a->dim));
+    free(x0);
+    free(x1);
+done:
+    if (xyz_out && !p->exists) memcpy(xyz_out, a0->xyz, sizeof(double) * (size_t)(a0->nj * a0->dim));
+    kin_assembly_free(a);
+    return KIN_OK;
+}
+
+int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, double l_target,
+                     kin_branch_path *paths, double *final_xyz, int *ndistinct)
+{
+    if (!a || !betas || !paths || !ndistinct) return KIN_ENULL;
+    const kin_factor *f = kin__cur(a);
+    if (!f->valid) return KIN_ESTATE;
+    int m = f->an.m_internal, nf = a->nf, nc = a->nj * a->dim;
+    if (m < 2 || nbeta < 1 || !(l_target > 0.0)) return KIN_EINVAL;
+    double *dir = malloc(sizeof(double) * (size_t)nf);
+    double *ends = malloc(sizeof(double) * (size_t)nc * 2 * (size_t)nbeta);
+    if (!dir || !ends) {
+        free(dir); free(ends);
+        return KIN_ENOMEM;
+    }
+    int rc = KIN_OK;
+    for (int b = 0; b < nbeta && rc == KIN_OK; ++b)
+        for (int sg = 0; sg < 2 && rc == KIN_OK; ++sg) {
+            kin_branch_path *p = &paths[2 * b + sg];
+            p->beta = b;
+            p->sign = sg ? -1 : 1;
+            p->path_id = -1;
+            for (int i = 0; i < nf; ++i) {
+                double v = 0.0;
+                for (int k = 0; k < m; ++k) v += f->Uint[i + (size_t)k * nf] * betas[(size_t)b * m + k];
+                dir[i] = p->sign * v;
+            }
+            rc = follow_one(a, dir, l_target, p, ends + (size_t)(2 * b + sg) * nc);
+        }
+    /* group coinciding paths: T = R - R0 (eq. 21), cos >= 1 - tol (eq. 22) */
+    int nd = 0;
+    for (int i = 0; rc == KIN_OK && i < 2 * nbeta; ++i) {
+        if (!paths[i].exists) continue;
+        double *Ti = ends + (size_t)i * nc;
+        for (int c = 0; c < nc; ++c) Ti[c] -= a->xyz[c];
+        double ni = kin__norm(nc, Ti);
+        for (int j = 0; j < i && paths[i].path_id < 0; ++j) {
+            if (!paths[j].exists) continue;
+            const double *Tj = ends + (size_t)j * nc;
+            double nj = kin__norm(nc, Tj);
+            if (ni > 0 && nj > 0 && kin__dot(nc, Ti, Tj) / (ni * nj) >= 1.0 - SAME_PATH_TOL)
+                paths[i].path_id = paths[j].path_id;
+        }
+        if (paths[i].path_id < 0) paths[i].path_id = nd++;
+    }
+    if (rc == KIN_OK && final_xyz)
+        for (int i = 0; i < 2 * nbeta; ++i)
+            for (int c = 0; c < nc; ++c)
+                final_xyz[(size_t)i * nc + c] = ends[(size_t)i * nc + c] + (paths[i].exists ? a->xyz[c] : 0.0);
+    *ndistinct = nd;
+    free(dir);
+    free(ends);
+    return rc;
+}

@@ -1,0 +1,169 @@
+/* The paper's root scan (3.3.1): Newton-type solves of the quadrics
+ * beta^T Q_j beta = 0 with |beta| = 1 from many starting points, by GSL's
+ * hybridsj solver with the analytic Jacobian. */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_multiroots.h>
+
+#include "internal.h"
+
+/* a root: max residual of the s + 1 equations */
+static const double ROOT_TOL = 1e-12;
+static const int ROOT_MAX_ITER = 200;
+/* eq. 20: two unit solutions are the same line if |beta_i . beta_j| > 1 - this */
+static const double SAME_ROOT_TOL = 1e-8;
+/* the scan keeps one solution on the stack */
+enum { SCAN_MAX_M = 256 };
+
+typedef struct quadrics {
+    int m, s;
+    const double *Q;
+} quadrics;
+
+static int f_eval(const gsl_vector *x, void *p, gsl_vector *f)
+{
+    const quadrics *q = p;
+    int m = q->m;
+    for (int j = 0; j < q->s; ++j) {
+        const double *Qj = q->Q + (size_t)j * m * m;
+        double v = 0.0;
+        for (int c = 0; c < m; ++c) {
+            double row = 0.0;
+            for (int r = 0; r < m; ++r) row += Qj[r + (size_t)c * m] * gsl_vector_get(x, r);
+            v += row * gsl_vector_get(x, c);
+        }
+        gsl_vector_set(f, j, v);
+    }
+    double n2 = 0.0;
+    for (int r = 0; r < m; ++r) n2 += gsl_vector_get(x, r) * gsl_vector_get(x, r);
+    gsl_vector_set(f, q->s, n2 - 1.0);
+    return GSL_SUCCESS;
+}
+
+static int df_eval(const gsl_vector *x, void *p, gsl_matrix *J)
+{
+    const quadrics *q = p;
+    int m = q->m;
+    for (int j = 0; j < q->s; ++j) {
+        const double *Qj = q->Q + (size_t)j * m * m;
+        for (int c = 0; c < m; ++c) {
+            double v = 0.0; /* d/dbeta_c of beta^T Q beta = 2 (Q beta)_c for symmetric Q */
+            for (int r = 0; r < m; ++r) v += (Qj[c + (size_t)r * m] + Qj[r + (size_t)c * m]) * gsl_vector_get(x, r);
+            gsl_matrix_set(J, j, c, v);
+        }
+    }
+    for (int c = 0; c < m; ++c) gsl_matrix_set(J, q->s, c, 2.0 * gsl_vector_get(x, c));
+    return GSL_SUCCESS;
+}
+
+static int fdf_eval(const gsl_vector *x, void *p, gsl_vector *f, gsl_matrix *J)
+{
+    f_eval(x, p, f);
+    return df_eval(x, p, J);
+}
+
+/* splitmix64: a small deterministic generator (no global state) */
+static uint64_t splitmix(uint64_t *s)
+{
+    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+static double gauss(uint64_t *s)
+{
+    double u1 = ((splitmix(s) >> 11) + 0.5) / 9007199254740992.0;
+    double u2 = ((splitmix(s) >> 11) + 0.5) / 9007199254740992.0;
+    return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
+}
+
+int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long seed, double *betas,
+                      int maxsol, int *nsol, kin_solve_info *info)
+{
+    if (!Q || !betas || !nsol) return KIN_ENULL;
+    if (m < 2 || s != m - 1 || starts < 1 || maxsol < 1) return KIN_EINVAL;
+    if (m > SCAN_MAX_M) return KIN_ERANGE;
+    gsl_set_error_handler_off();
+    quadrics q = {m, s, Q};
+    gsl_multiroot_function_fdf fn = {f_eval, df_eval, fdf_eval, (size_t)m, &q};
+    gsl_multiroot_fdfsolver *sv = gsl_multiroot_fdfsolver_alloc(gsl_multiroot_fdfsolver_hybridsj, (size_t)m);
+    gsl_vector *x = gsl_vector_alloc((size_t)m);
+    gsl_vector *fv = gsl_vector_alloc((size_t)m);
+    double *found = malloc(sizeof(double) * (size_t)m * (size_t)(starts < 4096 ? starts : 4096));
+    int cap = starts < 4096 ? starts : 4096;
+    if (!sv || !x || !fv || !found) {
+        gsl_multiroot_fdfsolver_free(sv);
+        gsl_vector_free(x);
+        gsl_vector_free(fv);
+        free(found);
+        return KIN_ENOMEM;
+    }
+    kin_solve_info in = {starts, 0, 0, 0, 0.0};
+    uint64_t state = (uint64_t)seed * 0x2545F4914F6CDD1Dull + 1u;
+    int nd = 0;
+    for (int k = 0; k < starts; ++k) {
+        double n2 = 0.0;
+        for (int r = 0; r < m; ++r) {
+            double g = gauss(&state);
+            gsl_vector_set(x, r, g);
+            n2 += g * g;
+        }
+        gsl_vector_scale(x, 1.0 / sqrt(n2));
+        if (gsl_multiroot_fdfsolver_set(sv, &fn, x) != GSL_SUCCESS) {
+            in.gsl_errors++;
+            continue;
+        }
+        int status = GSL_CONTINUE, it = 0;
+        while (status == GSL_CONTINUE && it++ < ROOT_MAX_ITER) {
+            int e = gsl_multiroot_fdfsolver_iterate(sv);
+            if (e) { status = e; break; }
+            status = gsl_multiroot_test_residual(sv->f, ROOT_TOL);
+        }
+        if (status != GSL_SUCCESS) {
+            if (status != GSL_CONTINUE) in.gsl_errors++;
+            continue;
+        }
+        in.converged++;
+        /* normalise, fix the sign, drop duplicates (eq. 20) */
+        double b[SCAN_MAX_M], nb = 0.0;
+        int big = 0;
+        for (int r = 0; r < m; ++r) {
+            b[r] = gsl_vector_get(sv->x, r);
+            nb += b[r] * b[r];
+        }
+        nb = sqrt(nb);
+        for (int r = 0; r < m; ++r) {
+            b[r] /= nb;
+            if (fabs(b[r]) > fabs(b[big]) * (1.0 + 1e-12)) big = r;
+        }
+        if (b[big] < 0)
+            for (int r = 0; r < m; ++r) b[r] = -b[r];
+        int dup = 0;
+        for (int i = 0; i < nd && !dup; ++i) {
+            double dot = 0.0;
+            for (int r = 0; r < m; ++r) dot += found[(size_t)i * m + r] * b[r];
+            dup = fabs(dot) > 1.0 - SAME_ROOT_TOL;
+        }
+        if (dup) continue;
+        gsl_vector_view bv = gsl_vector_view_array(b, (size_t)m);
+        f_eval(&bv.vector, &q, fv);
+        for (int j = 0; j < s; ++j)
+            if (fabs(gsl_vector_get(fv, j)) > in.max_residual) in.max_residual = fabs(gsl_vector_get(fv, j));
+        if (nd < cap) memcpy(found + (size_t)nd * m, b, sizeof(double) * (size_t)m);
+        if (nd < maxsol) memcpy(betas + (size_t)nd * m, b, sizeof(double) * (size_t)m);
+        ++nd;
+    }
+    in.distinct = nd;
+    *nsol = nd < maxsol ? nd : maxsol;
+    if (info) *info = in;
+    gsl_multiroot_fdfsolver_free(sv);
+    gsl_vector_free(x);
+    gsl_vector_free(fv);
+    free(found);
+    return KIN_OK;
+}
