@@ -1,5 +1,6 @@
 """Numbers from the paper through the Python API."""
 import numpy as np
+import pytest
 
 import libkin
 
@@ -54,3 +55,25 @@ def test_leave_bifurcation_along_chosen_direction():
         a.step(0.05)
     c = a.coords
     np.testing.assert_allclose(c[1] - c[0], [1.0, 0.0], atol=1e-12)
+
+
+def test_branches_square_sail():
+    a = libkin.Assembly.sail(4, 1)
+    br = a.branches(starts=512, length=1.75)
+    assert br.betas.shape == (16, 5)
+    assert len(br.paths) == 32 and br.distinct == 32
+    assert all(p.exists and p.tangent_ok for p in br.paths)
+    Q = a.second_order()
+    for b in br.betas:
+        assert np.abs(np.einsum("i,jik,k->j", b, Q, b)).max() < 1e-10
+
+
+def test_branches_threebar_and_errors():
+    a = libkin.Assembly.threebar("RC")
+    br = a.branches(starts=32, length=0.5)
+    assert br.betas.shape == (2, 2) and br.distinct == 4
+    xyz = a.coords
+    xyz[:2] = [[0.6, 0.8], [1.6, 0.8]]
+    a.coords = xyz
+    with pytest.raises(libkin.errors.StateError):
+        a.branches()

@@ -134,4 +134,31 @@ void kin_sail_params_default(kin_sail_params *p, int n_sides, int n_loops);
 int kin_sail_size(const kin_sail_params *p, int *njoints, int *nbars);
 int kin_model_sail(const kin_sail_params *p, kin_assembly **out, char *errbuf,
                            size_t errlen);
+
+enum kin_q_weighting {
+    KIN_Q_EXACT = 0,
+    KIN_Q_PAPER_EQ17 = 1
+};
+int kin_second_order(const kin_assembly *a, int weighting, int normalise, double *Q, int nq,
+                             int *s_out);
+typedef struct kin_solve_info {
+    int starts;
+    int converged;
+    int distinct;
+    int gsl_errors;
+    double max_residual;
+} kin_solve_info;
+int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long seed,
+                              double *betas, int maxsol, int *nsol, kin_solve_info *info);
+typedef struct kin_branch_path {
+    int beta;
+    int sign;
+    int exists;
+    int tangent_ok;
+    int path_id;
+    double length;
+    double tangent_cos;
+} kin_branch_path;
+int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, double l_target,
+                             kin_branch_path *paths, double *final_xyz, int *ndistinct);
 '''

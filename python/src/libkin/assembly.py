@@ -363,3 +363,85 @@ class Assembly:
         if getattr(self, "_p", None) is None:
             return "<libkin.Assembly (closed)>"
         return f"<libkin.Assembly {self.name or ''} dim={self.dim} joints={self.njoints} bars={self.nbars} free={self.nfree}>"
+
+
+@dataclasses.dataclass(frozen=True)
+class BranchPath:
+    """One directed candidate path out of a bifurcation (paper 3.4)."""
+
+    beta: int
+    sign: int
+    exists: bool
+    tangent_ok: bool
+    tangent_cos: float
+    path_id: int
+    length: float
+    final_coords: np.ndarray
+
+
+@dataclasses.dataclass(frozen=True)
+class Branches:
+    """All paths out of a bifurcation: the second-order solutions `betas`
+    (nsol, m_internal), their directions U_m beta (nsol, nfree), the directed
+    candidate paths and how many are distinct, and the scan's accounting."""
+
+    betas: np.ndarray
+    directions: np.ndarray
+    paths: list
+    distinct: int
+    starts: int
+    converged: int
+
+
+def _second_order(self, weighting="exact", normalise=True):
+    """The s second-order matrices Q_j (s, m, m) at this bifurcation (eq. 17
+    with the 1/L_i factor of eq. 12; weighting='paper' omits it, as the
+    printed eq. 17 does). normalise applies eq. 18."""
+    an = self.analyse()
+    w = {"exact": lib.KIN_Q_EXACT, "paper": lib.KIN_Q_PAPER_EQ17}
+    if weighting not in w:
+        raise ModelFormatError(f"weighting: expected 'exact' or 'paper', got {weighting!r}")
+    m, s = an.m_internal, an.s
+    if m < 2 or s < 1:
+        raise StateError("not a bifurcation point: need at least 2 internal mechanisms and 1 self-stress")
+    Q = np.zeros((s, m, m))
+    s_out = ffi.new("int *")
+    self._check(lib.kin_second_order(self._h, w[weighting], int(bool(normalise)), write_ptr(Q, "double *"),
+                                     Q.size, s_out), "second order")
+    # each block is column-major m x m; Q_j is symmetric so the layout is immaterial
+    return Q[: s_out[0]]
+
+
+def _branches(self, starts=1024, length=1.0, seed=1, weighting="exact"):
+    """Every path out of this bifurcation: solve the second-order equations
+    by the root scan from `starts` points, then follow each solution in both
+    directions to path length `length` and group coinciding paths."""
+    Q = self.second_order(weighting=weighting)
+    s, m = Q.shape[0], Q.shape[1]
+    if m != s + 1:
+        raise StateError(f"the scan needs m = s + 1; here m = {m}, s = {s}")
+    Qc = np.ascontiguousarray(Q)
+    maxsol = 4096
+    betas = np.empty((maxsol, m))
+    nsol = ffi.new("int *")
+    info = ffi.new("kin_solve_info *")
+    check(lib.kin_quadrics_scan(m, s, read_ptr(Qc, "double *"), int(starts), int(seed),
+                                write_ptr(betas, "double *"), maxsol, nsol, info), what="scan")
+    betas = betas[: nsol[0]].copy()
+    U = self.analyse().internal_mechanisms
+    paths = []
+    distinct = 0
+    if nsol[0]:
+        cp = ffi.new("kin_branch_path[]", 2 * nsol[0])
+        ends = np.empty((2 * nsol[0], self.njoints, self.dim))
+        nd = ffi.new("int *")
+        self._check(lib.kin_branch_paths(self._h, read_ptr(betas, "double *"), nsol[0], float(length), cp,
+                                         write_ptr(ends, "double *"), nd), "branch paths")
+        distinct = nd[0]
+        paths = [BranchPath(p.beta, p.sign, bool(p.exists), bool(p.tangent_ok), p.tangent_cos, p.path_id,
+                            p.length, ends[k]) for k, p in enumerate(cp)]
+    return Branches(betas, betas @ U.T, paths, distinct, info.starts, info.converged)
+
+
+Assembly.second_order = _second_order
+Assembly.branches = _branches
