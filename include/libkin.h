@@ -12,5 +12,6 @@
 #include "libkin/kin_path.h"
 #include "libkin/kin_models.h"
 #include "libkin/kin_branch.h"
+#include "libkin/kin_locate.h"
 
 #endif /* LIBKIN_H */

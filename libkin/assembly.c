@@ -210,7 +210,7 @@ static void release(kin_assembly *a)
     if (!a) return;
     double **dp[] = {&a->xyz, &a->L0, &a->H, &a->A, &a->work, &a->G, &a->Gs, &a->mwork, &a->B,
                      &a->rhs, &a->svB, &a->t, &a->x0, &a->x, &a->xp, &a->d, &a->y, &a->e,
-                     &a->len, &a->chord, &a->xyz_trial};
+                     &a->len, &a->chord, &a->xyz_trial, &a->Rref};
     for (size_t i = 0; i < sizeof dp / sizeof dp[0]; ++i) free(*dp[i]);
     for (int f = 0; f < 2; ++f) {
         free(a->fac[f].sv);
@@ -243,7 +243,7 @@ static int allocate(kin_assembly *a)
               ALLOC_(a->B, m1 * nf) | ALLOC_(a->rhs, ldb) | ALLOC_(a->svB, m1 < nf ? m1 : nf) |
               ALLOC_(a->t, nf) | ALLOC_(a->x0, nf) | ALLOC_(a->x, nf) | ALLOC_(a->xp, nf) |
               ALLOC_(a->d, nf) | ALLOC_(a->y, nf + nb) | ALLOC_(a->e, nb) | ALLOC_(a->len, nb) |
-              ALLOC_(a->chord, nf) | ALLOC_(a->xyz_trial, nj * d);
+              ALLOC_(a->chord, nf) | ALLOC_(a->xyz_trial, nj * d) | ALLOC_(a->Rref, nf * 6);
     for (int f = 0; f < 2; ++f)
         bad |= ALLOC_(a->fac[f].sv, mn) | ALLOC_(a->fac[f].U, nf * nf) |
                ALLOC_(a->fac[f].VT, nb * nb) | ALLOC_(a->fac[f].Uint, nf * nf) |
@@ -298,17 +298,10 @@ int kin_assembly_create(int dim, int nj, const double *xyz, const unsigned char 
     return KIN_OK;
 }
 
-int kin_assembly_clone(const kin_assembly *src, kin_assembly **out)
+void kin__copy_state(kin_assembly *a, const kin_assembly *src)
 {
-    if (!out) return KIN_ENULL;
-    *out = NULL;
-    if (!src) return KIN_ENULL;
-    kin_assembly *a;
-    int rc = kin_assembly_create(src->dim, src->nj, src->xyz, src->fixed, src->nb, src->bars,
-                                 src->L0, &a, NULL, 0);
-    if (rc) return rc;
     size_t nf = (size_t)src->nf, nb = (size_t)src->nb, mn = nf < nb ? nf : nb;
-    a->opt = src->opt;
+    memcpy(a->xyz, src->xyz, sizeof(double) * (size_t)(src->nj * src->dim));
     for (int f = 0; f < 2; ++f) {
         const kin_factor *s = &src->fac[f];
         kin_factor *t = &a->fac[f];
@@ -322,9 +315,24 @@ int kin_assembly_clone(const kin_assembly *src, kin_assembly **out)
     }
     a->cur = src->cur;
     memcpy(a->t, src->t, sizeof(double) * nf);
+    memcpy(a->Rref, src->Rref, sizeof(double) * nf * 6);
+    a->have_Rref = src->have_Rref;
     a->have_t = src->have_t;
     a->t_chosen = src->t_chosen;
     a->l = src->l;
+}
+
+int kin_assembly_clone(const kin_assembly *src, kin_assembly **out)
+{
+    if (!out) return KIN_ENULL;
+    *out = NULL;
+    if (!src) return KIN_ENULL;
+    kin_assembly *a;
+    int rc = kin_assembly_create(src->dim, src->nj, src->xyz, src->fixed, src->nb, src->bars,
+                                 src->L0, &a, NULL, 0);
+    if (rc) return rc;
+    kin__copy_state(a, src);
+    a->opt = src->opt;
     a->nfact = src->nfact;
     memcpy(a->err, src->err, sizeof a->err);
     *out = a;

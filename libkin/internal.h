@@ -66,6 +66,10 @@ struct kin_assembly {
     double *x0, *x, *xp, *d, *y, *e, *len, *chord;
     double *xyz_trial;       /* nj*dim full coordinates of a trial point */
 
+    /* locator: continuously oriented rigid mechanisms for the test function */
+    double *Rref;            /* nf x 6 */
+    int have_Rref;
+
     /* test hook: makes LAPACK report failures (enum kin__fault) */
     int fault;
 };
@@ -100,6 +104,10 @@ int kin__bordered_solve(kin_assembly *a, const double *xyz, const double *t, con
                         double *d);
 
 static inline const kin_factor *kin__cur(const kin_assembly *a) { return &a->fac[a->cur]; }
+
+/* copy the configuration, analysis and path state of src into dst (same
+ * model; no allocation); dst keeps its own options */
+void kin__copy_state(kin_assembly *dst, const kin_assembly *src);
 
 /* small dense helpers */
 double kin__dot(int n, const double *x, const double *y);

@@ -27,6 +27,8 @@ void dgels_(const char *trans, const int *m, const int *n, const int *nrhs, doub
             const int *lda, double *b, const int *ldb, double *work, const int *lwork, int *info,
             kin_fstrlen trans_len);
 
+void dgetrf_(const int *m, const int *n, double *a, const int *lda, int *ipiv, int *info);
+
 void dgemv_(const char *trans, const int *m, const int *n, const double *alpha, const double *a,
             const int *lda, const double *x, const int *incx, const double *beta, double *y,
             const int *incy, kin_fstrlen trans_len);

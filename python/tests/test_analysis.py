@@ -77,3 +77,17 @@ def test_branches_threebar_and_errors():
     a.coords = xyz
     with pytest.raises(libkin.errors.StateError):
         a.branches()
+
+
+@pytest.mark.parametrize("method", ["fast", "paper"])
+def test_locate_rc_from_p1(method):
+    a = libkin.Assembly.threebar("RC")
+    xyz = a.coords
+    xyz[:2] = [[0.6, 0.8], [1.6, 0.8]]
+    a.coords = xyz
+    assert a.test_function() != 0
+    info = a.locate(method=method, delta=0.1)
+    assert info.located and info.v_r_rel <= 1e-10 and (info.m_internal, info.s) == (2, 1)
+    np.testing.assert_allclose(a.coords[:2], [[1, 0], [2, 0]], atol=1e-9)
+    with pytest.raises(libkin.errors.AtBifurcationError):
+        a.locate()

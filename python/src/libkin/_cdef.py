@@ -161,4 +161,39 @@ typedef struct kin_branch_path {
 } kin_branch_path;
 int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, double l_target,
                              kin_branch_path *paths, double *final_xyz, int *ndistinct);
+
+enum kin_locate_method {
+    KIN_LOCATE_PAPER = 0,
+    KIN_LOCATE_FAST = 1
+};
+enum kin_locate_event {
+    KIN_EVENT_NONE = 0,
+    KIN_EVENT_SIGN_CHANGE = 1,
+    KIN_EVENT_SWITCH_RULE = 2,
+    KIN_EVENT_LANDED = 3
+};
+typedef struct kin_locate_options {
+    int method;
+    double vr_tol;
+    double switch_eps;
+    double delta;
+    int max_steps;
+    int max_iter;
+    int use_switch_rule;
+} kin_locate_options;
+typedef struct kin_locate_info {
+    int event;
+    int located;
+    int steps;
+    int factorizations;
+    int forward;
+    double v_r;
+    double v_r_rel;
+    double distance;
+    int path_kept;
+    int m_internal, s;
+} kin_locate_info;
+void kin_locate_options_default(kin_locate_options *o);
+int kin_test_function(kin_assembly *a, double *tau);
+int kin_locate_next(kin_assembly *a, const kin_locate_options *o, kin_locate_info *info);
 '''

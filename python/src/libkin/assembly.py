@@ -445,3 +445,55 @@ def _branches(self, starts=1024, length=1.0, seed=1, weighting="exact"):
 
 Assembly.second_order = _second_order
 Assembly.branches = _branches
+
+
+@dataclasses.dataclass(frozen=True)
+class LocateInfo:
+    """How kin_locate_next found a bifurcation: event (0 none, 1 sign change
+    of the test function, 2 paper's switch rule, 3 a step landed on it),
+    steps before detection, factorizations and forward calculations after it,
+    the vanishing singular value (absolute and relative to v_max), distance
+    moved while locating, and m, s at the final point."""
+
+    event: int
+    located: bool
+    steps: int
+    factorizations: int
+    forward: int
+    v_r: float
+    v_r_rel: float
+    distance: float
+    m_internal: int
+    s: int
+
+
+def _locate(self, method="fast", delta=0.0, vr_tol=1e-10, max_steps=1000):
+    """Follow the path (delta > 0 forwards, < 0 backwards, 0 = largest step)
+    until a bifurcation is detected and converge onto it: method 'fast'
+    (Illinois on the signed test function) or 'paper' (eq. 23-26). Raises
+    NotFoundError if none is found or location gives up (the assembly then
+    stays on the path)."""
+    methods = {"fast": lib.KIN_LOCATE_FAST, "paper": lib.KIN_LOCATE_PAPER}
+    if method not in methods:
+        raise ModelFormatError(f"method: expected 'fast' or 'paper', got {method!r}")
+    o = ffi.new("kin_locate_options *")
+    lib.kin_locate_options_default(o)
+    o.method = methods[method]
+    o.delta = float(delta)
+    o.vr_tol = float(vr_tol)
+    o.max_steps = int(max_steps)
+    info = ffi.new("kin_locate_info *")
+    self._check(lib.kin_locate_next(self._h, o, info), "locate")
+    return LocateInfo(info.event, bool(info.located), info.steps, info.factorizations, info.forward,
+                      info.v_r, info.v_r_rel, info.distance, info.m_internal, info.s)
+
+
+def _test_function(self):
+    """Signed test function tau = sign(det [C; t^T; R^T]) * v_r here."""
+    tau = ffi.new("double *")
+    self._check(lib.kin_test_function(self._h, tau), "test function")
+    return tau[0]
+
+
+Assembly.locate = _locate
+Assembly.test_function = _test_function

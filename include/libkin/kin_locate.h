@@ -1,0 +1,79 @@
+/* libkin: detecting and converging onto bifurcation points (paper section 4).
+ *
+ * Detection uses, at every accepted step, both the paper's switch rule (v_r
+ * below a threshold and decreasing) and a signed test function that a step
+ * cannot jump over:
+ *     tau = sign(det [C; t^T; R^T]) * v_r,
+ * C = H^T, t the oriented tangent, R the rigid-body mechanisms (oriented
+ * continuously). The bordered matrix is square and regular on a path; its
+ * determinant changes sign where the path crosses another one at a simple
+ * bifurcation (one extra singular value through zero). Cost: one LU
+ * factorization (dgetrf) per step, about a sixth of an SVD. */
+#ifndef KIN_LOCATE_H
+#define KIN_LOCATE_H
+
+#include "kin_export.h"
+#include "kin_assembly.h"
+
+/* Location methods. */
+enum kin_locate_method {
+    KIN_LOCATE_PAPER = 0, /* quadratic in l through the last three v_r (eq. 23-25),
+                             path check (eq. 26) and overshoot probe, delta halved */
+    KIN_LOCATE_FAST = 1   /* Illinois (modified regula falsi) on the signed
+                             test function over the bracketing step */
+};
+
+/* Why the detector fired / how location ended. */
+enum kin_locate_event {
+    KIN_EVENT_NONE = 0,        /* no bifurcation within the steps allowed */
+    KIN_EVENT_SIGN_CHANGE = 1, /* tau changed sign over the last step */
+    KIN_EVENT_SWITCH_RULE = 2, /* only the paper's rule fired (v_r < eps, decreasing) */
+    KIN_EVENT_LANDED = 3       /* a step landed on a bifurcation (m_internal >= 2) */
+};
+
+typedef struct kin_locate_options {
+    int method;          /* enum kin_locate_method. Default KIN_LOCATE_FAST */
+    double vr_tol;       /* located when v_r <= vr_tol * v_max. Default 1e-10 */
+    double switch_eps;   /* paper's threshold: v_r < switch_eps * v_max. Default 1e-2 */
+    double delta;        /* step amplitude while following; 0 = largest. Default 0 */
+    int max_steps;       /* steps to look for a bifurcation. Default 1000 */
+    int max_iter;        /* location iterations (forward calculations). Default 60 */
+    int use_switch_rule; /* also stop on the paper's rule alone. Default 1 */
+} kin_locate_options;
+
+typedef struct kin_locate_info {
+    int event;            /* enum kin_locate_event */
+    int located;          /* 1 if the assembly now sits on a bifurcation */
+    int steps;            /* path-following steps taken before detection */
+    int factorizations;   /* SVD/QR/LU factorizations after detection */
+    int forward;          /* forward calculations after detection */
+    double v_r;           /* final lowest non-zero singular value */
+    double v_r_rel;       /* v_r / v_max */
+    double distance;      /* distance moved during location (free coords) */
+    int path_kept;        /* the final tangent agrees with the path's (eq. 26) */
+    int m_internal, s;    /* analysis at the final point */
+} kin_locate_info;
+
+/* Defaults as documented above. Does nothing if o is NULL. */
+KIN_API void kin_locate_options_default(kin_locate_options *o);
+
+/* Signed test function at the current point (tau above; *tau = 0 at a
+ * bifurcation). Runs the analysis if needed. Returns KIN_OK, KIN_ENULL,
+ * KIN_ENOMECH, LAPACK codes. */
+KIN_API int kin_test_function(kin_assembly *a, double *tau);
+
+/* Follow the path from the current (regular) point in the direction of the
+ * sign of o->delta (forward if 0) until a bifurcation is detected, then
+ * converge onto it with o->method. On success the assembly sits at the
+ * bifurcation, analysed afresh (m, s, U_m, W_s readable), and info says how.
+ * If none is detected within max_steps the assembly is left where following
+ * stopped and KIN_ENOTFOUND is returned with event NONE. If location gives
+ * up (a non-zero minimum of v_r: a near-singular but regular configuration)
+ * the assembly is left at the best regular point found on the path, so
+ * stepping can resume, and KIN_ENOTFOUND is returned with the reason in
+ * kin_last_error(). Allocates two working copies of the assembly per call.
+ * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (options), KIN_EBIFURCATION (already
+ * at one), KIN_ENOTFOUND, KIN_ENOMEM, step and LAPACK codes. */
+KIN_API int kin_locate_next(kin_assembly *a, const kin_locate_options *o, kin_locate_info *info);
+
+#endif /* KIN_LOCATE_H */

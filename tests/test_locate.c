@@ -1,0 +1,165 @@
+/* Detecting and locating bifurcations: every bifurcation of the three-bar
+ * linkage from both sides with both methods; a large step that the paper's
+ * switch rule alone would skip; the hexagonal sail's R^B approached along one
+ * of its folding paths; error paths. */
+#include <string.h>
+
+#include "check.h"
+#include "libkin.h"
+#include "sail_states.h"
+
+/* path 0 = P1 (J2 = J1 + (1,0)), 1 = J2 held at S1, 2 = J1 held at S2;
+ * th = J1's angle about S1 (paths 0, 1) or J2's about S2 (path 2) */
+static void start(kin_assembly *a, int path, double th)
+{
+    double x[8];
+    kin_get_coords(a, x);
+    if (path == 0) { x[0] = cos(th); x[1] = sin(th); x[2] = x[0] + 1; x[3] = x[1]; }
+    if (path == 1) { x[0] = cos(th); x[1] = sin(th); x[2] = 0; x[3] = 0; }
+    if (path == 2) { x[0] = 1; x[1] = 0; x[2] = 1 + cos(th); x[3] = sin(th); }
+    CHECK_RC(kin_set_coords(a, x), KIN_OK);
+}
+
+static void threebar(void)
+{
+    /* expected (J1x, J2x) at the bifurcation reached forwards / backwards from th = 1 */
+    const double fwd[3][2] = {{1, 2}, {1, 0}, {1, 2}}, bwd[3][2] = {{-1, 0}, {-1, 0}, {1, 0}};
+    const char *names[3] = {"P1", "J2 at S1", "J1 at S2"};
+    for (int method = 0; method < 2; ++method)
+        for (int path = 0; path < 3; ++path)
+            for (int dir = 0; dir < 2; ++dir) {
+                kin_assembly *a = NULL;
+                CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
+                start(a, path, 1.0);
+                kin_locate_options o;
+                kin_locate_options_default(&o);
+                o.method = method;
+                o.delta = dir ? -0.1 : 0.1;
+                kin_locate_info info;
+                CHECK_RC(kin_locate_next(a, &o, &info), KIN_OK);
+                double x[8];
+                kin_get_coords(a, x);
+                const double *want = dir ? bwd[path] : fwd[path];
+                printf("%-6s %-9s %-9s: event %d after %2d steps, %2d factorizations, %2d forward, v_r/v_max %.2e\n",
+                       method ? "fast" : "paper", names[path], dir ? "backward" : "forward", info.event,
+                       info.steps, info.factorizations, info.forward, info.v_r_rel);
+                CHECK(info.located && info.v_r_rel <= 1e-10);
+                CHECK(info.m_internal == 2 && info.s == 1);
+                CHECK_CLOSE(x[0], want[0], 1e-9);
+                CHECK_CLOSE(x[2], want[1], 1e-9);
+                CHECK(fabs(x[1]) < 1e-9 && fabs(x[3]) < 1e-9);
+                if (method == KIN_LOCATE_FAST) CHECK(info.factorizations <= 8);
+                kin_analysis an;
+                CHECK_RC(kin_get_analysis(a, &an), KIN_OK);
+                CHECK(an.m_internal == 2 && an.s == 1);
+                kin_assembly_free(a);
+            }
+}
+
+/* With a step of 0.7 the sampled v_r never falls below the paper's threshold
+ * near R^C, so its switch rule alone would carry on; the signed test
+ * function changes sign and the locator still stops at R^C. */
+static void skipped(void)
+{
+    kin_assembly *a = NULL;
+    CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
+    start(a, 0, 1.0);
+    kin_options op;
+    kin_get_options(a, &op);
+    op.step_fraction = 1.0;
+    CHECK_RC(kin_set_options(a, &op), KIN_OK);
+    kin_locate_options o;
+    kin_locate_options_default(&o);
+    o.method = KIN_LOCATE_PAPER;
+    o.delta = 0.7;
+    kin_locate_info info;
+    CHECK_RC(kin_locate_next(a, &o, &info), KIN_OK);
+    CHECK(info.event == KIN_EVENT_SIGN_CHANGE);
+    double x[8];
+    kin_get_coords(a, x);
+    CHECK_CLOSE(x[0], 1.0, 1e-9);
+    CHECK_CLOSE(x[2], 2.0, 1e-9);
+    printf("large step 0.7: detected by sign change after %d steps, located with %d forward calculations\n",
+           info.steps, info.forward);
+    kin_assembly_free(a);
+}
+
+/* Leave R^B along one of its 8 paths, then come back and locate it. */
+static void hex_rb(void)
+{
+    kin_assembly *a = test_sail(6, 2);
+    CHECK_RC(test_hex_to_RB(a), KIN_OK);
+    kin_analysis an;
+    CHECK_RC(kin_analyse(a, &an), KIN_OK);
+    double rb[57];
+    kin_get_coords(a, rb);
+    int m = an.m_internal, s = 0;
+    double Q[4 * 4 * 3], betas[4 * 16], U[46 * 4], dir[46];
+    CHECK_RC(kin_second_order(a, KIN_Q_EXACT, 1, Q, 48, &s), KIN_OK);
+    int nsol = 0;
+    CHECK_RC(kin_quadrics_scan(m, s, Q, 256, 5, betas, 16, &nsol, NULL), KIN_OK);
+    CHECK(nsol == 8);
+    kin_get_mechanisms(a, KIN_MECH_INTERNAL, U, 46, 4);
+    for (int method = 0; method < 2; ++method) {
+        kin_assembly *b = NULL;
+        CHECK_RC(kin_assembly_clone(a, &b), KIN_OK);
+        for (int i = 0; i < 46; ++i) {
+            dir[i] = 0;
+            for (int k = 0; k < 4; ++k) dir[i] += U[i + 46 * k] * betas[k];
+        }
+        CHECK_RC(kin_path_set_direction(b, dir, 46), KIN_OK);
+        CHECK_RC(kin_step(b, 1e-3, NULL), KIN_OK);
+        for (int k = 0; k < 5; ++k) CHECK_RC(kin_step(b, 0.05, NULL), KIN_OK);
+        kin_locate_options o;
+        kin_locate_options_default(&o);
+        o.method = method;
+        o.delta = -0.05;
+        kin_locate_info info;
+        CHECK_RC(kin_locate_next(b, &o, &info), KIN_OK);
+        double x[57], err = 0;
+        kin_get_coords(b, x);
+        for (int i = 0; i < 57; ++i) err = fmax(err, fabs(x[i] - rb[i]));
+        printf("hex R^B (%s): event %d after %d steps, %d factorizations, v_r/v_max %.2e, m=%d s=%d, |x - R^B| %.2e\n",
+               method ? "fast" : "paper", info.event, info.steps, info.factorizations, info.v_r_rel,
+               info.m_internal, info.s, err);
+        CHECK(info.located && info.v_r_rel <= 1e-10);
+        CHECK(info.m_internal == 4 && info.s == 3);
+        CHECK(err < 1e-6);
+        kin_assembly_free(b);
+    }
+    kin_assembly_free(a);
+}
+
+static void errors(void)
+{
+    kin_assembly *a = NULL;
+    CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
+    kin_locate_info info;
+    CHECK_RC(kin_locate_next(a, NULL, &info), KIN_EBIFURCATION);
+    double tau = 1;
+    CHECK_RC(kin_test_function(a, &tau), KIN_OK);
+    CHECK(tau == 0.0);
+    start(a, 0, 1.0);
+    kin_locate_options o;
+    kin_locate_options_default(&o);
+    o.method = 9;
+    CHECK_RC(kin_locate_next(a, &o, &info), KIN_EINVAL);
+    kin_locate_options_default(&o);
+    o.max_steps = 2;
+    CHECK_RC(kin_locate_next(a, &o, &info), KIN_ENOTFOUND);
+    CHECK(info.event == KIN_EVENT_NONE && info.steps == 2);
+    CHECK_RC(kin_test_function(a, &tau), KIN_OK);
+    CHECK(tau != 0.0);
+    CHECK_RC(kin_test_function(NULL, &tau), KIN_ENULL);
+    CHECK_RC(kin_locate_next(NULL, &o, &info), KIN_ENULL);
+    kin_assembly_free(a);
+}
+
+int main(void)
+{
+    threebar();
+    skipped();
+    hex_rb();
+    errors();
+    TEST_REPORT("test_locate");
+}
