@@ -77,8 +77,9 @@ def singular_values(l, sv, path=None, count=None, title="singular values along t
 
 
 def branch_directions(assembly, directions, path=None, plane="xy", scale=0.3):
-    """Arrows of each candidate first-order motion (nfree vectors) at the
-    joints, one panel per direction."""
+    """Each candidate first-order motion (nfree vectors), one panel per
+    direction: in-plane components as arrows, the out-of-plane component as
+    discs (red = towards the viewer, blue = away, area ~ magnitude)."""
     plt = _plt()
     directions = [np.asarray(d) for d in directions]
     n = max(1, len(directions))
@@ -96,6 +97,15 @@ def branch_directions(assembly, directions, path=None, plane="xy", scale=0.3):
         disp[mask] = d[fmap[mask]]
         ax.quiver(coords[:, i], coords[:, j], disp[:, i], disp[:, j], angles="xy", scale_units="xy",
                   scale=1 / scale, color="C3", width=0.006)
+        if assembly.dim == 3:
+            # the out-of-plane component (e.g. z for 'xy', where a flat sail's
+            # mechanisms live): red up, blue down, area ~ magnitude
+            k = 3 - i - j
+            out = disp[:, k]
+            big = np.abs(out).max()
+            if big > 0:
+                ax.scatter(coords[:, i], coords[:, j], s=300 * np.abs(out) / big, c=np.sign(out), cmap="coolwarm",
+                           vmin=-1, vmax=1, alpha=0.6, edgecolors="k", linewidths=0.5, zorder=3)
     for k in range(len(directions), rows * cols):
         axes[k // cols][k % cols].axis("off")
     fig.tight_layout()
