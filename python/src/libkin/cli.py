@@ -128,6 +128,6 @@ def main(argv=None):
     args = p.parse_args(argv)
     try:
         return args.fn(args)
-    except (KinError, OSError) as exc:
+    except (KinError, OSError, ImportError) as exc:
         print(f"libkin: {exc}", file=sys.stderr)
         return 1

@@ -7,7 +7,10 @@ _PLANES = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
 
 
 def _plt():
-    import matplotlib
+    try:
+        import matplotlib
+    except ImportError:
+        raise ImportError("libkin.plot needs matplotlib: pip install 'libkin[plot]' (or matplotlib pillow)") from None
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     return plt
