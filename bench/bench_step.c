@@ -13,6 +13,7 @@
 #include "internal.h"
 #include "lapack.h"
 #include "libkin.h"
+#include "sail_states.h"
 
 static double now(void)
 {
@@ -46,22 +47,7 @@ static int generic(kin_assembly *a, double amp)
     return KIN_ENOTCONVERGED;
 }
 
-static int lift_and_relax(kin_assembly *a, double amp)
-{
-    int nj = kin_njoints(a);
-    double *xyz = malloc(sizeof(double) * 3 * nj);
-    kin_get_coords(a, xyz);
-    unsigned s = 12345u;
-    for (int j = 0; j < nj; ++j)
-        if (kin_free_index(a, j, 2) >= 0) {
-            s = s * 1103515245u + 12345u;
-            xyz[3 * j + 2] += amp * ((double)(s >> 8) / (1u << 24) - 0.5);
-        }
-    int rc = kin_set_coords(a, xyz);
-    if (!rc) rc = kin_relax(a, 200, NULL);
-    free(xyz);
-    return rc;
-}
+static int lift_and_relax(kin_assembly *a, double amp) { return test_make_generic(a, amp); }
 
 /* seconds of one dgesdd (jobz = 'A') of the current H, best of reps */
 static double svd_seconds(kin_assembly *a, int reps)

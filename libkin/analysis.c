@@ -20,7 +20,7 @@ static const double GS_DROP_TOL = 1e-8;
 /* Orthonormalise column j of X (n rows, ld) against columns 0..k-1 (two
  * passes of modified Gram-Schmidt) and normalise it; returns its norm after
  * orthogonalisation relative to before. */
-static double gs_column(int n, double *X, int ld, int k, double *v)
+double kin__gs_column(int n, const double *X, int ld, int k, double *v)
 {
     double before = kin__norm(n, v);
     if (before == 0.0) return 0.0;
@@ -136,7 +136,7 @@ static int split_mechanisms(kin_assembly *a, const double *xyz, kin_factor *f)
             for (int c = 0; c < m; ++c) s += Um[i + (size_t)c * nf] * p[c];
             v[i] = s;
         }
-        if (gs_column(nf, f->Urig, nf, kept, v) > GS_DROP_TOL) {
+        if (kin__gs_column(nf, f->Urig, nf, kept, v) > GS_DROP_TOL) {
             memcpy(f->Urig + (size_t)kept * nf, v, sizeof(double) * (size_t)nf);
             ++kept;
         }
@@ -151,14 +151,14 @@ static int split_mechanisms(kin_assembly *a, const double *xyz, kin_factor *f)
     double *best = w + m;                    /* m scratch */
     for (int c = 0; c < kept; ++c)
         for (int r = 0; r < m; ++r) Z[r + (size_t)c * m] = kin__dot(nf, Um + (size_t)r * nf, f->Urig + (size_t)c * nf);
-    for (int c = 0; c < kept; ++c) gs_column(m, Z, m, c, Z + (size_t)c * m);
+    for (int c = 0; c < kept; ++c) kin__gs_column(m, Z, m, c, Z + (size_t)c * m);
     int have = kept;
     while (have < m) {
         double bestn = -1.0;
         for (int r = 0; r < m; ++r) {
             memset(w, 0, sizeof(double) * (size_t)m);
             w[r] = 1.0;
-            double nrm = gs_column(m, Z, m, have, w);
+            double nrm = kin__gs_column(m, Z, m, have, w);
             if (nrm > bestn) {
                 bestn = nrm;
                 memcpy(best, w, sizeof(double) * (size_t)m);

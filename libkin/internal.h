@@ -109,6 +109,11 @@ static inline const kin_factor *kin__cur(const kin_assembly *a) { return &a->fac
  * model; no allocation); dst keeps its own options */
 void kin__copy_state(kin_assembly *dst, const kin_assembly *src);
 
+/* Orthogonalise v (n entries) against columns 0..k-1 of X (ld) by two
+ * passes of modified Gram-Schmidt and normalise it; returns its norm after
+ * orthogonalisation relative to before (0 for a zero vector). */
+double kin__gs_column(int n, const double *X, int ld, int k, double *v);
+
 /* small dense helpers */
 double kin__dot(int n, const double *x, const double *y);
 double kin__norm(int n, const double *x);

@@ -61,16 +61,8 @@ int kin_second_order(const kin_assembly *a, int weighting, int normalise, double
     int mm = m * m, kept = 0;
     for (int j = 0; j < s; ++j) {
         double *v = Q + (size_t)j * mm;
-        double before = kin__norm(mm, v);
-        for (int pass = 0; pass < 2; ++pass)
-            for (int k = 0; k < kept; ++k) {
-                const double *u = Q + (size_t)k * mm;
-                double p = kin__dot(mm, u, v);
-                for (int i = 0; i < mm; ++i) v[i] -= p * u[i];
-            }
-        double after = kin__norm(mm, v);
-        if (!(before > 0.0) || after < Q_DEPENDENT_TOL * before) continue;
-        for (int i = 0; i < mm; ++i) Q[(size_t)kept * mm + i] = v[i] / after;
+        if (kin__gs_column(mm, Q, mm, kept, v) < Q_DEPENDENT_TOL) continue;
+        memmove(Q + (size_t)kept * mm, v, sizeof(double) * (size_t)mm);
         ++kept;
     }
     *s_out = kept;
