@@ -122,9 +122,18 @@ static double tangent_cos(const kin_assembly *x, const kin_assembly *y)
 /* Illinois iteration on tau(delta) over [0, hi] from prev (tau_lo there) */
 static int locate_fast(loc_ctx *c, double hi, double tau_lo, double tau_hi)
 {
-    double lo = 0.0;
+    double lo = 0.0, width0 = fabs(hi);
     int side = 0;
     for (int it = 0; it < c->o->max_iter; ++it) {
+        if (fabs(hi - lo) < GIVE_UP_FRACTION * width0) {
+            /* the bracket has collapsed but v_r stays finite: tau changed sign
+             * without a zero, i.e. the step crossed a near-singular but
+             * regular configuration onto a neighbouring sheet of the path */
+            return kin__fail(c->a, KIN_ENOTFOUND,
+                             "no bifurcation: the test function changed sign but v_r stays at %.3g relative "
+                             "(a near-singular regular configuration; take smaller steps here)",
+                             rel(c->work));
+        }
         double d = hi - tau_hi * (hi - lo) / (tau_hi - tau_lo);
         if (!(d > fmin(lo, hi) && d < fmax(lo, hi))) d = 0.5 * (lo + hi);
         double used;

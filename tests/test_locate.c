@@ -130,6 +130,60 @@ static void hex_rb(void)
     kin_assembly_free(a);
 }
 
+/* A rhombus whose middle bar is 1e-4 too long: its paths no longer cross,
+ * v_r has a small non-zero minimum, and no bifurcation may be reported; the
+ * assembly stays on its path and stepping resumes. */
+static void nonzero_minimum(void)
+{
+    const double xyz[8] = {cos(1.0), sin(1.0), cos(1.0) + 1, sin(1.0), 0, 0, 1, 0};
+    const unsigned char fixed[8] = {0, 0, 0, 0, 1, 1, 1, 1};
+    const int bars[6] = {2, 0, 0, 1, 1, 3};
+    const double L[3] = {1.0, 1.0 + 1e-4, 1.0};
+    for (int method = 0; method < 2; ++method) {
+        kin_assembly *a = NULL;
+        CHECK_RC(kin_assembly_create(2, 4, xyz, fixed, 3, bars, L, &a, NULL, 0), KIN_OK);
+        CHECK_RC(kin_relax(a, 100, NULL), KIN_OK);
+        kin_locate_options o;
+        kin_locate_options_default(&o);
+        o.method = method;
+        o.delta = 0.05;
+        kin_locate_info info;
+        CHECK_RC(kin_locate_next(a, &o, &info), KIN_ENOTFOUND);
+        printf("non-zero minimum (%s): gave up after %d steps, %d forward: %s\n", method ? "fast" : "paper",
+               info.steps, info.forward, kin_last_error(a));
+        CHECK(!info.located && info.m_internal == 1 && info.v_r_rel > 1e-4);
+        CHECK(strstr(kin_last_error(a), "regular configuration") != NULL);
+        CHECK(kin_max_strain(a) <= 1e-12);
+        CHECK_RC(kin_step(a, 0.05, NULL), KIN_OK);
+        kin_assembly_free(a);
+    }
+}
+
+/* The paper's Section 5: along P1 from R^C to R^A with tolerance 1e-6, its
+ * method converges in one step from v_r = 0.0052 (delta = 0.0091). */
+static void section5(void)
+{
+    kin_assembly *a = NULL;
+    CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
+    const double p1[4] = {0, 1, 0, 1};
+    CHECK_RC(kin_path_set_direction(a, p1, 4), KIN_OK);
+    CHECK_RC(kin_step(a, 1e-3, NULL), KIN_OK);
+    kin_locate_options o;
+    kin_locate_options_default(&o);
+    o.method = KIN_LOCATE_PAPER;
+    o.vr_tol = 1e-6;
+    o.delta = 0.1;
+    kin_locate_info info;
+    CHECK_RC(kin_locate_next(a, &o, &info), KIN_OK);
+    printf("section 5 (paper's method, tol 1e-6): %d forward calculations to v_r/v_max = %.1e\n", info.forward,
+           info.v_r_rel);
+    CHECK(info.v_r_rel <= 1e-6 && info.forward <= 5);
+    double x[8];
+    kin_get_coords(a, x);
+    CHECK_CLOSE(x[0], -1.0, 1e-6);
+    kin_assembly_free(a);
+}
+
 static void errors(void)
 {
     kin_assembly *a = NULL;
@@ -160,6 +214,8 @@ int main(void)
     threebar();
     skipped();
     hex_rb();
+    nonzero_minimum();
+    section5();
     errors();
     TEST_REPORT("test_locate");
 }
