@@ -56,6 +56,31 @@ typedef struct kin_solve_info {
 KIN_API int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long seed,
                               double *betas, int maxsol, int *nsol, kin_solve_info *info);
 
+/* Accounting of the complete solver: every one of the 2^s paths ends
+ * in exactly one class, paths = real + nonreal + singular + failed. */
+typedef struct kin_homotopy_info {
+    int paths;         /* 2^s */
+    int real;          /* non-singular real endpoints (counted with multiplicity) */
+    int real_distinct; /* distinct real solutions (eq. 20) */
+    int nonreal;       /* non-singular complex (non-real) endpoints */
+    int singular;      /* multiple roots or points of positive-dimensional components */
+    int failed;        /* paths the tracker lost (step below its minimum) */
+} kin_homotopy_info;
+
+/* The complete solver: total-degree homotopy continuation for
+ * beta^T Q_j beta = 0 (j < s) in projective space P^s (m = s + 1), from the
+ * start system x_j^2 = x_0^2, in a random complex affine chart with a random
+ * complex gamma (both drawn from `seed`: deterministic), tracked by an Euler
+ * predictor and Newton corrector with step control, endpoints refined and
+ * classified. nthreads >= 1 threads share the paths; the result is the same
+ * for any thread count. Distinct real solutions go to betas (m x maxsol,
+ * unit, largest entry positive), their path counts to multiplicity
+ * (optional, maxsol ints). Returns KIN_OK, KIN_ENULL, KIN_EINVAL (m != s+1,
+ * m < 2, maxsol < 1, nthreads < 1), KIN_ERANGE (m > 24), KIN_ENOMEM. */
+KIN_API int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads,
+                                  double *betas, int maxsol, int *nsol, int *multiplicity,
+                                  kin_homotopy_info *info);
+
 /* One candidate path out of a bifurcation (paper 3.4). */
 typedef struct kin_branch_path {
     int beta;        /* index of the second-order solution */

@@ -150,6 +150,17 @@ typedef struct kin_solve_info {
 } kin_solve_info;
 int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long seed,
                               double *betas, int maxsol, int *nsol, kin_solve_info *info);
+typedef struct kin_homotopy_info {
+    int paths;
+    int real;
+    int real_distinct;
+    int nonreal;
+    int singular;
+    int failed;
+} kin_homotopy_info;
+int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads,
+                                  double *betas, int maxsol, int *nsol, int *multiplicity,
+                                  kin_homotopy_info *info);
 typedef struct kin_branch_path {
     int beta;
     int sign;
