@@ -57,9 +57,12 @@ def test_leave_bifurcation_along_chosen_direction():
     np.testing.assert_allclose(c[1] - c[0], [1.0, 0.0], atol=1e-12)
 
 
-def test_branches_square_sail():
+@pytest.mark.parametrize("solver", ["homotopy", "scan"])
+def test_branches_square_sail(solver):
     a = libkin.Assembly.sail(4, 1)
-    br = a.branches(starts=512, length=1.75)
+    br = a.branches(solver=solver, starts=512, length=1.75)
+    if solver == "homotopy":
+        assert br.accounting["paths"] == 16 and br.accounting["real_distinct"] == 16
     assert br.betas.shape == (16, 5)
     assert len(br.paths) == 32 and br.distinct == 32
     assert all(p.exists and p.tangent_ok for p in br.paths)
@@ -70,7 +73,7 @@ def test_branches_square_sail():
 
 def test_branches_threebar_and_errors():
     a = libkin.Assembly.threebar("RC")
-    br = a.branches(starts=32, length=0.5)
+    br = a.branches(solver="scan", starts=32, length=0.5)
     assert br.betas.shape == (2, 2) and br.distinct == 4
     xyz = a.coords
     xyz[:2] = [[0.6, 0.8], [1.6, 0.8]]

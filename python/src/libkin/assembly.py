@@ -383,14 +383,13 @@ class BranchPath:
 class Branches:
     """All paths out of a bifurcation: the second-order solutions `betas`
     (nsol, m_internal), their directions U_m beta (nsol, nfree), the directed
-    candidate paths and how many are distinct, and the scan's accounting."""
+    candidate paths and how many are distinct, and the solver's accounting."""
 
     betas: np.ndarray
     directions: np.ndarray
     paths: list
     distinct: int
-    starts: int
-    converged: int
+    accounting: dict
 
 
 def _second_order(self, weighting="exact", normalise=True):
@@ -412,21 +411,33 @@ def _second_order(self, weighting="exact", normalise=True):
     return Q[: s_out[0]]
 
 
-def _branches(self, starts=1024, length=1.0, seed=1, weighting="exact"):
+def _branches(self, solver="homotopy", starts=1024, length=1.0, seed=1, weighting="exact", threads=2):
     """Every path out of this bifurcation: solve the second-order equations
-    by the root scan from `starts` points, then follow each solution in both
-    directions to path length `length` and group coinciding paths."""
+    (solver 'homotopy': the complete solver, accounting for all 2^s paths;
+    'scan': the paper's root scan from `starts` points), then follow each
+    real solution in both directions to path length `length` and group
+    coinciding paths. `accounting` holds the solver's counts."""
     Q = self.second_order(weighting=weighting)
     s, m = Q.shape[0], Q.shape[1]
     if m != s + 1:
-        raise StateError(f"the scan needs m = s + 1; here m = {m}, s = {s}")
+        raise StateError(f"the solvers need m = s + 1; here m = {m}, s = {s}")
     Qc = np.ascontiguousarray(Q)
-    maxsol = 4096
+    maxsol = 1 << min(s, 16)
     betas = np.empty((maxsol, m))
     nsol = ffi.new("int *")
-    info = ffi.new("kin_solve_info *")
-    check(lib.kin_quadrics_scan(m, s, read_ptr(Qc, "double *"), int(starts), int(seed),
-                                write_ptr(betas, "double *"), maxsol, nsol, info), what="scan")
+    if solver == "scan":
+        info = ffi.new("kin_solve_info *")
+        check(lib.kin_quadrics_scan(m, s, read_ptr(Qc, "double *"), int(starts), int(seed),
+                                    write_ptr(betas, "double *"), maxsol, nsol, info), what="scan")
+        accounting = {"starts": info.starts, "converged": info.converged, "distinct": info.distinct}
+    elif solver == "homotopy":
+        info = ffi.new("kin_homotopy_info *")
+        check(lib.kin_quadrics_homotopy(m, s, read_ptr(Qc, "double *"), int(seed), int(threads),
+                                        write_ptr(betas, "double *"), maxsol, nsol, ffi.NULL, info),
+              what="homotopy")
+        accounting = {k: getattr(info, k) for k in ("paths", "real", "real_distinct", "nonreal", "singular", "failed")}
+    else:
+        raise ModelFormatError(f"solver: expected 'homotopy' or 'scan', got {solver!r}")
     betas = betas[: nsol[0]].copy()
     U = self.analyse().internal_mechanisms
     paths = []
@@ -440,7 +451,7 @@ def _branches(self, starts=1024, length=1.0, seed=1, weighting="exact"):
         distinct = nd[0]
         paths = [BranchPath(p.beta, p.sign, bool(p.exists), bool(p.tangent_ok), p.tangent_cos, p.path_id,
                             p.length, ends[k]) for k, p in enumerate(cp)]
-    return Branches(betas, betas @ U.T, paths, distinct, info.starts, info.converged)
+    return Branches(betas, betas @ U.T, paths, distinct, accounting)
 
 
 Assembly.second_order = _second_order
