@@ -11,7 +11,6 @@
 #include <complex.h>
 #include <math.h>
 #include <pthread.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -198,17 +197,9 @@ static void *worker(void *arg)
     return NULL;
 }
 
-static uint64_t splitmix(uint64_t *s)
+static cplx unit_random(unsigned long long *s)
 {
-    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
-static cplx unit_random(uint64_t *s)
-{
-    double th = 6.283185307179586 * ((splitmix(s) >> 11) / 9007199254740992.0);
+    double th = 6.283185307179586 * ((kin__splitmix(s) >> 11) / 9007199254740992.0);
     return cos(th) + I * sin(th);
 }
 
@@ -222,7 +213,7 @@ int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int
     P.m = m;
     P.s = s;
     P.Q = Q;
-    uint64_t st = (uint64_t)seed * 0x2545F4914F6CDD1Dull + 7u;
+    unsigned long long st = (unsigned long long)seed * 0x2545F4914F6CDD1Dull + 7u;
     P.gamma = unit_random(&st);
     for (int i = 0; i < m; ++i) P.a[i] = unit_random(&st);
     int npaths = 1 << s;

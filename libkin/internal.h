@@ -114,6 +114,16 @@ void kin__copy_state(kin_assembly *dst, const kin_assembly *src);
  * orthogonalisation relative to before (0 for a zero vector). */
 double kin__gs_column(int n, const double *X, int ld, int k, double *v);
 
+/* splitmix64: a small deterministic random generator whose whole state is
+ * the caller's *s (no global state; seeded runs are reproducible) */
+static inline unsigned long long kin__splitmix(unsigned long long *s)
+{
+    unsigned long long z = (*s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
 /* small dense helpers */
 double kin__dot(int n, const double *x, const double *y);
 double kin__norm(int n, const double *x);

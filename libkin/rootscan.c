@@ -2,7 +2,6 @@
  * beta^T Q_j beta = 0 with |beta| = 1 from many starting points, by GSL's
  * hybridsj solver with the analytic Jacobian. */
 #include <math.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -66,19 +65,11 @@ static int fdf_eval(const gsl_vector *x, void *p, gsl_vector *f, gsl_matrix *J)
     return df_eval(x, p, J);
 }
 
-/* splitmix64: a small deterministic generator (no global state) */
-static uint64_t splitmix(uint64_t *s)
+/* a standard normal draw (Box-Muller) from the caller's generator state */
+static double gauss(unsigned long long *s)
 {
-    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
-static double gauss(uint64_t *s)
-{
-    double u1 = ((splitmix(s) >> 11) + 0.5) / 9007199254740992.0;
-    double u2 = ((splitmix(s) >> 11) + 0.5) / 9007199254740992.0;
+    double u1 = ((kin__splitmix(s) >> 11) + 0.5) / 9007199254740992.0;
+    double u2 = ((kin__splitmix(s) >> 11) + 0.5) / 9007199254740992.0;
     return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
 }
 
@@ -104,7 +95,7 @@ int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long s
         return KIN_ENOMEM;
     }
     kin_solve_info in = {starts, 0, 0, 0, 0.0};
-    uint64_t state = (uint64_t)seed * 0x2545F4914F6CDD1Dull + 1u;
+    unsigned long long state = (unsigned long long)seed * 0x2545F4914F6CDD1Dull + 1u;
     int nd = 0;
     for (int k = 0; k < starts; ++k) {
         double n2 = 0.0;
