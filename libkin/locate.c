@@ -83,7 +83,6 @@ typedef struct loc_ctx {
     kin_assembly *a, *prev, *work, *probe;
     const kin_locate_options *o;
     kin_locate_info *info;
-    long f0[4];
 } loc_ctx;
 
 static double rel(const kin_assembly *a) { return kin__cur(a)->an.v_r / kin__cur(a)->an.v_max; }
@@ -251,7 +250,7 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
     if (kin__cur(a)->an.m_internal >= 2)
         return kin__fail(a, KIN_EBIFURCATION, "already at a bifurcation (m_internal = %d)",
                          kin__cur(a)->an.m_internal);
-    loc_ctx c = {a, NULL, NULL, NULL, &o, info, {0, 0, 0, 0}};
+    loc_ctx c = {a, NULL, NULL, NULL, &o, info};
     kin_options user = a->opt;
     double fine = fmin(user.rank_tol, LOCATE_RANK_FRACTION * o.vr_tol);
     a->opt.rank_tol = fine;
@@ -316,11 +315,18 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
             rc = locate_fast(&c, si.delta, tau0, tau1);
         } else {
             /* the paper's method; also the fallback when tau does not change sign */
-            int n = nh;
-            if (info->event == KIN_EVENT_SIGN_CHANGE) n = nh; /* history ends at prev */
-            rc = n >= 2 ? locate_paper(&c, hl, hv, n, step) : kin__fail(a, KIN_ENOTFOUND, "too little history");
+            /* the history ends at c.prev, the last point before the bifurcation */
+            rc = nh >= 2 ? locate_paper(&c, hl, hv, nh, step) : kin__fail(a, KIN_ENOTFOUND, "too little history");
         }
         if (rc == KIN_OK) {
+            /* eq. 26: the move from the last regular point must continue its
+             * tangent, or the search slid onto a neighbouring path */
+            double *ch = c.probe->chord, *x1 = c.probe->x;
+            kin__gather(a, c.prev->xyz, ch);
+            kin__gather(a, c.work->xyz, x1);
+            for (int i = 0; i < a->nf; ++i) ch[i] = x1[i] - ch[i];
+            double n = kin__norm(a->nf, ch);
+            info->path_kept = n == 0.0 || fabs(kin__dot(a->nf, ch, c.prev->t)) >= PATH_KEPT_COS * n;
             /* move the caller's assembly onto the located point */
             double dist = 0.0;
             for (int i = 0; i < a->nj * a->dim; ++i) dist += (c.work->xyz[i] - a->xyz[i]) * (c.work->xyz[i] - a->xyz[i]);
@@ -333,6 +339,8 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
             kin__copy_state(a, c.prev);
         }
     }
+    if (rc == KIN_OK && info->event == KIN_EVENT_LANDED)
+        info->path_kept = 1; /* an ordinary step landed there: its direction check applied */
     /* back to the caller's rank tolerance: analyse the final point afresh */
     a->opt = user;
     {
@@ -345,7 +353,6 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
     info->v_r_rel = kin__cur(a)->an.v_max > 0 ? info->v_r / kin__cur(a)->an.v_max : 0.0;
     info->m_internal = kin__cur(a)->an.m_internal;
     info->s = kin__cur(a)->an.s;
-    info->path_kept = info->located;
     kin_assembly_free(c.prev);
     kin_assembly_free(c.work);
     kin_assembly_free(c.probe);

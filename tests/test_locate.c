@@ -43,7 +43,7 @@ static void threebar(void)
                 printf("%-6s %-9s %-9s: event %d after %2d steps, %2d factorizations, %2d forward, v_r/v_max %.2e\n",
                        method ? "fast" : "paper", names[path], dir ? "backward" : "forward", info.event,
                        info.steps, info.factorizations, info.forward, info.v_r_rel);
-                CHECK(info.located && info.v_r_rel <= 1e-10);
+                CHECK(info.located && info.path_kept && info.v_r_rel <= 1e-10);
                 CHECK(info.m_internal == 2 && info.s == 1);
                 CHECK_CLOSE(x[0], want[0], 1e-9);
                 CHECK_CLOSE(x[2], want[1], 1e-9);
@@ -122,7 +122,7 @@ static void hex_rb(void)
         printf("hex R^B (%s): event %d after %d steps, %d factorizations, v_r/v_max %.2e, m=%d s=%d, |x - R^B| %.2e\n",
                method ? "fast" : "paper", info.event, info.steps, info.factorizations, info.v_r_rel,
                info.m_internal, info.s, err);
-        CHECK(info.located && info.v_r_rel <= 1e-10);
+        CHECK(info.located && info.path_kept && info.v_r_rel <= 1e-10);
         CHECK(info.m_internal == 4 && info.s == 3);
         CHECK(err < 1e-6);
         kin_assembly_free(b);

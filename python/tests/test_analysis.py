@@ -90,7 +90,7 @@ def test_locate_rc_from_p1(method):
     a.coords = xyz
     assert a.test_function() != 0
     info = a.locate(method=method, delta=0.1)
-    assert info.located and info.v_r_rel <= 1e-10 and (info.m_internal, info.s) == (2, 1)
+    assert info.located and info.path_kept and info.v_r_rel <= 1e-10 and (info.m_internal, info.s) == (2, 1)
     np.testing.assert_allclose(a.coords[:2], [[1, 0], [2, 0]], atol=1e-9)
     with pytest.raises(libkin.errors.AtBifurcationError):
         a.locate()

@@ -464,7 +464,8 @@ class LocateInfo:
     of the test function, 2 paper's switch rule, 3 a step landed on it),
     steps before detection, factorizations and forward calculations after it,
     the vanishing singular value (absolute and relative to v_max), distance
-    moved while locating, and m, s at the final point."""
+    moved while locating, whether the located point continues the path it was
+    approached on (eq. 26), and m, s at the final point."""
 
     event: int
     located: bool
@@ -474,6 +475,7 @@ class LocateInfo:
     v_r: float
     v_r_rel: float
     distance: float
+    path_kept: bool
     m_internal: int
     s: int
 
@@ -496,7 +498,7 @@ def _locate(self, method="fast", delta=0.0, vr_tol=1e-10, max_steps=1000):
     info = ffi.new("kin_locate_info *")
     self._check(lib.kin_locate_next(self._h, o, info), "locate")
     return LocateInfo(info.event, bool(info.located), info.steps, info.factorizations, info.forward,
-                      info.v_r, info.v_r_rel, info.distance, info.m_internal, info.s)
+                      info.v_r, info.v_r_rel, info.distance, bool(info.path_kept), info.m_internal, info.s)
 
 
 def _test_function(self):
