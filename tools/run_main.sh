@@ -1,7 +1,12 @@
 #!/usr/bin/env bash
-# The main job: build, then run the three-bar linkage study (analysis at R^C,
-# its two paths, locating R^A along P1, a lap of the parallelogram path).
+# The main job: build libkin, then run the hexagonal solar-sail folding study
+# (paper Section 6.2): flat state R^A (complete branch analysis), the folding
+# path into R^B, on to R^C, and back to R^A. Writes study_out/report.md with
+# its figures. Extra arguments go to `libkin study` (e.g. --hub 4 --loops 1
+# for the square sail, --quick to skip the 2^15-path homotopy, --out DIR).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/build.sh >/dev/null
-./build/examples/threebar
+bash tools/venv.sh
+LIBKIN_LIBRARY="$PWD/build/libkin.so" PYTHONPATH="$PWD/python/src" \
+  build/venv/bin/python -m libkin study "$@"

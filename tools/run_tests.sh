@@ -6,9 +6,7 @@ cd "$(dirname "$0")/.."
 bash tools/build.sh
 cmake --build build --target check
 if [ -d python/tests ]; then
-  python3 -m venv build/venv
-  build/venv/bin/pip install -q --upgrade pip
-  build/venv/bin/pip install -q -r python/requirements-dev.txt
+  bash tools/venv.sh
   LIBKIN_LIBRARY="$PWD/build/libkin.so" PYTHONPATH="$PWD/python/src" \
     build/venv/bin/python -m pytest -q python/tests
 fi

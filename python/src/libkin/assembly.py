@@ -411,13 +411,13 @@ def _second_order(self, weighting="exact", normalise=True):
     return Q[: s_out[0]]
 
 
-def _branches(self, solver="homotopy", starts=1024, length=1.0, seed=1, weighting="exact", threads=2):
-    """Every path out of this bifurcation: solve the second-order equations
-    (solver 'homotopy': the complete solver, accounting for all 2^s paths;
-    'scan': the paper's root scan from `starts` points), then follow each
-    real solution in both directions to path length `length` and group
-    coinciding paths. `accounting` holds the solver's counts."""
-    Q = self.second_order(weighting=weighting)
+def solve_quadrics(Q, solver="homotopy", starts=1024, seed=1, threads=2):
+    """Real solutions beta (nsol, m) of beta^T Q_j beta = 0 (j < s), |beta| = 1,
+    for Q of shape (s, m, m) with m = s + 1, and the solver's accounting
+    (see _branches)."""
+    Q = np.asarray(Q, dtype=np.float64)
+    if Q.ndim != 3 or Q.shape[1] != Q.shape[2]:
+        raise ModelFormatError(f"Q: expected shape (s, m, m), got {Q.shape}")
     s, m = Q.shape[0], Q.shape[1]
     if m != s + 1:
         raise StateError(f"the solvers need m = s + 1; here m = {m}, s = {s}")
@@ -438,8 +438,28 @@ def _branches(self, solver="homotopy", starts=1024, length=1.0, seed=1, weightin
         accounting = {k: getattr(info, k) for k in ("paths", "real", "real_distinct", "nonreal", "singular", "failed")}
     else:
         raise ModelFormatError(f"solver: expected 'homotopy' or 'scan', got {solver!r}")
-    betas = betas[: nsol[0]].copy()
+    return betas[: nsol[0]].copy(), accounting
+
+
+def _branches(self, solver="homotopy", starts=1024, length=1.0, seed=1, weighting="exact", threads=2):
+    """Every path out of this bifurcation: solve the second-order equations
+    (solver 'homotopy': the complete solver, accounting for all 2^s paths;
+    'scan': the paper's root scan from `starts` points), then follow each
+    real solution in both directions to path length `length` and group
+    coinciding paths. `accounting` holds the solver's counts."""
+    betas, accounting = solve_quadrics(self.second_order(weighting=weighting), solver, starts, seed, threads)
+    return self.follow_branches(betas, length=length, accounting=accounting)
+
+
+def _follow_branches(self, betas, length=1.0, accounting=None):
+    """Follow the second-order solutions `betas` (nsol, m_internal) in both
+    directions to path length `length` (kin_branch_paths) and group
+    coinciding paths."""
+    betas = np.ascontiguousarray(np.atleast_2d(np.asarray(betas, dtype=np.float64)))
+    nsol = [betas.shape[0]]
     U = self.analyse().internal_mechanisms
+    if betas.shape[1] != U.shape[1]:
+        raise ModelFormatError(f"betas: expected {U.shape[1]} columns, got {betas.shape[1]}")
     paths = []
     distinct = 0
     if nsol[0]:
@@ -451,11 +471,12 @@ def _branches(self, solver="homotopy", starts=1024, length=1.0, seed=1, weightin
         distinct = nd[0]
         paths = [BranchPath(p.beta, p.sign, bool(p.exists), bool(p.tangent_ok), p.tangent_cos, p.path_id,
                             p.length, ends[k]) for k, p in enumerate(cp)]
-    return Branches(betas, betas @ U.T, paths, distinct, accounting)
+    return Branches(betas, betas @ U.T, paths, distinct, accounting or {})
 
 
 Assembly.second_order = _second_order
 Assembly.branches = _branches
+Assembly.follow_branches = _follow_branches
 
 
 @dataclasses.dataclass(frozen=True)

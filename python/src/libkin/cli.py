@@ -94,6 +94,23 @@ def cmd_models(args):
     return 0
 
 
+def cmd_study(args):
+    from . import sailstudy
+    if args.hub == 4:
+        if args.loops != 1:
+            print("the square-hub study is the paper's one-loop sail (--loops 1)", file=sys.stderr)
+            return 2
+        res = sailstudy.square_study(threads=args.threads, progress=not args.quiet, out=args.out)
+    else:
+        res = sailstudy.hexagonal_study(args.hub, args.loops, complete=not args.quick, threads=args.threads,
+                                        progress=not args.quiet, out=args.out)
+    if "failed" in res:
+        print(f"study stopped early: {res['failed']}", file=sys.stderr)
+        return 3
+    print(f"report: {pathlib.Path(args.out) / 'report.md'}")
+    return 0
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(prog="libkin", description=(
         "Kinematic analysis of pin-jointed bar assemblies. MODEL is a JSON model file "
@@ -122,6 +139,17 @@ def main(argv=None):
     s.add_argument("png")
     s.add_argument("--plane", default="xy", choices=["xy", "xz", "yz"])
     s.set_defaults(fn=cmd_draw)
+    s = sub.add_parser("study", help="the solar-sail folding study (paper Section 6) with a report")
+    s.add_argument("--hub", type=int, default=6,
+                   help="hub sides: 6 (default) = the hexagonal study R^A-R^B-R^C and back; 4 = the square "
+                        "sail's paths out of its flat state; other even n >= 6: that family member")
+    s.add_argument("--loops", type=int, default=2, help="loops of triangles (default 2; 1 for --hub 4)")
+    s.add_argument("--out", default="study_out", help="output folder for report.md, summary.json, PNGs")
+    s.add_argument("--quick", action="store_true",
+                   help="skip the 2^s homotopy at the flat state (the symmetric sub-problem is still solved)")
+    s.add_argument("--threads", type=int, default=2, help="threads of the homotopy solver")
+    s.add_argument("--quiet", action="store_true", help="no progress messages")
+    s.set_defaults(fn=cmd_study)
     s = sub.add_parser("models", help="write the built-in models as JSON files")
     s.add_argument("dir")
     s.set_defaults(fn=cmd_models)

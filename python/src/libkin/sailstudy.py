@@ -1,0 +1,459 @@
+"""The solar-sail folding studies of the paper's Section 6, run end to end.
+
+hexagonal_study(): from the flat state R^A along the folding path into R^B,
+on to the next bifurcation R^C, and back to R^A, recording what Figures 13
+and 14 show plus the strain, the hub's planarity and the closure error.
+square_study(): every path out of the square sail's flat state (Figure 11).
+
+Both return a plain dict of results (JSON-serialisable) and, given an output
+folder, write report.md, summary.json and the PNGs there.
+"""
+import json
+import pathlib
+import sys
+import time
+
+import numpy as np
+
+from .assembly import Assembly, Options, solve_quadrics
+from .errors import KinError
+from .symmetry import sail_rotation, symmetric_solutions
+
+# Bar lengths such as tan(pi/6) are rounded to double precision, which turns
+# a crossing of two paths into two near-misses: the vanishing singular value
+# then bottoms out near sqrt(eps) * v_max instead of reaching zero (measured
+# on the hexagonal sail: 2e-8 to 7e-8 relative at R^B; the three-bar linkage,
+# whose lengths are exact, reaches 1e-15). Locating therefore aims at 1e-7.
+SAIL_VR_TOL = 1e-7
+# At a located point the singular values that belong to the bifurcation sit
+# at or below that floor while the next ones are O(1e-2) (a gap of five
+# decades), so m and s are counted with this rank tolerance there.
+LOCATED_RANK_TOL = 1e-6
+# the paper's switch rule threshold on v_r / v_max for starting to locate
+SWITCH_EPS = 1e-2
+# number of lowest singular values recorded (Figure 14)
+N_SV = 15
+# two paths coincide when their end configurations agree to this (length unit)
+SAME_CONFIG_TOL = 1e-6
+
+
+def _say(progress, msg):
+    if progress:
+        print(msg, file=sys.stderr, flush=True)
+
+
+def _free_vec(a, xyz):
+    return xyz[a.free_map() >= 0]
+
+
+def _with_rank_tol(a, tol):
+    o = a.options
+    o.rank_tol = tol
+    a.options = o
+    return a
+
+
+class _Track:
+    """What is recorded along the run."""
+
+    def __init__(self, hub_joints):
+        self.hub = hub_joints
+        self.l, self.sv, self.strain, self.hub_z, self.factorizations = [], [], [], [], []
+        self.offset = 0.0
+        self.base = 0.0
+
+    def begin(self, a):
+        """A new segment starts at a (a bifurcation): lengths continue from here."""
+        self.offset = self.l[-1] if self.l else 0.0
+        self.base = a.path_length
+
+    def add(self, a, sv=None):
+        if sv is None:
+            sv = a.analyse().singular_values
+        self.l.append(self.offset + abs(a.path_length - self.base))
+        self.sv.append(np.sort(sv)[:N_SV])
+        self.strain.append(a.max_strain)
+        z = a.coords[self.hub, 2]  # V0, V2, ... are fixed at z = 0
+        self.hub_z.append(float(np.abs(z).max()))
+
+    def pop(self):
+        for v in (self.l, self.sv, self.strain, self.hub_z):
+            v.pop()
+
+
+def _locate(base, vr_tol, max_steps=30):
+    """Locate from the regular point `base`: the fast method, and the paper's
+    if that gives up. Returns (assembly at the point, dict) or (None, reason)."""
+    reasons = []
+    for method in ("fast", "paper"):
+        c = base.clone()
+        try:
+            li = c.locate(method=method, vr_tol=vr_tol, max_steps=max_steps)
+        except KinError as exc:
+            reasons.append(f"{method}: {exc}")
+            continue
+        _with_rank_tol(c, LOCATED_RANK_TOL)
+        an = c.analyse()
+        sv = np.sort(an.singular_values)
+        return c, {"method": method, "factorizations": li.factorizations, "forward": li.forward,
+                   "steps": li.steps, "v_r_rel": li.v_r_rel, "distance": li.distance,
+                   "path_kept": li.path_kept, "m": an.m_internal, "s": an.s,
+                   "lowest_sv_rel": [float(v / an.v_max) for v in sv[: an.s + 2]],
+                   "fast_gave_up": reasons[0] if reasons else None}
+    return None, "; ".join(reasons)
+
+
+def follow_to_bifurcation(a, track=None, max_steps=400, vr_tol=SAIL_VR_TOL):
+    """Step along the current path (recording into track) until the signed
+    test function changes sign or the paper's switch rule fires, then locate.
+    A locator that gives up (a non-zero minimum of v_r) lets stepping go on.
+    Returns (assembly at the bifurcation, event dict, steps) or (None, None, steps)."""
+    prev = a.clone()
+    tau_prev, vr_prev = None, None
+    for k in range(max_steps):
+        try:
+            a.step(0.0)
+        except KinError as exc:
+            return None, {"stopped": str(exc)}, k
+        an = a.analyse()
+        if track is not None:
+            track.add(a, an.singular_values)
+        vr = an.v_r / an.v_max
+        tau = a.test_function()
+        fire = (tau_prev is not None and (tau > 0) != (tau_prev > 0)) or (
+            vr_prev is not None and vr < SWITCH_EPS and vr < vr_prev)
+        if fire:
+            c, ev = _locate(prev, vr_tol)
+            if c is not None:
+                if track is not None:
+                    track.pop()
+                    track.add(c)
+                    ev["l_total"] = track.l[-1]
+                ev["detected_after_steps"] = k + 1
+                return c, ev, k + 1
+        prev = a.clone()
+        tau_prev, vr_prev = tau, vr
+    return None, None, max_steps
+
+
+def _chord(a_from, a_to):
+    d = _free_vec(a_to, a_to.coords) - _free_vec(a_from, a_from.coords)
+    return d / np.linalg.norm(d)
+
+
+def _hub_joints(a):
+    """The hub's vertices (the centre node C is a device of the model, not
+    part of the hub)."""
+    return [i for i, lab in enumerate(a.labels) if lab.startswith("V")]
+
+
+def _loop_nodes(a, n, loop):
+    off = 1 if a.labels[0] == "C" else 0
+    return list(range(off + loop * n, off + (loop + 1) * n))
+
+
+def _wraps_loop1(a, n):
+    """Loop-1 nodes directly above or below their hub vertices, alternating."""
+    x = a.coords
+    V, A = _loop_nodes(a, n, 0), _loop_nodes(a, n, 1)
+    xy = np.abs(x[A, :2] - x[V, :2]).max()
+    z = x[A, 2] - x[V, 2]
+    alternating = all(z[k] * z[(k + 1) % n] < 0 for k in range(n))
+    return xy, alternating
+
+
+def _leave(a, d):
+    c = a.clone()
+    _with_rank_tol(c, LOCATED_RANK_TOL)
+    c.set_direction(d)
+    c.step(0.0)
+    return _with_rank_tol(c, Options().rank_tol)
+
+
+def _branch_report(a, threads, length, max_s=12):
+    """Complete solver + finite paths at a located bifurcation."""
+    an = a.analyse()
+    if an.s > max_s:
+        return None, {"m": an.m_internal, "s": an.s, "skipped": f"s = {an.s} > {max_s}"}
+    t0 = time.perf_counter()
+    br = a.branches(solver="homotopy", length=length, threads=threads)
+    ok = sum(p.exists and p.tangent_ok for p in br.paths)
+    return br, {"m": an.m_internal, "s": an.s, "accounting": br.accounting, "real_solutions": len(br.betas),
+                "directed_paths_ok": ok, "distinct_paths": br.distinct,
+                "seconds": round(time.perf_counter() - t0, 2)}
+
+
+def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=True, out=None):
+    """The folding and deployment study of Section 6.2 on a CENTRE-supported
+    family member (the paper's: n_sides=6, n_loops=2). complete=False skips
+    the 2^s homotopy at the flat state (the symmetric sub-problem is solved
+    either way)."""
+    t_start = time.perf_counter()
+    res = {"model": f"sail {n_sides}-gon hub, {n_loops} loops", "n_sides": n_sides, "n_loops": n_loops,
+           "events": {}}
+    a = Assembly.sail(n_sides, n_loops)
+    flat = a.coords
+    hub = _hub_joints(a)
+    an = _with_rank_tol(a, LOCATED_RANK_TOL).analyse()
+    res["flat"] = {"nfree": a.nfree, "nbars": a.nbars, "m": an.m_internal, "s": an.s}
+    _say(progress, f"[R^A] flat state: H is {a.nfree} x {a.nbars}, m = {an.m_internal}, s = {an.s}")
+    if complete and an.s <= 16:
+        _say(progress, f"[R^A] complete solver: 2^{an.s} = {2 ** an.s} homotopy paths on {threads} threads ...")
+        t0 = time.perf_counter()
+        _, acc = solve_quadrics(a.second_order(), "homotopy", threads=threads)
+        acc["seconds"] = round(time.perf_counter() - t0, 1)
+        res["flat"]["complete"] = acc
+        _say(progress, f"[R^A]   {acc}")
+    P = sail_rotation(a, n_sides, 2)
+    betas, acc, k, s_red = symmetric_solutions(a, P, threads=threads)
+    res["flat"]["symmetric"] = {"k": k, "s": s_red, "accounting": acc}
+    _say(progress, f"[R^A] {n_sides // 2}-fold symmetric motions: {k} mechanisms, {s_red} equations, "
+         f"{acc['real_distinct']} real solutions of {acc['paths']}")
+    U = an.internal_mechanisms
+    # the folding branch: among the symmetric directed candidates, those whose
+    # first bifurcation has loop 1 wrapped (A_k over V_k, alternating); the
+    # shortest such path
+    cands = []
+    for i, b in enumerate(betas):
+        for sg in (1, -1):
+            d = sg * (U @ b)
+            c = _leave(a, d)
+            at, ev, _ = follow_to_bifurcation(c, None, max_steps=300)
+            if at is None:
+                cands.append({"beta": i, "sign": sg, "reached": None})
+                continue
+            xy, alt = _wraps_loop1(at, n_sides)
+            cands.append({"beta": i, "sign": sg, "reached": abs(at.path_length - a.path_length), "m": ev["m"],
+                          "s": ev["s"], "loop1_xy": float(xy), "alternating": alt, "centre_dz": float(d[0])})
+    wraps = [c for c in cands if c["reached"] and c["alternating"] and c["loop1_xy"] < 1e-5]
+    res["flat"]["candidates"] = len(cands)
+    res["flat"]["candidates_reaching_bifurcation"] = sum(1 for c in cands if c["reached"])
+    res["flat"]["candidates_wrapping_loop1"] = len(wraps)
+    if not wraps:
+        res["failed"] = "no symmetric path out of the flat state wraps loop 1"
+        return _finish_hex(res, None, out, t_start, progress)
+    wraps.sort(key=lambda c: (round(c["reached"], 6), c["centre_dz"] > 0))
+    pick = wraps[0]
+    res["flat"]["chosen"] = pick
+    _say(progress, f"[R^A] {len(wraps)} of {len(cands)} symmetric directed paths wrap loop 1; chosen: "
+         f"solution {pick['beta']}, sign {pick['sign']:+d}, R^B at l = {pick['reached']:.4f}")
+    d_A = pick["sign"] * (U @ betas[pick["beta"]])
+
+    track = _Track(hub)
+    track.add(a)
+    stages = [("(a) flat, R^A", a.coords)]
+    # ---- R^A -> R^B
+    track.begin(a)
+    c = _leave(a, d_A)
+    track.add(c)
+    rb, ev, steps = follow_to_bifurcation(c, track)
+    if rb is None:
+        res["failed"] = "R^B not reached"
+        return _finish_hex(res, track, out, t_start, progress, stages)
+    _event(ev, steps, a, rb, hub)
+    res["events"]["RB_fold"] = ev
+    stages.append(("(b) R^A to R^B", _coords_at(track, a, d_A, 0.5 * ev["l"])))
+    stages.append(("(c) R^B", rb.coords))
+    _say(progress, f"[R^B] located after {steps} steps at l = {ev['l']:.4f}: m = {ev['m']}, s = {ev['s']}, "
+         f"{ev['factorizations']} factorizations ({ev['method']}), v_r = {ev['v_r_rel']:.1e}")
+    chord_AB = _chord(_last_before(a, d_A, ev["l"]), rb)
+    br, rep = _branch_report(rb, threads, 0.5)
+    res["RB"] = rep
+    _say(progress, f"[R^B] {rep}")
+    # onward: a symmetric candidate that is not the arrival path and folds
+    # the sail (smallest xy extent after 0.5)
+    P_rb = sail_rotation(rb, n_sides, 2)
+    best = None
+    for p in br.paths:
+        d = br.directions[p.beta] * p.sign
+        if not (p.exists and p.tangent_ok):
+            continue
+        sym = np.linalg.norm(P_rb @ d - d) < 1e-6 * np.linalg.norm(d)
+        cos_in = float(d @ chord_AB / np.linalg.norm(d))
+        if not sym or abs(cos_in) > 0.99:
+            continue
+        extent = float(np.hypot(p.final_coords[:, 0], p.final_coords[:, 1]).max())
+        if best is None or extent < best[0] - 1e-9:
+            best = (extent, d, p, cos_in)
+    if best is None:
+        res["failed"] = "no symmetric folding path out of R^B"
+        return _finish_hex(res, track, out, t_start, progress, stages)
+    d_B = best[1]
+    res["RB"]["chosen"] = {"beta": best[2].beta, "sign": best[2].sign, "xy_extent_at_0.5": best[0],
+                           "cos_with_arrival": best[3], "centre_dz": float(d_B[0])}
+    # ---- R^B -> R^C
+    track.begin(rb)
+    c = _leave(rb, d_B)
+    track.add(c)
+    rc, ev, steps = follow_to_bifurcation(c, track, max_steps=600)
+    if rc is None:
+        res["failed"] = "R^C not reached"
+        return _finish_hex(res, track, out, t_start, progress, stages)
+    _event(ev, steps, rb, rc, hub)
+    res["events"]["RC_fold"] = ev
+    stages.append(("(d) R^B to R^C", _coords_at(track, rb, d_B, 0.5 * ev["l"])))
+    stages.append(("(e) R^C", rc.coords))
+    _say(progress, f"[R^C] located after {steps} steps at l = {ev['l']:.4f} beyond R^B: m = {ev['m']}, "
+         f"s = {ev['s']}, {ev['factorizations']} factorizations ({ev['method']}), v_r = {ev['v_r_rel']:.1e}")
+    chord_BC = _chord(_last_before(rb, d_B, ev["l"]), rc)
+    br_c, rep = _branch_report(rc, threads, 0.3)
+    res["RC"] = rep
+    _say(progress, f"[R^C] {rep}")
+    # ---- back: R^C -> R^B along the same path
+    if br_c is not None:
+        dirs = [br_c.directions[p.beta] * p.sign for p in br_c.paths if p.exists and p.tangent_ok]
+        d_back = min(dirs, key=lambda d: d @ chord_BC / np.linalg.norm(d))
+    else:
+        d_back = -chord_BC
+    res["RC"]["return_cos"] = float(d_back @ chord_BC / np.linalg.norm(d_back))
+    track.begin(rc)
+    c = _leave(rc, d_back)
+    track.add(c)
+    rb2, ev, steps = follow_to_bifurcation(c, track, max_steps=600)
+    if rb2 is None:
+        res["failed"] = "R^B not reached on the way back"
+        return _finish_hex(res, track, out, t_start, progress, stages)
+    _event(ev, steps, rc, rb2, hub)
+    ev["distance_to_RB"] = float(np.abs(rb2.coords - rb.coords).max())
+    res["events"]["RB_deploy"] = ev
+    _say(progress, f"[R^B] back after {steps} steps: m = {ev['m']}, s = {ev['s']}, {ev['factorizations']} "
+         f"factorizations ({ev['method']}), {ev['distance_to_RB']:.1e} from the first R^B")
+    an2 = rb2.analyse()
+    d_flat = -chord_AB
+    d_flat = an2.internal_mechanisms @ (an2.internal_mechanisms.T @ d_flat)
+    track.begin(rb2)
+    c = _leave(rb2, d_flat)
+    track.add(c)
+    ra, ev, steps = follow_to_bifurcation(c, track, max_steps=600)
+    if ra is None:
+        res["failed"] = "R^A not reached on the way back"
+        return _finish_hex(res, track, out, t_start, progress, stages)
+    _event(ev, steps, rb2, ra, hub)
+    res["events"]["RA_deploy"] = ev
+    res["closure"] = float(np.abs(ra.coords - flat).max())
+    _say(progress, f"[R^A] back after {steps} steps: m = {ev['m']}, s = {ev['s']}, {ev['factorizations']} "
+         f"factorizations ({ev['method']}), closure error {res['closure']:.2e}")
+    return _finish_hex(res, track, out, t_start, progress, stages)
+
+
+def _event(ev, steps, start, at, hub):
+    ev["steps"] = steps + 1  # with the step that left the previous bifurcation
+    ev["l"] = abs(at.path_length - start.path_length)
+    ev["hub_out_of_plane"] = float(np.abs(at.coords[hub, 2]).max())
+
+
+def _last_before(start, direction, l_target, back=0.05):
+    """The point of the path out of `start` along `direction` at l_target - back."""
+    l0 = start.path_length
+    c = _leave(start, direction)
+    while True:
+        rem = l_target - back - abs(c.path_length - l0)
+        if rem <= 1e-12:
+            return c
+        dmax = c.options.step_fraction * np.sqrt(np.mean(c.rest_lengths ** 2))
+        c.step(min(rem, dmax))
+
+
+def _coords_at(track, start, direction, l_target):
+    return _last_before(start, direction, l_target, back=0.0).coords
+
+
+def _finish_hex(res, track, out, t_start, progress, stages=()):
+    if track is not None and track.l:
+        res["max_strain"] = float(max(track.strain))
+        res["max_hub_out_of_plane"] = float(max(track.hub_z))
+        res["path_length_total"] = float(track.l[-1])
+        res["steps_total"] = len(track.l) - 1
+    res["seconds"] = round(time.perf_counter() - t_start, 1)
+    if out is not None:
+        out = pathlib.Path(out)
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "summary.json").write_text(json.dumps(res, indent=1, default=_jsonable) + "\n")
+        if track is not None and track.l:
+            np.savez(out / "track.npz", l=np.array(track.l), sv=np.array(track.sv),
+                     strain=np.array(track.strain), hub_z=np.array(track.hub_z))
+            from . import studyreport
+            studyreport.hexagonal(res, track, stages, out)
+        _say(progress, f"wrote {out / 'report.md'}")
+    return res
+
+
+def _jsonable(v):
+    if isinstance(v, (np.integer,)):
+        return int(v)
+    if isinstance(v, (np.floating,)):
+        return float(v)
+    if isinstance(v, np.bool_):
+        return bool(v)
+    return str(v)
+
+
+def square_study(length=1.75, threads=2, progress=True, out=None):
+    """Section 6.1: every second-order solution at the square sail's flat
+    state, each followed both ways to `length`; distinct paths, their
+    symmetry relations, and the two paths to the fully folded state."""
+    t_start = time.perf_counter()
+    a = Assembly.sail(4, 1)
+    an = a.analyse()
+    res = {"model": "sail 4-gon hub, 1 loop", "flat": {"m": an.m_internal, "m_rigid": an.m_rigid, "s": an.s}}
+    _say(progress, f"flat state: m = {an.m_internal} internal + {an.m_rigid} rigid, s = {an.s}")
+    br = a.branches(solver="homotopy", length=length, threads=threads)
+    res["accounting"] = br.accounting
+    ok = [p for p in br.paths if p.exists and p.tangent_ok]
+    res["real_solutions"] = len(br.betas)
+    res["directed_paths_ok"] = len(ok)
+    res["distinct_paths"] = br.distinct
+    _say(progress, f"complete solver {br.accounting}; {len(ok)} directed paths reach l = {length}, "
+         f"{br.distinct} distinct")
+    lab = a.labels
+    V1, V3, O0, O2 = (lab.index(n) for n in ("V1", "V3", "A0", "A2"))
+    ends = [p.final_coords for p in br.paths]
+    flat = a.coords
+    # symmetries of the flat sail with its supports: rotation by pi about z
+    # (V0 <-> V2), the mirror z -> -z, and both
+    perm = np.array([2, 3, 0, 1, 6, 7, 4, 5])
+    rot = np.diag([-1.0, -1.0, 1.0])
+    mir = np.diag([1.0, 1.0, -1.0])
+    ops = {"rot180": lambda x: (x @ rot.T)[np.argsort(perm)], "mirror": lambda x: x @ mir.T,
+           "rot180+mirror": lambda x: ((x @ rot.T) @ mir.T)[np.argsort(perm)]}
+    assert np.abs(ops["rot180"](flat) - flat).max() < 1e-12
+    relations, folded = [], []
+    for i, p in enumerate(br.paths):
+        if not (p.exists and p.tangent_ok):
+            continue
+        x = ends[i]
+        # the folding paths keep the two-fold symmetry and move the free hub
+        # nodes and the outer nodes O0, O2 to opposite sides (paper 6.1);
+        # each candidate is followed on to the bifurcation it reaches
+        pattern = None
+        if x[V1, 2] < 0 and x[V3, 2] < 0 and x[O0, 2] > 0 and x[O2, 2] > 0:
+            pattern = "V1, V3 down; O0, O2 up"
+        if x[V1, 2] > 0 and x[V3, 2] > 0 and x[O0, 2] < 0 and x[O2, 2] < 0:
+            pattern = "V1, V3 up; O0, O2 down"
+        if pattern and np.abs(ops["rot180"](x) - x).max() < SAME_CONFIG_TOL:
+            c = _leave(a, br.directions[p.beta] * p.sign)
+            at, ev, _ = follow_to_bifurcation(c, None, max_steps=400)
+            f = {"path": i, "pattern": pattern}
+            if at is not None:
+                z = at.coords[:, 2]
+                f.update({"ends_at_l": abs(at.path_length), "m": ev["m"], "s": ev["s"],
+                          "end_z": [round(float(v), 6) for v in z],
+                          "hub_fold_deg": round(float(np.degrees(np.arcsin(min(1.0, abs(z[V1]) / np.sqrt(0.5))))), 3)})
+            folded.append(f)
+        for name, op in ops.items():
+            y = op(x)
+            for j, q in enumerate(br.paths):
+                if j > i and q.exists and q.tangent_ok and np.abs(ends[j] - y).max() < SAME_CONFIG_TOL:
+                    relations.append({"path": i, "other": j, "by": name})
+    res["symmetry_relations"] = relations
+    res["fully_folded_paths"] = folded
+    res["seconds"] = round(time.perf_counter() - t_start, 1)
+    _say(progress, f"fully folded candidates: {folded}")
+    if out is not None:
+        out = pathlib.Path(out)
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "summary.json").write_text(json.dumps(res, indent=1, default=_jsonable) + "\n")
+        from . import studyreport
+        studyreport.square(res, a, br, out)
+        _say(progress, f"wrote {out / 'report.md'}")
+    return res
