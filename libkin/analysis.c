@@ -184,7 +184,6 @@ int kin__analyse_into(kin_assembly *a, const double *xyz, int idx)
 {
     kin_factor *f = &a->fac[idx];
     int nf = a->nf, nb = a->nb, info = 0;
-    int mn = nf < nb ? nf : nb;
     f->valid = 0;
     kin__build_H(a, xyz, a->H, nf);
     memcpy(a->A, a->H, sizeof(double) * (size_t)nf * (size_t)nb);
@@ -206,6 +205,14 @@ int kin__analyse_into(kin_assembly *a, const double *xyz, int idx)
             return kin__fail(a, KIN_ELAPACK_CONV, "dgesdd and dgesvd failed (dgesvd info = %d)",
                              info);
     }
+    return kin__reclassify(a, xyz, idx);
+}
+
+int kin__reclassify(kin_assembly *a, const double *xyz, int idx)
+{
+    kin_factor *f = &a->fac[idx];
+    int nf = a->nf, nb = a->nb, mn = nf < nb ? nf : nb;
+    f->valid = 0;
     kin_analysis *an = &f->an;
     an->v_max = mn > 0 ? f->sv[0] : 0.0;
     an->rank = 0;

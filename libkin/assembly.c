@@ -62,17 +62,56 @@ double kin__lengths(const kin_assembly *a, const double *xyz, double *len)
     return worst;
 }
 
+/* Error-free transformations: a + b = s + t and a * b = p + q exactly
+ * (Knuth's TwoSum; the product's error from fma, which C99 rounds once). */
+static inline void two_sum(double a, double b, double *s, double *t)
+{
+    double x = a + b, z = x - a;
+    *s = x;
+    *t = (a - (x - z)) + (b - z);
+}
+
+static inline void two_prod(double a, double b, double *p, double *q)
+{
+    double x = a * b;
+    *p = x;
+    *q = fma(a, b, -x);
+}
+
+/* (hi, lo) += (a, b), double-double */
+static inline void dd_add(double *hi, double *lo, double a, double b)
+{
+    double s, t;
+    two_sum(*hi, a, &s, &t);
+    t += *lo + b;
+    two_sum(s, t, hi, lo);
+}
+
 double kin__extensions(const kin_assembly *a, const double *xyz, double *e)
 {
+    /* e = L - L0 = (L^2 - L0^2) / (L + L0), with L^2 - L0^2 formed in
+     * double-double from the exact coordinate differences: e is then
+     * accurate to a few ulps of itself, not of L. Near a bifurcation a
+     * corrector fixes a point only to |e| / v_min; rounding e at eps * L
+     * would cap that at eps * L / v_min. */
     double worst = 0.0;
     for (int k = 0; k < a->nb; ++k) {
         const double *pa = xyz + a->bars[2 * k] * a->dim;
         const double *pb = xyz + a->bars[2 * k + 1] * a->dim;
+        double L0 = a->L0[k], hi, lo;
+        two_prod(L0, L0, &hi, &lo);
+        hi = -hi;
+        lo = -lo;
         double L2 = 0.0;
-        for (int c = 0; c < a->dim; ++c) L2 += (pa[c] - pb[c]) * (pa[c] - pb[c]);
-        double L = sqrt(L2), L0 = a->L0[k];
-        /* (L^2 - L0^2)/(L + L0) keeps the digits of a tiny extension */
-        e[k] = (L2 - L0 * L0) / (L + L0);
+        for (int c = 0; c < a->dim; ++c) {
+            double dh, dl, p, q;
+            two_sum(pa[c], -pb[c], &dh, &dl);
+            two_prod(dh, dh, &p, &q);
+            dd_add(&hi, &lo, p, q + 2.0 * dh * dl);
+            L2 += (dh + dl) * (dh + dl);
+        }
+        double L = sqrt(L2);
+        e[k] = (hi + lo) / (L + L0);
         double r = fabs(e[k]) / L0;
         if (!(r <= worst)) worst = r;
     }

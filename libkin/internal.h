@@ -103,6 +103,20 @@ int kin__analyse_into(kin_assembly *a, const double *xyz, int idx);
 int kin__bordered_solve(kin_assembly *a, const double *xyz, const double *t, const double *e,
                         double *d);
 
+/* kin_step with an explicit predictor: pred (nf free coordinates) must
+ * satisfy t.(pred - x0) = delta for the current oriented tangent t; one
+ * attempt, no clamping or halving (the locator's forward calculations) */
+int kin__step_predicted(kin_assembly *a, double delta, const double *pred, kin_step_info *info);
+
+/* dv_k = u_k^T (dH/dx . dx) w_k for singular triple k of factor f made at
+ * xyz, along the free-coordinate motion dx; scratch: 2*nj*dim doubles */
+double kin__sv_derivative(const kin_assembly *a, const kin_factor *f, const double *xyz, const double *dx,
+                          int k, double *scratch);
+
+/* Recount rank, m, s and the rigid/internal split of fac[idx] (made at xyz)
+ * with the handle's current rank_tol, without a new factorization */
+int kin__reclassify(kin_assembly *a, const double *xyz, int idx);
+
 static inline const kin_factor *kin__cur(const kin_assembly *a) { return &a->fac[a->cur]; }
 
 /* copy the configuration, analysis and path state of src into dst (same

@@ -9,6 +9,9 @@
  * Newton when an iteration reduces the residual by less than this factor:
  * near a bifurcation the start point's Jacobian is a poor model. */
 static const double CHORD_MIN_CONTRACTION = 0.7;
+/* Corrections that shrink by less than this factor have reached the
+ * rounding floor: the corrector stops there (once the strain is met). */
+static const double CORRECTION_STALL = 0.5;
 /* Projections of a requested direction onto the internal mechanisms shorter
  * than this (relative to |dir|) mean "not a first-order mechanism". */
 static const double DIRECTION_MIN_PROJECTION = 1e-6;
@@ -203,17 +206,33 @@ typedef struct attempt_result {
     int m_internal;
 } attempt_result;
 
-static int attempt(kin_assembly *a, double delta, int use_chord, attempt_result *res)
+static int attempt(kin_assembly *a, double delta, const double *pred, int use_chord, attempt_result *res)
 {
     int nf = a->nf, trial = 1 - a->cur;
     double *xyz = a->xyz_trial;
     int ncoord = a->nj * a->dim;
     memcpy(xyz, a->xyz, sizeof(double) * (size_t)ncoord);
-    for (int i = 0; i < nf; ++i) a->xp[i] = a->x[i] = a->x0[i] + delta * a->t[i];
+    if (pred)
+        for (int i = 0; i < nf; ++i) a->xp[i] = a->x[i] = pred[i];
+    else
+        for (int i = 0; i < nf; ++i) a->xp[i] = a->x[i] = a->x0[i] + delta * a->t[i];
     kin__scatter(a, a->x, xyz);
     double r = kin__extensions(a, xyz, a->e);
     int it = 0, chord = use_chord;
-    while (!(r <= a->opt.corrector_tol)) {
+    /* converged when the strain meets the tolerance and the last correction
+     * moved no coordinate by more than the tolerance times the RMS bar
+     * length (near a bifurcation a small strain still allows a position
+     * error of strain / v_r), or the corrections stopped shrinking: the
+     * rounding floor */
+    double dlast = INFINITY, dprev = INFINITY, postol = a->opt.corrector_tol * a->rms_length;
+    while (!(r <= a->opt.corrector_tol && dlast <= postol)) {
+        if (r <= a->opt.corrector_tol && dlast >= CORRECTION_STALL * dprev) {
+            /* corrections no longer shrink: a slow chord hands over to
+             * Newton; Newton has reached the rounding floor */
+            if (!chord) break;
+            chord = 0;
+            dlast = dprev = INFINITY;
+        }
         if (it >= a->opt.corrector_max_iter || !isfinite(r)) {
             res->iterations = it;
             res->residual = r;
@@ -228,13 +247,19 @@ static int attempt(kin_assembly *a, double delta, int use_chord, attempt_result 
             if (rc) return rc;
             for (int i = 0; i < nf; ++i) a->d[i] = -a->d[i];
         }
-        for (int i = 0; i < nf; ++i) a->x[i] -= a->d[i];
+        dprev = dlast;
+        dlast = 0.0;
+        for (int i = 0; i < nf; ++i) {
+            a->x[i] -= a->d[i];
+            dlast = fmax(dlast, fabs(a->d[i]));
+        }
         kin__scatter(a, a->x, xyz);
         double rn = kin__extensions(a, xyz, a->e);
         ++it;
         if (chord && !(rn <= CHORD_MIN_CONTRACTION * r) && rn > a->opt.corrector_tol) {
             /* chord stalls or diverges: restart Newton from the predictor */
             chord = 0;
+            dlast = dprev = INFINITY;
             for (int i = 0; i < nf; ++i) a->x[i] = a->xp[i];
             kin__scatter(a, a->x, xyz);
             rn = kin__extensions(a, xyz, a->e);
@@ -277,7 +302,10 @@ static int attempt(kin_assembly *a, double delta, int use_chord, attempt_result 
     return KIN_OK;
 }
 
-int kin_step(kin_assembly *a, double delta, kin_step_info *info)
+/* kin_step, and the locator's forward calculations with an explicit
+ * predictor (pred != NULL: free coordinates with t.(pred - x0) = delta, no
+ * clamping, no halving) */
+static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step_info *info)
 {
     if (!a) return KIN_ENULL;
     if (!isfinite(delta)) return kin__fail(a, KIN_EINVAL, "delta is not finite");
@@ -292,14 +320,18 @@ int kin_step(kin_assembly *a, double delta, kin_step_info *info)
                          f->an.m_internal);
     ensure_tangent(a);
     double dmax = a->opt.step_fraction * a->rms_length;
-    if (delta == 0.0) delta = dmax;
-    if (fabs(delta) > dmax) delta = delta > 0.0 ? dmax : -dmax;
+    if (!pred) {
+        if (delta == 0.0) delta = dmax;
+        if (fabs(delta) > dmax) delta = delta > 0.0 ? dmax : -dmax;
+    } else if (delta == 0.0) {
+        return kin__fail(a, KIN_EINVAL, "a forward calculation needs delta != 0");
+    }
     kin__gather(a, a->xyz, a->x0);
     int use_chord = f->an.m_internal == 1;
     attempt_result res = {0, 0.0, 0.0, 0.0, 0};
-    int h;
-    for (h = 0; h <= a->opt.max_halvings; ++h, delta *= 0.5) {
-        rc = attempt(a, delta, use_chord, &res);
+    int h, tries = pred ? 0 : a->opt.max_halvings;
+    for (h = 0; h <= tries; ++h, delta *= 0.5) {
+        rc = attempt(a, delta, pred, use_chord, &res);
         if (rc == KIN_OK) break;
         if (rc == KIN_ELAPACK_ARG) return rc;
     }
@@ -334,6 +366,16 @@ int kin_step(kin_assembly *a, double delta, kin_step_info *info)
     }
     a->err[0] = '\0';
     return KIN_OK;
+}
+
+int kin_step(kin_assembly *a, double delta, kin_step_info *info)
+{
+    return step_impl(a, delta, NULL, info);
+}
+
+int kin__step_predicted(kin_assembly *a, double delta, const double *pred, kin_step_info *info)
+{
+    return step_impl(a, delta, pred, info);
 }
 
 int kin_relax(kin_assembly *a, int max_iter, double *residual)

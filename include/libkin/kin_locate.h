@@ -17,10 +17,13 @@
 
 /* Location methods. */
 enum kin_locate_method {
-    KIN_LOCATE_PAPER = 0, /* quadratic in l through the last three v_r (eq. 23-25),
-                             path check (eq. 26) and overshoot probe, delta halved */
-    KIN_LOCATE_FAST = 1   /* Illinois (modified regula falsi) on the signed
-                             test function over the bracketing step */
+    KIN_LOCATE_PAPER = 0,   /* quadratic in l through the last three v_r (eq. 23-25),
+                               path check (eq. 26) and overshoot probe, delta halved */
+    KIN_LOCATE_FAST = 1,    /* Hermite interpolation of the path and of the signed
+                               vanishing singular value over the bracketing step
+                               (default; see below) */
+    KIN_LOCATE_ILLINOIS = 2 /* Illinois (modified regula falsi) on the signed
+                               test function over the bracketing step */
 };
 
 /* Why the detector fired / how location ended. */
@@ -28,7 +31,10 @@ enum kin_locate_event {
     KIN_EVENT_NONE = 0,        /* no bifurcation within the steps allowed */
     KIN_EVENT_SIGN_CHANGE = 1, /* tau changed sign over the last step */
     KIN_EVENT_SWITCH_RULE = 2, /* only the paper's rule fired (v_r < eps, decreasing) */
-    KIN_EVENT_LANDED = 3       /* a step landed on a bifurcation (m_internal >= 2) */
+    KIN_EVENT_LANDED = 3,      /* a step landed on a bifurcation (m_internal >= 2) */
+    KIN_EVENT_MINIMUM = 4      /* v_r turned from decreasing to increasing over the last
+                                  step (its derivative changed sign) near zero, tau did not
+                                  change sign: fast and Illinois methods only */
 };
 
 typedef struct kin_locate_options {
@@ -52,6 +58,8 @@ typedef struct kin_locate_info {
     double distance;      /* distance moved during location (free coords) */
     int path_kept;        /* the final tangent agrees with the path's (eq. 26) */
     int m_internal, s;    /* analysis at the final point */
+    int zero_order;       /* fast method: how v_r vanishes along the path, ~|l - l*|^p:
+                             1 a crossing, 2 a tangency (Figure 7(b)); 0 not estimated */
 } kin_locate_info;
 
 /* Defaults as documented above. Does nothing if o is NULL. */

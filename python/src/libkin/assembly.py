@@ -482,7 +482,8 @@ Assembly.follow_branches = _follow_branches
 @dataclasses.dataclass(frozen=True)
 class LocateInfo:
     """How kin_locate_next found a bifurcation: event (0 none, 1 sign change
-    of the test function, 2 paper's switch rule, 3 a step landed on it),
+    of the test function, 2 paper's switch rule, 3 a step landed on it, 4 v_r
+    turned near zero without a sign change),
     steps before detection, factorizations and forward calculations after it,
     the vanishing singular value (absolute and relative to v_max), distance
     moved while locating, whether the located point continues the path it was
@@ -499,17 +500,20 @@ class LocateInfo:
     path_kept: bool
     m_internal: int
     s: int
+    zero_order: int = 0
 
 
 def _locate(self, method="fast", delta=0.0, vr_tol=1e-10, max_steps=1000):
     """Follow the path (delta > 0 forwards, < 0 backwards, 0 = largest step)
     until a bifurcation is detected and converge onto it: method 'fast'
-    (Illinois on the signed test function) or 'paper' (eq. 23-26). Raises
+    (Hermite interpolation of the path and of the signed vanishing singular
+    value), 'illinois' (Illinois on the signed test function) or 'paper'
+    (eq. 23-26). Raises
     NotFoundError if none is found or location gives up (the assembly then
     stays on the path)."""
-    methods = {"fast": lib.KIN_LOCATE_FAST, "paper": lib.KIN_LOCATE_PAPER}
+    methods = {"fast": lib.KIN_LOCATE_FAST, "paper": lib.KIN_LOCATE_PAPER, "illinois": lib.KIN_LOCATE_ILLINOIS}
     if method not in methods:
-        raise ModelFormatError(f"method: expected 'fast' or 'paper', got {method!r}")
+        raise ModelFormatError(f"method: expected one of {sorted(methods)}, got {method!r}")
     o = ffi.new("kin_locate_options *")
     lib.kin_locate_options_default(o)
     o.method = methods[method]
@@ -519,7 +523,8 @@ def _locate(self, method="fast", delta=0.0, vr_tol=1e-10, max_steps=1000):
     info = ffi.new("kin_locate_info *")
     self._check(lib.kin_locate_next(self._h, o, info), "locate")
     return LocateInfo(info.event, bool(info.located), info.steps, info.factorizations, info.forward,
-                      info.v_r, info.v_r_rel, info.distance, bool(info.path_kept), info.m_internal, info.s)
+                      info.v_r, info.v_r_rel, info.distance, bool(info.path_kept), info.m_internal, info.s,
+                      info.zero_order)
 
 
 def _test_function(self):
