@@ -1,5 +1,6 @@
-"""Chart for bench_locate: final v_r against factorizations after detection,
-both methods. usage: python bench/plot_locate.py CSV_DIR OUT_DIR"""
+"""Chart for bench_locate: accuracy (final v_r / v_max) against cost
+(factorizations after detection, and seconds of locating) for every method,
+case and step size. usage: python bench/plot_locate.py CSV_DIR OUT_DIR"""
 import csv
 import sys
 
@@ -8,28 +9,43 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+METHODS = [("fast", "C0", "fast (Hermite), tol 1e-10"), ("illinois", "C2", "Illinois on tau, tol 1e-10"),
+           ("paper", "C3", "paper's quadratic, tol 1e-10"), ("paper@1e-6", "C1", "paper's quadratic, tol 1e-6")]
+MARKERS = ["o", "s", "^", "D", "v"]
+
 
 def main(src, out):
     rows = list(csv.DictReader(open(f"{src}/bench_locate.csv")))
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4.6))
-    markers = {"three-bar R^C (P1)": "o", "three-bar R^B (J2 at S1)": "s", "hex sail R^B": "^"}
-    for ax, xkey, xlabel in [(axes[0], "factorizations", "factorizations after detection"),
-                             (axes[1], "seconds", "seconds (whole call)")]:
-        for method, color in [("paper", "C1"), ("fast", "C0")]:
-            for case, mk in markers.items():
+    cases = list(dict.fromkeys(r["case"] for r in rows))
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.2), sharey=True)
+    for ax, key, label in [(axes[0], "factorizations", "factorizations after detection (log)"),
+                           (axes[1], "seconds", "seconds of locating (log)")]:
+        for method, color, mlabel in METHODS:
+            for case, mk in zip(cases, MARKERS):
                 rs = [r for r in rows if r["method"] == method and r["case"] == case]
-                ax.scatter([float(r[xkey]) for r in rs], [max(float(r["vr_rel"]), 1e-17) for r in rs],
-                           marker=mk, color=color, label=f"{method}: {case}", alpha=0.8)
+                xs = [max(float(r[key]), 1e-5 if key == "seconds" else 0.8) for r in rs]
+                ys = [max(float(r["vr_rel"]), 1e-17) for r in rs]
+                filled = [r["ok"] == "1" for r in rs]
+                ax.scatter([x for x, f in zip(xs, filled) if f], [y for y, f in zip(ys, filled) if f], marker=mk,
+                           color=color, alpha=0.85, s=36)
+                ax.scatter([x for x, f in zip(xs, filled) if not f], [y for y, f in zip(ys, filled) if not f],
+                           marker=mk, facecolors="none", edgecolors=color, alpha=0.85, s=36)
         ax.axhline(1e-10, ls=":", color="k", lw=1)
+        ax.axhline(1e-6, ls=":", color="C1", lw=1)
+        ax.set_xscale("log")
         ax.set_yscale("log")
-        if xkey == "seconds":
-            ax.set_xscale("log")
-        ax.set_xlabel(xlabel)
-        ax.set_ylabel("final v_r / v_max")
+        ax.set_xlabel(label)
         ax.grid(True, which="both", alpha=0.3)
-    axes[0].set_title("accuracy against factorizations (step sizes 0.02-0.4)")
-    axes[1].set_title("accuracy against time")
-    axes[0].legend(fontsize=7)
+    axes[0].set_ylabel("final v_r / v_max (all vanishing singular values)")
+    axes[0].set_title("accuracy against factorizations (steps 0.01 - 0.4)")
+    axes[1].set_title("accuracy against time (best of 3)")
+    # legends: colour = method, marker = case, hollow = not located
+    from matplotlib.lines import Line2D
+    h1 = [Line2D([], [], color=c, marker="o", ls="", label=l) for _, c, l in METHODS]
+    h2 = [Line2D([], [], color="grey", marker=m, ls="", label=c) for c, m in zip(cases, MARKERS)]
+    h2.append(Line2D([], [], color="grey", marker="o", ls="", markerfacecolor="none", label="hollow: gave up"))
+    axes[0].legend(handles=h1, fontsize=8, loc="upper left")
+    axes[1].legend(handles=h2, fontsize=8, loc="upper left")
     fig.tight_layout()
     fig.savefig(f"{out}/locate_chart.png", dpi=110)
 

@@ -8,6 +8,14 @@
 #include "internal.h"
 #include "lapack.h"
 
+/* Developer trace of the fast method: build with -DKIN_LOCATE_TRACE. */
+#ifdef KIN_LOCATE_TRACE
+#include <stdio.h>
+#define TRACE(...) fprintf(stderr, __VA_ARGS__)
+#else
+#define TRACE(...) ((void)0)
+#endif
+
 /* eq. 26: the path is kept if the new tangent agrees with the old one to this |cos| */
 static const double PATH_KEPT_COS = 0.9;
 /* overshoot probe of the paper's method, as a fraction of the trial delta */
@@ -156,10 +164,25 @@ static double vanishing_sv(const kin_assembly *a)
     return k >= 0 ? kin__cur(a)->sv[k] : kin__cur(a)->an.v_r;
 }
 
-static int at_bifurcation(const kin_assembly *a, double tol)
+/* The largest of the singular values that vanish at the bifurcation being
+ * located: from the path's lowest one up, all those at or below
+ * sqrt(tol) * v_max. Several vanish together at most bifurcations of the
+ * sails (15 at the hexagonal sail's flat state), with different slopes: the
+ * lowest alone can meet the tolerance at a point still 1e-9 away, where
+ * m and s would come out wrong. */
+static double group_top(const kin_assembly *a, double tol)
 {
     const kin_factor *f = kin__cur(a);
-    return vanishing_sv(a) <= tol * f->an.v_max;
+    int k = vanishing_index(a);
+    if (k < 0) return f->an.v_r;
+    double cut = sqrt(tol) * f->an.v_max, top = f->sv[k];
+    for (int i = k - 1; i >= 0 && f->sv[i] <= cut; --i) top = f->sv[i];
+    return top;
+}
+
+static int at_bifurcation(const kin_assembly *a, double tol)
+{
+    return group_top(a, tol) <= tol * kin__cur(a)->an.v_max;
 }
 
 /* forward calculation: work := base moved by delta along its tangent */
@@ -485,8 +508,10 @@ static int locate_hermite(loc_ctx *c)
             kin__scatter(w, h->xs, w->xyz);
             int rc = kin__analyse_into(w, w->xyz, w->cur);
             if (rc) return rc;
-            double vv = vanishing_sv(w), vmax = kin__cur(w)->an.v_max;
+            double vv = group_top(w, c->o->vr_tol), vmax = kin__cur(w)->an.v_max;
             double strain = kin__lengths(w, w->xyz, NULL);
+            TRACE("  check %d nodes (%d accurate): z* = %.12g (order %d), v_r %.3g, strain %.2g\n", h->n, ngood,
+                  E.zs, E.p, vv / vmax, strain);
             if (vv <= c->o->vr_tol * vmax && !(strain <= w->opt.corrector_tol)) {
                 /* the interpolant is off the strain-free set by its error,
                  * along well-conditioned directions: remove that with the
@@ -499,7 +524,7 @@ static int locate_hermite(loc_ctx *c)
                 chord_polish(w, f, r, h->xs, w->xyz, h->e, h->y, h->d, POLISH_MAX_ITER);
                 rc = kin__analyse_into(w, w->xyz, w->cur);
                 if (rc) return rc;
-                vv = vanishing_sv(w);
+                vv = group_top(w, c->o->vr_tol);
                 vmax = kin__cur(w)->an.v_max;
                 strain = kin__lengths(w, w->xyz, NULL);
             }
@@ -586,6 +611,8 @@ static int locate_hermite(loc_ctx *c)
         for (int i = 0; i < nf; ++i) jump = fmax(jump, fabs(x0[i] - h->xs[i]));
         if (jump > NODE_JUMP_FRACTION * fabs(zn - E.zs)) break; /* onto a neighbouring branch */
         if (!hermite_add(h, w, prev)) break;
+        TRACE("  node %d at z = %.12g (estimate %.12g, rho_min %.3g): v %.3g, error %.3g\n", h->n - 1, h->z[h->n - 1],
+              E.zs, rho_min, h->v[h->n - 1], h->err[h->n - 1]);
     }
     /* no certified point: a bifurcation located only so far, or none */
     if (best <= CONVERGED_DROP * first)
@@ -911,7 +938,7 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
     }
     info->factorizations = (int)((a->nfact - fa) + (c.work->nfact - fw) + (c.probe->nfact - fp) + (c.prev->nfact - fpv));
     info->located = rc == KIN_OK;
-    info->v_r = vanishing_sv(a);
+    info->v_r = group_top(a, o.vr_tol);
     info->v_r_rel = kin__cur(a)->an.v_max > 0 ? info->v_r / kin__cur(a)->an.v_max : 0.0;
     info->m_internal = kin__cur(a)->an.m_internal;
     info->s = kin__cur(a)->an.s;

@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "libkin.h"
 
@@ -66,6 +67,104 @@ static inline int test_make_generic(kin_assembly *a, double amp)
     if (!rc) rc = kin_relax(a, 100, &res);
     free(xyz);
     return rc;
+}
+
+/* U_m * beta (internal mechanisms of the last analysis of a, m columns)
+ * into dir (nfree entries) */
+static inline void test_mechanism(kin_assembly *a, const double *beta, int m, double *dir)
+{
+    int nf = kin_nfree(a);
+    double *U = malloc(sizeof(double) * (size_t)nf * (size_t)m);
+    if (!U) return;
+    kin_get_mechanisms(a, KIN_MECH_INTERNAL, U, nf, m);
+    for (int i = 0; i < nf; ++i) {
+        dir[i] = 0;
+        for (int k = 0; k < m; ++k) dir[i] += U[i + (size_t)nf * k] * beta[k];
+    }
+    free(U);
+}
+
+/* Follow a (a regular point) with steps of delta until the signed test
+ * function changes sign; *before receives a copy of the last point before
+ * the change. Returns 1 if it changed within max_steps. */
+static inline int test_follow_to_sign_change(kin_assembly *a, double delta, int max_steps, kin_assembly **before)
+{
+    double t0 = 0, t1 = 0;
+    if (kin_test_function(a, &t0)) return 0;
+    for (int k = 0; k < max_steps; ++k) {
+        kin_assembly *p = NULL;
+        if (kin_assembly_clone(a, &p)) return 0;
+        if (kin_step(a, delta, NULL) || kin_test_function(a, &t1)) {
+            kin_assembly_free(p);
+            return 0;
+        }
+        if ((t0 > 0) != (t1 > 0)) {
+            *before = p;
+            return 1;
+        }
+        kin_assembly_free(p);
+        t0 = t1;
+    }
+    return 0;
+}
+
+/* The fold of the hexagonal sail between its flat state R^A and R^B. Of the
+ * 16 directed paths out of R^B (8 second-order solutions, complete solver)
+ * the one that reaches a bifurcation with m = 16 (the flat state) is the
+ * folding path. Returns, as new handles: *rb_start, R^B moved 1e-3 along
+ * that path towards R^A; *ra_start, the flat state moved 1e-3 along the
+ * same path reversed (the chord of the last step before R^A), towards R^B;
+ * and optionally R^B and the flat state's coordinates (57 each). */
+static inline int test_hex_fold(kin_assembly **rb_start, kin_assembly **ra_start, double *rb_xyz, double *flat_xyz)
+{
+    kin_assembly *a = test_sail(6, 2), *flat = test_sail(6, 2);
+    int rc = a && flat ? KIN_OK : KIN_ENOMEM, found = 0;
+    double xflat[57], Q[48], betas[32], dir[46];
+    kin_analysis an;
+    if (!rc) kin_get_coords(flat, xflat);
+    if (!rc) rc = test_hex_to_RB(a);
+    if (!rc) rc = kin_analyse(a, &an);
+    int s = 0, nsol = 0;
+    kin_homotopy_info hi;
+    if (!rc) rc = kin_second_order(a, KIN_Q_EXACT, 1, Q, 48, &s);
+    if (!rc) rc = kin_quadrics_homotopy(an.m_internal, s, Q, 1, 1, betas, 8, &nsol, NULL, &hi);
+    if (rb_xyz && !rc) kin_get_coords(a, rb_xyz);
+    if (flat_xyz) memcpy(flat_xyz, xflat, sizeof xflat);
+    for (int k = 0; !rc && k < 2 * nsol && !found; ++k) {
+        double beta[4];
+        for (int i = 0; i < 4; ++i) beta[i] = (k % 2 ? -1.0 : 1.0) * betas[4 * (k / 2) + i];
+        kin_assembly *b = NULL, *start = NULL, *before = NULL, *ra = NULL;
+        test_mechanism(a, beta, an.m_internal, dir);
+        if (kin_assembly_clone(a, &b) || kin_path_set_direction(b, dir, 46) || kin_step(b, 1e-3, NULL) ||
+            kin_assembly_clone(b, &start) || !test_follow_to_sign_change(b, 0.0, 400, &before) ||
+            kin_assembly_clone(before, &ra)) {
+            kin_assembly_free(b);
+            kin_assembly_free(start);
+            kin_assembly_free(before);
+            continue;
+        }
+        kin_locate_info info;
+        if (kin_locate_next(ra, NULL, &info) == KIN_OK && info.m_internal == 16) {
+            double xb[57], d[46];
+            kin_get_coords(before, xb);
+            for (int j = 0, i = 0; j < 19; ++j)
+                for (int c = 0; c < 3; ++c)
+                    if (kin_free_index(flat, j, c) >= 0) d[i++] = xb[3 * j + c] - xflat[3 * j + c];
+            if (kin_path_set_direction(flat, d, 46) == KIN_OK && kin_step(flat, 1e-3, NULL) == KIN_OK) {
+                found = 1;
+                *rb_start = start;
+                *ra_start = flat;
+                start = flat = NULL;
+            }
+        }
+        kin_assembly_free(ra);
+        kin_assembly_free(b);
+        kin_assembly_free(start);
+        kin_assembly_free(before);
+    }
+    kin_assembly_free(a);
+    kin_assembly_free(flat);
+    return rc ? rc : found ? KIN_OK : KIN_ENOTFOUND;
 }
 
 #endif

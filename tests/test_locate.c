@@ -107,19 +107,6 @@ static void skipped(void)
     }
 }
 
-/* U_m * beta of the current analysis into dir (nf entries) */
-static void mechanism(kin_assembly *a, const double *beta, int m, double *dir)
-{
-    int nf = kin_nfree(a);
-    double *U = malloc(sizeof(double) * (size_t)nf * (size_t)m);
-    kin_get_mechanisms(a, KIN_MECH_INTERNAL, U, nf, m);
-    for (int i = 0; i < nf; ++i) {
-        dir[i] = 0;
-        for (int k = 0; k < m; ++k) dir[i] += U[i + (size_t)nf * k] * beta[k];
-    }
-    free(U);
-}
-
 static double max_diff(const double *x, const double *y, int n)
 {
     double d = 0;
@@ -146,7 +133,7 @@ static void hex_rb(void)
     int nsol = 0;
     CHECK_RC(kin_quadrics_scan(m, s, Q, 256, 5, betas, 16, &nsol, NULL), KIN_OK);
     CHECK(nsol == 8);
-    mechanism(a, betas, m, dir);
+    test_mechanism(a, betas, m, dir);
     for (int mi = 0; mi < 2; ++mi) {
         kin_assembly *b = NULL;
         CHECK_RC(kin_assembly_clone(a, &b), KIN_OK);
@@ -187,108 +174,39 @@ static void hex_rb(void)
     kin_assembly_free(a);
 }
 
-/* Follow from `a` (a regular point) with kin_step until the test function
- * changes sign; *before receives a clone of the last point before that. */
-static int follow_to_sign_change(kin_assembly *a, double delta, kin_assembly **before)
-{
-    double t0 = 0, t1 = 0;
-    if (kin_test_function(a, &t0)) return 0;
-    for (int k = 0; k < 400; ++k) {
-        kin_assembly *p = NULL;
-        if (kin_assembly_clone(a, &p)) return 0;
-        if (kin_step(a, delta, NULL) || kin_test_function(a, &t1)) {
-            kin_assembly_free(p);
-            return 0;
-        }
-        if ((t0 > 0) != (t1 > 0)) {
-            *before = p;
-            return 1;
-        }
-        kin_assembly_free(p);
-        t0 = t1;
-    }
-    return 0;
-}
-
 /* The fold of the hexagonal sail: from R^B one directed path leads back to
- * the flat state R^A, where 15 singular values vanish at once; locate R^A,
- * then leave it along the same path reversed (the folding path) and locate
- * R^B again. The fast method meets 1e-10 at both within the target. */
+ * the flat state R^A, where 15 singular values vanish at once; locate R^A
+ * from near R^B, and R^B from the flat state along the folding path. The
+ * fast method meets 1e-10 at both within the target. */
 static void hex_fold(void)
 {
-    kin_assembly *a = test_sail(6, 2), *flat = NULL;
-    CHECK_RC(kin_assembly_clone(a, &flat), KIN_OK);
-    double xflat[57], rb[57];
-    kin_get_coords(a, xflat);
-    CHECK_RC(test_hex_to_RB(a), KIN_OK);
-    kin_get_coords(a, rb);
-    kin_analysis an;
-    CHECK_RC(kin_analyse(a, &an), KIN_OK);
-    int m = an.m_internal, s = 0, nsol = 0, mult[8];
-    double Q[48], betas[4 * 8], dir[46];
-    CHECK_RC(kin_second_order(a, KIN_Q_EXACT, 1, Q, 48, &s), KIN_OK);
-    kin_homotopy_info hi;
-    CHECK_RC(kin_quadrics_homotopy(m, s, Q, 1, 1, betas, 8, &nsol, mult, &hi), KIN_OK);
-    CHECK(nsol == 8);
-    int found = 0;
-    for (int k = 0; k < 2 * nsol && !found; ++k) {
-        double beta[4];
-        for (int i = 0; i < 4; ++i) beta[i] = (k % 2 ? -1.0 : 1.0) * betas[4 * (k / 2) + i];
-        kin_assembly *b = NULL, *before = NULL;
-        CHECK_RC(kin_assembly_clone(a, &b), KIN_OK);
-        mechanism(a, beta, m, dir);
-        CHECK_RC(kin_path_set_direction(b, dir, 46), KIN_OK);
-        CHECK_RC(kin_step(b, 1e-3, NULL), KIN_OK);
-        if (!follow_to_sign_change(b, 0.0, &before)) {
-            kin_assembly_free(b);
-            continue;
-        }
-        /* the located bifurcation must be the flat state */
-        kin_locate_options o;
-        kin_locate_options_default(&o);
-        kin_locate_info info;
-        kin_assembly *ra = NULL;
-        CHECK_RC(kin_assembly_clone(before, &ra), KIN_OK);
-        int rc = kin_locate_next(ra, &o, &info);
-        if (rc == KIN_OK && info.m_internal == 16) {
-            found = 1;
-            double x[57];
-            kin_get_coords(ra, x);
-            double err = max_diff(x, xflat, 57);
-            printf("hex R^A from R^B (fast): %d steps, %d factorizations, v_r/v_max %.2e, m=%d s=%d, "
-                   "|x - flat| %.2e\n",
-                   info.steps, info.factorizations, info.v_r_rel, info.m_internal, info.s, err);
-            CHECK(info.located && info.path_kept && info.v_r_rel <= 1e-10);
-            CHECK(info.m_internal == 16 && info.s == 15);
-            CHECK(info.factorizations <= FAST_MAX_FACTORIZATIONS);
-            CHECK(err < 1e-9);
-            /* back out of R^A along the arrival chord (reversed): the folding path */
-            double xb[57], d[46];
-            kin_get_coords(before, xb);
-            for (int j = 0, i = 0; j < 19; ++j)
-                for (int c = 0; c < 3; ++c)
-                    if (kin_free_index(ra, j, c) >= 0) d[i++] = xb[3 * j + c] - x[3 * j + c];
-            CHECK_RC(kin_path_set_direction(ra, d, 46), KIN_OK);
-            CHECK_RC(kin_step(ra, 1e-3, NULL), KIN_OK);
-            kin_locate_info i2;
-            CHECK_RC(kin_locate_next(ra, &o, &i2), KIN_OK);
-            kin_get_coords(ra, x);
-            err = max_diff(x, rb, 57);
-            printf("hex R^B from R^A along the folding path (fast): %d steps, %d factorizations, v_r/v_max %.2e, "
-                   "m=%d s=%d, |x - R^B| %.2e\n",
-                   i2.steps, i2.factorizations, i2.v_r_rel, i2.m_internal, i2.s, err);
-            CHECK(i2.located && i2.path_kept && i2.v_r_rel <= 1e-10);
-            CHECK(i2.m_internal == 4 && i2.s == 3);
-            CHECK(i2.factorizations <= FAST_MAX_FACTORIZATIONS);
-            CHECK(err < 1e-9);
-        }
-        kin_assembly_free(ra);
-        kin_assembly_free(before);
-        kin_assembly_free(b);
-    }
-    CHECK(found);
-    kin_assembly_free(flat);
-    kin_assembly_free(a);
+    kin_assembly *rb_start = NULL, *ra_start = NULL;
+    double rb[57], flat[57], x[57];
+    CHECK_RC(test_hex_fold(&rb_start, &ra_start, rb, flat), KIN_OK);
+    if (!rb_start || !ra_start) return;
+    kin_locate_info info;
+    CHECK_RC(kin_locate_next(rb_start, NULL, &info), KIN_OK);
+    kin_get_coords(rb_start, x);
+    double err = max_diff(x, flat, 57);
+    printf("hex R^A from R^B (fast): event %d after %d steps, %d factorizations, v_r/v_max %.2e, m=%d s=%d, "
+           "|x - flat| %.2e\n",
+           info.event, info.steps, info.factorizations, info.v_r_rel, info.m_internal, info.s, err);
+    CHECK(info.located && info.path_kept && info.v_r_rel <= 1e-10);
+    CHECK(info.m_internal == 16 && info.s == 15);
+    CHECK(info.factorizations <= FAST_MAX_FACTORIZATIONS);
+    CHECK(err < 1e-9);
+    CHECK_RC(kin_locate_next(ra_start, NULL, &info), KIN_OK);
+    kin_get_coords(ra_start, x);
+    err = max_diff(x, rb, 57);
+    printf("hex R^B from the flat state along the folding path (fast): event %d after %d steps, %d "
+           "factorizations, v_r/v_max %.2e, m=%d s=%d, |x - R^B| %.2e\n",
+           info.event, info.steps, info.factorizations, info.v_r_rel, info.m_internal, info.s, err);
+    CHECK(info.located && info.path_kept && info.v_r_rel <= 1e-10);
+    CHECK(info.m_internal == 4 && info.s == 3);
+    CHECK(info.factorizations <= FAST_MAX_FACTORIZATIONS);
+    CHECK(err < 1e-9);
+    kin_assembly_free(rb_start);
+    kin_assembly_free(ra_start);
 }
 
 /* A rhombus whose middle bar is 1e-4 too long: its paths no longer cross,

@@ -39,7 +39,8 @@ enum kin_locate_event {
 
 typedef struct kin_locate_options {
     int method;          /* enum kin_locate_method. Default KIN_LOCATE_FAST */
-    double vr_tol;       /* located when v_r <= vr_tol * v_max. Default 1e-10 */
+    double vr_tol;       /* located when v_r <= vr_tol * v_max (v_r: see kin_locate_info).
+                            Default 1e-10 */
     double switch_eps;   /* paper's threshold: v_r < switch_eps * v_max. Default 1e-2 */
     double delta;        /* step amplitude while following; 0 = largest. Default 0 */
     int max_steps;       /* steps to look for a bifurcation. Default 1000 */
@@ -53,7 +54,10 @@ typedef struct kin_locate_info {
     int steps;            /* path-following steps taken before detection */
     int factorizations;   /* SVD/QR/LU factorizations after detection */
     int forward;          /* forward calculations after detection */
-    double v_r;           /* final lowest non-zero singular value */
+    double v_r;           /* the largest singular value that vanishes at the final
+                             point: those from the path's lowest one up that are at
+                             most sqrt(vr_tol) * v_max (several vanish together at
+                             most bifurcations; located means all are <= vr_tol * v_max) */
     double v_r_rel;       /* v_r / v_max */
     double distance;      /* distance moved during location (free coords) */
     int path_kept;        /* the final tangent agrees with the path's (eq. 26) */

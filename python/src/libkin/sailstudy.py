@@ -10,25 +10,26 @@ folder, write report.md, summary.json and the PNGs there.
 """
 import json
 import pathlib
+import re
 import sys
 import time
 
 import numpy as np
 
-from .assembly import Assembly, Options, solve_quadrics
+from .assembly import Assembly, solve_quadrics
 from .errors import KinError
 from .symmetry import sail_rotation, symmetric_solutions
 
-# Bar lengths such as tan(pi/6) are rounded to double precision, which turns
-# a crossing of two paths into two near-misses: the vanishing singular value
-# then bottoms out near sqrt(eps) * v_max instead of reaching zero (measured
-# on the hexagonal sail: 2e-8 to 7e-8 relative at R^B; the three-bar linkage,
-# whose lengths are exact, reaches 1e-15). Locating therefore aims at 1e-7.
-SAIL_VR_TOL = 1e-7
-# At a located point the singular values that belong to the bifurcation sit
-# at or below that floor while the next ones are O(1e-2) (a gap of five
-# decades), so m and s are counted with this rank tolerance there.
-LOCATED_RANK_TOL = 1e-6
+# Bifurcations are located to v_r / v_max <= 1e-10 (the fast method) and m, s
+# counted with the default rank tolerance there.
+SAIL_VR_TOL = 1e-10
+# The paper's method is also run from the same point, at the paper's own
+# tolerance, to compare its cost with the paper's step counts.
+PAPER_VR_TOL = 1e-6
+# A bifurcation the fast method reports as located only to a coarser v_r (a
+# tangency: v_r ~ |l - l*|^2) is accepted at up to this tolerance rather than
+# stepped over.
+ACCEPT_VR_TOL = 1e-6
 # the paper's switch rule threshold on v_r / v_max for starting to locate
 SWITCH_EPS = 1e-2
 # number of lowest singular values recorded (Figure 14)
@@ -44,13 +45,6 @@ def _say(progress, msg):
 
 def _free_vec(a, xyz):
     return xyz[a.free_map() >= 0]
-
-
-def _with_rank_tol(a, tol):
-    o = a.options
-    o.rank_tol = tol
-    a.options = o
-    return a
 
 
 class _Track:
@@ -81,29 +75,46 @@ class _Track:
             v.pop()
 
 
-def _locate(base, vr_tol, max_steps=30):
+def _locate(base, vr_tol, max_steps=30, compare=False):
     """Locate from the regular point `base`: the fast method, and the paper's
-    if that gives up. Returns (assembly at the point, dict) or (None, reason)."""
+    if that gives up. Returns (assembly at the point, dict) or (None, reason).
+    compare=True also runs the paper's method (tolerance PAPER_VR_TOL) from
+    the same point and records its cost."""
     reasons = []
-    for method in ("fast", "paper"):
+    tries = [("fast", vr_tol), ("paper", vr_tol)]
+    for method, tol in tries:
         c = base.clone()
         try:
-            li = c.locate(method=method, vr_tol=vr_tol, max_steps=max_steps)
+            li = c.locate(method=method, vr_tol=tol, max_steps=max_steps)
         except KinError as exc:
             reasons.append(f"{method}: {exc}")
+            m = re.search(r"located only to v_r = ([0-9.eE+-]+)", str(exc))
+            if method == "fast" and m:
+                # a bifurcation the fast method pinned only so far (a
+                # tangency, docs/locate.md): accept it at that accuracy
+                tries.insert(1, ("fast", min(10.0 * float(m.group(1)), ACCEPT_VR_TOL)))
             continue
-        _with_rank_tol(c, LOCATED_RANK_TOL)
         an = c.analyse()
         sv = np.sort(an.singular_values)
-        return c, {"method": method, "factorizations": li.factorizations, "forward": li.forward,
-                   "steps": li.steps, "v_r_rel": li.v_r_rel, "distance": li.distance,
-                   "path_kept": li.path_kept, "m": an.m_internal, "s": an.s,
-                   "lowest_sv_rel": [float(v / an.v_max) for v in sv[: an.s + 2]],
-                   "fast_gave_up": reasons[0] if reasons else None}
+        ev = {"method": method, "vr_tol": tol, "factorizations": li.factorizations, "forward": li.forward,
+              "steps": li.steps, "v_r_rel": li.v_r_rel, "distance": li.distance,
+              "path_kept": li.path_kept, "m": an.m_internal, "s": an.s, "zero_order": li.zero_order,
+              "lowest_sv_rel": [float(v / an.v_max) for v in sv[: an.s + 2]],
+              "fast_gave_up": reasons[0] if reasons else None}
+        if compare:
+            p = base.clone()
+            try:
+                lp = p.locate(method="paper", vr_tol=PAPER_VR_TOL, max_steps=max_steps)
+                ev["paper_method"] = {"factorizations": lp.factorizations, "forward": lp.forward,
+                                      "v_r_rel": lp.v_r_rel,
+                                      "distance_to_point": float(np.abs(p.coords - c.coords).max())}
+            except KinError as exc:
+                ev["paper_method"] = {"gave_up": str(exc)}
+        return c, ev
     return None, "; ".join(reasons)
 
 
-def follow_to_bifurcation(a, track=None, max_steps=400, vr_tol=SAIL_VR_TOL):
+def follow_to_bifurcation(a, track=None, max_steps=400, vr_tol=SAIL_VR_TOL, compare=False):
     """Step along the current path (recording into track) until the signed
     test function changes sign or the paper's switch rule fires, then locate.
     A locator that gives up (a non-zero minimum of v_r) lets stepping go on.
@@ -123,7 +134,7 @@ def follow_to_bifurcation(a, track=None, max_steps=400, vr_tol=SAIL_VR_TOL):
         fire = (tau_prev is not None and (tau > 0) != (tau_prev > 0)) or (
             vr_prev is not None and vr < SWITCH_EPS and vr < vr_prev)
         if fire:
-            c, ev = _locate(prev, vr_tol)
+            c, ev = _locate(prev, vr_tol, compare=compare)
             if c is not None:
                 if track is not None:
                     track.pop()
@@ -134,6 +145,85 @@ def follow_to_bifurcation(a, track=None, max_steps=400, vr_tol=SAIL_VR_TOL):
         prev = a.clone()
         tau_prev, vr_prev = tau, vr
     return None, None, max_steps
+
+
+class _PathMap:
+    """Bifurcations met along symmetric paths, and the paths between them.
+    Two located points are the same node when their coordinates agree to
+    SAME_CONFIG_TOL; a node's mirror image (z -> -z) is named with a prime."""
+
+    def __init__(self):
+        self.nodes, self.edges = [], []
+
+    def node(self, a, name=None):
+        x = a.coords
+        for i, nd in enumerate(self.nodes):
+            if np.abs(nd["coords"] - x).max() < SAME_CONFIG_TOL:
+                nd["name"] = nd["name"] or name
+                return i
+        an = a.analyse()
+        self.nodes.append({"name": name, "coords": x, "m": an.m_internal, "s": an.s,
+                           "xy_extent": float(np.hypot(x[:, 0], x[:, 1]).max())})
+        return len(self.nodes) - 1
+
+    def names(self):
+        """Node names: the given ones, their mirror images (z -> -z) primed,
+        the others X1, X2, ... in order of discovery with mirror pairs
+        sharing a number."""
+        out = [n["name"] for n in self.nodes]
+        mirror = [None] * len(self.nodes)
+        for i, a in enumerate(self.nodes):
+            for j, b in enumerate(self.nodes):
+                if i != j and np.abs(a["coords"] * np.array([1.0, 1.0, -1.0]) - b["coords"]).max() < SAME_CONFIG_TOL:
+                    mirror[i] = j
+        for i in range(len(out)):
+            if out[i] is None and mirror[i] is not None and self.nodes[mirror[i]]["name"]:
+                out[i] = self.nodes[mirror[i]]["name"] + "'"
+        k = 0
+        for i in range(len(out)):
+            if out[i] is None:
+                k += 1
+                out[i] = f"X{k}"
+                if mirror[i] is not None and out[mirror[i]] is None:
+                    out[mirror[i]] = f"X{k}'"
+        return out
+
+    def explore(self, src, a, n_sides, threads, max_steps=300, progress=False, results=None):
+        """Follow every symmetric directed path out of the bifurcation a (node
+        src) to its next bifurcation; results (optional) receives, per path,
+        (beta index, sign, direction, assembly at the end or None, event)."""
+        P = sail_rotation(a, n_sides, 2)
+        U = a.analyse().internal_mechanisms
+        betas, acc, k, s_red = symmetric_solutions(a, P, threads=threads)
+        for i, b in enumerate(betas):
+            for sg in (1, -1):
+                d = sg * (U @ b)
+                at, ev, _ = follow_to_bifurcation(_leave(a, d), None, max_steps=max_steps)
+                edge = {"from": src, "beta": i, "sign": sg}
+                if at is None:
+                    edge.update({"to": None, "why": (ev or {}).get("stopped", "no bifurcation located")})
+                else:
+                    edge.update({"to": self.node(at), "l": abs(at.path_length - a.path_length)})
+                self.edges.append(edge)
+                if results is not None:
+                    results.append((i, sg, d, at, ev))
+        _say(progress, f"[map] {self.names()[src]}: {2 * len(betas)} symmetric directed paths followed")
+        return {"k": k, "s": s_red, "accounting": acc}
+
+    def summary(self):
+        names = self.names()
+        nodes = [dict({k: v for k, v in n.items() if k != "coords"}, name=names[i]) for i, n in enumerate(self.nodes)]
+        agg = {}
+        for e in self.edges:
+            key = (e["from"], e["to"])
+            g = agg.setdefault(key, {"from": names[e["from"]], "to": names[e["to"]] if e["to"] is not None else None,
+                                     "paths": 0, "l": []})
+            g["paths"] += 1
+            if "l" in e:
+                g["l"].append(round(e["l"], 6))
+        for g in agg.values():
+            g["l"] = sorted(set(g["l"]))
+        return {"nodes": nodes, "edges": list(agg.values())}
 
 
 def _chord(a_from, a_to):
@@ -164,10 +254,9 @@ def _wraps_loop1(a, n):
 
 def _leave(a, d):
     c = a.clone()
-    _with_rank_tol(c, LOCATED_RANK_TOL)
     c.set_direction(d)
     c.step(0.0)
-    return _with_rank_tol(c, Options().rank_tol)
+    return c
 
 
 def _branch_report(a, threads, length, max_s=12):
@@ -194,7 +283,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     a = Assembly.sail(n_sides, n_loops)
     flat = a.coords
     hub = _hub_joints(a)
-    an = _with_rank_tol(a, LOCATED_RANK_TOL).analyse()
+    an = a.analyse()
     res["flat"] = {"nfree": a.nfree, "nbars": a.nbars, "m": an.m_internal, "s": an.s}
     _say(progress, f"[R^A] flat state: H is {a.nfree} x {a.nbars}, m = {an.m_internal}, s = {an.s}")
     if complete and an.s <= 16:
@@ -204,27 +293,26 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
         acc["seconds"] = round(time.perf_counter() - t0, 1)
         res["flat"]["complete"] = acc
         _say(progress, f"[R^A]   {acc}")
-    P = sail_rotation(a, n_sides, 2)
-    betas, acc, k, s_red = symmetric_solutions(a, P, threads=threads)
-    res["flat"]["symmetric"] = {"k": k, "s": s_red, "accounting": acc}
-    _say(progress, f"[R^A] {n_sides // 2}-fold symmetric motions: {k} mechanisms, {s_red} equations, "
-         f"{acc['real_distinct']} real solutions of {acc['paths']}")
     U = an.internal_mechanisms
-    # the folding branch: among the symmetric directed candidates, those whose
-    # first bifurcation has loop 1 wrapped (A_k over V_k, alternating); the
-    # shortest such path
+    # every symmetric directed path out of the flat state, followed to its
+    # first bifurcation (the start of the path map); the folding branch is
+    # among those whose first bifurcation has loop 1 wrapped (A_k over V_k,
+    # alternating): the shortest such path
+    pmap = _PathMap()
+    ia = pmap.node(a, "R^A")
+    followed = []
+    sym = pmap.explore(ia, a, n_sides, threads, progress=progress, results=followed)
+    res["flat"]["symmetric"] = sym
+    _say(progress, f"[R^A] {n_sides // 2}-fold symmetric motions: {sym['k']} mechanisms, {sym['s']} equations, "
+         f"{sym['accounting']['real_distinct']} real solutions of {sym['accounting']['paths']}")
     cands = []
-    for i, b in enumerate(betas):
-        for sg in (1, -1):
-            d = sg * (U @ b)
-            c = _leave(a, d)
-            at, ev, _ = follow_to_bifurcation(c, None, max_steps=300)
-            if at is None:
-                cands.append({"beta": i, "sign": sg, "reached": None})
-                continue
-            xy, alt = _wraps_loop1(at, n_sides)
-            cands.append({"beta": i, "sign": sg, "reached": abs(at.path_length - a.path_length), "m": ev["m"],
-                          "s": ev["s"], "loop1_xy": float(xy), "alternating": alt, "centre_dz": float(d[0])})
+    for i, sg, d, at, ev in followed:
+        if at is None:
+            cands.append({"beta": i, "sign": sg, "reached": None})
+            continue
+        xy, alt = _wraps_loop1(at, n_sides)
+        cands.append({"beta": i, "sign": sg, "reached": abs(at.path_length - a.path_length), "m": ev["m"],
+                      "s": ev["s"], "loop1_xy": float(xy), "alternating": alt, "centre_dz": float(d[0])})
     wraps = [c for c in cands if c["reached"] and c["alternating"] and c["loop1_xy"] < 1e-5]
     res["flat"]["candidates"] = len(cands)
     res["flat"]["candidates_reaching_bifurcation"] = sum(1 for c in cands if c["reached"])
@@ -237,7 +325,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     res["flat"]["chosen"] = pick
     _say(progress, f"[R^A] {len(wraps)} of {len(cands)} symmetric directed paths wrap loop 1; chosen: "
          f"solution {pick['beta']}, sign {pick['sign']:+d}, R^B at l = {pick['reached']:.4f}")
-    d_A = pick["sign"] * (U @ betas[pick["beta"]])
+    d_A = next(d for i, sg, d, _, _ in followed if i == pick["beta"] and sg == pick["sign"])
 
     track = _Track(hub)
     track.add(a)
@@ -246,7 +334,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     track.begin(a)
     c = _leave(a, d_A)
     track.add(c)
-    rb, ev, steps = follow_to_bifurcation(c, track)
+    rb, ev, steps = follow_to_bifurcation(c, track, compare=True)
     if rb is None:
         res["failed"] = "R^B not reached"
         return _finish_hex(res, track, out, t_start, progress, stages)
@@ -260,6 +348,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     br, rep = _branch_report(rb, threads, 0.5)
     res["RB"] = rep
     _say(progress, f"[R^B] {rep}")
+    ib = pmap.node(rb, "R^B")
     # onward: a symmetric candidate that is not the arrival path and folds
     # the sail (smallest xy extent after 0.5)
     P_rb = sail_rotation(rb, n_sides, 2)
@@ -285,7 +374,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     track.begin(rb)
     c = _leave(rb, d_B)
     track.add(c)
-    rc, ev, steps = follow_to_bifurcation(c, track, max_steps=600)
+    rc, ev, steps = follow_to_bifurcation(c, track, max_steps=600, compare=True)
     if rc is None:
         res["failed"] = "R^C not reached"
         return _finish_hex(res, track, out, t_start, progress, stages)
@@ -299,6 +388,22 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     br_c, rep = _branch_report(rc, threads, 0.3)
     res["RC"] = rep
     _say(progress, f"[R^C] {rep}")
+    # onward from R^C, and the rest of the map: every symmetric path out of
+    # R^B and R^C followed to its next bifurcation
+    ic = pmap.node(rc, "R^C")
+    res["RB"]["symmetric"] = pmap.explore(ib, rb, n_sides, threads, progress=progress)
+    res["RC"]["symmetric"] = pmap.explore(ic, rc, n_sides, threads, progress=progress)
+    ext_c = pmap.nodes[ic]["xy_extent"]
+    onward = [e for e in pmap.edges if e["from"] == ic]
+    names = pmap.names()
+    res["RC"]["onward"] = [{"to": names[e["to"]] if e["to"] is not None else None,
+                            "l": e.get("l"), "xy_extent": pmap.nodes[e["to"]]["xy_extent"] if e["to"] is not None
+                            else None} for e in onward]
+    res["RC"]["most_compact"] = all(e["to"] is not None and pmap.nodes[e["to"]]["xy_extent"] > ext_c + 1e-9
+                                    for e in onward)
+    _say(progress, f"[R^C] symmetric paths onward lead to "
+         f"{', '.join(str(o['to']) for o in res['RC']['onward'])}; R^C is "
+         f"{'the most compact symmetric state' if res['RC']['most_compact'] else 'not the end of the fold'}")
     # ---- back: R^C -> R^B along the same path
     if br_c is not None:
         dirs = [br_c.directions[p.beta] * p.sign for p in br_c.paths if p.exists and p.tangent_ok]
@@ -309,7 +414,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     track.begin(rc)
     c = _leave(rc, d_back)
     track.add(c)
-    rb2, ev, steps = follow_to_bifurcation(c, track, max_steps=600)
+    rb2, ev, steps = follow_to_bifurcation(c, track, max_steps=600, compare=True)
     if rb2 is None:
         res["failed"] = "R^B not reached on the way back"
         return _finish_hex(res, track, out, t_start, progress, stages)
@@ -324,7 +429,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     track.begin(rb2)
     c = _leave(rb2, d_flat)
     track.add(c)
-    ra, ev, steps = follow_to_bifurcation(c, track, max_steps=600)
+    ra, ev, steps = follow_to_bifurcation(c, track, max_steps=600, compare=True)
     if ra is None:
         res["failed"] = "R^A not reached on the way back"
         return _finish_hex(res, track, out, t_start, progress, stages)
@@ -333,7 +438,8 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     res["closure"] = float(np.abs(ra.coords - flat).max())
     _say(progress, f"[R^A] back after {steps} steps: m = {ev['m']}, s = {ev['s']}, {ev['factorizations']} "
          f"factorizations ({ev['method']}), closure error {res['closure']:.2e}")
-    return _finish_hex(res, track, out, t_start, progress, stages)
+    res["map"] = pmap.summary()
+    return _finish_hex(res, track, out, t_start, progress, stages, pmap)
 
 
 def _event(ev, steps, start, at, hub):
@@ -358,7 +464,7 @@ def _coords_at(track, start, direction, l_target):
     return _last_before(start, direction, l_target, back=0.0).coords
 
 
-def _finish_hex(res, track, out, t_start, progress, stages=()):
+def _finish_hex(res, track, out, t_start, progress, stages=(), pmap=None):
     if track is not None and track.l:
         res["max_strain"] = float(max(track.strain))
         res["max_hub_out_of_plane"] = float(max(track.hub_z))
@@ -373,7 +479,7 @@ def _finish_hex(res, track, out, t_start, progress, stages=()):
             np.savez(out / "track.npz", l=np.array(track.l), sv=np.array(track.sv),
                      strain=np.array(track.strain), hub_z=np.array(track.hub_z))
             from . import studyreport
-            studyreport.hexagonal(res, track, stages, out)
+            studyreport.hexagonal(res, track, stages, out, pmap)
         _say(progress, f"wrote {out / 'report.md'}")
     return res
 

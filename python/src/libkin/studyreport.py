@@ -10,13 +10,69 @@ def _fmt(v, nd=3):
 
 def _event_row(name, ev, paper):
     if not ev:
-        return f"| {name} | not reached | | | | | | | {paper} |"
+        return f"| {name} | not reached | | | | | | | | {paper} |"
+    pm = ev.get("paper_method", {})
+    if "factorizations" in pm:
+        pcol = f"{pm['factorizations']} ({pm['forward']} forward), {pm['v_r_rel']:.0e}"
+    else:
+        pcol = "gave up" if pm else ""
     return (f"| {name} | {ev.get('l', float('nan')):.4f} | {ev['m']} / {ev['s']} | {ev['steps']} | "
             f"{ev['factorizations']} ({ev['forward']} forward) | {ev['method']} | {ev['v_r_rel']:.1e} | "
-            f"{ev['hub_out_of_plane']:.3f} | {paper} |")
+            f"{ev['hub_out_of_plane']:.3f} | {pcol} | {paper} |")
 
 
-def hexagonal(res, track, stages, out):
+def _path_map_figure(pmap, out, plt):
+    """Nodes at (x-y extent, m); a node and its mirror image (same place) are
+    drawn once; line width grows with the number of directed paths; the
+    fold-deploy route R^A - R^B - R^C is drawn in red."""
+    nodes, names = pmap.nodes, pmap.names()
+    place, label = {}, {}
+    for i, n in enumerate(nodes):
+        key = (round(n["xy_extent"], 3), n["m"])
+        place[i] = key
+        label.setdefault(key, []).append(names[i])
+    fig, ax = plt.subplots(figsize=(10, 5.8))
+    agg = {}
+    for e in pmap.edges:
+        if e["to"] is not None and place[e["from"]] != place[e["to"]]:
+            k = (place[e["from"]], place[e["to"]])
+            agg[k] = agg.get(k, 0) + 1
+    route = {("R^A", "R^B"), ("R^B", "R^C")}
+    for (p, q), cnt in agg.items():
+        on_route = any(names[i] in (r[0],) and any(names[j] == r[1] for j in range(len(nodes)) if place[j] == q)
+                       for r in route for i in range(len(nodes)) if place[i] == p)
+        ax.annotate("", xy=q, xytext=p,
+                    arrowprops=dict(arrowstyle="->", color="C3" if on_route else "0.55",
+                                    lw=(2.2 if on_route else 0.6 + 0.35 * cnt), shrinkA=7, shrinkB=7,
+                                    connectionstyle="arc3,rad=0.15"))
+    by_row = {}
+    for key in label:
+        by_row.setdefault(key[1], []).append(key)
+    for m, keys in by_row.items():
+        for j, key in enumerate(sorted(keys)):
+            main = any(nm in ("R^A", "R^B", "R^C") for nm in label[key])
+            ax.plot(*key, "o", color="C3" if main else "C0", ms=11 if main else 7, zorder=3)
+            text = ", ".join(sorted(set(label[key]), key=len))
+            ax.annotate(text, key, xytext=(0, 10 if j % 2 == 0 else -16), textcoords="offset points",
+                        fontsize=7.5, ha="center", fontweight="bold" if main else "normal")
+    ax.invert_xaxis()
+    ms = sorted(by_row)
+    ax.set_yscale("log")
+    ax.set_yticks(ms)
+    ax.set_yticklabels([str(m) for m in ms])
+    ax.minorticks_off()
+    ax.set_ylim(min(ms) * 0.85, max(ms) * 1.25)
+    ax.set_xlabel("x-y extent of the sail (largest distance of a node from the hub axis): unfolded -> folded")
+    ax.set_ylabel("internal mechanisms m at the bifurcation")
+    ax.set_title("Path map: bifurcations reached along symmetric paths (red: the fold R^A - R^B - R^C; "
+                 "' = mirror image)", fontsize=10)
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(out / "path_map.png", dpi=100)
+    plt.close(fig)
+
+
+def hexagonal(res, track, stages, out, pmap=None):
     plt = _plt()
     from .assembly import Assembly
     a = Assembly.sail(res["n_sides"], res["n_loops"])
@@ -61,6 +117,8 @@ def hexagonal(res, track, stages, out):
     fig.tight_layout()
     fig.savefig(out / "strain_hub.png", dpi=100)
     plt.close(fig)
+    if pmap is not None and pmap.nodes:
+        _path_map_figure(pmap, out, plt)
     _write_hex_md(res, out)
 
 
@@ -96,17 +154,18 @@ def _write_hex_md(res, out):
                  f"{ch['sign']:+d}, reaching R^B at l = {ch['reached']:.4f}.\n")
     L.append("## Bifurcations along the run\n")
     L.append("| point | l from previous | m / s | steps | factorizations to locate | method | v_r / v_max "
-             "| hub max abs z | paper (steps) |")
-    L.append("|---|---|---|---|---|---|---|---|---|")
+             "| hub max abs z | paper's method here (tol 1e-6): factorizations, v_r | paper (steps) |")
+    L.append("|---|---|---|---|---|---|---|---|---|---|")
     L.append(_event_row("R^B (folding)", ev.get("RB_fold"), 35))
     L.append(_event_row("R^C (folding)", ev.get("RC_fold"), 26))
     L.append(_event_row("R^B (deploying)", ev.get("RB_deploy"), 58))
     L.append(_event_row("R^A (deploying)", ev.get("RA_deploy"), 149))
     L.append("\n'steps' are the path steps from the previous bifurcation until the detector fired; the "
-             "factorizations are those of locating after that. The paper's counts are its locator "
-             "steps. The target is v_r / v_max <= 1e-7, not 1e-10: the bar lengths are rounded to double "
-             "precision, which opens each crossing of two paths by about sqrt(eps); the vanishing singular "
-             "value bottoms out at 1e-8..1e-7 relative (docs/locate.md).\n")
+             "factorizations (SVDs, QR and LU factorizations) are those of locating after that, to "
+             "v_r / v_max <= 1e-10 for every singular value that vanishes there, by the fast method "
+             "(Hermite interpolation, docs/locate.md). The paper's method was run from the same point at the "
+             "paper's own tolerance for comparison; the paper's counts are its locator steps at 1e-6, each "
+             "at least one factorization.\n")
     for key, name in (("RB", "R^B"), ("RC", "R^C")):
         if key in res:
             r = res[key]
@@ -120,6 +179,43 @@ def _write_hex_md(res, out):
                 L.append(f" Onward folding path chosen: symmetric, not the arrival path, smallest x-y extent "
                          f"after l = 0.5: {r['chosen']}.")
             L.append("\n")
+    if "map" in res:
+        L.append("## Path map (symmetric paths)\n")
+        L.append("Every directed path out of R^A, R^B and R^C that keeps the three-fold symmetry, followed to "
+                 "its next bifurcation (nodes are the same when their coordinates agree to 1e-6; a prime "
+                 "marks a mirror image z -> -z):\n")
+        L.append("| from | to | directed paths | path lengths |")
+        L.append("|---|---|---|---|")
+        edges = res["map"]["edges"]
+        done = set()
+        for i, e in enumerate(edges):
+            if i in done:
+                continue
+            to = e["to"] or "no bifurcation located"
+            # a path and its mirror image: one row
+            for j in range(i + 1, len(edges)):
+                f = edges[j]
+                if (j not in done and f["from"] == e["from"] and e["to"] and f["to"] and f["l"] == e["l"]
+                        and f["paths"] == e["paths"] and f["to"] in (e["to"] + "'", e["to"].rstrip("'"))
+                        and f["to"] != e["to"]):
+                    to = f"{e['to']} and {f['to']} (mirror)"
+                    done.add(j)
+                    break
+            L.append(f"| {e['from']} | {to} | {e['paths']} each | {', '.join(f'{v:.4f}' for v in e['l'])} |"
+                     if " and " in to else
+                     f"| {e['from']} | {to} | {e['paths']} | {', '.join(f'{v:.4f}' for v in e['l'])} |")
+        L.append("\n| node | m / s | x-y extent |")
+        L.append("|---|---|---|")
+        for n in res["map"]["nodes"]:
+            L.append(f"| {n['name']} | {n['m']} / {n['s']} | {n['xy_extent']:.4f} |")
+        if "RC" in res and "onward" in res["RC"]:
+            rc = res["RC"]
+            ends = ", ".join(f"{o['to']} (l = {o['l']:.4f})" if o["to"] else "none" for o in rc["onward"])
+            verdict = ("every one of them ends at a less compact state, so R^C is as far as the structure "
+                       "folds along symmetric paths" if rc["most_compact"] else
+                       "at least one ends at a more compact state")
+            L.append(f"\n**Onward from R^C.** Its symmetric directed paths lead to {ends}: {verdict}.\n")
+        L.append("![path map](path_map.png)\n")
     L.append("## The paper's three questions\n")
     cont = "failed" not in res
     L.append(f"1. **Continuous strain-free motion from open to folded?** "
