@@ -27,6 +27,9 @@ static const double GIVE_UP_FRACTION = 1e-9;
  * the target tolerance, so that the test function keeps its sign (and the
  * analysis its single mechanism) until the target is met */
 static const double LOCATE_RANK_FRACTION = 1e-3;
+/* m and s at a located point are counted with rank tolerance at least this
+ * multiple of vr_tol: the point is only that exact */
+static const double LOCATED_RANK_MARGIN = 10.0;
 
 /* ---- the fast (Hermite) method ----
  * Nodes: points of the path with their tangents and the vanishing singular
@@ -56,11 +59,8 @@ static const double NODE_JUMP_FRACTION = 0.25;
 /* A check whose vanishing singular value does not fall below this fraction
  * of the best so far makes no progress ... */
 static const double MIN_PROGRESS = 0.5;
-/* ... MAX_STALLS such checks in a row end the iteration; then a best value
- * below CONVERGED_DROP times the first check's means a bifurcation was
- * approached but not to the tolerance, otherwise a non-zero minimum */
+/* ... MAX_STALLS such checks in a row end the iteration */
 enum { MAX_STALLS = 2 };
-static const double CONVERGED_DROP = 1e-3;
 /* The order p of the zero (v_r ~ |l - l*|^p) estimated from the bracket is
  * rounded to 1 or 2 (a tangency, Figure 7(b)); at most this order. */
 enum { MAX_ZERO_ORDER = 2 };
@@ -165,18 +165,26 @@ static double vanishing_sv(const kin_assembly *a)
 }
 
 /* The largest of the singular values that vanish at the bifurcation being
- * located: from the path's lowest one up, all those at or below
- * sqrt(tol) * v_max. Several vanish together at most bifurcations of the
- * sails (15 at the hexagonal sail's flat state), with different slopes: the
- * lowest alone can meet the tolerance at a point still 1e-9 away, where
- * m and s would come out wrong. */
+ * located. Several vanish together at most bifurcations of the sails (15 at
+ * the hexagonal sail's flat state), with different slopes: the lowest alone
+ * can meet the tolerance at a point still 1e-9 away, where m and s would
+ * come out wrong. The group: from the path's lowest singular value up to the
+ * largest ratio gap among those at most sqrt(tol) * v_max and the first one
+ * above. */
 static double group_top(const kin_assembly *a, double tol)
 {
     const kin_factor *f = kin__cur(a);
     int k = vanishing_index(a);
     if (k < 0) return f->an.v_r;
-    double cut = sqrt(tol) * f->an.v_max, top = f->sv[k];
-    for (int i = k - 1; i >= 0 && f->sv[i] <= cut; --i) top = f->sv[i];
+    double cut = sqrt(tol) * f->an.v_max, top = f->sv[k], gap = 1.0;
+    for (int i = k - 1; i >= 0; --i) {
+        double r = f->sv[i + 1] > 0.0 ? f->sv[i] / f->sv[i + 1] : INFINITY;
+        if (r > gap) {
+            gap = r;
+            top = f->sv[i + 1];
+        }
+        if (f->sv[i] > cut) break;
+    }
     return top;
 }
 
@@ -614,15 +622,21 @@ static int locate_hermite(loc_ctx *c)
         TRACE("  node %d at z = %.12g (estimate %.12g, rho_min %.3g): v %.3g, error %.3g\n", h->n - 1, h->z[h->n - 1],
               E.zs, rho_min, h->v[h->n - 1], h->err[h->n - 1]);
     }
-    /* no certified point: a bifurcation located only so far, or none */
-    if (best <= CONVERGED_DROP * first)
+    /* no certified point. v_r brought below sqrt(vr_tol) means a
+     * bifurcation pinned only so far (a tangency, where v_r ~ |l - l*|^2 and
+     * the strain fixes a point less sharply) or a near miss of that size;
+     * above that, a non-zero minimum of v_r */
+    double vmax0 = kin__cur(prev)->an.v_max;
+    for (int i = 0; i < h->n; ++i) best = fmin(best, h->v[i] / vmax0); /* points of the path, too */
+    if (best <= sqrt(c->o->vr_tol))
         return kin__fail(c->a, KIN_ENOTFOUND,
                          "a bifurcation (v_r ~ |l - l*|^%d) was located only to v_r = %.2g relative, above "
-                         "vr_tol = %.2g: the attainable accuracy here (a larger vr_tol accepts it)",
+                         "vr_tol = %.2g: the attainable accuracy here, or a near miss of that size (a larger "
+                         "vr_tol accepts it)",
                          E.p, best, c->o->vr_tol);
     return kin__fail(c->a, KIN_ENOTFOUND,
                      "v_r has a non-zero minimum (%.3g relative) here: a near-singular but regular configuration",
-                     isnan(first) ? vanishing_sv(c->a) / kin__cur(c->a)->an.v_max : first);
+                     best);
 }
 
 /* Illinois iteration on tau(delta) over [0, hi] from prev (tau_lo there) */
@@ -829,17 +843,20 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
         if (rc) break;
         double vr = kin__cur(a)->an.v_r, vmax = kin__cur(a)->an.v_max;
         double v1 = vanishing_sv(a), sl1 = motion_slope(&c, a, dir);
+        TRACE(" step %d: l %.6f tau %+.3e v %.3e slope %+.3e\n", info->steps, a->l, tau1, v1 / vmax, sl1 / vmax);
         if (tau0 != 0.0 && tau1 != 0.0 && (tau0 > 0) != (tau1 > 0)) {
-            if (o.method == KIN_LOCATE_FAST && !pending && sl1 < 0.0) {
+            if (o.method == KIN_LOCATE_FAST && sl1 < 0.0) {
                 /* tau flipped while v_r still falls: with several singular
                  * values vanishing together the determinant can change sign
-                 * just before the point. Keep this bracket and look a step
-                 * or two further for v_r to turn. */
-                kin__copy_state(c.tb0, c.prev);
-                kin__copy_state(c.tb1, a);
-                tb_delta = si.delta;
-                tb_tau0 = tau0;
-                tb_tau1 = tau1;
+                 * (even twice) just before the point. Keep the first such
+                 * bracket and look a step or two further for v_r to turn. */
+                if (!pending) {
+                    kin__copy_state(c.tb0, c.prev);
+                    kin__copy_state(c.tb1, a);
+                    tb_delta = si.delta;
+                    tb_tau0 = tau0;
+                    tb_tau1 = tau1;
+                }
                 pending = 1;
             } else {
                 info->event = KIN_EVENT_SIGN_CHANGE;
@@ -892,6 +909,7 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
         int bracket = info->event == KIN_EVENT_SIGN_CHANGE || info->event == KIN_EVENT_MINIMUM;
         if (o.method == KIN_LOCATE_FAST && bracket) {
             rc = locate_hermite(&c);
+            TRACE(" event %d: hermite returned %d\n", info->event, rc);
             if (rc == HERMITE_NO_BRACKET) {
                 /* v_r does not turn within the step although tau changed
                  * sign: the test function's bracket, then the paper's
@@ -929,13 +947,18 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
     }
     if (rc == KIN_OK && info->event == KIN_EVENT_LANDED)
         info->path_kept = 1; /* an ordinary step landed there: its direction check applied */
-    /* back to the caller's rank tolerance: count m and s at the final point
-     * from its factorization (no new one) */
+    /* count m and s at the final point from its factorization (no new one):
+     * at a located point with the rank tolerance the location supports (the
+     * vanishing singular values are only down to vr_tol there), elsewhere
+     * with the caller's */
     a->opt = user;
+    if (rc == KIN_OK && info->event != KIN_EVENT_LANDED)
+        a->opt.rank_tol = fmax(user.rank_tol, LOCATED_RANK_MARGIN * o.vr_tol);
     {
         int rc2 = kin__cur(a)->valid ? kin__reclassify(a, a->xyz, a->cur) : kin_analyse(a, NULL);
         if (rc == KIN_OK) rc = rc2;
     }
+    a->opt = user;
     info->factorizations = (int)((a->nfact - fa) + (c.work->nfact - fw) + (c.probe->nfact - fp) + (c.prev->nfact - fpv));
     info->located = rc == KIN_OK;
     info->v_r = group_top(a, o.vr_tol);

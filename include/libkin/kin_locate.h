@@ -77,7 +77,10 @@ KIN_API int kin_test_function(kin_assembly *a, double *tau);
 /* Follow the path from the current (regular) point in the direction of the
  * sign of o->delta (forward if 0) until a bifurcation is detected, then
  * converge onto it with o->method. On success the assembly sits at the
- * bifurcation, analysed afresh (m, s, U_m, W_s readable), and info says how.
+ * bifurcation, analysed afresh (m, s, U_m, W_s readable; counted with rank
+ * tolerance max(options.rank_tol, 10 vr_tol), since the point is only that
+ * exact; a later kin_analyse() counts with options.rank_tol), and info says
+ * how.
  * If none is detected within max_steps the assembly is left where following
  * stopped and KIN_ENOTFOUND is returned with event NONE. If location gives
  * up (a non-zero minimum of v_r: a near-singular but regular configuration)

@@ -82,7 +82,7 @@ def test_branches_threebar_and_errors():
         a.branches()
 
 
-@pytest.mark.parametrize("method", ["fast", "paper"])
+@pytest.mark.parametrize("method", ["fast", "paper", "illinois"])
 def test_locate_rc_from_p1(method):
     a = libkin.Assembly.threebar("RC")
     xyz = a.coords

@@ -96,3 +96,18 @@ def test_cli(tmp_path, shared_models):
     assert r.returncode == 1 and "libkin:" in r.stderr
     r = run_cli("models", str(tmp_path / "m"))
     assert r.returncode == 0 and (tmp_path / "m" / "hex_sail.json").exists()
+
+
+def test_cli_locate(tmp_path):
+    """From a lifted, relaxed three-bar linkage along its path to the next
+    bifurcation, with each method; a bifurcation start is refused."""
+    for method in ("fast", "paper", "illinois"):
+        r = run_cli("locate", "threebar:RC", "--perturb", "0.5", "--method", method, "--delta", "0.1",
+                    "--out", str(tmp_path / f"{method}.json"))
+        assert r.returncode == 0, r.stderr
+        assert f"by the {method} method" in r.stdout and "m = 2, s = 1" in r.stdout
+        assert (tmp_path / f"{method}.json").exists()
+    r = run_cli("locate", "threebar:RC")
+    assert r.returncode == 2 and "bifurcation" in r.stderr
+    r = run_cli("locate", "threebar:RC", "--perturb", "0.5", "--method", "bogus")
+    assert r.returncode == 2

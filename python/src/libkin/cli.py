@@ -37,14 +37,7 @@ def cmd_analyse(args):
 def cmd_follow(args):
     a = _load(args.model)
     if args.perturb:
-        # a generic start near the model: lift the free coordinates of the last
-        # axis (z in 3D, y in 2D) pseudo-randomly and relax to zero strain
-        rng = np.random.default_rng(args.seed)
-        xyz = a.coords
-        free = a.free_map()[:, -1] >= 0
-        xyz[free, -1] += args.perturb * (rng.random(free.sum()) - 0.5)
-        a.coords = xyz
-        a.relax(max_iter=200)
+        _generic_start(a, args)
     an = a.analyse()
     if an.m_internal != 1:
         print(f"{a.name} has {an.m_internal} internal mechanisms here: it is at a bifurcation; "
@@ -68,6 +61,39 @@ def cmd_follow(args):
         from . import plot
         plot.animate(frames[:: max(1, len(frames) // 60)], a.bars, args.gif, plane=args.plane)
         print("wrote", args.gif)
+    if args.out:
+        a.to_json(args.out)
+        print("wrote", args.out)
+    return 0
+
+
+def _generic_start(a, args):
+    # a generic start near the model: lift the free coordinates of the last
+    # axis (z in 3D, y in 2D) pseudo-randomly and relax to zero strain
+    rng = np.random.default_rng(args.seed)
+    xyz = a.coords
+    free = a.free_map()[:, -1] >= 0
+    xyz[free, -1] += args.perturb * (rng.random(free.sum()) - 0.5)
+    a.coords = xyz
+    a.relax(max_iter=200)
+
+
+def cmd_locate(args):
+    a = _load(args.model)
+    if args.perturb:
+        _generic_start(a, args)
+    an = a.analyse()
+    if an.m_internal != 1:
+        print(f"{a.name} has {an.m_internal} internal mechanisms here: it is at a bifurcation; "
+              "start from a regular configuration (or relax a perturbed one)", file=sys.stderr)
+        return 2
+    info = a.locate(method=args.method, delta=args.delta, vr_tol=args.vr_tol, max_steps=args.max_steps)
+    events = {1: "test function changed sign", 2: "paper's switch rule", 3: "a step landed on it",
+              4: "v_r turned near zero"}
+    print(f"bifurcation after {info.steps} steps ({events.get(info.event, info.event)}), located by the "
+          f"{args.method} method with {info.factorizations} factorizations ({info.forward} forward "
+          f"calculations): v_r / v_max = {info.v_r_rel:.3g}, m = {info.m_internal}, s = {info.s}, "
+          f"path kept: {'yes' if info.path_kept else 'no'}, path length {a.path_length:.9g}")
     if args.out:
         a.to_json(args.out)
         print("wrote", args.out)
@@ -134,6 +160,20 @@ def main(argv=None):
                    help="start from a generic point: lift free nodes by up to this amount and relax")
     s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
     s.set_defaults(fn=cmd_follow)
+    s = sub.add_parser("locate", help="follow the path to the next bifurcation and converge onto it")
+    s.add_argument("model")
+    s.add_argument("--method", default="fast", choices=["fast", "paper", "illinois"],
+                   help="fast: Hermite interpolation (default); paper: the paper's quadratic (eq. 23-26); "
+                        "illinois: regula falsi on the signed test function")
+    s.add_argument("--delta", type=float, default=0.0,
+                   help="step amplitude while following (0 = largest allowed, negative = backwards)")
+    s.add_argument("--vr-tol", type=float, default=1e-10, help="located when v_r / v_max <= this (default 1e-10)")
+    s.add_argument("--max-steps", type=int, default=1000, help="steps to look for a bifurcation")
+    s.add_argument("--perturb", type=float, default=0.0,
+                   help="start from a generic point: lift free nodes by up to this amount and relax")
+    s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
+    s.add_argument("--out", help="write the located configuration as a JSON model")
+    s.set_defaults(fn=cmd_locate)
     s = sub.add_parser("draw", help="draw a model to a PNG")
     s.add_argument("model")
     s.add_argument("png")
