@@ -78,21 +78,14 @@ static void rigid_fields(kin_assembly *a, const double *xyz)
     }
 }
 
-/* Split U_m (the last m columns of f->U) into rigid and internal parts. */
-static int split_mechanisms(kin_assembly *a, const double *xyz, kin_factor *f)
+/* Combinations alpha of the rigid motions in a->G that keep every fixed
+ * coordinate: the null space of G restricted to the fixed rows, as rows
+ * 0..*nnull-1 of the nr x nr matrix a->Gs (ld nr). */
+static int support_nullspace(kin_assembly *a, int *nnull_out)
 {
-    int nf = a->nf, m = f->an.m, nr = a->nrig, n = a->nj * a->dim;
-    const double *Um = f->U + (size_t)f->an.rank * nf;
-    f->an.m_rigid = 0;
-    if (m == 0) {
-        f->an.m_internal = 0;
-        return KIN_OK;
-    }
-    rigid_fields(a, xyz);
-    /* combinations alpha of rigid motions that keep every fixed coordinate:
-     * null space of G restricted to the fixed rows */
+    int nf = a->nf, nr = a->nrig, n = a->nj * a->dim;
     double *Gfix = a->Gs + 6 * 6 + 6 + 6 * (size_t)nf; /* nfix x nr */
-    double *vt = a->Gs, *svg = a->Gs + 36, *R = a->Gs + 42; /* R: nf x nr */
+    double *vt = a->Gs, *svg = a->Gs + 36;
     int nnull = 0;
     if (a->nfix == 0) {
         memset(vt, 0, sizeof(double) * 36);
@@ -118,6 +111,48 @@ static int split_mechanisms(kin_assembly *a, const double *xyz, kin_factor *f)
             for (int c = 0; c < nr; ++c) vt[(i - rk) + (size_t)c * nr] = vt[i + (size_t)c * nr];
         nnull = nr - rk;
     }
+    *nnull_out = nnull;
+    return KIN_OK;
+}
+
+int kin__rigid_basis(kin_assembly *a, const double *xyz, double *R, int *mr)
+{
+    int nf = a->nf, nr = a->nrig, n = a->nj * a->dim, nnull = 0, kept = 0;
+    rigid_fields(a, xyz);
+    int rc = support_nullspace(a, &nnull);
+    if (rc) return rc;
+    const double *vt = a->Gs;
+    double *v = a->Gs + 42; /* nf scratch */
+    for (int q = 0; q < nnull; ++q) {
+        for (int i = 0; i < nf; ++i) {
+            double s = 0.0;
+            for (int c = 0; c < nr; ++c) s += a->G[a->free_coord[i] + (size_t)c * n] * vt[q + (size_t)c * nr];
+            v[i] = s;
+        }
+        if (kin__gs_column(nf, R, nf, kept, v) > GS_DROP_TOL) {
+            memcpy(R + (size_t)kept * nf, v, sizeof(double) * (size_t)nf);
+            ++kept;
+        }
+    }
+    *mr = kept;
+    return KIN_OK;
+}
+
+/* Split U_m (the last m columns of f->U) into rigid and internal parts. */
+static int split_mechanisms(kin_assembly *a, const double *xyz, kin_factor *f)
+{
+    int nf = a->nf, m = f->an.m, nr = a->nrig, n = a->nj * a->dim;
+    const double *Um = f->U + (size_t)f->an.rank * nf;
+    f->an.m_rigid = 0;
+    if (m == 0) {
+        f->an.m_internal = 0;
+        return KIN_OK;
+    }
+    rigid_fields(a, xyz);
+    double *vt = a->Gs, *R = a->Gs + 42; /* R: nf x nr */
+    int nnull = 0;
+    int rc = support_nullspace(a, &nnull);
+    if (rc) return rc;
     /* rigid mechanisms: G_free * alpha, projected on U_m, orthonormalised */
     double *P = a->mwork;                  /* m x nr : U_m^T R */
     double *v = a->mwork + (size_t)m * nr; /* scratch nf */

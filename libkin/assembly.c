@@ -239,6 +239,17 @@ static int query_lwork(kin_assembly *a, int *lwork, int *liwork)
     dgels_("N", &m1, &nf, &one, &dummy, &m1, &dummy, &ld, &w, &q, &info, 1);
     if (info < 0) return KIN_ELAPACK_ARG;
     if (w > best) best = w;
+    /* LU mode with redundant bars: LQ of J^T = [H, t, R] (nf x rows) and
+     * Q applied to one vector of length rows */
+    {
+        int rows = nb + 1 + a->nrig;
+        dgelqf_(&nf, &rows, &dummy, &nf, &dummy, &w, &q, &info);
+        if (info < 0) return KIN_ELAPACK_ARG;
+        if (w > best) best = w;
+        dormlq_("L", "N", &rows, &one, &nf, &dummy, &nf, &dummy, &dummy, &rows, &w, &q, &info, 1, 1);
+        if (info < 0) return KIN_ELAPACK_ARG;
+        if (w > best) best = w;
+    }
     *lwork = (int)best + 1;
     *liwork = ibest;
     return KIN_OK;
@@ -263,6 +274,17 @@ static void release(kin_assembly *a)
     free(a->free_index);
     free(a->free_coord);
     free(a->iwork);
+    for (int f = 0; f < 2; ++f) {
+        kin_lufactor *L = &a->lu[f];
+        free(L->JT);
+        free(L->ipiv);
+        free(L->tq);
+        free(L->xyz);
+        free(L->vr_vec);
+        free(L->vmax_vec);
+    }
+    free(a->luR);
+    free(a->luw);
     free(a);
 }
 
@@ -287,6 +309,14 @@ static int allocate(kin_assembly *a)
         bad |= ALLOC_(a->fac[f].sv, mn) | ALLOC_(a->fac[f].U, nf * nf) |
                ALLOC_(a->fac[f].VT, nb * nb) | ALLOC_(a->fac[f].Uint, nf * nf) |
                ALLOC_(a->fac[f].Urig, nf * 6);
+    /* LU mode: J^T = [H, t, R] has at most nb + 1 + nrig columns */
+    size_t rows = nb + 1 + (size_t)a->nrig;
+    for (int f = 0; f < 2; ++f) {
+        kin_lufactor *L = &a->lu[f];
+        bad |= ALLOC_(L->JT, nf * rows) | ALLOC_(L->ipiv, nf) | ALLOC_(L->tq, nf) |
+               ALLOC_(L->xyz, nj * d) | ALLOC_(L->vr_vec, nf) | ALLOC_(L->vmax_vec, nf);
+    }
+    bad |= ALLOC_(a->luR, nf * 6) | ALLOC_(a->luw, rows > nf ? rows : nf);
     return bad ? KIN_ENOMEM : KIN_OK;
 }
 
@@ -310,8 +340,9 @@ int kin_assembly_create(int dim, int nj, const double *xyz, const unsigned char 
         else a->nf++;
     }
     if (allocate(a) != KIN_OK) {
+        int nf = a->nf; /* a is gone after release() */
         release(a);
-        return failbuf(eb, el, KIN_ENOMEM, "workspace for %d free coordinates x %d bars", a->nf, nb);
+        return failbuf(eb, el, KIN_ENOMEM, "workspace for %d free coordinates x %d bars", nf, nb);
     }
     memcpy(a->xyz, xyz, sizeof(double) * (size_t)(nj * dim));
     memcpy(a->bars, bars, sizeof(int) * 2 * (size_t)nb);
@@ -353,6 +384,24 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
         memcpy(t->Urig, s->Urig, sizeof(double) * nf * 6);
     }
     a->cur = src->cur;
+    /* LU mode factors: copied only when valid (SVD-mode handles never pay) */
+    size_t rows = nb + 1 + (size_t)src->nrig, ncoord = (size_t)(src->nj * src->dim);
+    for (int f = 0; f < 2; ++f) {
+        const kin_lufactor *s = &src->lu[f];
+        kin_lufactor *t = &a->lu[f];
+        t->valid = s->valid;
+        if (!s->valid) continue;
+        t->rows = s->rows;
+        t->v_r = s->v_r;
+        t->v_max = s->v_max;
+        memcpy(t->JT, s->JT, sizeof(double) * nf * rows);
+        memcpy(t->ipiv, s->ipiv, sizeof(int) * nf);
+        memcpy(t->tq, s->tq, sizeof(double) * nf);
+        memcpy(t->xyz, s->xyz, sizeof(double) * ncoord);
+        memcpy(t->vr_vec, s->vr_vec, sizeof(double) * nf);
+        memcpy(t->vmax_vec, s->vmax_vec, sizeof(double) * nf);
+    }
+    a->lu_cur = src->lu_cur;
     memcpy(a->t, src->t, sizeof(double) * nf);
     memcpy(a->Rref, src->Rref, sizeof(double) * nf * 6);
     a->have_Rref = src->have_Rref;
@@ -446,6 +495,7 @@ int kin_set_coords(kin_assembly *a, const double *xyz)
             return kin__fail(a, KIN_EINVAL, "bar %d would have zero length", k);
     memcpy(a->xyz, xyz, sizeof(double) * (size_t)n);
     a->fac[0].valid = a->fac[1].valid = 0;
+    kin__lu_invalidate(a);
     a->have_t = a->t_chosen = 0;
     a->l = 0.0;
     return KIN_OK;

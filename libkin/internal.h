@@ -23,6 +23,25 @@ typedef struct kin_factor {
     double *Urig;   /* nf x m_rigid rigid-body mechanisms (ld nf) */
 } kin_factor;
 
+/* LU mode (kin_options.factorization == KIN_STEP_LU): one factorization of
+ * the bordered matrix J = [C; b^T; R^T] of a configuration, where b is the
+ * tangent of the step that reached it and R its rigid mechanisms. Stored as
+ * the factors of J^T = [H, b, R] (nf x rows, ld nf): LU (dgetrf) when
+ * rows == nf, LQ (dgelqf, i.e. a QR of J) when rows > nf (redundant bars).
+ * Valid only for the configuration in xyz. The handle keeps two, swapped
+ * when a step is accepted, like fac[]. */
+typedef struct kin_lufactor {
+    int valid;        /* factors of a regular point (estimated m_internal = 1) */
+    int rows;         /* nb + 1 + m_rigid */
+    double *JT;       /* nf x (nb + 1 + nrig) factors */
+    int *ipiv;        /* nf pivots (LU) */
+    double *tq;       /* nf Householder scalars (LQ) */
+    double *xyz;      /* nj*dim configuration the factors belong to */
+    double *vr_vec;   /* nf: inverse-iteration vector of v_r (unit) */
+    double *vmax_vec; /* nf: power-iteration vector of v_max (unit) */
+    double v_r, v_max;/* estimates at xyz */
+} kin_lufactor;
+
 struct kin_assembly {
     int dim, nj, nb, nf;
     double *xyz;             /* nj*dim current coordinates */
@@ -72,6 +91,12 @@ struct kin_assembly {
 
     /* test hook: makes LAPACK report failures (enum kin__fault) */
     int fault;
+
+    /* LU mode: factors of the current point (lu[lu_cur]) and a trial one */
+    kin_lufactor lu[2];
+    int lu_cur;
+    double *luR;             /* nf x 6 rigid mechanisms of a trial point */
+    double *luw;             /* max(nf, nb + 1 + nrig) solve vector */
 };
 
 /* Fault injection for the tests (not exported): the SVD of the next analyses
@@ -116,6 +141,16 @@ double kin__sv_derivative(const kin_assembly *a, const kin_factor *f, const doub
 /* Recount rank, m, s and the rigid/internal split of fac[idx] (made at xyz)
  * with the handle's current rank_tol, without a new factorization */
 int kin__reclassify(kin_assembly *a, const double *xyz, int idx);
+
+/* Orthonormal basis (nf x *mr, ld nf) of the rigid-body mechanisms of
+ * configuration xyz: the infinitesimal rigid motions of the whole assembly
+ * that keep every fixed coordinate fixed, without a factorization of H (the
+ * vectors split_mechanisms projects on U_m). Uses a->G and a->Gs. */
+int kin__rigid_basis(kin_assembly *a, const double *xyz, double *R, int *mr);
+
+/* LU mode: invalidate both bordered factorizations (the configuration or
+ * the rank tolerance changed) */
+static inline void kin__lu_invalidate(kin_assembly *a) { a->lu[0].valid = a->lu[1].valid = 0; }
 
 static inline const kin_factor *kin__cur(const kin_assembly *a) { return &a->fac[a->cur]; }
 

@@ -128,7 +128,9 @@ typedef struct kin_analysis {
 KIN_API int kin_analyse(kin_assembly *a, kin_analysis *out);
 
 /* Last analysis, if current. KIN_ESTATE if kin_analyse() has not been run
- * since the configuration last changed (kin_step() keeps it current). */
+ * since the configuration last changed (kin_step() keeps it current in the
+ * default KIN_STEP_SVD mode; in KIN_STEP_LU mode only after a step that fell
+ * back to the SVD, see kin_path.h). The same holds for the getters below. */
 KIN_API int kin_get_analysis(const kin_assembly *a, kin_analysis *out);
 
 /* All min(nfree, nbars) singular values, descending, into sv[0..n-1];

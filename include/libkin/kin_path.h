@@ -16,7 +16,37 @@
  *  - the new mechanism agrees with the chord: |t_new . chord|/|chord| >= direction_tol.
  * A failed attempt is retried with delta halved, up to max_halvings times;
  * if every attempt fails the call returns a status and the assembly,
- * its analysis and its path state are exactly as before the call. */
+ * its analysis and its path state are exactly as before the call.
+ *
+ * FACTORIZATION MODES (kin_options.factorization)
+ *  KIN_STEP_SVD (default): as above; every accepted step leaves the full SVD
+ *   analysis of the new point current (kin_get_analysis() and the other
+ *   getters of kin_assembly.h work without a new factorization).
+ *  KIN_STEP_LU: the new point is not analysed by an SVD. The step factorizes
+ *   the square bordered matrix J = [C; t^T; R^T] there (C = H^T, t the
+ *   tangent of the step, R the rigid-body mechanisms, which need no SVD)
+ *   with LU (dgetrf), or with a QR (LQ of J^T, dgelqf) when J is tall
+ *   (redundant bars: nbars + 1 + m_rigid > nfree). The new tangent is the
+ *   normalised solution of J tau = e_(nbars+1), oriented and checked
+ *   against the chord as above; the next step's chord corrector solves with
+ *   the same factors (then removes the component along the tangent, which
+ *   makes the correction the same minimum-norm one as eq. 11's), and the
+ *   corrector's Newton iterations, if the chord stalls, factorize
+ *   [C; t^T; R^T] by LU too (QR, dgels, when it is not square); v_r and
+ *   v_max are estimated from the factors (two inverse-iteration passes and
+ *   one power-iteration pass, warm-started from the previous point). When
+ *   the estimate v_r / v_max falls below 1000 * rank_tol (near a
+ *   bifurcation), J is singular, or J would be wide (more mechanisms than
+ *   one internal one can explain), the step falls back to the full SVD
+ *   analysis of the SVD mode at that point, so m_internal and the tangent
+ *   choice at a bifurcation are the SVD's. Points agree with the SVD mode's
+ *   to rounding times the conditioning (the same predictor, the same
+ *   corrections in exact arithmetic). After a step without fallback the
+ *   analysis is not current: kin_get_analysis(), kin_get_singular_values(),
+ *   kin_get_mechanisms() and kin_get_self_stresses() return KIN_ESTATE
+ *   until kin_analyse() is called (which does not disturb the path);
+ *   kin_get_tangent() and kin_step() work. kin_locate_next() needs the SVD
+ *   at every point and must be run in SVD mode. */
 #ifndef KIN_PATH_H
 #define KIN_PATH_H
 
@@ -32,14 +62,23 @@ typedef struct kin_options {
     int max_halvings;       /* retries of a failed step with delta/2. Default 12 */
     double direction_tol;   /* minimum |cos| between new mechanism and chord. Default 0.9 */
     double max_correction;  /* largest |correction| / |delta| accepted. Default 0.5 */
+    int factorization;      /* enum kin_step_factorization. Default KIN_STEP_SVD */
 } kin_options;
+
+/* How kin_step() factorizes at each new point (see the top of this file). */
+enum kin_step_factorization {
+    KIN_STEP_SVD = 0, /* full SVD of H at every point (dgesdd) */
+    KIN_STEP_LU = 1   /* LU/QR of the bordered matrix; SVD only near a bifurcation */
+};
 
 /* Fill *o with the defaults above. Does nothing if o is NULL. */
 KIN_API void kin_options_default(kin_options *o);
 
 /* Replace the handle's options. Validated first (tolerances finite and in
- * (0,1), counts >= 0 (iterations >= 1), step_fraction > 0); on KIN_EINVAL
- * nothing changes. Changing rank_tol invalidates the analysis.
+ * (0,1), counts >= 0 (iterations >= 1), step_fraction > 0, factorization one
+ * of enum kin_step_factorization); on KIN_EINVAL nothing changes. Changing
+ * rank_tol invalidates the analysis (and the LU mode's factors). Switching
+ * the factorization mode keeps the path state.
  * Returns KIN_OK, KIN_ENULL, KIN_EINVAL. */
 KIN_API int kin_set_options(kin_assembly *a, const kin_options *o);
 
@@ -50,13 +89,16 @@ KIN_API int kin_get_options(const kin_assembly *a, kin_options *o);
 typedef struct kin_step_info {
     double l;           /* signed path length after the step (sum of chords) */
     double delta;       /* amplitude actually used (after clamping/halving) */
-    double v_r;         /* lowest non-zero singular value at the new point */
+    double v_r;         /* lowest non-zero singular value at the new point; in
+                           LU mode an estimate (an upper bound from inverse
+                           iteration) unless the step fell back to an SVD */
     double residual;    /* final max |L-L0|/L0 */
     double cos_turn;    /* |t_new . chord| / |chord| */
     int iterations;     /* corrector iterations of the accepted attempt */
     int halvings;       /* failed attempts before the accepted one */
-    int factorizations; /* SVD/least-squares factorizations in this call */
-    int m_internal;     /* internal mechanisms at the new point (1 on a path) */
+    int factorizations; /* SVD/LU/least-squares factorizations in this call */
+    int m_internal;     /* internal mechanisms at the new point (1 on a path;
+                           in LU mode 1 unless the step fell back to an SVD) */
 } kin_step_info;
 
 /* Take one predictor-corrector step of amplitude delta along the oriented
@@ -64,6 +106,11 @@ typedef struct kin_step_info {
  * the largest step. |delta| is clamped to step_fraction*RMS rest length.
  * If the current point is a bifurcation (m_internal >= 2) a direction must
  * have been given with kin_path_set_direction(). info may be NULL.
+ * In KIN_STEP_LU mode a step's chord corrector uses the start point's SVD
+ * analysis when that is current (the first step, after a fallback to the
+ * SVD, kin_analyse() or kin_path_set_direction()) and otherwise the bordered
+ * factors the previous step left; a start point with neither (after
+ * kin_set_coords(), kin_relax() or kin_path_reset()) is analysed by SVD.
  * Returns KIN_OK; KIN_ENULL; KIN_EINVAL (non-finite delta);
  * KIN_ENOMECH (m_internal == 0); KIN_EBIFURCATION (no direction chosen at a
  * bifurcation); KIN_ENOTCONVERGED or KIN_EPATHJUMP (every attempt failed:

@@ -55,7 +55,13 @@ class StepInfo:
 
 @dataclasses.dataclass
 class Options:
-    """Tolerances of a handle (kin_options)."""
+    """Tolerances of a handle (kin_options).
+
+    factorization: how a step factorizes at each new point (kin_path.h):
+    0 = lib.KIN_STEP_SVD (default: the full SVD analysis of every point),
+    1 = lib.KIN_STEP_LU (LU/QR of the bordered matrix, the SVD only near a
+    bifurcation: the same points to rounding, a step costs a fraction of an
+    SVD; StepInfo.v_r is then an upper-bound estimate)."""
 
     rank_tol: float = 1e-9
     corrector_tol: float = 1e-12
@@ -64,6 +70,7 @@ class Options:
     max_halvings: int = 12
     direction_tol: float = 0.9
     max_correction: float = 0.5
+    factorization: int = 0
 
 
 _OPTION_FIELDS = [f.name for f in dataclasses.fields(Options)]
