@@ -680,8 +680,10 @@ static int locate_fast(loc_ctx *c, double hi, double tau_lo, double tau_hi)
             side = -1;
         }
     }
-    return kin__fail(c->a, KIN_ENOTFOUND, "signed test function: no convergence in %d iterations",
-                     c->o->max_iter);
+    return kin__fail(c->a, KIN_ENOTFOUND,
+                     "signed test function: no convergence in %d iterations, v_r still %.3g relative: a "
+                     "near-singular but regular configuration, or a bifurcation this method cannot resolve",
+                     c->o->max_iter, rel(c->work));
 }
 
 /* the paper's method: quadratic through the last three (l, v_r) */
@@ -807,6 +809,8 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
     kin_options user = a->opt;
     double fine = fmin(user.rank_tol, LOCATE_RANK_FRACTION * o.vr_tol);
     a->opt.rank_tol = fine;
+    /* the detectors and the nodes need every point's SVD */
+    a->opt.factorization = KIN_STEP_SVD;
     c.hw = hermite_alloc(a);
     if (!c.hw || kin_assembly_clone(a, &c.prev) || kin_assembly_clone(a, &c.work) ||
         kin_assembly_clone(a, &c.probe) ||

@@ -12,6 +12,13 @@ static const double CHORD_MIN_CONTRACTION = 0.7;
 /* Corrections that shrink by less than this factor have reached the
  * rounding floor: the corrector stops there (once the strain is met). */
 static const double CORRECTION_STALL = 0.5;
+/* Newton reuses its last factorization while each iteration reduces the
+ * residual by this factor or better. */
+static const double NEWTON_REUSE_CONTRACTION = 0.25;
+/* A corrector whose residual grows beyond this multiple of the predictor's
+ * diverges (measured: Newton from a bad predictor reaching 1e82 after its 60
+ * iterations); the attempt fails at once. */
+static const double CORRECTOR_DIVERGENCE = 1e6;
 /* Projections of a requested direction onto the internal mechanisms shorter
  * than this (relative to |dir|) mean "not a first-order mechanism". */
 static const double DIRECTION_MIN_PROJECTION = 1e-6;
@@ -311,11 +318,12 @@ static void unit_or_ones(int nf, double *v)
  * minimum-norm solution of [C; t^T] s = [-e; 0] at a fraction of the cost
  * of its QR. When the matrix is not square, or singular, it is
  * kin__bordered_solve's. */
-static int lu_newton_solve(kin_assembly *a, const double *xyz, const double *e, double *s)
+static int lu_newton_solve(kin_assembly *a, const double *xyz, const double *e, double *s, int *reusable)
 {
     kin_lufactor *T = &a->lu[1 - a->lu_cur];
     int nf = a->nf, nb = a->nb, mr = 0, info = 0, one = 1;
     T->valid = 0;
+    *reusable = 0;
     int rc = kin__rigid_basis(a, xyz, a->luR, &mr);
     if (rc) return rc;
     if (nb + 1 + mr != nf) return kin__bordered_solve(a, xyz, a->t, e, s);
@@ -330,6 +338,20 @@ static int lu_newton_solve(kin_assembly *a, const double *xyz, const double *e, 
     for (int k = 0; k < nb; ++k) s[k] = -e[k];
     for (int k = nb; k < nf; ++k) s[k] = 0.0;
     dgetrs_("T", &nf, &one, JT, &nf, T->ipiv, s, &nf, &info, 1);
+    if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrs info = %d", info);
+    *reusable = 1;
+    return KIN_OK;
+}
+
+/* The same correction with the factors the last lu_newton_solve left (a
+ * chord step with the Jacobian of a nearby iterate: no factorization). */
+static int lu_newton_reuse(kin_assembly *a, const double *e, double *s)
+{
+    const kin_lufactor *T = &a->lu[1 - a->lu_cur];
+    int nf = a->nf, nb = a->nb, info = 0, one = 1;
+    for (int k = 0; k < nb; ++k) s[k] = -e[k];
+    for (int k = nb; k < nf; ++k) s[k] = 0.0;
+    dgetrs_("T", &nf, &one, T->JT, &nf, T->ipiv, s, &nf, &info, 1);
     if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrs info = %d", info);
     return KIN_OK;
 }
@@ -478,8 +500,12 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
     else
         for (int i = 0; i < nf; ++i) a->xp[i] = a->x[i] = a->x0[i] + delta * a->t[i];
     kin__scatter(a, a->x, xyz);
-    double r = kin__extensions(a, xyz, a->e);
+    double r = kin__extensions(a, xyz, a->e), r_start = r;
     int it = 0, chord = use_chord;
+    /* Newton keeps its last factorization while it contracts the residual
+     * by NEWTON_REUSE_CONTRACTION or better (a new one costs as much as the
+     * rest of the step) */
+    int have_newton = 0, reuse = 0, reused = 0;
     /* converged when the strain meets the tolerance and the last correction
      * moved no coordinate by more than the tolerance times the RMS bar
      * length (near a bifurcation a small strain still allows a position
@@ -507,8 +533,15 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
             int rc = lu_chord_correction(a, a->e, a->d);
             if (rc) return rc;
         } else {
-            int rc = use_lu ? lu_newton_solve(a, xyz, a->e, a->d)
-                            : kin__bordered_solve(a, xyz, a->t, a->e, a->d);
+            /* Newton on [C; t^T; R^T] by LU where it is square (the same
+             * correction as the minimum-norm one of [C; t^T] by QR) */
+            int rc;
+            reused = have_newton && reuse;
+            if (reused) {
+                rc = lu_newton_reuse(a, a->e, a->d);
+            } else {
+                rc = lu_newton_solve(a, xyz, a->e, a->d, &have_newton);
+            }
             if (rc) return rc;
             for (int i = 0; i < nf; ++i) a->d[i] = -a->d[i];
         }
@@ -521,6 +554,15 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
         kin__scatter(a, a->x, xyz);
         double rn = kin__extensions(a, xyz, a->e);
         ++it;
+        if (!chord) reuse = rn <= NEWTON_REUSE_CONTRACTION * r || rn <= a->opt.corrector_tol;
+        if (!(rn <= CORRECTOR_DIVERGENCE * fmax(r_start, a->opt.corrector_tol))) {
+            /* diverging: this attempt will not converge; fail it now so the
+             * step can be halved (not after corrector_max_iter iterations) */
+            res->iterations = it;
+            res->residual = rn;
+            return kin__fail(a, KIN_ENOTCONVERGED, "corrector diverges: residual %.3g from %.3g (delta = %.3g)",
+                             rn, r_start, delta);
+        }
         if (chord && !(rn <= CHORD_MIN_CONTRACTION * r) && rn > a->opt.corrector_tol) {
             /* chord stalls or diverges: restart Newton from the predictor */
             chord = 0;

@@ -61,6 +61,8 @@ static void call_errors(void)
 {
     kin_assembly *a = NULL;
     CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
+    kin_assembly_free(a);
+    a = (kin_assembly *)&a; /* a failed call must set the output to NULL */
     CHECK_RC(kin_model_threebar(7, &a), KIN_EINVAL);
     CHECK(a == NULL);
     CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, NULL), KIN_ENULL);

