@@ -3,204 +3,188 @@
  * x_j^2 - x_0^2 = 0 is tracked in a random complex affine chart a.x = 1 with
  * the gamma trick,
  *     H(x, t) = (1 - t) gamma G(x) + t F(x),
- * by an Euler predictor and Newton corrector with step control, and its
- * endpoint classified: real, complex, singular (a multiple root or a point
- * of a positive-dimensional component, Figure 5(c)-(d)), or failed. Paths are
- * independent; threads take them by index, so the result does not depend on
- * the thread count. */
-#include <complex.h>
+ * and its endpoint certified and classified: real, complex, singular (a
+ * multiple root, a point of a positive-dimensional component, Figure
+ * 5(c)-(d), or a root too ill-conditioned to certify), or failed. The tracker
+ * and the certificate are in homotopy_track.c.
+ *
+ * Then the endpoints are checked against what total-degree homotopy
+ * guarantees: every non-singular root is reached by exactly one path, so two
+ * paths on the same certified root means a path jumped; complex roots of a
+ * real system come in conjugate pairs, so a certified non-real root whose
+ * conjugate no path reached means a path was lost on the way. Paths involved
+ * (and failed ones) are tracked again with tighter settings, up to
+ * RETRACK_ROUNDS times; what remains is reported in kin_homotopy_info.
+ * Duplicates and conjugates are found in O(n log n): endpoints are sorted by
+ * a key that does not depend on the representative of the projective point
+ * nor on conjugation, and only neighbours within KEY_WINDOW are compared.
+ *
+ * Paths are independent and each result is stored by path index, so the
+ * result does not depend on the thread count nor on which thread tracked
+ * which path. */
 #include <math.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "homotopy_track.h"
 #include "internal.h"
 
-typedef double complex cplx;
+/* First tracking pass. The predictor error target is the smaller of
+ * pred_rel |x| and pred_sep times the separation radius r (the distance to
+ * the nearest other path); a first Newton correction above corr_sep r
+ * rejects the step (0.2 keeps the Kantorovich quantity 2 |d| / r at <= 0.4,
+ * and a jump would need a predictor error of 0.8 r, 16 times the target).
+ * A path still short of t = 1 at 1 - t = sigma_end is heading for a singular
+ * endpoint (the series' radius shrinks with 1 - t) and is classified there.
+ * The values were chosen on the hexagonal sail's flat state (s = 15), where
+ * they give the same accounting as settings 10x and 100x tighter. */
+static const hom_settings BASE_SETTINGS = {1e-4, 0.05, 0.2, 1e-10};
+/* Each re-tracking round multiplies the three tolerances by TIGHTEN and
+ * sigma_end by SIGMA_TIGHTEN. */
+static const double TIGHTEN = 0.1, SIGMA_TIGHTEN = 0.01;
+enum { RETRACK_ROUNDS = 3 };
+/* Two endpoints approximate the same root if they are closer than
+ * SAME_FRACTION times the smaller uniqueness radius (by the certificate the
+ * roots in their existence balls then coincide). */
+static const double SAME_FRACTION = 0.5;
+/* Sort-key window: two approximations of one root differ by at most the sum
+ * of their existence radii (each <= 1e-8 |z|, see homotopy_track.c), which
+ * moves the key by at most 8e-8; pairs farther apart in key are distinct. */
+static const double KEY_WINDOW = 1e-6;
 
-enum { HOM_MAX_M = 24 };
-/* step control of the tracker */
-static const double T_STEP_INIT = 0.02, T_STEP_MAX = 0.05, T_STEP_MIN = 1e-13;
-static const double NEWTON_TOL = 1e-11;   /* relative Newton correction on the path */
-static const int NEWTON_MAX = 4;
-/* endpoint classification */
-static const double END_TOL = 1e-13;      /* relative residual of F after refinement */
-static const double SINGULAR_COND = 1e8;  /* pivot ratio above which an endpoint is singular */
-static const double REAL_TOL = 1e-8;      /* max |imag| / |x| of a real endpoint */
-static const double SAME_ROOT_TOL = 1e-8; /* eq. 20 */
-/* a path that stalls beyond this t, with a Jacobian condition above
- * STALL_COND, ends on a singular solution rather than being lost */
-static const double ENDGAME_T = 0.9, STALL_COND = 1e6;
+/* Paths are handed out in chunks of PATH_CHUNK from a shared counter, so a
+ * thread slowed down by other work on the machine takes fewer (which path
+ * a thread tracks does not change its result). */
+enum { PATH_CHUNK = 16 };
 
-typedef struct hom_problem {
-    int m, s;
-    const double *Q;
-    cplx gamma;
-    cplx a[HOM_MAX_M];
-} hom_problem;
-
-/* solve A x = b (n x n, row-major, destroyed) by Gaussian elimination with
- * partial pivoting; returns the ratio max/min pivot magnitude (inf if singular) */
-static double csolve(int n, cplx *A, cplx *b)
-{
-    double pmax = 0.0, pmin = INFINITY;
-    for (int k = 0; k < n; ++k) {
-        int p = k;
-        for (int i = k + 1; i < n; ++i)
-            if (cabs(A[i * n + k]) > cabs(A[p * n + k])) p = i;
-        if (p != k) {
-            for (int j = 0; j < n; ++j) { cplx t = A[k * n + j]; A[k * n + j] = A[p * n + j]; A[p * n + j] = t; }
-            cplx t = b[k]; b[k] = b[p]; b[p] = t;
-        }
-        double piv = cabs(A[k * n + k]);
-        if (piv > pmax) pmax = piv;
-        if (piv < pmin) pmin = piv;
-        if (piv == 0.0) return INFINITY;
-        for (int i = k + 1; i < n; ++i) {
-            cplx f = A[i * n + k] / A[k * n + k];
-            if (f == 0.0) continue;
-            for (int j = k; j < n; ++j) A[i * n + j] -= f * A[k * n + j];
-            b[i] -= f * b[k];
-        }
-    }
-    for (int k = n - 1; k >= 0; --k) {
-        cplx v = b[k];
-        for (int j = k + 1; j < n; ++j) v -= A[k * n + j] * b[j];
-        b[k] = v / A[k * n + k];
-    }
-    return pmax / pmin;
-}
-
-/* H and its derivatives at (x, t): rows 0..s-1 the homotopy, row s the chart.
- * J (m x m row-major) = dH/dx, Ht = dH/dt, Hv = H. */
-static void eval(const hom_problem *P, const cplx *x, double t, cplx *Hv, cplx *J, cplx *Ht)
-{
-    int m = P->m, s = P->s;
-    for (int j = 0; j < s; ++j) {
-        const double *Qj = P->Q + (size_t)j * m * m;
-        cplx f = 0.0;
-        for (int c = 0; c < m; ++c) {
-            cplx row = 0.0; /* (Q x)_c, Q symmetric */
-            for (int r = 0; r < m; ++r) row += Qj[r + (size_t)c * m] * x[r];
-            f += row * x[c];
-            if (J) J[j * m + c] = t * 2.0 * row;
-        }
-        cplx g = x[j + 1] * x[j + 1] - x[0] * x[0];
-        if (Hv) Hv[j] = (1.0 - t) * P->gamma * g + t * f;
-        if (Ht) Ht[j] = f - P->gamma * g;
-        if (J) {
-            J[j * m + 0] += (1.0 - t) * P->gamma * (-2.0 * x[0]);
-            J[j * m + j + 1] += (1.0 - t) * P->gamma * (2.0 * x[j + 1]);
-        }
-    }
-    cplx ch = -1.0;
-    for (int c = 0; c < m; ++c) {
-        ch += P->a[c] * x[c];
-        if (J) J[s * m + c] = P->a[c];
-    }
-    if (Hv) Hv[s] = ch;
-    if (Ht) Ht[s] = 0.0;
-}
-
-static double cnorm(int n, const cplx *x)
-{
-    double s = 0.0;
-    for (int i = 0; i < n; ++i) s += creal(x[i]) * creal(x[i]) + cimag(x[i]) * cimag(x[i]);
-    return sqrt(s);
-}
-
-/* Newton at fixed t; returns 1 if the correction fell below tol */
-static int newton(const hom_problem *P, cplx *x, double t, int iters, double tol, double *cond)
-{
-    int m = P->m;
-    cplx J[HOM_MAX_M * HOM_MAX_M], h[HOM_MAX_M];
-    for (int it = 0; it < iters; ++it) {
-        eval(P, x, t, h, J, NULL);
-        double c = csolve(m, J, h);
-        if (cond) *cond = c;
-        if (!isfinite(c)) return 0;
-        for (int i = 0; i < m; ++i) x[i] -= h[i];
-        if (cnorm(m, h) <= tol * (1.0 + cnorm(m, x))) return 1;
-    }
-    return 0;
-}
-
-enum { END_REAL = 0, END_COMPLEX = 1, END_SINGULAR = 2, END_FAILED = 3 };
-
-static int track(const hom_problem *P, cplx *x)
-{
-    int m = P->m;
-    double t = 0.0, dt = T_STEP_INIT;
-    cplx J[HOM_MAX_M * HOM_MAX_M], v[HOM_MAX_M], x1[HOM_MAX_M];
-    while (t < 1.0) {
-        if (dt < T_STEP_MIN) {
-            /* the tracker stalls where the Jacobian becomes singular: at the
-             * end of the path that is a multiple root or a point of a
-             * positive-dimensional component (Figure 5(c)-(d)) */
-            cplx Jc[HOM_MAX_M * HOM_MAX_M], h[HOM_MAX_M];
-            eval(P, x, t, h, Jc, NULL);
-            double cond = csolve(m, Jc, h);
-            return t > ENDGAME_T && !(cond < STALL_COND) ? END_SINGULAR : END_FAILED;
-        }
-        double t1 = fmin(1.0, t + dt);
-        /* Euler predictor: dx/dt = -J^{-1} H_t */
-        eval(P, x, t, NULL, J, v);
-        if (!isfinite(csolve(m, J, v))) return END_FAILED;
-        for (int i = 0; i < m; ++i) x1[i] = x[i] - (t1 - t) * v[i];
-        if (newton(P, x1, t1, NEWTON_MAX, NEWTON_TOL, NULL)) {
-            memcpy(x, x1, sizeof(cplx) * (size_t)m);
-            t = t1;
-            dt = fmin(T_STEP_MAX, dt * 1.5);
-        } else {
-            dt *= 0.5;
-        }
-    }
-    /* endgame: refine on F (t = 1) and classify */
-    double cond = INFINITY;
-    int ok = newton(P, x, 1.0, 10, END_TOL, &cond);
-    if (!ok || cond > SINGULAR_COND) return END_SINGULAR;
-    /* real? scale by the largest entry */
-    int k = 0;
-    for (int i = 1; i < m; ++i)
-        if (cabs(x[i]) > cabs(x[k])) k = i;
-    cplx sc = x[k];
-    double im = 0.0, nx = 0.0;
-    for (int i = 0; i < m; ++i) {
-        x[i] /= sc;
-        im = fmax(im, fabs(cimag(x[i])));
-        nx = fmax(nx, cabs(x[i]));
-    }
-    return im <= REAL_TOL * nx ? END_REAL : END_COMPLEX;
-}
+typedef struct hom_queue {
+    pthread_mutex_t lock;
+    int next, n;
+} hom_queue;
 
 typedef struct hom_job {
     const hom_problem *P;
-    int npaths, nthreads, tid;
-    int *kind;
-    double *ends; /* m real parts per path */
+    const hom_settings *S;
+    const int *list; /* paths to track, NULL: 0 .. n-1 */
+    hom_queue *queue;
+    hom_ws *ws;
+    hom_end *ends;
+    double *zr, *zi;
 } hom_job;
 
 static void *worker(void *arg)
 {
     hom_job *J = arg;
-    const hom_problem *P = J->P;
-    int m = P->m;
-    for (int p = J->tid; p < J->npaths; p += J->nthreads) {
-        cplx x[HOM_MAX_M], ax = 0.0;
-        x[0] = 1.0;
-        for (int j = 1; j < m; ++j) x[j] = (p >> (j - 1)) & 1 ? -1.0 : 1.0;
-        for (int i = 0; i < m; ++i) ax += P->a[i] * x[i];
-        for (int i = 0; i < m; ++i) x[i] /= ax;
-        J->kind[p] = track(P, x);
-        for (int i = 0; i < m; ++i) J->ends[(size_t)p * m + i] = creal(x[i]);
+    int m = J->P->m;
+    for (;;) {
+        pthread_mutex_lock(&J->queue->lock);
+        int first = J->queue->next, last = first + PATH_CHUNK < J->queue->n ? first + PATH_CHUNK : J->queue->n;
+        J->queue->next = last;
+        pthread_mutex_unlock(&J->queue->lock);
+        if (first >= last) break;
+        for (int i = first; i < last; ++i) {
+            int p = J->list ? J->list[i] : i;
+            kin__hom_track(J->P, J->S, J->ws, p, J->zr + (size_t)p * m, J->zi + (size_t)p * m, &J->ends[p]);
+        }
     }
     return NULL;
 }
 
-static cplx unit_random(unsigned long long *s)
+/* track the paths of list (n of them; NULL: all n) on nthreads threads */
+static int run_paths(const hom_problem *P, const hom_settings *S, const int *list, int n, int nthreads,
+                     hom_ws **ws, hom_job *jobs, pthread_t *th, int *running, hom_end *ends, double *zr,
+                     double *zi)
 {
-    double th = 6.283185307179586 * ((kin__splitmix(s) >> 11) / 9007199254740992.0);
-    return cos(th) + I * sin(th);
+    hom_queue q;
+    q.next = 0, q.n = n;
+    if (pthread_mutex_init(&q.lock, NULL) != 0) return KIN_ENOMEM;
+    for (int t = 0; t < nthreads; ++t) jobs[t] = (hom_job){P, S, list, &q, ws[t], ends, zr, zi};
+    /* thread 0 is this one; threads that cannot be started leave their
+     * share to the others */
+    for (int t = 1; t < nthreads; ++t) running[t] = pthread_create(&th[t], NULL, worker, &jobs[t]) == 0;
+    worker(&jobs[0]);
+    for (int t = 1; t < nthreads; ++t)
+        if (running[t]) pthread_join(th[t], NULL);
+    pthread_mutex_destroy(&q.lock);
+    return KIN_OK;
+}
+
+static int key_cmp(const void *a, const void *b)
+{
+    const hom_key *x = a, *y = b;
+    if (x->key < y->key) return -1;
+    if (x->key > y->key) return 1;
+    return (x->path > y->path) - (x->path < y->path);
+}
+
+int kin__hom_find(int *parent, int p)
+{
+    while (parent[p] != p) {
+        parent[p] = parent[parent[p]];
+        p = parent[p];
+    }
+    return p;
+}
+
+static void unite(int *parent, int p, int q)
+{
+    p = kin__hom_find(parent, p), q = kin__hom_find(parent, q);
+    if (p < q) parent[q] = p;
+    else if (q < p) parent[p] = q;
+}
+
+/* Do endpoints p and q (q conjugated if conj) approximate the same root?
+ * Compared in p's chart. */
+static int same_root(int m, const hom_end *ep, const double *pr, const double *pi, const hom_end *eq,
+                     const double *qr, const double *qi, int conj)
+{
+    int k = ep->chart;
+    double sg = conj ? -1.0 : 1.0, a = qr[k], b = sg * qi[k], d = a * a + b * b, dist2 = 0.0;
+    if (!(d > 0.0)) return 0;
+    for (int c = 0; c < m; ++c) {
+        double vr = (qr[c] * a + sg * qi[c] * b) / d, vi = (sg * qi[c] * a - qr[c] * b) / d;
+        dist2 += (pr[c] - vr) * (pr[c] - vr) + (pi[c] - vi) * (pi[c] - vi);
+    }
+    return sqrt(dist2) <= SAME_FRACTION * fmin(ep->rplus, eq->rplus);
+}
+
+hom_checks kin__hom_check(int m, int npaths, const hom_end *ends, const double *zr, const double *zi, const double *w,
+                          hom_key *keys, int *parent, unsigned char *paired)
+{
+    hom_checks c = {0, 0};
+    int n = 0;
+    for (int p = 0; p < npaths; ++p) {
+        parent[p] = p;
+        paired[p] = 0;
+        if (ends[p].kind != HOM_REAL && ends[p].kind != HOM_NONREAL) continue;
+        const double *xr = zr + (size_t)p * m, *xi = zi + (size_t)p * m;
+        double wr = 0.0, wi = 0.0, nz = 0.0;
+        for (int i = 0; i < m; ++i) {
+            wr += w[i] * xr[i], wi += w[i] * xi[i];
+            nz += xr[i] * xr[i] + xi[i] * xi[i];
+        }
+        keys[n++] = (hom_key){(wr * wr + wi * wi) / nz, p};
+    }
+    qsort(keys, (size_t)n, sizeof *keys, key_cmp);
+    for (int i = 0; i < n; ++i) {
+        int p = keys[i].path;
+        const double *pr = zr + (size_t)p * m, *pi = zi + (size_t)p * m;
+        for (int j = i + 1; j < n && keys[j].key - keys[i].key <= KEY_WINDOW; ++j) {
+            int q = keys[j].path;
+            const double *qr = zr + (size_t)q * m, *qi = zi + (size_t)q * m;
+            if (same_root(m, &ends[p], pr, pi, &ends[q], qr, qi, 0)) unite(parent, p, q);
+            if (ends[p].kind == HOM_NONREAL && ends[q].kind == HOM_NONREAL &&
+                same_root(m, &ends[p], pr, pi, &ends[q], qr, qi, 1))
+                paired[p] = paired[q] = 1;
+        }
+    }
+    for (int i = 0; i < n; ++i) {
+        int p = keys[i].path;
+        if (kin__hom_find(parent, p) != p) c.duplicates++;
+        if (ends[p].kind == HOM_NONREAL && !paired[p]) c.unpaired++;
+    }
+    return c;
 }
 
 int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads, double *betas,
@@ -209,68 +193,157 @@ int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int
     if (!Q || !betas || !nsol || !info) return KIN_ENULL;
     if (m < 2 || s != m - 1 || maxsol < 1 || nthreads < 1) return KIN_EINVAL;
     if (m > HOM_MAX_M) return KIN_ERANGE;
-    hom_problem P;
-    P.m = m;
-    P.s = s;
-    P.Q = Q;
-    unsigned long long st = (unsigned long long)seed * 0x2545F4914F6CDD1Dull + 7u;
-    P.gamma = unit_random(&st);
-    for (int i = 0; i < m; ++i) P.a[i] = unit_random(&st);
     int npaths = 1 << s;
-    int *kind = malloc(sizeof(int) * (size_t)npaths);
-    double *ends = malloc(sizeof(double) * (size_t)npaths * (size_t)m);
+    size_t mm = (size_t)m * m;
+    size_t nrows = ((size_t)s * m + HOM_QBLOCK - 1) / HOM_QBLOCK * HOM_QBLOCK;
+    double *Qr = malloc(sizeof(double) * mm * (size_t)s), *Qb = calloc(nrows * m, sizeof(double));
+    hom_end *ends = malloc(sizeof(hom_end) * (size_t)npaths);
+    double *zr = malloc(sizeof(double) * (size_t)npaths * (size_t)m);
+    double *zi = malloc(sizeof(double) * (size_t)npaths * (size_t)m);
+    hom_key *keys = malloc(sizeof(hom_key) * (size_t)npaths);
+    int *parent = malloc(sizeof(int) * (size_t)npaths), *list = malloc(sizeof(int) * (size_t)npaths);
+    int *size = calloc((size_t)npaths, sizeof(int));
+    unsigned char *paired = malloc((size_t)npaths);
     hom_job *jobs = malloc(sizeof(hom_job) * (size_t)nthreads);
     pthread_t *th = malloc(sizeof(pthread_t) * (size_t)nthreads);
-    if (!kind || !ends || !jobs || !th) {
-        free(kind); free(ends); free(jobs); free(th);
-        return KIN_ENOMEM;
-    }
-    /* thread 0 is this one; a thread that cannot be started does its share here */
     int *running = calloc((size_t)nthreads, sizeof(int));
-    for (int t = 0; t < nthreads; ++t) jobs[t] = (hom_job){&P, npaths, nthreads, t, kind, ends};
-    for (int t = 1; t < nthreads; ++t)
-        if (running) running[t] = pthread_create(&th[t], NULL, worker, &jobs[t]) == 0;
-    worker(&jobs[0]);
-    for (int t = 1; t < nthreads; ++t) {
-        if (running && running[t]) pthread_join(th[t], NULL);
-        else worker(&jobs[t]);
+    hom_ws **ws = calloc((size_t)nthreads, sizeof(hom_ws *));
+    int rc = KIN_OK;
+    if (!Qr || !Qb || !ends || !zr || !zi || !keys || !parent || !list || !size || !paired || !jobs || !th || !running ||
+        !ws)
+        rc = KIN_ENOMEM;
+    for (int t = 0; !rc && t < nthreads; ++t)
+        if (!(ws[t] = kin__hom_ws_new())) rc = KIN_ENOMEM;
+    if (rc) goto done;
+
+    /* the problem: Q_j scaled to unit Frobenius norm (the roots do not
+     * change; the tolerances then mean the same for every input), by rows
+     * and in blocks of rows for Q x */
+    hom_problem P;
+    memset(&P, 0, sizeof P);
+    P.m = m, P.s = s, P.Qr = Qr, P.Qb = Qb;
+    double nf2 = 0.0;
+    for (int j = 0; j < s; ++j) {
+        const double *q = Q + (size_t)j * mm;
+        double f = 0.0, n1 = 0.0;
+        for (size_t i = 0; i < mm; ++i) f += q[i] * q[i];
+        f = sqrt(f);
+        double sc = f > 0.0 ? 1.0 / f : 1.0;
+        for (int r = 0; r < m; ++r) {
+            double col = 0.0;
+            for (int c = 0; c < m; ++c) {
+                double v = 0.5 * (q[r + (size_t)c * m] + q[c + (size_t)r * m]) * sc; /* symmetric part */
+                Qr[((size_t)j * m + r) * m + c] = v;
+                col += fabs(v);
+            }
+            n1 = fmax(n1, col);
+        }
+        /* |Q_j|_2 <= min(|Q_j|_F, |Q_j|_1) (symmetric) */
+        double n2 = fmin(f > 0.0 ? 1.0 : 0.0, n1);
+        nf2 += n2 * n2;
     }
-    free(running);
+    P.normF = sqrt(nf2);
+    for (size_t i = 0; i < (size_t)s * m; ++i) /* row i to block i / B, slot i % B */
+        for (int c = 0; c < m; ++c)
+            Qb[(i / HOM_QBLOCK) * HOM_QBLOCK * m + (size_t)c * HOM_QBLOCK + i % HOM_QBLOCK] = Qr[i * m + c];
+    P.normG = sqrt((double)s);
+    unsigned long long st = (unsigned long long)seed * 0x2545F4914F6CDD1Dull + 7u;
+    double th0 = 6.283185307179586 * ((kin__splitmix(&st) >> 11) * 0x1.0p-53);
+    P.gr = cos(th0), P.gi = sin(th0);
+    for (int i = 0; i < m; ++i) {
+        double a = 6.283185307179586 * ((kin__splitmix(&st) >> 11) * 0x1.0p-53);
+        P.ar[i] = cos(a), P.ai[i] = sin(a);
+    }
+    /* the sort key's direction: a fixed random unit vector */
+    double w[HOM_MAX_M], wn = 0.0;
+    for (int i = 0; i < m; ++i) {
+        w[i] = ((kin__splitmix(&st) >> 11) * 0x1.0p-53) - 0.5;
+        wn += w[i] * w[i];
+    }
+    for (int i = 0; i < m; ++i) w[i] /= sqrt(wn);
+
+    hom_settings S = BASE_SETTINGS;
+    if ((rc = run_paths(&P, &S, NULL, npaths, nthreads, ws, jobs, th, running, ends, zr, zi))) goto done;
+    hom_checks ck = kin__hom_check(m, npaths, ends, zr, zi, w, keys, parent, paired);
+    int retracked = 0;
+    for (int round = 1; round <= RETRACK_ROUNDS; ++round) {
+        /* the suspects: failed paths, every path on a root reached more than
+         * once, non-real endpoints without a conjugate and, from the second
+         * round on while conjugates are missing, the singular endpoints (a
+         * lost conjugate may have been taken for one) */
+        memset(size, 0, sizeof(int) * (size_t)npaths);
+        for (int p = 0; p < npaths; ++p)
+            if (ends[p].kind == HOM_REAL || ends[p].kind == HOM_NONREAL) size[kin__hom_find(parent, p)]++;
+        int n = 0;
+        for (int p = 0; p < npaths; ++p) {
+            int k = ends[p].kind;
+            int sus = k == HOM_FAILED || ((k == HOM_REAL || k == HOM_NONREAL) && size[kin__hom_find(parent, p)] > 1) ||
+                      (k == HOM_NONREAL && !paired[p]) || (k == HOM_SINGULAR && round >= 2 && ck.unpaired > 0);
+            if (sus) list[n++] = p;
+        }
+        if (!n) break;
+        S.pred_rel *= TIGHTEN, S.pred_sep *= TIGHTEN, S.corr_sep *= TIGHTEN;
+        S.sigma_end *= SIGMA_TIGHTEN;
+        if ((rc = run_paths(&P, &S, list, n, nthreads, ws, jobs, th, running, ends, zr, zi))) goto done;
+        retracked += n;
+        ck = kin__hom_check(m, npaths, ends, zr, zi, w, keys, parent, paired);
+    }
+
     memset(info, 0, sizeof *info);
     info->paths = npaths;
+    info->retracked = retracked;
+    info->duplicates = ck.duplicates;
+    info->unpaired = ck.unpaired;
+    memset(size, 0, sizeof(int) * (size_t)npaths);
+    for (int p = 0; p < npaths; ++p) {
+        const hom_end *e = &ends[p];
+        info->steps += e->steps;
+        info->rejected += e->rejected;
+        switch (e->kind) {
+        case HOM_REAL: info->real++; break;
+        case HOM_NONREAL: info->nonreal++; break;
+        case HOM_SINGULAR:
+            info->singular++;
+            if (e->converged) info->uncertified++;
+            continue;
+        default: info->failed++; continue;
+        }
+        if (e->cond > info->max_cond) info->max_cond = e->cond;
+        if (e->kind == HOM_REAL) size[kin__hom_find(parent, p)]++;
+    }
     int nd = 0;
     for (int p = 0; p < npaths; ++p) {
-        switch (kind[p]) {
-        case END_COMPLEX: info->nonreal++; continue;
-        case END_SINGULAR: info->singular++; continue;
-        case END_FAILED: info->failed++; continue;
-        default: info->real++;
-        }
+        if (ends[p].kind != HOM_REAL || kin__hom_find(parent, p) != p) continue;
         double b[HOM_MAX_M];
-        memcpy(b, ends + (size_t)p * m, sizeof(double) * (size_t)m);
+        memcpy(b, zr + (size_t)p * m, sizeof(double) * (size_t)m);
         double nb = kin__norm(m, b);
         int big = 0;
         for (int i = 0; i < m; ++i) {
             b[i] /= nb;
-            if (fabs(b[i]) > fabs(b[big]) * (1.0 + 1e-12)) big = i;
+            if (fabs(b[i]) > fabs(b[big])) big = i;
         }
         if (b[big] < 0)
             for (int i = 0; i < m; ++i) b[i] = -b[i];
-        int dup = -1;
-        for (int i = 0; i < nd && i < maxsol && dup < 0; ++i)
-            if (fabs(kin__dot(m, betas + (size_t)i * m, b)) > 1.0 - SAME_ROOT_TOL) dup = i;
-        if (dup >= 0) {
-            if (multiplicity) multiplicity[dup]++;
-            continue;
+        for (int j = 0; j < s; ++j) { /* residual of the unit solution, Q_j / |Q_j|_F */
+            const double *q = Qr + (size_t)j * mm;
+            double v = 0.0;
+            for (int r = 0; r < m; ++r)
+                for (int c = 0; c < m; ++c) v += b[r] * q[(size_t)r * m + c] * b[c];
+            if (fabs(v) > info->max_residual) info->max_residual = fabs(v);
         }
         if (nd < maxsol) {
             memcpy(betas + (size_t)nd * m, b, sizeof(double) * (size_t)m);
-            if (multiplicity) multiplicity[nd] = 1;
+            if (multiplicity) multiplicity[nd] = size[p];
         }
         ++nd;
     }
     info->real_distinct = nd;
     *nsol = nd < maxsol ? nd : maxsol;
-    free(kind); free(ends); free(jobs); free(th);
-    return KIN_OK;
+
+done:
+    if (ws)
+        for (int t = 0; t < nthreads; ++t) kin__hom_ws_free(ws[t]);
+    free(ws), free(running), free(th), free(jobs), free(paired), free(size), free(list), free(parent);
+    free(keys), free(zi), free(zr), free(ends), free(Qb), free(Qr);
+    return rc;
 }

@@ -85,8 +85,9 @@ int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long s
     gsl_multiroot_fdfsolver *sv = gsl_multiroot_fdfsolver_alloc(gsl_multiroot_fdfsolver_hybridsj, (size_t)m);
     gsl_vector *x = gsl_vector_alloc((size_t)m);
     gsl_vector *fv = gsl_vector_alloc((size_t)m);
-    double *found = malloc(sizeof(double) * (size_t)m * (size_t)(starts < 4096 ? starts : 4096));
-    int cap = starts < 4096 ? starts : 4096;
+    /* every start adds at most one distinct solution: room for all of them,
+     * so the duplicate test (eq. 20) sees every solution kept */
+    double *found = malloc(sizeof(double) * (size_t)m * (size_t)starts);
     if (!sv || !x || !fv || !found) {
         gsl_multiroot_fdfsolver_free(sv);
         gsl_vector_free(x);
@@ -145,7 +146,7 @@ int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long s
         f_eval(&bv.vector, &q, fv);
         for (int j = 0; j < s; ++j)
             if (fabs(gsl_vector_get(fv, j)) > in.max_residual) in.max_residual = fabs(gsl_vector_get(fv, j));
-        if (nd < cap) memcpy(found + (size_t)nd * m, b, sizeof(double) * (size_t)m);
+        memcpy(found + (size_t)nd * m, b, sizeof(double) * (size_t)m);
         if (nd < maxsol) memcpy(betas + (size_t)nd * m, b, sizeof(double) * (size_t)m);
         ++nd;
     }

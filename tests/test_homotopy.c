@@ -2,10 +2,16 @@
  * paper's Figure 5, on small quadric systems in P^2 (s = 2, m = 3), each
  * rotated by a fixed orthogonal matrix so that no coordinate is special, and
  * on the structures: all 2^s paths accounted for, the same answer for any
- * thread count. The root scan is run on the same systems for comparison. */
+ * thread count. The root scan is run on the same systems for comparison.
+ * Then the endpoint checks: on made-up endpoints (the duplicate and
+ * conjugate-pair detection must flag what it is shown), and on a random
+ * s = 8 system, whose 256 roots are all simple (generic), half of them or
+ * more non-real. */
 #include <string.h>
 
 #include "check.h"
+#include "homotopy_track.h" /* the endpoint checker (private) */
+#include "internal.h"       /* kin__splitmix */
 #include "libkin.h"
 #include "sail_states.h"
 
@@ -57,14 +63,16 @@ static void figure5(void)
         kin_solve_info si;
         double sb[3 * 64];
         CHECK_RC(kin_quadrics_scan(3, 2, Q, 512, 1, sb, 64, &ns, &si), KIN_OK);
-        printf("%-22s homotopy: %d paths = %d real (%d distinct) + %d complex + %d singular + %d failed;"
-               " scan (512 starts): %d distinct\n", cases[c].name, h.paths, h.real, h.real_distinct, h.nonreal,
-               h.singular, h.failed, si.distinct);
+        printf("%-22s homotopy: %d paths = %d real (%d distinct) + %d complex + %d singular + %d failed"
+               " (%d re-tracked); scan (512 starts): %d distinct\n", cases[c].name, h.paths, h.real, h.real_distinct,
+               h.nonreal, h.singular, h.failed, h.retracked, si.distinct);
         CHECK(h.paths == 4 && h.real + h.nonreal + h.singular + h.failed == 4);
         CHECK(h.real_distinct == cases[c].real_distinct);
         CHECK(h.nonreal == cases[c].nonreal);
         CHECK(h.singular == cases[c].singular);
         CHECK(h.failed == 0);
+        CHECK(h.duplicates == 0 && h.unpaired == 0); /* (b): the 2 complex roots are a conjugate pair */
+        if (h.real_distinct) CHECK(h.max_residual < 64 * DBL_EPSILON);
         for (int k = 0; k < nsol; ++k)
             for (int q = 0; q < 2; ++q) {
                 double v = 0;
@@ -91,6 +99,7 @@ static void structures(void)
     printf("square sail flat: %d paths = %d real (%d distinct) + %d complex + %d singular + %d failed\n", h1.paths,
            h1.real, h1.real_distinct, h1.nonreal, h1.singular, h1.failed);
     CHECK(h1.paths == 16 && h1.real == 16 && h1.real_distinct == 16);
+    CHECK(h1.duplicates == 0 && h1.unpaired == 0 && h1.max_residual < 64 * DBL_EPSILON);
     CHECK(n1 == n2 && memcmp(&h1, &h2, sizeof h1) == 0 && memcmp(b1, b2, sizeof(double) * 5 * n1) == 0);
     kin_assembly_free(a);
 
@@ -111,9 +120,80 @@ static void structures(void)
     CHECK_RC(kin_quadrics_homotopy(3, 2, NULL, 1, 1, b1, 4, &n, NULL, &h1), KIN_ENULL);
 }
 
+/* The checker on made-up endpoints in P^2, in the charts z_k = 1: a real
+ * root reached by three paths (twice in chart 0, once written in chart 1),
+ * a conjugate pair, a non-real root without its conjugate, and a singular
+ * endpoint (not looked at). */
+static void checker(void)
+{
+    enum { N = 7, M = 3 };
+    const double zr[N * M] = {1, 0.5, 0.25, 1, 0.5 + 1e-13, 0.25, 1, 0.3, 0.2, 1, 0.3, 0.2,
+                              1, 0.7, 0.1, 2, 1, 0.5,           0, 0,   1};
+    const double zi[N * M] = {0, 0, 0, 0, 0, 0, 0, 0.4, -0.1, 0, -0.4, 0.1, 0, 0, 0.5, 0, 0, 0, 0, 0, 0};
+    const int kind[N] = {HOM_REAL, HOM_REAL, HOM_NONREAL, HOM_NONREAL, HOM_NONREAL, HOM_REAL, HOM_SINGULAR};
+    const int chart[N] = {0, 0, 0, 0, 0, 1, 2};
+    hom_end e[N];
+    memset(e, 0, sizeof e);
+    for (int p = 0; p < N; ++p) {
+        e[p].kind = kind[p], e[p].chart = chart[p];
+        e[p].rminus = 1e-15, e[p].rplus = 1e-2; /* as a certificate would give */
+    }
+    const double w[M] = {0.6, 0.0, 0.8};
+    hom_key keys[N];
+    int parent[N];
+    unsigned char paired[N];
+    hom_checks c = kin__hom_check(M, N, e, zr, zi, w, keys, parent, paired);
+    printf("checker on made-up endpoints: %d duplicates, %d unpaired\n", c.duplicates, c.unpaired);
+    CHECK(c.duplicates == 2 && c.unpaired == 1);
+    CHECK(kin__hom_find(parent, 1) == 0 && kin__hom_find(parent, 5) == 0);
+    CHECK(kin__hom_find(parent, 2) == 2 && kin__hom_find(parent, 3) == 3 && kin__hom_find(parent, 4) == 4);
+    CHECK(paired[2] && paired[3] && !paired[4]);
+    /* farther apart than half the uniqueness radius: distinct roots */
+    e[1].rplus = e[0].rplus = 1e-14;
+    c = kin__hom_check(M, N, e, zr, zi, w, keys, parent, paired);
+    CHECK(c.duplicates == 1 && kin__hom_find(parent, 1) == 1);
+}
+
+/* A random system of s = 8 quadrics (Gaussian symmetric matrices): every
+ * path accounted for, non-real endpoints in conjugate pairs, no root
+ * reached twice, no path lost, real solutions satisfying the equations to
+ * rounding, and the same answer for 1 and 2 threads. */
+static void random_system(void)
+{
+    enum { S = 8, M = S + 1, MAXSOL = 1 << S };
+    static double Q[M * M * S], b1[M * MAXSOL], b2[M * MAXSOL];
+    int m1[MAXSOL], m2[MAXSOL], n1 = 0, n2 = 0;
+    unsigned long long st = 2024;
+    for (int j = 0; j < S; ++j)
+        for (int r = 0; r < M; ++r)
+            for (int c = r; c < M; ++c) {
+                double u = ((kin__splitmix(&st) >> 11) + 0.5) * 0x1.0p-53;
+                double v = ((kin__splitmix(&st) >> 11) + 0.5) * 0x1.0p-53;
+                Q[j * M * M + r + c * M] = Q[j * M * M + c + r * M] = sqrt(-2.0 * log(u)) * cos(6.283185307179586 * v);
+            }
+    kin_homotopy_info h1, h2;
+    CHECK_RC(kin_quadrics_homotopy(M, S, Q, 5, 1, b1, MAXSOL, &n1, m1, &h1), KIN_OK);
+    CHECK_RC(kin_quadrics_homotopy(M, S, Q, 5, 2, b2, MAXSOL, &n2, m2, &h2), KIN_OK);
+    printf("random s = %d: %d paths = %d real (%d distinct) + %d complex + %d singular + %d failed; %d duplicates,"
+           " %d unpaired, %d re-tracked, %.1f steps/path, residual %.1e, max cond %.1e\n",
+           S, h1.paths, h1.real, h1.real_distinct, h1.nonreal, h1.singular, h1.failed, h1.duplicates, h1.unpaired,
+           h1.retracked, (double)h1.steps / h1.paths, h1.max_residual, h1.max_cond);
+    CHECK(h1.paths == MAXSOL && h1.real + h1.nonreal + h1.singular + h1.failed == h1.paths);
+    CHECK(h1.nonreal % 2 == 0);
+    CHECK(h1.failed == 0 && h1.singular == 0); /* generic: all 2^s roots simple */
+    CHECK(h1.duplicates == 0 && h1.unpaired == 0 && h1.real == h1.real_distinct);
+    CHECK(h1.max_residual < 64 * DBL_EPSILON);
+    CHECK(n1 == h1.real_distinct);
+    for (int k = 0; k < n1; ++k) CHECK(m1[k] == 1);
+    CHECK(n1 == n2 && memcmp(&h1, &h2, sizeof h1) == 0 && memcmp(b1, b2, sizeof(double) * M * n1) == 0);
+    CHECK(memcmp(m1, m2, sizeof(int) * n1) == 0);
+}
+
 int main(void)
 {
     figure5();
     structures();
+    checker();
+    random_system();
     TEST_REPORT("test_homotopy");
 }

@@ -57,25 +57,57 @@ KIN_API int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigne
                               double *betas, int maxsol, int *nsol, kin_solve_info *info);
 
 /* Accounting of the complete solver: every one of the 2^s paths ends
- * in exactly one class, paths = real + nonreal + singular + failed. */
+ * in exactly one class, paths = real + nonreal + singular + failed.
+ * Fields after `failed` report the checks (see kin_quadrics_homotopy). */
 typedef struct kin_homotopy_info {
     int paths;         /* 2^s */
-    int real;          /* non-singular real endpoints (counted with multiplicity) */
-    int real_distinct; /* distinct real solutions (eq. 20) */
-    int nonreal;       /* non-singular complex (non-real) endpoints */
-    int singular;      /* multiple roots or points of positive-dimensional components */
-    int failed;        /* paths the tracker lost (step below its minimum) */
+    int real;          /* certified real simple roots reached (counted with multiplicity) */
+    int real_distinct; /* distinct real solutions */
+    int nonreal;       /* certified non-real simple roots reached */
+    int singular;      /* not certified: multiple roots, points of positive-dimensional
+                          components, or roots too ill-conditioned to certify */
+    int failed;        /* paths the tracker lost */
+    int uncertified;   /* of `singular`: endpoints where Newton at t = 1 converged but the
+                          certificate failed (a root too ill-conditioned to certify) */
+    int retracked;     /* path re-trackings with tighter settings after a check failed */
+    int duplicates;    /* paths on a certified root another path also reached (0 when the
+                          result is consistent: a simple root is reached by one path) */
+    int unpaired;      /* non-real roots whose complex conjugate no path reached (0 when
+                          consistent) */
+    int steps;         /* accepted predictor-corrector steps over all paths (final tracks) */
+    int rejected;      /* rejected steps (final tracks) */
+    double max_residual; /* max_j |beta^T Q_j beta| / |Q_j|_F over the distinct real solutions
+                            (unit beta) */
+    double max_cond;     /* largest condition number |J|_F |J^-1|_F of a certified root */
 } kin_homotopy_info;
 
 /* The complete solver: total-degree homotopy continuation for
  * beta^T Q_j beta = 0 (j < s) in projective space P^s (m = s + 1), from the
  * start system x_j^2 = x_0^2, in a random complex affine chart with a random
- * complex gamma (both drawn from `seed`: deterministic), tracked by an Euler
- * predictor and Newton corrector with step control, endpoints refined and
- * classified. nthreads >= 1 threads share the paths; the result is the same
- * for any thread count. Distinct real solutions go to betas (m x maxsol,
- * unit, largest entry positive), their path counts to multiplicity
- * (optional, maxsol ints). Returns KIN_OK, KIN_ENULL, KIN_EINVAL (m != s+1,
+ * complex gamma (both drawn from `seed`: deterministic). Paths are tracked
+ * by a Taylor-series predictor (order 8, exact coefficients from the
+ * corrector's LU factors) and a Newton corrector, the step limited by the
+ * series' truncation error and by a fraction of the separation radius
+ * 1 / (|J^-1| |H''|) (a lower bound on the distance to any other path); the
+ * chart is changed when a path nears its hyperplane at infinity; a path
+ * heading for a singular endpoint is stopped at 1 - t = 1e-10. Each endpoint
+ * is refined at t = 1 and certified as a simple root by the Kantorovich
+ * theorem (in floating point with a rounding bound for the residual, not
+ * interval arithmetic); certified roots are real (the conjugate root lies in
+ * the root's uniqueness ball) or non-real (the existence ball misses the
+ * reals); everything else is singular.
+ * Checks: two paths on the same certified root (a path jumped), or a
+ * non-real root whose conjugate no path reached (a path was lost), send the
+ * paths concerned and failed ones to be tracked again with tolerances 10x
+ * tighter, up to 3 rounds; what remains is reported in info->duplicates and
+ * info->unpaired. When real + nonreal = 2^s with both 0, every solution is
+ * found and simple (Bezout's bound is attained). Duplicates and conjugates
+ * are found by sorting, O(2^s log 2^s).
+ * nthreads >= 1 threads share the paths; the result is the same for any
+ * thread count. Distinct real solutions go to betas (m x maxsol, unit,
+ * largest entry positive; in the order of the first path reaching them),
+ * their path counts to multiplicity (optional, maxsol ints; 1 unless a
+ * duplicate remained). Returns KIN_OK, KIN_ENULL, KIN_EINVAL (m != s+1,
  * m < 2, maxsol < 1, nthreads < 1), KIN_ERANGE (m > 24), KIN_ENOMEM. */
 KIN_API int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads,
                                   double *betas, int maxsol, int *nsol, int *multiplicity,

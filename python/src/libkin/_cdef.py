@@ -85,7 +85,12 @@ typedef struct kin_options {
     int max_halvings;
     double direction_tol;
     double max_correction;
+    int factorization;
 } kin_options;
+enum kin_step_factorization {
+    KIN_STEP_SVD = 0,
+    KIN_STEP_LU = 1
+};
 void kin_options_default(kin_options *o);
 int kin_set_options(kin_assembly *a, const kin_options *o);
 int kin_get_options(const kin_assembly *a, kin_options *o);
@@ -157,6 +162,14 @@ typedef struct kin_homotopy_info {
     int nonreal;
     int singular;
     int failed;
+    int uncertified;
+    int retracked;
+    int duplicates;
+    int unpaired;
+    int steps;
+    int rejected;
+    double max_residual;
+    double max_cond;
 } kin_homotopy_info;
 int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads,
                                   double *betas, int maxsol, int *nsol, int *multiplicity,
@@ -175,13 +188,15 @@ int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, doub
 
 enum kin_locate_method {
     KIN_LOCATE_PAPER = 0,
-    KIN_LOCATE_FAST = 1
+    KIN_LOCATE_FAST = 1,
+    KIN_LOCATE_ILLINOIS = 2
 };
 enum kin_locate_event {
     KIN_EVENT_NONE = 0,
     KIN_EVENT_SIGN_CHANGE = 1,
     KIN_EVENT_SWITCH_RULE = 2,
-    KIN_EVENT_LANDED = 3
+    KIN_EVENT_LANDED = 3,
+    KIN_EVENT_MINIMUM = 4
 };
 typedef struct kin_locate_options {
     int method;
@@ -203,6 +218,7 @@ typedef struct kin_locate_info {
     double distance;
     int path_kept;
     int m_internal, s;
+    int zero_order;
 } kin_locate_info;
 void kin_locate_options_default(kin_locate_options *o);
 int kin_test_function(kin_assembly *a, double *tau);

@@ -1,0 +1,732 @@
+/* The path tracker behind kin_quadrics_homotopy.
+ *
+ * Predictor: the Taylor series of the path x(t0 + h) to order HOM_ORDER,
+ * exact and cheap here because H is quadratic in x and linear in t: with
+ * A(t) = (1 - t) gamma G + t F (a symmetric bilinear form per equation) the
+ * coefficient of h^k of H(x(t0 + h), t0 + h) = 0 gives, for k >= 1,
+ *     J x_k = -( sum_{i+l=k, 0<i,l<k} A(t0)[x_i, x_l]
+ *                + sum_{i+l=k-1} (F - gamma G)[x_i, x_l] ),   a.x_k = 0,
+ * so every coefficient costs one solve with the LU factors of J = dH/dx that
+ * the corrector made anyway, and F[x_i, x_l] = x_l . (Q x_i) needs Q x_i only
+ * for i <= k/2. The step h is chosen from the series' estimated radius of
+ * convergence and truncation error (calibrated along the path by the errors
+ * actually made), against two targets: a relative error and a fraction of
+ * the separation radius r = 1 / (|J^-1| |A(t)|) (for a quadratic map,
+ * H(x + d) = H(x) + J d + A[d, d], so no other solution of H(., t) = 0 lies
+ * within r of a solution x).
+ * Corrector: Newton with a fresh Jacobian per iteration; a step is accepted
+ * only if the first correction is a small fraction of the separation radius
+ * at the new t (then, by the Kantorovich theorem, Newton converges to the
+ * root nearest the prediction and that root is the path's: another path is
+ * at least r away) and the following ones contract to NEWTON_TOL. The LU
+ * factors of the last iterate serve the next step's series.
+ * Chart: when the path nears the hyperplane at infinity of its affine chart
+ * (a.x = 0 in P^s), the chart is replaced by the one orthogonal to x.
+ * End: a path that reaches t = 1, or comes within sigma_end of it (near a
+ * singular endpoint the series' radius shrinks like 1 - t and steps become a
+ * fixed fraction of it, so this costs a few dozen steps, not step halving),
+ * is refined by Newton on F in the chart z_k = 1 (k: its largest entry) and
+ * certified by the Kantorovich theorem: with beta >= |J^-1| (the Frobenius
+ * norm of the computed inverse), L = 2 normF >= the Lipschitz constant of J
+ * and eta >= |J^-1 F(z)| (the computed correction plus beta times a bound on
+ * the rounding in F(z)), h = beta L eta <= 1/2 proves a root within
+ * rminus = 2 eta / (1 + sqrt(1 - 2h)) of z and no other within
+ * rplus = (1 + sqrt(1 - 2h)) / (beta L). A certified root is real if its
+ * conjugate must lie in the same uniqueness ball (then it is certified again
+ * at Re z), non-real if the existence ball misses the real subspace;
+ * anything not certified is singular (a multiple root, a point of a
+ * positive-dimensional component, or a root too ill-conditioned for double
+ * precision). The certificate is computed in floating point with an a-priori
+ * rounding bound for F, not in interval arithmetic. */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "homotopy_track.h"
+
+enum { HOM_ORDER = 8 }; /* Taylor order of the predictor */
+enum {
+    HOM_NY = HOM_ORDER / 2 + 1,   /* Q x_i needed for i <= HOM_ORDER / 2 */
+    HOM_MM = HOM_MAX_M * HOM_MAX_M,
+    NEWTON_MAX = 3,               /* corrector iterations per step */
+    HAGER_ITERS = 1,              /* iterations of the |J^-1|_1 estimator */
+    REFINE_MAX = 12,              /* Newton iterations at t = 1 */
+    MAX_STEPS = 20000             /* accepted + rejected steps before a path counts as lost */
+};
+
+/* The error model is calibrated along each path by the ratio of the actual
+ * predictor error (the first Newton correction) to its estimate (a running
+ * geometric mean), kept within [CALIB_MIN, CALIB_MAX]: the model is usually
+ * pessimistic by a factor 3-10, and trusting it more than 10x is not safe. */
+static const double CALIB_MIN = 0.1, CALIB_MAX = 4.0;
+/* The series' F[x_0, x_k] terms are recovered from J x_k = r_k (see
+ * taylor) when t >= T_RECOVER; below, the division by t would amplify
+ * rounding by more than 1/T_RECOVER, and they are computed directly. */
+static const double T_RECOVER = 1e-3;
+/* The predictor's step is at most this fraction of the estimated radius of
+ * convergence of the series (beyond it the truncation-error model fails). */
+static const double RADIUS_FRACTION = 0.7;
+/* A step is accepted when a Newton correction d after the first leaves an
+ * error (about |d|^2 / r, r the separation radius, by Newton's quadratic
+ * convergence) below NEWTON_TOL |x|, or d itself is below it: the next
+ * predictor starts from there, and 1e-9 is far below any predictor error
+ * (the endpoint is refined to rounding level anyway). A correction that
+ * does not shrink by CONTRACTION means the convergence estimate was wrong,
+ * and the step is rejected. */
+static const double NEWTON_TOL = 1e-9, CONTRACTION = 0.5;
+/* The first correction may not exceed this fraction of |x| whatever the
+ * separation radius says (guards a grossly wrong predictor). */
+static const double CORR_REL_MAX = 1e-2;
+/* After a rejection the step shrinks by REJECT_SHRINK; after an accepted
+ * step the cap grows by ACCEPT_GROW (prevents reject/accept oscillation). */
+static const double REJECT_SHRINK = 0.5, ACCEPT_GROW = 2.0;
+/* For the chart a.x = 1, |a||x| >= 1 measures how far x tilts from it (a
+ * random chart gives about sqrt(m)); beyond CHART_TILT sqrt(m) the chart is
+ * replaced by the one orthogonal to x. */
+static const double CHART_TILT = 8.0;
+/* Steps below H_MIN cannot be resolved in t in double precision. */
+static const double H_MIN = 1e-14;
+/* Newton's corrections cannot fall below rounding noise, about
+ * eps |x| / r relative to |x| (r: the separation radius, small where J is
+ * nearly singular); the acceptance tolerance is NOISE_FACTOR times that when
+ * it exceeds NEWTON_TOL. */
+static const double NOISE_FACTOR = 100.0;
+/* A path that stalls (step below H_MIN) within SIGMA_STALL of t = 1 is
+ * approaching a singular endpoint closer than double precision can follow
+ * (near a positive-dimensional component the separation radius shrinks like
+ * 1 - t) and goes to the endpoint classification; one that stalls earlier
+ * is lost. */
+static const double SIGMA_STALL = 1e-3;
+/* Refinement at t = 1 stops when the correction is below REFINE_TOL |z|
+ * or stops shrinking by at least REFINE_RATE per iteration. */
+static const double REFINE_TOL = 4.0 * DBL_EPSILON, REFINE_RATE = 0.5;
+/* Kantorovich's theorem needs h <= 1/2; H_CERT leaves a margin of 2 for the
+ * rounding in the computed beta and eta. */
+static const double H_CERT = 0.25;
+/* Rounding in F_j(z) = z^T Q_j z (|Q_j|_F = 1) is at most about
+ * 2 m u |z|^2 (u = DBL_EPSILON / 2, a sum of m^2 products); EVAL_ROUNDING
+ * times m |z|^2 bounds it with a margin of 2. */
+static const double EVAL_ROUNDING = 2.0 * DBL_EPSILON;
+/* A certificate must also localise the root to R_MINUS_MAX |z|: the
+ * duplicate search (homotopy.c) compares endpoints at 1e-6 and relies on
+ * existence balls far smaller than that. */
+static const double R_MINUS_MAX = 1e-8;
+
+typedef struct hom_lu {
+    double r[HOM_MM], i[HOM_MM];     /* row-major; L (unit, below) and U after factoring */
+    double dr[HOM_MAX_M], di[HOM_MAX_M]; /* 1 / U_kk */
+    int piv[HOM_MAX_M];
+} hom_lu;
+
+/* a point with Q x, H and the LU factors of J */
+typedef struct hom_point {
+    double xr[HOM_MAX_M], xi[HOM_MAX_M];
+    double yr[HOM_MAX_ROWS], yi[HOM_MAX_ROWS];
+    double hr[HOM_MAX_M], hi[HOM_MAX_M];
+    hom_lu lu;
+} hom_point;
+
+struct hom_ws {
+    hom_point pt[3]; /* base point and two corrector iterates, used by rotation */
+    double cr[HOM_ORDER + 1][HOM_MAX_M], ci[HOM_ORDER + 1][HOM_MAX_M]; /* Taylor coefficients */
+    double ykr[HOM_NY][HOM_MAX_ROWS], yki[HOM_NY][HOM_MAX_ROWS]; /* Q x_k, k >= 1 */
+    double rho, tail; /* the series' error model (series_step) */
+};
+
+hom_ws *kin__hom_ws_new(void) { return malloc(sizeof(hom_ws)); }
+void kin__hom_ws_free(hom_ws *w) { free(w); }
+
+/* ---- small complex linear algebra on split arrays ---- */
+
+static double vnorm(int n, const double *xr, const double *xi)
+{
+    double s = 0.0;
+    for (int k = 0; k < n; ++k) s += xr[k] * xr[k] + xi[k] * xi[k];
+    return sqrt(s);
+}
+
+/* y_i = sum_c Q[i][c] x_c, i < s*m, from the blocked copy of Q: eight
+ * rows at a time, their entries of column c adjacent (independent
+ * accumulators, and the compiler can pair them in vector registers) */
+static void qmul(const hom_problem *P, const double *restrict xr, const double *restrict xi, double *restrict yr,
+                 double *restrict yi)
+{
+    int n = P->s * P->m, m = P->m;
+    const double *qb = P->Qb;
+    for (int i = 0; i < n; i += HOM_QBLOCK, qb += HOM_QBLOCK * m) {
+        double r0 = 0.0, r1 = 0.0, r2 = 0.0, r3 = 0.0, r4 = 0.0, r5 = 0.0, r6 = 0.0, r7 = 0.0;
+        double i0 = 0.0, i1 = 0.0, i2 = 0.0, i3 = 0.0, i4 = 0.0, i5 = 0.0, i6 = 0.0, i7 = 0.0;
+        for (int c = 0; c < m; ++c) {
+            const double *q = qb + HOM_QBLOCK * c;
+            double a = xr[c], b = xi[c];
+            r0 += q[0] * a, r1 += q[1] * a, r2 += q[2] * a, r3 += q[3] * a;
+            r4 += q[4] * a, r5 += q[5] * a, r6 += q[6] * a, r7 += q[7] * a;
+            i0 += q[0] * b, i1 += q[1] * b, i2 += q[2] * b, i3 += q[3] * b;
+            i4 += q[4] * b, i5 += q[5] * b, i6 += q[6] * b, i7 += q[7] * b;
+        }
+        double *u = yr + i, *v = yi + i; /* padded to a whole block */
+        u[0] = r0, u[1] = r1, u[2] = r2, u[3] = r3, u[4] = r4, u[5] = r5, u[6] = r6, u[7] = r7;
+        v[0] = i0, v[1] = i1, v[2] = i2, v[3] = i3, v[4] = i4, v[5] = i5, v[6] = i6, v[7] = i7;
+    }
+}
+
+/* LU with partial pivoting (largest |re| + |im|) in place; 0 if singular */
+static int lu_factor(int n, hom_lu *F)
+{
+    double *Ar = F->r, *Ai = F->i;
+    for (int k = 0; k < n; ++k) {
+        int p = k;
+        double best = fabs(Ar[k * n + k]) + fabs(Ai[k * n + k]);
+        for (int i = k + 1; i < n; ++i) {
+            double v = fabs(Ar[i * n + k]) + fabs(Ai[i * n + k]);
+            if (v > best) best = v, p = i;
+        }
+        F->piv[k] = p;
+        if (!(best > 0.0) || !isfinite(best)) return 0;
+        if (p != k)
+            for (int j = 0; j < n; ++j) {
+                double t = Ar[k * n + j];
+                Ar[k * n + j] = Ar[p * n + j], Ar[p * n + j] = t;
+                t = Ai[k * n + j];
+                Ai[k * n + j] = Ai[p * n + j], Ai[p * n + j] = t;
+            }
+        double pr = Ar[k * n + k], pi = Ai[k * n + k], d = pr * pr + pi * pi;
+        double ir = pr / d, ii = -pi / d; /* 1 / pivot */
+        F->dr[k] = ir, F->di[k] = ii;
+        /* rows k and i never overlap (restrict lets the compiler keep the
+         * pivot row's entries in registers); two columns per iteration */
+        const double *restrict ukr = Ar + k * n, *restrict uki = Ai + k * n;
+        for (int i = k + 1; i < n; ++i) {
+            double *restrict rr = Ar + i * n, *restrict ri = Ai + i * n;
+            double fr = rr[k] * ir - ri[k] * ii, fi = rr[k] * ii + ri[k] * ir;
+            rr[k] = fr, ri[k] = fi;
+            if (fr == 0.0 && fi == 0.0) continue;
+            int j = k + 1;
+            for (; j + 2 <= n; j += 2) {
+                double a0 = ukr[j], b0 = uki[j], a1 = ukr[j + 1], b1 = uki[j + 1];
+                rr[j] -= fr * a0 - fi * b0, ri[j] -= fr * b0 + fi * a0;
+                rr[j + 1] -= fr * a1 - fi * b1, ri[j + 1] -= fr * b1 + fi * a1;
+            }
+            for (; j < n; ++j) {
+                rr[j] -= fr * ukr[j] - fi * uki[j];
+                ri[j] -= fr * uki[j] + fi * ukr[j];
+            }
+        }
+    }
+    return 1;
+}
+
+/* b <- A^-1 b (column-oriented substitutions: independent updates) */
+static void lu_solve(int n, const hom_lu *F, double *br, double *bi)
+{
+    const double *Ar = F->r, *Ai = F->i;
+    for (int k = 0; k < n; ++k) {
+        int p = F->piv[k];
+        if (p != k) {
+            double t = br[k];
+            br[k] = br[p], br[p] = t;
+            t = bi[k];
+            bi[k] = bi[p], bi[p] = t;
+        }
+    }
+    for (int j = 0; j < n - 1; ++j) {
+        double vr = br[j], vi = bi[j];
+        if (vr == 0.0 && vi == 0.0) continue;
+        for (int i = j + 1; i < n; ++i) {
+            double lr = Ar[i * n + j], li = Ai[i * n + j];
+            br[i] -= lr * vr - li * vi;
+            bi[i] -= lr * vi + li * vr;
+        }
+    }
+    for (int j = n - 1; j >= 0; --j) {
+        double vr = br[j] * F->dr[j] - bi[j] * F->di[j], vi = br[j] * F->di[j] + bi[j] * F->dr[j];
+        br[j] = vr, bi[j] = vi;
+        for (int i = 0; i < j; ++i) {
+            double ur = Ar[i * n + j], ui = Ai[i * n + j];
+            br[i] -= ur * vr - ui * vi;
+            bi[i] -= ur * vi + ui * vr;
+        }
+    }
+}
+
+/* b <- A^-H b (A = P^T L U, so A^H = U^H L^H P) */
+static void lu_solve_adj(int n, const hom_lu *F, double *br, double *bi)
+{
+    const double *Ar = F->r, *Ai = F->i;
+    for (int j = 0; j < n; ++j) { /* U^H w = b: forward, column j of U^H is conj of row j of U */
+        double vr = br[j] * F->dr[j] + bi[j] * F->di[j], vi = bi[j] * F->dr[j] - br[j] * F->di[j];
+        br[j] = vr, bi[j] = vi;
+        for (int i = j + 1; i < n; ++i) {
+            double ur = Ar[j * n + i], ui = -Ai[j * n + i];
+            br[i] -= ur * vr - ui * vi;
+            bi[i] -= ur * vi + ui * vr;
+        }
+    }
+    for (int j = n - 1; j > 0; --j) { /* L^H v = w: backward, unit diagonal */
+        double vr = br[j], vi = bi[j];
+        for (int i = 0; i < j; ++i) {
+            double lr = Ar[j * n + i], li = -Ai[j * n + i];
+            br[i] -= lr * vr - li * vi;
+            bi[i] -= lr * vi + li * vr;
+        }
+    }
+    for (int k = n - 1; k >= 0; --k) {
+        int p = F->piv[k];
+        if (p != k) {
+            double t = br[k];
+            br[k] = br[p], br[p] = t;
+            t = bi[k];
+            bi[k] = bi[p], bi[p] = t;
+        }
+    }
+}
+
+static double norm1(int n, const double *xr, const double *xi)
+{
+    double s = 0.0;
+    for (int k = 0; k < n; ++k) s += sqrt(xr[k] * xr[k] + xi[k] * xi[k]);
+    return s;
+}
+
+/* Hager-Higham estimate of |A^-1|_1 (a lower bound, usually exact) */
+static double inv_norm1(int n, const hom_lu *F)
+{
+    double xr[HOM_MAX_M], xi[HOM_MAX_M];
+    for (int k = 0; k < n; ++k) xr[k] = 1.0 / n, xi[k] = 0.0;
+    lu_solve(n, F, xr, xi);
+    double est = norm1(n, xr, xi);
+    for (int it = 0; it < HAGER_ITERS; ++it) {
+        for (int k = 0; k < n; ++k) { /* sign(y) */
+            double a = sqrt(xr[k] * xr[k] + xi[k] * xi[k]);
+            if (a > 0.0) xr[k] /= a, xi[k] /= a;
+            else xr[k] = 1.0, xi[k] = 0.0;
+        }
+        lu_solve_adj(n, F, xr, xi);
+        int j = 0;
+        double zmax = -1.0;
+        for (int k = 0; k < n; ++k) {
+            double a = xr[k] * xr[k] + xi[k] * xi[k];
+            if (a > zmax) zmax = a, j = k;
+        }
+        for (int k = 0; k < n; ++k) xr[k] = xi[k] = 0.0;
+        xr[j] = 1.0;
+        lu_solve(n, F, xr, xi);
+        double e = norm1(n, xr, xi);
+        if (!(e > est)) break;
+        est = e;
+    }
+    return est;
+}
+
+/* ---- the homotopy ---- */
+
+/* Q x, H and J at p->x, t, in the chart (car, cai); J goes to p->lu
+ * (unfactored) */
+static void eval(const hom_problem *P, const double *car, const double *cai, double t, hom_point *p)
+{
+    int m = P->m, s = P->s;
+    const double *xr = p->xr, *xi = p->xi;
+    qmul(P, xr, xi, p->yr, p->yi);
+    double alr = (1.0 - t) * P->gr, ali = (1.0 - t) * P->gi;
+    double *Jr = p->lu.r, *Ji = p->lu.i;
+    double g0r = xr[0] * xr[0] - xi[0] * xi[0], g0i = 2.0 * xr[0] * xi[0];
+    for (int j = 0; j < s; ++j) {
+        const double *yr = p->yr + j * m, *yi = p->yi + j * m;
+        double fr = 0.0, fi = 0.0;
+        double *jr = Jr + j * m, *ji = Ji + j * m;
+        for (int c = 0; c < m; ++c) {
+            fr += xr[c] * yr[c] - xi[c] * yi[c];
+            fi += xr[c] * yi[c] + xi[c] * yr[c];
+            jr[c] = 2.0 * t * yr[c];
+            ji[c] = 2.0 * t * yi[c];
+        }
+        int q = j + 1;
+        double gr = xr[q] * xr[q] - xi[q] * xi[q] - g0r, gi = 2.0 * xr[q] * xi[q] - g0i;
+        p->hr[j] = alr * gr - ali * gi + t * fr;
+        p->hi[j] = alr * gi + ali * gr + t * fi;
+        jr[0] -= 2.0 * (alr * xr[0] - ali * xi[0]);
+        ji[0] -= 2.0 * (alr * xi[0] + ali * xr[0]);
+        jr[q] += 2.0 * (alr * xr[q] - ali * xi[q]);
+        ji[q] += 2.0 * (alr * xi[q] + ali * xr[q]);
+    }
+    double cr = -1.0, ci = 0.0;
+    for (int c = 0; c < m; ++c) {
+        cr += car[c] * xr[c] - cai[c] * xi[c];
+        ci += car[c] * xi[c] + cai[c] * xr[c];
+        Jr[s * m + c] = car[c];
+        Ji[s * m + c] = cai[c];
+    }
+    p->hr[s] = cr;
+    p->hi[s] = ci;
+}
+
+/* |A(t)[u, v]| <= normA |u||v| for the homotopy's bilinear form */
+static double norm_A(const hom_problem *P, double t) { return (1.0 - t) * P->normG + t * P->normF; }
+
+/* out_j += wgt * (u . y_j), j < s: the dot of u with each row block of y,
+ * two blocks at a time */
+static void dots(int m, int s, double wgt, const double *ur, const double *ui, const double *yr, const double *yi,
+                 double *outr, double *outi)
+{
+    int j = 0;
+    for (; j + 2 <= s; j += 2) {
+        const double *ar = yr + j * m, *ai = yi + j * m, *br = ar + m, *bi = ai + m;
+        double pr = 0.0, pi = 0.0, qr = 0.0, qi = 0.0;
+        for (int c = 0; c < m; ++c) {
+            pr += ur[c] * ar[c] - ui[c] * ai[c], pi += ur[c] * ai[c] + ui[c] * ar[c];
+            qr += ur[c] * br[c] - ui[c] * bi[c], qi += ur[c] * bi[c] + ui[c] * br[c];
+        }
+        outr[j] += wgt * pr, outi[j] += wgt * pi;
+        outr[j + 1] += wgt * qr, outi[j + 1] += wgt * qi;
+    }
+    for (; j < s; ++j) {
+        const double *ar = yr + j * m, *ai = yi + j * m;
+        double pr = 0.0, pi = 0.0;
+        for (int c = 0; c < m; ++c) pr += ur[c] * ar[c] - ui[c] * ai[c], pi += ur[c] * ai[c] + ui[c] * ar[c];
+        outr[j] += wgt * pr, outi[j] += wgt * pi;
+    }
+}
+
+/* f_j = sum_{i = lo}^{k - lo} F_j[x_i, x_{k-i}] and g_j the same for G_j,
+ * all j, from the coefficients c[] and y[i] = Q x_i (F_j[x_i, x_l] =
+ * x_l . (Q_j x_i), symmetric, so y[i] is needed for i <= k/2 only) */
+static void pair_sums(const hom_problem *P, const hom_ws *w, const double *const *yr, const double *const *yi, int k,
+                      int lo, double *fr, double *fi, double *gr, double *gi)
+{
+    int m = P->m, s = P->s;
+    for (int j = 0; j < s; ++j) fr[j] = fi[j] = gr[j] = gi[j] = 0.0;
+    for (int i = lo; 2 * i <= k; ++i) {
+        int l = k - i;
+        double wgt = i < l ? 2.0 : 1.0;
+        const double *ar = w->cr[l], *ai = w->ci[l], *ur = w->cr[i], *ui = w->ci[i];
+        dots(m, s, wgt, ar, ai, yr[i], yi[i], fr, fi);
+        double e0r = ur[0] * ar[0] - ui[0] * ai[0], e0i = ur[0] * ai[0] + ui[0] * ar[0];
+        for (int j = 0; j < s; ++j) {
+            int q = j + 1;
+            gr[j] += wgt * (ur[q] * ar[q] - ui[q] * ai[q] - e0r);
+            gi[j] += wgt * (ur[q] * ai[q] + ui[q] * ar[q] - e0i);
+        }
+    }
+}
+
+/* Taylor coefficients c[1..HOM_ORDER] of the path through c[0] at t0, with
+ * the LU factors, Q x and H of the base point b (b->x: the last corrector
+ * iterate, c[0] = b->x minus its last correction). The terms with x_0 use
+ * b->x, where J and Q x were evaluated; their F parts come for free once
+ * t0 >= T_RECOVER: J v = 2 t0 F[b->x, v] + 2 alpha G[b->x, v] and the
+ * right-hand side r_k = J x_k is known, as is H = alpha G + t0 F at b->x. */
+static void taylor(const hom_problem *P, hom_ws *w, const hom_point *b, double t0)
+{
+    int m = P->m, s = P->s;
+    const double *yr[HOM_NY], *yi[HOM_NY];
+    yr[0] = b->yr, yi[0] = b->yi;
+    for (int i = 1; i < HOM_NY; ++i) yr[i] = w->ykr[i], yi[i] = w->yki[i];
+    double alr = (1.0 - t0) * P->gr, ali = (1.0 - t0) * P->gi;
+    double ftr[HOM_MAX_M], fti[HOM_MAX_M], gtr[HOM_MAX_M], gti[HOM_MAX_M];
+    double fr[HOM_MAX_M], fi[HOM_MAX_M], gr[HOM_MAX_M], gi[HOM_MAX_M];
+    double rhr[HOM_MAX_M], rhi[HOM_MAX_M]; /* H at b->x, then r_{k-1} = J x_{k-1} */
+    const double *vr = b->xr, *vi = b->xi;
+    int recover = t0 >= T_RECOVER;
+    memcpy(rhr, b->hr, sizeof(double) * (size_t)s);
+    memcpy(rhi, b->hi, sizeof(double) * (size_t)s);
+    for (int j = 0; j < s; ++j) ftr[j] = fti[j] = gtr[j] = gti[j] = 0.0;
+    for (int k = 1; k <= HOM_ORDER; ++k) {
+        double *rr = w->cr[k], *ri = w->ci[k];
+        /* f_{k-1} = ft_{k-1} + (2 or 1) F[x_0, x_{k-1}], the same for g */
+        const double *ur = k > 1 ? w->cr[k - 1] : vr, *ui = k > 1 ? w->ci[k - 1] : vi;
+        double wgt = k > 1 ? 2.0 : 1.0;
+        for (int j = 0; j < s; ++j) {
+            int q = j + 1;
+            double er = ur[q] * vr[q] - ui[q] * vi[q] - (ur[0] * vr[0] - ui[0] * vi[0]); /* G_j[x_0, x_{k-1}] */
+            double ei = ur[q] * vi[q] + ui[q] * vr[q] - (ur[0] * vi[0] + ui[0] * vr[0]);
+            gr[j] = gtr[j] + wgt * er, gi[j] = gti[j] + wgt * ei;
+            fr[j] = ftr[j], fi[j] = fti[j];
+            if (recover) { /* F_j[x_0, x_{k-1}] = (r_j - wgt alpha G_j) / (wgt t0), wgt = 2 or 1 (H) */
+                fr[j] += (rhr[j] - wgt * (alr * er - ali * ei)) / t0;
+                fi[j] += (rhi[j] - wgt * (alr * ei + ali * er)) / t0;
+            }
+        }
+        if (!recover) dots(m, s, wgt, ur, ui, yr[0], yi[0], fr, fi);
+        if (k >= 2) pair_sums(P, w, yr, yi, k, 1, ftr, fti, gtr, gti);
+        for (int j = 0; j < s; ++j) { /* -(alpha gt + t0 ft - gamma g + f) */
+            rr[j] = -(alr * gtr[j] - ali * gti[j] + t0 * ftr[j] - (P->gr * gr[j] - P->gi * gi[j]) + fr[j]);
+            ri[j] = -(alr * gti[j] + ali * gtr[j] + t0 * fti[j] - (P->gr * gi[j] + P->gi * gr[j]) + fi[j]);
+        }
+        rr[s] = ri[s] = 0.0;
+        memcpy(rhr, rr, sizeof(double) * (size_t)s);
+        memcpy(rhi, ri, sizeof(double) * (size_t)s);
+        lu_solve(m, &b->lu, rr, ri);
+        if (k < HOM_NY) qmul(P, rr, ri, w->ykr[k], w->yki[k]);
+    }
+}
+
+/* the predictor's step for an error target, from the coefficients */
+static double series_step(hom_ws *w, int m, double target)
+{
+    double n[HOM_ORDER + 1];
+    for (int k = 1; k <= HOM_ORDER; ++k) n[k] = vnorm(m, w->cr[k], w->ci[k]);
+    const int K = HOM_ORDER;
+    /* radius of convergence from the last coefficients (the smallest of
+     * three ratio estimates: robust to one coefficient that happens to be
+     * small) */
+    double rho = INFINITY;
+    if (n[K] > 0.0) rho = fmin(n[K - 1] / n[K], sqrt(n[K - 2] / n[K]));
+    if (n[K - 1] > 0.0) rho = fmin(rho, n[K - 2] / n[K - 1]);
+    w->rho = rho, w->tail = 0.0;
+    if (!(rho < INFINITY)) return INFINITY; /* the series terminates: any step */
+    if (!(rho > 0.0)) return 0.0;
+    /* geometric tail: error(h) ~ tail (h / rho)^(K+1) for h <= rho / 2 */
+    w->tail = 2.0 * fmax(n[K] * pow(rho, K), n[K - 1] * pow(rho, K - 1));
+    double q = w->tail > 0.0 ? pow(target / w->tail, 1.0 / (K + 1)) : RADIUS_FRACTION;
+    return fmin(q, RADIUS_FRACTION) * rho;
+}
+
+/* the error model's estimate for step h */
+static double series_error(const hom_ws *w, double h)
+{
+    return w->rho < INFINITY ? w->tail * pow(h / w->rho, HOM_ORDER + 1) : 0.0;
+}
+
+static void predict(const hom_ws *w, int m, double h, double *xr, double *xi)
+{
+    for (int c = 0; c < m; ++c) {
+        double vr = w->cr[HOM_ORDER][c], vi = w->ci[HOM_ORDER][c];
+        for (int k = HOM_ORDER - 1; k >= 0; --k) {
+            vr = vr * h + w->cr[k][c];
+            vi = vi * h + w->ci[k][c];
+        }
+        xr[c] = vr, xi[c] = vi;
+    }
+}
+
+/* H, J at p->x and Newton's correction d = J^-1 H; 0 if J is singular */
+static int newton_step(const hom_problem *P, const double *car, const double *cai, double t, hom_point *p,
+                       double *dr, double *di)
+{
+    int m = P->m;
+    eval(P, car, cai, t, p);
+    if (!lu_factor(m, &p->lu)) return 0;
+    memcpy(dr, p->hr, sizeof(double) * (size_t)m);
+    memcpy(di, p->hi, sizeof(double) * (size_t)m);
+    lu_solve(m, &p->lu, dr, di);
+    return isfinite(vnorm(m, dr, di));
+}
+
+/* ---- endpoint: refine at t = 1 in the chart z_k = 1 and certify ---- */
+
+static void certify(const hom_problem *P, hom_ws *w, const double *xr, const double *xi, double *zr, double *zi,
+                    hom_end *e)
+{
+    int m = P->m, s = P->s, k = 0;
+    double big = -1.0;
+    for (int c = 0; c < m; ++c) {
+        double a = xr[c] * xr[c] + xi[c] * xi[c];
+        if (a > big) big = a, k = c;
+    }
+    double car[HOM_MAX_M] = {0}, cai[HOM_MAX_M] = {0};
+    car[k] = 1.0;
+    e->chart = k;
+    e->kind = HOM_SINGULAR;
+    e->converged = 0;
+    e->rminus = e->rplus = INFINITY;
+    e->cond = INFINITY;
+    hom_point *p = &w->pt[0];
+    for (int c = 0; c < m; ++c) { /* z = x / x_k */
+        p->xr[c] = (xr[c] * xr[k] + xi[c] * xi[k]) / big;
+        p->xi[c] = (xi[c] * xr[k] - xr[c] * xi[k]) / big;
+    }
+    p->xr[k] = 1.0, p->xi[k] = 0.0;
+    double dr[HOM_MAX_M], di[HOM_MAX_M], prev = INFINITY;
+    for (int it = 0; it < REFINE_MAX; ++it) {
+        if (!newton_step(P, car, cai, 1.0, p, dr, di)) break;
+        double nd = vnorm(m, dr, di), nz = vnorm(m, p->xr, p->xi);
+        int stalled = it > 0 && nd > REFINE_RATE * prev; /* rounding level, or not a simple root */
+        if (!stalled || nd < prev) {
+            for (int c = 0; c < m; ++c) p->xr[c] -= dr[c], p->xi[c] -= di[c];
+            p->xr[k] = 1.0, p->xi[k] = 0.0;
+        }
+        if (stalled) {
+            e->converged = nd <= sqrt(REFINE_TOL) * nz;
+            break;
+        }
+        prev = nd;
+        if (nd <= REFINE_TOL * nz) {
+            e->converged = 1;
+            break;
+        }
+    }
+    memcpy(zr, p->xr, sizeof(double) * (size_t)m);
+    memcpy(zi, p->xi, sizeof(double) * (size_t)m);
+    for (int pass = 0; pass < 2; ++pass) {
+        /* the certificate at z: eta = |J^-1 F(z)|, beta = |J^-1|_F (the
+         * chart's s x s block: the inverse's columns for the F rows) */
+        memcpy(p->xr, zr, sizeof(double) * (size_t)m);
+        memcpy(p->xi, zi, sizeof(double) * (size_t)m);
+        double jf = 0.0;
+        eval(P, car, cai, 1.0, p);
+        for (int j = 0; j < s * m; ++j) jf += p->lu.r[j] * p->lu.r[j] + p->lu.i[j] * p->lu.i[j];
+        if (!lu_factor(m, &p->lu)) return;
+        memcpy(dr, p->hr, sizeof(double) * (size_t)m);
+        memcpy(di, p->hi, sizeof(double) * (size_t)m);
+        lu_solve(m, &p->lu, dr, di);
+        double eta = vnorm(m, dr, di), beta2 = 0.0;
+        for (int j = 0; j < s; ++j) {
+            double vr[HOM_MAX_M] = {0}, vi[HOM_MAX_M] = {0};
+            vr[j] = 1.0;
+            lu_solve(m, &p->lu, vr, vi);
+            for (int c = 0; c < m; ++c) beta2 += vr[c] * vr[c] + vi[c] * vi[c];
+        }
+        double beta = sqrt(beta2), L = 2.0 * P->normF, nz = vnorm(m, zr, zi);
+        /* |F(z)| may be below the rounding of its evaluation (near a
+         * multiple root it is): eta is bounded with that rounding added */
+        eta += beta * sqrt((double)s) * EVAL_ROUNDING * m * nz * nz;
+        double h = beta * L * eta;
+        e->cond = sqrt(jf) * beta;
+        if (!(h <= H_CERT) || !isfinite(e->cond)) return;
+        double sq = sqrt(1.0 - 2.0 * h);
+        double rminus = 2.0 * eta / (1.0 + sq), rplus = (1.0 + sq) / (beta * L);
+        if (!(rminus <= R_MINUS_MAX * nz)) return;
+        e->rminus = rminus, e->rplus = rplus;
+        double im = vnorm(m, zi, zi) / sqrt(2.0); /* |Im z| */
+        if (pass == 1 || im == 0.0) { /* z real: the conjugate root is in the same ball */
+            e->kind = HOM_REAL;
+            return;
+        }
+        if (2.0 * im + rminus < rplus) {
+            /* the conjugate of the root lies in its uniqueness ball: the
+             * root is real; certify at the real point Re z */
+            memset(zi, 0, sizeof(double) * (size_t)m);
+            continue;
+        }
+        if (im > rminus) e->kind = HOM_NONREAL;
+        return;
+    }
+}
+
+/* ---- tracking ---- */
+
+void kin__hom_track(const hom_problem *P, const hom_settings *S, hom_ws *w, int path, double *zr, double *zi,
+                    hom_end *e)
+{
+    int m = P->m;
+    memset(e, 0, sizeof *e);
+    e->kind = HOM_FAILED;
+    e->rminus = e->rplus = e->cond = INFINITY;
+    hom_point *base = &w->pt[0], *tr[2] = {&w->pt[1], &w->pt[2]};
+    /* start solution: x_j = +-x_0, scaled into the chart */
+    double sr = 0.0, si = 0.0;
+    base->xr[0] = 1.0, base->xi[0] = 0.0;
+    for (int j = 1; j < m; ++j) base->xr[j] = (path >> (j - 1)) & 1 ? -1.0 : 1.0, base->xi[j] = 0.0;
+    double car[HOM_MAX_M], cai[HOM_MAX_M]; /* the chart, changed when x tilts away from it */
+    memcpy(car, P->ar, sizeof car);
+    memcpy(cai, P->ai, sizeof cai);
+    double na = vnorm(m, car, cai);
+    for (int c = 0; c < m; ++c) sr += P->ar[c] * base->xr[c], si += P->ai[c] * base->xr[c];
+    double d = sr * sr + si * si;
+    for (int c = 0; c < m; ++c) {
+        double v = base->xr[c];
+        base->xr[c] = v * sr / d, base->xi[c] = -v * si / d;
+    }
+    double t = 0.0, dr[HOM_MAX_M], di[HOM_MAX_M], xr[HOM_MAX_M], xi[HOM_MAX_M];
+    if (!newton_step(P, car, cai, t, base, dr, di)) return;
+    memcpy(xr, base->xr, sizeof xr);
+    memcpy(xi, base->xi, sizeof xi);
+    double rsep = 1.0 / (inv_norm1(m, &base->lu) * norm_A(P, t)), hcap = INFINITY, calib = 1.0;
+    int lost = 0;
+    while (t < 1.0) {
+        double sigma = 1.0 - t;
+        if (sigma <= S->sigma_end) break;
+        if (e->steps + e->rejected >= MAX_STEPS) {
+            lost = 1;
+            break;
+        }
+        double nx = vnorm(m, xr, xi);
+        if (nx * na > CHART_TILT * sqrt((double)m)) {
+            /* the path nears the chart's hyperplane at infinity, where
+             * distances in the chart blow up: move to the chart through x
+             * orthogonal to it, a = conj(x) / |x|^2 (a.x = 1, x unchanged) */
+            for (int c = 0; c < m; ++c) car[c] = xr[c] / (nx * nx), cai[c] = -xi[c] / (nx * nx);
+            na = 1.0 / nx;
+            memcpy(base->xr, xr, sizeof xr);
+            memcpy(base->xi, xi, sizeof xi);
+            if (!newton_step(P, car, cai, t, base, dr, di)) {
+                lost = 1;
+                break;
+            }
+            rsep = 1.0 / (inv_norm1(m, &base->lu) * norm_A(P, t));
+            e->recharts++;
+        }
+        memcpy(w->cr[0], xr, sizeof(double) * (size_t)m);
+        memcpy(w->ci[0], xi, sizeof(double) * (size_t)m);
+        taylor(P, w, base, t);
+        double target = fmin(S->pred_rel * nx, S->pred_sep * rsep);
+        double hser = series_step(w, m, target / calib), h = fmin(hser, hcap);
+        int accepted = 0;
+        while (!accepted) {
+            if (h >= sigma) h = sigma;
+            if (h < H_MIN) {
+                lost = 1;
+                break;
+            }
+            double t1 = h == sigma ? 1.0 : t + h;
+            hom_point *p = tr[0];
+            predict(w, m, h, p->xr, p->xi);
+            double prevd = INFINITY;
+            int ok = 0;
+            for (int it = 0; it < NEWTON_MAX; ++it) {
+                p = tr[it & 1];
+                if (it > 0) {
+                    const hom_point *q = tr[(it - 1) & 1];
+                    for (int c = 0; c < m; ++c) p->xr[c] = q->xr[c] - dr[c], p->xi[c] = q->xi[c] - di[c];
+                }
+                if (!newton_step(P, car, cai, t1, p, dr, di)) break;
+                double nd = vnorm(m, dr, di), np = vnorm(m, p->xr, p->xi);
+                double tol = fmax(NEWTON_TOL, NOISE_FACTOR * DBL_EPSILON * np / rsep) * np;
+                if (it == 0) {
+                    double est = series_error(w, h);
+                    if (est > 0.0 && nd > 0.0) /* calibrate the error model by the actual error */
+                        calib = fmin(CALIB_MAX, fmax(CALIB_MIN, sqrt(calib * nd / est)));
+                    double rs = 1.0 / (inv_norm1(m, &p->lu) * norm_A(P, t1));
+                    if (!(nd <= S->corr_sep * rs) || !(nd <= CORR_REL_MAX * np)) break;
+                    rsep = rs;
+                } else {
+                    /* the error left after this correction is about nd^2 / rsep */
+                    if (nd * nd <= NEWTON_TOL * np * rsep || nd <= tol) {
+                        ok = 1;
+                        break;
+                    }
+                    if (!(nd <= CONTRACTION * prevd)) break;
+                }
+                prevd = nd;
+            }
+            if (ok) {
+                for (int c = 0; c < m; ++c) xr[c] = p->xr[c] - dr[c], xi[c] = p->xi[c] - di[c];
+                hom_point *tmp = base;
+                base = p;
+                if (p == tr[0]) tr[0] = tmp;
+                else tr[1] = tmp;
+                t = t1;
+                hcap = h * ACCEPT_GROW;
+                e->steps++;
+                accepted = 1;
+            } else {
+                e->rejected++;
+                h *= REJECT_SHRINK;
+                hcap = h;
+                if (e->steps + e->rejected >= MAX_STEPS) {
+                    lost = 1;
+                    break;
+                }
+            }
+        }
+        if (lost) break;
+    }
+    e->sigma = 1.0 - t;
+    if (lost && e->sigma > SIGMA_STALL) {
+        memcpy(zr, xr, sizeof(double) * (size_t)m);
+        memcpy(zi, xi, sizeof(double) * (size_t)m);
+        return;
+    }
+    certify(P, w, xr, xi, zr, zi, e);
+}

@@ -1,0 +1,84 @@
+/* Private: the path tracker and endpoint certificate behind
+ * kin_quadrics_homotopy (homotopy.c). Complex vectors are kept as separate
+ * real and imaginary arrays (the matrices Q_j are real, so Q x costs two
+ * real matrix-vector products and no complex arithmetic library calls). */
+#ifndef KIN_HOMOTOPY_TRACK_H
+#define KIN_HOMOTOPY_TRACK_H
+
+enum {
+    HOM_MAX_M = 24,
+    HOM_QBLOCK = 8, /* rows of Q per block in hom_problem.Qb */
+    /* s*m rounded up to whole blocks, at most: */
+    HOM_MAX_ROWS = (HOM_MAX_M * (HOM_MAX_M - 1) + HOM_QBLOCK - 1) / HOM_QBLOCK * HOM_QBLOCK
+};
+
+/* endpoint classes */
+enum { HOM_REAL = 0, HOM_NONREAL = 1, HOM_SINGULAR = 2, HOM_FAILED = 3 };
+
+/* The homotopy H(x, t) = (1 - t) gamma G(x) + t F(x), G_j = x_{j+1}^2 - x_0^2,
+ * F_j = x^T Q_j x (j < s), in the affine chart a.x = 1 (m = s + 1). */
+typedef struct hom_problem {
+    int m, s;
+    const double *Qr;                    /* s*m rows of m: row j*m + r is row r of Q_j / |Q_j|_F */
+    const double *Qb;                    /* the same in blocks of HOM_QBLOCK rows (zero-padded),
+                                            column-major within a block */
+    double gr, gi;                       /* gamma, |gamma| = 1 */
+    double ar[HOM_MAX_M], ai[HOM_MAX_M]; /* the random chart */
+    double normF, normG;                 /* |F[u,v]| <= normF |u||v| (2-norms); same for G */
+} hom_problem;
+
+/* tracking tolerances (tightened when a path is tracked again) */
+typedef struct hom_settings {
+    double pred_rel;  /* predictor error target relative to |x| */
+    double pred_sep;  /* predictor error target as a fraction of the separation radius */
+    double corr_sep;  /* largest first Newton correction accepted, fraction of the separation radius */
+    double sigma_end; /* a path still not at t = 1 when 1 - t falls below this is classified there */
+} hom_settings;
+
+/* what tracking one path produced */
+typedef struct hom_end {
+    int kind;      /* HOM_REAL .. HOM_FAILED */
+    int chart;     /* k: the endpoint z is stored in the chart z_k = 1 (|z_k| largest) */
+    int steps;     /* accepted predictor-corrector steps */
+    int rejected;  /* rejected steps */
+    int recharts;  /* changes of affine chart (the path neared the chart's infinity) */
+    int converged; /* Newton at t = 1 converged (a singular endpoint with 0 here is one the
+                      refinement could not reach to rounding level) */
+    double rminus; /* certified endpoints: a root lies within rminus of z (chart coordinates) */
+    double rplus;  /* ... and no other root within rplus */
+    double cond;   /* |J|_F |J^-1|_F at the endpoint (chart z_k = 1), inf if singular */
+    double sigma;  /* 1 - t where tracking stopped (0: reached t = 1) */
+} hom_end;
+
+/* per-thread workspace, allocated once per thread */
+typedef struct hom_ws hom_ws;
+hom_ws *kin__hom_ws_new(void);
+void kin__hom_ws_free(hom_ws *w);
+
+/* Track start solution number `path` (its bits pick the signs of
+ * x_j = +-x_0) from t = 0 to 1 and certify the endpoint; zr/zi (m each)
+ * receive the endpoint in its chart. */
+void kin__hom_track(const hom_problem *P, const hom_settings *S, hom_ws *w, int path, double *zr, double *zi,
+                    hom_end *e);
+
+/* ---- checks on the endpoints (homotopy.c) ---- */
+typedef struct hom_key {
+    double key;
+    int path;
+} hom_key;
+
+typedef struct hom_checks {
+    int duplicates; /* endpoints beyond the first on a certified root */
+    int unpaired;   /* non-real endpoints without an endpoint on the conjugate root */
+} hom_checks;
+
+/* Group the certified (real and non-real) endpoints of npaths paths by root
+ * (parent: union-find over paths, the root's representative is its
+ * smallest path index; see kin__hom_find) and mark non-real ones whose
+ * conjugate root was reached (paired). w: a unit vector (m) for the sort
+ * key; keys, parent, paired: npaths each. */
+hom_checks kin__hom_check(int m, int npaths, const hom_end *ends, const double *zr, const double *zi, const double *w,
+                          hom_key *keys, int *parent, unsigned char *paired);
+int kin__hom_find(int *parent, int p);
+
+#endif /* KIN_HOMOTOPY_TRACK_H */
