@@ -34,8 +34,8 @@ static void scan(FILE *csv, const char *name, kin_assembly *a, int max_log2, int
         double t0 = now();
         kin_quadrics_scan(m, s, Q, starts, 11, betas, 40000, &nsol, &info);
         double t = now() - t0;
-        printf("%-22s m=%2d s=%2d starts %6d: %5d distinct real solutions, %6d converged, %.3f s\n", name, m, s,
-               starts, info.distinct, info.converged, t);
+        printf("%-22s m=%2d s=%2d starts %6d: %5d of %d real solutions, %6d converged, %.3f s\n", name, m, s,
+               starts, info.distinct, nreal, info.converged, t);
         fprintf(csv, "%s,%d,%d,%d,%d,%d,%.6f\n", name, m, s, starts, info.distinct, info.converged, t);
         fflush(stdout);
     }

@@ -50,5 +50,26 @@ def main(src, out):
     fig.savefig(f"{out}/locate_chart.png", dpi=110)
 
 
+def table(src):
+    """Markdown summary: per case and method, factorizations (min-max) and
+    the worst final v_r over the step sizes, and how many located."""
+    rows = list(csv.DictReader(open(f"{src}/bench_locate.csv")))
+    cases = list(dict.fromkeys(r["case"] for r in rows))
+    out = ["| case | steps | " + " | ".join(m for m, _, _ in METHODS) + " |",
+           "|---|---|" + "---|" * len(METHODS)]
+    for case in cases:
+        deltas = sorted({abs(float(r["delta"])) for r in rows if r["case"] == case})
+        cells = []
+        for method, _, _ in METHODS:
+            rs = [r for r in rows if r["case"] == case and r["method"] == method]
+            f = [int(r["factorizations"]) for r in rs]
+            ok = sum(r["ok"] == "1" for r in rs)
+            worst = max(float(r["vr_rel"]) for r in rs)
+            cells.append(f"{min(f)}-{max(f)} f, worst {worst:.0e}, {ok}/{len(rs)} located")
+        out.append(f"| {case} | {deltas[0]:g}-{deltas[-1]:g} | " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
 if __name__ == "__main__":
     main(sys.argv[1], sys.argv[2])
+    print(table(sys.argv[1]))

@@ -408,6 +408,7 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
     a->have_t = src->have_t;
     a->t_chosen = src->t_chosen;
     a->l = src->l;
+    a->step_hint = src->step_hint;
 }
 
 int kin_assembly_clone(const kin_assembly *src, kin_assembly **out)
@@ -497,6 +498,7 @@ int kin_set_coords(kin_assembly *a, const double *xyz)
     a->fac[0].valid = a->fac[1].valid = 0;
     kin__lu_invalidate(a);
     a->have_t = a->t_chosen = 0;
+    a->step_hint = 0.0;
     a->l = 0.0;
     return KIN_OK;
 }

@@ -80,6 +80,7 @@ struct kin_assembly {
     int have_t;              /* t is valid for the current point */
     int t_chosen;            /* t was set by kin_path_set_direction at a bifurcation */
     double l;                /* signed path length */
+    double step_hint;        /* amplitude the next automatic step starts from (0: the largest) */
 
     /* step scratch, each nf or nb */
     double *x0, *x, *xp, *d, *y, *e, *len, *chord;

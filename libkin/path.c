@@ -19,6 +19,13 @@ static const double NEWTON_REUSE_CONTRACTION = 0.25;
  * diverges (measured: Newton from a bad predictor reaching 1e82 after its 60
  * iterations); the attempt fails at once. */
 static const double CORRECTOR_DIVERGENCE = 1e6;
+/* Newton from a predictor inside its basin converges in a handful of
+ * iterations; an attempt that needs more fresh factorizations than this
+ * fails, and the step is halved. */
+enum { NEWTON_MAX_FACTORIZATIONS = 8 };
+/* Automatic steps (delta == 0) grow by this factor after an easy step, up
+ * to the largest step. */
+static const double STEP_GROWTH = 1.5;
 /* Projections of a requested direction onto the internal mechanisms shorter
  * than this (relative to |dir|) mean "not a first-order mechanism". */
 static const double DIRECTION_MIN_PROJECTION = 1e-6;
@@ -105,6 +112,7 @@ int kin_path_reset(kin_assembly *a)
     if (!a) return KIN_ENULL;
     a->l = 0.0;
     a->have_t = a->t_chosen = 0;
+    a->step_hint = 0.0;
     return KIN_OK;
 }
 
@@ -160,6 +168,7 @@ int kin_path_set_direction(kin_assembly *a, const double *dir, int n)
     for (int i = 0; i < n; ++i) a->t[i] = a->d[i] / np;
     a->have_t = 1;
     a->t_chosen = f->an.m_internal >= 2;
+    a->step_hint = 0.0; /* a new direction: start again from the largest step */
     return KIN_OK;
 }
 
@@ -505,7 +514,7 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
     /* Newton keeps its last factorization while it contracts the residual
      * by NEWTON_REUSE_CONTRACTION or better (a new one costs as much as the
      * rest of the step) */
-    int have_newton = 0, reuse = 0, reused = 0;
+    int have_newton = 0, reuse = 0, reused = 0, newton_factorizations = 0;
     /* converged when the strain meets the tolerance and the last correction
      * moved no coordinate by more than the tolerance times the RMS bar
      * length (near a bifurcation a small strain still allows a position
@@ -540,6 +549,16 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
             if (reused) {
                 rc = lu_newton_reuse(a, a->e, a->d);
             } else {
+                if (++newton_factorizations > NEWTON_MAX_FACTORIZATIONS) {
+                    /* quadratic convergence needs a handful; more means the
+                     * predictor is outside Newton's basin: a shorter step */
+                    res->iterations = it;
+                    res->residual = r;
+                    return kin__fail(a, KIN_ENOTCONVERGED,
+                                     "corrector: Newton not converging after %d factorizations, residual %.3g "
+                                     "(delta = %.3g)",
+                                     NEWTON_MAX_FACTORIZATIONS, r, delta);
+                }
                 rc = lu_newton_solve(a, xyz, a->e, a->d, &have_newton);
             }
             if (rc) return rc;
@@ -641,8 +660,11 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
         ensure_tangent(a);
     }
     double dmax = a->opt.step_fraction * a->rms_length;
+    int automatic = delta == 0.0 && !pred;
     if (!pred) {
-        if (delta == 0.0) delta = dmax;
+        /* automatic amplitude: where the last automatic step needed halving,
+         * start from what it could take instead of failing the same way */
+        if (automatic) delta = a->step_hint > 0.0 ? fmin(dmax, a->step_hint) : dmax;
         if (fabs(delta) > dmax) delta = delta > 0.0 ? dmax : -dmax;
     } else if (delta == 0.0) {
         return kin__fail(a, KIN_EINVAL, "a forward calculation needs delta != 0");
@@ -681,6 +703,12 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
     a->have_t = 1;
     a->t_chosen = 0;
     a->l += (delta > 0.0 ? 1.0 : -1.0) * res.chord_len;
+    if (automatic) {
+        /* grow after an easy step (no halving, no factorization but the new
+         * point's), keep the amplitude after a hard one */
+        int easy = h == 0 && a->nfact - f0 <= 1;
+        a->step_hint = easy ? STEP_GROWTH * fabs(delta) : fabs(delta);
+    }
     if (info) {
         info->l = a->l;
         info->delta = delta;
@@ -740,6 +768,7 @@ int kin_relax(kin_assembly *a, int max_iter, double *residual)
     a->fac[0].valid = a->fac[1].valid = 0;
     kin__lu_invalidate(a);
     a->have_t = a->t_chosen = 0;
+    a->step_hint = 0.0;
     a->l = 0.0;
     return KIN_OK;
 }

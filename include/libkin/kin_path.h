@@ -103,7 +103,11 @@ typedef struct kin_step_info {
 
 /* Take one predictor-corrector step of amplitude delta along the oriented
  * internal mechanism: delta > 0 forwards, delta < 0 backwards, delta == 0
- * the largest step. |delta| is clamped to step_fraction*RMS rest length.
+ * an automatic step forwards: the largest step (step_fraction*RMS rest
+ * length) unless the last automatic step on this path needed halving, then
+ * that step's amplitude, growing by 1.5 after each easy step (one that
+ * needed no factorization but the new point's). |delta| is clamped to
+ * step_fraction*RMS rest length.
  * If the current point is a bifurcation (m_internal >= 2) a direction must
  * have been given with kin_path_set_direction(). info may be NULL.
  * In KIN_STEP_LU mode a step's chord corrector uses the start point's SVD

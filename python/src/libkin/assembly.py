@@ -442,7 +442,8 @@ def solve_quadrics(Q, solver="homotopy", starts=1024, seed=1, threads=2):
         check(lib.kin_quadrics_homotopy(m, s, read_ptr(Qc, "double *"), int(seed), int(threads),
                                         write_ptr(betas, "double *"), maxsol, nsol, ffi.NULL, info),
               what="homotopy")
-        accounting = {k: getattr(info, k) for k in ("paths", "real", "real_distinct", "nonreal", "singular", "failed")}
+        accounting = {k: getattr(info, k) for k in ("paths", "real", "real_distinct", "nonreal", "singular", "failed",
+                                                    "duplicates", "unpaired", "retracked")}
     else:
         raise ModelFormatError(f"solver: expected 'homotopy' or 'scan', got {solver!r}")
     return betas[: nsol[0]].copy(), accounting

@@ -138,6 +138,10 @@ def _write_hex_md(res, out):
         L.append(f" Complete solver over all {c['paths']} homotopy paths: {c['real']} real endpoints "
                  f"({c['real_distinct']} distinct), {c['nonreal']} complex, {c['singular']} singular, "
                  f"{c['failed']} failed, in {c['seconds']} s.")
+        if (c["singular"] == 0 and c["failed"] == 0 and c.get("duplicates", 1) == 0 and c.get("unpaired", 1) == 0
+                and c["real"] == c["real_distinct"]):
+            L.append(" Every endpoint is a certified simple root reached by one path, and the complex ones pair "
+                     "up with their conjugates: these are all the solutions (docs/branches.md).")
     sym = flat["symmetric"]
     L.append(f"\n\nRestricted to motions that keep the hub's {res['model'].split()[1]} supports' rotational "
              f"symmetry: {sym['k']} mechanisms, {sym['s']} equations, {sym['accounting']['real_distinct']} real "
@@ -170,14 +174,20 @@ def _write_hex_md(res, out):
         if key in res:
             r = res[key]
             if "accounting" in r:
-                L.append(f"At {name}: m = {r['m']}, s = {r['s']}; complete solver {r['accounting']}; "
+                a = r["accounting"]
+                L.append(f"At {name}: m = {r['m']}, s = {r['s']}; the complete solver accounts for all "
+                         f"{a['paths']} homotopy paths: {a['real']} real ({a['real_distinct']} distinct), "
+                         f"{a['nonreal']} complex, {a['singular']} singular, {a['failed']} failed; "
                          f"{r['directed_paths_ok']} directed paths exist with the right tangent, "
                          f"{r['distinct_paths']} distinct.")
             else:
                 L.append(f"At {name}: m = {r['m']}, s = {r['s']} ({r.get('skipped', '')}).")
             if "chosen" in r:
+                ch = r["chosen"]
                 L.append(f" Onward folding path chosen: symmetric, not the arrival path, smallest x-y extent "
-                         f"after l = 0.5: {r['chosen']}.")
+                         f"after l = 0.5 ({ch['xy_extent_at_0.5']:.4f}); cos with the arrival chord "
+                         f"{ch['cos_with_arrival']:.3f}; the centre node moves {'down' if ch['centre_dz'] < 0 else 'up'}"
+                         f" (the paper's two axisymmetric folding motions: node 1 up or down).")
             L.append("\n")
     if "map" in res:
         L.append("## Path map (symmetric paths)\n")
