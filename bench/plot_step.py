@@ -101,7 +101,7 @@ def scaling_chart(rows, out):
     _log_axes(ax3)
     ax3.set_xlabel("free coordinates")
     ax3.set_ylabel("per step (mean over the timed steps)")
-    ax3.set_title("what a step did: failed attempts cost up to\n60 Newton factorizations each")
+    ax3.set_title("what a step did: failed attempts cost up to\n8 Newton factorizations each")
     ax3.legend(fontsize=8, loc="upper left")
     fig.tight_layout()
     fig.savefig(f"{out}/step_scaling.png", dpi=100)

@@ -217,19 +217,21 @@ static int lu_factor(int n, hom_lu *F)
     return 1;
 }
 
+/* exchange entries p and k of the split complex vector (br, bi) */
+static void swap_entries(int p, int k, double *br, double *bi)
+{
+    if (p == k) return;
+    double t = br[k];
+    br[k] = br[p], br[p] = t;
+    t = bi[k];
+    bi[k] = bi[p], bi[p] = t;
+}
+
 /* b <- A^-1 b (column-oriented substitutions: independent updates) */
 static void lu_solve(int n, const hom_lu *F, double *br, double *bi)
 {
     const double *Ar = F->r, *Ai = F->i;
-    for (int k = 0; k < n; ++k) {
-        int p = F->piv[k];
-        if (p != k) {
-            double t = br[k];
-            br[k] = br[p], br[p] = t;
-            t = bi[k];
-            bi[k] = bi[p], bi[p] = t;
-        }
-    }
+    for (int k = 0; k < n; ++k) swap_entries(F->piv[k], k, br, bi);
     for (int j = 0; j < n - 1; ++j) {
         double vr = br[j], vi = bi[j];
         if (vr == 0.0 && vi == 0.0) continue;
@@ -271,15 +273,7 @@ static void lu_solve_adj(int n, const hom_lu *F, double *br, double *bi)
             bi[i] -= lr * vi + li * vr;
         }
     }
-    for (int k = n - 1; k >= 0; --k) {
-        int p = F->piv[k];
-        if (p != k) {
-            double t = br[k];
-            br[k] = br[p], br[p] = t;
-            t = bi[k];
-            bi[k] = bi[p], bi[p] = t;
-        }
-    }
+    for (int k = n - 1; k >= 0; --k) swap_entries(F->piv[k], k, br, bi);
 }
 
 static double norm1(int n, const double *xr, const double *xi)

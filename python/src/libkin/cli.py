@@ -34,7 +34,9 @@ def cmd_analyse(args):
     return 0
 
 
-def cmd_follow(args):
+def _regular_start(args):
+    """The model (perturbed and relaxed if asked) and its analysis, or None
+    with a message when it is not on a single path."""
     a = _load(args.model)
     if args.perturb:
         _generic_start(a, args)
@@ -42,6 +44,13 @@ def cmd_follow(args):
     if an.m_internal != 1:
         print(f"{a.name} has {an.m_internal} internal mechanisms here: it is at a bifurcation; "
               "start from a regular configuration (or relax a perturbed one)", file=sys.stderr)
+        return None, None
+    return a, an
+
+
+def cmd_follow(args):
+    a, an = _regular_start(args)
+    if a is None:
         return 2
     ls, svs, frames = [0.0], [an.singular_values], [a.coords]
     try:
@@ -79,13 +88,8 @@ def _generic_start(a, args):
 
 
 def cmd_locate(args):
-    a = _load(args.model)
-    if args.perturb:
-        _generic_start(a, args)
-    an = a.analyse()
-    if an.m_internal != 1:
-        print(f"{a.name} has {an.m_internal} internal mechanisms here: it is at a bifurcation; "
-              "start from a regular configuration (or relax a perturbed one)", file=sys.stderr)
+    a, _ = _regular_start(args)
+    if a is None:
         return 2
     info = a.locate(method=args.method, delta=args.delta, vr_tol=args.vr_tol, max_steps=args.max_steps)
     events = {1: "test function changed sign", 2: "paper's switch rule", 3: "a step landed on it",
