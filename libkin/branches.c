@@ -60,6 +60,80 @@ done:
     return KIN_OK;
 }
 
+/* sort key of a unit displacement: its projection on a fixed direction */
+typedef struct keyed {
+    double key;
+    int idx;
+} keyed;
+
+static int cmp_keyed(const void *p, const void *q)
+{
+    double a = ((const keyed *)p)->key, b = ((const keyed *)q)->key;
+    return a < b ? -1 : a > b;
+}
+
+static int find_root(int *parent, int i)
+{
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+}
+
+/* Eq. 22 over n candidate ends (ends: n x nc full coordinates, made into
+ * displacements T = R - R0 here): existing paths whose T agree in direction
+ * to cos >= 1 - SAME_PATH_TOL share a path_id (ids by first index). Two unit
+ * vectors that close differ by at most sqrt(2 SAME_PATH_TOL) in every
+ * projection, so sorting by one projection and comparing neighbours within
+ * that window finds every pair in O(n log n + n k). */
+static int group_paths(const kin_assembly *a, double *ends, int n, kin_branch_path *paths, int *ndistinct)
+{
+    int nc = a->nj * a->dim;
+    double *unit = malloc(sizeof(double) * (size_t)nc * (size_t)n), *w = malloc(sizeof(double) * (size_t)nc);
+    keyed *ks = malloc(sizeof(keyed) * (size_t)n);
+    int *parent = malloc(sizeof(int) * (size_t)n), *id = malloc(sizeof(int) * (size_t)n);
+    if (!unit || !w || !ks || !parent || !id) {
+        free(unit); free(w); free(ks); free(parent); free(id);
+        return KIN_ENOMEM;
+    }
+    unsigned long long st = 0x5EED5EEDull;
+    for (int c = 0; c < nc; ++c) w[c] = (double)(kin__splitmix(&st) >> 11) * 0x1.0p-53 - 0.5;
+    int nk = 0;
+    for (int i = 0; i < n; ++i) {
+        parent[i] = i;
+        if (!paths[i].exists) continue;
+        double *T = ends + (size_t)i * nc, *u = unit + (size_t)i * nc;
+        for (int c = 0; c < nc; ++c) T[c] -= a->xyz[c];
+        double nt = kin__norm(nc, T);
+        if (!(nt > 0.0)) continue; /* a path that did not move is its own */
+        for (int c = 0; c < nc; ++c) u[c] = T[c] / nt;
+        ks[nk].key = kin__dot(nc, u, w) / kin__norm(nc, w);
+        ks[nk++].idx = i;
+    }
+    qsort(ks, (size_t)nk, sizeof *ks, cmp_keyed);
+    double win = sqrt(2.0 * SAME_PATH_TOL);
+    for (int p = 0; p < nk; ++p)
+        for (int q = p + 1; q < nk && ks[q].key - ks[p].key <= win; ++q) {
+            int i = ks[p].idx, j = ks[q].idx;
+            if (kin__dot(nc, unit + (size_t)i * nc, unit + (size_t)j * nc) >= 1.0 - SAME_PATH_TOL) {
+                int ri = find_root(parent, i), rj = find_root(parent, j);
+                if (ri != rj) parent[ri > rj ? ri : rj] = ri < rj ? ri : rj;
+            }
+        }
+    int nd = 0;
+    for (int i = 0; i < n; ++i) {
+        id[i] = -1;
+        if (!paths[i].exists) {
+            paths[i].path_id = -1;
+            continue;
+        }
+        int r = find_root(parent, i);
+        if (id[r] < 0) id[r] = nd++;
+        paths[i].path_id = id[r];
+    }
+    *ndistinct = nd;
+    free(unit); free(w); free(ks); free(parent); free(id);
+    return KIN_OK;
+}
+
 int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, double l_target,
                      kin_branch_path *paths, double *final_xyz, int *ndistinct)
 {
@@ -74,7 +148,7 @@ int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, doub
         free(dir); free(ends);
         return KIN_ENOMEM;
     }
-    int rc = KIN_OK;
+    int rc = KIN_OK, nd = 0;
     for (int b = 0; b < nbeta && rc == KIN_OK; ++b)
         for (int sg = 0; sg < 2 && rc == KIN_OK; ++sg) {
             kin_branch_path *p = &paths[2 * b + sg];
@@ -89,21 +163,7 @@ int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, doub
             rc = follow_one(a, dir, l_target, p, ends + (size_t)(2 * b + sg) * nc);
         }
     /* group coinciding paths: T = R - R0 (eq. 21), cos >= 1 - tol (eq. 22) */
-    int nd = 0;
-    for (int i = 0; rc == KIN_OK && i < 2 * nbeta; ++i) {
-        if (!paths[i].exists) continue;
-        double *Ti = ends + (size_t)i * nc;
-        for (int c = 0; c < nc; ++c) Ti[c] -= a->xyz[c];
-        double ni = kin__norm(nc, Ti);
-        for (int j = 0; j < i && paths[i].path_id < 0; ++j) {
-            if (!paths[j].exists) continue;
-            const double *Tj = ends + (size_t)j * nc;
-            double nj = kin__norm(nc, Tj);
-            if (ni > 0 && nj > 0 && kin__dot(nc, Ti, Tj) / (ni * nj) >= 1.0 - SAME_PATH_TOL)
-                paths[i].path_id = paths[j].path_id;
-        }
-        if (paths[i].path_id < 0) paths[i].path_id = nd++;
-    }
+    if (rc == KIN_OK) rc = group_paths(a, ends, 2 * nbeta, paths, &nd);
     if (rc == KIN_OK && final_xyz)
         for (int i = 0; i < 2 * nbeta; ++i)
             for (int c = 0; c < nc; ++c)

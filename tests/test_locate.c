@@ -35,45 +35,70 @@ static void start(kin_assembly *a, int path, double th)
     CHECK_RC(kin_set_coords(a, x), KIN_OK);
 }
 
+/* (J1x, J2x) of R^A, R^B, R^C */
+static const double THREEBAR_POINTS[3][2] = {{-1, 0}, {1, 0}, {1, 2}};
+
+/* which of R^A, R^B, R^C the coordinates are (-1: none) */
+static int which_point(const double *x)
+{
+    for (int k = 0; k < 3; ++k)
+        if (fabs(x[0] - THREEBAR_POINTS[k][0]) < 1e-9 && fabs(x[2] - THREEBAR_POINTS[k][1]) < 1e-9 &&
+            fabs(x[1]) < 1e-9 && fabs(x[3]) < 1e-9)
+            return k;
+    return -1;
+}
+
+/* Every bifurcation from both sides: each path's two bifurcations are
+ * approached from the upper half circle (th = 1) and from the lower one
+ * (th = -1), forwards and backwards, so every bifurcation is reached along
+ * both of its paths and from both sides of each. */
 static void threebar(void)
 {
-    /* expected (J1x, J2x) at the bifurcation reached forwards / backwards from th = 1 */
-    const double fwd[3][2] = {{1, 2}, {1, 0}, {1, 2}}, bwd[3][2] = {{-1, 0}, {-1, 0}, {1, 0}};
-    const char *names[3] = {"P1", "J2 at S1", "J1 at S2"};
+    /* the bifurcations on each path: P1 R^C and R^A, "J2 at S1" R^B and R^A,
+     * "J1 at S2" R^C and R^B */
+    const int on_path[3][2] = {{2, 0}, {1, 0}, {2, 1}};
+    const char *names[3] = {"P1", "J2 at S1", "J1 at S2"}, *pt[3] = {"R^A", "R^B", "R^C"};
     const int methods[3] = {KIN_LOCATE_PAPER, KIN_LOCATE_FAST, KIN_LOCATE_ILLINOIS};
+    int reached[3][3][2] = {{{0}}}; /* [point][path][side] */
     for (int mi = 0; mi < 3; ++mi)
         for (int path = 0; path < 3; ++path)
-            for (int dir = 0; dir < 2; ++dir) {
-                kin_assembly *a = NULL;
-                CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
-                start(a, path, 1.0);
-                kin_locate_options o;
-                kin_locate_options_default(&o);
-                o.method = methods[mi];
-                o.delta = dir ? -0.1 : 0.1;
-                kin_locate_info info;
-                CHECK_RC(kin_locate_next(a, &o, &info), KIN_OK);
-                double x[8];
-                kin_get_coords(a, x);
-                const double *want = dir ? bwd[path] : fwd[path];
-                printf("%-8s %-9s %-9s: event %d after %2d steps, %2d factorizations, %2d forward, v_r/v_max %.2e\n",
-                       method_name(o.method), names[path], dir ? "backward" : "forward", info.event, info.steps,
-                       info.factorizations, info.forward, info.v_r_rel);
-                CHECK(info.located && info.path_kept && info.v_r_rel <= 1e-10);
-                CHECK(info.m_internal == 2 && info.s == 1);
-                CHECK_CLOSE(x[0], want[0], 1e-9);
-                CHECK_CLOSE(x[2], want[1], 1e-9);
-                CHECK(fabs(x[1]) < 1e-9 && fabs(x[3]) < 1e-9);
-                if (o.method == KIN_LOCATE_FAST) {
-                    CHECK(info.factorizations <= FAST_MAX_FACTORIZATIONS);
-                    CHECK(info.zero_order == 1); /* the paths cross transversally */
+            for (int side = 0; side < 2; ++side)
+                for (int dir = 0; dir < 2; ++dir) {
+                    kin_assembly *a = NULL;
+                    CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
+                    start(a, path, side ? -1.0 : 1.0);
+                    kin_locate_options o;
+                    kin_locate_options_default(&o);
+                    o.method = methods[mi];
+                    o.delta = dir ? -0.1 : 0.1;
+                    kin_locate_info info;
+                    CHECK_RC(kin_locate_next(a, &o, &info), KIN_OK);
+                    double x[8];
+                    kin_get_coords(a, x);
+                    int k = which_point(x);
+                    printf("%-8s %-9s from %s %-9s: %s, event %d after %2d steps, %2d factorizations, %2d forward, "
+                           "v_r/v_max %.2e\n",
+                           method_name(o.method), names[path], side ? "below" : "above", dir ? "backward" : "forward",
+                           k >= 0 ? pt[k] : "?", info.event, info.steps, info.factorizations, info.forward,
+                           info.v_r_rel);
+                    CHECK(k == on_path[path][0] || k == on_path[path][1]);
+                    if (k >= 0) reached[k][path][side] = 1;
+                    CHECK(info.located && info.path_kept && info.v_r_rel <= 1e-10);
+                    CHECK(info.m_internal == 2 && info.s == 1);
+                    if (o.method == KIN_LOCATE_FAST) {
+                        CHECK(info.factorizations <= FAST_MAX_FACTORIZATIONS);
+                        CHECK(info.zero_order == 1); /* the paths cross transversally */
+                    }
+                    kin_analysis an;
+                    CHECK_RC(kin_get_analysis(a, &an), KIN_OK);
+                    CHECK(an.m_internal == 2 && an.s == 1);
+                    CHECK(kin_max_strain(a) <= 1e-12);
+                    kin_assembly_free(a);
                 }
-                kin_analysis an;
-                CHECK_RC(kin_get_analysis(a, &an), KIN_OK);
-                CHECK(an.m_internal == 2 && an.s == 1);
-                CHECK(kin_max_strain(a) <= 1e-12);
-                kin_assembly_free(a);
-            }
+    /* each bifurcation, along each of its two paths, from both sides */
+    for (int path = 0; path < 3; ++path)
+        for (int j = 0; j < 2; ++j)
+            for (int side = 0; side < 2; ++side) CHECK(reached[on_path[path][j]][path][side]);
 }
 
 /* With a step of 0.7 the sampled v_r never falls below the paper's threshold
