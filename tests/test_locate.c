@@ -203,33 +203,32 @@ static void hex_rb(void)
  * the flat state R^A, where 15 singular values vanish at once; locate R^A
  * from near R^B, and R^B from the flat state along the folding path. The
  * fast method meets 1e-10 at both within the target. */
+/* locate from `start` with the default (fast) method and check the point:
+ * the target tolerance and factorization count, m and s, and the distance
+ * to the expected coordinates (57 of the hexagonal sail) */
+static void locate_fast_to(kin_assembly *start, const double *want, int m, int s, const char *what)
+{
+    kin_locate_info info;
+    double x[57];
+    CHECK_RC(kin_locate_next(start, NULL, &info), KIN_OK);
+    kin_get_coords(start, x);
+    double err = max_diff(x, want, 57);
+    printf("%s (fast): event %d after %d steps, %d factorizations, v_r/v_max %.2e, m=%d s=%d, error %.2e\n", what,
+           info.event, info.steps, info.factorizations, info.v_r_rel, info.m_internal, info.s, err);
+    CHECK(info.located && info.path_kept && info.v_r_rel <= 1e-10);
+    CHECK(info.m_internal == m && info.s == s);
+    CHECK(info.factorizations <= FAST_MAX_FACTORIZATIONS);
+    CHECK(err < 1e-9);
+}
+
 static void hex_fold(void)
 {
     kin_assembly *rb_start = NULL, *ra_start = NULL;
-    double rb[57], flat[57], x[57];
+    double rb[57], flat[57];
     CHECK_RC(test_hex_fold(&rb_start, &ra_start, rb, flat), KIN_OK);
     if (!rb_start || !ra_start) return;
-    kin_locate_info info;
-    CHECK_RC(kin_locate_next(rb_start, NULL, &info), KIN_OK);
-    kin_get_coords(rb_start, x);
-    double err = max_diff(x, flat, 57);
-    printf("hex R^A from R^B (fast): event %d after %d steps, %d factorizations, v_r/v_max %.2e, m=%d s=%d, "
-           "|x - flat| %.2e\n",
-           info.event, info.steps, info.factorizations, info.v_r_rel, info.m_internal, info.s, err);
-    CHECK(info.located && info.path_kept && info.v_r_rel <= 1e-10);
-    CHECK(info.m_internal == 16 && info.s == 15);
-    CHECK(info.factorizations <= FAST_MAX_FACTORIZATIONS);
-    CHECK(err < 1e-9);
-    CHECK_RC(kin_locate_next(ra_start, NULL, &info), KIN_OK);
-    kin_get_coords(ra_start, x);
-    err = max_diff(x, rb, 57);
-    printf("hex R^B from the flat state along the folding path (fast): event %d after %d steps, %d "
-           "factorizations, v_r/v_max %.2e, m=%d s=%d, |x - R^B| %.2e\n",
-           info.event, info.steps, info.factorizations, info.v_r_rel, info.m_internal, info.s, err);
-    CHECK(info.located && info.path_kept && info.v_r_rel <= 1e-10);
-    CHECK(info.m_internal == 4 && info.s == 3);
-    CHECK(info.factorizations <= FAST_MAX_FACTORIZATIONS);
-    CHECK(err < 1e-9);
+    locate_fast_to(rb_start, flat, 16, 15, "hex R^A from R^B");
+    locate_fast_to(ra_start, rb, 4, 3, "hex R^B from the flat state along the folding path");
     kin_assembly_free(rb_start);
     kin_assembly_free(ra_start);
 }
