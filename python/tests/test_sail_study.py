@@ -106,3 +106,15 @@ def test_square_study_flat_state():
     assert sorted(f["pattern"] for f in folded) == ["V1, V3 down; O0, O2 up"] * 2 + ["V1, V3 up; O0, O2 down"] * 2
     for f in folded:
         assert f["s"] == 4 and abs(f["hub_fold_deg"] - 90.0) < 1e-3
+
+
+def test_family_member_study():
+    """Another member of the family (octagonal hub, 2 loops) runs the whole
+    study: every bifurcation located to 1e-10, the run closes on the flat
+    state (at its R^C only one first-order mechanism keeps the symmetry)."""
+    res = sailstudy.hexagonal_study(n_sides=8, n_loops=2, complete=False, progress=False, out=None)
+    assert "failed" not in res
+    ev = res["events"]
+    assert all(ev[k]["v_r_rel"] <= 1e-10 for k in ("RB_fold", "RC_fold", "RB_deploy", "RA_deploy"))
+    assert (ev["RA_deploy"]["m"], ev["RA_deploy"]["s"]) == (21, 20)
+    assert res["closure"] < 1e-9 and res["max_strain"] < 1e-12

@@ -18,7 +18,7 @@ import numpy as np
 
 from .assembly import Assembly, solve_quadrics
 from .errors import KinError
-from .symmetry import sail_rotation, symmetric_solutions
+from .symmetry import sail_rotation, symmetric_solutions, symmetric_subspace
 
 # Bifurcations are located to v_r / v_max <= 1e-10 (the fast method) and m, s
 # counted with the default rank tolerance there.
@@ -195,7 +195,15 @@ class _PathMap:
         (beta index, sign, direction, assembly at the end or None, event)."""
         P = sail_rotation(a, n_sides, 2)
         U = a.analyse().internal_mechanisms
-        betas, acc, k, s_red = symmetric_solutions(a, P, threads=threads)
+        G = symmetric_subspace(U, P)
+        if G.shape[1] >= 2:
+            betas, acc, k, s_red = symmetric_solutions(a, P, threads=threads)
+        else:
+            # one symmetric first-order mechanism (both its senses are the
+            # symmetric paths, if they extend) or none
+            betas, k, s_red = [G[:, 0]] if G.shape[1] == 1 else [], G.shape[1], 0
+            acc = {"paths": 0, "real": len(betas), "real_distinct": len(betas), "nonreal": 0, "singular": 0,
+                   "failed": 0}
         for i, b in enumerate(betas):
             for sg in (1, -1):
                 d = sg * (U @ b)
