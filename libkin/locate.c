@@ -43,8 +43,9 @@ enum { HERMITE_MAX_NODES = 8 };
 static const double NODE_OFFSET_FRACTION = 0.1;
 /* ... but never nearer than this fraction of the first bracket's width */
 static const double NODE_OFFSET_MIN = 1e-3;
-/* A node is accurate enough when its estimated error |e|/v is below this
- * fraction of vr_tol x the RMS bar length: an error dx changes v_r by about
+/* A node is accurate enough when its estimated position error (the
+ * correction its own factorization would still make) is below this fraction
+ * of vr_tol x the RMS bar length: an error dx changes v_r by about
  * v_max |dx| / L. */
 static const double NODE_ERROR_FRACTION = 1.0;
 /* ... and new nodes keep this multiple of the distance where that accuracy
@@ -227,7 +228,7 @@ static double tangent_cos(const kin_assembly *x, const kin_assembly *y)
  * added next to the estimate (a forward calculation whose predictor is the
  * interpolant, so it cannot slide onto a neighbouring branch). */
 struct hermite_ws {
-    int n, nf, nb;
+    int n, nf;
     double z[HERMITE_MAX_NODES], v[HERMITE_MAX_NODES], dv[HERMITE_MAX_NODES];
     double err[HERMITE_MAX_NODES]; /* estimated position error of the node */
     double *x, *dx;   /* HERMITE_MAX_NODES * nf each: the nodes */
@@ -253,7 +254,6 @@ static hermite_ws *hermite_alloc(const kin_assembly *a)
     size_t nf = (size_t)a->nf, nb = (size_t)a->nb, K = HERMITE_MAX_NODES, nc = (size_t)a->nj * (size_t)a->dim;
     size_t ny = nf > nb ? nf : nb;
     h->nf = a->nf;
-    h->nb = a->nb;
     h->x = malloc(sizeof(double) * (K * nf * 6 + nf + nc + nb + ny + nf + 2 * nc));
     if (!h->x) {
         free(h);
@@ -316,10 +316,10 @@ static double chord_polish(const kin_assembly *a, const kin_factor *f, int r, do
 }
 
 /* Record the analysed state st as a node, parametrised from base: its point
- * polished to the strain floor with its own factorization, and the error of
- * that point along the vanishing singular direction, |e| / v (a corrector
- * fixes a point only to its residual divided by the smallest singular
- * value: near a bifurcation that is what limits a node's accuracy). */
+ * polished to the strain floor with its own factorization, and its error
+ * estimated by the correction that factorization would still make (near a
+ * bifurcation the smallest singular value amplifies what is left of the
+ * residual: that is what limits a node's accuracy). */
 static int hermite_add(hermite_ws *h, const kin_assembly *st, const kin_assembly *base)
 {
     int nf = h->nf, k = vanishing_index(st);
@@ -458,7 +458,7 @@ static int hermite_estimate(hermite_ws *h, const int *use, int want_x, herm_est 
 enum { HERMITE_NO_BRACKET = -1 };
 
 /* Where the next node goes. Nodes nearer the bifurcation than rho_min are
- * not accurate enough (their error |e|/v grows as v shrinks), so new nodes
+ * not accurate enough (their error grows as v shrinks), so new nodes
  * sit at z* +- rho, rho = max(1.5 rho_min, NODE_OFFSET_FRACTION x the
  * bracket) and then further out, first on a side that has no accurate
  * node, else on the side whose nearest accurate node is farther. */
@@ -500,7 +500,7 @@ static int locate_hermite(loc_ctx *c)
     herm_est E;
     if (!hermite_estimate(h, all, 0, &E)) return HERMITE_NO_BRACKET;
     int checked = 0, stalls = 0; /* accurate nodes at the last check; checks without progress */
-    double first = NAN, best = INFINITY;
+    double best = INFINITY;
     for (int it = 0; it < c->o->max_iter && h->n <= HERMITE_MAX_NODES; ++it) {
         int ngood = 0;
         for (int i = 0; i < h->n; ++i) ngood += good[i] = h->err[i] <= err_ok;
@@ -546,7 +546,6 @@ static int locate_hermite(loc_ctx *c)
                 return KIN_OK;
             }
             double vr = vv / vmax;
-            if (isnan(first)) first = vr;
             stalls = vr > MIN_PROGRESS * best ? stalls + 1 : 0;
             best = fmin(best, vr);
             if (stalls >= MAX_STALLS) break;

@@ -514,7 +514,7 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
     /* Newton keeps its last factorization while it contracts the residual
      * by NEWTON_REUSE_CONTRACTION or better (a new one costs as much as the
      * rest of the step) */
-    int have_newton = 0, reuse = 0, reused = 0, newton_factorizations = 0;
+    int have_newton = 0, reuse = 0, newton_factorizations = 0;
     /* converged when the strain meets the tolerance and the last correction
      * moved no coordinate by more than the tolerance times the RMS bar
      * length (near a bifurcation a small strain still allows a position
@@ -545,8 +545,7 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
             /* Newton on [C; t^T; R^T] by LU where it is square (the same
              * correction as the minimum-norm one of [C; t^T] by QR) */
             int rc;
-            reused = have_newton && reuse;
-            if (reused) {
+            if (have_newton && reuse) {
                 rc = lu_newton_reuse(a, a->e, a->d);
             } else {
                 if (++newton_factorizations > NEWTON_MAX_FACTORIZATIONS) {

@@ -86,7 +86,9 @@ KIN_API int kin_test_function(kin_assembly *a, double *tau);
  * up (a non-zero minimum of v_r: a near-singular but regular configuration)
  * the assembly is left at the best regular point found on the path, so
  * stepping can resume, and KIN_ENOTFOUND is returned with the reason in
- * kin_last_error(). Allocates two working copies of the assembly per call.
+ * kin_last_error(). Allocates its working copies of the assembly (three; five
+ * for the fast method) and the interpolation workspace once per call, none
+ * while stepping.
  * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (options), KIN_EBIFURCATION (already
  * at one), KIN_ENOTFOUND, KIN_ENOMEM, step and LAPACK codes. */
 KIN_API int kin_locate_next(kin_assembly *a, const kin_locate_options *o, kin_locate_info *info);

@@ -1,6 +1,5 @@
 """Command line: python -m libkin (or `libkin`) SUBCOMMAND ..."""
 import argparse
-import json
 import pathlib
 import sys
 

@@ -302,7 +302,6 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
         acc["seconds"] = round(time.perf_counter() - t0, 1)
         res["flat"]["complete"] = acc
         _say(progress, f"[R^A]   {acc}")
-    U = an.internal_mechanisms
     # every symmetric directed path out of the flat state, followed to its
     # first bifurcation (the start of the path map); the folding branch is
     # among those whose first bifurcation has loop 1 wrapped (A_k over V_k,

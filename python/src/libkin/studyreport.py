@@ -274,7 +274,7 @@ def square(res, a, br, out):
     fig.savefig(out / "fig11_paths.png", dpi=80)
     plt.close(fig)
     acc = res["accounting"]
-    L = [f"# Square-hub solar sail: every path out of the flat state\n",
+    L = ["# Square-hub solar sail: every path out of the flat state\n",
          f"Flat state: m = {res['flat']['m']} internal + {res['flat']['m_rigid']} rigid mechanisms, "
          f"s = {res['flat']['s']}.\n",
          f"Complete solver: {acc['paths']} homotopy paths, {acc['real']} real ({acc['real_distinct']} distinct), "
