@@ -30,7 +30,12 @@
     X(KIN_ERANGE, 16, "size or index out of range")                                            \
     X(KIN_ESTATE, 17, "operation not valid in the current state")                              \
     X(KIN_ENOTFOUND, 18, "no bifurcation located: locator gave up")                            \
-    X(KIN_EGSL, 19, "GSL reported an error")
+    X(KIN_EGSL, 19, "GSL reported an error")                                                  \
+    X(KIN_ECANCELLED, 20, "cancelled by the caller's progress callback")                       \
+    X(KIN_EMULTIDOF, 21, "several internal mechanisms at a regular point: choose a direction")  \
+    X(KIN_ELIMIT, 22, "problem larger than the limit set for this call")                       \
+    X(KIN_EIO, 23, "file could not be opened, read or written")                                \
+    X(KIN_EFORMAT, 24, "malformed model file")
 
 #define KIN_STATUS_ENUM_ITEM_(name, value, msg) name = value,
 enum kin_status { KIN_STATUS_LIST(KIN_STATUS_ENUM_ITEM_) KIN_STATUS_COUNT_ };
