@@ -144,7 +144,8 @@ typedef struct kin_step_info {
  * factors the previous step left; a start point with neither (after
  * kin_set_coords(), kin_relax() or kin_path_reset()) is analysed by SVD.
  * Returns KIN_OK; KIN_ENULL; KIN_EINVAL (non-finite delta);
- * KIN_ENOMECH (m_internal == 0); KIN_EMULTIDOF (m_internal >= 2, no
+ * KIN_ENOMECH (m_internal == 0 here, or at the point every attempt reached:
+ * an infinitesimal mechanism only; state unchanged); KIN_EMULTIDOF (m_internal >= 2, no
  * self-stress, no direction chosen); KIN_EBIFURCATION (m_internal >= 2 with
  * a self-stress, no direction chosen); KIN_ENOTCONVERGED or KIN_EPATHJUMP (every attempt failed:
  * the reason of the last attempt; state unchanged); LAPACK codes. */
