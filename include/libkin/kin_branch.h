@@ -109,8 +109,8 @@ typedef struct kin_homotopy_info {
  * count. Distinct real solutions go to betas (m x maxsol, unit, largest
  * entry positive; in the order of the first path reaching them), their path
  * counts to multiplicity (optional, maxsol ints; 1 unless a duplicate
- * remained). Memory: about (16 m + 100) bytes per path (2^20 paths at m = 21:
- * 450 MB), time about 1 ms per path and core at s = 15.
+ * remained). Memory: about (16 m + 85) bytes per path (2^20 paths at m = 21:
+ * 450 MB), time about 1.3 ms per path and core at s = 15.
  * This entry point has the defaults of kin_homotopy_options (no progress,
  * at most KIN_HOMOTOPY_MAX_PATHS paths); see kin_quadrics_homotopy_ex.
  * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (m != s+1, m < 2, maxsol < 1,
@@ -131,7 +131,7 @@ typedef struct kin_homotopy_options {
                             the online processors are clamped to their number. Default 0 */
     long max_paths;      /* refuse (KIN_ELIMIT) problems with more than this many paths
                             2^s, >= 1. Default KIN_HOMOTOPY_MAX_PATHS = 2^20 (s <= 20);
-                            s = 23 (8.4 million paths) takes hours and ~3.5 GB */
+                            s = 23 (8.4 million paths) takes hours and ~4 GB */
     kin_progress_fn progress; /* optional (NULL: none): done = paths tracked, total = 2^s plus
                                  the paths scheduled for re-tracking so far; called
                                  from the calling thread every 50 ms of tracking */
