@@ -137,6 +137,8 @@ static void homotopy(void)
     o.max_paths = 0;
     CHECK_RC(kin_quadrics_homotopy_ex(M_SMALL, S_SMALL, Q, &o, b2, N_SMALL, &n2, NULL, &h2), KIN_EINVAL);
     CHECK_RC(kin_quadrics_homotopy(M_SMALL, S_SMALL, Q, 1, 0, b2, N_SMALL, &n2, NULL, &h2), KIN_EINVAL);
+    CHECK_RC(kin_quadrics_homotopy_ex(M_SMALL, S_SMALL, NULL, &o, b2, N_SMALL, &n2, NULL, &h2), KIN_ENULL);
+    CHECK_RC(kin_quadrics_homotopy_ex(M_SMALL, S_SMALL, Q, &o, b2, N_SMALL, &n2, NULL, NULL), KIN_ENULL);
     kin_homotopy_options_default(NULL); /* no crash */
 
     /* cancel: at the first report (nothing tracked), then at the second
