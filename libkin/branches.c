@@ -38,6 +38,7 @@ static int follow_one(const kin_assembly *a0, const double *dir, double l_target
         return KIN_ENOMEM;
     }
     kin__gather(a, a->xyz, x0);
+    double l_start = kin_path_length(a); /* the progress: the fraction of l_target covered from here */
     kin_step_info info;
     if (kin_step(a, FIRST_STEP_FRACTION * dmax, &info) != KIN_OK) goto out;
     kin__gather(a, a->xyz, x1);
@@ -48,7 +49,6 @@ static int follow_one(const kin_assembly *a0, const double *dir, double l_target
     p->tangent_cos = nc > 0 && nd > 0 ? dot / (nc * nd) : 0.0;
     p->tangent_ok = p->tangent_cos >= TANGENT_COS_TOL;
     long budget = (long)(PATH_STEP_FACTOR * (l_target / dmax + 10));
-    double l_start = kin_path_length(a);
     while (kin_path_length(a) < l_target && budget-- > 0) {
         if (kin__progress(a0, done0 + fmin(1.0, fmax(0.0, kin_path_length(a) - l_start) / l_target), total)) {
             rc = KIN_ECANCELLED;
