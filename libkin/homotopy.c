@@ -190,10 +190,15 @@ hom_checks kin__hom_check(int m, int npaths, const hom_end *ends, const double *
 int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads, double *betas,
                           int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info)
 {
+    if (nsol) *nsol = 0;
+    if (info) memset(info, 0, sizeof *info);
     if (!Q || !betas || !nsol || !info) return KIN_ENULL;
     if (m < 2 || s != m - 1 || maxsol < 1 || nthreads < 1) return KIN_EINVAL;
-    if (m > HOM_MAX_M) return KIN_ERANGE;
+    if (m > HOM_MAX_M) return KIN_ERANGE; /* so 2^s <= 2^23 and every size below fits */
+    for (size_t i = 0; i < (size_t)m * m * s; ++i)
+        if (!isfinite(Q[i])) return KIN_EINVAL;
     int npaths = 1 << s;
+    if (nthreads > npaths) nthreads = npaths; /* more would idle; the result is the same */
     size_t mm = (size_t)m * m;
     size_t nrows = ((size_t)s * m + HOM_QBLOCK - 1) / HOM_QBLOCK * HOM_QBLOCK;
     double *Qr = malloc(sizeof(double) * mm * (size_t)s), *Qb = calloc(nrows * m, sizeof(double));
@@ -225,9 +230,7 @@ int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int
     double nf2 = 0.0;
     for (int j = 0; j < s; ++j) {
         const double *q = Q + (size_t)j * mm;
-        double f = 0.0, n1 = 0.0;
-        for (size_t i = 0; i < mm; ++i) f += q[i] * q[i];
-        f = sqrt(f);
+        double f = kin__norm((int)mm, q), n1 = 0.0; /* scaled: no overflow or underflow */
         double sc = f > 0.0 ? 1.0 / f : 1.0;
         for (int r = 0; r < m; ++r) {
             double col = 0.0;
