@@ -27,9 +27,11 @@ enum kin_q_weighting {
  * normalise != 0 applies eq. 18: the matrices, as vectors of length m^2, are
  * orthonormalised by modified Gram-Schmidt (twice); *s_out receives how many
  * independent matrices remain (< s if some Q_j are dependent). Without
- * normalisation *s_out = s.
+ * normalisation *s_out = s. On failure *s_out = 0 (if s_out is not NULL) and
+ * Q is not written.
  * Returns KIN_OK, KIN_ENULL, KIN_ESTATE (no current analysis), KIN_EINVAL
- * (weighting, or not a bifurcation: m_internal < 2 or s < 1), KIN_ERANGE. */
+ * (weighting, or not a bifurcation: m_internal < 2 or s < 1), KIN_ERANGE
+ * (nq < m*m*s, counted in size_t: m*m*s may exceed INT_MAX). */
 KIN_API int kin_second_order(const kin_assembly *a, int weighting, int normalise, double *Q, int nq,
                              int *s_out);
 
@@ -49,10 +51,20 @@ typedef struct kin_solve_info {
  * result is deterministic). Duplicates are dropped by eq. 20 (|beta_i .
  * beta_j| ~ 1). Solutions go to betas (m x maxsol, column-major), each with
  * its largest-magnitude entry positive; *nsol receives their number (at most
- * maxsol; info->distinct may be larger). Q is as from kin_second_order.
- * GSL's abort handler is switched off for the call's thread of use.
+ * maxsol; info->distinct may be larger). Q is as from kin_second_order:
+ * finite, and scaled like the normalised matrices (the root test is an
+ * absolute residual of 1e-12). info may be NULL.
+ * On every failure, including the first argument checks, *nsol = 0 and *info
+ * is zeroed (those that are not NULL); betas is not written.
+ * GSL's error handler (process-wide) is never changed. The call avoids every
+ * GSL error that would invoke it but one: if malloc fails inside
+ * gsl_multiroot_fdfsolver_alloc (about 3 m^2 + 16 m doubles), GSL raises
+ * GSL_ENOMEM through the application's current handler (GSL's default
+ * aborts; install another with gsl_set_error_handler if that matters) and the
+ * call then returns KIN_ENOMEM if the handler returns.
  * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (m != s+1, m < 2, starts < 1,
- * maxsol < 1), KIN_ERANGE (m > 256), KIN_ENOMEM. */
+ * maxsol < 1, a NaN or infinite entry of Q), KIN_ERANGE (m > 256),
+ * KIN_ENOMEM. */
 KIN_API int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long seed,
                               double *betas, int maxsol, int *nsol, kin_solve_info *info);
 
@@ -107,8 +119,13 @@ typedef struct kin_homotopy_info {
  * thread count. Distinct real solutions go to betas (m x maxsol, unit,
  * largest entry positive; in the order of the first path reaching them),
  * their path counts to multiplicity (optional, maxsol ints; 1 unless a
- * duplicate remained). Returns KIN_OK, KIN_ENULL, KIN_EINVAL (m != s+1,
- * m < 2, maxsol < 1, nthreads < 1), KIN_ERANGE (m > 24), KIN_ENOMEM. */
+ * duplicate remained). nthreads above 2^s are treated as 2^s. Q must be
+ * finite (each Q_j is scaled to unit Frobenius norm, computed without
+ * overflow). On every failure, including the first argument checks,
+ * *nsol = 0 and *info is zeroed (those that are not NULL); betas and
+ * multiplicity are not written. Returns KIN_OK, KIN_ENULL, KIN_EINVAL
+ * (m != s+1, m < 2, maxsol < 1, nthreads < 1, a NaN or infinite entry of Q),
+ * KIN_ERANGE (m > 24), KIN_ENOMEM. */
 KIN_API int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads,
                                   double *betas, int maxsol, int *nsol, int *multiplicity,
                                   kin_homotopy_info *info);
@@ -134,8 +151,14 @@ typedef struct kin_branch_path {
  * paths receives 2*nbeta entries (beta 0 +, beta 0 -, beta 1 +, ...);
  * final_xyz (optional, njoints*dim x 2*nbeta) the end configurations.
  * The caller's assembly is not changed. *ndistinct receives the number of
- * distinct paths. Returns KIN_OK, KIN_ENULL, KIN_ESTATE, KIN_EINVAL
- * (not a bifurcation, nbeta < 1, l_target <= 0), KIN_ENOMEM. */
+ * distinct paths. l_target must be finite, > 0 and at most 1e6 largest steps
+ * (step_fraction x RMS rest length, kin_path.h), which bounds the work.
+ * On every failure *ndistinct = 0 (if not NULL), and once nbeta is valid the
+ * 2*nbeta entries of paths are zeroed; final_xyz is written only on success.
+ * Returns KIN_OK, KIN_ENULL, KIN_ESTATE, KIN_EINVAL (not a bifurcation,
+ * nbeta < 1, l_target not finite or <= 0, a NaN or infinite entry of betas),
+ * KIN_ERANGE (nbeta > INT_MAX/2, l_target above 1e6 largest steps),
+ * KIN_ENOMEM. */
 KIN_API int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, double l_target,
                              kin_branch_path *paths, double *final_xyz, int *ndistinct);
 
