@@ -1,4 +1,4 @@
-"""The JSON model format (schema in python/README.md).
+"""The JSON model format (schema in docs/model_format.md; C reads it too, kin_io.h).
 
 {"name": str, "dimension": 2|3,
  "joints": [{"index": i, "label": str, "xyz": [x, y(, z)], "free": [bool, ...]}, ...],
@@ -19,9 +19,15 @@ def _fail(where, msg):
 
 
 def _number(v, where):
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+    # integers beyond 64 bits are refused, as C (jansson) refuses them
+    if (isinstance(v, bool) or not isinstance(v, (int, float)) or
+            (isinstance(v, int) and not -2**63 <= v < 2**63) or not math.isfinite(v)):
         _fail(where, f"expected a finite number, got {v!r}")
     return float(v)
+
+
+def _is_int(v):
+    return isinstance(v, int) and not isinstance(v, bool)
 
 
 def parse(doc):
@@ -29,7 +35,7 @@ def parse(doc):
     if not isinstance(doc, dict):
         _fail("model", f"expected a JSON object, got {type(doc).__name__}")
     dim = doc.get("dimension")
-    if dim not in (2, 3) or isinstance(dim, bool):
+    if dim not in (2, 3) or not _is_int(dim):
         _fail("dimension", f"expected 2 or 3, got {dim!r}")
     joints = doc.get("joints")
     if not isinstance(joints, list) or not joints:
@@ -41,7 +47,7 @@ def parse(doc):
         w = f"joints[{i}]"
         if not isinstance(j, dict):
             _fail(w, "expected an object")
-        if "index" in j and j["index"] != i:
+        if "index" in j and not (_is_int(j["index"]) and j["index"] == i):
             _fail(f"{w}.index", f"expected {i}, got {j['index']!r}")
         xyz = j.get("xyz")
         if not isinstance(xyz, list) or len(xyz) != dim:
@@ -65,7 +71,7 @@ def parse(doc):
         w = f"bars[{k}]"
         if not isinstance(b, dict):
             _fail(w, "expected an object")
-        if "index" in b and b["index"] != k:
+        if "index" in b and not (_is_int(b["index"]) and b["index"] == k):
             _fail(f"{w}.index", f"expected {k}, got {b['index']!r}")
         ends = b.get("joints")
         if (not isinstance(ends, list) or len(ends) != 2 or
@@ -82,6 +88,8 @@ def parse(doc):
     if any(have_len) and not all(have_len):
         _fail("bars", "give a length for every bar or for none")
     name = doc.get("name", "model")
+    if not isinstance(name, str):
+        _fail("name", f"expected a string, got {name!r}")
     return name, coords, bars, fixed, (lengths if all(have_len) else None), labels
 
 
@@ -93,12 +101,19 @@ def load_json(source):
     else:
         text = source
         if isinstance(source, (str, os.PathLike)) and not str(source).lstrip().startswith("{"):
-            with open(source) as f:
-                text = f.read()
+            try:
+                with open(source, encoding="utf-8") as f:
+                    text = f.read()
+            except UnicodeDecodeError as exc:
+                raise ModelFormatError(f"not UTF-8 text: byte {exc.start}: {exc.reason}") from None
         try:
             doc = json.loads(text)
         except json.JSONDecodeError as exc:
             raise ModelFormatError(f"JSON syntax: line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
+        try:  # an escaped unpaired surrogate ("\ud800") is not Unicode: C refuses it too
+            json.dumps(doc, ensure_ascii=False).encode("utf-8")
+        except UnicodeEncodeError as exc:
+            raise ModelFormatError(f"JSON text: a string holds an unpaired surrogate: {exc.reason}") from None
     name, coords, bars, fixed, lengths, labels = parse(doc)
     return Assembly(coords, bars, fixed=fixed, lengths=lengths, labels=labels, name=name)
 
