@@ -229,6 +229,29 @@ static int read_model(const io_err *e, const json_t *doc, model_arrays *m)
     return KIN_OK;
 }
 
+/* Lists and objects nest at most this deep (the document is depth 1); the
+ * Python loader has the same limit (model_json.MAX_DEPTH). */
+enum { MAX_DEPTH = 64 };
+
+/* 1 if v nests no deeper than MAX_DEPTH counting from `depth`; recursion
+ * stops at MAX_DEPTH + 1 levels */
+static int depth_ok(json_t *v, int depth)
+{
+    if (!json_is_object(v) && !json_is_array(v)) return 1;
+    if (depth > MAX_DEPTH) return 0;
+    if (json_is_array(v)) {
+        for (size_t i = 0; i < json_array_size(v); ++i)
+            if (!depth_ok(json_array_get(v, i), depth + 1)) return 0;
+        return 1;
+    }
+    const char *key;
+    json_t *val;
+    json_object_foreach(v, key, val) {
+        if (!depth_ok(val, depth + 1)) return 0;
+    }
+    return 1;
+}
+
 /* Parse text, check it, create the assembly. */
 static int load_text(const io_err *e, const char *text, size_t len, kin_assembly **out)
 {
@@ -238,6 +261,10 @@ static int load_text(const io_err *e, const char *text, size_t len, kin_assembly
     if (!doc)
         return io_fail(e, KIN_EFORMAT, "JSON syntax: line %d, column %d: %s", jerr.line,
                        jerr.column, jerr.text);
+    if (!depth_ok(doc, 1)) {
+        json_decref(doc);
+        return io_fail(e, KIN_EFORMAT, "JSON text: lists or objects nested deeper than %d", MAX_DEPTH);
+    }
     model_arrays m = {0, 0, 0, NULL, NULL, NULL, NULL, 0};
     int rc = read_model(e, doc, &m);
     json_decref(doc);

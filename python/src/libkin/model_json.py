@@ -26,6 +26,32 @@ def _number(v, where):
     return float(v)
 
 
+#: Lists and objects nest at most this deep (the document is depth 1).
+MAX_DEPTH = 64
+
+
+def _check_text(doc):
+    """Refuse what valid JSON may hold but C's reader (jansson) refuses, so
+    both loaders agree: nesting deeper than MAX_DEPTH, an unpaired surrogate
+    escape ("\\ud800") in a string, a NUL in a key."""
+    stack = [(doc, 1)]
+    while stack:
+        v, depth = stack.pop()
+        if isinstance(v, (dict, list)):
+            if depth > MAX_DEPTH:
+                _fail("JSON text", f"lists or objects nested deeper than {MAX_DEPTH}")
+            if isinstance(v, dict):
+                if any("\0" in k for k in v):
+                    _fail("JSON text", "a key holds U+0000")
+                stack.extend((k, depth) for k in v)
+            stack.extend((c, depth + 1) for c in (v.values() if isinstance(v, dict) else v))
+        elif isinstance(v, str):
+            try:
+                v.encode("utf-8")
+            except UnicodeEncodeError:
+                _fail("JSON text", f"a string holds an unpaired surrogate: {v!r}")
+
+
 def _is_int(v):
     return isinstance(v, int) and not isinstance(v, bool)
 
@@ -110,10 +136,9 @@ def load_json(source):
             doc = json.loads(text)
         except json.JSONDecodeError as exc:
             raise ModelFormatError(f"JSON syntax: line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
-        try:  # an escaped unpaired surrogate ("\ud800") is not Unicode: C refuses it too
-            json.dumps(doc, ensure_ascii=False).encode("utf-8")
-        except UnicodeEncodeError as exc:
-            raise ModelFormatError(f"JSON text: a string holds an unpaired surrogate: {exc.reason}") from None
+        except RecursionError:
+            _fail("JSON text", f"lists or objects nested deeper than {MAX_DEPTH}")
+        _check_text(doc)
     name, coords, bars, fixed, lengths, labels = parse(doc)
     return Assembly(coords, bars, fixed=fixed, lengths=lengths, labels=labels, name=name)
 
