@@ -157,3 +157,34 @@ def test_prefixes_and_mutants_same_verdict():
     assert not differ, differ[:3]
     # some edits leave a valid model, most break it
     assert {v[0] for v in verdicts} >= {"KIN_OK", "KIN_EFORMAT"}
+
+
+def _outcome(source, engine):
+    """The model's arrays, or what kind of error loading it raised."""
+    try:
+        with libkin.load_model(source, engine=engine) as asm:
+            return python_model(asm)
+    except ModelFormatError:
+        return "KIN_EFORMAT"
+    except OSError:
+        return "KIN_EIO"
+    except KinError as exc:
+        return status_name(exc.code)
+
+
+@pytest.mark.parametrize("path", [GOOD[0], BAD[0], BAD[-1], CORPUS / "good" / "missing.json"],
+                         ids=["good", "bad-first", "bad-last", "missing"])
+def test_load_model_engines(path):
+    """libkin.load_model(path or text, engine=...) gives the same model or
+    the same kind of error from either loader."""
+    sources = [str(path)]
+    if path.exists() and path.read_text().startswith("{"):
+        sources.append(path.read_text())
+    for source in sources:
+        py, c = _outcome(source, "python"), _outcome(source, "c")
+        if isinstance(py, tuple):
+            assert_same(py, c)
+        else:
+            assert py == c == expected(path) if path.exists() else py == c == "KIN_EIO"
+    with pytest.raises(ValueError, match="engine"):
+        libkin.load_model(str(path), engine="rust")

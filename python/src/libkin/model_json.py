@@ -159,3 +159,30 @@ def to_json(self, path=None):
         with open(path, "w") as f:
             json.dump(doc, f, indent=1)
     return doc
+
+
+def load_model(source, engine="python"):
+    """Build an Assembly from a JSON model file path or JSON text (starting
+    with "{"), read by the Python loader (engine="python", as load_json; also
+    takes a dict) or by the C library's (engine="c", kin_assembly_load: the
+    same rules and verdicts, docs/model_format.md; name and joint labels are
+    not kept). Raises ModelFormatError for a malformed model, the
+    KinError of the C status otherwise (OSError for an unreadable file with
+    engine="python")."""
+    if engine == "python":
+        return load_json(source)
+    if engine != "c":
+        raise ValueError(f"engine: expected 'python' or 'c', got {engine!r}")
+    from ._lib import ffi, lib
+    from .assembly import Assembly
+    from .errors import error_class
+    out, err = ffi.new("kin_assembly **"), ffi.new("char[512]")
+    if isinstance(source, str) and source.lstrip().startswith("{"):
+        data = source.encode("utf-8", "surrogatepass")
+        rc = lib.kin_assembly_load_string(data, len(data), out, err, 512)
+    else:
+        rc = lib.kin_assembly_load(os.fsencode(source), out, err, 512)
+    if rc:
+        cls = ModelFormatError if rc == lib.KIN_EFORMAT else error_class(rc)
+        raise cls(ffi.string(err).decode(errors="replace"), rc)
+    return Assembly._from_handle(out[0])
