@@ -535,6 +535,7 @@ int kin_assembly_save(const kin_assembly *a, const char *name, const char *path,
             rc = io_fail(&e, KIN_EIO, "cannot open for writing: %s", strerror(errno));
         } else {
             int err = 0;
+            errno = 0;
             if (fwrite(t.p, 1, t.n, f) != t.n) err = errno ? errno : EIO;
             if (fclose(f) != 0 && !err) err = errno ? errno : EIO; /* a full disk may show only here */
             if (err) rc = io_fail(&e, KIN_EIO, "cannot write: %s", strerror(err));

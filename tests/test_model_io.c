@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "internal.h" /* to plant a non-finite coordinate no public call allows */
 #include "libkin.h"
 
 #define MAX_FILES 256
@@ -287,6 +288,19 @@ static void error_paths(void)
     CHECK_RC(kin_assembly_load("/nonexistent/dir/model.json", &b, NULL, 0), KIN_EIO);
     CHECK_RC(kin_assembly_load_string("{", 1, &b, small, 1), KIN_EFORMAT);
     CHECK(small[0] == '\0');
+
+    /* a non-finite number cannot be written (a valid handle never holds one) */
+    kin_assembly *broken = NULL;
+    CHECK_RC(kin_assembly_clone(a, &broken), KIN_OK);
+    if (broken) {
+        broken->xyz[1] = NAN;
+        CHECK_RC(kin_assembly_save_string(broken, NULL, &text, NULL, err, sizeof err), KIN_EGEOM);
+        CHECK(text == NULL);
+        broken->xyz[1] = 0.0;
+        broken->L0[0] = INFINITY;
+        CHECK_RC(kin_assembly_save(broken, NULL, "/tmp/never_written.json", err, sizeof err), KIN_EGEOM);
+        kin_assembly_free(broken);
+    }
 
     /* success clears the caller's buffer */
     strcpy(err, "old");

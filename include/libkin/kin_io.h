@@ -49,7 +49,8 @@ KIN_API int kin_assembly_load_string(const char *text, size_t len, kin_assembly 
  * written: options and path state (path length, orientation, step count);
  * the loaded assembly starts a fresh path at the saved configuration, as
  * after kin_set_coords(). The assembly is not changed.
- * Returns KIN_OK, KIN_ENULL (a or path NULL), KIN_EIO, KIN_ENOMEM. */
+ * Returns KIN_OK, KIN_ENULL (a or path NULL), KIN_EIO, KIN_ENOMEM, KIN_EGEOM
+ * (a non-finite coordinate or length, which a valid handle never holds). */
 KIN_API int kin_assembly_save(const kin_assembly *a, const char *name, const char *path,
                               char *errbuf, size_t errlen);
 
@@ -57,7 +58,7 @@ KIN_API int kin_assembly_save(const kin_assembly *a, const char *name, const cha
  *  text  receives the string (NULL on failure); the caller releases it with
  *        kin_free_string().
  *  len   optional (may be NULL): receives strlen(*text).
- * Returns KIN_OK, KIN_ENULL (a or text NULL), KIN_ENOMEM. */
+ * Returns KIN_OK, KIN_ENULL (a or text NULL), KIN_ENOMEM, KIN_EGEOM. */
 KIN_API int kin_assembly_save_string(const kin_assembly *a, const char *name, char **text,
                                      size_t *len, char *errbuf, size_t errlen);
 
