@@ -242,4 +242,14 @@ typedef struct kin_locate_info {
 void kin_locate_options_default(kin_locate_options *o);
 int kin_test_function(kin_assembly *a, double *tau);
 int kin_locate_next(kin_assembly *a, const kin_locate_options *o, kin_locate_info *info);
+
+int kin_assembly_load(const char *path, kin_assembly **out, char *errbuf,
+                              size_t errlen);
+int kin_assembly_load_string(const char *text, size_t len, kin_assembly **out,
+                                     char *errbuf, size_t errlen);
+int kin_assembly_save(const kin_assembly *a, const char *name, const char *path,
+                              char *errbuf, size_t errlen);
+int kin_assembly_save_string(const kin_assembly *a, const char *name, char **text,
+                                     size_t *len, char *errbuf, size_t errlen);
+void kin_free_string(char *text);
 '''
