@@ -671,10 +671,8 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
              * multi-DOF mechanism, not a bifurcation); with self-stresses the
              * first-order analysis cannot tell the two apart */
             if (f->an.s == 0)
-                return kin__fail(a, KIN_EMULTIDOF,
-                                 "%d internal degrees of freedom and no self-stress: choose a direction "
-                                 "with kin_path_set_direction()",
-                                 f->an.m_internal);
+                return kin__fail(a, KIN_EMULTIDOF, "%d internal mechanisms, no self-stress (set one with "
+                                 "kin_path_set_direction())", f->an.m_internal);
             return kin__fail(a, KIN_EBIFURCATION,
                              "%d internal mechanisms here: choose one with kin_path_set_direction()",
                              f->an.m_internal);

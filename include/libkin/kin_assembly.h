@@ -144,8 +144,8 @@ typedef struct kin_analysis {
  * free joints by more than 1e-8 times the size of a unit rigid motion of
  * the whole assembly (sqrt(njoints), coordinates measured from the centroid
  * in units of their RMS radius): a rotation about a line through every
- * joint moves nothing and is not a mechanism. out may be NULL. The results stay readable
- * through the getters below until the configuration changes.
+ * joint moves nothing and is not a mechanism. out may be NULL. The results
+ * stay readable through the getters below until the configuration changes.
  * Returns KIN_OK, KIN_ENULL, KIN_ELAPACK_ARG, KIN_ELAPACK_CONV. */
 KIN_API int kin_analyse(kin_assembly *a, kin_analysis *out);
 

@@ -67,11 +67,10 @@
  *  internal mechanism the path continues as usual, with more (a
  *  bifurcation reached) the next step needs a direction again: kin_step()
  *  and kin_get_tangent() return KIN_EMULTIDOF or KIN_EBIFURCATION as
- *  above. A point with
- *  several internal mechanisms is always analysed by SVD, in KIN_STEP_LU
- *  mode too (the bordered matrix is not square there), so the analysis
- *  stays current. kin_path_reset(), kin_set_coords() and kin_relax() forget
- *  the direction. */
+ *  above. A point with several internal mechanisms is always analysed by
+ *  SVD, in KIN_STEP_LU mode too (the bordered matrix is not square there),
+ *  so the analysis stays current. kin_path_reset(), kin_set_coords() and
+ *  kin_relax() forget the direction. See docs/generality.md. */
 #ifndef KIN_PATH_H
 #define KIN_PATH_H
 
@@ -144,11 +143,12 @@ typedef struct kin_step_info {
  * factors the previous step left; a start point with neither (after
  * kin_set_coords(), kin_relax() or kin_path_reset()) is analysed by SVD.
  * Returns KIN_OK; KIN_ENULL; KIN_EINVAL (non-finite delta);
- * KIN_ENOMECH (m_internal == 0 here, or at the point every attempt reached:
- * an infinitesimal mechanism only; state unchanged); KIN_EMULTIDOF (m_internal >= 2, no
- * self-stress, no direction chosen); KIN_EBIFURCATION (m_internal >= 2 with
- * a self-stress, no direction chosen); KIN_ENOTCONVERGED or KIN_EPATHJUMP (every attempt failed:
- * the reason of the last attempt; state unchanged); LAPACK codes. */
+ * KIN_ENOMECH (m_internal == 0 here, or at the points every attempt
+ * reached: an infinitesimal mechanism only; state unchanged);
+ * KIN_EMULTIDOF (m_internal >= 2, no self-stress, no direction chosen);
+ * KIN_EBIFURCATION (m_internal >= 2 with a self-stress, no direction
+ * chosen); KIN_ENOTCONVERGED or KIN_EPATHJUMP (every attempt failed: the
+ * reason of the last attempt; state unchanged); LAPACK codes. */
 KIN_API int kin_step(kin_assembly *a, double delta, kin_step_info *info);
 
 /* Choose the direction of motion: dir (nfree entries, finite, nonzero) is
