@@ -187,8 +187,8 @@ hom_checks kin__hom_check(int m, int npaths, const hom_end *ends, const double *
     return c;
 }
 
-int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads, double *betas,
-                          int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info)
+static int homotopy_impl(int m, int s, const double *Q, unsigned long seed, int nthreads, double *betas,
+                         int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info)
 {
     if (!Q || !betas || !nsol || !info) return KIN_ENULL;
     if (m < 2 || s != m - 1 || maxsol < 1 || nthreads < 1) return KIN_EINVAL;
@@ -345,5 +345,17 @@ done:
         for (int t = 0; t < nthreads; ++t) kin__hom_ws_free(ws[t]);
     free(ws), free(running), free(th), free(jobs), free(paired), free(size), free(list), free(parent);
     free(keys), free(zi), free(zr), free(ends), free(Qb), free(Qr);
+    return rc;
+}
+
+int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads, double *betas,
+                          int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info)
+{
+    if (!info) return KIN_ENULL;
+    if (kin__abi_check(info, KIN__V1_SIZE(kin_homotopy_info, max_cond), sizeof *info)) return KIN_EINVAL;
+    kin__abi_zero(info);
+    kin_homotopy_info local = {.size = sizeof local};
+    int rc = homotopy_impl(m, s, Q, seed, nthreads, betas, maxsol, nsol, multiplicity, &local);
+    kin__abi_write(info, &local, sizeof local);
     return rc;
 }

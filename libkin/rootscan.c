@@ -73,8 +73,8 @@ static double gauss(unsigned long long *s)
     return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
 }
 
-int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long seed, double *betas,
-                      int maxsol, int *nsol, kin_solve_info *info)
+static int scan_impl(int m, int s, const double *Q, int starts, unsigned long seed, double *betas, int maxsol,
+                     int *nsol, kin_solve_info *info)
 {
     if (!Q || !betas || !nsol) return KIN_ENULL;
     if (m < 2 || s != m - 1 || starts < 1 || maxsol < 1) return KIN_EINVAL;
@@ -95,7 +95,7 @@ int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long s
         free(found);
         return KIN_ENOMEM;
     }
-    kin_solve_info in = {starts, 0, 0, 0, 0.0};
+    kin_solve_info in = {.size = sizeof in, .starts = starts};
     unsigned long long state = (unsigned long long)seed * 0x2545F4914F6CDD1Dull + 1u;
     int nd = 0;
     for (int k = 0; k < starts; ++k) {
@@ -152,10 +152,23 @@ int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long s
     }
     in.distinct = nd;
     *nsol = nd < maxsol ? nd : maxsol;
-    if (info) *info = in;
+    *info = in;
     gsl_multiroot_fdfsolver_free(sv);
     gsl_vector_free(x);
     gsl_vector_free(fv);
     free(found);
     return KIN_OK;
+}
+
+int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long seed, double *betas,
+                      int maxsol, int *nsol, kin_solve_info *info)
+{
+    if (info) {
+        if (kin__abi_check(info, KIN__V1_SIZE(kin_solve_info, max_residual), sizeof *info)) return KIN_EINVAL;
+        kin__abi_zero(info);
+    }
+    kin_solve_info local = {.size = sizeof local};
+    int rc = scan_impl(m, s, Q, starts, seed, betas, maxsol, nsol, &local);
+    if (info) kin__abi_write(info, &local, sizeof local);
+    return rc;
 }

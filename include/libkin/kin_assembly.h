@@ -108,6 +108,7 @@ KIN_API int kin_get_equilibrium_matrix(const kin_assembly *a, double *H, int ldh
 /* ---- First-order analysis (paper 3.1) -------------------------------- */
 
 typedef struct kin_analysis {
+    size_t size; /* sizeof(kin_analysis) as the caller compiled it (docs/abi.md) */
     int rank;       /* r: singular values > rank_tol * v_max */
     int m;          /* nfree - r: all infinitesimal mechanisms */
     int m_rigid;    /* rigid-body mechanisms allowed by the supports */

@@ -12,6 +12,7 @@
 #ifndef KIN_BRANCH_H
 #define KIN_BRANCH_H
 
+#include <stddef.h>
 #include "kin_export.h"
 #include "kin_assembly.h"
 
@@ -35,6 +36,7 @@ KIN_API int kin_second_order(const kin_assembly *a, int weighting, int normalise
 
 /* What a quadric solve found. */
 typedef struct kin_solve_info {
+    size_t size; /* sizeof(kin_solve_info) as the caller compiled it (docs/abi.md) */
     int starts;      /* starting points tried */
     int converged;   /* starts that converged to a root */
     int distinct;    /* distinct real solutions (beta and -beta counted once) */
@@ -60,6 +62,7 @@ KIN_API int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigne
  * in exactly one class, paths = real + nonreal + singular + failed.
  * Fields after `failed` report the checks (see kin_quadrics_homotopy). */
 typedef struct kin_homotopy_info {
+    size_t size; /* sizeof(kin_homotopy_info) as the caller compiled it (docs/abi.md) */
     int paths;         /* 2^s */
     int real;          /* certified real simple roots reached (counted with multiplicity) */
     int real_distinct; /* distinct real solutions */
@@ -115,6 +118,7 @@ KIN_API int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long s
 
 /* One candidate path out of a bifurcation (paper 3.4). */
 typedef struct kin_branch_path {
+    size_t size; /* sizeof(kin_branch_path) as the caller compiled it (docs/abi.md) */
     int beta;        /* index of the second-order solution */
     int sign;        /* +1 or -1: direction of motion along U_m*beta */
     int exists;      /* the first step converged and the path was followed */

@@ -63,6 +63,7 @@ int kin_get_lengths(const kin_assembly *a, double *lengths);
 double kin_max_strain(const kin_assembly *a);
 int kin_get_equilibrium_matrix(const kin_assembly *a, double *H, int ldh);
 typedef struct kin_analysis {
+    size_t size;
     int rank;
     int m;
     int m_rigid;
@@ -83,6 +84,7 @@ int kin_get_mechanisms(const kin_assembly *a, int kind, double *U, int ldu, int 
 int kin_get_self_stresses(const kin_assembly *a, double *W, int ldw, int cols);
 
 typedef struct kin_options {
+    size_t size;
     double rank_tol;
     double corrector_tol;
     int corrector_max_iter;
@@ -100,6 +102,7 @@ void kin_options_default(kin_options *o);
 int kin_set_options(kin_assembly *a, const kin_options *o);
 int kin_get_options(const kin_assembly *a, kin_options *o);
 typedef struct kin_step_info {
+    size_t size;
     double l;
     double delta;
     double v_r;
@@ -133,6 +136,7 @@ enum kin_sail_diagonal {
     KIN_SAIL_DIAG_BACKWARD = 1
 };
 typedef struct kin_sail_params {
+    size_t size;
     int n_sides;
     int n_loops;
     double side;
@@ -152,6 +156,7 @@ enum kin_q_weighting {
 int kin_second_order(const kin_assembly *a, int weighting, int normalise, double *Q, int nq,
                              int *s_out);
 typedef struct kin_solve_info {
+    size_t size;
     int starts;
     int converged;
     int distinct;
@@ -161,6 +166,7 @@ typedef struct kin_solve_info {
 int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long seed,
                               double *betas, int maxsol, int *nsol, kin_solve_info *info);
 typedef struct kin_homotopy_info {
+    size_t size;
     int paths;
     int real;
     int real_distinct;
@@ -180,6 +186,7 @@ int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int
                                   double *betas, int maxsol, int *nsol, int *multiplicity,
                                   kin_homotopy_info *info);
 typedef struct kin_branch_path {
+    size_t size;
     int beta;
     int sign;
     int exists;
@@ -204,6 +211,7 @@ enum kin_locate_event {
     KIN_EVENT_MINIMUM = 4
 };
 typedef struct kin_locate_options {
+    size_t size;
     int method;
     double vr_tol;
     double switch_eps;
@@ -213,6 +221,7 @@ typedef struct kin_locate_options {
     int use_switch_rule;
 } kin_locate_options;
 typedef struct kin_locate_info {
+    size_t size;
     int event;
     int located;
     int steps;
