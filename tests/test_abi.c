@@ -52,13 +52,13 @@ static void outputs(void)
     set_size(&g, sizeof(kin_analysis));
     CHECK_RC(kin_analyse(a, (kin_analysis *)g.bytes), KIN_OK);
     CHECK(untouched(&g, sizeof(kin_analysis)));
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     memcpy(&an, g.bytes, sizeof an);
     CHECK(an.size == sizeof an && an.m_internal == 2 && an.s == 1);
     set_size(&g, sizeof(kin_options));
     CHECK_RC(kin_get_options(a, (kin_options *)g.bytes), KIN_OK);
     CHECK(untouched(&g, sizeof(kin_options)));
-    kin_options o;
+    kin_options o = {.size = sizeof o};
     memcpy(&o, g.bytes, sizeof o);
     CHECK(o.size == sizeof o && o.rank_tol > 0.0);
     CHECK_RC(kin_set_options(a, &o), KIN_OK);
@@ -81,7 +81,7 @@ static void handle_free(void)
     set_size(&g, sizeof(kin_homotopy_info));
     CHECK_RC(kin_quadrics_homotopy(2, 1, Q, 1, 1, beta, 2, &nsol, NULL, (kin_homotopy_info *)g.bytes), KIN_OK);
     CHECK(untouched(&g, sizeof(kin_homotopy_info)));
-    kin_homotopy_info h;
+    kin_homotopy_info h = {.size = sizeof h};
     memcpy(&h, g.bytes, sizeof h);
     CHECK(h.paths == 2 && h.real == 2 && h.real_distinct == 2 && nsol == 2);
 
@@ -92,7 +92,7 @@ static void handle_free(void)
     CHECK(p.size == sizeof p);
     CHECK_RC(kin_sail_size(&p, &nj, &nb), KIN_OK);
     CHECK(nj == 19 && nb == 45);
-    kin_locate_options lo;
+    kin_locate_options lo = {.size = sizeof lo};
     kin_locate_options_default(&lo);
     CHECK(lo.size == sizeof lo);
 }
