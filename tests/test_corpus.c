@@ -313,7 +313,7 @@ static int analyse_checked(const fw *f, summary *out, int quiet)
     int rc = kin_assembly_create(d, f->nj, f->xyz, f->fixed, f->nb, f->bars, NULL, &a, err, sizeof err);
     FAIL_IF(rc != KIN_OK, "create: %s (%s)", kin_status_name(rc), err);
     if (rc) return bad;
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     rc = kin_analyse(a, &an);
     FAIL_IF(rc != KIN_OK, "analyse: %s (%s)", kin_status_name(rc), kin_last_error(a));
     if (rc) {
@@ -326,6 +326,7 @@ static int analyse_checked(const fw *f, summary *out, int quiet)
     FAIL_IF(an.m_rigid < 0 || an.m_internal < 0 || an.m_rigid + an.m_internal != an.m,
             "m_rigid %d + m_internal %d != m %d", an.m_rigid, an.m_internal, an.m);
     kin_options o;
+    kin_options_default(&o); /* sets o.size */
     kin_get_options(a, &o);
     static double H[MAXC * MAXB], U[MAXC * MAXC], Ur[MAXC * 6], Ui[MAXC * MAXC], W[MAXB * MAXB];
     kin_get_equilibrium_matrix(a, H, nf);
@@ -484,6 +485,7 @@ static int step_checked(const fw *f, const summary *base, int mode, unsigned lon
     kin_assembly *a = NULL;
     if (kin_assembly_create(f->dim, f->nj, f->xyz, f->fixed, f->nb, f->bars, NULL, &a, NULL, 0)) return 1;
     kin_options o;
+    kin_options_default(&o); /* sets o.size */
     kin_get_options(a, &o);
     o.factorization = mode;
     kin_set_options(a, &o);

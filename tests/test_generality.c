@@ -27,7 +27,7 @@ static kin_assembly *make(const char *name, int dim, int nj, const double *xyz,
         ++check_failures_;
         return NULL;
     }
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     rc = kin_analyse(a, &an);
     if (rc != KIN_OK) {
         fprintf(stderr, "%s: analyse returned %s (%s)\n", name, kin_status_name(rc), kin_last_error(a));
@@ -201,7 +201,7 @@ static void two_dof_chain(int factorization)
     double dir[NF] = {0, 0, 0, 0, -(xyz[7] - xyz[5]), xyz[6] - xyz[4]};
     CHECK_RC(kin_path_set_direction(a, dir, NF), KIN_OK);
     CHECK_RC(kin_get_tangent(a, t, NF), KIN_OK);
-    kin_step_info info;
+    kin_step_info info = {.size = sizeof info};
     for (int k = 0; k < 12; ++k) {
         CHECK_RC(kin_get_tangent(a, t0, NF), KIN_OK);
         int rc = kin_step(a, 0.05, &info);
@@ -214,7 +214,7 @@ static void two_dof_chain(int factorization)
         /* the new tangent is the previous one projected on the new point's
          * internal mechanisms (an analysis is current in both modes: every
          * multi-DOF point is analysed by SVD) */
-        kin_analysis an;
+        kin_analysis an = {.size = sizeof an};
         CHECK_RC(kin_get_analysis(a, &an), KIN_OK);
         CHECK(an.m_internal == 2 && an.m_rigid == 1);
         CHECK_RC(kin_get_mechanisms(a, KIN_MECH_INTERNAL, U, NF, 2), KIN_OK);
