@@ -649,8 +649,8 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
         project_internal(a, f, a->d, a->y);
         res->multidof = 1;
     } else {
-        /* more mechanisms than before (a bifurcation reached): the chord's
-         * projection, and the caller chooses the next direction */
+        /* the count changed (from a path: a bifurcation reached): the
+         * chord's projection, and the caller chooses the next direction */
         memcpy(a->d, a->chord, sizeof(double) * (size_t)nf);
         project_internal(a, f, a->d, a->y);
     }
