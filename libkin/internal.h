@@ -82,6 +82,8 @@ struct kin_assembly {
     int t_chosen;            /* t was set by kin_path_set_direction at a bifurcation */
     double l;                /* signed path length */
     double step_hint;        /* amplitude the next automatic step starts from (0: the largest) */
+    int chord_hopeless;      /* LU modes: automatic steps left before the chord-only control is tried
+                                again (shorter steps did not let the chord converge) */
 
     /* step scratch, each nf or nb */
     double *x0, *x, *xp, *d, *y, *e, *len, *chord;
@@ -113,7 +115,12 @@ struct kin_assembly {
 /* Fault injection for the tests (not exported): the SVD of the next analyses
  * reports info < 0, info > 0 in both dgesdd and dgesvd, or info > 0 in dgesdd
  * only (exercising the dgesvd fallback). */
-enum kin__fault { KIN__FAULT_NONE = 0, KIN__FAULT_SVD_ARG, KIN__FAULT_SVD_CONV, KIN__FAULT_SDD_CONV };
+enum kin__fault { KIN__FAULT_NONE = 0, KIN__FAULT_SVD_ARG, KIN__FAULT_SVD_CONV, KIN__FAULT_SDD_CONV,
+                  /* sparse.c: the KLU analysis or a factorization cannot
+                   * allocate; every numeric factorization reports a singular
+                   * J; every refactorization is rejected (pivot again) */
+                  KIN__FAULT_SPARSE_NOMEM, KIN__FAULT_SPARSE_FACTOR_NOMEM, KIN__FAULT_SPARSE_SINGULAR,
+                  KIN__FAULT_SPARSE_REPIVOT };
 void kin__set_fault(kin_assembly *a, int fault);
 
 /* error helpers: set the handle's message and return the code */

@@ -31,6 +31,11 @@ enum { NEWTON_MAX_FACTORIZATIONS = 8 };
  * finished stalled chords, against 1.0 at a step short enough for the
  * chord). */
 enum { CHORD_ONLY_HALVINGS = 3 };
+/* ... and when even that did not let the chord converge (measured on the
+ * hexagonal sail's generic point, close to a bifurcation: the chord stalls
+ * down to delta / 500), the next this many automatic steps use Newton at
+ * the full amplitude before shorter steps are tried again. */
+enum { CHORD_RETRY_STEPS = 4 };
 /* Automatic steps (delta == 0) grow by this factor after an easy step, up
  * to the largest step. */
 static const double STEP_GROWTH = 1.5;
@@ -125,6 +130,7 @@ int kin_path_reset(kin_assembly *a)
     a->l = 0.0;
     a->have_t = a->t_chosen = 0;
     a->step_hint = 0.0;
+    a->chord_hopeless = 0;
     return KIN_OK;
 }
 
@@ -181,6 +187,7 @@ int kin_path_set_direction(kin_assembly *a, const double *dir, int n)
     a->have_t = 1;
     a->t_chosen = f->an.m_internal >= 2;
     a->step_hint = 0.0; /* a new direction: start again from the largest step */
+    a->chord_hopeless = 0;
     return KIN_OK;
 }
 
@@ -512,14 +519,16 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
     int use_chord = lu_point || f->an.m_internal == 1 || f->an.s == 0;
     int start_mi = lu_point ? 1 : f->an.m_internal;
     attempt_result res = {0};
-    int h, tries = pred ? 0 : a->opt.max_halvings;
+    int h, tries = pred ? 0 : a->opt.max_halvings, chord_only_failed = 0;
+    double delta_first = delta;
     for (h = 0; h <= tries; ++h, delta *= 0.5) {
         /* LU modes, automatic step: halve a stalling chord CHORD_ONLY_HALVINGS
          * times before paying for Newton (step control that knows its mode;
          * measured on sail:24:14: 1.1 factorizations per step instead of 2.7) */
-        int chord_only = mode_control && use_chord && h < CHORD_ONLY_HALVINGS;
+        int chord_only = mode_control && use_chord && a->chord_hopeless == 0 && h < CHORD_ONLY_HALVINGS;
         rc = attempt(a, delta, pred, use_chord, use_lu, start_mi, chord_only, &res);
         if (rc == KIN_OK) break;
+        chord_only_failed += chord_only;
         if (rc == KIN_ELAPACK_ARG) return rc;
     }
     if (rc != KIN_OK) {
@@ -552,6 +561,21 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
          * point's), keep the amplitude after a hard one */
         int easy = h == 0 && a->nfact - f0 <= 1;
         a->step_hint = easy ? STEP_GROWTH * fabs(delta) : fabs(delta);
+        if (mode_control) {
+            /* the chord converged: the LU modes' control applies again; it
+             * did not even after shorter steps (close to a bifurcation the
+             * chord's contraction is set by v_r more than by the step):
+             * Newton at the full amplitude, as in the SVD mode, for the
+             * next CHORD_RETRY_STEPS steps or until the chord converges */
+            if (!res.newton) {
+                a->chord_hopeless = 0;
+            } else if (chord_only_failed >= CHORD_ONLY_HALVINGS) {
+                a->chord_hopeless = CHORD_RETRY_STEPS;
+                a->step_hint = fabs(delta_first);
+            } else if (a->chord_hopeless > 0) {
+                --a->chord_hopeless; /* try the shorter steps again after a while */
+            }
+        }
     }
     if (info) {
         info->l = a->l;

@@ -143,7 +143,7 @@ int kin__sparse_prepare(kin_assembly *a)
     s->common.ordering = 1;
     s->common.btf = 0;
     s->common.tol = 1.0;
-    s->sym = klu_analyze(nf, s->Ap, s->Ai, &s->common);
+    s->sym = a->fault == KIN__FAULT_SPARSE_NOMEM ? NULL : klu_analyze(nf, s->Ap, s->Ai, &s->common);
     if (!s->sym) {
         int st = s->common.status;
         kin__sparse_free(a);
@@ -179,8 +179,15 @@ int kin__sparse_factor(kin_assembly *a, int slot, const double *xyz, const doubl
     fill(a, xyz, b, R);
     a->nfact++;
     int ok = 0;
+    if (a->fault == KIN__FAULT_SPARSE_SINGULAR) {
+        *singular = 1; /* test hook: as klu_factor on a singular J */
+        return KIN_OK;
+    }
+    if (a->fault == KIN__FAULT_SPARSE_FACTOR_NOMEM)
+        return kin__fail(a, KIN_ENOMEM, "sparse mode: KLU factorization failed (test fault)");
     if (s->num[slot]) {
-        ok = klu_refactor(s->Ap, s->Ai, s->Ax, s->sym, s->num[slot], &s->common) && s->common.status == KLU_OK &&
+        ok = a->fault != KIN__FAULT_SPARSE_REPIVOT &&
+             klu_refactor(s->Ap, s->Ai, s->Ax, s->sym, s->num[slot], &s->common) && s->common.status == KLU_OK &&
              klu_rgrowth(s->Ap, s->Ai, s->Ax, s->sym, s->num[slot], &s->common) &&
              s->common.rgrowth >= RGROWTH_MIN;
         if (!ok) klu_free_numeric(&s->num[slot], &s->common);
