@@ -50,9 +50,11 @@
  *  KIN_STEP_SPARSE: the LU mode with a sparse LU (SuiteSparse KLU) of the
  *   square bordered matrix J, built in compressed-column form from the bars
  *   (C has at most 2*dim non-zeros per row; the 1 + m_rigid border rows are
- *   dense and KLU keeps them: its fill-reducing ordering puts dense rows
- *   last, so they add about (1 + m_rigid) * nf entries to the factors, and
- *   the exact border needs no Schur complement or re-analysis). The symbolic
+ *   dense and stay in the matrix: the column ordering, COLAMD, ignores
+ *   dense rows, so they add about (1 + m_rigid) * nf entries to the
+ *   factors, and the exact border needs no Schur complement or
+ *   re-analysis). It pays on sail-like structures; compact 3D blocks fill
+ *   in (docs/performance.md). The symbolic
  *   analysis and a first numeric factorization are made when the mode is
  *   set (kin_set_options, which may then return KIN_ENOMEM); each new point
  *   refactorizes with the same pivot order (klu_refactor), and pivots again
@@ -70,7 +72,9 @@
  *   (delta == 0) whose chord corrector stalls is halved instead of being
  *   finished by Newton (each Newton iteration is a new factorization, a
  *   failed chord attempt costs only solves); after 3 such halvings in one
- *   call Newton is used as in the SVD mode. Explicit amplitudes are
+ *   call Newton is used as in the SVD mode, and then (the chord did not
+ *   converge even on shorter steps: close to a bifurcation) the next 4
+ *   automatic steps use Newton at the full amplitude. Explicit amplitudes are
  *   corrected as in the SVD mode, so the modes give the same points; with
  *   kin_options.step_control = KIN_STEP_CONTROL_SHARED automatic steps do
  *   too (the SVD mode's amplitudes).
