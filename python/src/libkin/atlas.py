@@ -1,0 +1,480 @@
+"""The atlas: every path out of every bifurcation met, for any structure.
+
+explore() starts from a configuration (a regular point or a bifurcation),
+enumerates the directed branches there (both senses of the path at a regular
+point; at a bifurcation the real solutions beta of the second-order
+equations, from the complete solver or, in symmetric mode, from the system
+restricted to the motions that keep the configuration's symmetry), follows
+each to its next event (atlas_tasks.follow_branch: a located bifurcation, a
+near-miss, a closed loop, the length budget, a failure), identifies end
+points that are the same configuration (up to the rigid motions the supports
+allow) or images of each other under the structure's symmetries
+(automorphisms.py), and recurses from the new bifurcations, level by level,
+bounded by depth, node count, path length and time.
+
+Determinism: the branches of a level are tasks whose results are merged in
+the order of (node, solution index, sign), whatever order they complete in;
+node ids follow that order. So the atlas is the same serially, on a process
+pool or on a Dask cluster (time_limit aside: it is checked between nodes).
+"""
+import dataclasses
+import json
+import math
+import sys
+import time
+
+import numpy as np
+
+from . import atlas_tasks as tasks
+from .automorphisms import detect_symmetries, invariant_subspace, stabilizer
+from .errors import KinError, ModelFormatError
+
+# node kinds: what a node of the map is
+BIFURCATION = "bifurcation"  # m_internal >= 2 and s >= 1 (branches can be enumerated)
+REGULAR = "regular"          # on a single path (m_internal = 1): the start, or a budget end
+NEAR_MISS = "near_miss"      # a v_r dip the follower stopped at, but regular here
+MULTI_DOF = "multi_dof"      # m_internal >= 2 with s = 0: a mechanism of several freedoms
+RIGID = "rigid"              # m_internal = 0
+FAILURE = "failure"          # where following failed
+NODE_KINDS = (BIFURCATION, REGULAR, NEAR_MISS, MULTI_DOF, RIGID, FAILURE)
+
+# two configurations are one node when they agree to this times the model size
+SAME_TOL = 1e-6
+# symmetric="auto" uses the symmetric subspace when the complete solver would
+# track more than 2^AUTO_MAX_S paths
+AUTO_MAX_S = 12
+
+
+@dataclasses.dataclass
+class Node:
+    id: int
+    kind: str
+    coords: np.ndarray
+    m: int
+    m_rigid: int
+    s: int
+    v_r_rel: float
+    depth: int
+    located_v_r: float = 0.0      # v_r / v_max of the vanishing singular value where located
+    orbit: int = -1               # smallest node id of its symmetry orbit
+    image_of: dict = None         # {"node": k, "symmetry": j}: this is g_j . node k
+    expanded: bool = False
+    status: str = ""              # why not expanded, or what enumeration found
+    branches: dict = None         # how its branches were enumerated
+
+    def to_dict(self):
+        d = dataclasses.asdict(self)
+        d["coords"] = self.coords.tolist()
+        return d
+
+
+@dataclasses.dataclass
+class Edge:
+    id: int
+    source: int
+    target: int
+    solution: int        # index of beta among the node's solutions (0 at a regular point)
+    sign: int            # +1 / -1: which sense of U_m beta
+    beta: list
+    event: str           # tasks.EVENT_KINDS
+    length: float
+    accuracy: float
+    samples: list
+    message: str = ""
+
+    def to_dict(self):
+        return dataclasses.asdict(self)
+
+
+class Atlas:
+    """The result of explore(): nodes, directed edges, the symmetries used,
+    the settings and statistics. to_dict()/to_json()/to_graphml() write it;
+    Atlas.from_dict() reads to_dict() back."""
+
+    def __init__(self, model, nodes, edges, symmetries, settings, stats):
+        self.model, self.nodes, self.edges = model, nodes, edges
+        self.symmetries, self.settings, self.stats = symmetries, settings, stats
+
+    def node_name(self, i):
+        return f"N{i}"
+
+    def to_dict(self):
+        return {"format": "libkin-atlas", "version": 1, "model": self.model, "settings": self.settings,
+                "symmetries": [g.to_dict() for g in self.symmetries],
+                "nodes": [n.to_dict() for n in self.nodes], "edges": [e.to_dict() for e in self.edges],
+                "stats": self.stats}
+
+    def to_json(self, path=None):
+        text = json.dumps(self.to_dict(), indent=1, default=_jsonable, allow_nan=True) + "\n"
+        if path is not None:
+            with open(path, "w") as f:
+                f.write(text)
+        return text
+
+    @classmethod
+    def from_dict(cls, d):
+        from .automorphisms import Symmetry
+        nodes = [Node(**dict(n, coords=np.asarray(n["coords"]))) for n in d["nodes"]]
+        edges = [Edge(**e) for e in d["edges"]]
+        syms = [Symmetry(tuple(g["perm"]), np.asarray(g["Q"]), np.asarray(g["t"])) for g in d["symmetries"]]
+        return cls(d["model"], nodes, edges, syms, d["settings"], d["stats"])
+
+    def to_networkx(self):
+        """A networkx MultiDiGraph with scalar attributes (lists as JSON text)."""
+        import networkx as nx
+        G = nx.MultiDiGraph(name=str(self.model.get("name", "model")))
+        for n in self.nodes:
+            G.add_node(self.node_name(n.id), kind=n.kind, m=n.m, m_rigid=n.m_rigid, s=n.s, v_r_rel=n.v_r_rel,
+                       depth=n.depth, orbit=self.node_name(n.orbit), expanded=n.expanded, status=n.status,
+                       coords=json.dumps(n.coords.tolist()))
+        for e in self.edges:
+            G.add_edge(self.node_name(e.source), self.node_name(e.target), key=e.id, solution=e.solution,
+                       sign=e.sign, event=e.event, length=e.length,
+                       accuracy=e.accuracy if math.isfinite(e.accuracy) else -1.0,
+                       beta=json.dumps(e.beta), samples=json.dumps(e.samples), message=e.message)
+        return G
+
+    def to_graphml(self, path):
+        import networkx as nx
+        nx.write_graphml(self.to_networkx(), path)
+
+    def summary(self):
+        """Counts by node kind and by edge event."""
+        nk, ek = {}, {}
+        for n in self.nodes:
+            nk[n.kind] = nk.get(n.kind, 0) + 1
+        for e in self.edges:
+            ek[e.event] = ek.get(e.event, 0) + 1
+        return {"nodes": len(self.nodes), "edges": len(self.edges), "node_kinds": nk, "edge_events": ek}
+
+    def same_as(self, other, tol=1e-9):
+        """True if other has the same nodes (kind, m, s, orbit, coordinates to
+        tol times the model size) and edges (endpoints, solution, sign, event,
+        length to tol)."""
+        if len(self.nodes) != len(other.nodes) or len(self.edges) != len(other.edges):
+            return False
+        for a, b in zip(self.nodes, other.nodes):
+            if (a.kind, a.m, a.s, a.orbit, a.expanded) != (b.kind, b.m, b.s, b.orbit, b.expanded):
+                return False
+            if np.abs(a.coords - b.coords).max() > tol * max(1.0, np.abs(a.coords).max()):
+                return False
+        for a, b in zip(self.edges, other.edges):
+            if (a.source, a.target, a.solution, a.sign, a.event) != (b.source, b.target, b.solution, b.sign, b.event):
+                return False
+            if abs(a.length - b.length) > tol * max(1.0, a.length):
+                return False
+        return True
+
+
+def _jsonable(v):
+    if isinstance(v, np.integer):
+        return int(v)
+    if isinstance(v, np.floating):
+        return float(v)
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, np.bool_):
+        return bool(v)
+    return str(v)
+
+
+# ---- running tasks ---------------------------------------------------------
+
+def _is_dask_client(ex):
+    try:
+        from distributed import Client
+    except ImportError:
+        return False
+    return isinstance(ex, Client)
+
+
+def run_tasks(fn, items, executor=None, progress=None, what="tasks"):
+    """fn(item) for every item, serially (executor None) or on a
+    concurrent.futures.Executor or a dask.distributed.Client; the results in
+    the order of items. progress(done, total, what) after each."""
+    n = len(items)
+    if executor is None:
+        out = []
+        for k, it in enumerate(items):
+            out.append(fn(it))
+            _tick(progress, k + 1, n, what)
+        return out
+    if _is_dask_client(executor):
+        futures = executor.map(fn, items, pure=False)
+    else:
+        futures = [executor.submit(fn, it) for it in items]
+    out = []
+    for k, f in enumerate(futures):
+        out.append(f.result())
+        _tick(progress, k + 1, n, what)
+    return out
+
+
+def _tick(progress, done, total, what):
+    if progress is None or progress is False:
+        return
+    if callable(progress):
+        progress(done, total, what)
+    elif done == total or done % max(1, total // 10) == 0:
+        print(f"[explore] {what}: {done}/{total}", file=sys.stderr, flush=True)
+
+
+def _say(progress, msg):
+    if progress is True:
+        print(f"[explore] {msg}", file=sys.stderr, flush=True)
+
+
+# ---- the explorer ----------------------------------------------------------
+
+class _Explorer:
+    def __init__(self, a, symmetric, executor, progress, max_length, seed, threads, symmetries):
+        from .model_json import to_json
+        self.a = a.clone()
+        self.doc = to_json(a)
+        self.text = json.dumps(self.doc)
+        self.free_map = a.free_map()
+        self.scale = max(1.0, float(np.abs(a.coords - a.coords.mean(axis=0)).max()))
+        self.tol = SAME_TOL * self.scale
+        self.symmetric, self.executor, self.progress = symmetric, executor, progress
+        self.max_length, self.seed, self.threads = max_length, seed, threads
+        self.syms = detect_symmetries(a) if symmetries is None else list(symmetries)
+        self.P = [g.free_matrix(self.free_map) for g in self.syms]
+        self.nodes, self.edges = [], []
+        self.rigid = a.analyse().m_rigid > 0
+
+    # -- identification
+    def _distance(self, X, Y):
+        if self.rigid:
+            # up to the rigid motions the supports allow: align X onto Y
+            cx, cy = X.mean(axis=0), Y.mean(axis=0)
+            U, _, Vt = np.linalg.svd((X - cx).T @ (Y - cy))
+            D = np.eye(X.shape[1])
+            D[-1, -1] = np.sign(np.linalg.det(Vt.T @ U.T)) or 1.0
+            R = Vt.T @ D @ U.T
+            X = (X - cx) @ R.T + cy
+        return float(np.abs(X - Y).max())
+
+    def find(self, X):
+        for n in self.nodes:
+            if self._distance(X, n.coords) <= self.tol:
+                return n.id
+        return None
+
+    def orbit_of(self, X):
+        """(node id, symmetry index) with g.node = X, if X is an image of a node."""
+        for n in self.nodes:
+            for j, g in enumerate(self.syms):
+                if self._distance(g.apply(n.coords), X) <= self.tol:
+                    return n.id, j
+        return None
+
+    def add_node(self, X, kind, an, depth):
+        i = len(self.nodes)
+        n = Node(i, kind, np.asarray(X, dtype=float), an["m"], an["m_rigid"], an["s"], an["v_r_rel"], depth,
+                 located_v_r=float(an.get("accuracy", 0.0)), orbit=i)
+        img = self.orbit_of(n.coords) if len(self.syms) > 1 else None
+        if img is not None:
+            n.image_of = {"node": img[0], "symmetry": img[1]}
+            n.orbit = self.nodes[img[0]].orbit
+        self.nodes.append(n)
+        return i
+
+    # -- enumeration at a node
+    def _assembly_at(self, node):
+        a = self.a.clone()
+        o = a.options
+        o.rank_tol = self._rank_tol(node)
+        a.options = o
+        a.coords = node.coords
+        return a
+
+    def _rank_tol(self, node):
+        # a point located only to v_r ~ v_r_rel is counted as the follower saw it
+        v = node.located_v_r if math.isfinite(node.located_v_r) else 0.0
+        return max(1e-9, 10.0 * v) if node.kind == BIFURCATION else 1e-9
+
+    def branches(self, node):
+        """[(solution index, sign, beta, direction)] at node, and a record."""
+        a = self._assembly_at(node)
+        an = a.analyse()
+        U = an.internal_mechanisms
+        m, s = an.m_internal, an.s
+        if m == 0:
+            return [], {"mode": "none", "reason": "no internal mechanism (rigid)"}
+        if m == 1:
+            b = np.array([1.0])
+            return [(0, sg, b, sg * U[:, 0]) for sg in (1, -1)], {"mode": "regular", "solutions": 1}
+        if s == 0:
+            return [], {"mode": "none", "reason": f"m = {m} internal mechanisms and no self-stress: "
+                                                  "a mechanism of several freedoms, not a bifurcation"}
+        use_sym = self.symmetric is True or (self.symmetric == "auto" and s > AUTO_MAX_S)
+        rec = {"m": m, "s": s}
+        Q = a.second_order()
+        if use_sym:
+            from .symmetry import restricted_quadrics
+            stab = [self.P[j] for j, g in enumerate(self.syms)
+                    if g.proper and not g.is_identity and np.abs(g.apply(node.coords) - node.coords).max() <= self.tol]
+            G = invariant_subspace(U, stab)
+            k = G.shape[1]
+            rec.update({"mode": "symmetric", "group_order": len(stab) + 1, "k": k})
+            if k == 0:
+                return [], dict(rec, solutions=0, reason="no first-order mechanism keeps the symmetry")
+            if k == 1:
+                betas = G.T.copy()
+                rec["solutions"] = 1
+            else:
+                Qs = restricted_quadrics(Q, G)
+                rec["s_restricted"] = int(Qs.shape[0])
+                if Qs.shape[0] != k - 1:
+                    return [], dict(rec, reason=f"restricted system has {Qs.shape[0]} equations in {k} "
+                                                "unknowns; the solvers need k - 1")
+                res = run_tasks(tasks.solve_task, [{"Q": Qs.tolist(), "seed": self.seed, "threads": self.threads}],
+                                self.executor)[0]
+                betas = np.asarray(res["betas"]).reshape(-1, k) @ G.T
+                rec.update({"solutions": len(betas), "accounting": res["accounting"]})
+        else:
+            if m != s + 1:
+                return [], dict(rec, mode="complete", reason=f"m = {m}, s = {s}: the complete solver needs "
+                                                             "m = s + 1")
+            res = run_tasks(tasks.solve_task, [{"Q": Q.tolist(), "seed": self.seed, "threads": self.threads}],
+                            self.executor)[0]
+            betas = np.asarray(res["betas"]).reshape(-1, m)
+            rec.update({"mode": "complete", "solutions": len(betas), "accounting": res["accounting"]})
+        out = []
+        for i, b in enumerate(betas):
+            for sg in (1, -1):
+                out.append((i, sg, b, sg * (U @ b)))
+        return out, rec
+
+    def follow_all(self, work):
+        """work: [(node, solution, sign, beta, direction)] -> results in order."""
+        items = [{"model": self.text, "coords": self.nodes[nid].coords.tolist(),
+                  "rank_tol": self._rank_tol(self.nodes[nid]), "direction": d.tolist(),
+                  "max_length": self.max_length} for nid, _, _, _, d in work]
+        return run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches")
+
+    def merge(self, nid, sol, sign, beta, res, depth):
+        ev = res["event"]
+        X = np.asarray(res["coords"])
+        if ev == tasks.LOOP:
+            target = nid
+        else:
+            kind = _node_kind(ev, res)
+            target = self.find(X)
+            if target is None:
+                target = self.add_node(X, kind, res, depth)
+        self.edges.append(Edge(len(self.edges), nid, target, int(sol), int(sign), [float(v) for v in beta], ev,
+                               float(res["length"]), float(res["accuracy"]), res["samples"], res["message"]))
+        return target
+
+
+def _node_kind(event, res):
+    if event == tasks.FAILURE:
+        return FAILURE
+    m, s = res["m"], res["s"]
+    if m == 0:
+        return RIGID
+    if m >= 2:
+        return BIFURCATION if s >= 1 else MULTI_DOF
+    # m = 1: regular here, whatever the follower reported
+    return NEAR_MISS if event in (tasks.NEAR_MISS, tasks.BIFURCATION) else REGULAR
+
+
+def explore(model, start=None, depth=1, max_nodes=200, max_length=None, time_limit=None, symmetric=False,
+            executor=None, progress=None, seed=1, threads=1, symmetries=None):
+    """Map the paths out of `start` and out of every bifurcation they reach.
+
+    model: an Assembly, a JSON model (file path, text or dict) or a built-in
+    spec ("sail:4:1", "threebar:RC"). start: a configuration (njoints, dim)
+    (default: the model's current one), a regular point or a bifurcation.
+    depth: levels of bifurcations to expand (1: only the start's branches).
+    max_nodes: no node is expanded once the atlas has this many. max_length:
+    path length budget of one branch (default: 4 times the model size).
+    time_limit: seconds; no node is expanded after it (a level in flight
+    completes). symmetric: False = the complete solver at every bifurcation;
+    True = only the branches that keep the node's symmetry (the proper
+    rotations among the structure's symmetries that fix the node); "auto" =
+    symmetric where s > 12. symmetries: the group to use (a list of
+    automorphisms.Symmetry; default detected at the start). executor: None
+    (serial), a concurrent.futures.Executor or a dask.distributed.Client.
+    progress: None, True (messages on stderr) or progress(done, total, what).
+    Returns an Atlas."""
+    from .assembly import Assembly
+    t0 = time.perf_counter()
+    a = _as_assembly(model)
+    if start is not None:
+        a = a.clone()
+        a.coords = np.asarray(start, dtype=float)
+    if symmetric not in (False, True, "auto"):
+        raise ModelFormatError(f"symmetric: expected False, True or 'auto', got {symmetric!r}")
+    if not isinstance(depth, int) or depth < 0:
+        raise ModelFormatError(f"depth: expected an integer >= 0, got {depth!r}")
+    scale = max(1.0, float(np.abs(a.coords - a.coords.mean(axis=0)).max()))
+    if max_length is None:
+        max_length = 4.0 * scale
+    ex = _Explorer(a, symmetric, executor, progress, float(max_length), seed, threads, symmetries)
+    an = a.analyse()
+    rec0 = {"m": an.m_internal, "m_rigid": an.m_rigid, "s": an.s,
+            "v_r_rel": float(an.v_r / an.v_max) if an.v_max > 0 else 0.0}
+    kind0 = _node_kind(tasks.BUDGET, rec0)
+    ex.add_node(a.coords, kind0, rec0, 0)
+    _say(progress, f"start: {kind0}, m = {an.m_internal}, s = {an.s}; {len(ex.syms)} symmetries")
+    frontier = [0]
+    stopped = None
+    for level in range(depth):
+        work = []
+        for nid in frontier:
+            node = ex.nodes[nid]
+            if node.image_of is not None:
+                node.status = f"not expanded: the image of N{node.image_of['node']} by symmetry {node.image_of['symmetry']}"
+                continue
+            if len(ex.nodes) >= max_nodes:
+                node.status = "not expanded: max_nodes reached"
+                stopped = stopped or "max_nodes"
+                continue
+            if time_limit is not None and time.perf_counter() - t0 > time_limit:
+                node.status = "not expanded: time limit reached"
+                stopped = stopped or "time_limit"
+                continue
+            try:
+                br, rec = ex.branches(node)
+            except KinError as exc:
+                node.status = f"branches not enumerated: {type(exc).__name__}: {exc}"
+                continue
+            node.branches = rec
+            node.expanded = True
+            node.status = rec.get("reason", f"{len(br)} directed branches")
+            work += [(nid, i, sg, b, d) for i, sg, b, d in br]
+        _say(progress, f"level {level + 1}: {len(work)} directed branches from {len(frontier)} node(s)")
+        results = ex.follow_all(work)
+        n_before = len(ex.nodes)
+        for (nid, i, sg, b, _), res in zip(work, results):
+            ex.merge(nid, i, sg, b, res, level + 1)
+        frontier = [n.id for n in ex.nodes[n_before:] if n.kind == BIFURCATION]
+        if not frontier:
+            break
+    for n in ex.nodes:
+        if not n.expanded and not n.status:
+            n.status = ("not expanded: depth reached" if n.kind == BIFURCATION
+                        else f"end point ({n.kind.replace('_', '-')})")
+    settings = {"depth": depth, "max_nodes": max_nodes, "max_length": float(max_length), "time_limit": time_limit,
+                "symmetric": symmetric, "seed": seed, "same_tol": ex.tol,
+                "executor": None if executor is None else type(executor).__name__}
+    stats = {"seconds": round(time.perf_counter() - t0, 3), "stopped_by": stopped}
+    atlas = Atlas(ex.doc, ex.nodes, ex.edges, ex.syms, settings, stats)
+    stats.update(atlas.summary())
+    return atlas
+
+
+def _as_assembly(model):
+    from .assembly import Assembly
+    if isinstance(model, Assembly):
+        return model
+    if isinstance(model, str):
+        if model.startswith("threebar:"):
+            return Assembly.threebar(model.split(":", 1)[1])
+        if model.startswith("sail:"):
+            parts = model.split(":")
+            return Assembly.sail(int(parts[1]), int(parts[2]) if len(parts) > 2 else 1)
+    from .model_json import load_json
+    return load_json(model)
