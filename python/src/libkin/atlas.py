@@ -453,10 +453,18 @@ def explore(model, start=None, depth=1, max_nodes=200, max_length=None, time_lim
         frontier = [n.id for n in ex.nodes[n_before:] if n.kind == BIFURCATION]
         if not frontier:
             break
+    arrived = {}
+    for e in ex.edges:
+        arrived.setdefault(e.target, set()).add(e.event)
+    why = {tasks.BUDGET: "the path-length budget ran out here", tasks.NEAR_MISS: "the follower stopped at a "
+           "dip of v_r here", tasks.FAILURE: "following failed here", tasks.BIFURCATION: "located as a "
+           "bifurcation, but regular at the rank tolerance"}
     for n in ex.nodes:
         if not n.expanded and not n.status:
-            n.status = ("not expanded: depth reached" if n.kind == BIFURCATION
-                        else f"end point ({n.kind.replace('_', '-')})")
+            if n.kind == BIFURCATION:
+                n.status = "not expanded: depth reached"
+            else:
+                n.status = "; ".join(why[ev] for ev in sorted(arrived.get(n.id, ())) if ev in why) or "end point"
     settings = {"depth": depth, "max_nodes": max_nodes, "max_length": float(max_length), "time_limit": time_limit,
                 "symmetric": symmetric, "seed": seed, "same_tol": ex.tol,
                 "executor": None if executor is None else type(executor).__name__}

@@ -140,6 +140,11 @@ def cmd_study(args):
     return 0
 
 
+def cmd_explore(args):
+    from .atlas_cli import run
+    return run(args, _load(args.model))
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(prog="libkin", description=(
         "Kinematic analysis of pin-jointed bar assemblies. MODEL is a JSON model file "
@@ -193,6 +198,10 @@ def main(argv=None):
     s.add_argument("--threads", type=int, default=2, help="threads of the homotopy solver")
     s.add_argument("--quiet", action="store_true", help="no progress messages")
     s.set_defaults(fn=cmd_study)
+    s = sub.add_parser("explore", help="the atlas: every path out of every bifurcation met (docs/atlas.md)")
+    from .atlas_cli import add_arguments
+    add_arguments(s)
+    s.set_defaults(fn=cmd_explore)
     s = sub.add_parser("models", help="write the built-in models as JSON files")
     s.add_argument("dir")
     s.set_defaults(fn=cmd_models)
