@@ -149,6 +149,8 @@ typedef struct loc_ctx {
     const kin_locate_options *o;
     kin_locate_info *info;
     hermite_ws *hw;
+    kin__step_hook hook; /* optional: may stop following after any accepted step */
+    void *hook_user;
 } loc_ctx;
 
 static double rel(const kin_assembly *a) { return kin__cur(a)->an.v_r / kin__cur(a)->an.v_max; }
@@ -850,7 +852,8 @@ static void free_ctx(loc_ctx *c)
     hermite_free(c->hw);
 }
 
-static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info)
+static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,
+                       void *hook_user)
 {
     kin_locate_options o = *opt;
     if ((o.method != KIN_LOCATE_PAPER && o.method != KIN_LOCATE_FAST && o.method != KIN_LOCATE_ILLINOIS) ||
@@ -863,7 +866,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         return kin__fail(a, KIN_EBIFURCATION, "already at a bifurcation (m_internal = %d)",
                          kin__cur(a)->an.m_internal);
     if (kin__cur(a)->an.m_internal == 0) return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");
-    loc_ctx c = {a, NULL, NULL, NULL, NULL, NULL, &o, info, NULL};
+    loc_ctx c = {a, NULL, NULL, NULL, NULL, NULL, &o, info, NULL, hook, hook_user};
     kin_options user = a->opt;
     double fine = fmin(user.rank_tol, LOCATE_RANK_FRACTION * o.vr_tol);
     a->opt.rank_tol = fine;
@@ -883,7 +886,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         a->have_t = 1;
     }
     double dir = o.delta < 0.0 ? -1.0 : 1.0, tb_delta = 0.0, tb_tau0 = 0.0, tb_tau1 = 0.0;
-    int pending = 0;
+    int pending = 0, stopped = 0;
     double tau0, tau1, hl[4], hv[4];
     int nh = 0;
     rc = kin_test_function(a, &tau0);
@@ -901,6 +904,10 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         rc = kin_step(a, o.delta, &si);
         if (rc) break;
         info->steps++;
+        if (c.hook && c.hook(c.hook_user, a)) {
+            stopped = 1;
+            break;
+        }
         if (si.m_internal >= 2) {
             info->event = KIN_EVENT_LANDED;
             break;
@@ -969,7 +976,8 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
     fp = c.probe->nfact;
     fpv = c.prev->nfact;
     if (rc == KIN_OK && info->event == KIN_EVENT_NONE)
-        rc = kin__fail(a, KIN_ENOTFOUND, "no bifurcation within %d steps", o.max_steps);
+        rc = stopped ? kin__fail(a, KIN_ENOTFOUND, "following stopped by the caller after %d steps", info->steps)
+                     : kin__fail(a, KIN_ENOTFOUND, "no bifurcation within %d steps", o.max_steps);
     if (rc == KIN_OK && info->event != KIN_EVENT_LANDED) {
         double step = o.delta != 0.0 ? fabs(o.delta) : a->opt.step_fraction * a->rms_length;
         int bracket = info->event == KIN_EVENT_SIGN_CHANGE || info->event == KIN_EVENT_MINIMUM;
@@ -1042,6 +1050,12 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
 
 int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info)
 {
+    return kin__locate_hooked(a, opt, info, NULL, NULL);
+}
+
+int kin__locate_hooked(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,
+                       void *hook_user)
+{
     if (info) {
         if (kin__abi_check(info, KIN__V1_SIZE(kin_locate_info, zero_order), sizeof *info))
             return a ? kin__fail(a, KIN_EINVAL, "info->size = %zu: set it to sizeof(kin_locate_info)",
@@ -1060,7 +1074,7 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
         kin__abi_read(&o, opt, sizeof o);
     }
     kin_locate_info local = {.size = sizeof local};
-    int rc = locate_impl(a, &o, &local);
+    int rc = locate_impl(a, &o, &local, hook, hook_user);
     if (info) kin__abi_write(info, &local, sizeof local);
     return rc;
 }
