@@ -56,6 +56,7 @@ class Node:
     v_r_rel: float
     depth: int
     located_v_r: float = 0.0      # v_r / v_max of the vanishing singular value where located
+    located_tol: float = 0.0      # the tolerance it was located to (vr_tol, or up to vr_floor)
     orbit: int = -1               # smallest node id of its symmetry orbit
     image_of: dict = None         # {"node": k, "symmetry": j}: this is g_j . node k
     expanded: bool = False
@@ -81,6 +82,8 @@ class Edge:
     accuracy: float
     samples: list
     message: str = ""
+    steps: int = 0
+    vr_tol: float = 0.0  # BIFURCATION: the tolerance it was located to
 
     def to_dict(self):
         return dataclasses.asdict(self)
@@ -227,7 +230,8 @@ def _say(progress, msg):
 # ---- the explorer ----------------------------------------------------------
 
 class _Explorer:
-    def __init__(self, a, symmetric, executor, progress, max_length, seed, threads, symmetries):
+    def __init__(self, a, symmetric, executor, progress, max_length, seed, threads, symmetries, max_steps,
+                 samples):
         from .model_json import to_json
         self.a = a.clone()
         self.doc = to_json(a)
@@ -237,7 +241,15 @@ class _Explorer:
         self.tol = SAME_TOL * self.scale
         self.symmetric, self.executor, self.progress = symmetric, executor, progress
         self.max_length, self.seed, self.threads = max_length, seed, threads
-        self.syms = detect_symmetries(a) if symmetries is None else list(symmetries)
+        self.max_steps, self.samples = max_steps, samples
+        self.symmetry_note = ""
+        if symmetries is not None:
+            self.syms = list(symmetries)
+        else:
+            try:
+                self.syms = detect_symmetries(a)
+            except ImportError:  # networkx is an optional dependency (libkin[atlas])
+                self.syms, self.symmetry_note = [], "not detected: networkx is not installed"
         self.P = [g.free_matrix(self.free_map) for g in self.syms]
         self.nodes, self.edges = [], []
         self.rigid = a.analyse().m_rigid > 0
@@ -271,7 +283,7 @@ class _Explorer:
     def add_node(self, X, kind, an, depth):
         i = len(self.nodes)
         n = Node(i, kind, np.asarray(X, dtype=float), an["m"], an["m_rigid"], an["s"], an["v_r_rel"], depth,
-                 located_v_r=float(an.get("accuracy", 0.0)), orbit=i)
+                 located_v_r=float(an.get("accuracy", 0.0)), located_tol=float(an.get("vr_tol", 0.0)), orbit=i)
         img = self.orbit_of(n.coords) if len(self.syms) > 1 else None
         if img is not None:
             n.image_of = {"node": img[0], "symmetry": img[1]}
@@ -290,8 +302,8 @@ class _Explorer:
 
     def _rank_tol(self, node):
         # a point located only to v_r ~ v_r_rel is counted as the follower saw it
-        v = node.located_v_r if math.isfinite(node.located_v_r) else 0.0
-        return max(1e-9, 10.0 * v) if node.kind == BIFURCATION else 1e-9
+        # a point located only to a coarser tolerance is analysed as the follower saw it
+        return max(1e-9, 10.0 * node.located_tol) if node.kind == BIFURCATION else 1e-9
 
     def branches(self, node):
         """[(solution index, sign, beta, direction)] at node, and a record."""
@@ -350,7 +362,8 @@ class _Explorer:
         """work: [(node, solution, sign, beta, direction)] -> results in order."""
         items = [{"model": self.text, "coords": self.nodes[nid].coords.tolist(),
                   "rank_tol": self._rank_tol(self.nodes[nid]), "direction": d.tolist(),
-                  "max_length": self.max_length} for nid, _, _, _, d in work]
+                  "max_length": self.max_length, "max_steps": self.max_steps, "samples": self.samples}
+                 for nid, _, _, _, d in work]
         return run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches")
 
     def merge(self, nid, sol, sign, beta, res, depth):
@@ -364,7 +377,8 @@ class _Explorer:
             if target is None:
                 target = self.add_node(X, kind, res, depth)
         self.edges.append(Edge(len(self.edges), nid, target, int(sol), int(sign), [float(v) for v in beta], ev,
-                               float(res["length"]), float(res["accuracy"]), res["samples"], res["message"]))
+                               float(res["length"]), float(res["accuracy"]), res["samples"], res["message"],
+                               int(res.get("steps", 0)), float(res.get("vr_tol", 0.0))))
         return target
 
 
@@ -381,7 +395,7 @@ def _node_kind(event, res):
 
 
 def explore(model, start=None, depth=1, max_nodes=200, max_length=None, time_limit=None, symmetric=False,
-            executor=None, progress=None, seed=1, threads=1, symmetries=None):
+            executor=None, progress=None, seed=1, threads=1, symmetries=None, max_steps=2000, samples=2):
     """Map the paths out of `start` and out of every bifurcation they reach.
 
     model: an Assembly, a JSON model (file path, text or dict) or a built-in
@@ -389,7 +403,9 @@ def explore(model, start=None, depth=1, max_nodes=200, max_length=None, time_lim
     (default: the model's current one), a regular point or a bifurcation.
     depth: levels of bifurcations to expand (1: only the start's branches).
     max_nodes: no node is expanded once the atlas has this many. max_length:
-    path length budget of one branch (default: 4 times the model size).
+    path length budget of one branch (default: 4 times the model size);
+    max_steps: step budget of one branch. samples: configurations recorded
+    along each branch (besides its end).
     time_limit: seconds; no node is expanded after it (a level in flight
     completes). symmetric: False = the complete solver at every bifurcation;
     True = only the branches that keep the node's symmetry (the proper
@@ -412,7 +428,8 @@ def explore(model, start=None, depth=1, max_nodes=200, max_length=None, time_lim
     scale = max(1.0, float(np.abs(a.coords - a.coords.mean(axis=0)).max()))
     if max_length is None:
         max_length = 4.0 * scale
-    ex = _Explorer(a, symmetric, executor, progress, float(max_length), seed, threads, symmetries)
+    ex = _Explorer(a, symmetric, executor, progress, float(max_length), seed, threads, symmetries, int(max_steps),
+                   int(samples))
     an = a.analyse()
     rec0 = {"m": an.m_internal, "m_rigid": an.m_rigid, "s": an.s,
             "v_r_rel": float(an.v_r / an.v_max) if an.v_max > 0 else 0.0}
@@ -466,7 +483,8 @@ def explore(model, start=None, depth=1, max_nodes=200, max_length=None, time_lim
             else:
                 n.status = "; ".join(why[ev] for ev in sorted(arrived.get(n.id, ())) if ev in why) or "end point"
     settings = {"depth": depth, "max_nodes": max_nodes, "max_length": float(max_length), "time_limit": time_limit,
-                "symmetric": symmetric, "seed": seed, "same_tol": ex.tol,
+                "symmetric": symmetric, "seed": seed, "same_tol": ex.tol, "max_steps": int(max_steps),
+                "samples": int(samples), "symmetries": ex.symmetry_note or f"{len(ex.syms)} detected",
                 "executor": None if executor is None else type(executor).__name__}
     stats = {"seconds": round(time.perf_counter() - t0, 3), "stopped_by": stopped}
     atlas = Atlas(ex.doc, ex.nodes, ex.edges, ex.syms, settings, stats)

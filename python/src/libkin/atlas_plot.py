@@ -4,8 +4,10 @@ Nodes are laid out in columns by depth (the level at which they were first
 reached), grouped by symmetry orbit within a column; the vertical spacing
 is set so that the labels, written to the right of each node, never overlap.
 Shape and colour say what a node is; a regular point or a near-miss is never
-drawn as a bifurcation. Parallel edges are drawn once with their count;
-an edge that returns to an earlier column or to its own node is an arc.
+drawn as a bifurcation. Parallel paths are drawn once with their count, a
+path and the paths back along it as one line with two heads ("a/b": a
+paths one way, b the other); paths within a column are arcs; closed loops
+are counted in the node's label.
 """
 import numpy as np
 
@@ -69,23 +71,33 @@ def draw_map(atlas, path=None, title=None):
     # display coordinates, which must not move afterwards
     fig.subplots_adjust(left=0.2 / W, right=1.0 - 2.6 / W, bottom=0.5 / H, top=1.0 - 0.4 / H)
     ax.set_xlim(-0.3, ncol - 1 + 1.2)
-    ax.set_ylim(-(nrow / 2.0) - 0.3, nrow / 2.0 + 0.3)
+    # a path and the path back along it (reached from the other end) are one
+    # line with two heads; what is left to bend is paths within a column
     groups = {}
     for e in atlas.edges:
-        groups.setdefault((e.source, e.target, e.event), []).append(e)
+        key = (min(e.source, e.target), max(e.source, e.target), e.event)
+        groups.setdefault(key, {}).setdefault((e.source, e.target), []).append(e)
+    same_col = any(pos[a][0] == pos[b][0] and a != b for a, b, _ in groups)
+    # arcs within a column bow sideways; leave a little room above and below
+    pad = 0.3 + (min(0.1 * nrow, 1.5) if same_col else 0.0)
+    ax.set_ylim(-(nrow / 2.0) - pad, nrow / 2.0 + pad)
     loops = {}
     to_data = ax.transData.inverted()
-    for (s, t, ev), es in sorted(groups.items()):
-        (x0, y0), (x1, y1) = pos[s], pos[t]
+    for (lo, hi, ev), dirs in sorted(groups.items()):
         col = EVENT_COLOUR.get(ev, "k")
-        if s == t:
-            loops[s] = loops.get(s, 0) + len(es)
+        if lo == hi:
+            loops[lo] = loops.get(lo, 0) + len(dirs[(lo, lo)])
             continue
-        rad = 0.0 if x1 > x0 else 0.35
+        # draw from the node further left (or higher up) to the other
+        s, t = sorted((lo, hi), key=lambda i: (pos[i][0], -pos[i][1]))
+        fwd, bwd = len(dirs.get((s, t), [])), len(dirs.get((t, s), []))
+        (x0, y0), (x1, y1) = pos[s], pos[t]
+        rad = 0.0 if x1 != x0 else 0.35
+        style = "<|-|>" if fwd and bwd else ("-|>" if fwd else "<|-")
         ax.annotate("", xy=(x1, y1), xytext=(x0, y0),
-                    arrowprops=dict(arrowstyle="-|>", color=col, lw=0.8 + 0.3 * min(len(es), 4), alpha=0.7,
+                    arrowprops=dict(arrowstyle=style, color=col, lw=0.8 + 0.3 * min(fwd + bwd, 4), alpha=0.7,
                                     shrinkA=6, shrinkB=7, connectionstyle=f"arc3,rad={rad}"))
-        if len(es) > 1:
+        if fwd + bwd > 1:
             # the count sits on the edge: near the end of a straight edge
             # (where edges fan apart), at the middle of an arc (arc3 bends
             # in display space: its Bezier midpoint is the chord's middle
@@ -97,7 +109,8 @@ def draw_map(atlas, path=None, title=None):
                 d = p1 - p0
                 q = 0.5 * (p0 + p1) + 0.5 * rad * np.array([d[1], -d[0]])
             fx, fy = to_data.transform(q)
-            ax.text(fx, fy, f"\u00d7{len(es)}", fontsize=7, color=col, ha="center", va="center",
+            txt = f"{fwd}/{bwd}" if fwd and bwd else f"\u00d7{fwd + bwd}"
+            ax.text(fx, fy, txt, fontsize=7, color=col, ha="center", va="center",
                     bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.8))
     for n in atlas.nodes:
         mk, fc, sz, _ = STYLE[n.kind]
@@ -107,7 +120,8 @@ def draw_map(atlas, path=None, title=None):
         txt = _label(atlas, n)
         if n.id in loops:
             txt += f"  [{loops[n.id]} closed loop(s)]"
-        ax.text(x + 0.06, y, txt, fontsize=8.5, va="center", ha="left", zorder=4)
+        ax.text(x + 0.06, y, txt, fontsize=8.5, va="center", ha="left", zorder=4,
+                bbox=dict(boxstyle="square,pad=0.05", fc="white", ec="none", alpha=0.75))
     kinds = sorted({n.kind for n in atlas.nodes}, key=list(STYLE).index)
     handles = [Line2D([], [], marker=STYLE[k][0], color="w", markerfacecolor=STYLE[k][1], markeredgecolor="k",
                       markersize=8, label=STYLE[k][3]) for k in kinds]

@@ -7,8 +7,6 @@ The worker rebuilds the Assembly from the model text each time (a few
 milliseconds), so nothing is cached between tasks and the result depends on
 the task alone: the same whichever worker runs it, in whichever order.
 """
-import math
-
 import numpy as np
 
 # event kinds of a directed branch (edge of the atlas)
@@ -36,53 +34,90 @@ def _rms_rest(a):
     return float(np.sqrt(np.mean(a.rest_lengths ** 2)))
 
 
+def follow_event(a, direction=None, max_length=0.0, max_steps=1000, vr_tol=1e-10, vr_floor=1e-6):
+    """kin_follow_event (kin_follow.h): follow from the current point (a
+    regular point, or a bifurcation along `direction`, a first-order
+    mechanism U_m beta) to the next event. The assembly moves to the end
+    point. Returns (status, info struct); raises only for bad arguments
+    (event NONE)."""
+    from ._arrays import as_c_array, read_ptr
+    from ._lib import ffi, lib, new_struct
+    from .errors import check
+    o = new_struct("kin_follow_options")
+    lib.kin_follow_options_default(o)
+    o.max_length = float(max_length)
+    o.max_steps = int(max_steps)
+    o.vr_tol = float(vr_tol)
+    o.vr_floor = float(vr_floor)
+    info = new_struct("kin_follow_info")
+    d = ffi.NULL
+    if direction is not None:
+        arr = as_c_array(direction, np.float64, (a.nfree,), "direction")
+        d = read_ptr(arr, "double *")
+    rc = lib.kin_follow_event(a._h, d, o, info)
+    if rc and info.event == lib.KIN_FOLLOW_NONE:
+        check(rc, a._h, "follow")
+    return rc, info
+
+
+def _event_kind(event):
+    from ._lib import lib
+    return {lib.KIN_FOLLOW_BIFURCATION: BIFURCATION, lib.KIN_FOLLOW_NEAR_MISS: NEAR_MISS,
+            lib.KIN_FOLLOW_CLOSED_LOOP: LOOP, lib.KIN_FOLLOW_LENGTH_LIMIT: BUDGET,
+            lib.KIN_FOLLOW_STEP_LIMIT: BUDGET}.get(event, FAILURE)
+
+
 def follow_branch(task):
-    """Follow one directed branch to its next event.
+    """Follow one directed branch to its next event (kin_follow_event).
 
     task: {"model": JSON text, "coords": (njoints, dim) list, "rank_tol",
     "direction": (nfree,) list (U_m beta times the sign), "max_length",
-    "vr_tol"}. Returns {"event": one of EVENT_KINDS, "coords": end
+    "max_steps", "vr_tol", "samples": how many configurations to record along
+    the way}. Returns {"event": one of EVENT_KINDS, "coords": end
     configuration, "length": path length travelled, "m", "m_rigid", "s",
-    "v_r_rel" at the end, "accuracy" (distance to the event point, length
-    unit; NaN if not estimated), "samples": a few configurations along the
-    way, "message"}."""
+    "v_r_rel" at the end (analysis at the rank tolerance), "accuracy" (the
+    vanishing singular value / v_max where the event was located), "vr_tol"
+    (the tolerance it was located to), "steps", "samples", "message"}.
+    The samples are taken by following again from the start with the length
+    budget set to k/(n+1) of the event's length (the path is deterministic)."""
+    from ._lib import ffi, lib
     from .errors import KinError
     a = rebuild(task)
+    start = a.clone()
     d = np.asarray(task["direction"], dtype=float)
-    samples = []
-    out = {"samples": samples, "message": "", "accuracy": float("nan")}
+    lim = {"max_steps": int(task.get("max_steps", 1000)), "vr_tol": float(task.get("vr_tol", 1e-10))}
+    out = {"samples": [], "message": ""}
     try:
-        a.set_direction(d)
-        a.step(0.0)
-        samples.append(a.coords.tolist())
-        return _follow_c(a, task, out)
+        rc, info = follow_event(a, d, max_length=float(task["max_length"]), **lim)
     except KinError as exc:
         out.update(_end_state(a, FAILURE))
-        out["message"] = f"{type(exc).__name__}: {exc}"
+        out.update({"message": f"{type(exc).__name__}: {exc}", "accuracy": float("nan"), "vr_tol": 0.0,
+                    "steps": 0})
         return out
-
-
-def _follow_c(a, task, out):
-    """Until the C follower (kin_follow_event) is wired in: follow with
-    kin_locate_next, bounded by the step count that covers max_length."""
-    from .errors import KinError
-    step = a.options.step_fraction * _rms_rest(a)
-    max_steps = max(1, int(math.ceil(float(task["max_length"]) / step)))
-    l0 = a.path_length
-    try:
-        li = a.locate(method="fast", vr_tol=float(task.get("vr_tol", 1e-10)), max_steps=max_steps)
-    except KinError as exc:
-        l = abs(a.path_length - l0)
-        kind = BUDGET if l >= 0.9 * max_steps * step else NEAR_MISS
-        out.update(_end_state(a, kind))
-        out["message"] = str(exc)
-        return out
-    out.update(_end_state(a, BIFURCATION if li.m_internal >= 2 else NEAR_MISS))
-    out["accuracy"] = float(li.v_r_rel)
+    kind = _event_kind(info.event)
+    if kind == FAILURE:
+        out["message"] = ffi.string(lib.kin_last_error(a._h)).decode(errors="replace") if rc else "failed"
+    rank_tol = max(float(task.get("rank_tol") or 1e-9), 10.0 * info.vr_tol_used) if kind == BIFURCATION else None
+    out.update(_end_state(a, kind, rank_tol))
+    out.update({"accuracy": float(info.v_r_rel), "vr_tol": float(info.vr_tol_used), "steps": int(info.steps),
+                "length": float(info.length), "at_start": bool(info.at_start)})
+    n = int(task.get("samples", 0))
+    for k in range(1, n + 1):
+        c = start.clone()
+        try:
+            follow_event(c, d, max_length=info.length * k / (n + 1), **lim)
+            out["samples"].append(c.coords.tolist())
+        except KinError:
+            break
     return out
 
 
-def _end_state(a, kind):
+def _end_state(a, kind, rank_tol=None):
+    if rank_tol is not None:
+        # a point located only to a coarser v_r is analysed as the follower saw it
+        o = a.options
+        o.rank_tol = min(0.5, rank_tol)
+        a.options = o
     an = a.analyse()
     return {"event": kind, "coords": a.coords.tolist(), "length": float(abs(a.path_length)),
             "m": int(an.m_internal), "m_rigid": int(an.m_rigid), "s": int(an.s),
