@@ -40,6 +40,9 @@ NODE_KINDS = (BIFURCATION, REGULAR, NEAR_MISS, MULTI_DOF, RIGID, FAILURE)
 
 # two configurations are one node when they agree to this times the model size
 SAME_TOL = 1e-6
+# with an executor, the complete solver is split into shards of about this
+# many homotopy paths (at most 64 shards)
+SHARD_PATHS = 256
 # symmetric="auto" uses the symmetric subspace when the complete solver would
 # track more than 2^AUTO_MAX_S paths
 AUTO_MAX_S = 12
@@ -218,7 +221,7 @@ def _tick(progress, done, total, what):
         return
     if callable(progress):
         progress(done, total, what)
-    elif done == total or done % max(1, total // 10) == 0:
+    elif done == total or done % max(1, total // 4) == 0:
         print(f"[explore] {what}: {done}/{total}", file=sys.stderr, flush=True)
 
 
@@ -231,7 +234,7 @@ def _say(progress, msg):
 
 class _Explorer:
     def __init__(self, a, symmetric, executor, progress, max_length, seed, threads, symmetries, max_steps,
-                 samples):
+                 samples, shards):
         from .model_json import to_json
         self.a = a.clone()
         self.doc = to_json(a)
@@ -241,7 +244,7 @@ class _Explorer:
         self.tol = SAME_TOL * self.scale
         self.symmetric, self.executor, self.progress = symmetric, executor, progress
         self.max_length, self.seed, self.threads = max_length, seed, threads
-        self.max_steps, self.samples = max_steps, samples
+        self.max_steps, self.samples, self.shards = max_steps, samples, shards
         self.symmetry_note = ""
         if symmetries is not None:
             self.syms = list(symmetries)
@@ -340,16 +343,14 @@ class _Explorer:
                 if Qs.shape[0] != k - 1:
                     return [], dict(rec, reason=f"restricted system has {Qs.shape[0]} equations in {k} "
                                                 "unknowns; the solvers need k - 1")
-                res = run_tasks(tasks.solve_task, [{"Q": Qs.tolist(), "seed": self.seed, "threads": self.threads}],
-                                self.executor)[0]
+                res = self.solve(Qs)
                 betas = np.asarray(res["betas"]).reshape(-1, k) @ G.T
                 rec.update({"solutions": len(betas), "accounting": res["accounting"]})
         else:
             if m != s + 1:
                 return [], dict(rec, mode="complete", reason=f"m = {m}, s = {s}: the complete solver needs "
                                                              "m = s + 1")
-            res = run_tasks(tasks.solve_task, [{"Q": Q.tolist(), "seed": self.seed, "threads": self.threads}],
-                            self.executor)[0]
+            res = self.solve(Q)
             betas = np.asarray(res["betas"]).reshape(-1, m)
             rec.update({"mode": "complete", "solutions": len(betas), "accounting": res["accounting"]})
         out = []
@@ -357,6 +358,20 @@ class _Explorer:
             for sg in (1, -1):
                 out.append((i, sg, b, sg * (U @ b)))
         return out, rec
+
+    def solve(self, Q):
+        """The complete solver on Q (s, m, m): in shards on the executor when
+        there are enough paths for it (homotopy_shards), else as one task."""
+        from . import homotopy_shards
+        s = Q.shape[0]
+        shards = self.shards
+        if shards is None:
+            shards = 1 if self.executor is None else max(1, min(64, (1 << s) // SHARD_PATHS))
+        if shards > 1 and homotopy_shards.available():
+            betas, acc = homotopy_shards.solve_sharded(Q, self.executor, shards, self.seed, self.threads)
+            return {"betas": betas.tolist(), "accounting": dict(acc, shards=int(shards))}
+        return run_tasks(tasks.solve_task, [{"Q": Q.tolist(), "seed": self.seed, "threads": self.threads}],
+                         self.executor)[0]
 
     def follow_all(self, work):
         """work: [(node, solution, sign, beta, direction)] -> results in order."""
@@ -395,7 +410,8 @@ def _node_kind(event, res):
 
 
 def explore(model, start=None, depth=1, max_nodes=200, max_length=None, time_limit=None, symmetric=False,
-            executor=None, progress=None, seed=1, threads=1, symmetries=None, max_steps=2000, samples=2):
+            executor=None, progress=None, seed=1, threads=1, symmetries=None, max_steps=2000, samples=2,
+            shards=None):
     """Map the paths out of `start` and out of every bifurcation they reach.
 
     model: an Assembly, a JSON model (file path, text or dict) or a built-in
@@ -405,7 +421,9 @@ def explore(model, start=None, depth=1, max_nodes=200, max_length=None, time_lim
     max_nodes: no node is expanded once the atlas has this many. max_length:
     path length budget of one branch (default: 4 times the model size);
     max_steps: step budget of one branch. samples: configurations recorded
-    along each branch (besides its end).
+    along each branch (besides its end). shards: the complete solver's
+    paths are tracked in this many tasks on the executor (default: about
+    SHARD_PATHS paths a shard with an executor, one task without).
     time_limit: seconds; no node is expanded after it (a level in flight
     completes). symmetric: False = the complete solver at every bifurcation;
     True = only the branches that keep the node's symmetry (the proper
@@ -429,7 +447,7 @@ def explore(model, start=None, depth=1, max_nodes=200, max_length=None, time_lim
     if max_length is None:
         max_length = 4.0 * scale
     ex = _Explorer(a, symmetric, executor, progress, float(max_length), seed, threads, symmetries, int(max_steps),
-                   int(samples))
+                   int(samples), shards)
     an = a.analyse()
     rec0 = {"m": an.m_internal, "m_rigid": an.m_rigid, "s": an.s,
             "v_r_rel": float(an.v_r / an.v_max) if an.v_max > 0 else 0.0}
