@@ -2,9 +2,11 @@
  * with kin_follow_event (kin_follow.h): counts by event and time per branch.
  *   bench_follow_atlas rb           R^B of the hexagonal sail (16) and the
  *                                   first R^C (m = 6) reached from it (all)
- *   bench_follow_atlas flat N [th]  N branches spread evenly over the
- *                                   flat state's directed branches (2 x the
- *                                   real second-order solutions)
+ *   bench_follow_atlas flat N [th [cache [k...]]]  N branches spread
+ *                                   evenly over the flat state's directed
+ *                                   branches (2 x the real second-order
+ *                                   solutions); cache: a file keeping the
+ *                                   solutions between runs; k...: only those
  * Not a test: prints a summary. */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
@@ -30,6 +32,9 @@ static const char *event_name(int e)
 
 /* follow `want` of the directed branches out of a (all if want <= 0);
  * optionally keep a clone of the first end with m_internal == keep_m */
+static const char *cache = NULL; /* optional file of the solutions (flat state: saves the solver's minutes) */
+static const int *only = NULL;    /* optional list of branch indices, -1 terminated */
+
 static int atlas(const char *name, kin_assembly *a, int want, int threads, int keep_m, kin_assembly **kept)
 {
     kin_analysis an = {.size = sizeof an};
@@ -41,8 +46,22 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
     kin_get_mechanisms(a, KIN_MECH_INTERNAL, U, nf, m);
     kin_homotopy_info hi = {.size = sizeof hi};
     double t0 = now();
-    if (kin_quadrics_homotopy(m, s, Q, 1, threads, betas, maxsol, &nsol, NULL, &hi)) return 1;
+    FILE *fc = cache ? fopen(cache, "rb") : NULL;
+    if (fc) {
+        if (fread(&nsol, sizeof nsol, 1, fc) != 1 || nsol > maxsol ||
+            fread(betas, sizeof(double) * (size_t)m, (size_t)nsol, fc) != (size_t)nsol)
+            return 1;
+        fclose(fc);
+    } else {
+        if (kin_quadrics_homotopy(m, s, Q, 1, threads, betas, maxsol, &nsol, NULL, &hi)) return 1;
+        if (cache && (fc = fopen(cache, "wb"))) {
+            fwrite(&nsol, sizeof nsol, 1, fc);
+            fwrite(betas, sizeof(double) * (size_t)m, (size_t)nsol, fc);
+            fclose(fc);
+        }
+    }
     int total = 2 * nsol, n = want > 0 && want < total ? want : total;
+    if (only) for (n = 0; only[n] >= 0; ++n) {}
     printf("%s: m = %d, s = %d, %d real solutions (%.1f s): following %d of %d directed branches\n", name, m, s,
            nsol, now() - t0, n, total);
     int counts[7] = {0}, tols[8] = {0}, mhist[64] = {0};
@@ -50,7 +69,8 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
     kin_follow_options o;
     kin_follow_options_default(&o);
     for (int i = 0; i < n; ++i) {
-        int k = (int)((long long)i * total / n);
+        int k = only ? only[i] : (int)((long long)i * total / n);
+        if (k >= total) continue;
         double sg = k % 2 ? -1.0 : 1.0;
         for (int r = 0; r < nf; ++r) {
             double v = 0.0;
@@ -103,6 +123,14 @@ int main(int argc, char **argv)
         return 0;
     }
     int n = argc > 2 ? atoi(argv[2]) : 200, threads = argc > 3 ? atoi(argv[3]) : 2;
+    cache = argc > 4 ? argv[4] : NULL;
+    int list[64];
+    if (argc > 5) {
+        int k = 0;
+        for (int i = 5; i < argc && k < 63; ++i) list[k++] = atoi(argv[i]);
+        list[k] = -1;
+        only = list;
+    }
     kin_assembly *a = test_sail(6, 2);
     if (!a) return 1;
     int rc = atlas("hex sail flat state R^A", a, n, threads, 0, NULL);
