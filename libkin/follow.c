@@ -257,8 +257,18 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
             info->event = KIN_FOLLOW_STEP_LIMIT;
             break;
         }
-        /* location gave up: try a tolerance nearer the floor from the
-         * regular point before the event, or report the near miss */
+        /* location gave up. The point it stopped at may already count as a
+         * bifurcation with the handle's rank tolerance: located to the
+         * floor of that point, as accurately as it could be */
+        const kin_factor *f = kin__cur(a);
+        if (f->valid && f->an.m_internal >= 2 && li.v_r_rel <= o->vr_floor) {
+            info->event = KIN_FOLLOW_BIFURCATION;
+            info->vr_tol_used = fmax(tol, li.v_r_rel);
+            info->path_kept = 1;
+            break;
+        }
+        /* else try a tolerance nearer the floor from the regular point
+         * before the event, or report the near miss */
         info->event = KIN_FOLLOW_NEAR_MISS;
         tol *= RELAX_FACTOR;
         if (tol > o->vr_floor * (1.0 + 1e-9)) break;

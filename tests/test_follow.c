@@ -14,8 +14,8 @@ static const char *event_name(int e)
 
 /* Follow every directed branch (2 per second-order solution) out of the
  * bifurcation a sits on; counts[event] += 1. Returns the number followed. */
-static int follow_all_branches(kin_assembly *a, const kin_follow_options *o, int counts[7], double *ends, int maxends,
-                               int verbose)
+static int follow_all_branches(kin_assembly *a, const kin_follow_options *o, int stride, int counts[7], double *ends,
+                               int maxends, int keep_m, kin_assembly **kept, int verbose)
 {
     kin_analysis an = {.size = sizeof an};
     CHECK_RC(kin_analyse(a, &an), KIN_OK);
@@ -25,7 +25,8 @@ static int follow_all_branches(kin_assembly *a, const kin_follow_options *o, int
     CHECK_RC(kin_second_order(a, KIN_Q_EXACT, 1, Q, m * m * an.s, &s), KIN_OK);
     kin_homotopy_info hi = {.size = sizeof hi};
     CHECK_RC(kin_quadrics_homotopy(m, s, Q, 1, 1, betas, 64, &nsol, NULL, &hi), KIN_OK);
-    for (int k = 0; k < 2 * nsol; ++k) {
+    int n = 0;
+    for (int k = 0; k < 2 * nsol; k += stride, ++n) {
         double beta[64];
         for (int i = 0; i < m; ++i) beta[i] = (k % 2 ? -1.0 : 1.0) * betas[m * (k / 2) + i];
         test_mechanism(a, beta, m, dir);
@@ -46,13 +47,14 @@ static int follow_all_branches(kin_assembly *a, const kin_follow_options *o, int
             CHECK(kin_get_analysis(b, &e) == KIN_OK && e.m_internal >= 2 && e.m_internal == fi.m_internal);
             CHECK(fi.v_r_rel <= fi.vr_tol_used && fi.vr_tol_used <= o->vr_floor);
             CHECK(kin_max_strain(b) <= 1e-9);
+            if (kept && !*kept && fi.m_internal == keep_m) CHECK_RC(kin_assembly_clone(b, kept), KIN_OK);
         }
         kin_assembly_free(b);
     }
     free(Q);
     free(betas);
     free(dir);
-    return 2 * nsol;
+    return n;
 }
 
 /* The three-bar linkage from R^C: both paths lead to the other
@@ -65,7 +67,7 @@ static void threebar(void)
     kin_follow_options_default(&o);
     int counts[7] = {0};
     double ends[4 * 8];
-    int n = follow_all_branches(a, &o, counts, ends, 4, 1);
+    int n = follow_all_branches(a, &o, 1, counts, ends, 4, 0, NULL, 1);
     CHECK(n == 4);
     CHECK(counts[KIN_FOLLOW_BIFURCATION] + counts[KIN_FOLLOW_CLOSED_LOOP] == n);
     /* the ends: R^A (J1 = (-1,0), J2 = (0,0)) or R^B (J1 = (1,0), J2 =
@@ -96,11 +98,23 @@ static void hex_rb(void)
     kin_follow_options_default(&o);
     o.max_steps = 400;
     int counts[7] = {0};
-    int n = follow_all_branches(a, &o, counts, NULL, 0, 1);
+    printf("hex sail R^B:\n");
+    kin_assembly *rc = NULL;
+    int n = follow_all_branches(a, &o, 1, counts, NULL, 0, 6, &rc, 1);
     CHECK(n == 16);
     CHECK(counts[KIN_FOLLOW_FAILED] == 0 && counts[KIN_FOLLOW_STEP_LIMIT] == 0);
     CHECK(counts[KIN_FOLLOW_BIFURCATION] >= 1);
     kin_assembly_free(a);
+    /* R^C: the bifurcation with m = 6, s = 5 after R^B (docs/sail_study.md);
+     * a sample of its 64 directed branches (all: bench/bench_follow_atlas) */
+    CHECK(rc != NULL);
+    if (!rc) return;
+    int counts_c[7] = {0};
+    printf("hex sail R^C:\n");
+    n = follow_all_branches(rc, &o, 13, counts_c, NULL, 0, 0, NULL, 1);
+    CHECK(n >= 5);
+    CHECK(counts_c[KIN_FOLLOW_FAILED] == 0 && counts_c[KIN_FOLLOW_STEP_LIMIT] == 0);
+    kin_assembly_free(rc);
 }
 
 /* The rhombus whose v_r has a non-zero minimum (test_locate.c): a near miss */
