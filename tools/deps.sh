@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Install what libkin needs on Debian 12 (idempotent): compiler, CMake,
-# LAPACK/BLAS (OpenBLAS), GSL, pkg-config, and Python's venv module.
+# LAPACK/BLAS (OpenBLAS), GSL, pkg-config, Python's venv module, gfortran
+# (the Fortran module) and abigail-tools (tools/abi_check.sh).
 set -euo pipefail
-pkgs=(build-essential cmake pkg-config libopenblas-dev liblapack-dev libgsl-dev python3-venv python3-dev)
+pkgs=(build-essential cmake pkg-config libopenblas-dev liblapack-dev libgsl-dev python3-venv python3-dev
+      gfortran abigail-tools)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,0 +1,153 @@
+! The Fortran layer of module libkin: strings, wrappers (shapes, logical
+! supports, 1-based indices), the constants against the library, and the
+! error paths of the wrappers. Asserts outcomes (status codes, counts,
+! values), never message text.
+program test_fortran_api
+  use, intrinsic :: iso_c_binding
+  use libkin
+  implicit none
+  integer :: failures = 0
+  call test_strings()
+  call test_threebar()
+  call test_create_errors()
+  call test_sail()
+  if (failures /= 0) then
+    print '(i0,a)', failures, ' checks failed'
+    error stop 1
+  end if
+  print '(a)', 'test_fortran_api: all checks passed'
+
+contains
+
+  subroutine expect(ok, what)
+    logical, intent(in) :: ok
+    character(len=*), intent(in) :: what
+    if (.not. ok) then
+      print '(2a)', 'FAILED: ', what
+      failures = failures + 1
+    end if
+  end subroutine
+
+  subroutine test_strings()
+    integer(c_int) :: k
+    call expect(kin_version_number() == KIN_MODULE_VERSION_NUMBER, 'module and library versions agree')
+    call expect(kin_version_string() == KIN_MODULE_VERSION_STRING, 'version strings agree')
+    call expect(KIN_MODULE_VERSION_NUMBER == &
+                KIN_VERSION_MAJOR * 10000 + KIN_VERSION_MINOR * 100 + KIN_VERSION_PATCH, 'version parts')
+    call expect(KIN_OK == 0 .and. KIN_STATUS_COUNT > KIN_EFORMAT, 'status constants')
+    ! every generated code is one the library knows, by the same name
+    do k = 0, KIN_STATUS_COUNT - 1
+      call expect(kin_status_name(k) /= 'KIN_UNKNOWN' .and. len(kin_strerror(k)) > 0, 'known code')
+    end do
+    call expect(kin_status_name(KIN_EINVAL) == 'KIN_EINVAL', 'name of KIN_EINVAL')
+    call expect(kin_status_name(KIN_STATUS_COUNT) == 'KIN_UNKNOWN', 'code past the list is unknown')
+    call expect(len(kin_last_error(c_null_ptr)) > 0, 'NULL handle has a static message')
+  end subroutine
+
+  subroutine test_threebar()
+    type(c_ptr) :: a, b
+    integer(c_int) :: bars(2, 3), got(2, 3), small(2, 2), ns, nsol, mult(2)
+    logical :: fixed(2, 4), gotfixed(2, 4)
+    real(c_double) :: xyz(2, 4), h(4, 3), lengths(3), tau, res, q(4), betas(2, 2)
+    type(kin_options) :: o, o2
+    type(kin_analysis) :: an
+    type(kin_homotopy_info) :: hi
+    character(len=:), allocatable :: msg
+    ! R^C: J1 = (1,0), J2 = (2,0), supports S1 = (0,0), S2 = (1,0)
+    xyz = reshape([1d0, 0d0, 2d0, 0d0, 0d0, 0d0, 1d0, 0d0], [2, 4])
+    bars = reshape([3, 1, 1, 2, 2, 4], [2, 3])
+    fixed = .false.
+    fixed(:, 3:4) = .true.
+    call expect(kinf_create(xyz, bars, a, fixed=fixed, one_based=.true., errmsg=msg) == KIN_OK, 'create')
+    call expect(len(msg) == 0, 'no message on success')
+    call expect(kin_dim(a) == 2 .and. kin_njoints(a) == 4 .and. kin_nbars(a) == 3 .and. &
+                kin_nfree(a) == 4, 'sizes from the array shapes')
+    call expect(kinf_get_bars(a, got, one_based=.true.) == KIN_OK, 'get bars')
+    call expect(all(got == bars), 'bars 1-based as given')
+    call expect(kinf_get_bars(a, got) == KIN_OK, 'get bars 0-based')
+    call expect(all(got == bars - 1), 'bars 0-based')
+    got = -7
+    call expect(kin_get_bars(a, got) == KIN_OK, 'raw get bars')
+    call expect(all(got == bars - 1), 'raw bars')
+    call expect(kinf_get_bars(a, small) == KIN_ERANGE, 'bars array too small')
+    call expect(kinf_get_bars(c_null_ptr, got) == KIN_ENULL, 'bars of a NULL handle')
+    call expect(kinf_get_fixed(a, gotfixed) == KIN_OK, 'get fixed')
+    call expect(all(gotfixed .eqv. fixed), 'supports as logicals')
+    call expect(kinf_get_fixed(a, gotfixed(:, 1:3)) == KIN_ERANGE, 'fixed of the wrong shape')
+    call expect(kinf_free_index(a, 2, 2, one_based=.true.) == 4, 'J2y is free row 4 (1-based)')
+    call expect(kinf_free_index(a, 3, 1, one_based=.true.) == 0, 'support: no row (1-based)')
+    call expect(kinf_free_index(a, 1, 0) == 2 .and. kin_free_index(a, 2, 0) == -1, 'raw rows')
+    call expect(kin_get_rest_lengths(a, lengths) == KIN_OK, 'rest lengths')
+    call expect(all(abs(lengths - 1) < 1d-15), 'initial lengths kept')
+    call expect(kin_get_equilibrium_matrix(a, h, 4) == KIN_OK, 'H')
+    call expect(kin_get_equilibrium_matrix(a, h, 3) == KIN_ERANGE, 'ldh < nfree')
+    call expect(kin_analyse(a, an) == KIN_OK, 'analyse')
+    call expect(an%rank == 2 .and. an%m_internal == 2 .and. an%s == 1, 'R^C analysis (eq. 27)')
+    ! options through the bind(C) type
+    call kin_options_default(o)
+    call expect(o%factorization == KIN_STEP_SVD .and. o%rank_tol == 1d-9, 'default options')
+    o%corrector_tol = 1d-11
+    call expect(kin_set_options(a, o) == KIN_OK, 'set options')
+    call expect(kin_get_options(a, o2) == KIN_OK, 'get options')
+    call expect(o2%corrector_tol == 1d-11, 'options round trip')
+    o%rank_tol = -1
+    call expect(kin_set_options(a, o) == KIN_EINVAL, 'bad options')
+    call expect(len(kin_last_error(a)) > 0, 'bad options: a message')
+    ! second order and the complete solver: two real directions at R^C (eq. 33)
+    call expect(kin_analyse(a, an) == KIN_OK, 'analyse again')
+    call expect(kin_second_order(a, KIN_Q_EXACT, 1, q, 4, ns) == KIN_OK, 'Q')
+    call expect(ns == 1, 'one quadric')
+    call expect(kin_quadrics_homotopy(2, ns, q, 7_c_long, 1, betas, 2, nsol, mult, hi) == KIN_OK, &
+                'homotopy')
+    call expect(hi%paths == 2 .and. hi%real_distinct == 2 .and. nsol == 2, 'two real solutions')
+    call expect(kin_test_function(a, tau) == KIN_OK, 'test function')
+    call expect(tau == 0, 'tau vanishes at a bifurcation')
+    call expect(kin_assembly_clone(a, b) == KIN_OK, 'clone')
+    call expect(kin_nfree(b) == 4, 'clone sizes')
+    call expect(kin_relax(b, 5, res) == KIN_OK, 'relax')
+    call expect(res <= 1d-12, 'relax a strain-free state')
+    call expect(kin_relax(b, 0, res) == KIN_EINVAL, 'relax with max_iter 0')
+    call kin_assembly_free(b)
+    call kin_assembly_free(a)
+  end subroutine
+
+  subroutine test_create_errors()
+    type(c_ptr) :: a
+    real(c_double) :: xyz(2, 4)
+    character(len=:), allocatable :: msg
+    xyz = reshape([1d0, 0d0, 2d0, 0d0, 0d0, 0d0, 1d0, 0d0], [2, 4])
+    call expect(kinf_create(xyz, reshape([3, 1, 1, 2, 2, 4], [3, 2]), a, errmsg=msg) == KIN_ERANGE &
+                .and. .not. c_associated(a) .and. len(msg) > 0, 'bars not (2, nbars)')
+    call expect(kinf_create(xyz, reshape([3, 1, 1, 2, 2, 4], [2, 3]), a, &
+                            fixed=reshape([.true., .true.], [2, 1]), errmsg=msg) == KIN_ERANGE, &
+                'fixed not shaped like xyz')
+    call expect(kinf_create(xyz, reshape([3, 1, 1, 2, 2, 4], [2, 3]), a, &
+                            rest_lengths=[1d0, 1d0], errmsg=msg) == KIN_ERANGE, 'rest lengths')
+    call expect(kinf_create(xyz, reshape([3, 1, 1, 2, 2, 5], [2, 3]), a, one_based=.true., &
+                            errmsg=msg) == KIN_EJOINT .and. .not. c_associated(a) .and. len(msg) > 0, &
+                'joint 5 of 4 (1-based): C error with its message')
+    ! a free unit square (closed four-bar)
+    xyz = reshape([0d0, 0d0, 1d0, 0d0, 1d0, 1d0, 0d0, 1d0], [2, 4])
+    call expect(kinf_create(xyz, reshape([0, 1, 1, 2, 2, 3, 3, 0], [2, 4]), a) == KIN_OK, &
+                'no supports given')
+    call expect(kin_nfree(a) == 8, 'fixed absent: every coordinate free')
+    call kin_assembly_free(a)
+  end subroutine
+
+  subroutine test_sail()
+    type(kin_sail_params) :: p
+    type(c_ptr) :: a
+    integer(c_int) :: nj, nb
+    character(len=:), allocatable :: msg
+    call kin_sail_params_default(p, 4, 1)
+    call expect(kin_sail_size(p, nj, nb) == KIN_OK .and. nj > 0 .and. nb > 0, 'sail size')
+    call expect(kinf_model_sail(p, a, widths=[0.5d0, 0.5d0]) == KIN_ERANGE, 'widths of n_loops')
+    call expect(kinf_model_sail(p, a, widths=[0.5d0], errmsg=msg) == KIN_OK .and. &
+                kin_njoints(a) == nj .and. kin_nbars(a) == nb, 'sail with widths')
+    call kin_assembly_free(a)
+    p%n_sides = 2
+    call expect(kinf_model_sail(p, a, errmsg=msg) == KIN_EINVAL .and. len(msg) > 0 .and. &
+                .not. c_associated(a), 'bad sail: status and message')
+  end subroutine
+
+end program test_fortran_api
