@@ -3,7 +3,7 @@
 # LAPACK/BLAS (OpenBLAS), GSL, pkg-config, Python's venv module, gfortran
 # (the Fortran module) and abigail-tools (tools/abi_check.sh).
 set -euo pipefail
-pkgs=(build-essential cmake pkg-config libopenblas-dev liblapack-dev libgsl-dev python3-venv python3-dev
+pkgs=(build-essential cmake pkg-config libopenblas-dev liblapack-dev libblas3 libgsl-dev python3-venv python3-dev
       gfortran abigail-tools)
 missing=()
 for p in "${pkgs[@]}"; do
