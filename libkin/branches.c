@@ -15,9 +15,13 @@ static const double SAME_PATH_TOL = 1e-6;
 /* step budget per path, in largest steps per unit of l_target / step */
 enum { PATH_STEP_FACTOR = 20 };
 
-static int follow_one(const kin_assembly *a0, const double *dir, double l_target,
+/* Follow one candidate on a clone of a0. Progress goes to a0's callback as
+ * done0 + the fraction of l_target covered, out of total, before every step;
+ * returns KIN_ECANCELLED if it cancels. */
+static int follow_one(const kin_assembly *a0, const double *dir, double l_target, double done0, double total,
                       kin_branch_path *p, double *xyz_out)
 {
+    if (kin__progress(a0, done0, total)) return KIN_ECANCELLED;
     kin_assembly *a = NULL;
     int rc = kin_assembly_clone(a0, &a);
     if (rc) return rc;
@@ -34,6 +38,7 @@ static int follow_one(const kin_assembly *a0, const double *dir, double l_target
         return KIN_ENOMEM;
     }
     kin__gather(a, a->xyz, x0);
+    double l_start = kin_path_length(a); /* the progress: the fraction of l_target covered from here */
     kin_step_info info;
     if (kin_step(a, FIRST_STEP_FRACTION * dmax, &info) != KIN_OK) goto out;
     kin__gather(a, a->xyz, x1);
@@ -45,6 +50,10 @@ static int follow_one(const kin_assembly *a0, const double *dir, double l_target
     p->tangent_ok = p->tangent_cos >= TANGENT_COS_TOL;
     long budget = (long)(PATH_STEP_FACTOR * (l_target / dmax + 10));
     while (kin_path_length(a) < l_target && budget-- > 0) {
+        if (kin__progress(a0, done0 + fmin(1.0, fmax(0.0, kin_path_length(a) - l_start) / l_target), total)) {
+            rc = KIN_ECANCELLED;
+            break;
+        }
         double d = fmin(dmax, l_target - kin_path_length(a));
         if (kin_step(a, d, &info) != KIN_OK) break;
     }
@@ -57,7 +66,7 @@ out:
 done:
     if (xyz_out && !p->exists) memcpy(xyz_out, a0->xyz, sizeof(double) * (size_t)(a0->nj * a0->dim));
     kin_assembly_free(a);
-    return KIN_OK;
+    return rc;
 }
 
 /* sort key of a unit displacement: its projection on a fixed direction */
@@ -160,7 +169,12 @@ int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, doub
                 for (int k = 0; k < m; ++k) v += f->Uint[i + (size_t)k * nf] * betas[(size_t)b * m + k];
                 dir[i] = p->sign * v;
             }
-            rc = follow_one(a, dir, l_target, p, ends + (size_t)(2 * b + sg) * nc);
+            rc = follow_one(a, dir, l_target, 2.0 * b + sg, 2.0 * nbeta, p, ends + (size_t)(2 * b + sg) * nc);
+        }
+    if (rc == KIN_ECANCELLED) /* a defined state: nothing followed */
+        for (int i = 0; i < 2 * nbeta; ++i) {
+            memset(&paths[i], 0, sizeof paths[i]);
+            paths[i].path_id = -1;
         }
     /* group coinciding paths: T = R - R0 (eq. 21), cos >= 1 - tol (eq. 22) */
     if (rc == KIN_OK) rc = group_paths(a, ends, 2 * nbeta, paths, &nd);
@@ -169,6 +183,7 @@ int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, doub
             for (int c = 0; c < nc; ++c)
                 final_xyz[(size_t)i * nc + c] = ends[(size_t)i * nc + c] + (paths[i].exists ? a->xyz[c] : 0.0);
     *ndistinct = nd;
+    if (rc == KIN_OK) (void)kin__progress(a, 2.0 * nbeta, 2.0 * nbeta);
     free(dir);
     free(ends);
     return rc;

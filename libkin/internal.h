@@ -98,6 +98,11 @@ struct kin_assembly {
     int lu_cur;
     double *luR;             /* nf x 6 rigid mechanisms of a trial point */
     double *luw;             /* max(nf, nb + 1 + nrig) solve vector */
+
+    /* progress callback of the long loops (kin_set_progress); not copied
+     * by kin_assembly_clone nor kin__copy_state */
+    kin_progress_fn progress;
+    void *progress_user;
 };
 
 /* Fault injection for the tests (not exported): the SVD of the next analyses
@@ -154,6 +159,11 @@ int kin__rigid_basis(kin_assembly *a, const double *xyz, double *R, int *mr);
 static inline void kin__lu_invalidate(kin_assembly *a) { a->lu[0].valid = a->lu[1].valid = 0; }
 
 static inline const kin_factor *kin__cur(const kin_assembly *a) { return &a->fac[a->cur]; }
+
+/* Report progress through the handle's callback, if any: returns 1 when the
+ * callback asks to cancel (then the caller stops and returns KIN_ECANCELLED),
+ * 0 otherwise. done is clamped to [0, total]. */
+int kin__progress(const kin_assembly *a, double done, double total);
 
 /* copy the configuration, analysis and path state of src into dst (same
  * model; no allocation); dst keeps its own options */

@@ -82,6 +82,9 @@ enum kin_mech_kind {
 int kin_get_mechanisms(const kin_assembly *a, int kind, double *U, int ldu, int cols);
 int kin_get_self_stresses(const kin_assembly *a, double *W, int ldw, int cols);
 
+typedef int (*kin_progress_fn)(void *user, double done, double total);
+int kin_set_progress(kin_assembly *a, kin_progress_fn fn, void *user);
+
 typedef struct kin_options {
     double rank_tol;
     double corrector_tol;
@@ -179,6 +182,17 @@ typedef struct kin_homotopy_info {
 int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads,
                                   double *betas, int maxsol, int *nsol, int *multiplicity,
                                   kin_homotopy_info *info);
+typedef struct kin_homotopy_options {
+    unsigned long seed;
+    int nthreads;
+    long max_paths;
+    kin_progress_fn progress;
+    void *user;
+} kin_homotopy_options;
+void kin_homotopy_options_default(kin_homotopy_options *o);
+int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_options *opt,
+                                     double *betas, int maxsol, int *nsol, int *multiplicity,
+                                     kin_homotopy_info *info);
 typedef struct kin_branch_path {
     int beta;
     int sign;

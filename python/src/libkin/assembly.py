@@ -12,6 +12,7 @@ import numpy as np
 
 from ._arrays import as_c_array, read_ptr, write_ptr
 from ._lib import ffi, lib
+from ._progress import reporting
 from .errors import ModelFormatError, StateError, check
 
 
@@ -418,10 +419,13 @@ def _second_order(self, weighting="exact", normalise=True):
     return Q[: s_out[0]]
 
 
-def solve_quadrics(Q, solver="homotopy", starts=1024, seed=1, threads=2):
+def solve_quadrics(Q, solver="homotopy", starts=1024, seed=1, threads=2, progress=None, max_paths=None):
     """Real solutions beta (nsol, m) of beta^T Q_j beta = 0 (j < s), |beta| = 1,
     for Q of shape (s, m, m) with m = s + 1, and the solver's accounting
-    (see _branches)."""
+    (see _branches). The homotopy: `threads` at most the online processors,
+    at most `max_paths` paths 2^s (None: the library's 2^20; more raises
+    LimitError), progress as in libkin._progress (Ctrl-C stops it within
+    about 0.1 s and raises KeyboardInterrupt)."""
     Q = np.asarray(Q, dtype=np.float64)
     if Q.ndim != 3 or Q.shape[1] != Q.shape[2]:
         raise ModelFormatError(f"Q: expected shape (s, m, m), got {Q.shape}")
@@ -439,9 +443,17 @@ def solve_quadrics(Q, solver="homotopy", starts=1024, seed=1, threads=2):
         accounting = {"starts": info.starts, "converged": info.converged, "distinct": info.distinct}
     elif solver == "homotopy":
         info = ffi.new("kin_homotopy_info *")
-        check(lib.kin_quadrics_homotopy(m, s, read_ptr(Qc, "double *"), int(seed), int(threads),
-                                        write_ptr(betas, "double *"), maxsol, nsol, ffi.NULL, info),
-              what="homotopy")
+        opt = ffi.new("kin_homotopy_options *")
+        lib.kin_homotopy_options_default(opt)
+        opt.seed = int(seed)
+        opt.nthreads = int(threads)
+        if max_paths is not None:
+            opt.max_paths = int(max_paths)
+        with reporting(progress, f"homotopy 2^{s}", "path") as rep:
+            opt.progress = rep.c_callback
+            rc = lib.kin_quadrics_homotopy_ex(m, s, read_ptr(Qc, "double *"), opt, write_ptr(betas, "double *"),
+                                              maxsol, nsol, ffi.NULL, info)
+        check(rc, what="homotopy")
         accounting = {k: getattr(info, k) for k in ("paths", "real", "real_distinct", "nonreal", "singular", "failed",
                                                     "duplicates", "unpaired", "retracked")}
     else:
@@ -449,20 +461,25 @@ def solve_quadrics(Q, solver="homotopy", starts=1024, seed=1, threads=2):
     return betas[: nsol[0]].copy(), accounting
 
 
-def _branches(self, solver="homotopy", starts=1024, length=1.0, seed=1, weighting="exact", threads=2):
+def _branches(self, solver="homotopy", starts=1024, length=1.0, seed=1, weighting="exact", threads=2,
+              progress=None, max_paths=None):
     """Every path out of this bifurcation: solve the second-order equations
     (solver 'homotopy': the complete solver, accounting for all 2^s paths;
     'scan': the paper's root scan from `starts` points), then follow each
     real solution in both directions to path length `length` and group
-    coinciding paths. `accounting` holds the solver's counts."""
-    betas, accounting = solve_quadrics(self.second_order(weighting=weighting), solver, starts, seed, threads)
-    return self.follow_branches(betas, length=length, accounting=accounting)
+    coinciding paths. `accounting` holds the solver's counts. progress (see
+    libkin._progress) covers the homotopy and the following, one after the
+    other; max_paths: see solve_quadrics."""
+    betas, accounting = solve_quadrics(self.second_order(weighting=weighting), solver, starts, seed, threads,
+                                       progress=progress, max_paths=max_paths)
+    return self.follow_branches(betas, length=length, accounting=accounting, progress=progress)
 
 
-def _follow_branches(self, betas, length=1.0, accounting=None):
+def _follow_branches(self, betas, length=1.0, accounting=None, progress=None):
     """Follow the second-order solutions `betas` (nsol, m_internal) in both
     directions to path length `length` (kin_branch_paths) and group
-    coinciding paths."""
+    coinciding paths. progress: see libkin._progress (Ctrl-C stops the
+    following and raises KeyboardInterrupt; the assembly is unchanged)."""
     betas = np.ascontiguousarray(np.atleast_2d(np.asarray(betas, dtype=np.float64)))
     nsol = [betas.shape[0]]
     U = self.analyse().internal_mechanisms
@@ -474,8 +491,10 @@ def _follow_branches(self, betas, length=1.0, accounting=None):
         cp = ffi.new("kin_branch_path[]", 2 * nsol[0])
         ends = np.empty((2 * nsol[0], self.njoints, self.dim))
         nd = ffi.new("int *")
-        self._check(lib.kin_branch_paths(self._h, read_ptr(betas, "double *"), nsol[0], float(length), cp,
-                                         write_ptr(ends, "double *"), nd), "branch paths")
+        with reporting(progress, "branches", "path", self._h):
+            rc = lib.kin_branch_paths(self._h, read_ptr(betas, "double *"), nsol[0], float(length), cp,
+                                      write_ptr(ends, "double *"), nd)
+        self._check(rc, "branch paths")
         distinct = nd[0]
         paths = [BranchPath(p.beta, p.sign, bool(p.exists), bool(p.tangent_ok), p.tangent_cos, p.path_id,
                             p.length, ends[k]) for k, p in enumerate(cp)]
@@ -511,14 +530,16 @@ class LocateInfo:
     zero_order: int = 0
 
 
-def _locate(self, method="fast", delta=0.0, vr_tol=1e-10, max_steps=1000):
+def _locate(self, method="fast", delta=0.0, vr_tol=1e-10, max_steps=1000, progress=None):
     """Follow the path (delta > 0 forwards, < 0 backwards, 0 = largest step)
     until a bifurcation is detected and converge onto it: method 'fast'
     (Hermite interpolation of the path and of the signed vanishing singular
     value), 'illinois' (Illinois on the signed test function) or 'paper'
     (eq. 23-26). Raises
     NotFoundError if none is found or location gives up (the assembly then
-    stays on the path)."""
+    stays on the path). progress: see libkin._progress (done: steps and
+    forward calculations; Ctrl-C or a cancel leaves the assembly at the last
+    regular point reached on the path)."""
     methods = {"fast": lib.KIN_LOCATE_FAST, "paper": lib.KIN_LOCATE_PAPER, "illinois": lib.KIN_LOCATE_ILLINOIS}
     if method not in methods:
         raise ModelFormatError(f"method: expected one of {sorted(methods)}, got {method!r}")
@@ -529,7 +550,9 @@ def _locate(self, method="fast", delta=0.0, vr_tol=1e-10, max_steps=1000):
     o.vr_tol = float(vr_tol)
     o.max_steps = int(max_steps)
     info = ffi.new("kin_locate_info *")
-    self._check(lib.kin_locate_next(self._h, o, info), "locate")
+    with reporting(progress, "locate", "step", self._h):
+        rc = lib.kin_locate_next(self._h, o, info)
+    self._check(rc, "locate")
     return LocateInfo(info.event, bool(info.located), info.steps, info.factorizations, info.forward,
                       info.v_r, info.v_r_rel, info.distance, bool(info.path_kept), info.m_internal, info.s,
                       info.zero_order)
