@@ -42,6 +42,9 @@ static void constants(void)
     P(KIN_EVENT_MINIMUM)
     printf("! enum kin_q_weighting\n");
     P(KIN_Q_EXACT) P(KIN_Q_PAPER_EQ17)
+    printf("! kin_branch.h: default limit on the complete solver's paths\n");
+    printf("  integer(c_long), parameter, public :: KIN_HOMOTOPY_MAX_PATHS = %ld_c_long\n",
+           (long)KIN_HOMOTOPY_MAX_PATHS);
     printf("! enum kin_threebar_state\n");
     P(KIN_THREEBAR_RA) P(KIN_THREEBAR_RB) P(KIN_THREEBAR_RC)
     printf("! enum kin_sail_support\n");
@@ -110,6 +113,9 @@ static void layout(void)
     F(kin_homotopy_info, duplicates) F(kin_homotopy_info, unpaired) F(kin_homotopy_info, steps)
     F(kin_homotopy_info, rejected) F(kin_homotopy_info, max_residual) F(kin_homotopy_info, max_cond)
     end();
+    BEGIN(kin_homotopy_options) F(kin_homotopy_options, seed) F(kin_homotopy_options, nthreads)
+    F(kin_homotopy_options, max_paths) F(kin_homotopy_options, progress)
+    F(kin_homotopy_options, user) end();
     BEGIN(kin_branch_path) F(kin_branch_path, beta) F(kin_branch_path, sign)
     F(kin_branch_path, exists) F(kin_branch_path, tangent_ok) F(kin_branch_path, path_id)
     F(kin_branch_path, length) F(kin_branch_path, tangent_cos) end();

@@ -22,7 +22,7 @@ module libkin
   include 'libkin_constants.inc'
 
   ! ---- the public structs (kin_assembly.h, kin_path.h, kin_locate.h,
-  ! kin_branch.h, kin_models.h); test_fortran_layout checks sizes and offsets
+  ! kin_branch.h, kin_models.h, kin_progress.h); test_fortran_layout checks sizes and offsets
   type, bind(C), public :: kin_analysis
     integer(c_int) :: rank = 0, m = 0, m_rigid = 0, m_internal = 0, s = 0
     real(c_double) :: v_max = 0, v_r = 0
@@ -66,6 +66,17 @@ module libkin
     real(c_double) :: max_residual = 0, max_cond = 0
   end type
 
+  ! progress: c_funloc of a bind(C) function with the interface
+  ! kin_progress_callback, or c_null_funptr; user is passed to it unchanged.
+  ! Start from kin_homotopy_options_default.
+  type, bind(C), public :: kin_homotopy_options
+    integer(c_long) :: seed = 0
+    integer(c_int) :: nthreads = 0
+    integer(c_long) :: max_paths = 0
+    type(c_funptr) :: progress = c_null_funptr
+    type(c_ptr) :: user = c_null_ptr
+  end type
+
   type, bind(C), public :: kin_branch_path
     integer(c_int) :: beta = 0, sign = 0, exists = 0, tangent_ok = 0, path_id = 0
     real(c_double) :: length = 0, tangent_cos = 0
@@ -92,6 +103,8 @@ module libkin
   public :: kin_path_set_direction, kin_get_tangent, kin_path_length, kin_path_reset, kin_relax
   public :: kin_locate_options_default, kin_test_function, kin_locate_next
   public :: kin_second_order, kin_quadrics_scan, kin_quadrics_homotopy, kin_branch_paths
+  public :: kin_homotopy_options_default, kin_quadrics_homotopy_ex
+  public :: kin_set_progress, kin_progress_callback
   public :: kin_model_threebar, kin_sail_params_default, kin_sail_size, kin_model_sail
   ! ---- Fortran strings and wrappers --------------------------------------
   public :: kin_version_string, kin_strerror, kin_status_name, kin_last_error
@@ -378,6 +391,33 @@ module libkin
       integer(c_int) :: kin_branch_paths
     end function
 
+    subroutine kin_homotopy_options_default(o) bind(C, name='kin_homotopy_options_default')
+      import :: kin_homotopy_options
+      type(kin_homotopy_options), intent(out) :: o
+    end subroutine
+    function kin_quadrics_homotopy_ex(m, s, q, opt, betas, maxsol, nsol, multiplicity, info) &
+        bind(C, name='kin_quadrics_homotopy_ex')
+      import :: c_int, c_double, kin_homotopy_options, kin_homotopy_info
+      integer(c_int), value :: m, s, maxsol
+      real(c_double), intent(in) :: q(*)
+      type(kin_homotopy_options), intent(in) :: opt
+      real(c_double), intent(out) :: betas(*)
+      integer(c_int), intent(out) :: nsol
+      integer(c_int), intent(out) :: multiplicity(*)
+      type(kin_homotopy_info), intent(out) :: info
+      integer(c_int) :: kin_quadrics_homotopy_ex
+    end function
+
+    ! kin_progress.h. fn: c_funloc of a function with the interface
+    ! kin_progress_callback (below), or c_null_funptr to remove it.
+    function kin_set_progress(a, fn, user) bind(C, name='kin_set_progress')
+      import :: c_int, c_ptr, c_funptr
+      type(c_ptr), value :: a
+      type(c_funptr), value :: fn
+      type(c_ptr), value :: user
+      integer(c_int) :: kin_set_progress
+    end function
+
     ! kin_models.h
     function kin_model_threebar(state, out) bind(C, name='kin_model_threebar')
       import :: c_int, c_ptr
@@ -410,6 +450,18 @@ module libkin
       import :: c_ptr, c_size_t
       type(c_ptr), value :: s
       integer(c_size_t) :: c_strlen
+    end function
+  end interface
+
+  ! What a progress callback (kin_progress_fn) looks like in Fortran: write
+  !   integer(c_int) function my_progress(user, done, total) bind(C)
+  ! with these arguments and pass c_funloc(my_progress). Nonzero cancels.
+  abstract interface
+    function kin_progress_callback(user, done, total) bind(C)
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: user
+      real(c_double), value :: done, total
+      integer(c_int) :: kin_progress_callback
     end function
   end interface
 

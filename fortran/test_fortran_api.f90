@@ -11,6 +11,7 @@ program test_fortran_api
   call test_threebar()
   call test_create_errors()
   call test_sail()
+  call test_progress()
   if (failures /= 0) then
     print '(i0,a)', failures, ' checks failed'
     error stop 1
@@ -148,6 +149,60 @@ contains
     p%n_sides = 2
     call expect(kinf_model_sail(p, a, errmsg=msg) == KIN_EINVAL .and. len(msg) > 0 .and. &
                 .not. c_associated(a), 'bad sail: status and message')
+  end subroutine
+
+  ! Progress callback for the tests: counts its calls in the integer that
+  ! user points to; cancels when that count is negative.
+  integer(c_int) function count_calls(user, done, total) bind(C)
+    type(c_ptr), value :: user
+    real(c_double), value :: done, total
+    integer(c_int), pointer :: calls
+    call c_f_pointer(user, calls)
+    count_calls = 0
+    if (calls < 0) then
+      count_calls = 1
+      return
+    end if
+    if (done >= 0 .and. done <= total) calls = calls + 1
+  end function
+
+  subroutine test_progress()
+    type(c_ptr) :: a
+    type(kin_analysis) :: an
+    type(kin_homotopy_options) :: ho
+    type(kin_homotopy_info) :: hi
+    ! volatile: the callback changes it through the C pointer in ho%user
+    integer(c_int), target, volatile :: calls
+    integer(c_int) :: ns, nsol, mult(2)
+    real(c_double) :: q(4), betas(2, 2)
+    ! the compiler checks count_calls against the abstract interface here
+    procedure(kin_progress_callback), pointer :: fn
+    fn => count_calls
+    call expect(associated(fn), 'callback has the kin_progress_callback interface')
+    call expect(kin_model_threebar(KIN_THREEBAR_RC, a) == KIN_OK, 'three-bar')
+    call expect(kin_analyse(a, an) == KIN_OK, 'analyse')
+    call expect(kin_second_order(a, KIN_Q_EXACT, 1, q, 4, ns) == KIN_OK, 'Q')
+    call expect(kin_set_progress(a, c_funloc(count_calls), c_null_ptr) == KIN_OK, 'set progress')
+    call expect(kin_set_progress(a, c_null_funptr, c_null_ptr) == KIN_OK, 'remove progress')
+    call expect(kin_set_progress(c_null_ptr, c_null_funptr, c_null_ptr) == KIN_ENULL, 'NULL handle')
+    call kin_homotopy_options_default(ho)
+    call expect(ho%max_paths == KIN_HOMOTOPY_MAX_PATHS .and. ho%seed == 1 .and. &
+                .not. c_associated(ho%progress), 'homotopy defaults')
+    ho%progress = c_funloc(count_calls)
+    ho%user = c_loc(calls)
+    calls = 0
+    call expect(kin_quadrics_homotopy_ex(2, ns, q, ho, betas, 2, nsol, mult, hi) == KIN_OK, &
+                'homotopy with progress')
+    call expect(nsol == 2 .and. hi%real_distinct == 2, 'two real solutions')
+    call expect(calls >= 2, 'progress called at the start and at the end')
+    calls = -1
+    call expect(kin_quadrics_homotopy_ex(2, ns, q, ho, betas, 2, nsol, mult, hi) == KIN_ECANCELLED, &
+                'a nonzero return cancels')
+    call expect(nsol == 0, 'nothing found when cancelled')
+    ho%max_paths = 1
+    call expect(kin_quadrics_homotopy_ex(2, ns, q, ho, betas, 2, nsol, mult, hi) == KIN_ELIMIT, &
+                'more paths than max_paths')
+    call kin_assembly_free(a)
   end subroutine
 
 end program test_fortran_api
