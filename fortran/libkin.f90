@@ -105,10 +105,13 @@ module libkin
   public :: kin_second_order, kin_quadrics_scan, kin_quadrics_homotopy, kin_branch_paths
   public :: kin_homotopy_options_default, kin_quadrics_homotopy_ex
   public :: kin_set_progress, kin_progress_callback
+  public :: kin_assembly_load, kin_assembly_load_string, kin_assembly_save
+  public :: kin_assembly_save_string, kin_free_string
   public :: kin_model_threebar, kin_sail_params_default, kin_sail_size, kin_model_sail
   ! ---- Fortran strings and wrappers --------------------------------------
   public :: kin_version_string, kin_strerror, kin_status_name, kin_last_error
   public :: kinf_create, kinf_get_bars, kinf_get_fixed, kinf_free_index, kinf_model_sail
+  public :: kinf_load, kinf_load_string, kinf_save, kinf_save_string
 
   interface
     ! kin_version.h
@@ -418,6 +421,52 @@ module libkin
       integer(c_int) :: kin_set_progress
     end function
 
+    ! kin_io.h. path: NUL-terminated (trim(path)//c_null_char), or use
+    ! kinf_load / kinf_save; text of load_string: any character string with
+    ! its length; name: c_null_ptr or c_loc of a NUL-terminated
+    ! character(kind=c_char) array; errbuf as for kin_assembly_create.
+    function kin_assembly_load(path, out, errbuf, errlen) bind(C, name='kin_assembly_load')
+      import :: c_int, c_char, c_ptr, c_size_t
+      character(kind=c_char), intent(in) :: path(*)
+      type(c_ptr), intent(out) :: out
+      type(c_ptr), value :: errbuf
+      integer(c_size_t), value :: errlen
+      integer(c_int) :: kin_assembly_load
+    end function
+    function kin_assembly_load_string(text, len, out, errbuf, errlen) &
+        bind(C, name='kin_assembly_load_string')
+      import :: c_int, c_char, c_ptr, c_size_t
+      character(kind=c_char), intent(in) :: text(*)
+      integer(c_size_t), value :: len
+      type(c_ptr), intent(out) :: out
+      type(c_ptr), value :: errbuf
+      integer(c_size_t), value :: errlen
+      integer(c_int) :: kin_assembly_load_string
+    end function
+    function kin_assembly_save(a, name, path, errbuf, errlen) bind(C, name='kin_assembly_save')
+      import :: c_int, c_char, c_ptr, c_size_t
+      type(c_ptr), value :: a, name
+      character(kind=c_char), intent(in) :: path(*)
+      type(c_ptr), value :: errbuf
+      integer(c_size_t), value :: errlen
+      integer(c_int) :: kin_assembly_save
+    end function
+    ! text receives a C string to release with kin_free_string
+    function kin_assembly_save_string(a, name, text, len, errbuf, errlen) &
+        bind(C, name='kin_assembly_save_string')
+      import :: c_int, c_ptr, c_size_t
+      type(c_ptr), value :: a, name
+      type(c_ptr), intent(out) :: text
+      integer(c_size_t), intent(out) :: len
+      type(c_ptr), value :: errbuf
+      integer(c_size_t), value :: errlen
+      integer(c_int) :: kin_assembly_save_string
+    end function
+    subroutine kin_free_string(text) bind(C, name='kin_free_string')
+      import :: c_ptr
+      type(c_ptr), value :: text
+    end subroutine
+
     ! kin_models.h
     function kin_model_threebar(state, out) bind(C, name='kin_model_threebar')
       import :: c_int, c_ptr
@@ -699,6 +748,92 @@ contains
     end if
     errbuf(1) = c_null_char
     status = kin_model_sail(q, a, c_loc(errbuf), int(errbuf_len, c_size_t))
+    if (present(errmsg)) errmsg = buffer_string(errbuf)
+  end function
+
+  ! A Fortran string as a NUL-terminated C string (trailing blanks kept:
+  ! trim the argument if they are padding).
+  function cstring(s) result(c)
+    character(len=*), intent(in) :: s
+    character(kind=c_char), allocatable :: c(:)
+    integer :: i
+    allocate(c(len(s) + 1))
+    do i = 1, len(s)
+      c(i) = s(i:i)
+    end do
+    c(len(s) + 1) = c_null_char
+  end function
+
+  ! kin_assembly_load with a Fortran file name (trailing blanks dropped)
+  ! and the reason of a failure in errmsg.
+  function kinf_load(path, a, errmsg) result(status)
+    character(len=*), intent(in) :: path
+    type(c_ptr), intent(out) :: a
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    integer(c_int) :: status
+    character(kind=c_char), target :: errbuf(errbuf_len)
+    errbuf(1) = c_null_char
+    status = kin_assembly_load(cstring(trim(path)), a, c_loc(errbuf), int(errbuf_len, c_size_t))
+    if (present(errmsg)) errmsg = buffer_string(errbuf)
+  end function
+
+  ! kin_assembly_load_string from a Fortran string (all of it).
+  function kinf_load_string(text, a, errmsg) result(status)
+    character(len=*), intent(in) :: text
+    type(c_ptr), intent(out) :: a
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    integer(c_int) :: status
+    character(kind=c_char), target :: errbuf(errbuf_len)
+    errbuf(1) = c_null_char
+    status = kin_assembly_load_string(text, int(len(text), c_size_t), a, c_loc(errbuf), &
+                                      int(errbuf_len, c_size_t))
+    if (present(errmsg)) errmsg = buffer_string(errbuf)
+  end function
+
+  ! kin_assembly_save with a Fortran file name (trailing blanks dropped), an
+  ! optional model name and the reason of a failure in errmsg.
+  function kinf_save(a, path, name, errmsg) result(status)
+    type(c_ptr), intent(in) :: a
+    character(len=*), intent(in) :: path
+    character(len=*), intent(in), optional :: name
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    integer(c_int) :: status
+    character(kind=c_char), allocatable, target :: cname(:)
+    character(kind=c_char), target :: errbuf(errbuf_len)
+    type(c_ptr) :: pname
+    pname = c_null_ptr
+    if (present(name)) then
+      cname = cstring(name)
+      pname = c_loc(cname)
+    end if
+    errbuf(1) = c_null_char
+    status = kin_assembly_save(a, pname, cstring(trim(path)), c_loc(errbuf), &
+                               int(errbuf_len, c_size_t))
+    if (present(errmsg)) errmsg = buffer_string(errbuf)
+  end function
+
+  ! kin_assembly_save_string into a Fortran string ('' on failure); the C
+  ! string is released here.
+  function kinf_save_string(a, text, name, errmsg) result(status)
+    type(c_ptr), intent(in) :: a
+    character(len=:), allocatable, intent(out) :: text
+    character(len=*), intent(in), optional :: name
+    character(len=:), allocatable, intent(out), optional :: errmsg
+    integer(c_int) :: status
+    character(kind=c_char), allocatable, target :: cname(:)
+    character(kind=c_char), target :: errbuf(errbuf_len)
+    type(c_ptr) :: pname, ctext
+    integer(c_size_t) :: n
+    pname = c_null_ptr
+    if (present(name)) then
+      cname = cstring(name)
+      pname = c_loc(cname)
+    end if
+    errbuf(1) = c_null_char
+    ctext = c_null_ptr
+    status = kin_assembly_save_string(a, pname, ctext, n, c_loc(errbuf), int(errbuf_len, c_size_t))
+    text = fstring(ctext)
+    call kin_free_string(ctext)
     if (present(errmsg)) errmsg = buffer_string(errbuf)
   end function
 

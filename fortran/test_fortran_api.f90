@@ -12,6 +12,7 @@ program test_fortran_api
   call test_create_errors()
   call test_sail()
   call test_progress()
+  call test_io()
   if (failures /= 0) then
     print '(i0,a)', failures, ' checks failed'
     error stop 1
@@ -202,6 +203,33 @@ contains
     ho%max_paths = 1
     call expect(kin_quadrics_homotopy_ex(2, ns, q, ho, betas, 2, nsol, mult, hi) == KIN_ELIMIT, &
                 'more paths than max_paths')
+    call kin_assembly_free(a)
+  end subroutine
+
+  subroutine test_io()
+    type(c_ptr) :: a, b
+    real(c_double) :: x1(2, 4), x2(2, 4)
+    character(len=:), allocatable :: text, text2, msg
+    call expect(kin_model_threebar(KIN_THREEBAR_RC, a) == KIN_OK, 'three-bar')
+    call expect(kinf_save_string(a, text, name='three-bar', errmsg=msg) == KIN_OK, 'save string')
+    call expect(len(text) > 0 .and. len(msg) == 0, 'a model text, no message')
+    call expect(kinf_load_string(text, b) == KIN_OK, 'load it back')
+    call expect(kin_get_coords(a, x1) == KIN_OK, 'coords a')
+    call expect(kin_get_coords(b, x2) == KIN_OK, 'coords b')
+    call expect(all(x1 == x2) .and. kin_nbars(b) == 3, 'same model through the text')
+    call kin_assembly_free(b)
+    call expect(kinf_save(a, 'test_fortran_io.json  ', name='three-bar') == KIN_OK, 'save file')
+    call expect(kinf_load('test_fortran_io.json', b) == KIN_OK, 'load file')
+    call expect(kinf_save_string(b, text2) == KIN_OK, 'save the loaded one')
+    call expect(kin_get_coords(b, x2) == KIN_OK .and. kin_nfree(b) == 4, 'loaded sizes')
+    call expect(all(x1 == x2), 'same coordinates through the file')
+    call kin_assembly_free(b)
+    call expect(kinf_load('no/such/dir/model.json', b, errmsg=msg) == KIN_EIO, 'missing file')
+    call expect(len(msg) > 0 .and. .not. c_associated(b), 'missing file: message, no handle')
+    call expect(kinf_load_string('{"dim": 2, "joints": [', b, errmsg=msg) == KIN_EFORMAT, &
+                'malformed text')
+    call expect(len(msg) > 0, 'malformed text: message')
+    call expect(kinf_save_string(c_null_ptr, text) == KIN_ENULL .and. len(text) == 0, 'NULL handle')
     call kin_assembly_free(a)
   end subroutine
 

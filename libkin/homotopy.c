@@ -330,16 +330,21 @@ int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int
 int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_options *opt, double *betas,
                              int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info)
 {
+    if (nsol) *nsol = 0;
+    if (info) memset(info, 0, sizeof *info);
     kin_homotopy_options o;
     if (opt) o = *opt;
     else kin_homotopy_options_default(&o);
     if (!Q || !betas || !nsol || !info) return KIN_ENULL;
     if (m < 2 || s != m - 1 || maxsol < 1 || o.nthreads < 0 || o.max_paths < 1) return KIN_EINVAL;
-    if (m > HOM_MAX_M) return KIN_ERANGE;
+    if (m > HOM_MAX_M) return KIN_ERANGE; /* so 2^s <= 2^23 and every size below fits */
+    for (size_t i = 0; i < (size_t)m * m * s; ++i)
+        if (!isfinite(Q[i])) return KIN_EINVAL;
     if ((1L << s) > o.max_paths) return KIN_ELIMIT;
     int npaths = 1 << s;
     int cpus = online_processors();
     int nthreads = o.nthreads == 0 || o.nthreads > cpus ? cpus : o.nthreads;
+    if (nthreads > npaths) nthreads = npaths; /* more would idle; the result is the same */
     unsigned long seed = o.seed;
     hom_report R = {o.progress, o.user, 0.0, (double)npaths, 0.0, 0};
     size_t mm = (size_t)m * m;
@@ -373,9 +378,7 @@ int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_o
     double nf2 = 0.0;
     for (int j = 0; j < s; ++j) {
         const double *q = Q + (size_t)j * mm;
-        double f = 0.0, n1 = 0.0;
-        for (size_t i = 0; i < mm; ++i) f += q[i] * q[i];
-        f = sqrt(f);
+        double f = kin__norm((int)mm, q), n1 = 0.0; /* scaled: no overflow or underflow */
         double sc = f > 0.0 ? 1.0 / f : 1.0;
         for (int r = 0; r < m; ++r) {
             double col = 0.0;

@@ -184,6 +184,23 @@ static inline unsigned long long kin__splitmix(unsigned long long *s)
     return z ^ (z >> 31);
 }
 
+/* *out = a * b; returns 0 (and leaves *out alone) if the product overflows
+ * size_t. Every size made by multiplying caller-supplied counts goes through
+ * this (or is bounded by a check made with it). */
+static inline int kin__mul_size(size_t a, size_t b, size_t *out)
+{
+    if (b != 0 && a > (size_t)-1 / b) return 0;
+    *out = a * b;
+    return 1;
+}
+
+/* a * b * c, like kin__mul_size */
+static inline int kin__mul_size3(size_t a, size_t b, size_t c, size_t *out)
+{
+    size_t ab;
+    return kin__mul_size(a, b, &ab) && kin__mul_size(ab, c, out);
+}
+
 /* small dense helpers */
 double kin__dot(int n, const double *x, const double *y);
 double kin__norm(int n, const double *x);
