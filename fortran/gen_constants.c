@@ -1,16 +1,17 @@
 /* Writes Fortran source made from the C headers, so no number is copied by
  * hand into the Fortran module (run at build time by fortran/CMakeLists.txt).
  *
- *   gen_constants constants [FILE]  the named constants included by module libkin:
- *                            every status code of the KIN_STATUS_LIST X-macro,
- *                            the enumerators of the public enums, the version
- *   gen_constants layout [FILE]     a Fortran test program checking that each
- *                            bind(C) type has the C struct's size and that
- *                            each listed field sits at the C offset
+ *   gen_constants constants [FILE]  the named constants included by module
+ *       libkin: every status code of the KIN_STATUS_LIST X-macro, the
+ *       enumerators of the public enums, the value macros, the version and
+ *       the sizes of the public structs
+ *   gen_constants layout [FILE]  a Fortran test program checking that each
+ *       bind(C) type has the C struct's size and each listed field the C
+ *       offset
  *
  * The enumerator and field NAMES are listed below; their VALUES come from the
- * compiler. tests/check_fortran_bindings.py checks that every enumerator of
- * the headers is listed. */
+ * compiler. fortran/check_bindings.py checks that every enumerator and value
+ * macro of the headers is listed. */
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
@@ -22,6 +23,20 @@ static void param(const char *name, long value)
     printf("  integer(c_int), parameter, public :: %s = %ld\n", name, value);
 }
 
+/* KIN_SIZEOF_<NAME> for struct kin_<name> */
+static void size_param(const char *type, size_t size)
+{
+    char name[64];
+    size_t i, n = strlen(type + 4);
+    for (i = 0; i < n && i < sizeof name - 1; ++i) {
+        char c = type[4 + i];
+        name[i] = (char)(c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
+    }
+    name[i] = '\0';
+    printf("  integer(c_size_t), parameter, public :: KIN_SIZEOF_%s = %zu_c_size_t\n", name, size);
+}
+
+#define S(T) size_param(#T, sizeof(T));
 #define STATUS_PARAM(name, value, msg) param(#name, (long)(name));
 #define P(name) param(#name, (long)(name));
 
@@ -45,6 +60,12 @@ static void constants(void)
     printf("! kin_branch.h: default limit on the complete solver's paths\n");
     printf("  integer(c_long), parameter, public :: KIN_HOMOTOPY_MAX_PATHS = %ld_c_long\n",
            (long)KIN_HOMOTOPY_MAX_PATHS);
+    /* For the structs' size fields once they carry one (docs/abi.md): a
+     * bind(C) type then initialises `size` from these. */
+    printf("! sizeof of the public structs, as the C compiler lays them out\n");
+    S(kin_analysis) S(kin_options) S(kin_step_info) S(kin_locate_options) S(kin_locate_info)
+    S(kin_solve_info) S(kin_homotopy_info) S(kin_homotopy_options) S(kin_branch_path)
+    S(kin_sail_params)
     printf("! enum kin_threebar_state\n");
     P(KIN_THREEBAR_RA) P(KIN_THREEBAR_RB) P(KIN_THREEBAR_RC)
     printf("! enum kin_sail_support\n");
