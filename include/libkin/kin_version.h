@@ -6,10 +6,10 @@
 #include "kin_export.h"
 
 #define KIN_VERSION_MAJOR 0
-#define KIN_VERSION_MINOR 2
+#define KIN_VERSION_MINOR 3
 #define KIN_VERSION_PATCH 0
 #define KIN_VERSION_NUMBER (KIN_VERSION_MAJOR * 10000 + KIN_VERSION_MINOR * 100 + KIN_VERSION_PATCH)
-#define KIN_VERSION_STRING "0.2.0"
+#define KIN_VERSION_STRING "0.3.0"
 
 /* ABI version: the N of the shared library's soname libkin.so.N. It changes
  * only when the ABI changes incompatibly (docs/abi.md); the release version

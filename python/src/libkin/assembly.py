@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from ._arrays import as_c_array, read_ptr, write_ptr
-from ._lib import ffi, lib
+from ._lib import ffi, lib, new_struct
 from ._progress import reporting
 from .errors import ModelFormatError, StateError, check
 
@@ -159,7 +159,7 @@ class Assembly:
     def sail(cls, n_sides=6, n_loops=2, side=1.0, widths=None, support="auto", diagonal="forward"):
         """A member of the wrapping-fold solar-sail family (kin_model_sail):
         (4, 1) is the paper's square-hub sail, (6, 2) the hexagonal one."""
-        p = ffi.new("kin_sail_params *")
+        p = new_struct("kin_sail_params")
         lib.kin_sail_params_default(p, int(n_sides), int(n_loops))
         p.side = float(side)
         supports = {"auto": lib.KIN_SAIL_SUPPORT_AUTO, "opposite": lib.KIN_SAIL_SUPPORT_OPPOSITE,
@@ -271,7 +271,7 @@ class Assembly:
     # ---- analysis --------------------------------------------------------
     def analyse(self):
         """Factorize H here and return an Analysis."""
-        an = ffi.new("kin_analysis *")
+        an = new_struct("kin_analysis")
         self._check(lib.kin_analyse(self._h, an), "analyse")
         nf, nb = self.nfree, self.nbars
         sv = np.empty(min(nf, nb))
@@ -292,7 +292,7 @@ class Assembly:
     # ---- path ------------------------------------------------------------
     @property
     def options(self):
-        o = ffi.new("kin_options *")
+        o = new_struct("kin_options")
         self._check(lib.kin_get_options(self._h, o))
         return Options(**{k: getattr(o, k) for k in _OPTION_FIELDS})
 
@@ -300,7 +300,7 @@ class Assembly:
     def options(self, value):
         if not isinstance(value, Options):
             raise TypeError("options must be a libkin.Options")
-        o = ffi.new("kin_options *")
+        o = new_struct("kin_options")
         for k in _OPTION_FIELDS:
             setattr(o, k, getattr(value, k))
         self._check(lib.kin_set_options(self._h, o), "options")
@@ -311,7 +311,7 @@ class Assembly:
         raises NotConvergedError / PathJumpError with the assembly unchanged."""
         if not isinstance(delta, (int, float)) or not math.isfinite(delta):
             raise ModelFormatError(f"delta: expected a finite number, got {delta!r}")
-        info = ffi.new("kin_step_info *")
+        info = new_struct("kin_step_info")
         self._check(lib.kin_step(self._h, float(delta), info), "step")
         return StepInfo(info.l, info.delta, info.v_r, info.residual, info.cos_turn,
                         info.iterations, info.halvings, info.factorizations, info.m_internal)
@@ -437,13 +437,13 @@ def solve_quadrics(Q, solver="homotopy", starts=1024, seed=1, threads=2, progres
     betas = np.empty((maxsol, m))
     nsol = ffi.new("int *")
     if solver == "scan":
-        info = ffi.new("kin_solve_info *")
+        info = new_struct("kin_solve_info")
         check(lib.kin_quadrics_scan(m, s, read_ptr(Qc, "double *"), int(starts), int(seed),
                                     write_ptr(betas, "double *"), maxsol, nsol, info), what="scan")
         accounting = {"starts": info.starts, "converged": info.converged, "distinct": info.distinct}
     elif solver == "homotopy":
-        info = ffi.new("kin_homotopy_info *")
-        opt = ffi.new("kin_homotopy_options *")
+        info = new_struct("kin_homotopy_info")
+        opt = new_struct("kin_homotopy_options")
         lib.kin_homotopy_options_default(opt)
         opt.seed = int(seed)
         opt.nthreads = int(threads)
@@ -488,7 +488,7 @@ def _follow_branches(self, betas, length=1.0, accounting=None, progress=None):
     paths = []
     distinct = 0
     if nsol[0]:
-        cp = ffi.new("kin_branch_path[]", 2 * nsol[0])
+        cp = new_struct("kin_branch_path", 2 * nsol[0])
         ends = np.empty((2 * nsol[0], self.njoints, self.dim))
         nd = ffi.new("int *")
         with reporting(progress, "branches", "path", self._h):
@@ -543,13 +543,13 @@ def _locate(self, method="fast", delta=0.0, vr_tol=1e-10, max_steps=1000, progre
     methods = {"fast": lib.KIN_LOCATE_FAST, "paper": lib.KIN_LOCATE_PAPER, "illinois": lib.KIN_LOCATE_ILLINOIS}
     if method not in methods:
         raise ModelFormatError(f"method: expected one of {sorted(methods)}, got {method!r}")
-    o = ffi.new("kin_locate_options *")
+    o = new_struct("kin_locate_options")
     lib.kin_locate_options_default(o)
     o.method = methods[method]
     o.delta = float(delta)
     o.vr_tol = float(vr_tol)
     o.max_steps = int(max_steps)
-    info = ffi.new("kin_locate_info *")
+    info = new_struct("kin_locate_info")
     with reporting(progress, "locate", "step", self._h):
         rc = lib.kin_locate_next(self._h, o, info)
     self._check(rc, "locate")
