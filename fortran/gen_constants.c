@@ -60,8 +60,7 @@ static void constants(void)
     printf("! kin_branch.h: default limit on the complete solver's paths\n");
     printf("  integer(c_long), parameter, public :: KIN_HOMOTOPY_MAX_PATHS = %ld_c_long\n",
            (long)KIN_HOMOTOPY_MAX_PATHS);
-    /* For the structs' size fields once they carry one (docs/abi.md): a
-     * bind(C) type then initialises `size` from these. */
+    /* The bind(C) types initialise their `size` field from these (docs/abi.md). */
     printf("! sizeof of the public structs, as the C compiler lays them out\n");
     S(kin_analysis) S(kin_options) S(kin_step_info) S(kin_locate_options) S(kin_locate_info)
     S(kin_solve_info) S(kin_homotopy_info) S(kin_homotopy_options) S(kin_branch_path)
@@ -110,39 +109,46 @@ static void layout(void)
            "! against the C structs (sizes and field offsets from the C compiler).\n"
            "program test_fortran_layout\n  use, intrinsic :: iso_c_binding\n  use libkin\n"
            "  implicit none\n  integer :: failures = 0\n");
-    BEGIN(kin_analysis) F(kin_analysis, rank) F(kin_analysis, m) F(kin_analysis, m_rigid)
-    F(kin_analysis, m_internal) F(kin_analysis, s) F(kin_analysis, v_max) F(kin_analysis, v_r) end();
-    BEGIN(kin_options) F(kin_options, rank_tol) F(kin_options, corrector_tol)
-    F(kin_options, corrector_max_iter) F(kin_options, step_fraction) F(kin_options, max_halvings)
-    F(kin_options, direction_tol) F(kin_options, max_correction) F(kin_options, factorization) end();
-    BEGIN(kin_step_info) F(kin_step_info, l) F(kin_step_info, delta) F(kin_step_info, v_r)
-    F(kin_step_info, residual) F(kin_step_info, cos_turn) F(kin_step_info, iterations)
-    F(kin_step_info, halvings) F(kin_step_info, factorizations) F(kin_step_info, m_internal) end();
-    BEGIN(kin_locate_options) F(kin_locate_options, method) F(kin_locate_options, vr_tol)
-    F(kin_locate_options, switch_eps) F(kin_locate_options, delta) F(kin_locate_options, max_steps)
-    F(kin_locate_options, max_iter) F(kin_locate_options, use_switch_rule) end();
-    BEGIN(kin_locate_info) F(kin_locate_info, event) F(kin_locate_info, located)
-    F(kin_locate_info, steps) F(kin_locate_info, factorizations) F(kin_locate_info, forward)
-    F(kin_locate_info, v_r) F(kin_locate_info, v_r_rel) F(kin_locate_info, distance)
-    F(kin_locate_info, path_kept) F(kin_locate_info, m_internal) F(kin_locate_info, s)
-    F(kin_locate_info, zero_order) end();
-    BEGIN(kin_solve_info) F(kin_solve_info, starts) F(kin_solve_info, converged)
-    F(kin_solve_info, distinct) F(kin_solve_info, gsl_errors) F(kin_solve_info, max_residual) end();
-    BEGIN(kin_homotopy_info) F(kin_homotopy_info, paths) F(kin_homotopy_info, real)
-    F(kin_homotopy_info, real_distinct) F(kin_homotopy_info, nonreal) F(kin_homotopy_info, singular)
-    F(kin_homotopy_info, failed) F(kin_homotopy_info, uncertified) F(kin_homotopy_info, retracked)
-    F(kin_homotopy_info, duplicates) F(kin_homotopy_info, unpaired) F(kin_homotopy_info, steps)
-    F(kin_homotopy_info, rejected) F(kin_homotopy_info, max_residual) F(kin_homotopy_info, max_cond)
-    end();
-    BEGIN(kin_homotopy_options) F(kin_homotopy_options, seed) F(kin_homotopy_options, nthreads)
-    F(kin_homotopy_options, max_paths) F(kin_homotopy_options, progress)
-    F(kin_homotopy_options, user) end();
-    BEGIN(kin_branch_path) F(kin_branch_path, beta) F(kin_branch_path, sign)
-    F(kin_branch_path, exists) F(kin_branch_path, tangent_ok) F(kin_branch_path, path_id)
-    F(kin_branch_path, length) F(kin_branch_path, tangent_cos) end();
-    BEGIN(kin_sail_params) F(kin_sail_params, n_sides) F(kin_sail_params, n_loops)
-    F(kin_sail_params, side) F(kin_sail_params, widths) F(kin_sail_params, support)
-    F(kin_sail_params, diagonal) end();
+    BEGIN(kin_analysis) F(kin_analysis, size) F(kin_analysis, rank) F(kin_analysis, m)
+        F(kin_analysis, m_rigid) F(kin_analysis, m_internal) F(kin_analysis, s)
+        F(kin_analysis, v_max) F(kin_analysis, v_r) end();
+    BEGIN(kin_options) F(kin_options, size) F(kin_options, rank_tol) F(kin_options, corrector_tol)
+        F(kin_options, corrector_max_iter) F(kin_options, step_fraction)
+        F(kin_options, max_halvings) F(kin_options, direction_tol) F(kin_options, max_correction)
+        F(kin_options, factorization) end();
+    BEGIN(kin_step_info) F(kin_step_info, size) F(kin_step_info, l) F(kin_step_info, delta)
+        F(kin_step_info, v_r) F(kin_step_info, residual) F(kin_step_info, cos_turn)
+        F(kin_step_info, iterations) F(kin_step_info, halvings) F(kin_step_info, factorizations)
+        F(kin_step_info, m_internal) end();
+    BEGIN(kin_locate_options) F(kin_locate_options, size) F(kin_locate_options, method)
+        F(kin_locate_options, vr_tol) F(kin_locate_options, switch_eps)
+        F(kin_locate_options, delta) F(kin_locate_options, max_steps)
+        F(kin_locate_options, max_iter) F(kin_locate_options, use_switch_rule) end();
+    BEGIN(kin_locate_info) F(kin_locate_info, size) F(kin_locate_info, event)
+        F(kin_locate_info, located) F(kin_locate_info, steps) F(kin_locate_info, factorizations)
+        F(kin_locate_info, forward) F(kin_locate_info, v_r) F(kin_locate_info, v_r_rel)
+        F(kin_locate_info, distance) F(kin_locate_info, path_kept) F(kin_locate_info, m_internal)
+        F(kin_locate_info, s) F(kin_locate_info, zero_order) end();
+    BEGIN(kin_solve_info) F(kin_solve_info, size) F(kin_solve_info, starts)
+        F(kin_solve_info, converged) F(kin_solve_info, distinct) F(kin_solve_info, gsl_errors)
+        F(kin_solve_info, max_residual) end();
+    BEGIN(kin_homotopy_info) F(kin_homotopy_info, size) F(kin_homotopy_info, paths)
+        F(kin_homotopy_info, real) F(kin_homotopy_info, real_distinct)
+        F(kin_homotopy_info, nonreal) F(kin_homotopy_info, singular) F(kin_homotopy_info, failed)
+        F(kin_homotopy_info, uncertified) F(kin_homotopy_info, retracked)
+        F(kin_homotopy_info, duplicates) F(kin_homotopy_info, unpaired)
+        F(kin_homotopy_info, steps) F(kin_homotopy_info, rejected)
+        F(kin_homotopy_info, max_residual) F(kin_homotopy_info, max_cond) end();
+    BEGIN(kin_homotopy_options) F(kin_homotopy_options, size) F(kin_homotopy_options, seed)
+        F(kin_homotopy_options, nthreads) F(kin_homotopy_options, max_paths)
+        F(kin_homotopy_options, progress) F(kin_homotopy_options, user) end();
+    BEGIN(kin_branch_path) F(kin_branch_path, size) F(kin_branch_path, beta)
+        F(kin_branch_path, sign) F(kin_branch_path, exists) F(kin_branch_path, tangent_ok)
+        F(kin_branch_path, path_id) F(kin_branch_path, length) F(kin_branch_path, tangent_cos)
+        end();
+    BEGIN(kin_sail_params) F(kin_sail_params, size) F(kin_sail_params, n_sides)
+        F(kin_sail_params, n_loops) F(kin_sail_params, side) F(kin_sail_params, widths)
+        F(kin_sail_params, support) F(kin_sail_params, diagonal) end();
     printf("  if (failures /= 0) then\n    print '(i0,a)', failures, ' layout mismatches'\n"
            "    error stop 1\n  end if\n  print '(a)', 'test_fortran_layout: every bind(C) type "
            "matches its C struct'\n");

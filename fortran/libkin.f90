@@ -22,13 +22,18 @@ module libkin
   include 'libkin_constants.inc'
 
   ! ---- the public structs (kin_assembly.h, kin_path.h, kin_locate.h,
-  ! kin_branch.h, kin_models.h, kin_progress.h); test_fortran_layout checks sizes and offsets
+  ! kin_branch.h, kin_models.h); test_fortran_layout checks sizes and
+  ! offsets. Each starts with `size` (docs/abi.md), initialised to the C
+  ! sizeof of the headers this module was made from, so a declared variable
+  ! is ready to pass; keep it when copying or resetting one.
   type, bind(C), public :: kin_analysis
+    integer(c_size_t) :: size = KIN_SIZEOF_ANALYSIS
     integer(c_int) :: rank = 0, m = 0, m_rigid = 0, m_internal = 0, s = 0
     real(c_double) :: v_max = 0, v_r = 0
   end type
 
   type, bind(C), public :: kin_options
+    integer(c_size_t) :: size = KIN_SIZEOF_OPTIONS
     real(c_double) :: rank_tol = 0, corrector_tol = 0
     integer(c_int) :: corrector_max_iter = 0
     real(c_double) :: step_fraction = 0
@@ -38,28 +43,33 @@ module libkin
   end type
 
   type, bind(C), public :: kin_step_info
+    integer(c_size_t) :: size = KIN_SIZEOF_STEP_INFO
     real(c_double) :: l = 0, delta = 0, v_r = 0, residual = 0, cos_turn = 0
     integer(c_int) :: iterations = 0, halvings = 0, factorizations = 0, m_internal = 0
   end type
 
   type, bind(C), public :: kin_locate_options
+    integer(c_size_t) :: size = KIN_SIZEOF_LOCATE_OPTIONS
     integer(c_int) :: method = 0
     real(c_double) :: vr_tol = 0, switch_eps = 0, delta = 0
     integer(c_int) :: max_steps = 0, max_iter = 0, use_switch_rule = 0
   end type
 
   type, bind(C), public :: kin_locate_info
+    integer(c_size_t) :: size = KIN_SIZEOF_LOCATE_INFO
     integer(c_int) :: event = 0, located = 0, steps = 0, factorizations = 0, forward = 0
     real(c_double) :: v_r = 0, v_r_rel = 0, distance = 0
     integer(c_int) :: path_kept = 0, m_internal = 0, s = 0, zero_order = 0
   end type
 
   type, bind(C), public :: kin_solve_info
+    integer(c_size_t) :: size = KIN_SIZEOF_SOLVE_INFO
     integer(c_int) :: starts = 0, converged = 0, distinct = 0, gsl_errors = 0
     real(c_double) :: max_residual = 0
   end type
 
   type, bind(C), public :: kin_homotopy_info
+    integer(c_size_t) :: size = KIN_SIZEOF_HOMOTOPY_INFO
     integer(c_int) :: paths = 0, real = 0, real_distinct = 0, nonreal = 0, singular = 0
     integer(c_int) :: failed = 0, uncertified = 0, retracked = 0, duplicates = 0, unpaired = 0
     integer(c_int) :: steps = 0, rejected = 0
@@ -70,6 +80,7 @@ module libkin
   ! kin_progress_callback, or c_null_funptr; user is passed to it unchanged.
   ! Start from kin_homotopy_options_default.
   type, bind(C), public :: kin_homotopy_options
+    integer(c_size_t) :: size = KIN_SIZEOF_HOMOTOPY_OPTIONS
     integer(c_long) :: seed = 0
     integer(c_int) :: nthreads = 0
     integer(c_long) :: max_paths = 0
@@ -78,6 +89,7 @@ module libkin
   end type
 
   type, bind(C), public :: kin_branch_path
+    integer(c_size_t) :: size = KIN_SIZEOF_BRANCH_PATH
     integer(c_int) :: beta = 0, sign = 0, exists = 0, tangent_ok = 0, path_id = 0
     real(c_double) :: length = 0, tangent_cos = 0
   end type
@@ -85,6 +97,7 @@ module libkin
   ! widths: c_loc of a target array of n_loops reals, or c_null_ptr (the
   ! default widths); kinf_model_sail takes the array itself.
   type, bind(C), public :: kin_sail_params
+    integer(c_size_t) :: size = KIN_SIZEOF_SAIL_PARAMS
     integer(c_int) :: n_sides = 0, n_loops = 0
     real(c_double) :: side = 0
     type(c_ptr) :: widths = c_null_ptr

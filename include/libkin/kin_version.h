@@ -14,7 +14,7 @@
 /* ABI version: the N of the shared library's soname libkin.so.N. It changes
  * only when the ABI changes incompatibly (docs/abi.md); the release version
  * above changes with every release. CMake reads it from here too. */
-#define KIN_ABI_VERSION 0
+#define KIN_ABI_VERSION 1
 
 /* Version of the library actually linked, as KIN_VERSION_NUMBER.
  * Compare with KIN_VERSION_NUMBER to detect a header/library mismatch. */
