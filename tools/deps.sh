@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Install what libkin needs on Debian 12 (idempotent): compiler, CMake,
-# LAPACK/BLAS (OpenBLAS), GSL, jansson (JSON model files), pkg-config, and
-# Python's venv module.
+# LAPACK/BLAS (OpenBLAS), GSL, jansson (JSON model files), pkg-config,
+# Python's venv module, gfortran (the Fortran module) and abigail-tools
+# (tools/abi_check.sh).
 set -euo pipefail
-pkgs=(build-essential cmake pkg-config libopenblas-dev liblapack-dev libblas3 libgsl-dev libjansson-dev python3-venv python3-dev)
+pkgs=(build-essential cmake pkg-config libopenblas-dev liblapack-dev libblas3 libgsl-dev libjansson-dev python3-venv python3-dev
+      gfortran abigail-tools)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
