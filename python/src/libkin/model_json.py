@@ -5,27 +5,55 @@
  "bars":   [{"index": k, "joints": [i, j], "length": L (optional), "kind": str (optional)}, ...]}
 Extra keys are kept out of the way (ignored). Indices are 0-based; joint
 "index" values must be 0..n-1 in order, as must bar "index" values if given."""
+from __future__ import annotations
+
 import json
 import math
 import os
+from typing import TYPE_CHECKING, Any, Dict, List, NoReturn, Optional, Tuple, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from .errors import ModelFormatError
 
+if TYPE_CHECKING:
+    from .assembly import Assembly
 
-def _fail(where, msg):
+#: What `parse` returns: name, coords, bars, fixed, lengths (or None), labels.
+ParsedModel = Tuple[str, npt.NDArray[np.float64], npt.NDArray[np.int32], npt.NDArray[np.bool_],
+                    Optional[npt.NDArray[np.float64]], List[str]]
+
+
+def _fail(where: str, msg: str) -> NoReturn:
     raise ModelFormatError(f"{where}: {msg}")
 
 
-def _number(v, where):
+def _number(v: Any, where: str) -> float:
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
         _fail(where, f"expected a finite number, got {v!r}")
     return float(v)
 
 
-def parse(doc):
-    """Validate a model dict; return (name, coords, bars, fixed, lengths, labels)."""
+def parse(doc: Any) -> ParsedModel:
+    """Validate a model dict.
+
+    Parameters
+    ----------
+    doc : dict
+        A parsed JSON model.
+
+    Returns
+    -------
+    tuple
+        (name, coords (njoints, dim), bars (nbars, 2) int32, fixed
+        (njoints, dim) bool, lengths (nbars,) or None, labels).
+
+    Raises
+    ------
+    ModelFormatError
+        The model is malformed; the message names the field and position.
+    """
     if not isinstance(doc, dict):
         _fail("model", f"expected a JSON object, got {type(doc).__name__}")
     dim = doc.get("dimension")
@@ -36,7 +64,7 @@ def parse(doc):
         _fail("joints", "expected a non-empty list")
     coords = np.empty((len(joints), dim))
     fixed = np.zeros((len(joints), dim), dtype=bool)
-    labels = []
+    labels: List[str] = []
     for i, j in enumerate(joints):
         w = f"joints[{i}]"
         if not isinstance(j, dict):
@@ -85,13 +113,33 @@ def parse(doc):
     return name, coords, bars, fixed, (lengths if all(have_len) else None), labels
 
 
-def load_json(source):
-    """Build an Assembly from a JSON file path, a JSON string, or a dict."""
+def load_json(source: Union[str, "os.PathLike[str]", Dict[str, Any]]) -> "Assembly":
+    """Build an Assembly from a JSON model.
+
+    Parameters
+    ----------
+    source : str, path-like or dict
+        A file path, a JSON text (starting with ``{``), or the parsed dict.
+
+    Returns
+    -------
+    Assembly
+        The model, with its labels and name.
+
+    Raises
+    ------
+    ModelFormatError
+        Malformed JSON or model (a ValueError); the message names the field
+        and position.
+    OSError
+        The file cannot be read.
+    """
     from .assembly import Assembly
+    doc: Any
     if isinstance(source, dict):
         doc = source
     else:
-        text = source
+        text = str(source) if not isinstance(source, str) else source
         if isinstance(source, (str, os.PathLike)) and not str(source).lstrip().startswith("{"):
             with open(source) as f:
                 text = f.read()
@@ -103,11 +151,24 @@ def load_json(source):
     return Assembly(coords, bars, fixed=fixed, lengths=lengths, labels=labels, name=name)
 
 
-def to_json(self, path=None):
-    """The assembly's current state as a model dict (written to path if given)."""
+def to_json(self: "Assembly", path: Union[str, "os.PathLike[str]", None] = None) -> Dict[str, Any]:
+    """The assembly's current state as a model dict.
+
+    Parameters
+    ----------
+    self : Assembly
+        The assembly.
+    path : str or path-like, optional
+        Also write the model to this file.
+
+    Returns
+    -------
+    dict
+        The model (schema in python/README.md), with the rest lengths.
+    """
     coords, fixed, bars, L0 = self.coords, self.fixed, self.bars, self.rest_lengths
     labels = self.labels or [f"J{i}" for i in range(self.njoints)]
-    doc = {
+    doc: Dict[str, Any] = {
         "name": self.name or "model",
         "dimension": self.dim,
         "joints": [{"index": i, "label": labels[i], "xyz": [float(v) for v in coords[i]],
