@@ -17,7 +17,9 @@ import cffi
 
 from ._cdef import CDEF, VERSION_NUMBER
 
-ffi = cffi.FFI()
+# Typed as Any: the cdata cffi makes (structs, pointers) have their fields
+# and functions from CDEF at run time, which no stub can describe.
+ffi: Any = cffi.FFI()
 ffi.cdef(CDEF)
 
 _HERE = pathlib.Path(__file__).resolve().parent
