@@ -685,6 +685,43 @@ static int locate_fast(loc_ctx *c, double hi, double tau_lo, double tau_hi)
                      c->o->max_iter, rel(c->work));
 }
 
+/* A non-zero minimum of v_r, by the paper's own model (eq. 23): among the
+ * sampled points (l[i], v[i]) find the lowest one with a higher neighbour on
+ * each side along the path (a bracketed minimum) and fit the quadratic
+ * through it and its neighbours. Near a bifurcation v_r is V-shaped (a
+ * crossing: the fitted vertex lies at most half as high as the lowest sample,
+ * usually below zero) or touches zero (a tangency, Figure 7(b): the vertex is
+ * near zero); a near-singular regular point is a smooth minimum that the
+ * quadratic fits, its vertex within NEAR_MISS_FIT of the lowest sample. Only
+ * minima above NEAR_MISS_FLOOR x the tolerance count, where rounding cannot
+ * fake that agreement. */
+static const double NEAR_MISS_FIT = 0.9;
+static const double NEAR_MISS_FLOOR = 100.0;
+static int nonzero_minimum(double *l, double *v, int n, double v_tol, double *v_min)
+{
+    for (int i = 1; i < n; ++i) /* insertion sort by l: n <= 4 */
+        for (int k = i; k > 0 && l[k] < l[k - 1]; --k) {
+            double tl = l[k], tv = v[k];
+            l[k] = l[k - 1]; v[k] = v[k - 1];
+            l[k - 1] = tl; v[k - 1] = tv;
+        }
+    int best = -1;
+    for (int i = 1; i + 1 < n; ++i)
+        if (v[i] < v[i - 1] && v[i] < v[i + 1] && l[i - 1] < l[i] && l[i] < l[i + 1] &&
+            (best < 0 || v[i] < v[best]))
+            best = i;
+    if (best < 0 || !(v[best] > NEAR_MISS_FLOOR * v_tol)) return 0;
+    double x0 = l[best - 1], x1 = l[best], x2 = l[best + 1];
+    double d01 = (v[best] - v[best - 1]) / (x1 - x0), d12 = (v[best + 1] - v[best]) / (x2 - x1);
+    double A = (d12 - d01) / (x2 - x0);
+    if (!(A > 0.0)) return 0;
+    double B = d01 - A * (x0 + x1), C = v[best - 1] - A * x0 * x0 - B * x0;
+    *v_min = C - B * B / (4 * A);
+    TRACE("near-miss fit: %.6g %.6g | %.6g %.6g | %.6g %.6g -> vertex %.6g at %.6g\n", x0, v[best - 1], x1, v[best], x2,
+          v[best + 1], *v_min, -B / (2 * A));
+    return *v_min >= NEAR_MISS_FIT * v[best];
+}
+
 /* the paper's method: quadratic through the last three (l, v_r) */
 static int locate_paper(loc_ctx *c, double *hl, double *hv, int nh, double step)
 {
@@ -735,6 +772,19 @@ static int locate_paper(loc_ctx *c, double *hl, double *hv, int nh, double step)
         }
         /* overshoot probe: a small extra step; v_r growing means we crossed */
         rc = forward(c, c->work, c->probe, PROBE_FRACTION * delta, NULL);
+        if (rc == KIN_OK) {
+            /* the samples so far bracket a smooth non-zero minimum: no bifurcation here */
+            double sl[4] = {base->l, c->work->l, c->probe->l, 0.0};
+            double sv[4] = {kin__cur(base)->an.v_r, kin__cur(c->work)->an.v_r, kin__cur(c->probe)->an.v_r, 0.0};
+            int ns = 3;
+            if (nh >= 2) { sl[3] = hl[nh - 2]; sv[3] = hv[nh - 2]; ns = 4; }
+            double v_min, v_max = kin__cur(base)->an.v_max;
+            if (nonzero_minimum(sl, sv, ns, c->o->vr_tol * v_max, &v_min))
+                return kin__fail(c->a, KIN_ENOTFOUND,
+                                 "v_r has a non-zero minimum (%.3g relative, from the quadratic of eq. 23) "
+                                 "here: a near-singular but regular configuration",
+                                 v_min / v_max);
+        }
         if (rc != KIN_OK || kin__cur(c->probe)->an.v_r > kin__cur(c->work)->an.v_r) {
             shrink *= 0.5;
             continue;

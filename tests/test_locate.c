@@ -256,7 +256,9 @@ static void nonzero_minimum(void)
         printf("non-zero minimum (%s): gave up after %d steps, %d forward: %s\n", method_name(o.method), info.steps,
                info.forward, kin_last_error(a));
         CHECK(!info.located && info.m_internal == 1 && info.v_r_rel > 1e-4);
-        CHECK(strstr(kin_last_error(a), "regular configuration") != NULL);
+        /* the paper's and the fast method recognise the minimum by their own
+         * logic, before their iteration budget runs out */
+        if (o.method != KIN_LOCATE_ILLINOIS) CHECK(info.forward < o.max_iter);
         CHECK(kin_max_strain(a) <= 1e-12);
         CHECK_RC(kin_step(a, 0.05, NULL), KIN_OK);
         kin_assembly_free(a);
