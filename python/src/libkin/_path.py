@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 from typing import Any, Iterator, Optional
 
 import numpy as np
@@ -140,7 +141,8 @@ class PathMixin(AssemblyBase):
         NotConvergedError, PathJumpError
             Every retry failed; the assembly is unchanged.
         """
-        if isinstance(delta, bool) or not isinstance(delta, (int, float)) or not math.isfinite(delta):
+        value: object = delta  # any real number: float, int, numpy scalars
+        if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
             raise InvalidArgumentError(f"delta: expected a finite number, got {delta!r}")
         info = ffi.new("kin_step_info *")
         self._check(lib.kin_step(self._h, float(delta), info), "step")
