@@ -135,3 +135,31 @@ def test_cli_interrupt_exits_130():
     out, err = p.communicate(timeout=60)
     assert p.returncode == 130, err
     assert err.strip().splitlines()[-1] == "libkin: interrupted" and "Traceback" not in err
+
+
+def test_cli_without_a_library_says_so_in_one_line(tmp_path):
+    """A copy of the package away from the build tree, with LIBKIN_LIBRARY
+    pointing nowhere: the command exits 1 with one line; import raises."""
+    import ctypes.util
+    import os
+    import shutil
+    import subprocess
+    import sys
+
+    if ctypes.util.find_library("kin"):
+        pytest.skip("a system-wide libkin would be found")
+    shutil.copytree(pathlib_package(), tmp_path / "a" / "b" / "libkin", ignore=shutil.ignore_patterns("_lib"))
+    env = dict(os.environ, PYTHONPATH=str(tmp_path / "a" / "b"), LIBKIN_LIBRARY=str(tmp_path / "none.so"))
+    r = subprocess.run([sys.executable, "-m", "libkin", "--version"], env=env, capture_output=True, text=True,
+                       timeout=60, cwd=tmp_path)
+    assert r.returncode == 1 and r.stderr.count("\n") == 1 and "Traceback" not in r.stderr, r.stderr
+    assert r.stderr.startswith("libkin: could not load") and "none.so" in r.stderr
+    r = subprocess.run([sys.executable, "-c", "import libkin"], env=env, capture_output=True, text=True,
+                       timeout=60, cwd=tmp_path)
+    assert r.returncode == 1 and "ImportError" in r.stderr
+
+
+def pathlib_package():
+    import pathlib
+
+    return pathlib.Path(libkin.__file__).parent

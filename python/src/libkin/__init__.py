@@ -4,8 +4,15 @@ A thin numpy wrapper (cffi, ABI mode) over the libkin C library. Start with
 `Assembly` (``help(libkin.Assembly)``); errors are in `libkin.errors`.
 """
 from . import errors
+
+try:
+    from ._lib import lib, library_path
+except ImportError as _exc:  # no usable C library: the command line says so in one line
+    from ._startup import exit_if_command
+
+    exit_if_command(_exc)
+    raise
 from ._lib import c_string as _c_string
-from ._lib import lib, library_path
 from .assembly import Analysis, Assembly, BranchPath, Branches, LocateInfo, Options, StepInfo, solve_quadrics
 from .errors import KinError, ModelFormatError
 from .model_json import load_json, to_json
