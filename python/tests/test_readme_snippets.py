@@ -95,3 +95,21 @@ def test_readme_blocks_run_in_a_fresh_copy(readme, tmp_path):
         assert r.returncode == 0, f"{readme} block {k} ({lang}) failed:\n{code}\n{r.stdout[-3000:]}\n{r.stderr[-3000:]}"
         ran += 1
     assert ran >= 1
+
+
+def test_example_models_are_what_the_readmes_say():
+    import libkin
+
+    counts = {"threebar_RA": (2, 1), "threebar_RB": (2, 1), "threebar_RC": (2, 1), "square_sail": (6, 4),
+              "hex_sail": (16, 15), "fold_vertex": (2, 1)}
+    models = ROOT / "examples" / "models"
+    assert {p.stem for p in models.glob("*.json")} == set(counts)
+    for name, (m, s) in counts.items():
+        with libkin.Assembly.from_json(models / f"{name}.json") as a:
+            an = a.analyse()
+            assert (an.m, an.s) == (m, s), name
+    with libkin.Assembly.from_json(models / "fold_vertex.json") as fv:
+        assert fv.dim == 3
+        br = fv.branches(length=0.5)
+        assert br.accounting["real_distinct"] == 2 and br.distinct == 4
+        assert all(p.exists and p.tangent_ok for p in br.paths)
