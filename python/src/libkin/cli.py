@@ -17,7 +17,7 @@ import numpy as np
 from . import __version__
 from ._base import Analysis
 from .assembly import Assembly
-from .errors import KinError
+from .errors import InvalidArgumentError, KinError
 
 EXIT_ERROR = 1
 EXIT_USAGE = 2
@@ -31,6 +31,8 @@ def _load(spec: str) -> Assembly:
         return Assembly.threebar(spec.split(":", 1)[1])
     if spec.startswith("sail:"):
         parts = spec.split(":")
+        if len(parts) not in (2, 3) or not all(p.isdigit() for p in parts[1:]):
+            raise InvalidArgumentError(f"MODEL {spec!r}: expected sail:N_SIDES or sail:N_SIDES:N_LOOPS")
         return Assembly.sail(int(parts[1]), int(parts[2]) if len(parts) > 2 else 1)
     return Assembly.from_json(spec)
 
