@@ -8,6 +8,7 @@ early; 130 interrupted (Ctrl-C).
 from __future__ import annotations
 
 import argparse
+import os
 import pathlib
 import sys
 from typing import Any, List, Optional, Tuple
@@ -246,6 +247,11 @@ def main(argv: Optional[List[str]] = None) -> int:
     except KeyboardInterrupt:
         print("libkin: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        # the reader of stdout went away (e.g. `| head`): stop quietly, and keep
+        # the interpreter's final flush from failing again
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_ERROR
     except (KinError, OSError, ImportError, ValueError) as exc:
         print(_one_line(exc), file=sys.stderr)
         return EXIT_ERROR
