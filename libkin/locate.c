@@ -205,6 +205,16 @@ static int forward(loc_ctx *c, const kin_assembly *base, kin_assembly *dst, doub
     return rc;
 }
 
+/* Progress through the caller's callback (kin_set_progress): steps plus
+ * forward calculations, out of max_steps + max_iter. Called at the top of
+ * every following step and location iteration, so a cancel takes effect
+ * within one step. Returns 1 when the caller cancels. */
+static int loc_cancelled(const loc_ctx *c)
+{
+    double total = (double)c->o->max_steps + (double)c->o->max_iter;
+    return kin__progress(c->a, (double)c->info->steps + (double)c->info->forward, total);
+}
+
 static double tangent_cos(const kin_assembly *x, const kin_assembly *y)
 {
     return fabs(kin__dot(x->nf, x->t, y->t));
@@ -502,6 +512,7 @@ static int locate_hermite(loc_ctx *c)
     int checked = 0, stalls = 0; /* accurate nodes at the last check; checks without progress */
     double best = INFINITY;
     for (int it = 0; it < c->o->max_iter && h->n <= HERMITE_MAX_NODES; ++it) {
+        if (loc_cancelled(c)) return KIN_ECANCELLED;
         int ngood = 0;
         for (int i = 0; i < h->n; ++i) ngood += good[i] = h->err[i] <= err_ok;
         /* the estimate: from the accurate nodes once they bracket the zero,
@@ -644,6 +655,7 @@ static int locate_fast(loc_ctx *c, double hi, double tau_lo, double tau_hi)
     double lo = 0.0, width0 = fabs(hi);
     int side = 0;
     for (int it = 0; it < c->o->max_iter; ++it) {
+        if (loc_cancelled(c)) return KIN_ECANCELLED;
         if (fabs(hi - lo) < GIVE_UP_FRACTION * width0) {
             /* the bracket has collapsed but v_r stays finite: tau changed sign
              * without a zero, i.e. the step crossed a near-singular but
@@ -728,6 +740,7 @@ static int locate_paper(loc_ctx *c, double *hl, double *hv, int nh, double step)
     kin_assembly *base = c->prev;
     double delta = 0.0, shrink = 1.0;
     for (int it = 0; it < c->o->max_iter; ++it) {
+        if (loc_cancelled(c)) return KIN_ECANCELLED;
         double ln;
         if (nh >= 3) {
             /* Lagrange quadratic v = A l^2 + B l + C through the last three points */
@@ -884,6 +897,10 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
     kin_step_info si;
     long fa = 0, fw = 0, fp = 0, fpv = 0;
     while (rc == KIN_OK && info->steps < o.max_steps) {
+        if (loc_cancelled(&c)) {
+            rc = KIN_ECANCELLED;
+            break;
+        }
         kin__copy_state(c.prev, a);
         rc = kin_step(a, o.delta, &si);
         if (rc) break;
@@ -993,7 +1010,7 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
             for (int i = 0; i < a->nj * a->dim; ++i) dist += (c.work->xyz[i] - a->xyz[i]) * (c.work->xyz[i] - a->xyz[i]);
             info->distance = sqrt(dist);
             kin__copy_state(a, c.work);
-        } else if (rc == KIN_ENOTFOUND) {
+        } else if (rc == KIN_ENOTFOUND || rc == KIN_ECANCELLED) {
             /* leave the assembly at the best regular point: the base of the search */
             kin__copy_state(a, c.prev);
         }
@@ -1018,6 +1035,11 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
     info->v_r_rel = kin__cur(a)->an.v_max > 0 ? info->v_r / kin__cur(a)->an.v_max : 0.0;
     info->m_internal = kin__cur(a)->an.m_internal;
     info->s = kin__cur(a)->an.s;
+    if (rc == KIN_ECANCELLED)
+        kin__fail(a, KIN_ECANCELLED, "cancelled by the progress callback after %d steps and %d forward calculations",
+                  info->steps, info->forward);
+    else if (rc == KIN_OK)
+        (void)kin__progress(a, (double)o.max_steps + (double)o.max_iter, (double)o.max_steps + (double)o.max_iter);
     free_ctx(&c);
     return rc;
 }

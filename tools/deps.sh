@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Install what libkin needs on Debian 12 (idempotent): compiler, CMake,
-# LAPACK/BLAS (OpenBLAS), GSL, pkg-config, and Python's venv module.
+# LAPACK/BLAS (OpenBLAS), GSL, jansson (JSON model files), pkg-config, and
+# Python's venv module.
 # Nothing to do (and no root needed) when everything is installed. Otherwise
 # it installs with apt-get as root, or through sudo if that works without a
 # password; failing both it prints the exact command to run and exits 1.
@@ -8,7 +9,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source tools/stage.sh
-pkgs=(build-essential cmake pkg-config libopenblas-dev liblapack-dev libblas3 libgsl-dev python3-venv python3-dev)
+pkgs=(build-essential cmake pkg-config libopenblas-dev liblapack-dev libblas3 libgsl-dev libjansson-dev python3-venv python3-dev)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

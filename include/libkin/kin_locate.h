@@ -14,6 +14,7 @@
 
 #include "kin_export.h"
 #include "kin_assembly.h"
+#include "kin_progress.h"
 
 /* Location methods. */
 enum kin_locate_method {
@@ -89,8 +90,15 @@ KIN_API int kin_test_function(kin_assembly *a, double *tau);
  * kin_last_error(). Allocates its working copies of the assembly (three; five
  * for the fast method) and the interpolation workspace once per call, none
  * while stepping.
+ * Progress goes to the handle's callback (kin_set_progress, kin_progress.h)
+ * before every step and location iteration: done = steps + forward
+ * calculations, total = max_steps + max_iter. If it cancels, the assembly is
+ * left at the last regular point reached on the path (as for KIN_ENOTFOUND:
+ * analysed, stepping can resume), info holds the counts of the work done
+ * (located = 0; event what was detected before the cancel) and
+ * KIN_ECANCELLED is returned.
  * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (options), KIN_EBIFURCATION (already
- * at one), KIN_ENOTFOUND, KIN_ENOMEM, step and LAPACK codes. */
+ * at one), KIN_ENOTFOUND, KIN_ECANCELLED, KIN_ENOMEM, step and LAPACK codes. */
 KIN_API int kin_locate_next(kin_assembly *a, const kin_locate_options *o, kin_locate_info *info);
 
 #endif /* KIN_LOCATE_H */

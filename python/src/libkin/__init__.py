@@ -15,12 +15,12 @@ except ImportError as _exc:  # no usable C library: the command line says so in 
 from ._lib import c_string as _c_string
 from .assembly import Analysis, Assembly, BranchPath, Branches, LocateInfo, Options, StepInfo, solve_quadrics
 from .errors import KinError, ModelFormatError
-from .model_json import load_json, to_json
+from .model_json import load_json, load_model, to_json
 
 #: The version of the loaded C library (``kin_version_string()``), which is
 #: also the version of this package.
 __version__: str = _c_string(lib.kin_version_string())
 
 __all__ = ["Assembly", "Analysis", "Options", "StepInfo", "Branches", "BranchPath", "LocateInfo",
-           "solve_quadrics", "KinError", "ModelFormatError", "errors", "load_json", "to_json", "lib",
+           "solve_quadrics", "KinError", "ModelFormatError", "errors", "load_json", "load_model", "to_json", "lib",
            "library_path", "__version__"]

@@ -15,6 +15,7 @@ import numpy.typing as npt
 from ._arrays import read_ptr, write_ptr
 from ._base import AssemblyBase, FloatArray
 from ._lib import ffi, lib
+from ._progress import Progress, reporting
 from .errors import InvalidArgumentError, StateError, check
 
 _WEIGHTINGS = {"exact": "KIN_Q_EXACT", "paper": "KIN_Q_PAPER_EQ17"}
@@ -81,7 +82,8 @@ class Branches:
 
 
 def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 1024, seed: int = 1,
-                   threads: int = 2) -> Tuple[FloatArray, Dict[str, int]]:
+                   threads: int = 2, progress: Progress = None,
+                   max_paths: Optional[int] = None) -> Tuple[FloatArray, Dict[str, int]]:
     """Real solutions of the second-order equations ``beta^T Q_j beta = 0``, ``|beta| = 1``.
 
     Parameters
@@ -97,7 +99,14 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
     seed : int, optional
         Seed of the random start system or scan.
     threads : int, optional
-        Threads of the homotopy solver (the answer does not depend on it).
+        Threads of the homotopy solver, at most the online processors (the
+        answer does not depend on it).
+    progress : None, bool or callable, optional
+        Progress of the homotopy (see `libkin._progress`): True shows a tqdm
+        bar, a callable gets ``(done, total)`` and cancels by returning true.
+        Ctrl-C stops the solver within about 0.1 s and raises KeyboardInterrupt.
+    max_paths : int, optional
+        Refuse more than this many homotopy paths 2^s (None: the library's 2^20).
 
     Returns
     -------
@@ -113,8 +122,12 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
         `Q` has the wrong shape or `solver` is unknown (a ValueError).
     StateError
         m is not s + 1.
+    LimitError
+        2^s is more than `max_paths`.
+    CancelledError
+        The `progress` callable asked to stop.
     KinError
-        As the C solver reports (e.g. `GslError`, `LimitError`).
+        As the C solver reports (e.g. `GslError`).
     """
     Qa = np.asarray(Q, dtype=np.float64)
     if Qa.ndim != 3 or Qa.shape[1] != Qa.shape[2]:
@@ -136,9 +149,17 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
         accounting = {"starts": info.starts, "converged": info.converged, "distinct": info.distinct}
     else:
         info = ffi.new("kin_homotopy_info *")
-        check(lib.kin_quadrics_homotopy(m, s, read_ptr(Qc, "double *"), int(seed), int(threads),
-                                        write_ptr(betas, "double *"), maxsol, nsol, ffi.NULL, info),
-              what="homotopy")
+        opt = ffi.new("kin_homotopy_options *")
+        lib.kin_homotopy_options_default(opt)
+        opt.seed = int(seed)
+        opt.nthreads = int(threads)
+        if max_paths is not None:
+            opt.max_paths = int(max_paths)
+        with reporting(progress, f"homotopy 2^{s}", "path") as rep:
+            opt.progress = rep.c_callback
+            rc = lib.kin_quadrics_homotopy_ex(m, s, read_ptr(Qc, "double *"), opt, write_ptr(betas, "double *"),
+                                              maxsol, nsol, ffi.NULL, info)
+        check(rc, what="homotopy")
         accounting = {k: getattr(info, k) for k in ("paths", "real", "real_distinct", "nonreal", "singular",
                                                     "failed", "duplicates", "unpaired", "retracked")}
     return betas[: nsol[0]].copy(), accounting
@@ -185,7 +206,8 @@ class BranchingMixin(AssemblyBase):
         return Q[: s_out[0]]
 
     def branches(self, solver: str = "homotopy", starts: int = 1024, length: float = 1.0, seed: int = 1,
-                 weighting: str = "exact", threads: int = 2) -> Branches:
+                 weighting: str = "exact", threads: int = 2, progress: Progress = None,
+                 max_paths: Optional[int] = None) -> Branches:
         """Every path out of this bifurcation.
 
         Solves the second-order equations (`solve_quadrics`), then follows
@@ -205,6 +227,11 @@ class BranchingMixin(AssemblyBase):
             See `second_order`.
         threads : int, optional
             Threads of the homotopy solver.
+        progress : None, bool or callable, optional
+            Progress of the homotopy and then of the following (see
+            `solve_quadrics`).
+        max_paths : int, optional
+            See `solve_quadrics`.
 
         Returns
         -------
@@ -218,11 +245,12 @@ class BranchingMixin(AssemblyBase):
         StateError
             Not a bifurcation point, or m_internal != s + 1.
         """
-        betas, accounting = solve_quadrics(self.second_order(weighting=weighting), solver, starts, seed, threads)
-        return self.follow_branches(betas, length=length, accounting=accounting)
+        betas, accounting = solve_quadrics(self.second_order(weighting=weighting), solver, starts, seed, threads,
+                                           progress=progress, max_paths=max_paths)
+        return self.follow_branches(betas, length=length, accounting=accounting, progress=progress)
 
     def follow_branches(self, betas: npt.ArrayLike, length: float = 1.0,
-                        accounting: Optional[Dict[str, int]] = None) -> Branches:
+                        accounting: Optional[Dict[str, int]] = None, progress: Progress = None) -> Branches:
         """Follow given second-order solutions out of this bifurcation.
 
         Parameters
@@ -234,6 +262,9 @@ class BranchingMixin(AssemblyBase):
             Path length to follow each candidate path.
         accounting : dict, optional
             Carried into the result.
+        progress : None, bool or callable, optional
+            See `solve_quadrics`; Ctrl-C stops the following and raises
+            KeyboardInterrupt with the assembly unchanged.
 
         Returns
         -------
@@ -256,8 +287,10 @@ class BranchingMixin(AssemblyBase):
             cp = ffi.new("kin_branch_path[]", 2 * nsol)
             ends = np.empty((2 * nsol, self.njoints, self.dim))
             nd = ffi.new("int *")
-            self._check(lib.kin_branch_paths(self._h, read_ptr(b, "double *"), nsol, float(length), cp,
-                                             write_ptr(ends, "double *"), nd), "branch paths")
+            with reporting(progress, "branches", "path", self._h):
+                rc = lib.kin_branch_paths(self._h, read_ptr(b, "double *"), nsol, float(length), cp,
+                                          write_ptr(ends, "double *"), nd)
+            self._check(rc, "branch paths")
             distinct = nd[0]
             paths = [BranchPath(p.beta, p.sign, bool(p.exists), bool(p.tangent_ok), p.tangent_cos, p.path_id,
                                 p.length, ends[k]) for k, p in enumerate(cp)]

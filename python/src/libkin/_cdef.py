@@ -3,7 +3,7 @@
 VERSION = (0, 2, 0)
 VERSION_NUMBER = 200
 STATUS_NAMES = ['KIN_OK', 'KIN_ENULL', 'KIN_EINVAL', 'KIN_EDIM', 'KIN_EJOINT', 'KIN_ESELFBAR', 'KIN_EDUPBAR', 'KIN_EGEOM', 'KIN_ENOFREE', 'KIN_ENOMEM', 'KIN_ELAPACK_ARG', 'KIN_ELAPACK_CONV', 'KIN_ENOTCONVERGED', 'KIN_EPATHJUMP', 'KIN_EBIFURCATION', 'KIN_ENOMECH', 'KIN_ERANGE', 'KIN_ESTATE', 'KIN_ENOTFOUND', 'KIN_EGSL', 'KIN_ECANCELLED', 'KIN_EMULTIDOF', 'KIN_ELIMIT', 'KIN_EIO', 'KIN_EFORMAT']
-STATUS_MESSAGES = {'KIN_OK': 'success', 'KIN_ENULL': 'a required pointer argument is NULL', 'KIN_EINVAL': 'invalid argument', 'KIN_EDIM': 'dimension must be 2 or 3', 'KIN_EJOINT': 'joint index out of range', 'KIN_ESELFBAR': 'bar connects a joint to itself', 'KIN_EDUPBAR': 'duplicate bar', 'KIN_EGEOM': 'non-finite coordinate or length, or zero-length bar', 'KIN_ENOFREE': 'assembly has no free coordinates', 'KIN_ENOMEM': 'out of memory', 'KIN_ELAPACK_ARG': 'LAPACK rejected an argument (info < 0): internal error', 'KIN_ELAPACK_CONV': 'LAPACK factorization did not converge (info > 0)', 'KIN_ENOTCONVERGED': 'iteration did not converge', 'KIN_EPATHJUMP': 'step would leave the path: mechanism direction jumped', 'KIN_EBIFURCATION': 'assembly is at a bifurcation: choose a direction first', 'KIN_ENOMECH': 'assembly has no internal mechanism: it cannot move', 'KIN_ERANGE': 'size or index out of range', 'KIN_ESTATE': 'operation not valid in the current state', 'KIN_ENOTFOUND': 'no bifurcation located: locator gave up', 'KIN_EGSL': 'GSL reported an error', 'KIN_ECANCELLED': "cancelled by the caller's progress callback", 'KIN_EMULTIDOF': 'several internal mechanisms at a regular point: choose a direction', 'KIN_ELIMIT': 'problem larger than the limit set for this call', 'KIN_EIO': 'file could not be opened, read or written', 'KIN_EFORMAT': 'malformed model file'}
+STATUS_MESSAGES = {'KIN_OK': 'success', 'KIN_ENULL': 'a required pointer argument is NULL', 'KIN_EINVAL': 'invalid argument', 'KIN_EDIM': 'dimension must be 2 or 3', 'KIN_EJOINT': 'joint index out of range', 'KIN_ESELFBAR': 'bar connects a joint to itself', 'KIN_EDUPBAR': 'duplicate bar', 'KIN_EGEOM': 'coordinate or length non-finite, out of range, or zero', 'KIN_ENOFREE': 'assembly has no free coordinates', 'KIN_ENOMEM': 'out of memory', 'KIN_ELAPACK_ARG': 'LAPACK rejected an argument (info < 0): internal error', 'KIN_ELAPACK_CONV': 'LAPACK factorization did not converge (info > 0)', 'KIN_ENOTCONVERGED': 'iteration did not converge', 'KIN_EPATHJUMP': 'step would leave the path: mechanism direction jumped', 'KIN_EBIFURCATION': 'assembly is at a bifurcation: choose a direction first', 'KIN_ENOMECH': 'assembly has no internal mechanism: it cannot move', 'KIN_ERANGE': 'size or index out of range', 'KIN_ESTATE': 'operation not valid in the current state', 'KIN_ENOTFOUND': 'no bifurcation located: locator gave up', 'KIN_EGSL': 'GSL reported an error', 'KIN_ECANCELLED': "cancelled by the caller's progress callback", 'KIN_EMULTIDOF': 'several internal mechanisms at a regular point: choose a direction', 'KIN_ELIMIT': 'problem larger than the limit set for this call', 'KIN_EIO': 'file could not be opened, read or written', 'KIN_EFORMAT': 'malformed model file'}
 
 CDEF = r'''
 int kin_version_number(void);
@@ -81,6 +81,9 @@ enum kin_mech_kind {
 };
 int kin_get_mechanisms(const kin_assembly *a, int kind, double *U, int ldu, int cols);
 int kin_get_self_stresses(const kin_assembly *a, double *W, int ldw, int cols);
+
+typedef int (*kin_progress_fn)(void *user, double done, double total);
+int kin_set_progress(kin_assembly *a, kin_progress_fn fn, void *user);
 
 typedef struct kin_options {
     double rank_tol;
@@ -179,6 +182,17 @@ typedef struct kin_homotopy_info {
 int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads,
                                   double *betas, int maxsol, int *nsol, int *multiplicity,
                                   kin_homotopy_info *info);
+typedef struct kin_homotopy_options {
+    unsigned long seed;
+    int nthreads;
+    long max_paths;
+    kin_progress_fn progress;
+    void *user;
+} kin_homotopy_options;
+void kin_homotopy_options_default(kin_homotopy_options *o);
+int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_options *opt,
+                                     double *betas, int maxsol, int *nsol, int *multiplicity,
+                                     kin_homotopy_info *info);
 typedef struct kin_branch_path {
     int beta;
     int sign;
@@ -228,4 +242,14 @@ typedef struct kin_locate_info {
 void kin_locate_options_default(kin_locate_options *o);
 int kin_test_function(kin_assembly *a, double *tau);
 int kin_locate_next(kin_assembly *a, const kin_locate_options *o, kin_locate_info *info);
+
+int kin_assembly_load(const char *path, kin_assembly **out, char *errbuf,
+                              size_t errlen);
+int kin_assembly_load_string(const char *text, size_t len, kin_assembly **out,
+                                     char *errbuf, size_t errlen);
+int kin_assembly_save(const kin_assembly *a, const char *name, const char *path,
+                              char *errbuf, size_t errlen);
+int kin_assembly_save_string(const kin_assembly *a, const char *name, char **text,
+                                     size_t *len, char *errbuf, size_t errlen);
+void kin_free_string(char *text);
 '''

@@ -8,6 +8,7 @@ import dataclasses
 
 from ._base import AssemblyBase
 from ._lib import ffi, lib
+from ._progress import Progress, reporting
 from .errors import InvalidArgumentError
 
 _METHODS = {"fast": "KIN_LOCATE_FAST", "paper": "KIN_LOCATE_PAPER", "illinois": "KIN_LOCATE_ILLINOIS"}
@@ -58,7 +59,7 @@ class LocatingMixin(AssemblyBase):
     """Locating methods of `libkin.Assembly`."""
 
     def locate(self, method: str = "fast", delta: float = 0.0, vr_tol: float = 1e-10,
-               max_steps: int = 1000) -> LocateInfo:
+               max_steps: int = 1000, progress: Progress = None) -> LocateInfo:
         """Follow the path until a bifurcation is detected, and converge onto it.
 
         Parameters
@@ -74,6 +75,10 @@ class LocatingMixin(AssemblyBase):
             Located when v_r / v_max is at most this.
         max_steps : int, optional
             Steps to look for a bifurcation.
+        progress : None, bool or callable, optional
+            Progress in steps and forward calculations (see
+            `libkin._progress`); Ctrl-C or a cancel leaves the assembly at the
+            last regular point reached on the path.
 
         Returns
         -------
@@ -89,6 +94,8 @@ class LocatingMixin(AssemblyBase):
             stays on the path.
         AtBifurcationError
             The start is itself a bifurcation and no direction was chosen.
+        CancelledError
+            The `progress` callable asked to stop.
         """
         if method not in _METHODS:
             raise InvalidArgumentError(f"method: expected one of {sorted(_METHODS)}, got {method!r}")
@@ -99,7 +106,9 @@ class LocatingMixin(AssemblyBase):
         o.vr_tol = float(vr_tol)
         o.max_steps = int(max_steps)
         info = ffi.new("kin_locate_info *")
-        self._check(lib.kin_locate_next(self._h, o, info), "locate")
+        with reporting(progress, "locate", "step", self._h):
+            rc = lib.kin_locate_next(self._h, o, info)
+        self._check(rc, "locate")
         return LocateInfo(info.event, bool(info.located), info.steps, info.factorizations, info.forward,
                           info.v_r, info.v_r_rel, info.distance, bool(info.path_kept), info.m_internal, info.s,
                           info.zero_order)
