@@ -43,7 +43,7 @@ static int follow_one(const kin_assembly *a0, const double *dir, double l_target
     }
     kin__gather(a, a->xyz, x0);
     double l_start = kin_path_length(a); /* the progress: the fraction of l_target covered from here */
-    kin_step_info info;
+    kin_step_info info = {.size = sizeof info};
     if (kin_step(a, FIRST_STEP_FRACTION * dmax, &info) != KIN_OK) goto out;
     kin__gather(a, a->xyz, x1);
     double nd = kin__norm(nf, dir), dot = 0.0, nc;
@@ -157,8 +157,8 @@ static int all_finite(const double *v, size_t n)
     return 1;
 }
 
-int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, double l_target,
-                     kin_branch_path *paths, double *final_xyz, int *ndistinct)
+static int branch_paths_impl(const kin_assembly *a, const double *betas, int nbeta, double l_target,
+                             kin_branch_path *paths, double *final_xyz, int *ndistinct)
 {
     if (ndistinct) *ndistinct = 0;
     if (!a || !betas || !paths || !ndistinct) return KIN_ENULL;
@@ -211,5 +211,34 @@ int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, doub
     }
     free(dir);
     free(ends);
+    return rc;
+}
+
+/* The caller's array holds elements of paths[0].size bytes (the
+ * kin_branch_path it was compiled with); results are made in a full-size
+ * array and copied element by element. */
+int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, double l_target,
+                     kin_branch_path *paths, double *final_xyz, int *ndistinct)
+{
+    if (!paths) return branch_paths_impl(a, betas, nbeta, l_target, NULL, final_xyz, ndistinct);
+    if (kin__abi_check(paths, KIN__V1_SIZE(kin_branch_path, tangent_cos), sizeof *paths)) {
+        if (ndistinct) *ndistinct = 0;
+        return KIN_EINVAL;
+    }
+    /* a count it refuses: the checks return before any element is written */
+    if (nbeta < 1 || nbeta > INT_MAX / 2) return branch_paths_impl(a, betas, nbeta, l_target, paths, final_xyz, ndistinct);
+    size_t stride = kin__abi_size(paths);
+    kin_branch_path *full = calloc(2 * (size_t)nbeta, sizeof *full);
+    if (!full) {
+        if (ndistinct) *ndistinct = 0;
+        return KIN_ENOMEM;
+    }
+    int rc = branch_paths_impl(a, betas, nbeta, l_target, full, final_xyz, ndistinct);
+    for (size_t i = 0; i < 2 * (size_t)nbeta; ++i) {
+        kin_branch_path *dst = (kin_branch_path *)((char *)paths + i * stride);
+        memcpy(dst, &stride, sizeof stride);
+        kin__abi_write(dst, &full[i], sizeof full[i]);
+    }
+    free(full);
     return rc;
 }

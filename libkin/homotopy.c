@@ -310,6 +310,7 @@ void kin_homotopy_options_default(kin_homotopy_options *o)
 {
     if (!o) return;
     memset(o, 0, sizeof *o);
+    o->size = sizeof *o;
     o->seed = 1;
     o->nthreads = 0;
     o->max_paths = KIN_HOMOTOPY_MAX_PATHS;
@@ -327,8 +328,8 @@ int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int
     return kin_quadrics_homotopy_ex(m, s, Q, &o, betas, maxsol, nsol, multiplicity, info);
 }
 
-int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_options *opt, double *betas,
-                             int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info)
+static int homotopy_impl(int m, int s, const double *Q, const kin_homotopy_options *opt, double *betas, int maxsol,
+                         int *nsol, int *multiplicity, kin_homotopy_info *info)
 {
     if (nsol) *nsol = 0;
     if (info) memset(info, 0, sizeof *info);
@@ -507,5 +508,24 @@ done:
         for (int t = 0; t < nthreads; ++t) kin__hom_ws_free(ws[t]);
     free(ws), free(running), free(th), free(jobs), free(paired), free(size), free(list), free(parent);
     free(keys), free(zi), free(zr), free(ends), free(Qb), free(Qr);
+    return rc;
+}
+
+int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_options *opt, double *betas,
+                             int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info)
+{
+    if (nsol) *nsol = 0;
+    if (!info) return KIN_ENULL;
+    if (kin__abi_check(info, KIN__V1_SIZE(kin_homotopy_info, max_cond), sizeof *info)) return KIN_EINVAL;
+    kin__abi_zero(info);
+    kin_homotopy_options o;
+    kin_homotopy_options_default(&o); /* fields an older caller does not have keep their defaults */
+    if (opt) {
+        if (kin__abi_check(opt, KIN__V1_SIZE(kin_homotopy_options, user), sizeof *opt)) return KIN_EINVAL;
+        kin__abi_read(&o, opt, sizeof o);
+    }
+    kin_homotopy_info local = {.size = sizeof local};
+    int rc = homotopy_impl(m, s, Q, &o, betas, maxsol, nsol, multiplicity, &local);
+    kin__abi_write(info, &local, sizeof local);
     return rc;
 }

@@ -205,4 +205,20 @@ static inline int kin__mul_size3(size_t a, size_t b, size_t c, size_t *out)
 double kin__dot(int n, const double *x, const double *y);
 double kin__norm(int n, const double *x);
 
+
+/* ---- size-prefixed public structs (abi.c, docs/abi.md) ----
+ * KIN__V1_SIZE(T, last) is the size of T's first extensible layout, ending
+ * at member `last`: the smallest `size` a caller may pass. It never changes
+ * when T grows. */
+#define KIN__V1_SIZE(T, last) (offsetof(T, last) + sizeof(((T *)0)->last))
+size_t kin__abi_size(const void *p);
+/* KIN_OK if p->size lies in [min_size, cur_size], else KIN_EINVAL */
+int kin__abi_check(const void *p, size_t min_size, size_t cur_size);
+/* copy the caller's bytes over `local` (already holding defaults); local->size = cur_size */
+void kin__abi_read(void *local, const void *user, size_t cur_size);
+/* copy `local` into the caller's struct, only as many bytes as it has; its size is kept */
+void kin__abi_write(void *user, const void *local, size_t cur_size);
+/* zero every byte of a caller's (already checked) struct after its size */
+void kin__abi_zero(void *user);
+
 #endif /* KIN_INTERNAL_H */

@@ -81,6 +81,8 @@ enum { TAU_LOOK_AHEAD = 2 };
 void kin_locate_options_default(kin_locate_options *o)
 {
     if (!o) return;
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o;
     o->method = KIN_LOCATE_FAST;
     o->vr_tol = 1e-10;
     o->switch_eps = 1e-2;
@@ -198,7 +200,7 @@ static int at_bifurcation(const kin_assembly *a, double tol)
 static int forward(loc_ctx *c, const kin_assembly *base, kin_assembly *dst, double delta, double *used)
 {
     kin__copy_state(dst, base);
-    kin_step_info si;
+    kin_step_info si = {.size = sizeof si};
     c->info->forward++;
     int rc = kin_step(dst, delta, &si);
     if (used) *used = rc == KIN_OK ? si.delta : 0.0;
@@ -848,19 +850,13 @@ static void free_ctx(loc_ctx *c)
     hermite_free(c->hw);
 }
 
-int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info)
+static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info)
 {
-    if (!a) return KIN_ENULL;
-    kin_locate_options o;
-    if (opt) o = *opt;
-    else kin_locate_options_default(&o);
+    kin_locate_options o = *opt;
     if ((o.method != KIN_LOCATE_PAPER && o.method != KIN_LOCATE_FAST && o.method != KIN_LOCATE_ILLINOIS) ||
         !(o.vr_tol > 0 && o.vr_tol < 1) || !(o.switch_eps > 0 && o.switch_eps < 1) || !isfinite(o.delta) ||
         o.max_steps < 1 || o.max_iter < 1)
         return kin__fail(a, KIN_EINVAL, "locate options out of range");
-    kin_locate_info dummy;
-    if (!info) info = &dummy;
-    memset(info, 0, sizeof *info);
     int rc = kin__cur(a)->valid ? KIN_OK : kin_analyse(a, NULL);
     if (rc) return rc;
     if (kin__cur(a)->an.m_internal >= 2)
@@ -894,7 +890,7 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
     double v0 = vanishing_sv(a), sl0 = motion_slope(&c, a, dir);
     hl[nh] = a->l;
     hv[nh++] = kin__cur(a)->an.v_r;
-    kin_step_info si;
+    kin_step_info si = {.size = sizeof si};
     long fa = 0, fw = 0, fp = 0, fpv = 0;
     while (rc == KIN_OK && info->steps < o.max_steps) {
         if (loc_cancelled(&c)) {
@@ -1041,5 +1037,30 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
     else if (rc == KIN_OK)
         (void)kin__progress(a, (double)o.max_steps + (double)o.max_iter, (double)o.max_steps + (double)o.max_iter);
     free_ctx(&c);
+    return rc;
+}
+
+int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info)
+{
+    if (info) {
+        if (kin__abi_check(info, KIN__V1_SIZE(kin_locate_info, zero_order), sizeof *info))
+            return a ? kin__fail(a, KIN_EINVAL, "info->size = %zu: set it to sizeof(kin_locate_info)",
+                                 kin__abi_size(info))
+                     : KIN_EINVAL;
+        kin__abi_zero(info);
+    }
+    if (!a) return KIN_ENULL;
+    kin_locate_options o;
+    kin_locate_options_default(&o); /* fields an older caller does not have keep their defaults */
+    if (opt) {
+        if (kin__abi_check(opt, KIN__V1_SIZE(kin_locate_options, use_switch_rule), sizeof *opt))
+            return kin__fail(a, KIN_EINVAL,
+                             "options->size = %zu: not set by kin_locate_options_default() of this libkin",
+                             kin__abi_size(opt));
+        kin__abi_read(&o, opt, sizeof o);
+    }
+    kin_locate_info local = {.size = sizeof local};
+    int rc = locate_impl(a, &o, &local);
+    if (info) kin__abi_write(info, &local, sizeof local);
     return rc;
 }

@@ -31,6 +31,8 @@ int kin_model_threebar(int state, kin_assembly **out)
 void kin_sail_params_default(kin_sail_params *p, int n_sides, int n_loops)
 {
     if (!p) return;
+    memset(p, 0, sizeof *p);
+    p->size = sizeof *p;
     p->n_sides = n_sides;
     p->n_loops = n_loops;
     p->side = 1.0;
@@ -49,6 +51,17 @@ static int model_fail(char *eb, size_t el, int code, const char *fmt, ...)
 }
 
 #define sail_fail(eb, el, ...) model_fail(eb, el, KIN_EINVAL, __VA_ARGS__)
+
+/* the caller's parameters into *p (fields it lacks keep their defaults) */
+static int sail_read(const kin_sail_params *user, kin_sail_params *p, char *eb, size_t el)
+{
+    if (kin__abi_check(user, KIN__V1_SIZE(kin_sail_params, diagonal), sizeof *user))
+        return sail_fail(eb, el, "params->size = %zu: not set by kin_sail_params_default() of this libkin",
+                         kin__abi_size(user));
+    kin_sail_params_default(p, 0, 0);
+    kin__abi_read(p, user, sizeof *p);
+    return KIN_OK;
+}
 
 static int sail_check(const kin_sail_params *p, int *support, char *eb, size_t el)
 {
@@ -80,13 +93,15 @@ static int sail_check(const kin_sail_params *p, int *support, char *eb, size_t e
     return KIN_OK;
 }
 
-int kin_sail_size(const kin_sail_params *p, int *njoints, int *nbars)
+int kin_sail_size(const kin_sail_params *user, int *njoints, int *nbars)
 {
     int s;
     if (njoints) *njoints = 0;
     if (nbars) *nbars = 0;
-    if (!p) return KIN_ENULL;
-    int rc = sail_check(p, &s, NULL, 0);
+    if (!user) return KIN_ENULL;
+    kin_sail_params params, *p = &params;
+    int rc = sail_read(user, p, NULL, 0);
+    if (!rc) rc = sail_check(p, &s, NULL, 0);
     if (rc) return rc;
     int n = p->n_sides, k = p->n_loops, c = s == KIN_SAIL_SUPPORT_CENTRE;
     if (njoints) *njoints = c + n * (k + 1);
@@ -94,14 +109,16 @@ int kin_sail_size(const kin_sail_params *p, int *njoints, int *nbars)
     return KIN_OK;
 }
 
-int kin_model_sail(const kin_sail_params *p, kin_assembly **out, char *eb, size_t el)
+int kin_model_sail(const kin_sail_params *user, kin_assembly **out, char *eb, size_t el)
 {
     if (eb && el) eb[0] = '\0';
     if (!out) return model_fail(eb, el, KIN_ENULL, "out is NULL");
     *out = NULL;
-    if (!p) return model_fail(eb, el, KIN_ENULL, "p is NULL");
+    if (!user) return model_fail(eb, el, KIN_ENULL, "p is NULL");
     int support, nj, nb;
-    int rc = sail_check(p, &support, eb, el);
+    kin_sail_params params, *p = &params;
+    int rc = sail_read(user, p, eb, el);
+    if (!rc) rc = sail_check(p, &support, eb, el);
     if (rc) return rc;
     kin_sail_size(p, &nj, &nb);
     int n = p->n_sides, K = p->n_loops, c = support == KIN_SAIL_SUPPORT_CENTRE;

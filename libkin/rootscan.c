@@ -94,8 +94,8 @@ static int all_finite(const double *Q, size_t n)
  * iterate). What remains is gsl_multiroot_fdfsolver_alloc, which raises
  * GSL_ENOMEM if malloc fails; x and f are views on stack arrays, so that is
  * the call's one GSL allocation (about 3 m^2 + 16 m doubles). */
-int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long seed, double *betas,
-                      int maxsol, int *nsol, kin_solve_info *info)
+static int scan_impl(int m, int s, const double *Q, int starts, unsigned long seed, double *betas, int maxsol,
+                     int *nsol, kin_solve_info *info)
 {
     if (nsol) *nsol = 0;
     if (info) memset(info, 0, sizeof *info);
@@ -118,7 +118,7 @@ int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long s
     double xbuf[SCAN_MAX_M], fbuf[SCAN_MAX_M];
     gsl_vector_view xview = gsl_vector_view_array(xbuf, (size_t)m), fview = gsl_vector_view_array(fbuf, (size_t)m);
     gsl_vector *x = &xview.vector, *fv = &fview.vector;
-    kin_solve_info in = {starts, 0, 0, 0, 0.0};
+    kin_solve_info in = {.size = sizeof in, .starts = starts};
     unsigned long long state = (unsigned long long)seed * 0x2545F4914F6CDD1Dull + 1u;
     int nd = 0;
     for (int k = 0; k < starts; ++k) {
@@ -179,4 +179,20 @@ int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long s
     gsl_multiroot_fdfsolver_free(sv);
     free(found);
     return KIN_OK;
+}
+
+int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long seed, double *betas,
+                      int maxsol, int *nsol, kin_solve_info *info)
+{
+    if (info) {
+        if (kin__abi_check(info, KIN__V1_SIZE(kin_solve_info, max_residual), sizeof *info)) {
+            if (nsol) *nsol = 0;
+            return KIN_EINVAL;
+        }
+        kin__abi_zero(info);
+    }
+    kin_solve_info local = {.size = sizeof local};
+    int rc = scan_impl(m, s, Q, starts, seed, betas, maxsol, nsol, &local);
+    if (info) kin__abi_write(info, &local, sizeof local);
+    return rc;
 }

@@ -14,12 +14,23 @@
 #include "libkin.h"
 
 /* every byte of an output struct zero (they are filled with 0xFF first) */
+/* every byte of a size-prefixed struct after its size is zero, the size kept */
 static int all_zero(const void *p, size_t n)
 {
     const unsigned char *b = p;
-    for (size_t i = 0; i < n; ++i)
+    size_t size;
+    memcpy(&size, p, sizeof size);
+    if (size != n) return 0;
+    for (size_t i = sizeof size; i < n; ++i)
         if (b[i]) return 0;
     return 1;
+}
+
+/* fill a size-prefixed struct with garbage after a valid size */
+static void garbage(void *p, size_t n)
+{
+    memset(p, 0xFF, n);
+    memcpy(p, &n, sizeof n);
 }
 
 /* a failed create sets *out to NULL and fills errbuf */
@@ -71,7 +82,7 @@ static void overflowing_geometry(void)
     kin_assembly *a = NULL, *b = NULL;
     CHECK_RC(kin_assembly_create(3, 2, box, NULL, 1, bar01, NULL, &a, NULL, 0), KIN_OK);
     CHECK_RC(kin_assembly_clone(a, &b), KIN_OK);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     CHECK_RC(kin_analyse(b, &an), KIN_OK);
     CHECK(an.rank == 1 && an.m == 5);
     CHECK(kin_max_strain(b) == 0.0);
@@ -103,7 +114,7 @@ static kin_assembly *bifurcation(double Q[4])
 {
     kin_assembly *a = NULL;
     CHECK_RC(kin_model_threebar(KIN_THREEBAR_RB, &a), KIN_OK);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     CHECK_RC(kin_analyse(a, &an), KIN_OK);
     CHECK(an.m_internal == 2 && an.s == 1);
     int s = 0;
@@ -147,18 +158,18 @@ static void solvers(void)
     const double Qgood[4] = {1, 0, 0, -1}; /* beta0^2 = beta1^2: two lines */
     double betas[2 * 4];
     int nsol;
-    kin_solve_info si;
-    kin_homotopy_info hi;
+    kin_solve_info si = {.size = sizeof si};
+    kin_homotopy_info hi = {.size = sizeof hi};
     const double bad[3] = {NAN, INFINITY, -INFINITY};
     for (int k = 0; k < 3; ++k) {
         double Q[4] = {1, 0, 0, -1};
         Q[k + 1] = bad[k];
         nsol = -1;
-        memset(&si, 0xFF, sizeof si);
+        garbage(&si, sizeof si);
         CHECK_RC(kin_quadrics_scan(2, 1, Q, 16, 1, betas, 4, &nsol, &si), KIN_EINVAL);
         CHECK(nsol == 0 && all_zero(&si, sizeof si));
         nsol = -1;
-        memset(&hi, 0xFF, sizeof hi);
+        garbage(&hi, sizeof hi);
         CHECK_RC(kin_quadrics_homotopy(2, 1, Q, 1, 1, betas, 4, &nsol, NULL, &hi), KIN_EINVAL);
         CHECK(nsol == 0 && all_zero(&hi, sizeof hi));
     }
@@ -171,21 +182,21 @@ static void solvers(void)
                  {300, 299, Qgood, KIN_ERANGE}};
     for (size_t i = 0; i < sizeof early / sizeof early[0]; ++i) {
         nsol = -1;
-        memset(&si, 0xFF, sizeof si);
+        garbage(&si, sizeof si);
         CHECK_RC(kin_quadrics_scan(early[i].m, early[i].s, early[i].Q, 16, 1, betas, 4, &nsol, &si), early[i].want);
         CHECK(nsol == 0 && all_zero(&si, sizeof si));
         nsol = -1;
-        memset(&hi, 0xFF, sizeof hi);
+        garbage(&hi, sizeof hi);
         CHECK_RC(kin_quadrics_homotopy(early[i].m, early[i].s, early[i].Q, 1, 1, betas, 4, &nsol, NULL, &hi),
                  early[i].want);
         CHECK(nsol == 0 && all_zero(&hi, sizeof hi));
     }
     nsol = -1;
-    memset(&si, 0xFF, sizeof si);
+    garbage(&si, sizeof si);
     CHECK_RC(kin_quadrics_scan(2, 1, Qgood, 0, 1, betas, 4, &nsol, &si), KIN_EINVAL); /* starts */
     CHECK(nsol == 0 && all_zero(&si, sizeof si));
     nsol = -1;
-    memset(&hi, 0xFF, sizeof hi);
+    garbage(&hi, sizeof hi);
     CHECK_RC(kin_quadrics_homotopy(2, 1, Qgood, 1, 1, betas, 4, &nsol, NULL, NULL), KIN_ENULL); /* info */
     CHECK(nsol == 0);
     CHECK_RC(kin_quadrics_homotopy(2, 1, Qgood, 1, 2, betas, 0, &nsol, NULL, &hi), KIN_EINVAL); /* maxsol */
@@ -220,19 +231,21 @@ static void branch_paths(void)
     int nsol = 0;
     CHECK_RC(kin_quadrics_scan(2, 1, Q, 32, 1, betas, 2, &nsol, NULL), KIN_OK);
     CHECK(nsol == 2);
-    kin_branch_path p[4];
+    kin_branch_path p[4] = {{.size = sizeof(kin_branch_path)}};
     double before[8], after[8];
     kin_get_coords(a, before);
     const double targets[3] = {INFINITY, NAN, -1.0};
     for (int k = 0; k < 3; ++k) {
         int nd = -1;
         memset(p, 0xFF, sizeof p);
+        p[0].size = sizeof p[0];
         CHECK_RC(kin_branch_paths(a, betas, 2, targets[k], p, NULL, &nd), KIN_EINVAL);
         CHECK(nd == 0 && no_paths(p, 4));
     }
     /* finite but absurd: 1e300 path length would never end */
     int nd = -1;
     memset(p, 0xFF, sizeof p);
+        p[0].size = sizeof p[0];
     CHECK_RC(kin_branch_paths(a, betas, 2, 1e300, p, NULL, &nd), KIN_ERANGE);
     CHECK(nd == 0 && no_paths(p, 4));
     /* non-finite betas */
@@ -257,7 +270,7 @@ static void branch_paths(void)
 
 static void sail_params(void)
 {
-    kin_sail_params p;
+    kin_sail_params p = {.size = sizeof p};
     kin_assembly *a = (kin_assembly *)&a;
     char msg[256];
     kin_sail_params_default(&p, 6, 2);

@@ -213,7 +213,7 @@ static int bad_files(void)
  * off its initial state by kin_set_coords. */
 static void strained_round_trip(void)
 {
-    kin_sail_params p;
+    kin_sail_params p = {.size = sizeof p};
     kin_assembly *a = NULL;
     kin_sail_params_default(&p, 6, 2);
     CHECK_RC(kin_model_sail(&p, &a, NULL, 0), KIN_OK);

@@ -90,7 +90,7 @@ int main(void)
         compare(dir, three[s], a);
         kin_assembly_free(a);
     }
-    kin_sail_params p;
+    kin_sail_params p = {.size = sizeof p};
     kin_assembly *a = NULL;
     kin_sail_params_default(&p, 4, 1);
     CHECK_RC(kin_model_sail(&p, &a, NULL, 0), KIN_OK);

@@ -78,7 +78,7 @@ static void homotopy(void)
 {
     static double Q[M_CANCEL * M_CANCEL * S_CANCEL], b1[M_SMALL * N_SMALL], b2[M_SMALL * N_SMALL];
     int n1 = 0, n2 = 0;
-    kin_homotopy_info h1, h2;
+    kin_homotopy_info h1 = {.size = sizeof h1}, h2 = {.size = sizeof h2};
     random_quadrics(S_SMALL, 7, Q);
 
     /* the reference: the old entry point, one thread, no callback */
@@ -88,7 +88,7 @@ static void homotopy(void)
     /* reports, and the path limit is inclusive */
     recorder r;
     rec_init(&r, 0);
-    kin_homotopy_options o;
+    kin_homotopy_options o = {.size = sizeof o};
     kin_homotopy_options_default(&o);
     CHECK(o.seed == 1 && o.nthreads == 0 && o.max_paths == (1L << 20) && !o.progress && !o.user);
     o.seed = 3;
@@ -122,7 +122,7 @@ static void homotopy(void)
         enum { S = 21, M = S + 1 };
         static double Qbig[M * M * S], bb[M];
         int nb = -1;
-        kin_homotopy_info hb;
+        kin_homotopy_info hb = {.size = sizeof hb};
         random_quadrics(S, 11, Qbig);
         CHECK_RC(kin_quadrics_homotopy(M, S, Qbig, 1, 1, bb, 1, &nb, NULL, &hb), KIN_ELIMIT);
         CHECK_RC(kin_quadrics_homotopy_ex(M, S, Qbig, NULL, bb, 1, &nb, NULL, &hb), KIN_ELIMIT);
@@ -147,8 +147,9 @@ static void homotopy(void)
     for (int at = 1; at <= 2; ++at) {
         for (int i = 0; i < M_CANCEL * N_CANCEL; ++i) bc[i] = -7.0;
         int mult[4] = {-7, -7, -7, -7}, nc = -1;
-        kin_homotopy_info hc;
+        kin_homotopy_info hc = {.size = sizeof hc};
         memset(&hc, 0x5a, sizeof hc);
+        hc.size = sizeof hc; /* garbage after the size: zeroed on cancel */
         rec_init(&r, at);
         kin_homotopy_options_default(&o);
         o.nthreads = 2;
@@ -159,8 +160,9 @@ static void homotopy(void)
         double dt = seconds() - t0;
         printf("homotopy s = %d cancelled at report %d: returned after %.3f s, %d reports, done %.0f of %.0f\n",
                S_CANCEL, at, dt, r.calls, r.last_done, r.last_total);
-        kin_homotopy_info zero;
+        kin_homotopy_info zero = {.size = sizeof zero};
         memset(&zero, 0, sizeof zero);
+        zero.size = sizeof zero;
         CHECK(r.calls == at && !r.other_thread && r.monotonic);
         CHECK(at == 1 ? r.last_done == 0.0 : r.last_done > 0.0 && r.last_done < N_CANCEL);
         CHECK(nc == 0 && memcmp(&hc, &zero, sizeof hc) == 0);
@@ -183,10 +185,10 @@ static kin_assembly *threebar_on_path(void)
 
 static void locate(void)
 {
-    kin_locate_options o;
+    kin_locate_options o = {.size = sizeof o};
     kin_locate_options_default(&o);
     o.delta = 0.1;
-    kin_locate_info info;
+    kin_locate_info info = {.size = sizeof info};
 
     /* uncancelled: one report per step and location iteration */
     kin_assembly *a = threebar_on_path();
@@ -233,7 +235,7 @@ static void locate(void)
         CHECK(r.calls == at[k] && !info.located);
         if (k == 0) CHECK(info.steps == 2 && info.forward == 0);
         else CHECK(info.steps == full_steps && info.forward >= 1);
-        kin_analysis an;
+        kin_analysis an = {.size = sizeof an};
         CHECK_RC(kin_get_analysis(a, &an), KIN_OK);
         CHECK(an.m_internal == 1 && kin_max_strain(a) <= 1e-12);
         CHECK_RC(kin_set_progress(a, NULL, NULL), KIN_OK);
@@ -248,16 +250,16 @@ static void branch_paths(void)
 {
     kin_assembly *a = NULL;
     CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     CHECK_RC(kin_analyse(a, &an), KIN_OK);
     CHECK(an.m_internal == 2 && an.s == 1);
     double Q[4], betas[2 * 4];
     int s = 0, nsol = 0;
     CHECK_RC(kin_second_order(a, KIN_Q_EXACT, 1, Q, 4, &s), KIN_OK);
-    kin_homotopy_info h;
+    kin_homotopy_info h = {.size = sizeof h};
     CHECK_RC(kin_quadrics_homotopy_ex(2, 1, Q, NULL, betas, 4, &nsol, NULL, &h), KIN_OK);
     CHECK(nsol == 2);
-    kin_branch_path p[4];
+    kin_branch_path p[4] = {{.size = sizeof(kin_branch_path)}};
     double fx[4 * 8], x0[8], x1[8];
     int nd = -1;
 
@@ -273,6 +275,7 @@ static void branch_paths(void)
         kin_get_coords(a, x0);
         for (int i = 0; i < 4 * 8; ++i) fx[i] = -7.0;
         memset(p, 0x5a, sizeof p);
+        p[0].size = sizeof p[0];
         nd = -1;
         rec_init(&r, at);
         CHECK_RC(kin_branch_paths(a, betas, nsol, 1.0, p, fx, &nd), KIN_ECANCELLED);

@@ -15,6 +15,16 @@
  *  - Lengths are in the user's units; singular values scale like H (unitless
  *    direction cosines), so relative tolerances are relative to v_max.
  *
+ *  - Options and info structs start with `size_t size`: the size of the
+ *    struct the caller compiled against (docs/abi.md). Set it before a call,
+ *    with the struct's *_default() function (options) or an initializer
+ *    `kin_step_info info = {.size = sizeof info};` (outputs; for an array of
+ *    kin_branch_path, element 0's size). The library reads and writes only
+ *    that many bytes, so a host built against older headers keeps working
+ *    when a struct grows at its end; a size it does not know (0, garbage,
+ *    newer headers) gives KIN_EINVAL before anything is read or written.
+ *    On failure an output struct is zeroed (its size kept).
+ *
  * OWNERSHIP: libkin copies every array passed in; it never keeps, frees or
  * changes caller memory except the output arrays a call is documented to fill.
  * THREADS: a handle is used by one thread at a time; separate handles are
@@ -121,6 +131,7 @@ KIN_API int kin_get_equilibrium_matrix(const kin_assembly *a, double *H, int ldh
 /* ---- First-order analysis (paper 3.1) -------------------------------- */
 
 typedef struct kin_analysis {
+    size_t size; /* sizeof(kin_analysis) as the caller compiled it (docs/abi.md) */
     int rank;       /* r: singular values > rank_tol * v_max */
     int m;          /* nfree - r: all infinitesimal mechanisms */
     int m_rigid;    /* rigid-body mechanisms allowed by the supports */

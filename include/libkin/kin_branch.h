@@ -12,6 +12,7 @@
 #ifndef KIN_BRANCH_H
 #define KIN_BRANCH_H
 
+#include <stddef.h>
 #include "kin_export.h"
 #include "kin_assembly.h"
 #include "kin_progress.h"
@@ -38,6 +39,7 @@ KIN_API int kin_second_order(const kin_assembly *a, int weighting, int normalise
 
 /* What a quadric solve found. */
 typedef struct kin_solve_info {
+    size_t size; /* sizeof(kin_solve_info) as the caller compiled it (docs/abi.md) */
     int starts;      /* starting points tried */
     int converged;   /* starts that converged to a root */
     int distinct;    /* distinct real solutions (beta and -beta counted once) */
@@ -73,6 +75,7 @@ KIN_API int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigne
  * in exactly one class, paths = real + nonreal + singular + failed.
  * Fields after `failed` report the checks (see kin_quadrics_homotopy). */
 typedef struct kin_homotopy_info {
+    size_t size; /* sizeof(kin_homotopy_info) as the caller compiled it (docs/abi.md) */
     int paths;         /* 2^s */
     int real;          /* certified real simple roots reached (counted with multiplicity) */
     int real_distinct; /* distinct real solutions */
@@ -142,6 +145,7 @@ KIN_API int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long s
 /* Settings of kin_quadrics_homotopy_ex. Start from
  * kin_homotopy_options_default() and change what you need. */
 typedef struct kin_homotopy_options {
+    size_t size; /* sizeof(kin_homotopy_options) as the caller compiled it (docs/abi.md) */
     unsigned long seed;  /* random chart and gamma (the result is deterministic for a seed).
                             Default 1 */
     int nthreads;        /* worker threads, >= 0; 0 = one per online processor; more than
@@ -173,6 +177,7 @@ KIN_API int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_ho
 
 /* One candidate path out of a bifurcation (paper 3.4). */
 typedef struct kin_branch_path {
+    size_t size; /* sizeof(kin_branch_path) as the caller compiled it (docs/abi.md) */
     int beta;        /* index of the second-order solution */
     int sign;        /* +1 or -1: direction of motion along U_m*beta */
     int exists;      /* the first step converged and the path was followed */

@@ -12,6 +12,7 @@
 #ifndef KIN_LOCATE_H
 #define KIN_LOCATE_H
 
+#include <stddef.h>
 #include "kin_export.h"
 #include "kin_assembly.h"
 #include "kin_progress.h"
@@ -39,6 +40,7 @@ enum kin_locate_event {
 };
 
 typedef struct kin_locate_options {
+    size_t size; /* sizeof(kin_locate_options) as the caller compiled it (docs/abi.md) */
     int method;          /* enum kin_locate_method. Default KIN_LOCATE_FAST */
     double vr_tol;       /* located when v_r <= vr_tol * v_max (v_r: see kin_locate_info).
                             Default 1e-10 */
@@ -50,6 +52,7 @@ typedef struct kin_locate_options {
 } kin_locate_options;
 
 typedef struct kin_locate_info {
+    size_t size; /* sizeof(kin_locate_info) as the caller compiled it (docs/abi.md) */
     int event;            /* enum kin_locate_event */
     int located;          /* 1 if the assembly now sits on a bifurcation */
     int steps;            /* path-following steps taken before detection */

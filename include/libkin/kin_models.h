@@ -44,6 +44,7 @@ enum kin_sail_diagonal {
  * widths[0]+widths[1], ...; per loop and per k a fold segment, a ring bar and
  * a diagonal. All nodes start flat (z = 0). */
 typedef struct kin_sail_params {
+    size_t size; /* sizeof(kin_sail_params) as the caller compiled it (docs/abi.md) */
     int n_sides;          /* hub sides n, 3..64 */
     int n_loops;          /* loops of triangles, 1..64 */
     double side;          /* hub side length a, 1e-140..1e140 */

@@ -8,7 +8,7 @@
 int main(void)
 {
     kin_assembly *a = NULL;
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     if (kin_version_number() != KIN_VERSION_NUMBER) {
         fprintf(stderr, "version mismatch: header %d, library %d\n", KIN_VERSION_NUMBER,
                 kin_version_number());

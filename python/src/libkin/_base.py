@@ -19,7 +19,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ._arrays import as_c_array, read_ptr, write_ptr
-from ._lib import ffi, lib
+from ._lib import ffi, lib, new_struct
 from .errors import StateError, check
 
 FloatArray = npt.NDArray[np.float64]
@@ -253,7 +253,7 @@ class AssemblyBase:
         StateError
             The assembly is closed.
         """
-        an = ffi.new("kin_analysis *")
+        an = new_struct("kin_analysis")
         self._check(lib.kin_analyse(self._h, an), "analyse")
         nf, nb = self.nfree, self.nbars
         sv = np.empty(min(nf, nb))

@@ -14,7 +14,7 @@ import numpy.typing as npt
 
 from ._arrays import read_ptr, write_ptr
 from ._base import AssemblyBase, FloatArray
-from ._lib import ffi, lib
+from ._lib import ffi, lib, new_struct
 from ._progress import Progress, reporting
 from .errors import InvalidArgumentError, StateError, check
 
@@ -143,13 +143,13 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
     nsol = ffi.new("int *")
     accounting: Dict[str, int]
     if solver == "scan":
-        info: Any = ffi.new("kin_solve_info *")
+        info: Any = new_struct("kin_solve_info")
         check(lib.kin_quadrics_scan(m, s, read_ptr(Qc, "double *"), int(starts), int(seed),
                                     write_ptr(betas, "double *"), maxsol, nsol, info), what="scan")
         accounting = {"starts": info.starts, "converged": info.converged, "distinct": info.distinct}
     else:
-        info = ffi.new("kin_homotopy_info *")
-        opt = ffi.new("kin_homotopy_options *")
+        info = new_struct("kin_homotopy_info")
+        opt = new_struct("kin_homotopy_options")
         lib.kin_homotopy_options_default(opt)
         opt.seed = int(seed)
         opt.nthreads = int(threads)
@@ -284,7 +284,7 @@ class BranchingMixin(AssemblyBase):
         paths: List[BranchPath] = []
         distinct = 0
         if nsol:
-            cp = ffi.new("kin_branch_path[]", 2 * nsol)
+            cp = new_struct("kin_branch_path", 2 * nsol)
             ends = np.empty((2 * nsol, self.njoints, self.dim))
             nd = ffi.new("int *")
             with reporting(progress, "branches", "path", self._h):

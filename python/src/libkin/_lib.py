@@ -11,7 +11,7 @@ from __future__ import annotations
 import ctypes.util
 import os
 import pathlib
-from typing import Any, Iterator, List, Tuple
+from typing import Any, Iterator, List, Optional, Tuple
 
 import cffi
 
@@ -72,3 +72,28 @@ lib: Any
 #: The path the library was loaded from.
 library_path: str
 lib, library_path = _load()
+
+
+def new_struct(ctype: str, n: Optional[int] = None) -> Any:
+    """A zeroed libkin options/info struct with its leading `size` field set.
+
+    Parameters
+    ----------
+    ctype : str
+        The struct's C type, e.g. ``"kin_options"``.
+    n : int, optional
+        Make an array of `n` of them instead of one.
+
+    Returns
+    -------
+    cffi pointer or array
+        Owned by Python; ``size`` set as the C library requires (docs/abi.md).
+    """
+    if n is None:
+        p = ffi.new(ctype + " *")
+        p.size = ffi.sizeof(ctype)
+    else:
+        p = ffi.new(ctype + "[]", n)
+        for i in range(n):
+            p[i].size = ffi.sizeof(ctype)
+    return p

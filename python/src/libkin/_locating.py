@@ -7,7 +7,7 @@ from __future__ import annotations
 import dataclasses
 
 from ._base import AssemblyBase
-from ._lib import ffi, lib
+from ._lib import ffi, lib, new_struct
 from ._progress import Progress, reporting
 from .errors import InvalidArgumentError
 
@@ -99,13 +99,13 @@ class LocatingMixin(AssemblyBase):
         """
         if method not in _METHODS:
             raise InvalidArgumentError(f"method: expected one of {sorted(_METHODS)}, got {method!r}")
-        o = ffi.new("kin_locate_options *")
+        o = new_struct("kin_locate_options")
         lib.kin_locate_options_default(o)
         o.method = getattr(lib, _METHODS[method])
         o.delta = float(delta)
         o.vr_tol = float(vr_tol)
         o.max_steps = int(max_steps)
-        info = ffi.new("kin_locate_info *")
+        info = new_struct("kin_locate_info")
         with reporting(progress, "locate", "step", self._h):
             rc = lib.kin_locate_next(self._h, o, info)
         self._check(rc, "locate")

@@ -15,7 +15,7 @@ import numpy.typing as npt
 
 from ._arrays import as_c_array, read_ptr, write_ptr
 from ._base import AssemblyBase, FloatArray
-from ._lib import ffi, lib
+from ._lib import ffi, lib, new_struct
 from .errors import ArgumentTypeError, InvalidArgumentError
 
 
@@ -103,7 +103,7 @@ class PathMixin(AssemblyBase):
         Assigning a value outside its domain raises `InvalidArgumentError`,
         anything but an `Options` `ArgumentTypeError`.
         """
-        o = ffi.new("kin_options *")
+        o = new_struct("kin_options")
         self._check(lib.kin_get_options(self._h, o))
         return Options(**{k: getattr(o, k) for k in _OPTION_FIELDS})
 
@@ -111,7 +111,7 @@ class PathMixin(AssemblyBase):
     def options(self, value: Options) -> None:
         if not isinstance(value, Options):
             raise ArgumentTypeError(f"options: expected a libkin.Options, got {type(value).__name__}")
-        o = ffi.new("kin_options *")
+        o = new_struct("kin_options")
         for k in _OPTION_FIELDS:
             setattr(o, k, getattr(value, k))
         self._check(lib.kin_set_options(self._h, o), "options")
@@ -144,7 +144,7 @@ class PathMixin(AssemblyBase):
         value: object = delta  # any real number: float, int, numpy scalars
         if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
             raise InvalidArgumentError(f"delta: expected a finite number, got {delta!r}")
-        info = ffi.new("kin_step_info *")
+        info = new_struct("kin_step_info")
         self._check(lib.kin_step(self._h, float(delta), info), "step")
         return StepInfo(info.l, info.delta, info.v_r, info.residual, info.cos_turn,
                         info.iterations, info.halvings, info.factorizations, info.m_internal)
