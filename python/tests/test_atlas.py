@@ -10,6 +10,7 @@ import pytest
 
 import libkin
 from libkin import atlas as atlas_mod
+from libkin import homotopy_shards
 from libkin.atlas_tasks import EVENT_KINDS
 from libkin.automorphisms import detect_symmetries, invariant_subspace
 from libkin.cli import main
@@ -72,8 +73,15 @@ def test_square_sail_serial(square):
 def test_square_sail_process_pool(square):
     with ProcessPoolExecutor(max_workers=2) as ex:
         at = libkin.explore("sail:4:1", depth=1, executor=ex)
+        # the complete solver in shards on the same pool: the same answer
+        sharded = libkin.explore("sail:4:1", depth=1, executor=ex, shards=4)
+        Q = libkin.Assembly.sail(4, 1).second_order()
+        betas, acc = homotopy_shards.solve_sharded(Q, ex, shards=3)
     _check_square(at)
     assert at.same_as(square)
+    assert sharded.nodes[0].branches["accounting"]["shards"] == 4 and sharded.same_as(square)
+    ref, ref_acc = libkin.solve_quadrics(Q, threads=1)
+    assert np.array_equal(betas, ref) and all(acc[k] == ref_acc[k] for k in acc)
 
 
 def test_square_sail_dask(square):
@@ -123,12 +131,19 @@ def test_json_model_and_outputs(tmp_path):
     assert G.nodes["N0"]["kind"] == "bifurcation"
 
 
+def test_shard_ranges_cover_every_path():
+    for s, k in ((4, 3), (4, 16), (4, 40), (10, 7)):
+        r = homotopy_shards.shard_ranges(s, k)
+        assert r[0][0] == 0 and sum(c for _, c in r) == 1 << s and all(c > 0 for _, c in r)
+        assert all(r[i][0] + r[i][1] == r[i + 1][0] for i in range(len(r) - 1))
+
+
 def test_bad_arguments():
-    with pytest.raises(libkin.ModelFormatError):
+    with pytest.raises(libkin.errors.InvalidArgumentError):
         libkin.explore("threebar:RC", symmetric="maybe")
-    with pytest.raises(libkin.ModelFormatError):
+    with pytest.raises(libkin.errors.InvalidArgumentError):
         libkin.explore("threebar:RC", depth=-1)
-    with pytest.raises(libkin.ModelFormatError):
+    with pytest.raises(libkin.errors.InvalidArgumentError):
         libkin.explore("threebar:RC", start=np.zeros((3, 2)))
 
 

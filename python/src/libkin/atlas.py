@@ -17,17 +17,29 @@ the order of (node, solution index, sign), whatever order they complete in;
 node ids follow that order. So the atlas is the same serially, on a process
 pool or on a Dask cluster (time_limit aside: it is checked between nodes).
 """
+from __future__ import annotations
+
 import dataclasses
 import json
 import math
+import os
 import sys
 import time
+from typing import TYPE_CHECKING, Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+if TYPE_CHECKING:
+    from .assembly import Assembly
+    from .automorphisms import Symmetry
+
+Progress = Union[None, bool, Callable[[int, int, str], Any]]
+Branch = Tuple[int, int, NDArray[np.float64], NDArray[np.float64]]
 
 from . import atlas_tasks as tasks
 from .automorphisms import detect_symmetries, invariant_subspace, stabilizer
-from .errors import KinError, ModelFormatError
+from .errors import InvalidArgumentError, KinError
 
 # node kinds: what a node of the map is
 BIFURCATION = "bifurcation"  # m_internal >= 2 and s >= 1 (branches can be enumerated)
@@ -52,7 +64,7 @@ AUTO_MAX_S = 12
 class Node:
     id: int
     kind: str
-    coords: np.ndarray
+    coords: NDArray[np.float64]
     m: int
     m_rigid: int
     s: int
@@ -61,12 +73,12 @@ class Node:
     located_v_r: float = 0.0      # v_r / v_max of the vanishing singular value where located
     located_tol: float = 0.0      # the tolerance it was located to (vr_tol, or up to vr_floor)
     orbit: int = -1               # smallest node id of its symmetry orbit
-    image_of: dict = None         # {"node": k, "symmetry": j}: this is g_j . node k
+    image_of: Optional[Dict[str, int]] = None        # {"node": k, "symmetry": j}: this is g_j . node k
     expanded: bool = False
     status: str = ""              # why not expanded, or what enumeration found
-    branches: dict = None         # how its branches were enumerated
+    branches: Optional[Dict[str, Any]] = None        # how its branches were enumerated
 
-    def to_dict(self):
+    def to_dict(self) -> Dict[str, Any]:
         d = dataclasses.asdict(self)
         d["coords"] = self.coords.tolist()
         return d
@@ -79,16 +91,16 @@ class Edge:
     target: int
     solution: int        # index of beta among the node's solutions (0 at a regular point)
     sign: int            # +1 / -1: which sense of U_m beta
-    beta: list
+    beta: List[float]
     event: str           # tasks.EVENT_KINDS
     length: float
     accuracy: float
-    samples: list
+    samples: List[Any]
     message: str = ""
     steps: int = 0
     vr_tol: float = 0.0  # BIFURCATION: the tolerance it was located to
 
-    def to_dict(self):
+    def to_dict(self) -> Dict[str, Any]:
         return dataclasses.asdict(self)
 
 
@@ -97,20 +109,21 @@ class Atlas:
     the settings and statistics. to_dict()/to_json()/to_graphml() write it;
     Atlas.from_dict() reads to_dict() back."""
 
-    def __init__(self, model, nodes, edges, symmetries, settings, stats):
+    def __init__(self, model: Dict[str, Any], nodes: List[Node], edges: List[Edge], symmetries: List[Symmetry],
+                 settings: Dict[str, Any], stats: Dict[str, Any]) -> None:
         self.model, self.nodes, self.edges = model, nodes, edges
         self.symmetries, self.settings, self.stats = symmetries, settings, stats
 
-    def node_name(self, i):
+    def node_name(self, i: int) -> str:
         return f"N{i}"
 
-    def to_dict(self):
+    def to_dict(self) -> Dict[str, Any]:
         return {"format": "libkin-atlas", "version": 1, "model": self.model, "settings": self.settings,
                 "symmetries": [g.to_dict() for g in self.symmetries],
                 "nodes": [n.to_dict() for n in self.nodes], "edges": [e.to_dict() for e in self.edges],
                 "stats": self.stats}
 
-    def to_json(self, path=None):
+    def to_json(self, path: Union[None, str, os.PathLike[str]] = None) -> str:
         text = json.dumps(self.to_dict(), indent=1, default=_jsonable, allow_nan=True) + "\n"
         if path is not None:
             with open(path, "w") as f:
@@ -118,14 +131,14 @@ class Atlas:
         return text
 
     @classmethod
-    def from_dict(cls, d):
+    def from_dict(cls, d: Dict[str, Any]) -> Atlas:
         from .automorphisms import Symmetry
         nodes = [Node(**dict(n, coords=np.asarray(n["coords"]))) for n in d["nodes"]]
         edges = [Edge(**e) for e in d["edges"]]
         syms = [Symmetry(tuple(g["perm"]), np.asarray(g["Q"]), np.asarray(g["t"])) for g in d["symmetries"]]
         return cls(d["model"], nodes, edges, syms, d["settings"], d["stats"])
 
-    def to_networkx(self):
+    def to_networkx(self) -> Any:
         """A networkx MultiDiGraph with scalar attributes (lists as JSON text)."""
         import networkx as nx
         G = nx.MultiDiGraph(name=str(self.model.get("name", "model")))
@@ -140,20 +153,21 @@ class Atlas:
                        beta=json.dumps(e.beta), samples=json.dumps(e.samples), message=e.message)
         return G
 
-    def to_graphml(self, path):
+    def to_graphml(self, path: Union[str, os.PathLike[str]]) -> None:
         import networkx as nx
         nx.write_graphml(self.to_networkx(), path)
 
-    def summary(self):
+    def summary(self) -> Dict[str, Any]:
         """Counts by node kind and by edge event."""
-        nk, ek = {}, {}
+        nk: Dict[str, int] = {}
+        ek: Dict[str, int] = {}
         for n in self.nodes:
             nk[n.kind] = nk.get(n.kind, 0) + 1
         for e in self.edges:
             ek[e.event] = ek.get(e.event, 0) + 1
         return {"nodes": len(self.nodes), "edges": len(self.edges), "node_kinds": nk, "edge_events": ek}
 
-    def same_as(self, other, tol=1e-9):
+    def same_as(self, other: Atlas, tol: float = 1e-9) -> bool:
         """True if other has the same nodes (kind, m, s, orbit, coordinates to
         tol times the model size) and edges (endpoints, solution, sign, event,
         length to tol)."""
@@ -164,15 +178,15 @@ class Atlas:
                 return False
             if np.abs(a.coords - b.coords).max() > tol * max(1.0, np.abs(a.coords).max()):
                 return False
-        for a, b in zip(self.edges, other.edges):
-            if (a.source, a.target, a.solution, a.sign, a.event) != (b.source, b.target, b.solution, b.sign, b.event):
+        for e, f in zip(self.edges, other.edges):
+            if (e.source, e.target, e.solution, e.sign, e.event) != (f.source, f.target, f.solution, f.sign, f.event):
                 return False
-            if abs(a.length - b.length) > tol * max(1.0, a.length):
+            if abs(e.length - f.length) > tol * max(1.0, e.length):
                 return False
         return True
 
 
-def _jsonable(v):
+def _jsonable(v: Any) -> Any:
     if isinstance(v, np.integer):
         return int(v)
     if isinstance(v, np.floating):
@@ -186,7 +200,7 @@ def _jsonable(v):
 
 # ---- running tasks ---------------------------------------------------------
 
-def _is_dask_client(ex):
+def _is_dask_client(ex: Any) -> bool:
     try:
         from distributed import Client
     except ImportError:
@@ -194,7 +208,8 @@ def _is_dask_client(ex):
     return isinstance(ex, Client)
 
 
-def run_tasks(fn, items, executor=None, progress=None, what="tasks"):
+def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = None, progress: Progress = None,
+              what: str = "tasks") -> List[Any]:
     """fn(item) for every item, serially (executor None) or on a
     concurrent.futures.Executor or a dask.distributed.Client; the results in
     the order of items. progress(done, total, what) after each."""
@@ -216,7 +231,7 @@ def run_tasks(fn, items, executor=None, progress=None, what="tasks"):
     return out
 
 
-def _tick(progress, done, total, what):
+def _tick(progress: Progress, done: int, total: int, what: str) -> None:
     if progress is None or progress is False:
         return
     if callable(progress):
@@ -225,7 +240,7 @@ def _tick(progress, done, total, what):
         print(f"[explore] {what}: {done}/{total}", file=sys.stderr, flush=True)
 
 
-def _say(progress, msg):
+def _say(progress: Progress, msg: str) -> None:
     if progress is True:
         print(f"[explore] {msg}", file=sys.stderr, flush=True)
 
@@ -233,8 +248,9 @@ def _say(progress, msg):
 # ---- the explorer ----------------------------------------------------------
 
 class _Explorer:
-    def __init__(self, a, symmetric, executor, progress, max_length, seed, threads, symmetries, max_steps,
-                 samples, shards):
+    def __init__(self, a: Assembly, symmetric: Union[bool, str], executor: Any, progress: Progress,
+                 max_length: float, seed: int, threads: int, symmetries: Optional[Sequence[Symmetry]],
+                 max_steps: int, samples: int, shards: Optional[int]) -> None:
         from .model_json import to_json
         self.a = a.clone()
         self.doc = to_json(a)
@@ -254,11 +270,12 @@ class _Explorer:
             except ImportError:  # networkx is an optional dependency (libkin[atlas])
                 self.syms, self.symmetry_note = [], "not detected: networkx is not installed"
         self.P = [g.free_matrix(self.free_map) for g in self.syms]
-        self.nodes, self.edges = [], []
+        self.nodes: List[Node] = []
+        self.edges: List[Edge] = []
         self.rigid = a.analyse().m_rigid > 0
 
     # -- identification
-    def _distance(self, X, Y):
+    def _distance(self, X: NDArray[np.float64], Y: NDArray[np.float64]) -> float:
         if self.rigid:
             # up to the rigid motions the supports allow: align X onto Y
             cx, cy = X.mean(axis=0), Y.mean(axis=0)
@@ -269,13 +286,13 @@ class _Explorer:
             X = (X - cx) @ R.T + cy
         return float(np.abs(X - Y).max())
 
-    def find(self, X):
+    def find(self, X: NDArray[np.float64]) -> Optional[int]:
         for n in self.nodes:
             if self._distance(X, n.coords) <= self.tol:
                 return n.id
         return None
 
-    def orbit_of(self, X):
+    def orbit_of(self, X: NDArray[np.float64]) -> Optional[Tuple[int, int]]:
         """(node id, symmetry index) with g.node = X, if X is an image of a node."""
         for n in self.nodes:
             for j, g in enumerate(self.syms):
@@ -283,7 +300,7 @@ class _Explorer:
                     return n.id, j
         return None
 
-    def add_node(self, X, kind, an, depth):
+    def add_node(self, X: ArrayLike, kind: str, an: Dict[str, Any], depth: int) -> int:
         i = len(self.nodes)
         n = Node(i, kind, np.asarray(X, dtype=float), an["m"], an["m_rigid"], an["s"], an["v_r_rel"], depth,
                  located_v_r=float(an.get("accuracy", 0.0)), located_tol=float(an.get("vr_tol", 0.0)), orbit=i)
@@ -295,7 +312,7 @@ class _Explorer:
         return i
 
     # -- enumeration at a node
-    def _assembly_at(self, node):
+    def _assembly_at(self, node: Node) -> Assembly:
         a = self.a.clone()
         o = a.options
         o.rank_tol = self._rank_tol(node)
@@ -303,12 +320,12 @@ class _Explorer:
         a.coords = node.coords
         return a
 
-    def _rank_tol(self, node):
+    def _rank_tol(self, node: Node) -> float:
         # a point located only to v_r ~ v_r_rel is counted as the follower saw it
         # a point located only to a coarser tolerance is analysed as the follower saw it
         return max(1e-9, 10.0 * node.located_tol) if node.kind == BIFURCATION else 1e-9
 
-    def branches(self, node):
+    def branches(self, node: Node) -> Tuple[List[Branch], Dict[str, Any]]:
         """[(solution index, sign, beta, direction)] at node, and a record."""
         a = self._assembly_at(node)
         an = a.analyse()
@@ -323,7 +340,7 @@ class _Explorer:
             return [], {"mode": "none", "reason": f"m = {m} internal mechanisms and no self-stress: "
                                                   "a mechanism of several freedoms, not a bifurcation"}
         use_sym = self.symmetric is True or (self.symmetric == "auto" and s > AUTO_MAX_S)
-        rec = {"m": m, "s": s}
+        rec: Dict[str, Any] = {"m": m, "s": s}
         Q = a.second_order()
         if use_sym:
             from .symmetry import restricted_quadrics
@@ -359,7 +376,7 @@ class _Explorer:
                 out.append((i, sg, b, sg * (U @ b)))
         return out, rec
 
-    def solve(self, Q):
+    def solve(self, Q: NDArray[np.float64]) -> Dict[str, Any]:
         """The complete solver on Q (s, m, m): in shards on the executor when
         there are enough paths for it (homotopy_shards), else as one task."""
         from . import homotopy_shards
@@ -373,7 +390,7 @@ class _Explorer:
         return run_tasks(tasks.solve_task, [{"Q": Q.tolist(), "seed": self.seed, "threads": self.threads}],
                          self.executor)[0]
 
-    def follow_all(self, work):
+    def follow_all(self, work: List[Tuple[int, int, int, NDArray[np.float64], NDArray[np.float64]]]) -> List[Any]:
         """work: [(node, solution, sign, beta, direction)] -> results in order."""
         items = [{"model": self.text, "coords": self.nodes[nid].coords.tolist(),
                   "rank_tol": self._rank_tol(self.nodes[nid]), "direction": d.tolist(),
@@ -381,23 +398,19 @@ class _Explorer:
                  for nid, _, _, _, d in work]
         return run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches")
 
-    def merge(self, nid, sol, sign, beta, res, depth):
+    def merge(self, nid: int, sol: int, sign: int, beta: NDArray[np.float64], res: Dict[str, Any],
+              depth: int) -> int:
         ev = res["event"]
         X = np.asarray(res["coords"])
-        if ev == tasks.LOOP:
-            target = nid
-        else:
-            kind = _node_kind(ev, res)
-            target = self.find(X)
-            if target is None:
-                target = self.add_node(X, kind, res, depth)
+        found = nid if ev == tasks.LOOP else self.find(X)
+        target = found if found is not None else self.add_node(X, _node_kind(ev, res), res, depth)
         self.edges.append(Edge(len(self.edges), nid, target, int(sol), int(sign), [float(v) for v in beta], ev,
                                float(res["length"]), float(res["accuracy"]), res["samples"], res["message"],
                                int(res.get("steps", 0)), float(res.get("vr_tol", 0.0))))
         return target
 
 
-def _node_kind(event, res):
+def _node_kind(event: str, res: Dict[str, Any]) -> str:
     if event == tasks.FAILURE:
         return FAILURE
     m, s = res["m"], res["s"]
@@ -409,9 +422,12 @@ def _node_kind(event, res):
     return NEAR_MISS if event in (tasks.NEAR_MISS, tasks.BIFURCATION) else REGULAR
 
 
-def explore(model, start=None, depth=1, max_nodes=200, max_length=None, time_limit=None, symmetric=False,
-            executor=None, progress=None, seed=1, threads=1, symmetries=None, max_steps=2000, samples=2,
-            shards=None):
+def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start: Optional[ArrayLike] = None,
+            depth: int = 1, max_nodes: int = 200, max_length: Optional[float] = None,
+            time_limit: Optional[float] = None, symmetric: Union[bool, str] = False, executor: Any = None,
+            progress: Progress = None, seed: int = 1, threads: int = 1,
+            symmetries: Optional[Sequence[Symmetry]] = None, max_steps: int = 2000, samples: int = 2,
+            shards: Optional[int] = None) -> Atlas:
     """Map the paths out of `start` and out of every bifurcation they reach.
 
     model: an Assembly, a JSON model (file path, text or dict) or a built-in
@@ -440,9 +456,9 @@ def explore(model, start=None, depth=1, max_nodes=200, max_length=None, time_lim
         a = a.clone()
         a.coords = np.asarray(start, dtype=float)
     if symmetric not in (False, True, "auto"):
-        raise ModelFormatError(f"symmetric: expected False, True or 'auto', got {symmetric!r}")
+        raise InvalidArgumentError(f"symmetric: expected False, True or 'auto', got {symmetric!r}")
     if not isinstance(depth, int) or depth < 0:
-        raise ModelFormatError(f"depth: expected an integer >= 0, got {depth!r}")
+        raise InvalidArgumentError(f"depth: expected an integer >= 0, got {depth!r}")
     scale = max(1.0, float(np.abs(a.coords - a.coords.mean(axis=0)).max()))
     if max_length is None:
         max_length = 4.0 * scale
@@ -488,7 +504,7 @@ def explore(model, start=None, depth=1, max_nodes=200, max_length=None, time_lim
         frontier = [n.id for n in ex.nodes[n_before:] if n.kind == BIFURCATION]
         if not frontier:
             break
-    arrived = {}
+    arrived: Dict[int, set[str]] = {}
     for e in ex.edges:
         arrived.setdefault(e.target, set()).add(e.event)
     why = {tasks.BUDGET: "the path-length budget ran out here", tasks.NEAR_MISS: "the follower stopped at a "
@@ -510,7 +526,7 @@ def explore(model, start=None, depth=1, max_nodes=200, max_length=None, time_lim
     return atlas
 
 
-def _as_assembly(model):
+def _as_assembly(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]]) -> Assembly:
     from .assembly import Assembly
     if isinstance(model, Assembly):
         return model

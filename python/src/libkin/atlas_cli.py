@@ -1,11 +1,16 @@
 """`libkin explore`: the command line of libkin.explore (cli.py registers it)."""
+from __future__ import annotations
+
+import argparse
 import contextlib
-import os
 import pathlib
-import sys
+from typing import TYPE_CHECKING, Any, Iterator
+
+if TYPE_CHECKING:
+    from .assembly import Assembly
 
 
-def add_arguments(s):
+def add_arguments(s: argparse.ArgumentParser) -> None:
     s.add_argument("model")
     s.add_argument("--depth", type=int, default=1, help="levels of bifurcations to expand (default 1)")
     s.add_argument("--max-nodes", type=int, default=200, help="no node is expanded beyond this many (default 200)")
@@ -22,7 +27,7 @@ def add_arguments(s):
 
 
 @contextlib.contextmanager
-def executor(kind, workers):
+def executor(kind: str, workers: int) -> Iterator[Any]:
     """The executor named on the command line (None for serial)."""
     if kind == "serial":
         yield None
@@ -40,10 +45,10 @@ def executor(kind, workers):
             yield client
 
 
-def run(args, assembly):
+def run(args: argparse.Namespace, assembly: Assembly) -> int:
     from . import atlas_report
     from .atlas import explore
-    sym = {"true": True, "false": False, "auto": "auto"}[args.symmetric]
+    sym: bool | str = {"true": True, "false": False}.get(args.symmetric, "auto")
     with executor(args.executor, args.workers) as ex:
         at = explore(assembly, depth=args.depth, max_nodes=args.max_nodes, max_length=args.max_length,
                      time_limit=args.time_limit, symmetric=sym, executor=ex,

@@ -9,6 +9,11 @@ path and the paths back along it as one line with two heads ("a/b": a
 paths one way, b the other); paths within a column are arcs; closed loops
 are counted in the node's label.
 """
+from __future__ import annotations
+
+import os
+from typing import Any, Dict, List, Optional, Tuple, Union
+
 import numpy as np
 
 from . import atlas as _atlas
@@ -25,7 +30,7 @@ EVENT_COLOUR = {"bifurcation": "#d62728", "near_miss": "#ff7f0e", "loop": "#2ca0
                 "failure": "#8c564b"}
 
 
-def _label(atlas, n):
+def _label(atlas: _atlas.Atlas, n: _atlas.Node) -> str:
     name = atlas.node_name(n.id)
     if n.kind == _atlas.BIFURCATION:
         txt = f"{name}  m={n.m} s={n.s}"
@@ -40,9 +45,9 @@ def _label(atlas, n):
     return txt
 
 
-def layout(atlas):
+def layout(atlas: _atlas.Atlas) -> Dict[int, Tuple[float, float]]:
     """{node id: (x, y)}: x the depth, y the rank within the column (orbit-grouped)."""
-    cols = {}
+    cols: Dict[int, List[_atlas.Node]] = {}
     for n in atlas.nodes:
         cols.setdefault(n.depth, []).append(n)
     pos = {}
@@ -54,7 +59,8 @@ def layout(atlas):
     return pos
 
 
-def draw_map(atlas, path=None, title=None):
+def draw_map(atlas: _atlas.Atlas, path: Union[None, str, os.PathLike[str]] = None,
+             title: Optional[str] = None) -> Any:
     """Draw the map; write a PNG to path (if given). Returns the figure."""
     import matplotlib
     matplotlib.use("Agg")
@@ -73,7 +79,7 @@ def draw_map(atlas, path=None, title=None):
     ax.set_xlim(-0.3, ncol - 1 + 1.2)
     # a path and the path back along it (reached from the other end) are one
     # line with two heads; what is left to bend is paths within a column
-    groups = {}
+    groups: Dict[Tuple[int, int, str], Dict[Tuple[int, int], List[_atlas.Edge]]] = {}
     for e in atlas.edges:
         key = (min(e.source, e.target), max(e.source, e.target), e.event)
         groups.setdefault(key, {}).setdefault((e.source, e.target), []).append(e)
@@ -81,7 +87,7 @@ def draw_map(atlas, path=None, title=None):
     # arcs within a column bow sideways; leave a little room above and below
     pad = 0.3 + (min(0.1 * nrow, 1.5) if same_col else 0.0)
     ax.set_ylim(-(nrow / 2.0) - pad, nrow / 2.0 + pad)
-    loops = {}
+    loops: Dict[int, int] = {}
     to_data = ax.transData.inverted()
     for (lo, hi, ev), dirs in sorted(groups.items()):
         col = EVENT_COLOUR.get(ev, "k")
@@ -143,7 +149,7 @@ def draw_map(atlas, path=None, title=None):
     return fig
 
 
-def draw_nodes(atlas, path, limit=12):
+def draw_nodes(atlas: _atlas.Atlas, path: Union[str, os.PathLike[str]], limit: int = 12) -> None:
     """The configurations of the first `limit` nodes (xy projection), a panel each."""
     import matplotlib
     matplotlib.use("Agg")

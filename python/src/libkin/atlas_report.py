@@ -1,20 +1,25 @@
 """report.md (and the files it shows) for an atlas of any structure."""
+from __future__ import annotations
+
 import math
+import os
 import pathlib
+from typing import Any, Dict, List, Tuple, Union
 
 import numpy as np
 
 from . import atlas as _atlas
 
 
-def _f(v, fmt=".4g"):
+def _f(v: Any, fmt: str = ".4g") -> str:
     if v is None or (isinstance(v, float) and not math.isfinite(v)):
         return "-"
     return format(v, fmt)
 
 
-def write(atlas, out, map_png="atlas_map.png", nodes_png="atlas_nodes.png", graphml="atlas.graphml",
-          json_name="atlas.json"):
+def write(atlas: _atlas.Atlas, out: Union[str, os.PathLike[str]], map_png: str = "atlas_map.png",
+          nodes_png: str = "atlas_nodes.png", graphml: str = "atlas.graphml",
+          json_name: str = "atlas.json") -> pathlib.Path:
     """Write json_name, graphml, the PNGs and report.md into the folder out.
     Returns the path of report.md."""
     from . import atlas_plot
@@ -28,8 +33,8 @@ def write(atlas, out, map_png="atlas_map.png", nodes_png="atlas_nodes.png", grap
     return out / "report.md"
 
 
-def text(atlas, map_png="atlas_map.png", nodes_png="atlas_nodes.png", graphml="atlas.graphml",
-         json_name="atlas.json"):
+def text(atlas: _atlas.Atlas, map_png: str = "atlas_map.png", nodes_png: str = "atlas_nodes.png",
+         graphml: str = "atlas.graphml", json_name: str = "atlas.json") -> str:
     m = atlas.model
     st, se = atlas.stats, atlas.settings
     n0 = atlas.nodes[0]
@@ -88,7 +93,7 @@ def text(atlas, map_png="atlas_map.png", nodes_png="atlas_nodes.png", graphml="a
     L.append("Grouped by end points and event; lengths are path lengths (sum of chords).\n")
     L.append("| from | to | event | paths | (solution, sign) | length |")
     L.append("|---|---|---|---|---|---|")
-    groups = {}
+    groups: Dict[Tuple[int, int, str], List[_atlas.Edge]] = {}
     for e in atlas.edges:
         groups.setdefault((e.source, e.target, e.event), []).append(e)
     for (s, t, ev), es in sorted(groups.items()):

@@ -7,7 +7,17 @@ The worker rebuilds the Assembly from the model text each time (a few
 milliseconds), so nothing is cached between tasks and the result depends on
 the task alone: the same whichever worker runs it, in whichever order.
 """
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, Dict, Optional, Tuple
+
 import numpy as np
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:
+    from .assembly import Assembly
+
+Task = Dict[str, Any]
 
 # event kinds of a directed branch (edge of the atlas)
 BIFURCATION = "bifurcation"  # a bifurcation was located at the end
@@ -18,7 +28,7 @@ FAILURE = "failure"          # following failed (corrector, path jump, ...)
 EVENT_KINDS = (BIFURCATION, NEAR_MISS, LOOP, BUDGET, FAILURE)
 
 
-def rebuild(task):
+def rebuild(task: Task) -> Assembly:
     """The Assembly of a task at its configuration, with its rank tolerance."""
     from .model_json import load_json
     a = load_json(task["model"])
@@ -30,11 +40,12 @@ def rebuild(task):
     return a
 
 
-def _rms_rest(a):
+def _rms_rest(a: Assembly) -> float:
     return float(np.sqrt(np.mean(a.rest_lengths ** 2)))
 
 
-def follow_event(a, direction=None, max_length=0.0, max_steps=1000, vr_tol=1e-10, vr_floor=1e-6):
+def follow_event(a: Assembly, direction: Optional[ArrayLike] = None, max_length: float = 0.0, max_steps: int = 1000,
+                 vr_tol: float = 1e-10, vr_floor: float = 1e-6) -> Tuple[int, Any]:
     """kin_follow_event (kin_follow.h): follow from the current point (a
     regular point, or a bifurcation along `direction`, a first-order
     mechanism U_m beta) to the next event. The assembly moves to the end
@@ -60,14 +71,14 @@ def follow_event(a, direction=None, max_length=0.0, max_steps=1000, vr_tol=1e-10
     return rc, info
 
 
-def _event_kind(event):
+def _event_kind(event: int) -> str:
     from ._lib import lib
     return {lib.KIN_FOLLOW_BIFURCATION: BIFURCATION, lib.KIN_FOLLOW_NEAR_MISS: NEAR_MISS,
             lib.KIN_FOLLOW_CLOSED_LOOP: LOOP, lib.KIN_FOLLOW_LENGTH_LIMIT: BUDGET,
             lib.KIN_FOLLOW_STEP_LIMIT: BUDGET}.get(event, FAILURE)
 
 
-def follow_branch(task):
+def follow_branch(task: Task) -> Dict[str, Any]:
     """Follow one directed branch to its next event (kin_follow_event).
 
     task: {"model": JSON text, "coords": (njoints, dim) list, "rank_tol",
@@ -85,8 +96,9 @@ def follow_branch(task):
     a = rebuild(task)
     start = a.clone()
     d = np.asarray(task["direction"], dtype=float)
-    lim = {"max_steps": int(task.get("max_steps", 1000)), "vr_tol": float(task.get("vr_tol", 1e-10))}
-    out = {"samples": [], "message": ""}
+    lim: Dict[str, Any] = {"max_steps": int(task.get("max_steps", 1000)), "vr_tol": float(task.get("vr_tol", 1e-10))}
+    samples: list[Any] = []
+    out: Dict[str, Any] = {"samples": samples, "message": ""}
     try:
         rc, info = follow_event(a, d, max_length=float(task["max_length"]), **lim)
     except KinError as exc:
@@ -106,13 +118,13 @@ def follow_branch(task):
         c = start.clone()
         try:
             follow_event(c, d, max_length=info.length * k / (n + 1), **lim)
-            out["samples"].append(c.coords.tolist())
+            samples.append(c.coords.tolist())
         except KinError:
             break
     return out
 
 
-def _end_state(a, kind, rank_tol=None):
+def _end_state(a: Assembly, kind: str, rank_tol: Optional[float] = None) -> Dict[str, Any]:
     if rank_tol is not None:
         # a point located only to a coarser v_r is analysed as the follower saw it
         o = a.options
@@ -124,7 +136,7 @@ def _end_state(a, kind, rank_tol=None):
             "v_r_rel": float(an.v_r / an.v_max) if an.v_max > 0 else 0.0}
 
 
-def solve_task(task):
+def solve_task(task: Task) -> Dict[str, Any]:
     """The complete solver on one system: task {"Q": (s, m, m) list, "seed"}
     -> {"betas": (nsol, m) list, "accounting": dict}."""
     from .assembly import solve_quadrics

@@ -19,12 +19,19 @@ dimensions than the space (a flat sail in 3D), the fit is not unique: the
 reflections through the missing directions are added (the mirror z -> -z of
 a flat sail is a symmetry with the identity permutation).
 """
+from __future__ import annotations
+
 import dataclasses
 import itertools
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
-from .errors import ModelFormatError
+from .errors import InvalidArgumentError
+
+if TYPE_CHECKING:
+    from .assembly import Assembly
 
 # coordinates agree when they differ by less than this times the model size
 _REL_TOL = 1e-9
@@ -37,28 +44,28 @@ MAX_CANDIDATES = 20000
 class Symmetry:
     """One symmetry: joint i goes to perm[i], a point x to Q @ x + t."""
 
-    perm: tuple
+    perm: Tuple[int, ...]
     Q: np.ndarray
     t: np.ndarray
 
     @property
-    def proper(self):
+    def proper(self) -> bool:
         """True for a rotation (det Q = +1), False for a reflection."""
         return bool(np.linalg.det(self.Q) > 0)
 
     @property
-    def is_identity(self):
+    def is_identity(self) -> bool:
         return (all(i == p for i, p in enumerate(self.perm)) and np.allclose(self.Q, np.eye(len(self.Q)))
                 and np.allclose(self.t, 0.0))
 
-    def apply(self, X):
+    def apply(self, X: ArrayLike) -> NDArray[np.float64]:
         """The image g.X of a configuration X (njoints, dim)."""
         X = np.asarray(X, dtype=float)
         Y = np.empty_like(X)
         Y[list(self.perm)] = X @ self.Q.T + self.t
         return Y
 
-    def free_matrix(self, free_map):
+    def free_matrix(self, free_map: NDArray[Any]) -> NDArray[np.float64]:
         """The action on free-coordinate vectors (mechanisms): P (nfree, nfree)
         with (P v) the velocity of g.X when v is the velocity of X."""
         nfree = int(free_map.max()) + 1
@@ -75,16 +82,16 @@ class Symmetry:
                         P[free_map[j, b], fi] = self.Q[b, a]
         return P
 
-    def to_dict(self):
+    def to_dict(self) -> Dict[str, Any]:
         return {"perm": [int(p) for p in self.perm], "Q": self.Q.round(15).tolist(), "t": self.t.round(15).tolist(),
                 "proper": self.proper}
 
 
-def _scale(X):
+def _scale(X: NDArray[np.float64]) -> float:
     return max(1.0, float(np.abs(X - X.mean(axis=0)).max()))
 
 
-def _bar_graph(bars, rest, fixed, scale):
+def _bar_graph(bars: NDArray[Any], rest: NDArray[np.float64], fixed: NDArray[np.bool_], scale: float) -> Any:
     import networkx as nx
     G = nx.Graph()
     for i in range(fixed.shape[0]):
@@ -95,7 +102,7 @@ def _bar_graph(bars, rest, fixed, scale):
     return G
 
 
-def _orthogonal_fits(Xc, Yc):
+def _orthogonal_fits(Xc: NDArray[np.float64], Yc: NDArray[np.float64]) -> List[NDArray[np.float64]]:
     """Orthogonal Q with Yc = Xc Q^T, if any: the Procrustes optimum, plus its
     products with the reflections through the directions Xc does not span."""
     H = Xc.T @ Yc
@@ -120,7 +127,7 @@ def _orthogonal_fits(Xc, Yc):
     return [np.where(np.abs(F) < 1e-12, 0.0, F) for F in fits]
 
 
-def _keeps_supports(Q, perm, fixed):
+def _keeps_supports(Q: NDArray[np.float64], perm: Tuple[int, ...], fixed: NDArray[np.bool_]) -> bool:
     for i, j in enumerate(perm):
         # fixed axes of i must go into fixed axes of j (counts are equal)
         for a in np.flatnonzero(fixed[i]):
@@ -130,7 +137,8 @@ def _keeps_supports(Q, perm, fixed):
     return True
 
 
-def detect_symmetries(assembly, coords=None, max_candidates=MAX_CANDIDATES):
+def detect_symmetries(assembly: Assembly, coords: Optional[ArrayLike] = None,
+                      max_candidates: int = MAX_CANDIDATES) -> List[Symmetry]:
     """Every symmetry of `assembly` in the configuration `coords` (default:
     its current one), identity first, then in a fixed order (by perm, then Q).
     Returns a list of Symmetry. Raises ModelFormatError if coords has the
@@ -138,7 +146,7 @@ def detect_symmetries(assembly, coords=None, max_candidates=MAX_CANDIDATES):
     from networkx.algorithms.isomorphism import GraphMatcher
     X = assembly.coords if coords is None else np.asarray(coords, dtype=float)
     if X.shape != (assembly.njoints, assembly.dim):
-        raise ModelFormatError(f"coords: expected shape {(assembly.njoints, assembly.dim)}, got {X.shape}")
+        raise InvalidArgumentError(f"coords: expected shape {(assembly.njoints, assembly.dim)}, got {X.shape}")
     fixed = assembly.fixed
     scale = _scale(X)
     G = _bar_graph(assembly.bars, assembly.rest_lengths, fixed, scale)
@@ -146,7 +154,7 @@ def detect_symmetries(assembly, coords=None, max_candidates=MAX_CANDIDATES):
                       edge_match=lambda a, b: a["length"] == b["length"])
     c = X.mean(axis=0)
     Xc = X - c
-    found = []
+    found: List[Symmetry] = []
     for n, iso in enumerate(gm.isomorphisms_iter()):
         if n >= max_candidates:
             break
@@ -163,12 +171,12 @@ def detect_symmetries(assembly, coords=None, max_candidates=MAX_CANDIDATES):
     return found
 
 
-def stabilizer(symmetries, X, tol):
+def stabilizer(symmetries: List[Symmetry], X: NDArray[np.float64], tol: float) -> List[Symmetry]:
     """The symmetries that map the configuration X onto itself (to tol)."""
     return [g for g in symmetries if np.abs(g.apply(X) - X).max() <= tol]
 
 
-def invariant_subspace(U, matrices):
+def invariant_subspace(U: NDArray[np.float64], matrices: List[NDArray[np.float64]]) -> NDArray[np.float64]:
     """Orthonormal basis G (m, k) of the beta with U beta invariant under
     every P in `matrices` (free-coordinate actions); U has orthonormal
     columns."""
