@@ -106,9 +106,10 @@ def test_threebar_and_regular_start(tmp_path):
     bif = [n for n in at.nodes if n.kind == atlas_mod.BIFURCATION]
     assert len(bif) == 3 and all((n.m, n.s) == (2, 1) for n in bif)
     assert len([e for e in at.edges if e.source == 0]) == 4
-    # a regular start: a point on a path (an end point of the atlas above)
-    reg = next(n for n in at.nodes if n.kind == atlas_mod.REGULAR)
-    at2 = libkin.explore("threebar:RC", start=reg.coords, depth=1)
+    # every branch ends at one of the three bifurcations, with 2 samples along the way
+    assert all(e.event == "bifurcation" and len(e.samples) == 2 for e in at.edges)
+    # a regular start: a point on a path (a sample of the atlas above)
+    at2 = libkin.explore("threebar:RC", start=at.edges[0].samples[0], depth=1)
     assert at2.nodes[0].kind == atlas_mod.REGULAR and at2.nodes[0].branches["mode"] == "regular"
     assert len(at2.edges) == 2 and {e.sign for e in at2.edges} == {1, -1}
     assert any(at2.nodes[e.target].kind == atlas_mod.BIFURCATION for e in at2.edges)

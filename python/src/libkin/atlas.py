@@ -38,7 +38,7 @@ Progress = Union[None, bool, Callable[[int, int, str], Any]]
 Branch = Tuple[int, int, NDArray[np.float64], NDArray[np.float64]]
 
 from . import atlas_tasks as tasks
-from .automorphisms import detect_symmetries, invariant_subspace, stabilizer
+from .automorphisms import graph_automorphisms, invariant_subspace, same_symmetry, symmetries_at
 from .errors import InvalidArgumentError, KinError
 
 # node kinds: what a node of the map is
@@ -262,13 +262,15 @@ class _Explorer:
         self.max_length, self.seed, self.threads = max_length, seed, threads
         self.max_steps, self.samples, self.shards = max_steps, samples, shards
         self.symmetry_note = ""
+        self.perms: List[Tuple[int, ...]] = []
         if symmetries is not None:
             self.syms = list(symmetries)
         else:
             try:
-                self.syms = detect_symmetries(a)
+                self.perms = graph_automorphisms(a)
             except ImportError:  # networkx is an optional dependency (libkin[atlas])
-                self.syms, self.symmetry_note = [], "not detected: networkx is not installed"
+                self.symmetry_note = "not detected: networkx is not installed"
+            self.syms = symmetries_at(a, self.perms, a.coords) if self.perms else []
         self.P = [g.free_matrix(self.free_map) for g in self.syms]
         self.nodes: List[Node] = []
         self.edges: List[Edge] = []
@@ -312,6 +314,29 @@ class _Explorer:
         return i
 
     # -- enumeration at a node
+    def learn_symmetries(self, node: Node) -> None:
+        """Add the symmetries of the node's configuration to the group: each
+        is a symmetry of the structure (automorphisms.py), found at the
+        configuration that has it."""
+        for g in symmetries_at(self.a, self.perms, node.coords) if self.perms else []:
+            if not any(same_symmetry(g, h) for h in self.syms):
+                self.syms.append(g)
+                self.P.append(g.free_matrix(self.free_map))
+
+    def final_orbits(self) -> None:
+        """Orbits with the whole group found: node i joins the orbit of the
+        first node j < i that a symmetry maps onto it."""
+        for n in self.nodes:
+            n.orbit = n.id
+            for m in self.nodes[: n.id]:
+                j = next((j for j, g in enumerate(self.syms)
+                          if self._distance(g.apply(m.coords), n.coords) <= self.tol), None)
+                if j is not None:
+                    n.orbit = m.orbit
+                    if n.image_of is None and not n.expanded:
+                        n.image_of = {"node": m.id, "symmetry": j}
+                    break
+
     def _assembly_at(self, node: Node) -> Assembly:
         a = self.a.clone()
         o = a.options
@@ -435,7 +460,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     (default: the model's current one), a regular point or a bifurcation.
     depth: levels of bifurcations to expand (1: only the start's branches).
     max_nodes: no node is expanded once the atlas has this many. max_length:
-    path length budget of one branch (default: 4 times the model size);
+    path length budget of one branch (default: 10 times the model size, the
+    largest distance of a joint from the centroid, at least 1);
     max_steps: step budget of one branch. samples: configurations recorded
     along each branch (besides its end). shards: the complete solver's
     paths are tracked in this many tasks on the executor (default: about
@@ -461,7 +487,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         raise InvalidArgumentError(f"depth: expected an integer >= 0, got {depth!r}")
     scale = max(1.0, float(np.abs(a.coords - a.coords.mean(axis=0)).max()))
     if max_length is None:
-        max_length = 4.0 * scale
+        max_length = 10.0 * scale
     ex = _Explorer(a, symmetric, executor, progress, float(max_length), seed, threads, symmetries, int(max_steps),
                    int(samples), shards)
     an = a.analyse()
@@ -487,6 +513,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                 node.status = "not expanded: time limit reached"
                 stopped = stopped or "time_limit"
                 continue
+            ex.learn_symmetries(node)
             try:
                 br, rec = ex.branches(node)
             except KinError as exc:
@@ -504,6 +531,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         frontier = [n.id for n in ex.nodes[n_before:] if n.kind == BIFURCATION]
         if not frontier:
             break
+    ex.final_orbits()
     arrived: Dict[int, set[str]] = {}
     for e in ex.edges:
         arrived.setdefault(e.target, set()).add(e.event)

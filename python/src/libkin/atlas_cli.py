@@ -15,7 +15,7 @@ def add_arguments(s: argparse.ArgumentParser) -> None:
     s.add_argument("--depth", type=int, default=1, help="levels of bifurcations to expand (default 1)")
     s.add_argument("--max-nodes", type=int, default=200, help="no node is expanded beyond this many (default 200)")
     s.add_argument("--max-length", type=float, default=None,
-                   help="path-length budget of one branch (default 4 x the model size)")
+                   help="path-length budget of one branch (default 10 x the model size)")
     s.add_argument("--time-limit", type=float, default=None, help="seconds; no node is expanded after it")
     s.add_argument("--symmetric", nargs="?", const="true", default="false", choices=["true", "false", "auto"],
                    help="only the paths that keep each node's symmetry (auto: where s > 12)")

@@ -7,7 +7,7 @@ Shape and colour say what a node is; a regular point or a near-miss is never
 drawn as a bifurcation. Parallel paths are drawn once with their count, a
 path and the paths back along it as one line with two heads ("a/b": a
 paths one way, b the other); paths within a column are arcs; closed loops
-are counted in the node's label.
+and other paths back to their start are counted in the node's label.
 """
 from __future__ import annotations
 
@@ -125,7 +125,7 @@ def draw_map(atlas: _atlas.Atlas, path: Union[None, str, os.PathLike[str]] = Non
                    zorder=3)
         txt = _label(atlas, n)
         if n.id in loops:
-            txt += f"  [{loops[n.id]} closed loop(s)]"
+            txt += f"  [{loops[n.id]} path(s) back to itself]"
         ax.text(x + 0.06, y, txt, fontsize=8.5, va="center", ha="left", zorder=4,
                 bbox=dict(boxstyle="square,pad=0.05", fc="white", ec="none", alpha=0.75))
     kinds = sorted({n.kind for n in atlas.nodes}, key=list(STYLE).index)

@@ -137,43 +137,62 @@ def _keeps_supports(Q: NDArray[np.float64], perm: Tuple[int, ...], fixed: NDArra
     return True
 
 
-def detect_symmetries(assembly: Assembly, coords: Optional[ArrayLike] = None,
-                      max_candidates: int = MAX_CANDIDATES) -> List[Symmetry]:
-    """Every symmetry of `assembly` in the configuration `coords` (default:
-    its current one), identity first, then in a fixed order (by perm, then Q).
-    Returns a list of Symmetry. Raises ModelFormatError if coords has the
-    wrong shape."""
+def graph_automorphisms(assembly: Assembly, max_candidates: int = MAX_CANDIDATES) -> List[Tuple[int, ...]]:
+    """The permutations of the joints that map bars to bars of the same rest
+    length and joints to joints with as many fixed coordinates (networkx's
+    VF2 matcher on the bar graph): the candidates for symmetries, whatever
+    the configuration. At most max_candidates, in the matcher's order."""
     from networkx.algorithms.isomorphism import GraphMatcher
-    X = assembly.coords if coords is None else np.asarray(coords, dtype=float)
+    rest = assembly.rest_lengths
+    G = _bar_graph(assembly.bars, rest, assembly.fixed, max(1.0, float(rest.max())))
+    gm = GraphMatcher(G, G, node_match=lambda a, b: a["nfixed"] == b["nfixed"],
+                      edge_match=lambda a, b: a["length"] == b["length"])
+    perms = []
+    for n, iso in enumerate(gm.isomorphisms_iter()):
+        if n >= max_candidates:
+            break
+        perms.append(tuple(int(iso[i]) for i in range(assembly.njoints)))
+    return perms
+
+
+def symmetries_at(assembly: Assembly, perms: List[Tuple[int, ...]], coords: ArrayLike) -> List[Symmetry]:
+    """The candidates `perms` (graph_automorphisms) that are symmetries of
+    the configuration coords, each with every isometry that realises it;
+    identity first, then by perm and Q. Raises InvalidArgumentError if
+    coords has the wrong shape."""
+    X = np.asarray(coords, dtype=float)
     if X.shape != (assembly.njoints, assembly.dim):
         raise InvalidArgumentError(f"coords: expected shape {(assembly.njoints, assembly.dim)}, got {X.shape}")
     fixed = assembly.fixed
     scale = _scale(X)
-    G = _bar_graph(assembly.bars, assembly.rest_lengths, fixed, scale)
-    gm = GraphMatcher(G, G, node_match=lambda a, b: a["nfixed"] == b["nfixed"],
-                      edge_match=lambda a, b: a["length"] == b["length"])
     c = X.mean(axis=0)
     Xc = X - c
     found: List[Symmetry] = []
-    for n, iso in enumerate(gm.isomorphisms_iter()):
-        if n >= max_candidates:
-            break
-        perm = tuple(int(iso[i]) for i in range(assembly.njoints))
+    for perm in perms:
         Yc = X[list(perm)] - c
         for Q in _orthogonal_fits(Xc, Yc):
             if not _keeps_supports(Q, perm, fixed):
                 continue
-            t = c - Q @ c
-            g = Symmetry(perm, Q, t)
+            g = Symmetry(perm, Q, c - Q @ c)
             if np.abs(g.apply(X) - X).max() <= 100 * _REL_TOL * scale:
                 found.append(g)
     found.sort(key=lambda g: (not g.is_identity, g.perm, tuple(np.round(g.Q, 9).ravel())))
     return found
 
 
-def stabilizer(symmetries: List[Symmetry], X: NDArray[np.float64], tol: float) -> List[Symmetry]:
-    """The symmetries that map the configuration X onto itself (to tol)."""
-    return [g for g in symmetries if np.abs(g.apply(X) - X).max() <= tol]
+def detect_symmetries(assembly: Assembly, coords: Optional[ArrayLike] = None,
+                      max_candidates: int = MAX_CANDIDATES) -> List[Symmetry]:
+    """Every symmetry of `assembly` in the configuration `coords` (default:
+    its current one): symmetries_at(graph_automorphisms(...)). A symmetry
+    of one configuration is one of the structure: it maps every
+    configuration to another."""
+    X = assembly.coords if coords is None else coords
+    return symmetries_at(assembly, graph_automorphisms(assembly, max_candidates), X)
+
+
+def same_symmetry(g: Symmetry, h: Symmetry) -> bool:
+    """g and h are the same map (permutation and isometry)."""
+    return g.perm == h.perm and bool(np.allclose(g.Q, h.Q, atol=1e-9)) and bool(np.allclose(g.t, h.t, atol=1e-9))
 
 
 def invariant_subspace(U: NDArray[np.float64], matrices: List[NDArray[np.float64]]) -> NDArray[np.float64]:
