@@ -132,6 +132,27 @@ def test_json_model_and_outputs(tmp_path):
     assert G.nodes["N0"]["kind"] == "bifurcation"
 
 
+def _solve(Q):
+    betas, acc = libkin.solve_quadrics(Q, threads=1)
+    return {"betas": betas.tolist(), "accounting": acc}
+
+
+def test_overdetermined_and_continuum_systems():
+    # two equations in two unknowns: b0^2 = 0 and 2 b0 b1 = 0 share the root (0, 1)
+    Q = np.array([[[1.0, 0.0], [0.0, 0.0]], [[0.0, 1.0], [1.0, 0.0]]]) / np.sqrt([[[1.0]], [[2.0]]])
+    betas, rec = atlas_mod.solve_system(Q, 2, _solve)
+    assert betas.shape == (1, 2) and abs(abs(betas[0, 1]) - 1.0) < 1e-9 and rec["candidates"] >= 1
+    # ... b0^2 - b1^2 = 0 and 2 b0 b1 = 0 share none
+    Q2 = np.array([[[1.0, 0.0], [0.0, -1.0]], [[0.0, 1.0], [1.0, 0.0]]]) / np.sqrt(2.0)
+    betas, rec = atlas_mod.solve_system(Q2, 2, _solve)
+    assert betas.shape == (0, 2) and rec["solutions"] == 0
+    # one equation in three unknowns: a continuum, not enumerated
+    Q3 = np.zeros((1, 3, 3))
+    Q3[0, 0, 0], Q3[0, 1, 1] = 1.0 / np.sqrt(2.0), -1.0 / np.sqrt(2.0)
+    betas, rec = atlas_mod.solve_system(Q3, 3, _solve)
+    assert betas is None and rec["solutions"] == 0
+
+
 def test_shard_ranges_cover_every_path():
     for s, k in ((4, 3), (4, 16), (4, 40), (10, 7)):
         r = homotopy_shards.shard_ranges(s, k)

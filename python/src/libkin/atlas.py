@@ -55,6 +55,9 @@ SAME_TOL = 1e-6
 # with an executor, the complete solver is split into shards of about this
 # many homotopy paths (at most 64 shards)
 SHARD_PATHS = 256
+# an overdetermined system's candidate solves every equation to this
+# (relative residual |beta^T Q_j beta| / |Q_j|_F, unit beta)
+OVERDETERMINED_TOL = 1e-8
 # symmetric="auto" uses the symmetric subspace when the complete solver would
 # track more than 2^AUTO_MAX_S paths
 AUTO_MAX_S = 12
@@ -377,29 +380,39 @@ class _Explorer:
             if k == 0:
                 return [], dict(rec, solutions=0, reason="no first-order mechanism keeps the symmetry")
             if k == 1:
+                # one symmetric mechanism g: a branch if it solves every
+                # second-order equation (the Q_j have unit norm, eq. 18)
+                g = G[:, 0]
+                resid = float(np.abs(np.einsum("x,jxy,y->j", g, Q, g)).max()) if len(Q) else 0.0
+                rec["residual"] = resid
+                if resid > OVERDETERMINED_TOL:
+                    return [], dict(rec, solutions=0, reason="the one symmetric mechanism does not extend to "
+                                                             "second order")
                 betas = G.T.copy()
                 rec["solutions"] = 1
             else:
                 Qs = restricted_quadrics(Q, G)
                 rec["s_restricted"] = int(Qs.shape[0])
-                if Qs.shape[0] != k - 1:
-                    return [], dict(rec, reason=f"restricted system has {Qs.shape[0]} equations in {k} "
-                                                "unknowns; the solvers need k - 1")
-                res = self.solve(Qs)
-                betas = np.asarray(res["betas"]).reshape(-1, k) @ G.T
-                rec.update({"solutions": len(betas), "accounting": res["accounting"]})
+                gam, more = self.solve_system(Qs, k)
+                rec.update(more)
+                if gam is None:
+                    return [], rec
+                betas = gam @ G.T
         else:
-            if m != s + 1:
-                return [], dict(rec, mode="complete", reason=f"m = {m}, s = {s}: the complete solver needs "
-                                                             "m = s + 1")
-            res = self.solve(Q)
-            betas = np.asarray(res["betas"]).reshape(-1, m)
-            rec.update({"mode": "complete", "solutions": len(betas), "accounting": res["accounting"]})
+            rec["mode"] = "complete"
+            betas_or_none, more = self.solve_system(Q, m)
+            rec.update(more)
+            if betas_or_none is None:
+                return [], rec
+            betas = betas_or_none
         out = []
         for i, b in enumerate(betas):
             for sg in (1, -1):
                 out.append((i, sg, b, sg * (U @ b)))
         return out, rec
+
+    def solve_system(self, Q: NDArray[np.float64], k: int) -> Tuple[Optional[NDArray[np.float64]], Dict[str, Any]]:
+        return solve_system(Q, k, self.solve, self.seed)
 
     def solve(self, Q: NDArray[np.float64]) -> Dict[str, Any]:
         """The complete solver on Q (s, m, m): in shards on the executor when
@@ -433,6 +446,35 @@ class _Explorer:
                                float(res["length"]), float(res["accuracy"]), res["samples"], res["message"],
                                int(res.get("steps", 0)), float(res.get("vr_tol", 0.0))))
         return target
+
+
+def solve_system(Q: NDArray[np.float64], k: int, solve: Callable[[NDArray[np.float64]], Dict[str, Any]],
+                 seed: int = 1) -> Tuple[Optional[NDArray[np.float64]], Dict[str, Any]]:
+    """Unit solutions (n, k) of beta^T Q_j beta = 0 for the s independent
+    Q_j (s, k, k), and a record. s = k - 1: the complete solver. s > k - 1
+    (more equations than the solvers take): the complete solver on k - 1
+    random combinations of them (seeded: deterministic), whose solutions
+    include every common one, keeping those that solve all equations.
+    solve(Q) runs the complete solver ({"betas", "accounting"}).
+    s < k - 1: the solutions form a continuum; none are returned."""
+    s = Q.shape[0]
+    if s < k - 1:
+        return None, {"solutions": 0, "reason": f"{s} independent second-order equation(s) in {k} unknowns: "
+                                               "the solutions form a continuum, not isolated branches"}
+    if s == k - 1:
+        res = solve(Q)
+        betas = np.asarray(res["betas"]).reshape(-1, k)
+        return betas, {"solutions": len(betas), "accounting": res["accounting"]}
+    rng = np.random.default_rng(seed)
+    A, _ = np.linalg.qr(rng.standard_normal((s, k - 1)))
+    Qc = np.einsum("ja,jxy->axy", A, Q)
+    res = solve(Qc)
+    cand = np.asarray(res["betas"]).reshape(-1, k)
+    norms = np.linalg.norm(Q.reshape(s, -1), axis=1)
+    resid = (np.abs(np.einsum("nx,jxy,ny->nj", cand, Q, cand)) / norms).max(axis=1) if len(cand) else cand[:, 0]
+    betas = cand[resid <= OVERDETERMINED_TOL]
+    return betas, {"solutions": len(betas), "accounting": res["accounting"], "combined": f"{k - 1} random "
+                   f"combinations of {s} equations", "candidates": len(cand)}
 
 
 def _node_kind(event: str, res: Dict[str, Any]) -> str:

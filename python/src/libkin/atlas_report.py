@@ -83,6 +83,8 @@ def text(atlas: _atlas.Atlas, map_png: str = "atlas_map.png", nodes_png: str = "
         if acc:
             extra = (f"; homotopy: {acc.get('paths')} paths, {acc.get('real_distinct')} distinct real, "
                      f"{acc.get('nonreal')} non-real, {acc.get('singular')} singular, {acc.get('failed')} failed")
+        if b.get("combined"):
+            extra += f"; more equations than unknowns: {b['combined']}, {b.get('candidates')} candidate(s) checked"
         if b.get("mode") == "symmetric":
             extra += f"; symmetric subspace k = {b.get('k')} (stabilizer of order {b.get('group_order')})"
         L.append(f"- N{n.id}: {b.get('mode')}, {b.get('solutions', 0)} solution(s) beta -> "
