@@ -175,3 +175,17 @@ def test_cli(tmp_path, capsys):
     doc = json.loads((out / "atlas.json").read_text())
     assert len(doc["edges"]) == 4 and doc["nodes"][0]["kind"] == "bifurcation"
     assert (out / "report.md").exists() and (out / "atlas_map.png").exists()
+
+
+def test_bounds():
+    # the start is expanded, then the node budget stops the next level
+    at = libkin.explore("threebar:RC", depth=3, max_nodes=2)
+    assert at.nodes[0].expanded and not any(n.expanded for n in at.nodes[1:])
+    assert at.stats["stopped_by"] == "max_nodes"
+    # no time at all: nothing is expanded, and the atlas says why
+    at = libkin.explore("threebar:RC", depth=3, time_limit=0.0)
+    assert len(at.nodes) == 1 and not at.edges and at.stats["stopped_by"] == "time_limit"
+    # a path-length budget shorter than every path: every branch ends in `budget` at a regular point
+    at = libkin.explore("threebar:RC", depth=1, max_length=0.5)
+    assert len(at.edges) == 4 and all(e.event == "budget" for e in at.edges)
+    assert all(at.nodes[e.target].kind == atlas_mod.REGULAR and e.length >= 0.5 for e in at.edges)

@@ -497,26 +497,59 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
             shards: Optional[int] = None) -> Atlas:
     """Map the paths out of `start` and out of every bifurcation they reach.
 
-    model: an Assembly, a JSON model (file path, text or dict) or a built-in
-    spec ("sail:4:1", "threebar:RC"). start: a configuration (njoints, dim)
-    (default: the model's current one), a regular point or a bifurcation.
-    depth: levels of bifurcations to expand (1: only the start's branches).
-    max_nodes: no node is expanded once the atlas has this many. max_length:
-    path length budget of one branch (default: 10 times the model size, the
-    largest distance of a joint from the centroid, at least 1);
-    max_steps: step budget of one branch. samples: configurations recorded
-    along each branch (besides its end). shards: the complete solver's
-    paths are tracked in this many tasks on the executor (default: about
-    SHARD_PATHS paths a shard with an executor, one task without).
-    time_limit: seconds; no node is expanded after it (a level in flight
-    completes). symmetric: False = the complete solver at every bifurcation;
-    True = only the branches that keep the node's symmetry (the proper
-    rotations among the structure's symmetries that fix the node); "auto" =
-    symmetric where s > 12. symmetries: the group to use (a list of
-    automorphisms.Symmetry; default detected at the start). executor: None
-    (serial), a concurrent.futures.Executor or a dask.distributed.Client.
-    progress: None, True (messages on stderr) or progress(done, total, what).
-    Returns an Atlas."""
+    Parameters
+    ----------
+    model : Assembly, str, path or dict
+        An Assembly, a JSON model (file path, text or dict) or a built-in
+        spec ("sail:4:1", "threebar:RC").
+    start : array_like (njoints, dim), optional
+        The start configuration, a regular point or a bifurcation (default:
+        the model's current one).
+    depth : int
+        Levels of bifurcations to expand (1: only the start's branches).
+    max_nodes : int
+        No node is expanded once the atlas has this many.
+    max_length : float, optional
+        Path-length budget of one branch (default: 10 times the model size,
+        the largest distance of a joint from the centroid, at least 1).
+    time_limit : float, optional
+        Seconds; no node is expanded after it (a level in flight completes).
+    symmetric : bool or "auto"
+        False: the complete solver at every bifurcation. True: only the
+        branches that keep the node's symmetry (the proper rotations among
+        the structure's symmetries that fix the node). "auto": symmetric
+        where s > 12.
+    executor : None, concurrent.futures.Executor or dask.distributed.Client
+        Where the branches (and the complete solver's shards) run; None:
+        in this process.
+    progress : None, bool or callable
+        True: messages on stderr; a callable gets (done, total, what).
+    seed : int
+        Seed of the complete solver (and of the combinations of an
+        overdetermined system).
+    threads : int
+        Threads of each complete-solver task.
+    symmetries : sequence of automorphisms.Symmetry, optional
+        The group to use; default: detected (at the start and at every
+        expanded node).
+    max_steps : int
+        Step budget of one branch.
+    samples : int
+        Configurations recorded along each branch (besides its end).
+    shards : int, optional
+        The complete solver's paths are tracked in this many tasks (default:
+        about SHARD_PATHS paths a shard with an executor, one task without).
+
+    Returns
+    -------
+    Atlas
+        Nodes, directed edges, the symmetries found, settings and stats.
+
+    Raises
+    ------
+    InvalidArgumentError
+        symmetric, depth or start out of range.
+    """
     from .assembly import Assembly
     t0 = time.perf_counter()
     a = _as_assembly(model)
