@@ -200,6 +200,32 @@ void kin_homotopy_options_default(kin_homotopy_options *o);
 int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_options *opt,
                                      double *betas, int maxsol, int *nsol, int *multiplicity,
                                      kin_homotopy_info *info);
+enum kin_homotopy_end_kind {
+    KIN_HOM_END_REAL = 0,
+    KIN_HOM_END_NONREAL = 1,
+    KIN_HOM_END_SINGULAR = 2,
+    KIN_HOM_END_FAILED = 3
+};
+typedef struct kin_homotopy_endpoint {
+    size_t size;
+    int path;
+    int kind;
+    int chart;
+    int steps;
+    int rejected;
+    int recharts;
+    int converged;
+    int reserved;
+    double rminus;
+    double rplus;
+    double cond;
+    double sigma;
+} kin_homotopy_endpoint;
+int kin_quadrics_homotopy_range(int m, int s, const double *Q, const kin_homotopy_options *opt,
+                                        long first_path, long npaths, kin_homotopy_endpoint *ends, double *z);
+int kin_quadrics_homotopy_merge(int m, int s, const double *Q, const kin_homotopy_options *opt,
+                                        const kin_homotopy_endpoint *ends, const double *z, double *betas,
+                                        int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info);
 typedef struct kin_branch_path {
     size_t size;
     int beta;
