@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <math.h>
 #include <time.h>
 
 #include "libkin.h"
@@ -64,7 +65,8 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
     if (only) for (n = 0; only[n] >= 0; ++n) {}
     printf("%s: m = %d, s = %d, %d real solutions (%.1f s): following %d of %d directed branches\n", name, m, s,
            nsol, now() - t0, n, total);
-    int counts[7] = {0}, tols[8] = {0}, mhist[64] = {0};
+    int counts[7] = {0}, tols[8] = {0}, mhist[64] = {0}, back = 0;
+    double nm_lo = INFINITY, nm_hi = 0.0;
     double t1 = now(), worst = 0.0;
     kin_follow_options o;
     kin_follow_options_default(&o);
@@ -85,6 +87,11 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
         tb = now() - tb;
         if (tb > worst) worst = tb;
         counts[fi.event >= 0 && fi.event <= 6 ? fi.event : 0]++;
+        back += fi.event == KIN_FOLLOW_BIFURCATION && fi.at_start;
+        if (fi.event == KIN_FOLLOW_NEAR_MISS) {
+            nm_lo = fmin(nm_lo, fi.v_r_rel);
+            nm_hi = fmax(nm_hi, fi.v_r_rel);
+        }
         if (fi.event == KIN_FOLLOW_BIFURCATION) {
             int e = 0;
             for (double t = o.vr_tol; t < fi.vr_tol_used * 0.5 && e < 7; t *= 10) ++e;
@@ -100,6 +107,8 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
     printf("  events:");
     for (int e = 0; e < 7; ++e)
         if (counts[e]) printf(" %s %d", event_name(e), counts[e]);
+    printf("\n  bifurcations back at the start: %d; near misses at v_r / v_max %.2g .. %.2g",
+           back, counts[KIN_FOLLOW_NEAR_MISS] ? nm_lo : 0.0, nm_hi);
     printf("\n  bifurcations located to vr_tol x 10^k, k = 0..:");
     for (int e = 0; e < 8; ++e) printf(" %d", tols[e]);
     printf("\n  m_internal at the located bifurcations:");

@@ -57,6 +57,12 @@ static void constants(void)
     P(KIN_EVENT_MINIMUM)
     printf("! enum kin_q_weighting\n");
     P(KIN_Q_EXACT) P(KIN_Q_PAPER_EQ17)
+    printf("! enum kin_homotopy_end_kind\n");
+    P(KIN_HOM_END_REAL) P(KIN_HOM_END_NONREAL) P(KIN_HOM_END_SINGULAR) P(KIN_HOM_END_FAILED)
+    P(KIN_HOMOTOPY_ENDPOINT_SIZE)
+    printf("! enum kin_follow_event\n");
+    P(KIN_FOLLOW_NONE) P(KIN_FOLLOW_BIFURCATION) P(KIN_FOLLOW_NEAR_MISS) P(KIN_FOLLOW_CLOSED_LOOP)
+    P(KIN_FOLLOW_LENGTH_LIMIT) P(KIN_FOLLOW_STEP_LIMIT) P(KIN_FOLLOW_FAILED)
     printf("! kin_branch.h: default limit on the complete solver's paths\n");
     printf("  integer(c_long), parameter, public :: KIN_HOMOTOPY_MAX_PATHS = %ld_c_long\n",
            (long)KIN_HOMOTOPY_MAX_PATHS);
@@ -64,7 +70,7 @@ static void constants(void)
     printf("! sizeof of the public structs, as the C compiler lays them out\n");
     S(kin_analysis) S(kin_options) S(kin_step_info) S(kin_locate_options) S(kin_locate_info)
     S(kin_solve_info) S(kin_homotopy_info) S(kin_homotopy_options) S(kin_branch_path)
-    S(kin_sail_params)
+    S(kin_sail_params) S(kin_homotopy_endpoint) S(kin_follow_options) S(kin_follow_info)
     printf("! enum kin_threebar_state\n");
     P(KIN_THREEBAR_RA) P(KIN_THREEBAR_RB) P(KIN_THREEBAR_RC)
     printf("! enum kin_sail_support\n");
@@ -146,6 +152,23 @@ static void layout(void)
         F(kin_branch_path, sign) F(kin_branch_path, exists) F(kin_branch_path, tangent_ok)
         F(kin_branch_path, path_id) F(kin_branch_path, length) F(kin_branch_path, tangent_cos)
         end();
+    BEGIN(kin_homotopy_endpoint) F(kin_homotopy_endpoint, size) F(kin_homotopy_endpoint, path)
+        F(kin_homotopy_endpoint, kind) F(kin_homotopy_endpoint, chart) F(kin_homotopy_endpoint, steps)
+        F(kin_homotopy_endpoint, rejected) F(kin_homotopy_endpoint, recharts)
+        F(kin_homotopy_endpoint, converged) F(kin_homotopy_endpoint, reserved)
+        F(kin_homotopy_endpoint, rminus) F(kin_homotopy_endpoint, rplus) F(kin_homotopy_endpoint, cond)
+        F(kin_homotopy_endpoint, sigma) end();
+    BEGIN(kin_follow_options) F(kin_follow_options, size) F(kin_follow_options, vr_tol)
+        F(kin_follow_options, vr_floor) F(kin_follow_options, switch_eps) F(kin_follow_options, delta)
+        F(kin_follow_options, max_steps) F(kin_follow_options, max_iter) F(kin_follow_options, max_length)
+        F(kin_follow_options, loop_tol) F(kin_follow_options, first_step) F(kin_follow_options, branch_cos)
+        end();
+    BEGIN(kin_follow_info) F(kin_follow_info, size) F(kin_follow_info, event) F(kin_follow_info, status)
+        F(kin_follow_info, steps) F(kin_follow_info, forward) F(kin_follow_info, factorizations)
+        F(kin_follow_info, attempts) F(kin_follow_info, length) F(kin_follow_info, vr_tol_used)
+        F(kin_follow_info, v_r_rel) F(kin_follow_info, m_internal) F(kin_follow_info, s)
+        F(kin_follow_info, zero_order) F(kin_follow_info, path_kept) F(kin_follow_info, at_start)
+        F(kin_follow_info, start_distance) F(kin_follow_info, tangent_cos) end();
     BEGIN(kin_sail_params) F(kin_sail_params, size) F(kin_sail_params, n_sides)
         F(kin_sail_params, n_loops) F(kin_sail_params, side) F(kin_sail_params, widths)
         F(kin_sail_params, support) F(kin_sail_params, diagonal) end();

@@ -94,6 +94,32 @@ module libkin
     real(c_double) :: length = 0, tangent_cos = 0
   end type
 
+  ! One record of the complete solver's shards (kin_branch.h): arrays of it
+  ! have stride KIN_HOMOTOPY_ENDPOINT_SIZE.
+  type, bind(C), public :: kin_homotopy_endpoint
+    integer(c_size_t) :: size = KIN_SIZEOF_HOMOTOPY_ENDPOINT
+    integer(c_int) :: path = 0, kind = 0, chart = 0, steps = 0, rejected = 0, recharts = 0
+    integer(c_int) :: converged = 0, reserved = 0
+    real(c_double) :: rminus = 0, rplus = 0, cond = 0, sigma = 0
+  end type
+
+  ! Start from kin_follow_options_default.
+  type, bind(C), public :: kin_follow_options
+    integer(c_size_t) :: size = KIN_SIZEOF_FOLLOW_OPTIONS
+    real(c_double) :: vr_tol = 0, vr_floor = 0, switch_eps = 0, delta = 0
+    integer(c_int) :: max_steps = 0, max_iter = 0
+    real(c_double) :: max_length = 0, loop_tol = 0, first_step = 0, branch_cos = 0
+  end type
+
+  type, bind(C), public :: kin_follow_info
+    integer(c_size_t) :: size = KIN_SIZEOF_FOLLOW_INFO
+    integer(c_int) :: event = 0, status = 0, steps = 0, forward = 0, factorizations = 0
+    integer(c_int) :: attempts = 0
+    real(c_double) :: length = 0, vr_tol_used = 0, v_r_rel = 0
+    integer(c_int) :: m_internal = 0, s = 0, zero_order = 0, path_kept = 0, at_start = 0
+    real(c_double) :: start_distance = 0, tangent_cos = 0
+  end type
+
   ! widths: c_loc of a target array of n_loops reals, or c_null_ptr (the
   ! default widths); kinf_model_sail takes the array itself.
   type, bind(C), public :: kin_sail_params
@@ -117,6 +143,8 @@ module libkin
   public :: kin_locate_options_default, kin_test_function, kin_locate_next
   public :: kin_second_order, kin_quadrics_scan, kin_quadrics_homotopy, kin_branch_paths
   public :: kin_homotopy_options_default, kin_quadrics_homotopy_ex
+  public :: kin_quadrics_homotopy_range, kin_quadrics_homotopy_merge
+  public :: kin_follow_options_default, kin_follow_event
   public :: kin_set_progress, kin_progress_callback
   public :: kin_assembly_load, kin_assembly_load_string, kin_assembly_save
   public :: kin_assembly_save_string, kin_free_string
@@ -422,6 +450,45 @@ module libkin
       integer(c_int), intent(out) :: multiplicity(*)
       type(kin_homotopy_info), intent(out) :: info
       integer(c_int) :: kin_quadrics_homotopy_ex
+    end function
+    ! ends: element 1's size must be KIN_SIZEOF_HOMOTOPY_ENDPOINT (the default)
+    function kin_quadrics_homotopy_range(m, s, q, opt, first_path, npaths, ends, z) &
+        bind(C, name='kin_quadrics_homotopy_range')
+      import :: c_int, c_long, c_double, kin_homotopy_options, kin_homotopy_endpoint
+      integer(c_int), value :: m, s
+      real(c_double), intent(in) :: q(*)
+      type(kin_homotopy_options), intent(in) :: opt
+      integer(c_long), value :: first_path, npaths
+      type(kin_homotopy_endpoint), intent(inout) :: ends(*)
+      real(c_double), intent(out) :: z(*)
+      integer(c_int) :: kin_quadrics_homotopy_range
+    end function
+    function kin_quadrics_homotopy_merge(m, s, q, opt, ends, z, betas, maxsol, nsol, multiplicity, info) &
+        bind(C, name='kin_quadrics_homotopy_merge')
+      import :: c_int, c_double, kin_homotopy_options, kin_homotopy_endpoint, kin_homotopy_info
+      integer(c_int), value :: m, s, maxsol
+      real(c_double), intent(in) :: q(*)
+      type(kin_homotopy_options), intent(in) :: opt
+      type(kin_homotopy_endpoint), intent(in) :: ends(*)
+      real(c_double), intent(in) :: z(*)
+      real(c_double), intent(out) :: betas(*)
+      integer(c_int), intent(out) :: nsol
+      integer(c_int), intent(out) :: multiplicity(*)
+      type(kin_homotopy_info), intent(out) :: info
+      integer(c_int) :: kin_quadrics_homotopy_merge
+    end function
+
+    ! kin_follow.h. dir: c_loc of a real array of nfree, or c_null_ptr
+    subroutine kin_follow_options_default(o) bind(C, name='kin_follow_options_default')
+      import :: kin_follow_options
+      type(kin_follow_options), intent(out) :: o
+    end subroutine
+    function kin_follow_event(a, dir, o, info) bind(C, name='kin_follow_event')
+      import :: c_int, c_ptr, kin_follow_options, kin_follow_info
+      type(c_ptr), value :: a, dir
+      type(kin_follow_options), intent(in) :: o
+      type(kin_follow_info), intent(out) :: info
+      integer(c_int) :: kin_follow_event
     end function
 
     ! kin_progress.h. fn: c_funloc of a function with the interface

@@ -190,7 +190,21 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
         }
         kin_step_info si = {.size = sizeof si};
         double cs = 0.0;
-        rc = kin__leave_bifurcation(a, dir, o->first_step, &si, &cs);
+        /* Along some branches the vanishing singular values grow so slowly
+         * (a high-order contact) that the first small step still counts as
+         * a bifurcation: start again with a step ten times as long, up to
+         * the largest step. */
+        kin_assembly *start = NULL;
+        if (kin_assembly_clone(a, &start)) {
+            rc = kin__fail(a, KIN_ENOMEM, "follow: a copy of the start");
+            goto out;
+        }
+        for (double fr = o->first_step;; fr *= RELAX_FACTOR) {
+            rc = kin__leave_bifurcation(a, dir, fr, &si, &cs);
+            if (rc || si.m_internal < 2 || fr * RELAX_FACTOR > 1.0) break;
+            kin__copy_state(a, start);
+        }
+        kin_assembly_free(start);
         info->tangent_cos = cs;
         if (rc == KIN_EINVAL || rc == KIN_EGEOM || rc == KIN_ERANGE) goto out; /* dir refused: nothing moved */
         info->event = KIN_FOLLOW_FAILED;

@@ -246,13 +246,16 @@ void kin__hom_export(int m, int path, const hom_end *e, const double *zr, const 
     memcpy(z + m, zi, sizeof(double) * (size_t)m);
 }
 
-/* a record as range writes it: its path, a class, a chart, finite z and radii */
+/* a record as range writes it: its path, a class, a chart, finite z (certified
+ * roots) and radii */
 static int import_record(int m, int path, const kin_homotopy_endpoint *r, const double *z, hom_end *e, double *zr,
                          double *zi)
 {
     if (r->path != path || r->kind < KIN_HOM_END_REAL || r->kind > KIN_HOM_END_FAILED || r->chart < 0 ||
         r->chart >= m || isnan(r->rminus) || isnan(r->rplus) || isnan(r->cond) || isnan(r->sigma))
         return KIN_EINVAL;
+    /* a certified root has a uniqueness ball (a zeroed record has none) */
+    if ((r->kind == KIN_HOM_END_REAL || r->kind == KIN_HOM_END_NONREAL) && !(r->rplus > 0.0)) return KIN_EINVAL;
     for (int c = 0; c < 2 * m; ++c)
         if (!isfinite(z[c]) && r->kind != KIN_HOM_END_FAILED && r->kind != KIN_HOM_END_SINGULAR) return KIN_EINVAL;
     memset(e, 0, sizeof *e);

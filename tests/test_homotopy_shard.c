@@ -169,8 +169,17 @@ static void errors(void)
     ends[0].size = sizeof ends[0];
     CHECK_RC(kin_quadrics_homotopy_merge(M, S, Q, NULL, NULL, z, b, N, &nsol, NULL, &h), KIN_ENULL);
     CHECK_RC(kin_quadrics_homotopy_merge(M, S, Q, NULL, ends, z, b, 0, &nsol, NULL, &h), KIN_EINVAL);
+    ends[3].rplus = 0.0; /* a certified root without its uniqueness ball */
+    CHECK_RC(kin_quadrics_homotopy_merge(M, S, Q, NULL, ends, z, b, N, &nsol, NULL, &h),
+             keep.kind == KIN_HOM_END_REAL || keep.kind == KIN_HOM_END_NONREAL ? KIN_EINVAL : KIN_OK);
+    ends[3] = keep;
     o.progress = cancel_now;
     CHECK_RC(kin_quadrics_homotopy_merge(M, S, Q, &o, ends, z, b, N, &nsol, NULL, &h), KIN_ECANCELLED);
+    /* the zeroed records of a cancelled range are refused */
+    kin_homotopy_options_default(&o);
+    o.progress = cancel_now;
+    CHECK_RC(kin_quadrics_homotopy_range(M, S, Q, &o, 0, N, ends, z), KIN_ECANCELLED);
+    CHECK_RC(kin_quadrics_homotopy_merge(M, S, Q, NULL, ends, z, b, N, &nsol, NULL, &h), KIN_EINVAL);
     CHECK(nsol == 0 && h.paths == 0);
 }
 

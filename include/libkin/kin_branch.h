@@ -226,8 +226,9 @@ typedef struct kin_homotopy_endpoint {
  * and z (2*m*npaths doubles), record i for path first_path + i. The work is
  * that of those paths alone; opt->nthreads threads share them; progress
  * (opt->progress): done = paths tracked, total = npaths. opt->max_paths
- * bounds npaths. On failure (a cancel included) ends is zeroed (sizes kept)
- * and z is not written.
+ * bounds npaths. On a failure after the arguments are checked (KIN_ELIMIT,
+ * KIN_ECANCELLED, KIN_ENOMEM) the npaths records are zeroed (each size set);
+ * z is written only on success.
  * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (m != s+1, m < 2, a NaN or infinite
  * entry of Q, options, ends[0].size), KIN_ERANGE (m > 24; first_path < 0,
  * npaths < 1 or first_path + npaths > 2^s), KIN_ELIMIT (npaths >
@@ -243,9 +244,9 @@ KIN_API int kin_quadrics_homotopy_range(int m, int s, const double *Q, const kin
  * multiplicity, *nsol, *info), which is range over all paths plus merge.
  * ends and z are not changed (re-tracks work on copies). Progress: done =
  * paths re-tracked, total = the paths scheduled for re-tracking so far (0
- * when nothing needs it: then a single final call with done = total = 0 is
- * skipped). opt->max_paths bounds 2^s (memory: about (16 m + 85) bytes per
- * path besides the input).
+ * when none is: the calls are then (0, 0) before and after).
+ * opt->max_paths bounds 2^s (memory: about (16 m + 85) bytes per path
+ * besides the input).
  * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (as kin_quadrics_homotopy_ex; also
  * ends[0].size, a record whose path is not its index or whose kind, chart
  * or z is out of range), KIN_ERANGE, KIN_ELIMIT, KIN_ECANCELLED,

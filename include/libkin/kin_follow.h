@@ -53,7 +53,9 @@ typedef struct kin_follow_options {
                            the start configuration after having been 2 loop_tol away.
                            Default 1e-2 */
     double first_step;  /* at a bifurcation: the first step, as a fraction of the largest
-                           step (step_fraction * RMS rest length). Default 1e-3 */
+                           step (step_fraction * RMS rest length), in (0, 1]; made ten
+                           times as long (up to the largest step) while the point it
+                           reaches still counts as a bifurcation. Default 1e-3 */
     double branch_cos;  /* at a bifurcation: the first chord must be parallel to the branch
                            direction to this |cos|. Default 0.99 */
 } kin_follow_options;

@@ -13,7 +13,8 @@ except ImportError as _exc:  # no usable C library: the command line says so in 
     exit_if_command(_exc)
     raise
 from ._lib import c_string as _c_string
-from .assembly import Analysis, Assembly, BranchPath, Branches, LocateInfo, Options, StepInfo, solve_quadrics
+from .assembly import (Analysis, Assembly, BranchPath, Branches, FollowEvent, LocateInfo, Options, StepInfo,
+                       solve_quadrics)
 from .errors import KinError, ModelFormatError
 from .model_json import load_json, load_model, to_json
 from .atlas import Atlas, explore
@@ -22,6 +23,6 @@ from .atlas import Atlas, explore
 #: also the version of this package.
 __version__: str = _c_string(lib.kin_version_string())
 
-__all__ = ["Assembly", "Analysis", "Options", "StepInfo", "Branches", "BranchPath", "LocateInfo",
+__all__ = ["Assembly", "Analysis", "Options", "StepInfo", "Branches", "BranchPath", "LocateInfo", "FollowEvent",
            "solve_quadrics", "KinError", "ModelFormatError", "errors", "load_json", "load_model", "to_json", "lib",
            "library_path", "__version__", "explore", "Atlas"]

@@ -5,9 +5,14 @@
 from __future__ import annotations
 
 import dataclasses
+from typing import Optional
 
+import numpy as np
+import numpy.typing as npt
+
+from ._arrays import as_c_array, read_ptr
 from ._base import AssemblyBase
-from ._lib import ffi, lib, new_struct
+from ._lib import c_string, ffi, lib, new_struct
 from ._progress import Progress, reporting
 from .errors import InvalidArgumentError
 
@@ -53,6 +58,63 @@ class LocateInfo:
     m_internal: int
     s: int
     zero_order: int = 0
+
+
+#: kin_follow_event's events, by enum value
+FOLLOW_EVENTS = ("none", "bifurcation", "near-miss", "closed-loop", "length-limit", "step-limit", "failed")
+
+
+@dataclasses.dataclass(frozen=True)
+class FollowEvent:
+    """How `LocatingMixin.follow_event` ended (kin_follow_info, ``docs/follow.md``).
+
+    Attributes
+    ----------
+    event : str
+        'bifurcation' (located; the assembly is on it), 'near-miss' (v_r has a
+        non-zero minimum), 'closed-loop' (back at the start), 'length-limit',
+        'step-limit' or 'failed' (see `status` and `message`).
+    status : str
+        The C status name ('KIN_OK' unless failed).
+    message : str
+        The handle's last-error message when failed, else ''.
+    steps, forward, factorizations, attempts : int
+        Following steps, forward calculations, factorizations, location attempts.
+    length : float
+        Path length travelled.
+    vr_tol_used : float
+        The tolerance a bifurcation was located to (vr_tol up to vr_floor).
+    v_r_rel : float
+        v_r / v_max at the end point.
+    m_internal, s : int
+        Analysis at the end point.
+    zero_order : int
+        1 a crossing, 2 a tangency, 0 not estimated.
+    path_kept, at_start : bool
+        Location stayed on the path; the end point is the start configuration.
+    start_distance : float
+        |end - start| / RMS rest length.
+    tangent_cos : float
+        Cosine between the first chord and the branch direction (1 at a regular start).
+    """
+
+    event: str
+    status: str
+    message: str
+    steps: int
+    forward: int
+    factorizations: int
+    attempts: int
+    length: float
+    vr_tol_used: float
+    v_r_rel: float
+    m_internal: int
+    s: int
+    zero_order: int
+    path_kept: bool
+    at_start: bool
+    start_distance: float
+    tangent_cos: float
 
 
 class LocatingMixin(AssemblyBase):
@@ -112,6 +174,67 @@ class LocatingMixin(AssemblyBase):
         return LocateInfo(info.event, bool(info.located), info.steps, info.factorizations, info.forward,
                           info.v_r, info.v_r_rel, info.distance, bool(info.path_kept), info.m_internal, info.s,
                           info.zero_order)
+
+    def follow_event(self, direction: Optional[npt.ArrayLike] = None, vr_tol: float = 1e-10,
+                     vr_floor: float = 1e-6, delta: float = 0.0, max_steps: int = 1000,
+                     max_length: float = 0.0, loop_tol: float = 1e-2,
+                     progress: Progress = None) -> FollowEvent:
+        """Follow the path to its next event and say what it was (kin_follow_event).
+
+        Parameters
+        ----------
+        direction : array_like, shape (nfree,), optional
+            None at a regular point (the current orientation); at a
+            bifurcation the branch direction, e.g. ``U_m @ beta`` (times -1
+            for the other sign); at a regular point it orients the path.
+        vr_tol, vr_floor : float, optional
+            A bifurcation is located to vr_tol, or where that is out of reach
+            to the best accuracy up to vr_floor (reported as `vr_tol_used`).
+        delta : float, optional
+            Step amplitude (0 = automatic).
+        max_steps : int, optional
+            Step budget.
+        max_length : float, optional
+            Path-length budget (0 = none).
+        loop_tol : float, optional
+            Closed-loop tolerance, relative to the RMS rest length.
+        progress : None, bool or callable, optional
+            Progress in steps (see `libkin._progress`).
+
+        Returns
+        -------
+        FollowEvent
+            The event; a failure after following started is returned as
+            event 'failed' (the assembly at the last regular point reached).
+
+        Raises
+        ------
+        InvalidArgumentError
+            Options or `direction` invalid (a ValueError).
+        AtBifurcationError
+            At a bifurcation without a direction.
+        CancelledError
+            The `progress` callable asked to stop (or Ctrl-C).
+        """
+        o = new_struct("kin_follow_options")
+        lib.kin_follow_options_default(o)
+        o.vr_tol, o.vr_floor, o.delta = float(vr_tol), float(vr_floor), float(delta)
+        o.max_steps, o.max_length, o.loop_tol = int(max_steps), float(max_length), float(loop_tol)
+        d = ffi.NULL
+        if direction is not None:
+            arr = as_c_array(direction, np.float64, (self.nfree,), "direction")
+            d = read_ptr(arr, "double *")
+        info = new_struct("kin_follow_info")
+        with reporting(progress, "follow", "step", self._h):
+            rc = lib.kin_follow_event(self._h, d, o, info)
+        event = FOLLOW_EVENTS[info.event] if 0 <= info.event < len(FOLLOW_EVENTS) else str(info.event)
+        if rc != lib.KIN_OK and (info.event != lib.KIN_FOLLOW_FAILED or rc == lib.KIN_ECANCELLED):
+            self._check(rc, "follow_event")
+        message = c_string(lib.kin_last_error(self._h)) if rc != lib.KIN_OK else ""
+        return FollowEvent(event, c_string(lib.kin_status_name(rc)), message, info.steps, info.forward,
+                           info.factorizations, info.attempts, info.length, info.vr_tol_used, info.v_r_rel,
+                           info.m_internal, info.s, info.zero_order, bool(info.path_kept), bool(info.at_start),
+                           info.start_distance, info.tangent_cos)
 
     def test_function(self) -> float:
         """The signed test function here.

@@ -23,11 +23,11 @@ from ._arrays import as_c_array, read_ptr
 from ._base import Analysis, AssemblyBase
 from ._branching import BranchPath, Branches, BranchingMixin, solve_quadrics
 from ._lib import c_string, ffi, lib, new_struct
-from ._locating import LocateInfo, LocatingMixin
+from ._locating import FollowEvent, LocateInfo, LocatingMixin
 from ._path import Options, PathMixin, StepInfo
 from .errors import DimensionError, InvalidArgumentError, check, error_class
 
-__all__ = ["Assembly", "Analysis", "StepInfo", "Options", "BranchPath", "Branches", "LocateInfo",
+__all__ = ["Assembly", "Analysis", "StepInfo", "Options", "BranchPath", "Branches", "LocateInfo", "FollowEvent",
            "solve_quadrics"]
 
 _THREEBAR_STATES = {"RA": "KIN_THREEBAR_RA", "RB": "KIN_THREEBAR_RB", "RC": "KIN_THREEBAR_RC"}

@@ -17,7 +17,7 @@ import numpy as np
 
 from . import __version__
 from ._base import Analysis
-from .assembly import Assembly
+from .assembly import Assembly, solve_quadrics
 from .errors import InvalidArgumentError, KinError
 
 EXIT_ERROR = 1
@@ -52,16 +52,34 @@ def cmd_analyse(args: argparse.Namespace) -> int:
     return 0
 
 
+def _branch_direction(a: Assembly, args: argparse.Namespace) -> np.ndarray:
+    """U_m beta for --branch K at a bifurcation: the real second-order
+    solutions of the complete solver, K // 2 the solution, the sign by K's
+    parity (even +, odd -) unless --sign gives it."""
+    betas, _ = solve_quadrics(a.second_order())
+    if not 0 <= args.branch < 2 * len(betas):
+        raise InvalidArgumentError(f"--branch {args.branch}: this bifurcation has {2 * len(betas)} directed branches "
+                                   f"(0 .. {2 * len(betas) - 1}: {len(betas)} real second-order solutions, two signs)")
+    sign = args.sign if args.sign is not None else (1 if args.branch % 2 == 0 else -1)
+    print(f"branch {args.branch}: second-order solution {args.branch // 2} of {len(betas)}, sign {sign:+d}")
+    return float(sign) * (a.analyse().internal_mechanisms @ betas[args.branch // 2])
+
+
 def _regular_start(args: argparse.Namespace) -> Tuple[Optional[Assembly], Optional[Analysis]]:
     """The model (perturbed and relaxed if asked) and its analysis, or None
-    with a message when it is not on a single path."""
+    with a message when it is not on a single path. At a bifurcation with
+    --branch the chosen branch's direction is set (args.direction)."""
     a = _load(args.model)
     if args.perturb:
         _generic_start(a, args)
     an = a.analyse()
+    args.direction = None
+    if an.m_internal >= 2 and args.branch is not None:
+        args.direction = _branch_direction(a, args)
+        return a, an
     if an.m_internal != 1:
         print(f"{a.name} has {an.m_internal} internal mechanisms here: it is at a bifurcation; "
-              "start from a regular configuration (or relax a perturbed one)", file=sys.stderr)
+              "choose a branch (--branch K) or start from a regular configuration (--perturb)", file=sys.stderr)
         return None, None
     return a, an
 
@@ -70,6 +88,8 @@ def cmd_follow(args: argparse.Namespace) -> int:
     a, an = _regular_start(args)
     if a is None or an is None:
         return EXIT_USAGE
+    if args.direction is not None:
+        a.set_direction(args.direction)
     ls, svs, frames = [0.0], [an.singular_values], [a.coords]
     try:
         for info in a.follow(steps=args.steps, delta=args.delta, progress=not args.quiet):
@@ -109,6 +129,16 @@ def cmd_locate(args: argparse.Namespace) -> int:
     a, _ = _regular_start(args)
     if a is None:
         return EXIT_USAGE
+    if args.direction is not None:
+        # out of a bifurcation along a branch: follow it to its next event
+        ev = a.follow_event(args.direction, vr_tol=args.vr_tol, delta=args.delta, max_steps=args.max_steps)
+        print(f"{ev.event} after {ev.steps} steps, path length {ev.length:.9g}: v_r / v_max = {ev.v_r_rel:.3g}"
+              + (f" (located to {ev.vr_tol_used:.0e})" if ev.event == "bifurcation" else "")
+              + f", m = {ev.m_internal}, s = {ev.s}" + (f": {ev.message}" if ev.message else ""))
+        if args.out:
+            a.to_json(args.out)
+            print("wrote", args.out)
+        return 0 if ev.event != "failed" else EXIT_ERROR
     info = a.locate(method=args.method, delta=args.delta, vr_tol=args.vr_tol, max_steps=args.max_steps)
     events = {1: "test function changed sign", 2: "paper's switch rule", 3: "a step landed on it",
               4: "v_r turned near zero"}
@@ -189,6 +219,10 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--perturb", type=float, default=0.0,
                    help="start from a generic point: lift free nodes by up to this amount and relax")
     s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
+    s.add_argument("--branch", type=int, default=None, metavar="K",
+                   help="at a bifurcation: leave along directed branch K (real second-order solution K // 2 of the "
+                        "complete solver, sign + for even K, - for odd)")
+    s.add_argument("--sign", type=int, default=None, choices=[1, -1], help="the sign of --branch's direction")
     s.set_defaults(fn=cmd_follow)
     s = sub.add_parser("locate", help="follow the path to the next bifurcation and converge onto it")
     s.add_argument("model")
@@ -203,6 +237,10 @@ def _parser() -> argparse.ArgumentParser:
                    help="start from a generic point: lift free nodes by up to this amount and relax")
     s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
     s.add_argument("--out", help="write the located configuration as a JSON model")
+    s.add_argument("--branch", type=int, default=None, metavar="K",
+                   help="at a bifurcation: leave along directed branch K (real second-order solution K // 2 of the "
+                        "complete solver, sign + for even K, - for odd)")
+    s.add_argument("--sign", type=int, default=None, choices=[1, -1], help="the sign of --branch's direction")
     s.set_defaults(fn=cmd_locate)
     s = sub.add_parser("draw", help="draw a model to a PNG")
     s.add_argument("model")
