@@ -34,6 +34,7 @@ static int follow_one(const kin_assembly *a0, const double *dir, double l_target
         return KIN_ENOMEM;
     }
     kin__gather(a, a->xyz, x0);
+    double l0 = kin_path_length(a);
     kin_step_info info;
     if (kin_step(a, FIRST_STEP_FRACTION * dmax, &info) != KIN_OK) goto out;
     kin__gather(a, a->xyz, x1);
@@ -43,12 +44,14 @@ static int follow_one(const kin_assembly *a0, const double *dir, double l_target
     dot = kin__dot(nf, x1, dir);
     p->tangent_cos = nc > 0 && nd > 0 ? dot / (nc * nd) : 0.0;
     p->tangent_ok = p->tangent_cos >= TANGENT_COS_TOL;
+    /* l_target counts from the bifurcation: the clone carries the path
+     * length of however the caller reached it */
     long budget = (long)(PATH_STEP_FACTOR * (l_target / dmax + 10));
-    while (kin_path_length(a) < l_target && budget-- > 0) {
-        double d = fmin(dmax, l_target - kin_path_length(a));
+    while (kin_path_length(a) - l0 < l_target && budget-- > 0) {
+        double d = fmin(dmax, l_target - (kin_path_length(a) - l0));
         if (kin_step(a, d, &info) != KIN_OK) break;
     }
-    p->length = kin_path_length(a);
+    p->length = kin_path_length(a) - l0;
     p->exists = 1;
 out:
     if (xyz_out) memcpy(xyz_out, a->xyz, sizeof(double) * (size_t)(a->nj * a->dim));
