@@ -1,4 +1,4 @@
-"""The figures of the hexagonal sail study's report (studyreport.py writes
+"""The figures of the hexagonal (or other centre-supported) sail study's report (studyreport.py writes
 the text). Lengths are in units of the hub side a; every figure has a
 legend or direct labels, and the report a caption for it."""
 import re
@@ -93,7 +93,7 @@ def stages_2d(M, stages, out):
     from matplotlib.lines import Line2D
     fig.legend(handles=[Line2D([], [], color="C0", label="bars, seen from above (x-y)"),
                         Line2D([], [], color="C1", label="bars, seen from the side (x-z)"),
-                        Line2D([], [], ls="", marker="^", color="k", label="pinned hub vertices V0, V2, V4")],
+                        Line2D([], [], ls="", marker="^", color="k", label="pinned hub vertices V0, V2, ...")],
                loc="lower center", ncol=3, fontsize=9, frameon=False)
     fig.suptitle("Figure 13-like: folding stages, projected on x-y (top) and x-z (bottom); lengths in hub sides a")
     fig.tight_layout(rect=(0, 0.04, 1, 1))
@@ -187,7 +187,7 @@ def strain_hub(res, track, out):
     a1.axhline(1e-12, color="C3", lw=0.8, ls="--", label="corrector tolerance 1e-12")
     a1.set_ylabel("max bar strain |L - L0| / L0")
     a1.legend(fontsize=8, loc="upper right")
-    a2.plot(l, track.hub_z, "-", label="free hub vertices V1, V3, V5 (V0, V2, V4 are pinned at z = 0)")
+    a2.plot(l, track.hub_z, "-", label="free hub vertices V1, V3, ... (V0, V2, ... are pinned at z = 0)")
     a2.set_ylabel(f"max |z| of hub vertices ({UNIT})")
     a2.set_xlabel(f"path length travelled ({UNIT})")
     a2.legend(fontsize=8, loc="upper right")

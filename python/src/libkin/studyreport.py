@@ -80,7 +80,7 @@ def _model_md(res, M):
              + "".join(f"; {lab} held in {c} (free in "
                        f"{''.join(ch for ch in 'xyz' if ch not in c)})" for lab, c in partial)
              + f". Free coordinates: {int((M.fmap >= 0).sum())} (the rows of H); every other joint is free "
-             "in x, y and z. The hub is a regular hexagon of side a in the plane z = 0; the fold lines are "
+             f"in x, y and z. The hub is a regular {n}-gon of side a in the plane z = 0; the fold lines are "
              f"divided into loops of width a tan(pi/{n}) = {np.tan(np.pi / n):.4f} a.\n")
     L.append("![model](model.png)\n")
     L.append("*Figure 1. The model, flat, seen from above. Each joint is marked 'index: label (free "
@@ -89,7 +89,14 @@ def _model_md(res, M):
     return L
 
 
+_FOLD_WORDS = {2: "two", 3: "three", 4: "four", 5: "five", 6: "six"}
+
+
 def _write_hex_md(res, out, M, figs):
+    n = res["n_sides"]
+    nfold = f"{_FOLD_WORDS.get(n // 2, str(n // 2))}-fold"
+    even = ", ".join(str(k) for k in range(0, n, 2))
+    odd = ", ".join(str(k) for k in range(1, n, 2))
     ev = res["events"]
     flat = res["flat"]
     L = []
@@ -134,8 +141,8 @@ def _write_hex_md(res, out, M, figs):
              "x-y extent (largest distance of a joint from the hub's axis: the radius of the folded "
              "package), the height (z-extent of the sail), how far the free hub vertices leave the hub "
              "plane, and the angle of each fold line to the hub plane (fold segments Vk-Ak of loop 1 and "
-             "Ak-Bk of loop 2; the motion keeps the three-fold symmetry, so the folds k = 0, 2, 4 are alike "
-             "and so are k = 1, 3, 5: the column gives 'even / odd', positive = rising towards +z).\n")
+             f"Ak-Bk of loop 2; the motion keeps the {nfold} symmetry, so the folds k = {even} are alike "
+             f"and so are k = {odd}: the column gives 'even / odd', positive = rising towards +z).\n")
     L.append("| point | l from R^A along the run (a) | l from previous (a) | m / s | x-y extent (a) | height "
              "(a) | z range (a) | hub out of plane (a) | fold angles to the hub plane (deg): loop 1 even / odd ; "
              "loop 2 even / odd |")
@@ -195,9 +202,9 @@ def _write_hex_md(res, out, M, figs):
         for name, fname, snap, factor in figs["grids"]:
             n = len(snap["paths"])
             sym = sum(p["symmetric"] for p in snap["paths"])
-            which = ("every symmetric directed path (the run's choice is among them; the 2^15 others break the "
-                     "three-fold symmetry)" if name == "R^A" else
-                     f"every directed path the complete solver finds ({sym} of them keep the three-fold symmetry)")
+            which = (f"every symmetric directed path (the run's choice is among them; the 2^{res['flat']['s']} "
+                     f"others break the {nfold} symmetry)" if name == "R^A" else
+                     f"every directed path the complete solver finds ({sym} of them keep the {nfold} symmetry)")
             L.append(f"![branches at {name}]({fname})\n")
             L.append(f"*Figure {fig_no}. Out of {name}: {which}, {n} drawings, each the configuration at path "
                      f"length {snap['length']} a from {name}, seen from above over {name} itself (grey)"
@@ -212,7 +219,7 @@ def _write_hex_md(res, out, M, figs):
         fig_no = 3
     if "map" in res:
         L.append("## Path map (symmetric paths)\n")
-        L.append("Every directed path out of R^A, R^B and R^C that keeps the three-fold symmetry, followed to "
+        L.append(f"Every directed path out of R^A, R^B and R^C that keeps the {nfold} symmetry, followed to "
                  "its next bifurcation (nodes are the same when their coordinates agree to 1e-6; a prime "
                  "marks a mirror image z -> -z). Path lengths in a:\n")
         L.append("| from | to | directed paths | path lengths (a) |")
@@ -307,8 +314,8 @@ def square(res, a, br, out):
             ax.axis("off")
             continue
         i, p = ok[k]
-        draw(p.final_coords, a.bars, ax=ax, plane="xy", color="C3" if i in folded else "C0",
-             title=f"path {i} ({'+' if p.sign > 0 else '-'}b{p.beta})")
+        draw(p.final_coords, a.bars, ax=ax, plane="xy", fixed=a.fixed.all(axis=1),
+             color="C3" if i in folded else "C0", title=f"path {i} ({'+' if p.sign > 0 else '-'}b{p.beta})")
         ax.set_xlim(-1.8, 1.8)
         ax.set_ylim(-1.8, 1.8)
         ax.set_xticks([])
