@@ -22,7 +22,7 @@ static double now(void)
 
 static void scan(FILE *csv, const char *name, kin_assembly *a, int max_log2, int nreal)
 {
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     kin_analyse(a, &an);
     int m = an.m_internal, s = 0;
     double *Q = malloc(sizeof(double) * m * m * an.s);
@@ -30,7 +30,7 @@ static void scan(FILE *csv, const char *name, kin_assembly *a, int max_log2, int
     kin_second_order(a, KIN_Q_EXACT, 1, Q, m * m * an.s, &s);
     for (int k = 6; k <= max_log2; ++k) {
         int starts = 1 << k, nsol = 0;
-        kin_solve_info info;
+        kin_solve_info info = {.size = sizeof info};
         double t0 = now();
         kin_quadrics_scan(m, s, Q, starts, 11, betas, 40000, &nsol, &info);
         double t = now() - t0;

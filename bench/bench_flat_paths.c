@@ -24,14 +24,15 @@ int main(int argc, char **argv)
     double l = argc > 1 ? atof(argv[1]) : 0.1;
     int threads = argc > 2 ? atoi(argv[2]) : 2;
     kin_assembly *a = test_sail(6, 2);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     if (!a || kin_analyse(a, &an)) return 1;
     int m = an.m_internal, s = 0, maxsol = 1 << an.s, nsol = 0;
     double *Q = malloc(sizeof(double) * (size_t)m * m * an.s);
     double *betas = malloc(sizeof(double) * (size_t)m * maxsol);
     kin_branch_path *paths = malloc(sizeof(kin_branch_path) * 2 * (size_t)maxsol);
+    if (paths) paths[0].size = sizeof *paths;
     if (!Q || !betas || !paths || kin_second_order(a, KIN_Q_EXACT, 1, Q, m * m * an.s, &s)) return 1;
-    kin_homotopy_info hi;
+    kin_homotopy_info hi = {.size = sizeof hi};
     double t0 = now();
     if (kin_quadrics_homotopy(m, s, Q, 1, threads, betas, maxsol, &nsol, NULL, &hi)) return 1;
     double t1 = now();

@@ -67,7 +67,7 @@ static int homotopy(FILE *csv, const char *name, int run, int m, int s, const do
 {
     int maxsol = 1 << s, nsol = 0;
     double *betas = malloc(sizeof(double) * (size_t)m * maxsol);
-    kin_homotopy_info h;
+    kin_homotopy_info h = {.size = sizeof h};
     double t0 = now(), c0 = cpu();
     int rc = betas ? kin_quadrics_homotopy(m, s, Q, HOMOTOPY_SEED, THREADS, betas, maxsol, &nsol, NULL, &h)
                    : KIN_ENOMEM;
@@ -100,7 +100,7 @@ static void header(void)
 /* second-order matrices at the assembly's current state; *m, *s set */
 static double *second_order(kin_assembly *a, int *m, int *s)
 {
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     if (!a || kin_analyse(a, &an) != KIN_OK) return NULL;
     *m = an.m_internal;
     double *Q = malloc(sizeof(double) * (size_t)*m * *m * an.s);
@@ -192,7 +192,7 @@ static void completeness(FILE *hcsv, FILE *csv, const char *name, kin_assembly *
     unsigned char *hit = calloc((size_t)maxsol, 1);
     rootset R = {0};
     header();
-    kin_homotopy_info h;
+    kin_homotopy_info h = {.size = sizeof h};
     double t0 = now(), c0 = cpu();
     int rc = truthb && betas && hit
                  ? kin_quadrics_homotopy(m, s, Q, HOMOTOPY_SEED, THREADS, truthb, maxsol, &nh, NULL, &h)
@@ -213,7 +213,7 @@ static void completeness(FILE *hcsv, FILE *csv, const char *name, kin_assembly *
         int starts = 1 << k;
         while (done < starts) { /* the next batch: starts done .. */
             int batch = starts - done < SCAN_BATCH ? starts - done : SCAN_BATCH, nsol = 0;
-            kin_solve_info info;
+            kin_solve_info info = {.size = sizeof info};
             t0 = now();
             kin_quadrics_scan(m, s, Q, batch, SCAN_SEED + (unsigned long)done, betas, SCAN_BATCH, &nsol, &info);
             total += now() - t0;

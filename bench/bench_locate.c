@@ -41,7 +41,7 @@ static kin_assembly *hex_rb_start(void)
 {
     kin_assembly *a = test_sail(6, 2);
     test_hex_to_RB(a);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     kin_analyse(a, &an);
     int s, nsol;
     double Q[48], betas[64], dir[46];
@@ -80,7 +80,7 @@ static double locate_seconds(const kin_assembly *pre, const kin_locate_options *
     double best_all = INFINITY, best_step = INFINITY, tau;
     for (int r = 0; r < REPS; ++r) {
         kin_assembly *a = copy(pre), *b = copy(pre);
-        kin_locate_info info;
+        kin_locate_info info = {.size = sizeof info};
         double t0 = now();
         kin_locate_next(a, o, &info);
         double t1 = now();
@@ -127,17 +127,17 @@ int main(int argc, char **argv)
                 double delta = sign[c] * deltas[d];
                 if (c >= 2 && deltas[d] > 0.2) continue; /* the sail's paths turn within 0.4 */
                 kin_assembly *a = copy(starts[c]);
-                kin_options op;
+                kin_options op = {.size = sizeof op};
                 kin_get_options(a, &op);
                 op.step_fraction = 1.0; /* let delta, not the default clamp, set the step */
                 kin_set_options(a, &op);
                 kin_assembly *b = copy(a);
-                kin_locate_options o;
+                kin_locate_options o = {.size = sizeof o};
                 kin_locate_options_default(&o);
                 o.method = methods[mi];
                 o.vr_tol = tols[mi];
                 o.delta = delta;
-                kin_locate_info info;
+                kin_locate_info info = {.size = sizeof info};
                 int rc = kin_locate_next(a, &o, &info);
                 kin_assembly *pre = advanced(b, delta, info.steps - 1);
                 double sec = locate_seconds(pre, &o);

@@ -50,7 +50,7 @@ static int generic(kin_assembly *a, double amp)
     double *xyz = malloc(sizeof(double) * 3 * (size_t)kin_njoints(a));
     int rc = KIN_ENOTCONVERGED;
     for (size_t i = 0; xyz && i < sizeof amps / sizeof amps[0]; ++i) {
-        kin_analysis an;
+        kin_analysis an = {.size = sizeof an};
         kin_get_coords(flat, xyz);
         kin_set_coords(a, xyz);
         if (test_make_generic(a, amps[i]) == KIN_OK && kin_analyse(a, &an) == KIN_OK && an.m_internal == 1) {
@@ -94,7 +94,7 @@ static int generic_by_lengths(kin_assembly **pa, double amp)
     free(xyz);
     free(fixed);
     free(bars);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     if (rc == KIN_OK && kin_analyse(b, &an) == KIN_OK && an.m_internal == 1) {
         kin_assembly_free(a);
         *pa = b;
@@ -108,7 +108,7 @@ static kin_assembly *copy_in_mode(const kin_assembly *a, int mode)
 {
     kin_assembly *b = NULL;
     if (kin_assembly_clone(a, &b)) return NULL;
-    kin_options o;
+    kin_options o = {.size = sizeof o};
     kin_get_options(b, &o);
     o.factorization = mode;
     kin_set_options(b, &o);
@@ -173,7 +173,7 @@ static run_stats follow(kin_assembly *b, int nsteps, double *xs)
 {
     run_stats s = {0.0, 0.0, 0, 0, 0, 0, 0, 1, 0.0, 0};
     int n = kin_njoints(b) * kin_dim(b);
-    kin_step_info info;
+    kin_step_info info = {.size = sizeof info};
     for (; s.steps < nsteps; ++s.steps) {
         double t0 = now();
         int rc = kin_step(b, 0.0, &info);
@@ -192,7 +192,7 @@ static run_stats follow(kin_assembly *b, int nsteps, double *xs)
         s.iters += info.iterations;
         s.max_strain = fmax(s.max_strain, kin_max_strain(b));
         /* a fallback leaves the SVD analysis current (LU mode) */
-        kin_analysis an;
+        kin_analysis an = {.size = sizeof an};
         if (b->opt.factorization == KIN_STEP_LU && kin_get_analysis(b, &an) == KIN_OK) s.fallbacks++;
         if (xs) kin_get_coords(b, xs + (size_t)s.steps * n);
     }
@@ -244,7 +244,7 @@ static void scaling(FILE *csv, int reps, int quick)
                  "halvings_svd,halvings_lu,iter_svd,iter_lu,fallbacks_lu,max_dx,strain_svd,strain_lu,"
                  "vr_rel_start,vr_estimate_relerr\n");
     for (int i = 0; i < nmem; ++i) {
-        kin_sail_params p;
+        kin_sail_params p = {.size = sizeof p};
         kin_sail_params_default(&p, members[i][0], members[i][1]);
         kin_assembly *a = NULL;
         if (kin_model_sail(&p, &a, NULL, 0)) continue;
@@ -253,7 +253,7 @@ static void scaling(FILE *csv, int reps, int quick)
             kin_assembly_free(a);
             continue;
         }
-        kin_step_info info;
+        kin_step_info info = {.size = sizeof info};
         /* warm-up: one step, so that every timed step starts from a point
          * reached by a step */
         if (kin_step(a, 0.0, &info)) {
@@ -261,7 +261,7 @@ static void scaling(FILE *csv, int reps, int quick)
             kin_assembly_free(a);
             continue;
         }
-        kin_analysis an;
+        kin_analysis an = {.size = sizeof an};
         kin_analyse(a, &an);
         double vr_rel = an.v_r / an.v_max;
         int nf = kin_nfree(a), nsteps = nf > 600 ? 6 : nf > 250 ? 12 : 30;
@@ -367,7 +367,7 @@ static run_stats out_and_back(kin_assembly *a, double L, double frac, const doub
 {
     run_stats s = {0.0, 0.0, 0, 0, 0, 0, 0, 1, 0.0, 0};
     int n = kin_njoints(a) * kin_dim(a);
-    kin_step_info info;
+    kin_step_info info = {.size = sizeof info};
     double t0 = now();
     int phase = 0, aim = 0;
     while (s.ok) {
@@ -399,7 +399,7 @@ static run_stats out_and_back(kin_assembly *a, double L, double frac, const doub
         }
         s.fact += info.factorizations;
         s.iters += info.iterations;
-        kin_analysis an;
+        kin_analysis an = {.size = sizeof an};
         if (a->opt.factorization == KIN_STEP_LU && kin_get_analysis(a, &an) == KIN_OK) s.fallbacks++;
         s.max_strain = fmax(s.max_strain, kin_max_strain(a));
         if (xs && s.steps < max_pts) kin_get_coords(a, xs + (size_t)s.steps * n);
@@ -469,7 +469,7 @@ static void pareto(FILE *csv, int reps, int quick)
                 for (int r = 0; r < PARETO_MAX_RUNS && (r < reps || total < PARETO_MIN_SECONDS); ++r, ++runs)
                     for (int mode = 0; mode < 2; ++mode) {
                         kin_assembly *a = copy_in_mode(base, mode ? KIN_STEP_LU : KIN_STEP_SVD);
-                        kin_options o;
+                        kin_options o = {.size = sizeof o};
                         kin_get_options(a, &o);
                         o.step_fraction = fractions[f];
                         o.corrector_tol = tols[t];

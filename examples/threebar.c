@@ -17,7 +17,7 @@ static int report(int rc, const kin_assembly *a, const char *what)
 int main(void)
 {
     kin_assembly *a = NULL;
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     double xyz0[8];
     int rc = kin_model_threebar(KIN_THREEBAR_RC, &a);
     if (report(rc, NULL, "create")) return 1;
@@ -39,8 +39,8 @@ int main(void)
     /* the paths out of R^C (eq. 29-33), each followed for l = 1 */
     double Q[4], betas[4];
     int s, nsol, nd;
-    kin_solve_info si;
-    kin_branch_path paths[4];
+    kin_solve_info si = {.size = sizeof si};
+    kin_branch_path paths[4] = {{.size = sizeof(kin_branch_path)}};
     if (report(kin_second_order(a, KIN_Q_EXACT, 1, Q, 4, &s), a, "second order") ||
         report(kin_quadrics_scan(2, s, Q, 64, 1, betas, 2, &nsol, &si), NULL, "scan") ||
         report(kin_branch_paths(a, betas, nsol, 1.0, paths, NULL, &nd), a, "paths"))
@@ -54,8 +54,8 @@ int main(void)
 
     /* Section 5: follow P1 from R^C to R^A and locate it */
     const double p1[4] = {0.0, 1.0, 0.0, 1.0};
-    kin_locate_options lo;
-    kin_locate_info li;
+    kin_locate_options lo = {.size = sizeof lo};
+    kin_locate_info li = {.size = sizeof li};
     kin_locate_options_default(&lo);
     lo.delta = 0.1;
     if (report(kin_path_set_direction(a, p1, 4), a, "direction") || report(kin_step(a, 1e-3, NULL), a, "step") ||
@@ -81,7 +81,7 @@ int main(void)
     double worst = 0.0, vrmin = 1e300;
     printf("\nlap of the parallelogram mode, starting at J1 = (0.5, 0.866):\n");
     printf("  %5s %10s %10s %10s %12s\n", "step", "l", "theta", "v_r", "strain");
-    kin_step_info info;
+    kin_step_info info = {.size = sizeof info};
     while (kin_path_length(a) < lap - 0.15) {
         rc = kin_step(a, 0.1, &info);
         if (report(rc, a, "step")) return 1;

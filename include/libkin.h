@@ -9,9 +9,11 @@
 #include "libkin/kin_version.h"
 #include "libkin/kin_status.h"
 #include "libkin/kin_assembly.h"
+#include "libkin/kin_progress.h"
 #include "libkin/kin_path.h"
 #include "libkin/kin_models.h"
 #include "libkin/kin_branch.h"
 #include "libkin/kin_locate.h"
+#include "libkin/kin_io.h"
 
 #endif /* LIBKIN_H */

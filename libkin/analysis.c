@@ -264,15 +264,26 @@ int kin__reclassify(kin_assembly *a, const double *xyz, int idx)
 
 void kin__set_fault(kin_assembly *a, int fault) { a->fault = fault; }
 
+static int analysis_out_ok(const kin_analysis *out)
+{
+    return kin__abi_check(out, KIN__V1_SIZE(kin_analysis, v_r), sizeof *out);
+}
+
 int kin_analyse(kin_assembly *a, kin_analysis *out)
 {
+    if (out) {
+        if (analysis_out_ok(out)) return a ? kin__fail(a, KIN_EINVAL, "out->size = %zu: set it to sizeof(kin_analysis)",
+                                                          kin__abi_size(out))
+                                           : KIN_EINVAL;
+        kin__abi_zero(out);
+    }
     if (!a) return KIN_ENULL;
     int trial = 1 - a->cur;
     int rc = kin__analyse_into(a, a->xyz, trial);
     if (rc) return rc;
     a->cur = trial;
     /* a tangent chosen or inherited at this very point stays valid */
-    if (out) *out = a->fac[a->cur].an;
+    if (out) kin__abi_write(out, &a->fac[a->cur].an, sizeof *out);
     return KIN_OK;
 }
 
@@ -284,8 +295,10 @@ static int need_analysis(const kin_assembly *a)
 int kin_get_analysis(const kin_assembly *a, kin_analysis *out)
 {
     if (!a || !out) return KIN_ENULL;
+    if (analysis_out_ok(out)) return KIN_EINVAL;
+    kin__abi_zero(out);
     if (need_analysis(a)) return KIN_ESTATE;
-    *out = kin__cur(a)->an;
+    kin__abi_write(out, &kin__cur(a)->an, sizeof *out);
     return KIN_OK;
 }
 

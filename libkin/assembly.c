@@ -1,4 +1,5 @@
 /* The assembly handle: validation, workspace, getters, geometry. */
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -153,6 +154,68 @@ static int failbuf(char *buf, size_t len, int code, const char *fmt, ...)
     return code;
 }
 
+/* Geometry the library can square without overflow or underflow: eq. 12,
+ * the extensions (L^2 - L0^2) / (L + L0) and the RMS length all square
+ * lengths, so coordinates, rest lengths and bar lengths are kept where their
+ * squares (times a few) are normal doubles. */
+static const double COORD_MAX = 1e150;   /* largest |coordinate| */
+static const double LENGTH_MAX = 1e151;  /* longest rest length (> any bar between valid joints) */
+static const double LENGTH_MIN = 1e-150; /* shortest bar (initial or rest length) */
+
+/* Joint count and bar count against the int indices used everywhere (checked
+ * before any caller array is read: its size is only known from them). */
+static int check_counts(int dim, int nj, int nb, char *eb, size_t el)
+{
+    if (nj > INT_MAX / dim)
+        return failbuf(eb, el, KIN_ERANGE, "njoints = %d: %d x %d coordinates exceed INT_MAX", nj, nj,
+                       dim);
+    if (nb > INT_MAX / 2)
+        return failbuf(eb, el, KIN_ERANGE, "nbars = %d: 2 x %d joint indices exceed INT_MAX", nb, nb);
+    return KIN_OK;
+}
+
+static int product_fits_int(size_t a, size_t b)
+{
+    size_t e;
+    return kin__mul_size(a, b, &e) && e <= (size_t)INT_MAX;
+}
+
+/* Every dense matrix of the handle (H and its copy: nf x nb; U: nf x nf; VT:
+ * nb x nb; the bordered systems: nf x (nb + 1 + nrig)) must have at most
+ * INT_MAX entries: LAPACK takes sizes and workspace lengths as int. A larger
+ * problem's workspace cannot be had: KIN_ENOMEM, like a failed allocation. */
+static int check_matrix_sizes(int dim, int nf, int nb, char *eb, size_t el)
+{
+    size_t nfs = (size_t)nf, nbs = (size_t)nb, cols = nbs + 1 + (dim == 2 ? 3 : 6);
+    if (!(product_fits_int(nfs, nfs) && product_fits_int(nbs, nbs) && product_fits_int(nfs, cols)))
+        return failbuf(eb, el, KIN_ENOMEM,
+                       "workspace for %d free coordinates x %d bars: a dense matrix of the analysis would "
+                       "have more than INT_MAX entries",
+                       nf, nb);
+    return KIN_OK;
+}
+
+/* |x| within COORD_MAX for every coordinate; the first offender named */
+static int check_coords(int n, int dim, const double *xyz, char *eb, size_t el)
+{
+    for (int i = 0; i < n; ++i) {
+        if (!isfinite(xyz[i]))
+            return failbuf(eb, el, KIN_EGEOM, "coordinate %d of joint %d is not finite", i % dim, i / dim);
+        if (!(fabs(xyz[i]) <= COORD_MAX))
+            return failbuf(eb, el, KIN_EGEOM, "coordinate %d of joint %d is %g; |coordinate| must be <= %g",
+                           i % dim, i / dim, xyz[i], COORD_MAX);
+    }
+    return KIN_OK;
+}
+
+/* length of the segment p-q (dim coordinates each), overflow-safe */
+static double segment_length(int dim, const double *p, const double *q)
+{
+    double v[3] = {0.0, 0.0, 0.0};
+    for (int c = 0; c < dim; ++c) v[c] = p[c] - q[c];
+    return kin__norm(dim, v);
+}
+
 static int validate(int dim, int nj, const double *xyz, const unsigned char *fixed, int nb,
                     const int *bars, const double *rest, char *eb, size_t el)
 {
@@ -161,39 +224,41 @@ static int validate(int dim, int nj, const double *xyz, const unsigned char *fix
     if (dim != 2 && dim != 3) return failbuf(eb, el, KIN_EDIM, "dim = %d", dim);
     if (nj < 2) return failbuf(eb, el, KIN_EINVAL, "njoints = %d, need at least 2", nj);
     if (nb < 1) return failbuf(eb, el, KIN_EINVAL, "nbars = %d, need at least 1", nb);
-    for (int i = 0; i < nj * dim; ++i)
-        if (!isfinite(xyz[i]))
-            return failbuf(eb, el, KIN_EGEOM, "coordinate %d of joint %d is not finite", i % dim,
-                           i / dim);
+    int rc = check_counts(dim, nj, nb, eb, el);
+    if (rc) return rc;
+    if ((rc = check_coords(nj * dim, dim, xyz, eb, el))) return rc;
     for (int k = 0; k < nb; ++k) {
         int p = bars[2 * k], q = bars[2 * k + 1];
         if (p < 0 || p >= nj || q < 0 || q >= nj)
             return failbuf(eb, el, KIN_EJOINT, "bar %d joins joints %d and %d; valid are 0..%d", k,
                            p, q, nj - 1);
         if (p == q) return failbuf(eb, el, KIN_ESELFBAR, "bar %d joins joint %d to itself", k, p);
-        double L2 = 0.0;
-        for (int c = 0; c < dim; ++c) L2 += (xyz[p * dim + c] - xyz[q * dim + c]) * (xyz[p * dim + c] - xyz[q * dim + c]);
-        if (!(L2 > 0.0))
+        double L = segment_length(dim, xyz + (size_t)p * dim, xyz + (size_t)q * dim);
+        if (!(L > 0.0))
             return failbuf(eb, el, KIN_EGEOM, "bar %d (joints %d-%d) has zero length", k, p, q);
-        if (rest && !(isfinite(rest[k]) && rest[k] > 0.0))
-            return failbuf(eb, el, KIN_EGEOM, "rest length of bar %d is %g; need finite > 0", k,
-                           rest[k]);
+        if (!(L >= LENGTH_MIN))
+            return failbuf(eb, el, KIN_EGEOM, "bar %d (joints %d-%d) has length %g, below %g", k, p, q, L,
+                           LENGTH_MIN);
+        if (rest && !(isfinite(rest[k]) && rest[k] >= LENGTH_MIN && rest[k] <= LENGTH_MAX))
+            return failbuf(eb, el, KIN_EGEOM, "rest length of bar %d is %g; need finite, %g..%g", k,
+                           rest[k], LENGTH_MIN, LENGTH_MAX);
     }
     int nf = 0;
     for (int i = 0; i < nj * dim; ++i) nf += !(fixed && fixed[i]);
     if (nf == 0) return failbuf(eb, el, KIN_ENOFREE, "every coordinate is fixed");
+    if ((rc = check_matrix_sizes(dim, nf, nb, eb, el))) return rc;
     /* duplicates: sort normalised pairs */
-    int *pairs = malloc(sizeof(int) * 3 * (size_t)nb);
+    size_t npair;
+    int *pairs = kin__mul_size3(3, (size_t)nb, sizeof(int), &npair) ? malloc(npair) : NULL;
     if (!pairs) return failbuf(eb, el, KIN_ENOMEM, "bar check");
     for (int k = 0; k < nb; ++k) {
         int p = bars[2 * k], q = bars[2 * k + 1];
-        pairs[3 * k] = p < q ? p : q;
-        pairs[3 * k + 1] = p < q ? q : p;
-        pairs[3 * k + 2] = k;
+        pairs[3 * (size_t)k] = p < q ? p : q;
+        pairs[3 * (size_t)k + 1] = p < q ? q : p;
+        pairs[3 * (size_t)k + 2] = k;
     }
     qsort(pairs, (size_t)nb, 3 * sizeof(int), cmp_pair);
-    int rc = KIN_OK;
-    for (int k = 1; k < nb; ++k)
+    for (size_t k = 1; k < (size_t)nb; ++k)
         if (pairs[3 * k] == pairs[3 * k - 3] && pairs[3 * k + 1] == pairs[3 * k - 2]) {
             int b1 = pairs[3 * k - 1] < pairs[3 * k + 2] ? pairs[3 * k - 1] : pairs[3 * k + 2];
             int b2 = pairs[3 * k - 1] < pairs[3 * k + 2] ? pairs[3 * k + 2] : pairs[3 * k - 1];
@@ -250,6 +315,7 @@ static int query_lwork(kin_assembly *a, int *lwork, int *liwork)
         if (info < 0) return KIN_ELAPACK_ARG;
         if (w > best) best = w;
     }
+    if (!(best < (double)INT_MAX - 1.0)) return KIN_ENOMEM; /* LAPACK counts workspace in int */
     *lwork = (int)best + 1;
     *liwork = ibest;
     return KIN_OK;
@@ -483,17 +549,18 @@ int kin_set_coords(kin_assembly *a, const double *xyz)
     if (!a) return KIN_ENULL;
     if (!xyz) return kin__fail(a, KIN_ENULL, "xyz is NULL");
     int n = a->nj * a->dim;
-    for (int i = 0; i < n; ++i) {
-        if (!isfinite(xyz[i]))
-            return kin__fail(a, KIN_EGEOM, "coordinate %d of joint %d is not finite", i % a->dim,
-                             i / a->dim);
+    int rc = check_coords(n, a->dim, xyz, a->err, sizeof a->err);
+    if (rc) return rc;
+    for (int i = 0; i < n; ++i)
         if (a->fixed[i] && xyz[i] != a->xyz[i])
             return kin__fail(a, KIN_EINVAL, "coordinate %d of joint %d is fixed (%g) but given %g",
                              i % a->dim, i / a->dim, a->xyz[i], xyz[i]);
+    for (int k = 0; k < a->nb; ++k) {
+        double L = bar_length(a, xyz, k);
+        if (!(L > 0.0)) return kin__fail(a, KIN_EINVAL, "bar %d would have zero length", k);
+        if (!(L >= LENGTH_MIN))
+            return kin__fail(a, KIN_EGEOM, "bar %d would have length %g, below %g", k, L, LENGTH_MIN);
     }
-    for (int k = 0; k < a->nb; ++k)
-        if (!(bar_length(a, xyz, k) > 0.0))
-            return kin__fail(a, KIN_EINVAL, "bar %d would have zero length", k);
     memcpy(a->xyz, xyz, sizeof(double) * (size_t)n);
     a->fac[0].valid = a->fac[1].valid = 0;
     kin__lu_invalidate(a);

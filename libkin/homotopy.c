@@ -21,11 +21,21 @@
  *
  * Paths are independent and each result is stored by path index, so the
  * result does not depend on the thread count nor on which thread tracked
- * which path. */
+ * which path.
+ *
+ * Progress and cancellation: the calling thread tracks paths too and, every
+ * REPORT_INTERVAL, reads the shared count of tracked paths and calls the
+ * caller's callback (never from another thread: a Python caller's signal
+ * handlers run in its own thread). A cancel sets a flag every thread reads
+ * at its next path boundary. */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime, sysconf */
+#include <limits.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "homotopy_track.h"
 #include "internal.h"
@@ -58,10 +68,59 @@ static const double KEY_WINDOW = 1e-6;
  * a thread tracks does not change its result). */
 enum { PATH_CHUNK = 16 };
 
+/* Seconds between progress reports: short enough for Ctrl-C to feel
+ * immediate, long enough to cost nothing next to the tracking. */
+static const double REPORT_INTERVAL = 0.05;
+
 typedef struct hom_queue {
     pthread_mutex_t lock;
-    int next, n;
+    pthread_cond_t idle; /* signalled when a worker thread finishes */
+    int next, n;         /* next path to hand out, of n */
+    int tracked;         /* paths finished in this run */
+    int active;          /* started worker threads (not the caller's) still running */
+    int stop;            /* the caller cancelled: hand out no more paths */
 } hom_queue;
+
+/* the caller's progress callback and what it has been told */
+typedef struct hom_report {
+    kin_progress_fn fn;
+    void *user;
+    double base;  /* paths tracked in earlier runs */
+    double total; /* 2^s plus the paths scheduled for re-tracking so far */
+    double last;  /* time of the last call (seconds, monotonic) */
+    int cancelled;
+} hom_report;
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Call the progress callback if REPORT_INTERVAL has passed (or force);
+ * calling thread only. A cancel stops the queue. */
+static void report(hom_report *R, hom_queue *q, int force)
+{
+    if (!R->fn || R->cancelled) return;
+    double t = now_seconds();
+    if (!force && t - R->last < REPORT_INTERVAL) return;
+    R->last = t;
+    int done = 0;
+    if (q) {
+        pthread_mutex_lock(&q->lock);
+        done = q->tracked;
+        pthread_mutex_unlock(&q->lock);
+    }
+    if (R->fn(R->user, R->base + done, R->total)) {
+        R->cancelled = 1;
+        if (q) {
+            pthread_mutex_lock(&q->lock);
+            q->stop = 1;
+            pthread_mutex_unlock(&q->lock);
+        }
+    }
+}
 
 typedef struct hom_job {
     const hom_problem *P;
@@ -73,41 +132,101 @@ typedef struct hom_job {
     double *zr, *zi;
 } hom_job;
 
-static void *worker(void *arg)
+/* Track chunks of paths until the queue is empty or stopped; R (the
+ * calling thread only, else NULL) reports progress between paths. */
+static void track_chunks(hom_job *J, hom_report *R)
 {
-    hom_job *J = arg;
+    hom_queue *q = J->queue;
     int m = J->P->m;
     for (;;) {
-        pthread_mutex_lock(&J->queue->lock);
-        int first = J->queue->next, last = first + PATH_CHUNK < J->queue->n ? first + PATH_CHUNK : J->queue->n;
-        J->queue->next = last;
-        pthread_mutex_unlock(&J->queue->lock);
+        pthread_mutex_lock(&q->lock);
+        int first = q->next, last = first + PATH_CHUNK < q->n ? first + PATH_CHUNK : q->n;
+        if (q->stop) last = first;
+        q->next = last;
+        pthread_mutex_unlock(&q->lock);
         if (first >= last) break;
         for (int i = first; i < last; ++i) {
             int p = J->list ? J->list[i] : i;
             kin__hom_track(J->P, J->S, J->ws, p, J->zr + (size_t)p * m, J->zi + (size_t)p * m, &J->ends[p]);
+            pthread_mutex_lock(&q->lock);
+            q->tracked++;
+            int stop = q->stop;
+            pthread_mutex_unlock(&q->lock);
+            if (R) report(R, q, 0);
+            if (stop || (R && R->cancelled)) break;
         }
     }
+}
+
+static void *worker(void *arg)
+{
+    hom_job *J = arg;
+    track_chunks(J, NULL);
+    pthread_mutex_lock(&J->queue->lock);
+    J->queue->active--;
+    pthread_cond_signal(&J->queue->idle);
+    pthread_mutex_unlock(&J->queue->lock);
     return NULL;
 }
 
-/* track the paths of list (n of them; NULL: all n) on nthreads threads */
+/* Track the paths of list (n of them; NULL: all n) on nthreads threads,
+ * reporting through R; R->cancelled says whether the caller stopped it
+ * (then some paths were not tracked). */
 static int run_paths(const hom_problem *P, const hom_settings *S, const int *list, int n, int nthreads,
                      hom_ws **ws, hom_job *jobs, pthread_t *th, int *running, hom_end *ends, double *zr,
-                     double *zi)
+                     double *zi, hom_report *R)
 {
     hom_queue q;
-    q.next = 0, q.n = n;
+    memset(&q, 0, sizeof q);
+    q.n = n;
     if (pthread_mutex_init(&q.lock, NULL) != 0) return KIN_ENOMEM;
+    if (pthread_cond_init(&q.idle, NULL) != 0) {
+        pthread_mutex_destroy(&q.lock);
+        return KIN_ENOMEM;
+    }
     for (int t = 0; t < nthreads; ++t) jobs[t] = (hom_job){P, S, list, &q, ws[t], ends, zr, zi};
     /* thread 0 is this one; threads that cannot be started leave their
      * share to the others */
-    for (int t = 1; t < nthreads; ++t) running[t] = pthread_create(&th[t], NULL, worker, &jobs[t]) == 0;
-    worker(&jobs[0]);
+    for (int t = 1; t < nthreads; ++t) {
+        pthread_mutex_lock(&q.lock);
+        q.active++;
+        pthread_mutex_unlock(&q.lock);
+        running[t] = pthread_create(&th[t], NULL, worker, &jobs[t]) == 0;
+        if (!running[t]) {
+            pthread_mutex_lock(&q.lock);
+            q.active--;
+            pthread_mutex_unlock(&q.lock);
+        }
+    }
+    track_chunks(&jobs[0], R);
+    /* the others finish their last paths: keep reporting meanwhile */
+    pthread_mutex_lock(&q.lock);
+    while (q.active > 0) {
+        struct timespec ts;
+        clock_gettime(CLOCK_REALTIME, &ts);
+        ts.tv_nsec += (long)(REPORT_INTERVAL * 1e9);
+        if (ts.tv_nsec >= 1000000000L) ts.tv_sec++, ts.tv_nsec -= 1000000000L;
+        pthread_cond_timedwait(&q.idle, &q.lock, &ts);
+        if (q.active > 0 && R->fn && !R->cancelled) {
+            pthread_mutex_unlock(&q.lock);
+            report(R, &q, 0);
+            pthread_mutex_lock(&q.lock);
+        }
+    }
+    pthread_mutex_unlock(&q.lock);
     for (int t = 1; t < nthreads; ++t)
         if (running[t]) pthread_join(th[t], NULL);
+    R->base += q.tracked;
+    pthread_cond_destroy(&q.idle);
     pthread_mutex_destroy(&q.lock);
     return KIN_OK;
+}
+
+/* processors online: the bound on useful threads */
+static int online_processors(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : n > INT_MAX ? INT_MAX : (int)n;
 }
 
 static int key_cmp(const void *a, const void *b)
@@ -187,13 +306,48 @@ hom_checks kin__hom_check(int m, int npaths, const hom_end *ends, const double *
     return c;
 }
 
+void kin_homotopy_options_default(kin_homotopy_options *o)
+{
+    if (!o) return;
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o;
+    o->seed = 1;
+    o->nthreads = 0;
+    o->max_paths = KIN_HOMOTOPY_MAX_PATHS;
+    o->progress = NULL;
+    o->user = NULL;
+}
+
 int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads, double *betas,
                           int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info)
 {
+    kin_homotopy_options o;
+    kin_homotopy_options_default(&o);
+    o.seed = seed;
+    o.nthreads = nthreads < 1 ? -1 : nthreads; /* 0 means "all processors" only in the options */
+    return kin_quadrics_homotopy_ex(m, s, Q, &o, betas, maxsol, nsol, multiplicity, info);
+}
+
+static int homotopy_impl(int m, int s, const double *Q, const kin_homotopy_options *opt, double *betas, int maxsol,
+                         int *nsol, int *multiplicity, kin_homotopy_info *info)
+{
+    if (nsol) *nsol = 0;
+    if (info) memset(info, 0, sizeof *info);
+    kin_homotopy_options o;
+    if (opt) o = *opt;
+    else kin_homotopy_options_default(&o);
     if (!Q || !betas || !nsol || !info) return KIN_ENULL;
-    if (m < 2 || s != m - 1 || maxsol < 1 || nthreads < 1) return KIN_EINVAL;
-    if (m > HOM_MAX_M) return KIN_ERANGE;
+    if (m < 2 || s != m - 1 || maxsol < 1 || o.nthreads < 0 || o.max_paths < 1) return KIN_EINVAL;
+    if (m > HOM_MAX_M) return KIN_ERANGE; /* so 2^s <= 2^23 and every size below fits */
+    for (size_t i = 0; i < (size_t)m * m * s; ++i)
+        if (!isfinite(Q[i])) return KIN_EINVAL;
+    if ((1L << s) > o.max_paths) return KIN_ELIMIT;
     int npaths = 1 << s;
+    int cpus = online_processors();
+    int nthreads = o.nthreads == 0 || o.nthreads > cpus ? cpus : o.nthreads;
+    if (nthreads > npaths) nthreads = npaths; /* more would idle; the result is the same */
+    unsigned long seed = o.seed;
+    hom_report R = {o.progress, o.user, 0.0, (double)npaths, 0.0, 0};
     size_t mm = (size_t)m * m;
     size_t nrows = ((size_t)s * m + HOM_QBLOCK - 1) / HOM_QBLOCK * HOM_QBLOCK;
     double *Qr = malloc(sizeof(double) * mm * (size_t)s), *Qb = calloc(nrows * m, sizeof(double));
@@ -225,9 +379,7 @@ int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int
     double nf2 = 0.0;
     for (int j = 0; j < s; ++j) {
         const double *q = Q + (size_t)j * mm;
-        double f = 0.0, n1 = 0.0;
-        for (size_t i = 0; i < mm; ++i) f += q[i] * q[i];
-        f = sqrt(f);
+        double f = kin__norm((int)mm, q), n1 = 0.0; /* scaled: no overflow or underflow */
         double sc = f > 0.0 ? 1.0 / f : 1.0;
         for (int r = 0; r < m; ++r) {
             double col = 0.0;
@@ -263,7 +415,10 @@ int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int
     for (int i = 0; i < m; ++i) w[i] /= sqrt(wn);
 
     hom_settings S = BASE_SETTINGS;
-    if ((rc = run_paths(&P, &S, NULL, npaths, nthreads, ws, jobs, th, running, ends, zr, zi))) goto done;
+    report(&R, NULL, 1);
+    if (!R.cancelled && (rc = run_paths(&P, &S, NULL, npaths, nthreads, ws, jobs, th, running, ends, zr, zi, &R)))
+        goto done;
+    if (R.cancelled) goto cancelled;
     hom_checks ck = kin__hom_check(m, npaths, ends, zr, zi, w, keys, parent, paired);
     int retracked = 0;
     for (int round = 1; round <= RETRACK_ROUNDS; ++round) {
@@ -284,7 +439,9 @@ int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int
         if (!n) break;
         S.pred_rel *= TIGHTEN, S.pred_sep *= TIGHTEN, S.corr_sep *= TIGHTEN;
         S.sigma_end *= SIGMA_TIGHTEN;
-        if ((rc = run_paths(&P, &S, list, n, nthreads, ws, jobs, th, running, ends, zr, zi))) goto done;
+        R.total += n;
+        if ((rc = run_paths(&P, &S, list, n, nthreads, ws, jobs, th, running, ends, zr, zi, &R))) goto done;
+        if (R.cancelled) goto cancelled;
         retracked += n;
         ck = kin__hom_check(m, npaths, ends, zr, zi, w, keys, parent, paired);
     }
@@ -339,11 +496,36 @@ int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int
     }
     info->real_distinct = nd;
     *nsol = nd < maxsol ? nd : maxsol;
+    if (R.fn) R.fn(R.user, R.total, R.total); /* finished: its answer no longer matters */
+    goto done;
 
+cancelled:
+    memset(info, 0, sizeof *info);
+    *nsol = 0;
+    rc = KIN_ECANCELLED;
 done:
     if (ws)
         for (int t = 0; t < nthreads; ++t) kin__hom_ws_free(ws[t]);
     free(ws), free(running), free(th), free(jobs), free(paired), free(size), free(list), free(parent);
     free(keys), free(zi), free(zr), free(ends), free(Qb), free(Qr);
+    return rc;
+}
+
+int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_options *opt, double *betas,
+                             int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info)
+{
+    if (nsol) *nsol = 0;
+    if (!info) return KIN_ENULL;
+    if (kin__abi_check(info, KIN__V1_SIZE(kin_homotopy_info, max_cond), sizeof *info)) return KIN_EINVAL;
+    kin__abi_zero(info);
+    kin_homotopy_options o;
+    kin_homotopy_options_default(&o); /* fields an older caller does not have keep their defaults */
+    if (opt) {
+        if (kin__abi_check(opt, KIN__V1_SIZE(kin_homotopy_options, user), sizeof *opt)) return KIN_EINVAL;
+        kin__abi_read(&o, opt, sizeof o);
+    }
+    kin_homotopy_info local = {.size = sizeof local};
+    int rc = homotopy_impl(m, s, Q, &o, betas, maxsol, nsol, multiplicity, &local);
+    kin__abi_write(info, &local, sizeof local);
     return rc;
 }

@@ -98,6 +98,11 @@ struct kin_assembly {
     int lu_cur;
     double *luR;             /* nf x 6 rigid mechanisms of a trial point */
     double *luw;             /* max(nf, nb + 1 + nrig) solve vector */
+
+    /* progress callback of the long loops (kin_set_progress); not copied
+     * by kin_assembly_clone nor kin__copy_state */
+    kin_progress_fn progress;
+    void *progress_user;
 };
 
 /* Fault injection for the tests (not exported): the SVD of the next analyses
@@ -155,6 +160,11 @@ static inline void kin__lu_invalidate(kin_assembly *a) { a->lu[0].valid = a->lu[
 
 static inline const kin_factor *kin__cur(const kin_assembly *a) { return &a->fac[a->cur]; }
 
+/* Report progress through the handle's callback, if any: returns 1 when the
+ * callback asks to cancel (then the caller stops and returns KIN_ECANCELLED),
+ * 0 otherwise. done is clamped to [0, total]. */
+int kin__progress(const kin_assembly *a, double done, double total);
+
 /* copy the configuration, analysis and path state of src into dst (same
  * model; no allocation); dst keeps its own options */
 void kin__copy_state(kin_assembly *dst, const kin_assembly *src);
@@ -174,8 +184,41 @@ static inline unsigned long long kin__splitmix(unsigned long long *s)
     return z ^ (z >> 31);
 }
 
+/* *out = a * b; returns 0 (and leaves *out alone) if the product overflows
+ * size_t. Every size made by multiplying caller-supplied counts goes through
+ * this (or is bounded by a check made with it). */
+static inline int kin__mul_size(size_t a, size_t b, size_t *out)
+{
+    if (b != 0 && a > (size_t)-1 / b) return 0;
+    *out = a * b;
+    return 1;
+}
+
+/* a * b * c, like kin__mul_size */
+static inline int kin__mul_size3(size_t a, size_t b, size_t c, size_t *out)
+{
+    size_t ab;
+    return kin__mul_size(a, b, &ab) && kin__mul_size(ab, c, out);
+}
+
 /* small dense helpers */
 double kin__dot(int n, const double *x, const double *y);
 double kin__norm(int n, const double *x);
+
+
+/* ---- size-prefixed public structs (abi.c, docs/abi.md) ----
+ * KIN__V1_SIZE(T, last) is the size of T's first extensible layout, ending
+ * at member `last`: the smallest `size` a caller may pass. It never changes
+ * when T grows. */
+#define KIN__V1_SIZE(T, last) (offsetof(T, last) + sizeof(((T *)0)->last))
+size_t kin__abi_size(const void *p);
+/* KIN_OK if p->size lies in [min_size, cur_size], else KIN_EINVAL */
+int kin__abi_check(const void *p, size_t min_size, size_t cur_size);
+/* copy the caller's bytes over `local` (already holding defaults); local->size = cur_size */
+void kin__abi_read(void *local, const void *user, size_t cur_size);
+/* copy `local` into the caller's struct, only as many bytes as it has; its size is kept */
+void kin__abi_write(void *user, const void *local, size_t cur_size);
+/* zero every byte of a caller's (already checked) struct after its size */
+void kin__abi_zero(void *user);
 
 #endif /* KIN_INTERNAL_H */

@@ -81,6 +81,8 @@ enum { TAU_LOOK_AHEAD = 2 };
 void kin_locate_options_default(kin_locate_options *o)
 {
     if (!o) return;
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o;
     o->method = KIN_LOCATE_FAST;
     o->vr_tol = 1e-10;
     o->switch_eps = 1e-2;
@@ -198,11 +200,21 @@ static int at_bifurcation(const kin_assembly *a, double tol)
 static int forward(loc_ctx *c, const kin_assembly *base, kin_assembly *dst, double delta, double *used)
 {
     kin__copy_state(dst, base);
-    kin_step_info si;
+    kin_step_info si = {.size = sizeof si};
     c->info->forward++;
     int rc = kin_step(dst, delta, &si);
     if (used) *used = rc == KIN_OK ? si.delta : 0.0;
     return rc;
+}
+
+/* Progress through the caller's callback (kin_set_progress): steps plus
+ * forward calculations, out of max_steps + max_iter. Called at the top of
+ * every following step and location iteration, so a cancel takes effect
+ * within one step. Returns 1 when the caller cancels. */
+static int loc_cancelled(const loc_ctx *c)
+{
+    double total = (double)c->o->max_steps + (double)c->o->max_iter;
+    return kin__progress(c->a, (double)c->info->steps + (double)c->info->forward, total);
 }
 
 static double tangent_cos(const kin_assembly *x, const kin_assembly *y)
@@ -502,6 +514,7 @@ static int locate_hermite(loc_ctx *c)
     int checked = 0, stalls = 0; /* accurate nodes at the last check; checks without progress */
     double best = INFINITY;
     for (int it = 0; it < c->o->max_iter && h->n <= HERMITE_MAX_NODES; ++it) {
+        if (loc_cancelled(c)) return KIN_ECANCELLED;
         int ngood = 0;
         for (int i = 0; i < h->n; ++i) ngood += good[i] = h->err[i] <= err_ok;
         /* the estimate: from the accurate nodes once they bracket the zero,
@@ -644,6 +657,7 @@ static int locate_fast(loc_ctx *c, double hi, double tau_lo, double tau_hi)
     double lo = 0.0, width0 = fabs(hi);
     int side = 0;
     for (int it = 0; it < c->o->max_iter; ++it) {
+        if (loc_cancelled(c)) return KIN_ECANCELLED;
         if (fabs(hi - lo) < GIVE_UP_FRACTION * width0) {
             /* the bracket has collapsed but v_r stays finite: tau changed sign
              * without a zero, i.e. the step crossed a near-singular but
@@ -685,12 +699,50 @@ static int locate_fast(loc_ctx *c, double hi, double tau_lo, double tau_hi)
                      c->o->max_iter, rel(c->work));
 }
 
+/* A non-zero minimum of v_r, by the paper's own model (eq. 23): among the
+ * sampled points (l[i], v[i]) find the lowest one with a higher neighbour on
+ * each side along the path (a bracketed minimum) and fit the quadratic
+ * through it and its neighbours. Near a bifurcation v_r is V-shaped (a
+ * crossing: the fitted vertex lies at most half as high as the lowest sample,
+ * usually below zero) or touches zero (a tangency, Figure 7(b): the vertex is
+ * near zero); a near-singular regular point is a smooth minimum that the
+ * quadratic fits, its vertex within NEAR_MISS_FIT of the lowest sample. Only
+ * minima above NEAR_MISS_FLOOR x the tolerance count, where rounding cannot
+ * fake that agreement. */
+static const double NEAR_MISS_FIT = 0.9;
+static const double NEAR_MISS_FLOOR = 100.0;
+static int nonzero_minimum(double *l, double *v, int n, double v_tol, double *v_min)
+{
+    for (int i = 1; i < n; ++i) /* insertion sort by l: n <= 4 */
+        for (int k = i; k > 0 && l[k] < l[k - 1]; --k) {
+            double tl = l[k], tv = v[k];
+            l[k] = l[k - 1]; v[k] = v[k - 1];
+            l[k - 1] = tl; v[k - 1] = tv;
+        }
+    int best = -1;
+    for (int i = 1; i + 1 < n; ++i)
+        if (v[i] < v[i - 1] && v[i] < v[i + 1] && l[i - 1] < l[i] && l[i] < l[i + 1] &&
+            (best < 0 || v[i] < v[best]))
+            best = i;
+    if (best < 0 || !(v[best] > NEAR_MISS_FLOOR * v_tol)) return 0;
+    double x0 = l[best - 1], x1 = l[best], x2 = l[best + 1];
+    double d01 = (v[best] - v[best - 1]) / (x1 - x0), d12 = (v[best + 1] - v[best]) / (x2 - x1);
+    double A = (d12 - d01) / (x2 - x0);
+    if (!(A > 0.0)) return 0;
+    double B = d01 - A * (x0 + x1), C = v[best - 1] - A * x0 * x0 - B * x0;
+    *v_min = C - B * B / (4 * A);
+    TRACE("near-miss fit: %.6g %.6g | %.6g %.6g | %.6g %.6g -> vertex %.6g at %.6g\n", x0, v[best - 1], x1, v[best], x2,
+          v[best + 1], *v_min, -B / (2 * A));
+    return *v_min >= NEAR_MISS_FIT * v[best];
+}
+
 /* the paper's method: quadratic through the last three (l, v_r) */
 static int locate_paper(loc_ctx *c, double *hl, double *hv, int nh, double step)
 {
     kin_assembly *base = c->prev;
     double delta = 0.0, shrink = 1.0;
     for (int it = 0; it < c->o->max_iter; ++it) {
+        if (loc_cancelled(c)) return KIN_ECANCELLED;
         double ln;
         if (nh >= 3) {
             /* Lagrange quadratic v = A l^2 + B l + C through the last three points */
@@ -735,6 +787,19 @@ static int locate_paper(loc_ctx *c, double *hl, double *hv, int nh, double step)
         }
         /* overshoot probe: a small extra step; v_r growing means we crossed */
         rc = forward(c, c->work, c->probe, PROBE_FRACTION * delta, NULL);
+        if (rc == KIN_OK) {
+            /* the samples so far bracket a smooth non-zero minimum: no bifurcation here */
+            double sl[4] = {base->l, c->work->l, c->probe->l, 0.0};
+            double sv[4] = {kin__cur(base)->an.v_r, kin__cur(c->work)->an.v_r, kin__cur(c->probe)->an.v_r, 0.0};
+            int ns = 3;
+            if (nh >= 2) { sl[3] = hl[nh - 2]; sv[3] = hv[nh - 2]; ns = 4; }
+            double v_min, v_max = kin__cur(base)->an.v_max;
+            if (nonzero_minimum(sl, sv, ns, c->o->vr_tol * v_max, &v_min))
+                return kin__fail(c->a, KIN_ENOTFOUND,
+                                 "v_r has a non-zero minimum (%.3g relative, from the quadratic of eq. 23) "
+                                 "here: a near-singular but regular configuration",
+                                 v_min / v_max);
+        }
         if (rc != KIN_OK || kin__cur(c->probe)->an.v_r > kin__cur(c->work)->an.v_r) {
             shrink *= 0.5;
             continue;
@@ -785,19 +850,13 @@ static void free_ctx(loc_ctx *c)
     hermite_free(c->hw);
 }
 
-int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info)
+static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info)
 {
-    if (!a) return KIN_ENULL;
-    kin_locate_options o;
-    if (opt) o = *opt;
-    else kin_locate_options_default(&o);
+    kin_locate_options o = *opt;
     if ((o.method != KIN_LOCATE_PAPER && o.method != KIN_LOCATE_FAST && o.method != KIN_LOCATE_ILLINOIS) ||
         !(o.vr_tol > 0 && o.vr_tol < 1) || !(o.switch_eps > 0 && o.switch_eps < 1) || !isfinite(o.delta) ||
         o.max_steps < 1 || o.max_iter < 1)
         return kin__fail(a, KIN_EINVAL, "locate options out of range");
-    kin_locate_info dummy;
-    if (!info) info = &dummy;
-    memset(info, 0, sizeof *info);
     int rc = kin__cur(a)->valid ? KIN_OK : kin_analyse(a, NULL);
     if (rc) return rc;
     if (kin__cur(a)->an.m_internal >= 2)
@@ -831,9 +890,13 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
     double v0 = vanishing_sv(a), sl0 = motion_slope(&c, a, dir);
     hl[nh] = a->l;
     hv[nh++] = kin__cur(a)->an.v_r;
-    kin_step_info si;
+    kin_step_info si = {.size = sizeof si};
     long fa = 0, fw = 0, fp = 0, fpv = 0;
     while (rc == KIN_OK && info->steps < o.max_steps) {
+        if (loc_cancelled(&c)) {
+            rc = KIN_ECANCELLED;
+            break;
+        }
         kin__copy_state(c.prev, a);
         rc = kin_step(a, o.delta, &si);
         if (rc) break;
@@ -943,7 +1006,7 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
             for (int i = 0; i < a->nj * a->dim; ++i) dist += (c.work->xyz[i] - a->xyz[i]) * (c.work->xyz[i] - a->xyz[i]);
             info->distance = sqrt(dist);
             kin__copy_state(a, c.work);
-        } else if (rc == KIN_ENOTFOUND) {
+        } else if (rc == KIN_ENOTFOUND || rc == KIN_ECANCELLED) {
             /* leave the assembly at the best regular point: the base of the search */
             kin__copy_state(a, c.prev);
         }
@@ -968,6 +1031,36 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
     info->v_r_rel = kin__cur(a)->an.v_max > 0 ? info->v_r / kin__cur(a)->an.v_max : 0.0;
     info->m_internal = kin__cur(a)->an.m_internal;
     info->s = kin__cur(a)->an.s;
+    if (rc == KIN_ECANCELLED)
+        kin__fail(a, KIN_ECANCELLED, "cancelled by the progress callback after %d steps and %d forward calculations",
+                  info->steps, info->forward);
+    else if (rc == KIN_OK)
+        (void)kin__progress(a, (double)o.max_steps + (double)o.max_iter, (double)o.max_steps + (double)o.max_iter);
     free_ctx(&c);
+    return rc;
+}
+
+int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info)
+{
+    if (info) {
+        if (kin__abi_check(info, KIN__V1_SIZE(kin_locate_info, zero_order), sizeof *info))
+            return a ? kin__fail(a, KIN_EINVAL, "info->size = %zu: set it to sizeof(kin_locate_info)",
+                                 kin__abi_size(info))
+                     : KIN_EINVAL;
+        kin__abi_zero(info);
+    }
+    if (!a) return KIN_ENULL;
+    kin_locate_options o;
+    kin_locate_options_default(&o); /* fields an older caller does not have keep their defaults */
+    if (opt) {
+        if (kin__abi_check(opt, KIN__V1_SIZE(kin_locate_options, use_switch_rule), sizeof *opt))
+            return kin__fail(a, KIN_EINVAL,
+                             "options->size = %zu: not set by kin_locate_options_default() of this libkin",
+                             kin__abi_size(opt));
+        kin__abi_read(&o, opt, sizeof o);
+    }
+    kin_locate_info local = {.size = sizeof local};
+    int rc = locate_impl(a, &o, &local);
+    if (info) kin__abi_write(info, &local, sizeof local);
     return rc;
 }

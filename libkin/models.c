@@ -10,6 +10,10 @@
 
 #define KIN_PI 3.14159265358979323846
 
+/* Side and loop widths of a sail: well inside the coordinates and lengths
+ * kin_assembly_create accepts (|x| <= 1e150, bars >= 1e-150), whatever n. */
+static const double SAIL_LENGTH_MIN = 1e-140, SAIL_LENGTH_MAX = 1e140;
+
 int kin_model_threebar(int state, kin_assembly **out)
 {
     if (!out) return KIN_ENULL;
@@ -27,6 +31,8 @@ int kin_model_threebar(int state, kin_assembly **out)
 void kin_sail_params_default(kin_sail_params *p, int n_sides, int n_loops)
 {
     if (!p) return;
+    memset(p, 0, sizeof *p);
+    p->size = sizeof *p;
     p->n_sides = n_sides;
     p->n_loops = n_loops;
     p->side = 1.0;
@@ -35,13 +41,26 @@ void kin_sail_params_default(kin_sail_params *p, int n_sides, int n_loops)
     p->diagonal = KIN_SAIL_DIAG_FORWARD;
 }
 
-static int sail_fail(char *eb, size_t el, const char *fmt, ...)
+static int model_fail(char *eb, size_t el, int code, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    kin__failv(eb, el, KIN_EINVAL, fmt, ap);
+    kin__failv(eb, el, code, fmt, ap);
     va_end(ap);
-    return KIN_EINVAL;
+    return code;
+}
+
+#define sail_fail(eb, el, ...) model_fail(eb, el, KIN_EINVAL, __VA_ARGS__)
+
+/* the caller's parameters into *p (fields it lacks keep their defaults) */
+static int sail_read(const kin_sail_params *user, kin_sail_params *p, char *eb, size_t el)
+{
+    if (kin__abi_check(user, KIN__V1_SIZE(kin_sail_params, diagonal), sizeof *user))
+        return sail_fail(eb, el, "params->size = %zu: not set by kin_sail_params_default() of this libkin",
+                         kin__abi_size(user));
+    kin_sail_params_default(p, 0, 0);
+    kin__abi_read(p, user, sizeof *p);
+    return KIN_OK;
 }
 
 static int sail_check(const kin_sail_params *p, int *support, char *eb, size_t el)
@@ -50,12 +69,19 @@ static int sail_check(const kin_sail_params *p, int *support, char *eb, size_t e
         return sail_fail(eb, el, "n_sides = %d, need 3..64", p->n_sides);
     if (p->n_loops < 1 || p->n_loops > 64)
         return sail_fail(eb, el, "n_loops = %d, need 1..64", p->n_loops);
-    if (!(isfinite(p->side) && p->side > 0.0))
-        return sail_fail(eb, el, "side = %g, need finite > 0", p->side);
-    if (p->widths)
-        for (int i = 0; i < p->n_loops; ++i)
-            if (!(isfinite(p->widths[i]) && p->widths[i] > 0.0))
-                return sail_fail(eb, el, "widths[%d] = %g, need finite > 0", i, p->widths[i]);
+    if (!(isfinite(p->side) && p->side >= SAIL_LENGTH_MIN && p->side <= SAIL_LENGTH_MAX))
+        return sail_fail(eb, el, "side = %g, need %g..%g", p->side, SAIL_LENGTH_MIN, SAIL_LENGTH_MAX);
+    if (p->widths) {
+        double total = 0.0;
+        for (int i = 0; i < p->n_loops; ++i) {
+            if (!(isfinite(p->widths[i]) && p->widths[i] >= SAIL_LENGTH_MIN && p->widths[i] <= SAIL_LENGTH_MAX))
+                return sail_fail(eb, el, "widths[%d] = %g, need %g..%g", i, p->widths[i], SAIL_LENGTH_MIN,
+                                 SAIL_LENGTH_MAX);
+            total += p->widths[i];
+        }
+        if (!(total <= SAIL_LENGTH_MAX))
+            return sail_fail(eb, el, "widths add up to %g, need <= %g", total, SAIL_LENGTH_MAX);
+    }
     int s = p->support;
     if (s == KIN_SAIL_SUPPORT_AUTO) s = p->n_sides == 4 ? KIN_SAIL_SUPPORT_OPPOSITE : KIN_SAIL_SUPPORT_CENTRE;
     if (s != KIN_SAIL_SUPPORT_OPPOSITE && s != KIN_SAIL_SUPPORT_CENTRE)
@@ -67,11 +93,15 @@ static int sail_check(const kin_sail_params *p, int *support, char *eb, size_t e
     return KIN_OK;
 }
 
-int kin_sail_size(const kin_sail_params *p, int *njoints, int *nbars)
+int kin_sail_size(const kin_sail_params *user, int *njoints, int *nbars)
 {
     int s;
-    if (!p) return KIN_ENULL;
-    int rc = sail_check(p, &s, NULL, 0);
+    if (njoints) *njoints = 0;
+    if (nbars) *nbars = 0;
+    if (!user) return KIN_ENULL;
+    kin_sail_params params, *p = &params;
+    int rc = sail_read(user, p, NULL, 0);
+    if (!rc) rc = sail_check(p, &s, NULL, 0);
     if (rc) return rc;
     int n = p->n_sides, k = p->n_loops, c = s == KIN_SAIL_SUPPORT_CENTRE;
     if (njoints) *njoints = c + n * (k + 1);
@@ -79,14 +109,16 @@ int kin_sail_size(const kin_sail_params *p, int *njoints, int *nbars)
     return KIN_OK;
 }
 
-int kin_model_sail(const kin_sail_params *p, kin_assembly **out, char *eb, size_t el)
+int kin_model_sail(const kin_sail_params *user, kin_assembly **out, char *eb, size_t el)
 {
     if (eb && el) eb[0] = '\0';
-    if (!out) return KIN_ENULL;
+    if (!out) return model_fail(eb, el, KIN_ENULL, "out is NULL");
     *out = NULL;
-    if (!p) return KIN_ENULL;
+    if (!user) return model_fail(eb, el, KIN_ENULL, "p is NULL");
     int support, nj, nb;
-    int rc = sail_check(p, &support, eb, el);
+    kin_sail_params params, *p = &params;
+    int rc = sail_read(user, p, eb, el);
+    if (!rc) rc = sail_check(p, &support, eb, el);
     if (rc) return rc;
     kin_sail_size(p, &nj, &nb);
     int n = p->n_sides, K = p->n_loops, c = support == KIN_SAIL_SUPPORT_CENTRE;
@@ -95,7 +127,7 @@ int kin_model_sail(const kin_sail_params *p, kin_assembly **out, char *eb, size_
     int *bars = malloc(sizeof(int) * 2 * (size_t)nb);
     if (!xyz || !fixed || !bars) {
         free(xyz); free(fixed); free(bars);
-        return KIN_ENOMEM;
+        return model_fail(eb, el, KIN_ENOMEM, "sail of %d joints", nj);
     }
     double a = p->side, R = a / (2.0 * sin(KIN_PI / n));
     /* joint index of hub vertex k (mod n) and of loop-q node k */

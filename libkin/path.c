@@ -56,6 +56,8 @@ static const unsigned long long LU_VR_SEED = 0x5eedULL;
 void kin_options_default(kin_options *o)
 {
     if (!o) return;
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o;
     o->rank_tol = 1e-9;
     o->corrector_tol = 1e-12;
     o->corrector_max_iter = 60;
@@ -70,10 +72,17 @@ static int unit_open(double v) { return isfinite(v) && v > 0.0 && v < 1.0; }
 
 static int lu_mode(const kin_assembly *a) { return a->opt.factorization == KIN_STEP_LU; }
 
-int kin_set_options(kin_assembly *a, const kin_options *o)
+int kin_set_options(kin_assembly *a, const kin_options *user)
 {
     if (!a) return KIN_ENULL;
-    if (!o) return kin__fail(a, KIN_ENULL, "options pointer is NULL");
+    if (!user) return kin__fail(a, KIN_ENULL, "options pointer is NULL");
+    if (kin__abi_check(user, KIN__V1_SIZE(kin_options, factorization), sizeof *user))
+        return kin__fail(a, KIN_EINVAL, "options.size = %zu: not set by kin_options_default() of this libkin",
+                         kin__abi_size(user));
+    kin_options opts;
+    kin_options_default(&opts); /* fields an older caller does not have keep their defaults */
+    kin__abi_read(&opts, user, sizeof opts);
+    const kin_options *o = &opts;
     if (!unit_open(o->rank_tol)) return kin__fail(a, KIN_EINVAL, "rank_tol = %g, need 0 < tol < 1", o->rank_tol);
     if (!unit_open(o->corrector_tol))
         return kin__fail(a, KIN_EINVAL, "corrector_tol = %g, need 0 < tol < 1", o->corrector_tol);
@@ -101,7 +110,8 @@ int kin_set_options(kin_assembly *a, const kin_options *o)
 int kin_get_options(const kin_assembly *a, kin_options *o)
 {
     if (!a || !o) return KIN_ENULL;
-    *o = a->opt;
+    if (kin__abi_check(o, KIN__V1_SIZE(kin_options, factorization), sizeof *o)) return KIN_EINVAL;
+    kin__abi_write(o, &a->opt, sizeof *o);
     return KIN_OK;
 }
 
@@ -725,7 +735,15 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
 
 int kin_step(kin_assembly *a, double delta, kin_step_info *info)
 {
-    return step_impl(a, delta, NULL, info);
+    if (!info) return step_impl(a, delta, NULL, NULL);
+    if (kin__abi_check(info, KIN__V1_SIZE(kin_step_info, m_internal), sizeof *info)) {
+        if (!a) return KIN_ENULL;
+        return kin__fail(a, KIN_EINVAL, "info->size = %zu: set it to sizeof(kin_step_info)", kin__abi_size(info));
+    }
+    kin_step_info local = {.size = sizeof local};
+    int rc = step_impl(a, delta, NULL, &local);
+    kin__abi_write(info, &local, sizeof local);
+    return rc;
 }
 
 int kin__step_predicted(kin_assembly *a, double delta, const double *pred, kin_step_info *info)

@@ -15,7 +15,7 @@ static const double ROOT_TOL = 1e-12;
 static const int ROOT_MAX_ITER = 200;
 /* eq. 20: two unit solutions are the same line if |beta_i . beta_j| > 1 - this */
 static const double SAME_ROOT_TOL = 1e-8;
-/* the scan keeps one solution on the stack */
+/* the scan keeps a solution, a start and a residual on the stack */
 enum { SCAN_MAX_M = 256 };
 
 typedef struct quadrics {
@@ -73,29 +73,52 @@ static double gauss(unsigned long long *s)
     return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
 }
 
-int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long seed, double *betas,
-                      int maxsol, int *nsol, kin_solve_info *info)
+/* every entry of the s matrices m x m finite */
+static int all_finite(const double *Q, size_t n)
 {
+    for (size_t i = 0; i < n; ++i)
+        if (!isfinite(Q[i])) return 0;
+    return 1;
+}
+
+/* GSL's error handler is process-wide state that belongs to the
+ * application: this file never changes it, and avoids every GSL error that
+ * would call it (GSL calls it only for errors raised with GSL_ERROR, not for
+ * status codes returned). Of the calls below (GSL 2.7 sources), the hybridsj
+ * set and iterate steps, their QR factorization and updates, the residual
+ * test, vector views and gsl_vector_get/set raise only for inconsistent
+ * sizes, an index out of range or a negative tolerance, none of which can
+ * happen here (every size is m, indices < m, the tolerance positive); a
+ * singular or non-finite Jacobian is not an error to hybridsj (the dogleg
+ * step proceeds; lack of progress comes back as GSL_ENOPROG/ENOPROGJ from
+ * iterate). What remains is gsl_multiroot_fdfsolver_alloc, which raises
+ * GSL_ENOMEM if malloc fails; x and f are views on stack arrays, so that is
+ * the call's one GSL allocation (about 3 m^2 + 16 m doubles). */
+static int scan_impl(int m, int s, const double *Q, int starts, unsigned long seed, double *betas, int maxsol,
+                     int *nsol, kin_solve_info *info)
+{
+    if (nsol) *nsol = 0;
+    if (info) memset(info, 0, sizeof *info);
     if (!Q || !betas || !nsol) return KIN_ENULL;
     if (m < 2 || s != m - 1 || starts < 1 || maxsol < 1) return KIN_EINVAL;
     if (m > SCAN_MAX_M) return KIN_ERANGE;
-    gsl_set_error_handler_off();
+    if (!all_finite(Q, (size_t)m * (size_t)m * (size_t)s)) return KIN_EINVAL;
     quadrics q = {m, s, Q};
     gsl_multiroot_function_fdf fn = {f_eval, df_eval, fdf_eval, (size_t)m, &q};
-    gsl_multiroot_fdfsolver *sv = gsl_multiroot_fdfsolver_alloc(gsl_multiroot_fdfsolver_hybridsj, (size_t)m);
-    gsl_vector *x = gsl_vector_alloc((size_t)m);
-    gsl_vector *fv = gsl_vector_alloc((size_t)m);
     /* every start adds at most one distinct solution: room for all of them,
      * so the duplicate test (eq. 20) sees every solution kept */
-    double *found = malloc(sizeof(double) * (size_t)m * (size_t)starts);
-    if (!sv || !x || !fv || !found) {
-        gsl_multiroot_fdfsolver_free(sv);
-        gsl_vector_free(x);
-        gsl_vector_free(fv);
+    size_t bytes;
+    double *found = kin__mul_size3((size_t)m, (size_t)starts, sizeof(double), &bytes) ? malloc(bytes) : NULL;
+    if (!found) return KIN_ENOMEM;
+    gsl_multiroot_fdfsolver *sv = gsl_multiroot_fdfsolver_alloc(gsl_multiroot_fdfsolver_hybridsj, (size_t)m);
+    if (!sv) {
         free(found);
         return KIN_ENOMEM;
     }
-    kin_solve_info in = {starts, 0, 0, 0, 0.0};
+    double xbuf[SCAN_MAX_M], fbuf[SCAN_MAX_M];
+    gsl_vector_view xview = gsl_vector_view_array(xbuf, (size_t)m), fview = gsl_vector_view_array(fbuf, (size_t)m);
+    gsl_vector *x = &xview.vector, *fv = &fview.vector;
+    kin_solve_info in = {.size = sizeof in, .starts = starts};
     unsigned long long state = (unsigned long long)seed * 0x2545F4914F6CDD1Dull + 1u;
     int nd = 0;
     for (int k = 0; k < starts; ++k) {
@@ -154,8 +177,22 @@ int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long s
     *nsol = nd < maxsol ? nd : maxsol;
     if (info) *info = in;
     gsl_multiroot_fdfsolver_free(sv);
-    gsl_vector_free(x);
-    gsl_vector_free(fv);
     free(found);
     return KIN_OK;
+}
+
+int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long seed, double *betas,
+                      int maxsol, int *nsol, kin_solve_info *info)
+{
+    if (info) {
+        if (kin__abi_check(info, KIN__V1_SIZE(kin_solve_info, max_residual), sizeof *info)) {
+            if (nsol) *nsol = 0;
+            return KIN_EINVAL;
+        }
+        kin__abi_zero(info);
+    }
+    kin_solve_info local = {.size = sizeof local};
+    int rc = scan_impl(m, s, Q, starts, seed, betas, maxsol, nsol, &local);
+    if (info) kin__abi_write(info, &local, sizeof local);
+    return rc;
 }

@@ -23,14 +23,19 @@ static const double Q_DEPENDENT_TOL = 1e-10;
 int kin_second_order(const kin_assembly *a, int weighting, int normalise, double *Q, int nq,
                      int *s_out)
 {
+    if (s_out) *s_out = 0;
     if (!a || !Q || !s_out) return KIN_ENULL;
     const kin_factor *f = kin__cur(a);
     if (!f->valid) return KIN_ESTATE;
     if (weighting != KIN_Q_EXACT && weighting != KIN_Q_PAPER_EQ17) return KIN_EINVAL;
     int m = f->an.m_internal, s = f->an.s, nf = a->nf, nb = a->nb, d = a->dim, r = f->an.rank;
     if (m < 2 || s < 1) return KIN_EINVAL;
-    if (nq < m * m * s) return KIN_ERANGE;
-    memset(Q, 0, sizeof(double) * (size_t)(m * m * s));
+    /* m^2 s can pass INT_MAX for a large enough structure: counted in size_t */
+    size_t need;
+    if (nq < 0 || !kin__mul_size3((size_t)m * (size_t)m, (size_t)s, sizeof(double), &need) ||
+        need / sizeof(double) > (size_t)nq)
+        return KIN_ERANGE;
+    memset(Q, 0, need);
     for (int i = 0; i < nb; ++i) {
         int ja = a->bars[2 * i], jb = a->bars[2 * i + 1];
         double w = weighting == KIN_Q_EXACT ? 1.0 / a->L0[i] : 1.0;
@@ -58,7 +63,7 @@ int kin_second_order(const kin_assembly *a, int weighting, int normalise, double
     *s_out = s;
     if (!normalise) return KIN_OK;
     /* eq. 18: orthonormalise vec(Q_j) */
-    int mm = m * m, kept = 0;
+    int mm = m * m, kept = 0; /* m <= nfree and nfree^2 <= INT_MAX (kin_assembly_create) */
     for (int j = 0; j < s; ++j) {
         double *v = Q + (size_t)j * mm;
         if (kin__gs_column(mm, Q, mm, kept, v) < Q_DEPENDENT_TOL) continue;

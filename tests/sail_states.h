@@ -10,7 +10,7 @@
 
 static inline kin_assembly *test_sail(int n, int loops)
 {
-    kin_sail_params p;
+    kin_sail_params p = {.size = sizeof p};
     kin_sail_params_default(&p, n, loops);
     kin_assembly *a = NULL;
     return kin_model_sail(&p, &a, NULL, 0) == KIN_OK ? a : NULL;
@@ -120,12 +120,12 @@ static inline int test_hex_fold(kin_assembly **rb_start, kin_assembly **ra_start
     kin_assembly *a = test_sail(6, 2), *flat = test_sail(6, 2);
     int rc = a && flat ? KIN_OK : KIN_ENOMEM, found = 0;
     double xflat[57], Q[48], betas[32], dir[46];
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     if (!rc) kin_get_coords(flat, xflat);
     if (!rc) rc = test_hex_to_RB(a);
     if (!rc) rc = kin_analyse(a, &an);
     int s = 0, nsol = 0;
-    kin_homotopy_info hi;
+    kin_homotopy_info hi = {.size = sizeof hi};
     if (!rc) rc = kin_second_order(a, KIN_Q_EXACT, 1, Q, 48, &s);
     if (!rc) rc = kin_quadrics_homotopy(an.m_internal, s, Q, 1, 1, betas, 8, &nsol, NULL, &hi);
     if (rb_xyz && !rc) kin_get_coords(a, rb_xyz);
@@ -143,7 +143,7 @@ static inline int test_hex_fold(kin_assembly **rb_start, kin_assembly **ra_start
             kin_assembly_free(before);
             continue;
         }
-        kin_locate_info info;
+        kin_locate_info info = {.size = sizeof info};
         if (kin_locate_next(ra, NULL, &info) == KIN_OK && info.m_internal == 16) {
             double xb[57], d[46];
             kin_get_coords(before, xb);

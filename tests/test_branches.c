@@ -17,17 +17,18 @@ typedef struct outcome {
 static outcome branches(kin_assembly *a, int weighting, int starts, double l)
 {
     outcome o = {0, 0, 0};
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     CHECK_RC(kin_analyse(a, &an), KIN_OK);
     int m = an.m_internal, s = 0;
     double *Q = malloc(sizeof(double) * m * m * an.s), *betas = malloc(sizeof(double) * m * 256);
     CHECK_RC(kin_second_order(a, weighting, 1, Q, m * m * an.s, &s), KIN_OK);
     CHECK(s == an.s && m == s + 1);
     int nsol = 0;
-    kin_solve_info info;
+    kin_solve_info info = {.size = sizeof info};
     CHECK_RC(kin_quadrics_scan(m, s, Q, starts, 3, betas, 256, &nsol, &info), KIN_OK);
     o.real = nsol;
-    kin_branch_path *p = malloc(sizeof *p * 2 * (nsol ? nsol : 1));
+    kin_branch_path *p = calloc(2 * (size_t)(nsol ? nsol : 1), sizeof *p);
+    if (p) p[0].size = sizeof *p;
     if (nsol) {
         double *before = malloc(sizeof(double) * 3 * kin_njoints(a)), *after = malloc(sizeof(double) * 3 * kin_njoints(a));
         kin_get_coords(a, before);
@@ -74,11 +75,11 @@ int main(void)
 
     /* errors */
     a = test_sail(4, 1);
-    kin_branch_path p[2];
+    kin_branch_path p[2] = {{.size = sizeof(kin_branch_path)}};
     double beta[5] = {1, 0, 0, 0, 0};
     int nd;
     CHECK_RC(kin_branch_paths(a, beta, 1, 1.0, p, NULL, &nd), KIN_ESTATE);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     kin_analyse(a, &an);
     CHECK_RC(kin_branch_paths(a, beta, 0, 1.0, p, NULL, &nd), KIN_EINVAL);
     CHECK_RC(kin_branch_paths(a, beta, 1, -1.0, p, NULL, &nd), KIN_EINVAL);

@@ -10,7 +10,7 @@ static void leave(const double dir[4], int parallelogram)
 {
     kin_assembly *a = NULL;
     CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     CHECK_RC(kin_analyse(a, &an), KIN_OK);
     CHECK(an.m_internal == 2);
     double t[4];
@@ -19,7 +19,7 @@ static void leave(const double dir[4], int parallelogram)
     CHECK_RC(kin_get_tangent(a, t, 4), KIN_OK);
     double nd = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2] + dir[3] * dir[3]);
     for (int i = 0; i < 4; ++i) CHECK_CLOSE(t[i], dir[i] / nd, 16 * DBL_EPSILON);
-    kin_step_info info;
+    kin_step_info info = {.size = sizeof info};
     double xyz[8];
     for (int k = 0; k < 20; ++k) {
         CHECK_RC(kin_step(a, k == 0 ? 1e-3 : 0.05, &info), KIN_OK);

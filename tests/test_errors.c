@@ -67,7 +67,7 @@ static void call_errors(void)
     CHECK(a == NULL);
     CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, NULL), KIN_ENULL);
     CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     double sv[3], U[8], W[3], xyz[8], before[8];
     CHECK_RC(kin_get_analysis(a, &an), KIN_ESTATE);
     CHECK_RC(kin_get_singular_values(a, sv, 3), KIN_ESTATE);
@@ -98,7 +98,7 @@ static void call_errors(void)
     CHECK_RC(kin_path_set_direction(a, NULL, 4), KIN_ENULL);
 
     /* options are validated and nothing changes on error */
-    kin_options o, keep;
+    kin_options o = {.size = sizeof o}, keep = {.size = sizeof keep};
     kin_get_options(a, &keep);
     o = keep; o.rank_tol = 0.0;
     CHECK_RC(kin_set_options(a, &o), KIN_EINVAL);
@@ -153,14 +153,14 @@ static void step_errors(void)
     kin_get_coords(a, xyz);
     xyz[0] = 0.6; xyz[1] = 0.8; xyz[2] = 1.6; xyz[3] = 0.8; /* regular point of P1 */
     CHECK_RC(kin_set_coords(a, xyz), KIN_OK);
-    kin_step_info info;
+    kin_step_info info = {.size = sizeof info};
     CHECK_RC(kin_step(a, 0.05, &info), KIN_OK);
     kin_get_coords(a, before);
     double l0 = kin_path_length(a), t0[4], t1[4], sv0[3], sv1[3];
     kin_get_tangent(a, t0, 4);
     kin_get_singular_values(a, sv0, 3);
 
-    kin_options o;
+    kin_options o = {.size = sizeof o};
     kin_get_options(a, &o);
     kin_options tight = o;
     tight.corrector_max_iter = 1;

@@ -57,10 +57,10 @@ static void figure5(void)
         double Q[18], betas[3 * 64];
         int mult[64], nsol = 0;
         rotate(cases[c].Q, Q);
-        kin_homotopy_info h;
+        kin_homotopy_info h = {.size = sizeof h};
         CHECK_RC(kin_quadrics_homotopy(3, 2, Q, 1, 1, betas, 64, &nsol, mult, &h), KIN_OK);
         int ns = 0;
-        kin_solve_info si;
+        kin_solve_info si = {.size = sizeof si};
         double sb[3 * 64];
         CHECK_RC(kin_quadrics_scan(3, 2, Q, 512, 1, sb, 64, &ns, &si), KIN_OK);
         printf("%-22s homotopy: %d paths = %d real (%d distinct) + %d complex + %d singular + %d failed"
@@ -88,12 +88,12 @@ static void figure5(void)
 static void structures(void)
 {
     kin_assembly *a = test_sail(4, 1);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     kin_analyse(a, &an);
     double Q[100], b1[5 * 32], b2[5 * 32];
     int s, n1, n2;
     CHECK_RC(kin_second_order(a, KIN_Q_EXACT, 1, Q, 100, &s), KIN_OK);
-    kin_homotopy_info h1, h2;
+    kin_homotopy_info h1 = {.size = sizeof h1}, h2 = {.size = sizeof h2};
     CHECK_RC(kin_quadrics_homotopy(5, 4, Q, 3, 1, b1, 32, &n1, NULL, &h1), KIN_OK);
     CHECK_RC(kin_quadrics_homotopy(5, 4, Q, 3, 2, b2, 32, &n2, NULL, &h2), KIN_OK);
     printf("square sail flat: %d paths = %d real (%d distinct) + %d complex + %d singular + %d failed\n", h1.paths,
@@ -171,7 +171,7 @@ static void random_system(void)
                 double v = ((kin__splitmix(&st) >> 11) + 0.5) * 0x1.0p-53;
                 Q[j * M * M + r + c * M] = Q[j * M * M + c + r * M] = sqrt(-2.0 * log(u)) * cos(6.283185307179586 * v);
             }
-    kin_homotopy_info h1, h2;
+    kin_homotopy_info h1 = {.size = sizeof h1}, h2 = {.size = sizeof h2};
     CHECK_RC(kin_quadrics_homotopy(M, S, Q, 5, 1, b1, MAXSOL, &n1, m1, &h1), KIN_OK);
     CHECK_RC(kin_quadrics_homotopy(M, S, Q, 5, 2, b2, MAXSOL, &n2, m2, &h2), KIN_OK);
     printf("random s = %d: %d paths = %d real (%d distinct) + %d complex + %d singular + %d failed; %d duplicates,"

@@ -20,7 +20,7 @@ static void lap(double delta, int backwards)
     CHECK_RC(kin_set_coords(a, xyz), KIN_OK);
     kin_get_coords(a, x0);
     double sgn = backwards ? -1.0 : 1.0, turned = 0.0, prev = angle_of(x0), worst = 0.0;
-    kin_step_info info;
+    kin_step_info info = {.size = sizeof info};
     int steps = 0, ok = 1;
     /* follow until the joint angle has turned by just under 2*pi */
     while (fabs(turned) < 2 * PI - 2 * delta && steps < 10000) {

@@ -67,11 +67,11 @@ static void threebar(void)
                     kin_assembly *a = NULL;
                     CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
                     start(a, path, side ? -1.0 : 1.0);
-                    kin_locate_options o;
+                    kin_locate_options o = {.size = sizeof o};
                     kin_locate_options_default(&o);
                     o.method = methods[mi];
                     o.delta = dir ? -0.1 : 0.1;
-                    kin_locate_info info;
+                    kin_locate_info info = {.size = sizeof info};
                     CHECK_RC(kin_locate_next(a, &o, &info), KIN_OK);
                     double x[8];
                     kin_get_coords(a, x);
@@ -89,7 +89,7 @@ static void threebar(void)
                         CHECK(info.factorizations <= FAST_MAX_FACTORIZATIONS);
                         CHECK(info.zero_order == 1); /* the paths cross transversally */
                     }
-                    kin_analysis an;
+                    kin_analysis an = {.size = sizeof an};
                     CHECK_RC(kin_get_analysis(a, &an), KIN_OK);
                     CHECK(an.m_internal == 2 && an.s == 1);
                     CHECK(kin_max_strain(a) <= 1e-12);
@@ -110,15 +110,15 @@ static void skipped(void)
         kin_assembly *a = NULL;
         CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
         start(a, 0, 1.0);
-        kin_options op;
+        kin_options op = {.size = sizeof op};
         kin_get_options(a, &op);
         op.step_fraction = 1.0;
         CHECK_RC(kin_set_options(a, &op), KIN_OK);
-        kin_locate_options o;
+        kin_locate_options o = {.size = sizeof o};
         kin_locate_options_default(&o);
         o.method = mi ? KIN_LOCATE_FAST : KIN_LOCATE_PAPER;
         o.delta = 0.7;
-        kin_locate_info info;
+        kin_locate_info info = {.size = sizeof info};
         CHECK_RC(kin_locate_next(a, &o, &info), KIN_OK);
         CHECK(info.event == KIN_EVENT_SIGN_CHANGE);
         double x[8];
@@ -148,7 +148,7 @@ static void hex_rb(void)
 {
     kin_assembly *a = test_sail(6, 2);
     CHECK_RC(test_hex_to_RB(a), KIN_OK);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     CHECK_RC(kin_analyse(a, &an), KIN_OK);
     double rb[57];
     kin_get_coords(a, rb);
@@ -165,12 +165,12 @@ static void hex_rb(void)
         CHECK_RC(kin_path_set_direction(b, dir, 46), KIN_OK);
         CHECK_RC(kin_step(b, 1e-3, NULL), KIN_OK);
         for (int k = 0; k < 5; ++k) CHECK_RC(kin_step(b, 0.05, NULL), KIN_OK);
-        kin_locate_options o;
+        kin_locate_options o = {.size = sizeof o};
         kin_locate_options_default(&o);
         o.method = mi ? KIN_LOCATE_FAST : KIN_LOCATE_PAPER;
         o.vr_tol = mi ? 1e-10 : 1e-6;
         o.delta = -0.05;
-        kin_locate_info info;
+        kin_locate_info info = {.size = sizeof info};
         CHECK_RC(kin_locate_next(b, &o, &info), KIN_OK);
         double x[57];
         kin_get_coords(b, x);
@@ -186,7 +186,7 @@ static void hex_rb(void)
             CHECK(err < 1e-9);
         } else {
             /* m and s with a rank tolerance that matches the located accuracy */
-            kin_options op;
+            kin_options op = {.size = sizeof op};
             kin_get_options(b, &op);
             op.rank_tol = 1e-5;
             CHECK_RC(kin_set_options(b, &op), KIN_OK);
@@ -208,7 +208,7 @@ static void hex_rb(void)
  * to the expected coordinates (57 of the hexagonal sail) */
 static void locate_fast_to(kin_assembly *start, const double *want, int m, int s, const char *what)
 {
-    kin_locate_info info;
+    kin_locate_info info = {.size = sizeof info};
     double x[57];
     CHECK_RC(kin_locate_next(start, NULL, &info), KIN_OK);
     kin_get_coords(start, x);
@@ -247,16 +247,18 @@ static void nonzero_minimum(void)
         kin_assembly *a = NULL;
         CHECK_RC(kin_assembly_create(2, 4, xyz, fixed, 3, bars, L, &a, NULL, 0), KIN_OK);
         CHECK_RC(kin_relax(a, 100, NULL), KIN_OK);
-        kin_locate_options o;
+        kin_locate_options o = {.size = sizeof o};
         kin_locate_options_default(&o);
         o.method = methods[mi];
         o.delta = 0.05;
-        kin_locate_info info;
+        kin_locate_info info = {.size = sizeof info};
         CHECK_RC(kin_locate_next(a, &o, &info), KIN_ENOTFOUND);
         printf("non-zero minimum (%s): gave up after %d steps, %d forward: %s\n", method_name(o.method), info.steps,
                info.forward, kin_last_error(a));
         CHECK(!info.located && info.m_internal == 1 && info.v_r_rel > 1e-4);
-        CHECK(strstr(kin_last_error(a), "regular configuration") != NULL);
+        /* the paper's and the fast method recognise the minimum by their own
+         * logic, before their iteration budget runs out */
+        if (o.method != KIN_LOCATE_ILLINOIS) CHECK(info.forward < o.max_iter);
         CHECK(kin_max_strain(a) <= 1e-12);
         CHECK_RC(kin_step(a, 0.05, NULL), KIN_OK);
         kin_assembly_free(a);
@@ -272,12 +274,12 @@ static void section5(void)
     const double p1[4] = {0, 1, 0, 1};
     CHECK_RC(kin_path_set_direction(a, p1, 4), KIN_OK);
     CHECK_RC(kin_step(a, 1e-3, NULL), KIN_OK);
-    kin_locate_options o;
+    kin_locate_options o = {.size = sizeof o};
     kin_locate_options_default(&o);
     o.method = KIN_LOCATE_PAPER;
     o.vr_tol = 1e-6;
     o.delta = 0.1;
-    kin_locate_info info;
+    kin_locate_info info = {.size = sizeof info};
     CHECK_RC(kin_locate_next(a, &o, &info), KIN_OK);
     printf("section 5 (paper's method, tol 1e-6): %d forward calculations to v_r/v_max = %.1e\n", info.forward,
            info.v_r_rel);
@@ -292,13 +294,13 @@ static void errors(void)
 {
     kin_assembly *a = NULL;
     CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
-    kin_locate_info info;
+    kin_locate_info info = {.size = sizeof info};
     CHECK_RC(kin_locate_next(a, NULL, &info), KIN_EBIFURCATION);
     double tau = 1;
     CHECK_RC(kin_test_function(a, &tau), KIN_OK);
     CHECK(tau == 0.0);
     start(a, 0, 1.0);
-    kin_locate_options o;
+    kin_locate_options o = {.size = sizeof o};
     kin_locate_options_default(&o);
     o.method = 9;
     CHECK_RC(kin_locate_next(a, &o, &info), KIN_EINVAL);

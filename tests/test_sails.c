@@ -24,7 +24,7 @@ static void make_generic(kin_assembly *a, double amp)
 static void square(void)
 {
     kin_assembly *a = sail(4, 1);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     CHECK(kin_nfree(a) == 18 && kin_nbars(a) == 16 && kin_njoints(a) == 8);
     CHECK_RC(kin_analyse(a, &an), KIN_OK);
     printf("square flat: r=%d m=%d (rigid %d, internal %d) s=%d\n", an.rank, an.m, an.m_rigid,
@@ -52,7 +52,7 @@ static void square(void)
            an.m_rigid, an.m_internal, an.s, an.v_r);
     CHECK(an.rank == 16 && an.m == 2 && an.m_rigid == 1 && an.m_internal == 1 && an.s == 0);
     /* and it moves: a few steps along the internal mechanism */
-    kin_step_info info;
+    kin_step_info info = {.size = sizeof info};
     for (int k = 0; k < 5; ++k) CHECK_RC(kin_step(a, 0.05, &info), KIN_OK);
     CHECK(kin_max_strain(a) <= 1e-12);
     kin_assembly_free(a);
@@ -61,7 +61,7 @@ static void square(void)
 static void hexagon(void)
 {
     kin_assembly *a = sail(6, 2);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     CHECK(kin_nfree(a) == 46 && kin_nbars(a) == 45 && kin_njoints(a) == 19);
     CHECK_RC(kin_analyse(a, &an), KIN_OK);
     printf("hex flat: r=%d m=%d (rigid %d, internal %d) s=%d\n", an.rank, an.m, an.m_rigid,
@@ -87,7 +87,7 @@ static void hexagon(void)
 
 static void family(void)
 {
-    kin_sail_params p;
+    kin_sail_params p = {.size = sizeof p};
     kin_sail_params_default(&p, 8, 3);
     int nj, nb;
     CHECK_RC(kin_sail_size(&p, &nj, &nb), KIN_OK);

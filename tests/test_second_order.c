@@ -12,7 +12,7 @@ int main(void)
     double Q[4], U[8], betas[2 * 8];
     int s = 0;
     CHECK_RC(kin_second_order(a, KIN_Q_EXACT, 0, Q, 4, &s), KIN_ESTATE);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     CHECK_RC(kin_analyse(a, &an), KIN_OK);
     CHECK_RC(kin_second_order(a, 7, 0, Q, 4, &s), KIN_EINVAL);
     CHECK_RC(kin_second_order(a, KIN_Q_EXACT, 0, Q, 3, &s), KIN_ERANGE);
@@ -48,7 +48,7 @@ int main(void)
     /* eq. 33: two solutions, the directions (J1y, J2y) ~ (1, 1) (path P1,
      * Figure 1(b)) and (0, 1) (J1 held at S2, Figure 1(d)) */
     int nsol = 0;
-    kin_solve_info info;
+    kin_solve_info info = {.size = sizeof info};
     CHECK_RC(kin_quadrics_scan(2, 1, Q, 64, 1, betas, 8, &nsol, &info), KIN_OK);
     CHECK(nsol == 2 && info.distinct == 2 && info.max_residual < 1e-13);
     int seen_p1 = 0, seen_j1 = 0;

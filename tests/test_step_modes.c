@@ -19,14 +19,14 @@
  * by up to n such tolerances. */
 static double path_tol(const kin_assembly *a, int steps)
 {
-    kin_options o;
+    kin_options o = {.size = sizeof o};
     kin_get_options(a, &o);
     return steps * o.corrector_tol * a->rms_length;
 }
 
 static void set_mode(kin_assembly *a, int mode)
 {
-    kin_options o;
+    kin_options o = {.size = sizeof o};
     kin_get_options(a, &o);
     o.factorization = mode;
     CHECK_RC(kin_set_options(a, &o), KIN_OK);
@@ -57,7 +57,7 @@ static kin_assembly *threebar_at(double th)
 static void invalid_options(void)
 {
     kin_assembly *a = threebar_at(PI / 3);
-    kin_options o, keep;
+    kin_options o = {.size = sizeof o}, keep = {.size = sizeof keep};
     kin_options_default(&o);
     CHECK(o.factorization == KIN_STEP_SVD);
     kin_get_options(a, &keep);
@@ -79,12 +79,12 @@ static int same_path(kin_assembly *svd, kin_assembly *lu, int steps, double delt
     int n = kin_njoints(svd) * kin_dim(svd), done = 0;
     double *x1 = malloc(sizeof(double) * (size_t)n), *x2 = malloc(sizeof(double) * (size_t)n);
     set_mode(lu, KIN_STEP_LU);
-    kin_options o;
+    kin_options o = {.size = sizeof o};
     kin_get_options(svd, &o);
     double worst = 0.0, worst_strain = 0.0, vr_ratio_max = 0.0, vr_ratio_min = INFINITY;
     int fact_svd = 0, fact_lu = 0, fallbacks = 0;
     for (int k = 0; k < steps; ++k) {
-        kin_step_info i1, i2;
+        kin_step_info i1 = {.size = sizeof i1}, i2 = {.size = sizeof i2};
         int rc1 = kin_step(svd, delta, &i1), rc2 = kin_step(lu, delta, &i2);
         CHECK_RC(rc1, KIN_OK);
         CHECK_RC(rc2, KIN_OK);
@@ -106,7 +106,7 @@ static int same_path(kin_assembly *svd, kin_assembly *lu, int steps, double delt
         CHECK_CLOSE(i2.delta, i1.delta, 0.0);
         /* the LU mode's v_r is an upper-bound estimate (a Rayleigh quotient)
          * unless the step fell back to an SVD (then the analysis is current) */
-        kin_analysis an;
+        kin_analysis an = {.size = sizeof an};
         if (kin_get_analysis(lu, &an) == KIN_OK) {
             ++fallbacks;
             CHECK_CLOSE(i2.v_r, an.v_r, 0.0);
@@ -168,7 +168,7 @@ static void hex_sail(void)
     /* and back by the same path length: both modes return to the same
      * point, near the start (the chord sum is not the arc length, so the
      * last step lands only to O(delta^2) of the start) */
-    kin_step_info info;
+    kin_step_info info = {.size = sizeof info};
     int back = 0;
     while (kin_path_length(l) > 0.0 && back < 3 * steps) {
         double d = -fmin(kin_path_length(l), 0.1 * l->rms_length);
@@ -193,7 +193,7 @@ static void hex_sail(void)
     kin_get_coords(c, x1);
     CHECK(max_diff(n, x0, x1) == 0.0);
     /* an analysis on demand does not disturb the path */
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     CHECK_RC(kin_get_analysis(l, &an), KIN_ESTATE);
     double *t = malloc(sizeof(double) * (size_t)kin_nfree(l));
     CHECK_RC(kin_get_tangent(l, t, kin_nfree(l)), KIN_OK);
@@ -222,12 +222,12 @@ static void land_near_rc(double th1, int want_fallback, int want_m_internal)
     kin_assembly *s = threebar_at(th0), *l = NULL;
     CHECK_RC(kin_assembly_clone(s, &l), KIN_OK);
     set_mode(l, KIN_STEP_LU);
-    kin_step_info i1, i2;
+    kin_step_info i1 = {.size = sizeof i1}, i2 = {.size = sizeof i2};
     CHECK_RC(kin_step(s, delta, &i1), KIN_OK);
     /* a first LU-mode step analyses its start point by SVD; the landing point
      * costs one LU and, if it falls back, one more SVD */
     CHECK_RC(kin_step(l, delta, &i2), KIN_OK);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     int have = kin_get_analysis(l, &an) == KIN_OK;
     CHECK(have == want_fallback);
     CHECK(i2.factorizations == (want_fallback ? 3 : 2));
@@ -271,7 +271,7 @@ static void leave_rc(void)
     const double dir[4] = {0, 1, 0, 1};
     CHECK_RC(kin_path_set_direction(s, dir, 4), KIN_OK);
     CHECK_RC(kin_path_set_direction(l, dir, 4), KIN_OK);
-    kin_step_info i1, i2;
+    kin_step_info i1 = {.size = sizeof i1}, i2 = {.size = sizeof i2};
     CHECK_RC(kin_step(s, 1e-3, &i1), KIN_OK);
     CHECK_RC(kin_step(l, 1e-3, &i2), KIN_OK);
     CHECK(i1.m_internal == 1 && i2.m_internal == 1);
@@ -298,7 +298,7 @@ static void redundant_cranks(void)
     kin_assembly *a = NULL, *b = NULL;
     CHECK_RC(kin_assembly_create(2, 6, xyz, fixed, 6, bars, NULL, &a, NULL, 0), KIN_OK);
     if (!a) return;
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     CHECK_RC(kin_analyse(a, &an), KIN_OK);
     CHECK(an.m_internal == 1 && an.s == 1);
     CHECK_RC(kin_assembly_clone(a, &b), KIN_OK);
@@ -320,14 +320,14 @@ static void predicted_step_is_analysed(void)
 {
     kin_assembly *a = threebar_at(PI / 3);
     set_mode(a, KIN_STEP_LU);
-    kin_step_info info;
+    kin_step_info info = {.size = sizeof info};
     CHECK_RC(kin_step(a, 0.1, &info), KIN_OK);
     double xyz[8], t[4], pred[4];
     kin_get_coords(a, xyz);
     CHECK_RC(kin_get_tangent(a, t, 4), KIN_OK);
     for (int i = 0; i < 4; ++i) pred[i] = xyz[i] + 0.05 * t[i];
     CHECK_RC(kin__step_predicted(a, 0.05, pred, &info), KIN_OK);
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
     CHECK_RC(kin_get_analysis(a, &an), KIN_OK);
     CHECK(an.m_internal == 1);
     kin_assembly_free(a);

@@ -38,7 +38,7 @@ static void check_invariants(kin_assembly *a, const kin_analysis *an)
 int main(void)
 {
     kin_assembly *a = NULL;
-    kin_analysis an;
+    kin_analysis an = {.size = sizeof an};
 
     /* R^C: eq. 27 */
     CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
@@ -99,7 +99,7 @@ int main(void)
     CHECK_CLOSE(U[1], U[3], 8 * DBL_EPSILON);
     kin_assembly *b = NULL;
     CHECK_RC(kin_assembly_clone(a, &b), KIN_OK);
-    kin_analysis bn;
+    kin_analysis bn = {.size = sizeof bn};
     CHECK_RC(kin_get_analysis(b, &bn), KIN_OK);
     CHECK(memcmp(&an, &bn, sizeof an) == 0);
     kin_assembly_free(b);

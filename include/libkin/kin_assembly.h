@@ -15,6 +15,16 @@
  *  - Lengths are in the user's units; singular values scale like H (unitless
  *    direction cosines), so relative tolerances are relative to v_max.
  *
+ *  - Options and info structs start with `size_t size`: the size of the
+ *    struct the caller compiled against (docs/abi.md). Set it before a call,
+ *    with the struct's *_default() function (options) or an initializer
+ *    `kin_step_info info = {.size = sizeof info};` (outputs; for an array of
+ *    kin_branch_path, element 0's size). The library reads and writes only
+ *    that many bytes, so a host built against older headers keeps working
+ *    when a struct grows at its end; a size it does not know (0, garbage,
+ *    newer headers) gives KIN_EINVAL before anything is read or written.
+ *    On failure an output struct is zeroed (its size kept).
+ *
  * OWNERSHIP: libkin copies every array passed in; it never keeps, frees or
  * changes caller memory except the output arrays a call is documented to fill.
  * THREADS: a handle is used by one thread at a time; separate handles are
@@ -29,23 +39,34 @@ typedef struct kin_assembly kin_assembly;
 
 /* Create an assembly in its initial configuration.
  *  dim          2 or 3.
- *  njoints      number of joints, >= 2.
- *  xyz          njoints*dim coordinates (joint-major); finite.
+ *  njoints      number of joints, >= 2, with njoints*dim <= INT_MAX.
+ *  xyz          njoints*dim coordinates (joint-major); finite, |x| <= 1e150.
  *  fixed        njoints*dim flags, nonzero = that coordinate is fixed (a
  *               support); NULL = every coordinate free.
- *  nbars        number of bars, >= 1.
+ *  nbars        number of bars, >= 1, with 2*nbars <= INT_MAX.
  *  bars         2*nbars joint indices: bar k joins bars[2k] and bars[2k+1].
- *  rest_lengths nbars lengths to keep (finite, > 0); NULL = the initial
- *               lengths.
- *  out          receives the new handle; set to NULL on failure.
+ *               Every bar's initial length must be >= 1e-150.
+ *  rest_lengths nbars lengths to keep (finite, 1e-150..1e151); NULL = the
+ *               initial lengths.
+ *  out          receives the new handle; set to NULL on every failure
+ *               (unless out itself is NULL).
  *  errbuf       optional (may be NULL): on failure receives a message with
- *               detail, NUL-terminated, truncated to errlen bytes.
- * Allocates all workspace (including the LAPACK work arrays, whose sizes are
- * queried once here). Nothing is half-built: on failure everything allocated
- * is released.
- * Returns KIN_OK, or KIN_ENULL, KIN_EDIM, KIN_EINVAL (counts), KIN_EJOINT,
- * KIN_ESELFBAR, KIN_EDUPBAR, KIN_EGEOM, KIN_ENOFREE, KIN_ENOMEM,
- * KIN_ELAPACK_ARG. */
+ *               detail (naming the joint or bar at fault), NUL-terminated,
+ *               truncated to errlen bytes.
+ * The length bounds keep every square of a length a normal double (the
+ * extensions and eq. 12 square lengths): the library works in any unit in
+ * which the structure's lengths lie within them.
+ * The counts are checked before any array is read. Allocates all workspace
+ * (including the LAPACK work arrays, whose sizes are queried once here);
+ * each dense matrix of the analysis (nfree^2, nbars^2, nfree*(nbars+7)
+ * entries) must fit LAPACK's int sizes. Nothing is half-built: on failure
+ * everything allocated is released.
+ * Returns KIN_OK, or KIN_ENULL, KIN_EDIM, KIN_EINVAL (njoints < 2 or
+ * nbars < 1), KIN_ERANGE (njoints*dim or 2*nbars exceed INT_MAX), KIN_EJOINT,
+ * KIN_ESELFBAR, KIN_EDUPBAR, KIN_EGEOM (a non-finite or too large coordinate,
+ * a bar shorter than 1e-150, a rest length out of range), KIN_ENOFREE,
+ * KIN_ENOMEM (allocation failed, or a matrix or LAPACK workspace would
+ * exceed INT_MAX entries), KIN_ELAPACK_ARG. */
 KIN_API int kin_assembly_create(int dim, int njoints, const double *xyz,
                                 const unsigned char *fixed, int nbars, const int *bars,
                                 const double *rest_lengths, kin_assembly **out,
@@ -82,13 +103,15 @@ KIN_API int kin_get_fixed(const kin_assembly *a, unsigned char *fixed);
 /* Current joint coordinates, njoints*dim, joint-major. KIN_OK or KIN_ENULL. */
 KIN_API int kin_get_coords(const kin_assembly *a, double *xyz);
 
-/* Move the assembly to new coordinates (njoints*dim, joint-major, finite).
- * Fixed coordinates must equal their current values (supports do not move).
- * Resets the path state (path length, orientation, step count) and
- * invalidates the analysis. Rest lengths are unchanged: the new
- * configuration may be strained. Returns KIN_OK, KIN_ENULL, KIN_EGEOM, or
- * KIN_EINVAL (a fixed coordinate changed, or a bar collapsed to zero length);
- * on error the assembly is unchanged. */
+/* Move the assembly to new coordinates (njoints*dim, joint-major, finite,
+ * |x| <= 1e150 as for kin_assembly_create). Fixed coordinates must equal
+ * their current values (supports do not move). Resets the path state (path
+ * length, orientation, step count) and invalidates the analysis. Rest
+ * lengths are unchanged: the new configuration may be strained. Returns
+ * KIN_OK, KIN_ENULL, KIN_EGEOM (a coordinate non-finite or too large, or a
+ * bar shorter than 1e-150 but not zero), or KIN_EINVAL (a fixed coordinate
+ * changed, or a bar collapsed to zero length); on error the assembly is
+ * unchanged (but for kin_last_error()). */
 KIN_API int kin_set_coords(kin_assembly *a, const double *xyz);
 
 /* Current bar lengths (nbars). KIN_OK or KIN_ENULL. */
@@ -108,6 +131,7 @@ KIN_API int kin_get_equilibrium_matrix(const kin_assembly *a, double *H, int ldh
 /* ---- First-order analysis (paper 3.1) -------------------------------- */
 
 typedef struct kin_analysis {
+    size_t size; /* sizeof(kin_analysis) as the caller compiled it (docs/abi.md) */
     int rank;       /* r: singular values > rank_tol * v_max */
     int m;          /* nfree - r: all infinitesimal mechanisms */
     int m_rigid;    /* rigid-body mechanisms allowed by the supports */

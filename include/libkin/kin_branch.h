@@ -12,8 +12,10 @@
 #ifndef KIN_BRANCH_H
 #define KIN_BRANCH_H
 
+#include <stddef.h>
 #include "kin_export.h"
 #include "kin_assembly.h"
+#include "kin_progress.h"
 
 /* Which weighting of the second-order matrices. */
 enum kin_q_weighting {
@@ -27,14 +29,17 @@ enum kin_q_weighting {
  * normalise != 0 applies eq. 18: the matrices, as vectors of length m^2, are
  * orthonormalised by modified Gram-Schmidt (twice); *s_out receives how many
  * independent matrices remain (< s if some Q_j are dependent). Without
- * normalisation *s_out = s.
+ * normalisation *s_out = s. On failure *s_out = 0 (if s_out is not NULL) and
+ * Q is not written.
  * Returns KIN_OK, KIN_ENULL, KIN_ESTATE (no current analysis), KIN_EINVAL
- * (weighting, or not a bifurcation: m_internal < 2 or s < 1), KIN_ERANGE. */
+ * (weighting, or not a bifurcation: m_internal < 2 or s < 1), KIN_ERANGE
+ * (nq < m*m*s, counted in size_t: m*m*s may exceed INT_MAX). */
 KIN_API int kin_second_order(const kin_assembly *a, int weighting, int normalise, double *Q, int nq,
                              int *s_out);
 
 /* What a quadric solve found. */
 typedef struct kin_solve_info {
+    size_t size; /* sizeof(kin_solve_info) as the caller compiled it (docs/abi.md) */
     int starts;      /* starting points tried */
     int converged;   /* starts that converged to a root */
     int distinct;    /* distinct real solutions (beta and -beta counted once) */
@@ -49,10 +54,20 @@ typedef struct kin_solve_info {
  * result is deterministic). Duplicates are dropped by eq. 20 (|beta_i .
  * beta_j| ~ 1). Solutions go to betas (m x maxsol, column-major), each with
  * its largest-magnitude entry positive; *nsol receives their number (at most
- * maxsol; info->distinct may be larger). Q is as from kin_second_order.
- * GSL's abort handler is switched off for the call's thread of use.
+ * maxsol; info->distinct may be larger). Q is as from kin_second_order:
+ * finite, and scaled like the normalised matrices (the root test is an
+ * absolute residual of 1e-12). info may be NULL.
+ * On every failure, including the first argument checks, *nsol = 0 and *info
+ * is zeroed (those that are not NULL); betas is not written.
+ * GSL's error handler (process-wide) is never changed. The call avoids every
+ * GSL error that would invoke it but one: if malloc fails inside
+ * gsl_multiroot_fdfsolver_alloc (about 3 m^2 + 16 m doubles), GSL raises
+ * GSL_ENOMEM through the application's current handler (GSL's default
+ * aborts; install another with gsl_set_error_handler if that matters) and the
+ * call then returns KIN_ENOMEM if the handler returns.
  * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (m != s+1, m < 2, starts < 1,
- * maxsol < 1), KIN_ERANGE (m > 256), KIN_ENOMEM. */
+ * maxsol < 1, a NaN or infinite entry of Q), KIN_ERANGE (m > 256),
+ * KIN_ENOMEM. */
 KIN_API int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long seed,
                               double *betas, int maxsol, int *nsol, kin_solve_info *info);
 
@@ -60,6 +75,7 @@ KIN_API int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigne
  * in exactly one class, paths = real + nonreal + singular + failed.
  * Fields after `failed` report the checks (see kin_quadrics_homotopy). */
 typedef struct kin_homotopy_info {
+    size_t size; /* sizeof(kin_homotopy_info) as the caller compiled it (docs/abi.md) */
     int paths;         /* 2^s */
     int real;          /* certified real simple roots reached (counted with multiplicity) */
     int real_distinct; /* distinct real solutions */
@@ -103,18 +119,65 @@ typedef struct kin_homotopy_info {
  * info->unpaired. When real + nonreal = 2^s with both 0, every solution is
  * found and simple (Bezout's bound is attained). Duplicates and conjugates
  * are found by sorting, O(2^s log 2^s).
- * nthreads >= 1 threads share the paths; the result is the same for any
- * thread count. Distinct real solutions go to betas (m x maxsol, unit,
+ * nthreads >= 1 threads share the paths, at most one per online processor
+ * and at most 2^s (a larger count is clamped); the result is the same for
+ * any thread count. Distinct real solutions go to betas (m x maxsol, unit,
  * largest entry positive; in the order of the first path reaching them),
  * their path counts to multiplicity (optional, maxsol ints; 1 unless a
- * duplicate remained). Returns KIN_OK, KIN_ENULL, KIN_EINVAL (m != s+1,
- * m < 2, maxsol < 1, nthreads < 1), KIN_ERANGE (m > 24), KIN_ENOMEM. */
+ * duplicate remained). Q must be finite (each Q_j is scaled to unit
+ * Frobenius norm, computed without overflow). Memory: about (16 m + 85)
+ * bytes per path (2^20 paths at m = 21: 450 MB), time about 1.3 ms per path
+ * and core at s = 15. On every failure, including the first argument
+ * checks, *nsol = 0 and *info is zeroed (those that are not NULL); betas
+ * and multiplicity are not written.
+ * This entry point has the defaults of kin_homotopy_options (no progress,
+ * at most KIN_HOMOTOPY_MAX_PATHS paths); see kin_quadrics_homotopy_ex.
+ * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (m != s+1, m < 2, maxsol < 1,
+ * nthreads < 1, a NaN or infinite entry of Q), KIN_ERANGE (m > 24),
+ * KIN_ELIMIT (2^s > 2^20), KIN_ENOMEM. */
 KIN_API int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads,
                                   double *betas, int maxsol, int *nsol, int *multiplicity,
                                   kin_homotopy_info *info);
 
+/* Default limit on the number of paths (2^s) of the complete solver. */
+#define KIN_HOMOTOPY_MAX_PATHS (1L << 20)
+
+/* Settings of kin_quadrics_homotopy_ex. Start from
+ * kin_homotopy_options_default() and change what you need. */
+typedef struct kin_homotopy_options {
+    size_t size; /* sizeof(kin_homotopy_options) as the caller compiled it (docs/abi.md) */
+    unsigned long seed;  /* random chart and gamma (the result is deterministic for a seed).
+                            Default 1 */
+    int nthreads;        /* worker threads, >= 0; 0 = one per online processor; more than
+                            the online processors are clamped to their number. Default 0 */
+    long max_paths;      /* refuse (KIN_ELIMIT) problems with more than this many paths
+                            2^s, >= 1. Default KIN_HOMOTOPY_MAX_PATHS = 2^20 (s <= 20);
+                            s = 23 (8.4 million paths) takes hours and ~4 GB */
+    kin_progress_fn progress; /* optional (NULL: none): done = paths tracked, total = 2^s plus
+                                 the paths scheduled for re-tracking so far; called
+                                 from the calling thread every 50 ms of tracking */
+    void *user;          /* passed to progress */
+} kin_homotopy_options;
+
+/* Fill o with the defaults above. Does nothing if o is NULL. */
+KIN_API void kin_homotopy_options_default(kin_homotopy_options *o);
+
+/* kin_quadrics_homotopy with settings (opt NULL: the defaults). The calling
+ * thread tracks paths too and calls opt->progress; a nonzero return stops
+ * every thread at its next path boundary (within a few milliseconds per
+ * thread at s <= 20) and the call returns KIN_ECANCELLED with *info zeroed,
+ * *nsol = 0 and betas and multiplicity not written. A problem over
+ * opt->max_paths is refused before anything is allocated or tracked.
+ * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (m != s+1, m < 2, maxsol < 1,
+ * nthreads < 0, max_paths < 1), KIN_ERANGE (m > 24), KIN_ELIMIT,
+ * KIN_ECANCELLED, KIN_ENOMEM. */
+KIN_API int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_options *opt,
+                                     double *betas, int maxsol, int *nsol, int *multiplicity,
+                                     kin_homotopy_info *info);
+
 /* One candidate path out of a bifurcation (paper 3.4). */
 typedef struct kin_branch_path {
+    size_t size; /* sizeof(kin_branch_path) as the caller compiled it (docs/abi.md) */
     int beta;        /* index of the second-order solution */
     int sign;        /* +1 or -1: direction of motion along U_m*beta */
     int exists;      /* the first step converged and the path was followed */
@@ -135,8 +198,17 @@ typedef struct kin_branch_path {
  * paths receives 2*nbeta entries (beta 0 +, beta 0 -, beta 1 +, ...);
  * final_xyz (optional, njoints*dim x 2*nbeta) the end configurations.
  * The caller's assembly is not changed. *ndistinct receives the number of
- * distinct paths. Returns KIN_OK, KIN_ENULL, KIN_ESTATE, KIN_EINVAL
- * (not a bifurcation, nbeta < 1, l_target <= 0), KIN_ENOMEM. */
+ * distinct paths. l_target must be finite, > 0 and at most 1e6 largest steps
+ * (step_fraction x RMS rest length, kin_path.h), which bounds the work.
+ * Progress goes to a's callback (kin_set_progress) before every step: done
+ * = directed paths followed (plus the fraction of l_target covered by the
+ * one under way), total = 2*nbeta. On every failure (a cancel included)
+ * *ndistinct = 0 (if not NULL) and, once nbeta is valid, the 2*nbeta
+ * entries of paths are zeroed with path_id = -1; final_xyz is written only
+ * on success. Returns KIN_OK, KIN_ENULL, KIN_ESTATE, KIN_EINVAL (not a
+ * bifurcation, nbeta < 1, l_target not finite or <= 0, a NaN or infinite
+ * entry of betas), KIN_ERANGE (nbeta > INT_MAX/2, l_target above 1e6
+ * largest steps), KIN_ECANCELLED, KIN_ENOMEM. */
 KIN_API int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, double l_target,
                              kin_branch_path *paths, double *final_xyz, int *ndistinct);
 

@@ -12,8 +12,10 @@
 #ifndef KIN_LOCATE_H
 #define KIN_LOCATE_H
 
+#include <stddef.h>
 #include "kin_export.h"
 #include "kin_assembly.h"
+#include "kin_progress.h"
 
 /* Location methods. */
 enum kin_locate_method {
@@ -38,6 +40,7 @@ enum kin_locate_event {
 };
 
 typedef struct kin_locate_options {
+    size_t size; /* sizeof(kin_locate_options) as the caller compiled it (docs/abi.md) */
     int method;          /* enum kin_locate_method. Default KIN_LOCATE_FAST */
     double vr_tol;       /* located when v_r <= vr_tol * v_max (v_r: see kin_locate_info).
                             Default 1e-10 */
@@ -49,6 +52,7 @@ typedef struct kin_locate_options {
 } kin_locate_options;
 
 typedef struct kin_locate_info {
+    size_t size; /* sizeof(kin_locate_info) as the caller compiled it (docs/abi.md) */
     int event;            /* enum kin_locate_event */
     int located;          /* 1 if the assembly now sits on a bifurcation */
     int steps;            /* path-following steps taken before detection */
@@ -89,8 +93,15 @@ KIN_API int kin_test_function(kin_assembly *a, double *tau);
  * kin_last_error(). Allocates its working copies of the assembly (three; five
  * for the fast method) and the interpolation workspace once per call, none
  * while stepping.
+ * Progress goes to the handle's callback (kin_set_progress, kin_progress.h)
+ * before every step and location iteration: done = steps + forward
+ * calculations, total = max_steps + max_iter. If it cancels, the assembly is
+ * left at the last regular point reached on the path (as for KIN_ENOTFOUND:
+ * analysed, stepping can resume), info holds the counts of the work done
+ * (located = 0; event what was detected before the cancel) and
+ * KIN_ECANCELLED is returned.
  * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (options), KIN_EBIFURCATION (already
- * at one), KIN_ENOTFOUND, KIN_ENOMEM, step and LAPACK codes. */
+ * at one), KIN_ENOTFOUND, KIN_ECANCELLED, KIN_ENOMEM, step and LAPACK codes. */
 KIN_API int kin_locate_next(kin_assembly *a, const kin_locate_options *o, kin_locate_info *info);
 
 #endif /* KIN_LOCATE_H */

@@ -44,10 +44,12 @@ enum kin_sail_diagonal {
  * widths[0]+widths[1], ...; per loop and per k a fold segment, a ring bar and
  * a diagonal. All nodes start flat (z = 0). */
 typedef struct kin_sail_params {
+    size_t size; /* sizeof(kin_sail_params) as the caller compiled it (docs/abi.md) */
     int n_sides;          /* hub sides n, 3..64 */
     int n_loops;          /* loops of triangles, 1..64 */
-    double side;          /* hub side length a > 0 */
-    const double *widths; /* n_loops loop widths > 0, or NULL: a*tan(pi/n) each */
+    double side;          /* hub side length a, 1e-140..1e140 */
+    const double *widths; /* n_loops loop widths, each 1e-140..1e140 and their sum
+                             <= 1e140, or NULL: a*tan(pi/n) each */
     int support;          /* enum kin_sail_support */
     int diagonal;         /* enum kin_sail_diagonal */
 } kin_sail_params;
@@ -60,12 +62,14 @@ KIN_API void kin_sail_params_default(kin_sail_params *p, int n_sides, int n_loop
 /* Joint and bar counts of the sail that p describes (either pointer may be
  * NULL). Joint order: [C if CENTRE], V0..V(n-1), loop-1 nodes 0..n-1, loop-2
  * nodes, ... Bar order: [spokes C-V1, C-V3, ...], hub edges V_k-V_k+1, then
- * per loop and per k: fold, ring, diagonal. Returns KIN_OK, KIN_ENULL,
- * KIN_EINVAL (with the reason in errbuf of kin_model_sail). */
+ * per loop and per k: fold, ring, diagonal. On failure the counts are 0.
+ * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (with the reason in errbuf of
+ * kin_model_sail). */
 KIN_API int kin_sail_size(const kin_sail_params *p, int *njoints, int *nbars);
 
-/* Build the sail. errbuf (optional) receives the reason of a failure.
- * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (parameters), or a creation error. */
+/* Build the sail. errbuf (optional) receives the reason of a failure; *out
+ * is NULL on failure. Returns KIN_OK, KIN_ENULL, KIN_EINVAL (parameters),
+ * KIN_ENOMEM, or a creation error. */
 KIN_API int kin_model_sail(const kin_sail_params *p, kin_assembly **out, char *errbuf,
                            size_t errlen);
 

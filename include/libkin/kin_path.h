@@ -50,11 +50,13 @@
 #ifndef KIN_PATH_H
 #define KIN_PATH_H
 
+#include <stddef.h>
 #include "kin_export.h"
 #include "kin_assembly.h"
 
 /* Tunable tolerances. Get the defaults with kin_options_default(). */
 typedef struct kin_options {
+    size_t size; /* sizeof(kin_options) as the caller compiled it (docs/abi.md) */
     double rank_tol;        /* singular values <= rank_tol*v_max count as zero. Default 1e-9 */
     double corrector_tol;   /* target max |L-L0|/L0 of a step. Default 1e-12 */
     int corrector_max_iter; /* chord + Newton iterations per attempt. Default 60 */
@@ -87,6 +89,7 @@ KIN_API int kin_get_options(const kin_assembly *a, kin_options *o);
 
 /* What one step did. */
 typedef struct kin_step_info {
+    size_t size; /* sizeof(kin_step_info) as the caller compiled it (docs/abi.md) */
     double l;           /* signed path length after the step (sum of chords) */
     double delta;       /* amplitude actually used (after clamping/halving) */
     double v_r;         /* lowest non-zero singular value at the new point; in

@@ -18,7 +18,7 @@
     X(KIN_EJOINT, 4, "joint index out of range")                                               \
     X(KIN_ESELFBAR, 5, "bar connects a joint to itself")                                       \
     X(KIN_EDUPBAR, 6, "duplicate bar")                                                         \
-    X(KIN_EGEOM, 7, "non-finite coordinate or length, or zero-length bar")                     \
+    X(KIN_EGEOM, 7, "coordinate or length non-finite, out of range, or zero")                  \
     X(KIN_ENOFREE, 8, "assembly has no free coordinates")                                      \
     X(KIN_ENOMEM, 9, "out of memory")                                                          \
     X(KIN_ELAPACK_ARG, 10, "LAPACK rejected an argument (info < 0): internal error")           \

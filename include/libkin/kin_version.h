@@ -6,10 +6,10 @@
 #include "kin_export.h"
 
 #define KIN_VERSION_MAJOR 0
-#define KIN_VERSION_MINOR 2
+#define KIN_VERSION_MINOR 3
 #define KIN_VERSION_PATCH 0
 #define KIN_VERSION_NUMBER (KIN_VERSION_MAJOR * 10000 + KIN_VERSION_MINOR * 100 + KIN_VERSION_PATCH)
-#define KIN_VERSION_STRING "0.2.0"
+#define KIN_VERSION_STRING "0.3.0"
 
 /* Version of the library actually linked, as KIN_VERSION_NUMBER.
  * Compare with KIN_VERSION_NUMBER to detect a header/library mismatch. */

@@ -6,11 +6,11 @@ from ._lib import lib, library_path
 from .assembly import Analysis, Assembly, Options, StepInfo
 from .errors import KinError, ModelFormatError  # noqa: F401
 from . import errors  # noqa: F401
-from .model_json import load_json, to_json  # noqa: F401
+from .model_json import load_json, load_model, to_json  # noqa: F401
 
 __version__ = ".".join(map(str, VERSION))
 Assembly.from_json = staticmethod(load_json)
 Assembly.to_json = to_json
 
 __all__ = ["Assembly", "Analysis", "Options", "StepInfo", "KinError", "ModelFormatError", "errors",
-           "load_json", "to_json", "lib", "library_path", "__version__"]
+           "load_json", "load_model", "to_json", "lib", "library_path", "__version__"]

@@ -53,3 +53,16 @@ def _load():
 
 
 lib, library_path = _load()
+
+
+def new_struct(ctype, n=None):
+    """A zeroed libkin options/info struct (or an array of n of them) with its
+    leading `size` field set, as the C library requires (docs/abi.md)."""
+    if n is None:
+        p = ffi.new(ctype + " *")
+        p.size = ffi.sizeof(ctype)
+    else:
+        p = ffi.new(ctype + "[]", n)
+        for i in range(n):
+            p[i].size = ffi.sizeof(ctype)
+    return p

@@ -11,7 +11,8 @@ import math
 import numpy as np
 
 from ._arrays import as_c_array, read_ptr, write_ptr
-from ._lib import ffi, lib
+from ._lib import ffi, lib, new_struct
+from ._progress import reporting
 from .errors import ModelFormatError, StateError, check
 
 
@@ -158,7 +159,7 @@ class Assembly:
     def sail(cls, n_sides=6, n_loops=2, side=1.0, widths=None, support="auto", diagonal="forward"):
         """A member of the wrapping-fold solar-sail family (kin_model_sail):
         (4, 1) is the paper's square-hub sail, (6, 2) the hexagonal one."""
-        p = ffi.new("kin_sail_params *")
+        p = new_struct("kin_sail_params")
         lib.kin_sail_params_default(p, int(n_sides), int(n_loops))
         p.side = float(side)
         supports = {"auto": lib.KIN_SAIL_SUPPORT_AUTO, "opposite": lib.KIN_SAIL_SUPPORT_OPPOSITE,
@@ -270,7 +271,7 @@ class Assembly:
     # ---- analysis --------------------------------------------------------
     def analyse(self):
         """Factorize H here and return an Analysis."""
-        an = ffi.new("kin_analysis *")
+        an = new_struct("kin_analysis")
         self._check(lib.kin_analyse(self._h, an), "analyse")
         nf, nb = self.nfree, self.nbars
         sv = np.empty(min(nf, nb))
@@ -291,7 +292,7 @@ class Assembly:
     # ---- path ------------------------------------------------------------
     @property
     def options(self):
-        o = ffi.new("kin_options *")
+        o = new_struct("kin_options")
         self._check(lib.kin_get_options(self._h, o))
         return Options(**{k: getattr(o, k) for k in _OPTION_FIELDS})
 
@@ -299,7 +300,7 @@ class Assembly:
     def options(self, value):
         if not isinstance(value, Options):
             raise TypeError("options must be a libkin.Options")
-        o = ffi.new("kin_options *")
+        o = new_struct("kin_options")
         for k in _OPTION_FIELDS:
             setattr(o, k, getattr(value, k))
         self._check(lib.kin_set_options(self._h, o), "options")
@@ -310,7 +311,7 @@ class Assembly:
         raises NotConvergedError / PathJumpError with the assembly unchanged."""
         if not isinstance(delta, (int, float)) or not math.isfinite(delta):
             raise ModelFormatError(f"delta: expected a finite number, got {delta!r}")
-        info = ffi.new("kin_step_info *")
+        info = new_struct("kin_step_info")
         self._check(lib.kin_step(self._h, float(delta), info), "step")
         return StepInfo(info.l, info.delta, info.v_r, info.residual, info.cos_turn,
                         info.iterations, info.halvings, info.factorizations, info.m_internal)
@@ -418,10 +419,13 @@ def _second_order(self, weighting="exact", normalise=True):
     return Q[: s_out[0]]
 
 
-def solve_quadrics(Q, solver="homotopy", starts=1024, seed=1, threads=2):
+def solve_quadrics(Q, solver="homotopy", starts=1024, seed=1, threads=2, progress=None, max_paths=None):
     """Real solutions beta (nsol, m) of beta^T Q_j beta = 0 (j < s), |beta| = 1,
     for Q of shape (s, m, m) with m = s + 1, and the solver's accounting
-    (see _branches)."""
+    (see _branches). The homotopy: `threads` at most the online processors,
+    at most `max_paths` paths 2^s (None: the library's 2^20; more raises
+    LimitError), progress as in libkin._progress (Ctrl-C stops it within
+    about 0.1 s and raises KeyboardInterrupt)."""
     Q = np.asarray(Q, dtype=np.float64)
     if Q.ndim != 3 or Q.shape[1] != Q.shape[2]:
         raise ModelFormatError(f"Q: expected shape (s, m, m), got {Q.shape}")
@@ -433,15 +437,23 @@ def solve_quadrics(Q, solver="homotopy", starts=1024, seed=1, threads=2):
     betas = np.empty((maxsol, m))
     nsol = ffi.new("int *")
     if solver == "scan":
-        info = ffi.new("kin_solve_info *")
+        info = new_struct("kin_solve_info")
         check(lib.kin_quadrics_scan(m, s, read_ptr(Qc, "double *"), int(starts), int(seed),
                                     write_ptr(betas, "double *"), maxsol, nsol, info), what="scan")
         accounting = {"starts": info.starts, "converged": info.converged, "distinct": info.distinct}
     elif solver == "homotopy":
-        info = ffi.new("kin_homotopy_info *")
-        check(lib.kin_quadrics_homotopy(m, s, read_ptr(Qc, "double *"), int(seed), int(threads),
-                                        write_ptr(betas, "double *"), maxsol, nsol, ffi.NULL, info),
-              what="homotopy")
+        info = new_struct("kin_homotopy_info")
+        opt = new_struct("kin_homotopy_options")
+        lib.kin_homotopy_options_default(opt)
+        opt.seed = int(seed)
+        opt.nthreads = int(threads)
+        if max_paths is not None:
+            opt.max_paths = int(max_paths)
+        with reporting(progress, f"homotopy 2^{s}", "path") as rep:
+            opt.progress = rep.c_callback
+            rc = lib.kin_quadrics_homotopy_ex(m, s, read_ptr(Qc, "double *"), opt, write_ptr(betas, "double *"),
+                                              maxsol, nsol, ffi.NULL, info)
+        check(rc, what="homotopy")
         accounting = {k: getattr(info, k) for k in ("paths", "real", "real_distinct", "nonreal", "singular", "failed",
                                                     "duplicates", "unpaired", "retracked")}
     else:
@@ -449,20 +461,25 @@ def solve_quadrics(Q, solver="homotopy", starts=1024, seed=1, threads=2):
     return betas[: nsol[0]].copy(), accounting
 
 
-def _branches(self, solver="homotopy", starts=1024, length=1.0, seed=1, weighting="exact", threads=2):
+def _branches(self, solver="homotopy", starts=1024, length=1.0, seed=1, weighting="exact", threads=2,
+              progress=None, max_paths=None):
     """Every path out of this bifurcation: solve the second-order equations
     (solver 'homotopy': the complete solver, accounting for all 2^s paths;
     'scan': the paper's root scan from `starts` points), then follow each
     real solution in both directions to path length `length` and group
-    coinciding paths. `accounting` holds the solver's counts."""
-    betas, accounting = solve_quadrics(self.second_order(weighting=weighting), solver, starts, seed, threads)
-    return self.follow_branches(betas, length=length, accounting=accounting)
+    coinciding paths. `accounting` holds the solver's counts. progress (see
+    libkin._progress) covers the homotopy and the following, one after the
+    other; max_paths: see solve_quadrics."""
+    betas, accounting = solve_quadrics(self.second_order(weighting=weighting), solver, starts, seed, threads,
+                                       progress=progress, max_paths=max_paths)
+    return self.follow_branches(betas, length=length, accounting=accounting, progress=progress)
 
 
-def _follow_branches(self, betas, length=1.0, accounting=None):
+def _follow_branches(self, betas, length=1.0, accounting=None, progress=None):
     """Follow the second-order solutions `betas` (nsol, m_internal) in both
     directions to path length `length` (kin_branch_paths) and group
-    coinciding paths."""
+    coinciding paths. progress: see libkin._progress (Ctrl-C stops the
+    following and raises KeyboardInterrupt; the assembly is unchanged)."""
     betas = np.ascontiguousarray(np.atleast_2d(np.asarray(betas, dtype=np.float64)))
     nsol = [betas.shape[0]]
     U = self.analyse().internal_mechanisms
@@ -471,11 +488,13 @@ def _follow_branches(self, betas, length=1.0, accounting=None):
     paths = []
     distinct = 0
     if nsol[0]:
-        cp = ffi.new("kin_branch_path[]", 2 * nsol[0])
+        cp = new_struct("kin_branch_path", 2 * nsol[0])
         ends = np.empty((2 * nsol[0], self.njoints, self.dim))
         nd = ffi.new("int *")
-        self._check(lib.kin_branch_paths(self._h, read_ptr(betas, "double *"), nsol[0], float(length), cp,
-                                         write_ptr(ends, "double *"), nd), "branch paths")
+        with reporting(progress, "branches", "path", self._h):
+            rc = lib.kin_branch_paths(self._h, read_ptr(betas, "double *"), nsol[0], float(length), cp,
+                                      write_ptr(ends, "double *"), nd)
+        self._check(rc, "branch paths")
         distinct = nd[0]
         paths = [BranchPath(p.beta, p.sign, bool(p.exists), bool(p.tangent_ok), p.tangent_cos, p.path_id,
                             p.length, ends[k]) for k, p in enumerate(cp)]
@@ -511,25 +530,29 @@ class LocateInfo:
     zero_order: int = 0
 
 
-def _locate(self, method="fast", delta=0.0, vr_tol=1e-10, max_steps=1000):
+def _locate(self, method="fast", delta=0.0, vr_tol=1e-10, max_steps=1000, progress=None):
     """Follow the path (delta > 0 forwards, < 0 backwards, 0 = largest step)
     until a bifurcation is detected and converge onto it: method 'fast'
     (Hermite interpolation of the path and of the signed vanishing singular
     value), 'illinois' (Illinois on the signed test function) or 'paper'
     (eq. 23-26). Raises
     NotFoundError if none is found or location gives up (the assembly then
-    stays on the path)."""
+    stays on the path). progress: see libkin._progress (done: steps and
+    forward calculations; Ctrl-C or a cancel leaves the assembly at the last
+    regular point reached on the path)."""
     methods = {"fast": lib.KIN_LOCATE_FAST, "paper": lib.KIN_LOCATE_PAPER, "illinois": lib.KIN_LOCATE_ILLINOIS}
     if method not in methods:
         raise ModelFormatError(f"method: expected one of {sorted(methods)}, got {method!r}")
-    o = ffi.new("kin_locate_options *")
+    o = new_struct("kin_locate_options")
     lib.kin_locate_options_default(o)
     o.method = methods[method]
     o.delta = float(delta)
     o.vr_tol = float(vr_tol)
     o.max_steps = int(max_steps)
-    info = ffi.new("kin_locate_info *")
-    self._check(lib.kin_locate_next(self._h, o, info), "locate")
+    info = new_struct("kin_locate_info")
+    with reporting(progress, "locate", "step", self._h):
+        rc = lib.kin_locate_next(self._h, o, info)
+    self._check(rc, "locate")
     return LocateInfo(info.event, bool(info.located), info.steps, info.factorizations, info.forward,
                       info.v_r, info.v_r_rel, info.distance, bool(info.path_kept), info.m_internal, info.s,
                       info.zero_order)

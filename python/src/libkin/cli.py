@@ -235,3 +235,6 @@ def main(argv=None):
     except (KinError, OSError, ImportError) as exc:
         print(f"libkin: {exc}", file=sys.stderr)
         return 1
+    except KeyboardInterrupt:  # Ctrl-C: the long C calls stop within ~0.1 s
+        print("libkin: interrupted", file=sys.stderr)
+        return 130

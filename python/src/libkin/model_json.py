@@ -1,4 +1,4 @@
-"""The JSON model format (schema in python/README.md).
+"""The JSON model format (schema in docs/model_format.md; C reads it too, kin_io.h).
 
 {"name": str, "dimension": 2|3,
  "joints": [{"index": i, "label": str, "xyz": [x, y(, z)], "free": [bool, ...]}, ...],
@@ -19,9 +19,41 @@ def _fail(where, msg):
 
 
 def _number(v, where):
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+    # integers beyond 64 bits are refused, as C (jansson) refuses them
+    if (isinstance(v, bool) or not isinstance(v, (int, float)) or
+            (isinstance(v, int) and not -2**63 <= v < 2**63) or not math.isfinite(v)):
         _fail(where, f"expected a finite number, got {v!r}")
     return float(v)
+
+
+#: Lists and objects nest at most this deep (the document is depth 1).
+MAX_DEPTH = 64
+
+
+def _check_text(doc):
+    """Refuse what valid JSON may hold but C's reader (jansson) refuses, so
+    both loaders agree: nesting deeper than MAX_DEPTH, an unpaired surrogate
+    escape ("\\ud800") in a string, a NUL in a key."""
+    stack = [(doc, 1)]
+    while stack:
+        v, depth = stack.pop()
+        if isinstance(v, (dict, list)):
+            if depth > MAX_DEPTH:
+                _fail("JSON text", f"lists or objects nested deeper than {MAX_DEPTH}")
+            if isinstance(v, dict):
+                if any("\0" in k for k in v):
+                    _fail("JSON text", "a key holds U+0000")
+                stack.extend((k, depth) for k in v)
+            stack.extend((c, depth + 1) for c in (v.values() if isinstance(v, dict) else v))
+        elif isinstance(v, str):
+            try:
+                v.encode("utf-8")
+            except UnicodeEncodeError:
+                _fail("JSON text", f"a string holds an unpaired surrogate: {v!r}")
+
+
+def _is_int(v):
+    return isinstance(v, int) and not isinstance(v, bool)
 
 
 def parse(doc):
@@ -29,7 +61,7 @@ def parse(doc):
     if not isinstance(doc, dict):
         _fail("model", f"expected a JSON object, got {type(doc).__name__}")
     dim = doc.get("dimension")
-    if dim not in (2, 3) or isinstance(dim, bool):
+    if dim not in (2, 3) or not _is_int(dim):
         _fail("dimension", f"expected 2 or 3, got {dim!r}")
     joints = doc.get("joints")
     if not isinstance(joints, list) or not joints:
@@ -41,7 +73,7 @@ def parse(doc):
         w = f"joints[{i}]"
         if not isinstance(j, dict):
             _fail(w, "expected an object")
-        if "index" in j and j["index"] != i:
+        if "index" in j and not (_is_int(j["index"]) and j["index"] == i):
             _fail(f"{w}.index", f"expected {i}, got {j['index']!r}")
         xyz = j.get("xyz")
         if not isinstance(xyz, list) or len(xyz) != dim:
@@ -65,7 +97,7 @@ def parse(doc):
         w = f"bars[{k}]"
         if not isinstance(b, dict):
             _fail(w, "expected an object")
-        if "index" in b and b["index"] != k:
+        if "index" in b and not (_is_int(b["index"]) and b["index"] == k):
             _fail(f"{w}.index", f"expected {k}, got {b['index']!r}")
         ends = b.get("joints")
         if (not isinstance(ends, list) or len(ends) != 2 or
@@ -82,6 +114,8 @@ def parse(doc):
     if any(have_len) and not all(have_len):
         _fail("bars", "give a length for every bar or for none")
     name = doc.get("name", "model")
+    if not isinstance(name, str):
+        _fail("name", f"expected a string, got {name!r}")
     return name, coords, bars, fixed, (lengths if all(have_len) else None), labels
 
 
@@ -93,12 +127,18 @@ def load_json(source):
     else:
         text = source
         if isinstance(source, (str, os.PathLike)) and not str(source).lstrip().startswith("{"):
-            with open(source) as f:
-                text = f.read()
+            try:
+                with open(source, encoding="utf-8") as f:
+                    text = f.read()
+            except UnicodeDecodeError as exc:
+                raise ModelFormatError(f"not UTF-8 text: byte {exc.start}: {exc.reason}") from None
         try:
             doc = json.loads(text)
         except json.JSONDecodeError as exc:
             raise ModelFormatError(f"JSON syntax: line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
+        except RecursionError:
+            _fail("JSON text", f"lists or objects nested deeper than {MAX_DEPTH}")
+        _check_text(doc)
     name, coords, bars, fixed, lengths, labels = parse(doc)
     return Assembly(coords, bars, fixed=fixed, lengths=lengths, labels=labels, name=name)
 
@@ -119,3 +159,30 @@ def to_json(self, path=None):
         with open(path, "w") as f:
             json.dump(doc, f, indent=1)
     return doc
+
+
+def load_model(source, engine="python"):
+    """Build an Assembly from a JSON model file path or JSON text (starting
+    with "{"), read by the Python loader (engine="python", as load_json; also
+    takes a dict) or by the C library's (engine="c", kin_assembly_load: the
+    same rules and verdicts, docs/model_format.md; name and joint labels are
+    not kept). Raises ModelFormatError for a malformed model, the
+    KinError of the C status otherwise (OSError for an unreadable file with
+    engine="python")."""
+    if engine == "python":
+        return load_json(source)
+    if engine != "c":
+        raise ValueError(f"engine: expected 'python' or 'c', got {engine!r}")
+    from ._lib import ffi, lib
+    from .assembly import Assembly
+    from .errors import error_class
+    out, err = ffi.new("kin_assembly **"), ffi.new("char[512]")
+    if isinstance(source, str) and source.lstrip().startswith("{"):
+        data = source.encode("utf-8", "surrogatepass")
+        rc = lib.kin_assembly_load_string(data, len(data), out, err, 512)
+    else:
+        rc = lib.kin_assembly_load(os.fsencode(source), out, err, 512)
+    if rc:
+        cls = ModelFormatError if rc == lib.KIN_EFORMAT else error_class(rc)
+        raise cls(ffi.string(err).decode(errors="replace"), rc)
+    return Assembly._from_handle(out[0])

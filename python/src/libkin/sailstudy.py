@@ -309,7 +309,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     if complete and an.s <= 16:
         _say(progress, f"[R^A] complete solver: 2^{an.s} = {2 ** an.s} homotopy paths on {threads} threads ...")
         t0 = time.perf_counter()
-        _, acc = solve_quadrics(a.second_order(), "homotopy", threads=threads)
+        _, acc = solve_quadrics(a.second_order(), "homotopy", threads=threads, progress=progress)
         acc["seconds"] = round(time.perf_counter() - t0, 1)
         res["flat"]["complete"] = acc
         _say(progress, f"[R^A]   {acc}")
