@@ -115,6 +115,14 @@ def test_hex_report_is_readable_by_a_designer(hex_run):
     with Image.open(out / "fold_animation.gif") as im:
         assert 40 <= im.n_frames <= 60
     assert (out / "fold_animation.gif").stat().st_size < 2_000_000
+    # the run as FOLD frames: one per recorded point, valid, the sail's mesh
+    from libkin import fold
+    doc = json.loads((out / "fold_run.fold").read_text())
+    track = np.load(out / "track.npz")
+    assert 1 + len(doc["file_frames"]) == len(track["l"]) and fold.check_fold(doc) == []
+    assert len(doc["vertices_coords"]) == 19 and len(doc["edges_vertices"]) == 45
+    last = fold.resolve_frame(doc, len(doc["file_frames"]))
+    assert np.abs(np.array(last["vertices_coords"]) - np.array(doc["vertices_coords"])).max() < 1e-9  # closes
 
 
 def test_square_study_flat_state():

@@ -40,6 +40,12 @@ def hexagonal(res, track, stages, out, pmap=None, snaps=None):
         factor = F.branch_grid(M, name, snap, snap["base"], out, fname)
         figs["grids"].append((name, fname, snap, factor))
     figs["gif_frames"] = F.animation(M, res, track, out)
+    # the run for origami software: every accepted step a FOLD frame
+    from .fold import write_fold
+    doc = write_fold(out / "fold_run.fold", M.a, path_coords=track.coords, faces="triangles",
+                     title=f"libkin: {res['model']}, fold R^A-R^B-R^C and back",
+                     description="Lengths in units of the hub side a. One frame per accepted path step.")
+    figs["fold_frames"] = 1 + len(doc.get("file_frames", []))
     _write_hex_md(res, out, M, figs)
 
 
@@ -109,6 +115,10 @@ def _write_hex_md(res, out, M, figs):
     L.append(f"*The run, animated ({figs.get('gif_frames', 0)} frames): from the flat state R^A the sail folds "
              "to R^B (loop 1 wrapped against the hub), on to R^C, and deploys back along the same path. "
              "Colours as in Figure 1.*\n")
+    if figs.get("fold_frames"):
+        L.append(f"The whole run is also in `fold_run.fold` ({figs['fold_frames']} frames, one per accepted step; "
+                 "the FOLD format of origami software, faces = the sail's bar triangles, supports in "
+                 "`vertices_libkin:fixed`; docs/fold.md).\n")
     L += _model_md(res, M)
     L.append("## The flat state R^A\n")
     L.append(f"H is {flat['nfree']} x {flat['nbars']}; m = {flat['m']} internal mechanisms, s = {flat['s']} "
