@@ -171,7 +171,8 @@ class _PathMap:
                 return i
         an = a.analyse()
         self.nodes.append({"name": name, "coords": x, "m": an.m_internal, "s": an.s,
-                           "xy_extent": float(np.hypot(x[:, 0], x[:, 1]).max())})
+                           "xy_extent": float(np.hypot(x[:, 0], x[:, 1]).max()),
+                           "height": float(x[:, 2].max() - x[:, 2].min())})
         return len(self.nodes) - 1
 
     def names(self):

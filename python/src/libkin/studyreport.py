@@ -252,10 +252,10 @@ def _write_hex_md(res, out, M, figs):
             L.append(f"| {e['from']} | {to} | {e['paths']} each | {', '.join(f'{v:.4f}' for v in e['l'])} |"
                      if " and " in to else
                      f"| {e['from']} | {to} | {e['paths']} | {', '.join(f'{v:.4f}' for v in e['l'])} |")
-        L.append("\n| node | m / s | x-y extent (a) |")
-        L.append("|---|---|---|")
+        L.append("\n| node | m / s | x-y extent (a) | height (a) |")
+        L.append("|---|---|---|---|")
         for n in res["map"]["nodes"]:
-            L.append(f"| {n['name']} | {n['m']} / {n['s']} | {n['xy_extent']:.4f} |")
+            L.append(f"| {n['name']} | {n['m']} / {n['s']} | {n['xy_extent']:.4f} | {n.get('height', float('nan')):.4f} |")
         if "RC" in res and "onward" in res["RC"]:
             rc = res["RC"]
             ends = ", ".join(f"{o['to']} (l = {o['l']:.4f} a)" if o["to"] else "none" for o in rc["onward"])
