@@ -12,9 +12,10 @@
  * fraction of the largest. The motions are built from centred coordinates
  * scaled by their RMS radius, so this is a relative, unit-free test. */
 static const double RIGID_SUPPORT_TOL = 1e-10;
-/* A candidate basis vector whose norm after orthogonalisation falls below
- * this is linearly dependent on the ones kept (two Gram-Schmidt passes make
- * the test reliable down to ~1e-15). */
+/* A rigid-motion candidate whose norm after orthogonalisation against the
+ * ones kept falls below this fraction of a rigid generator's size is
+ * dependent on them, or moves no joint (two Gram-Schmidt passes make the
+ * test reliable down to ~1e-15). */
 static const double GS_DROP_TOL = 1e-8;
 
 /* Orthonormalise column j of X (n rows, ld) against columns 0..k-1 (two
@@ -115,67 +116,100 @@ static int support_nullspace(kin_assembly *a, int *nnull_out)
     return KIN_OK;
 }
 
-int kin__rigid_basis(kin_assembly *a, const double *xyz, double *R, int *mr)
+/* Rigid-body mechanisms of configuration xyz: the rigid motions G alpha
+ * that keep every fixed coordinate (alpha in the support null space),
+ * restricted to the free coordinates, projected on the columns of Um (nf x
+ * m, ld nf) when Um is not NULL, and reduced to an orthonormal basis R (nf x
+ * *mr, ld nf) by Gram-Schmidt with column pivoting (the largest remaining
+ * candidate first). A candidate counts only while what remains of it exceeds
+ * GS_DROP_TOL times the size of a rigid generator: sqrt(nj), how far a unit
+ * translation moves the joints in all (a unit rotation about the centroid
+ * moves them as far in RMS, coordinates being in units of the RMS radius).
+ * Relative to the candidate's own norm the test would depend on rounding
+ * luck: a rotation about a line through every joint moves nothing, and its
+ * candidate is rounding noise that normalises to any direction.
+ * Scratch: a->Gs (support null space, candidates) and, to project, m
+ * doubles of a->mwork. */
+static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um, int m, double *R,
+                            int *mr)
 {
     int nf = a->nf, nr = a->nrig, n = a->nj * a->dim, nnull = 0, kept = 0;
+    *mr = 0;
     rigid_fields(a, xyz);
     int rc = support_nullspace(a, &nnull);
     if (rc) return rc;
     const double *vt = a->Gs;
-    double *v = a->Gs + 42; /* nf scratch */
+    double *C = a->Gs + 42; /* nf x nnull candidates */
     for (int q = 0; q < nnull; ++q) {
+        double *c = C + (size_t)q * nf;
         for (int i = 0; i < nf; ++i) {
             double s = 0.0;
-            for (int c = 0; c < nr; ++c) s += a->G[a->free_coord[i] + (size_t)c * n] * vt[q + (size_t)c * nr];
-            v[i] = s;
+            for (int k = 0; k < nr; ++k) s += a->G[a->free_coord[i] + (size_t)k * n] * vt[q + (size_t)k * nr];
+            c[i] = s;
         }
-        if (kin__gs_column(nf, R, nf, kept, v) > GS_DROP_TOL) {
-            memcpy(R + (size_t)kept * nf, v, sizeof(double) * (size_t)nf);
-            ++kept;
+        if (Um) {
+            /* c := U_m (U_m^T c) */
+            double *p = a->mwork;
+            for (int k = 0; k < m; ++k) p[k] = kin__dot(nf, Um + (size_t)k * nf, c);
+            for (int i = 0; i < nf; ++i) {
+                double s = 0.0;
+                for (int k = 0; k < m; ++k) s += Um[i + (size_t)k * nf] * p[k];
+                c[i] = s;
+            }
+        }
+    }
+    double drop = GS_DROP_TOL * sqrt((double)a->nj);
+    int cap = Um ? m : nf, left = nnull;
+    while (kept < cap && left > 0) {
+        /* pivot: the candidate with the most left after the kept directions */
+        int best = 0;
+        double bestn = -1.0;
+        for (int q = 0; q < left; ++q) {
+            double nq = kin__norm(nf, C + (size_t)q * nf);
+            if (nq > bestn) {
+                bestn = nq;
+                best = q;
+            }
+        }
+        double *v = R + (size_t)kept * nf;
+        memcpy(v, C + (size_t)best * nf, sizeof(double) * (size_t)nf);
+        /* the pivot leaves the candidate list (the last one takes its place) */
+        --left;
+        if (best != left) memcpy(C + (size_t)best * nf, C + (size_t)left * nf, sizeof(double) * (size_t)nf);
+        /* a second pass against the kept directions (the candidates had
+         * one, below) makes the remaining norm accurate to rounding */
+        double ratio = kin__gs_column(nf, R, nf, kept, v);
+        if (!(ratio * bestn > drop)) break; /* nothing larger remains */
+        ++kept;
+        for (int q = 0; q < left; ++q) {
+            double *c = C + (size_t)q * nf, p = kin__dot(nf, v, c);
+            for (int i = 0; i < nf; ++i) c[i] -= p * v[i];
         }
     }
     *mr = kept;
     return KIN_OK;
 }
 
+int kin__rigid_basis(kin_assembly *a, const double *xyz, double *R, int *mr)
+{
+    return rigid_mechanisms(a, xyz, NULL, 0, R, mr);
+}
+
 /* Split U_m (the last m columns of f->U) into rigid and internal parts. */
 static int split_mechanisms(kin_assembly *a, const double *xyz, kin_factor *f)
 {
-    int nf = a->nf, m = f->an.m, nr = a->nrig, n = a->nj * a->dim;
+    int nf = a->nf, m = f->an.m;
     const double *Um = f->U + (size_t)f->an.rank * nf;
     f->an.m_rigid = 0;
     if (m == 0) {
         f->an.m_internal = 0;
         return KIN_OK;
     }
-    rigid_fields(a, xyz);
-    double *vt = a->Gs, *R = a->Gs + 42; /* R: nf x nr */
-    int nnull = 0;
-    int rc = support_nullspace(a, &nnull);
-    if (rc) return rc;
-    /* rigid mechanisms: G_free * alpha, projected on U_m, orthonormalised */
-    double *P = a->mwork;                  /* m x nr : U_m^T R */
-    double *v = a->mwork + (size_t)m * nr; /* scratch nf */
+    /* rigid mechanisms: the rigid motions that keep the supports, projected
+     * on U_m (they lie in it up to rounding), orthonormalised */
     int kept = 0;
-    for (int q = 0; q < nnull; ++q) {
-        for (int i = 0; i < nf; ++i) {
-            double s = 0.0;
-            for (int c = 0; c < nr; ++c) s += a->G[a->free_coord[i] + (size_t)c * n] * vt[q + (size_t)c * nr];
-            R[i] = s;
-        }
-        /* project on U_m: v = U_m (U_m^T R) */
-        double *p = P + (size_t)kept * m;
-        for (int c = 0; c < m; ++c) p[c] = kin__dot(nf, Um + (size_t)c * nf, R);
-        for (int i = 0; i < nf; ++i) {
-            double s = 0.0;
-            for (int c = 0; c < m; ++c) s += Um[i + (size_t)c * nf] * p[c];
-            v[i] = s;
-        }
-        if (kin__gs_column(nf, f->Urig, nf, kept, v) > GS_DROP_TOL) {
-            memcpy(f->Urig + (size_t)kept * nf, v, sizeof(double) * (size_t)nf);
-            ++kept;
-        }
-    }
+    int rc = rigid_mechanisms(a, xyz, Um, m, f->Urig, &kept);
+    if (rc) return rc;
     f->an.m_rigid = kept;
     f->an.m_internal = m - kept;
     /* internal mechanisms: orthonormal complement of span(Urig) in span(U_m),

@@ -272,6 +272,19 @@ static int validate(int dim, int nj, const double *xyz, const unsigned char *fix
 
 /* ---- workspace ---------------------------------------------------------- */
 
+/* The LU mode factorizes the bordered matrix J = [C; t^T; R^T] of a point
+ * (nb + 1 + mr rows, nf columns, mr <= nrig the rigid mechanisms there) only
+ * when it is square (LU) or tall (LQ of J^T): a point with fewer rows has at
+ * least two internal mechanisms and is analysed by SVD instead. Whether a
+ * route can ever apply follows from the sizes alone. */
+static int lu_route(const kin_assembly *a)
+{
+    int extra = a->nf - a->nb - 1; /* the mr that makes J square */
+    return extra >= 0 && extra <= a->nrig;
+}
+
+static int lq_route(const kin_assembly *a) { return a->nb + 1 + a->nrig > a->nf; }
+
 static int query_lwork(kin_assembly *a, int *lwork, int *liwork)
 {
     int nf = a->nf, nb = a->nb, info = 0, m1 = nb + 1, one = 1, ld;
@@ -304,9 +317,12 @@ static int query_lwork(kin_assembly *a, int *lwork, int *liwork)
     dgels_("N", &m1, &nf, &one, &dummy, &m1, &dummy, &ld, &w, &q, &info, 1);
     if (info < 0) return KIN_ELAPACK_ARG;
     if (w > best) best = w;
-    /* LU mode with redundant bars: LQ of J^T = [H, t, R] (nf x rows) and
-     * Q applied to one vector of length rows */
-    {
+    /* LU mode with redundant bars: LQ of J^T = [H, t, R] (nf x rows) and Q
+     * applied to one vector of length rows. That route is taken only when
+     * rows = nb + 1 + m_rigid > nf for some m_rigid <= nrig; otherwise
+     * (more free coordinates: several internal mechanisms) it never runs,
+     * and dormlq would reject K = nf > M = rows. */
+    if (lq_route(a)) {
         int rows = nb + 1 + a->nrig;
         dgelqf_(&nf, &rows, &dummy, &nf, &dummy, &w, &q, &info);
         if (info < 0) return KIN_ELAPACK_ARG;
@@ -375,12 +391,16 @@ static int allocate(kin_assembly *a)
         bad |= ALLOC_(a->fac[f].sv, mn) | ALLOC_(a->fac[f].U, nf * nf) |
                ALLOC_(a->fac[f].VT, nb * nb) | ALLOC_(a->fac[f].Uint, nf * nf) |
                ALLOC_(a->fac[f].Urig, nf * 6);
-    /* LU mode: J^T = [H, t, R] has at most nb + 1 + nrig columns */
+    /* LU mode: J^T = [H, t, R] has at most nb + 1 + nrig columns; its
+     * factors only exist where the LU or LQ route can apply (else NULL) */
     size_t rows = nb + 1 + (size_t)a->nrig;
+    int lu = lu_route(a), lq = lq_route(a);
     for (int f = 0; f < 2; ++f) {
         kin_lufactor *L = &a->lu[f];
-        bad |= ALLOC_(L->JT, nf * rows) | ALLOC_(L->ipiv, nf) | ALLOC_(L->tq, nf) |
-               ALLOC_(L->xyz, nj * d) | ALLOC_(L->vr_vec, nf) | ALLOC_(L->vmax_vec, nf);
+        if (lu || lq) bad |= ALLOC_(L->JT, nf * rows);
+        if (lu) bad |= ALLOC_(L->ipiv, nf);
+        if (lq) bad |= ALLOC_(L->tq, nf);
+        bad |= ALLOC_(L->xyz, nj * d) | ALLOC_(L->vr_vec, nf) | ALLOC_(L->vmax_vec, nf);
     }
     bad |= ALLOC_(a->luR, nf * 6) | ALLOC_(a->luw, rows > nf ? rows : nf);
     return bad ? KIN_ENOMEM : KIN_OK;
@@ -461,8 +481,8 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
         t->v_r = s->v_r;
         t->v_max = s->v_max;
         memcpy(t->JT, s->JT, sizeof(double) * nf * rows);
-        memcpy(t->ipiv, s->ipiv, sizeof(int) * nf);
-        memcpy(t->tq, s->tq, sizeof(double) * nf);
+        if (s->ipiv) memcpy(t->ipiv, s->ipiv, sizeof(int) * nf); /* only where a route applies */
+        if (s->tq) memcpy(t->tq, s->tq, sizeof(double) * nf);
         memcpy(t->xyz, s->xyz, sizeof(double) * ncoord);
         memcpy(t->vr_vec, s->vr_vec, sizeof(double) * nf);
         memcpy(t->vmax_vec, s->vmax_vec, sizeof(double) * nf);

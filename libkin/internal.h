@@ -33,9 +33,9 @@ typedef struct kin_factor {
 typedef struct kin_lufactor {
     int valid;        /* factors of a regular point (estimated m_internal = 1) */
     int rows;         /* nb + 1 + m_rigid */
-    double *JT;       /* nf x (nb + 1 + nrig) factors */
-    int *ipiv;        /* nf pivots (LU) */
-    double *tq;       /* nf Householder scalars (LQ) */
+    double *JT;       /* nf x (nb + 1 + nrig) factors; NULL, like ipiv and tq, where no route applies */
+    int *ipiv;        /* nf pivots (LU; NULL unless nf - nb - 1 is in 0..nrig) */
+    double *tq;       /* nf Householder scalars (LQ; NULL unless nb + 1 + nrig > nf) */
     double *xyz;      /* nj*dim configuration the factors belong to */
     double *vr_vec;   /* nf: inverse-iteration vector of v_r (unit) */
     double *vmax_vec; /* nf: power-iteration vector of v_max (unit) */

@@ -196,7 +196,7 @@ int kin_get_tangent(const kin_assembly *a, double *t, int n)
         memcpy(t, f->Uint, sizeof(double) * (size_t)n);
         return KIN_OK;
     }
-    return f->an.m_internal == 0 ? KIN_ENOMECH : KIN_EBIFURCATION;
+    return f->an.m_internal == 0 ? KIN_ENOMECH : f->an.s == 0 ? KIN_EMULTIDOF : KIN_EBIFURCATION;
 }
 
 int kin__bordered_solve(kin_assembly *a, const double *xyz, const double *t, const double *e,
@@ -477,6 +477,7 @@ typedef struct attempt_result {
     int iterations;
     double residual, cos_turn, chord_len;
     int m_internal;
+    int multidof; /* the new point continues a multi-DOF mechanism (see attempt) */
     int lu;     /* LU mode: accepted without an SVD (a->lu trial slot) */
     double v_r; /* v_r (estimate in LU mode) at the new point */
 } attempt_result;
@@ -507,8 +508,9 @@ static int orient_tangent(kin_assembly *a, double cl, attempt_result *res)
     return KIN_OK;
 }
 
+/* start_mi: internal mechanisms at the start point (1 for an LU-mode point) */
 static int attempt(kin_assembly *a, double delta, const double *pred, int use_chord, int use_lu,
-                   attempt_result *res)
+                   int start_mi, attempt_result *res)
 {
     int nf = a->nf, trial = 1 - a->cur;
     double *xyz = a->xyz_trial;
@@ -610,6 +612,7 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
         return kin__fail(a, KIN_EPATHJUMP, "correction %.3g exceeds %.3g * |delta| = %.3g", corr,
                          a->opt.max_correction, a->opt.max_correction * fabs(delta));
     res->lu = 0;
+    res->multidof = 0;
     if (use_lu) {
         /* LU mode: tangent and estimates from the bordered factors; the SVD
          * only where singular values matter */
@@ -637,7 +640,17 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
     /* new tangent, oriented along the motion (eq. 10 against the chord) */
     if (f->an.m_internal == 1) {
         memcpy(a->d, f->Uint, sizeof(double) * (size_t)nf);
+    } else if (a->t_chosen && f->an.m_internal == start_mi) {
+        /* a mechanism with as many degrees of freedom as the start point,
+         * followed along a direction the caller chose: the continuation
+         * nearest to it is the previous tangent projected on the new
+         * internal mechanisms, and it stays chosen */
+        memcpy(a->d, a->t, sizeof(double) * (size_t)nf);
+        project_internal(a, f, a->d, a->y);
+        res->multidof = 1;
     } else {
+        /* the count changed (from a path: a bifurcation reached): the
+         * chord's projection, and the caller chooses the next direction */
         memcpy(a->d, a->chord, sizeof(double) * (size_t)nf);
         project_internal(a, f, a->d, a->y);
     }
@@ -662,10 +675,18 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
         rc = ensure_analysis(a);
         if (rc) return rc;
         if (f->an.m_internal == 0) return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");
-        if (f->an.m_internal >= 2 && !a->t_chosen)
+        if (f->an.m_internal >= 2 && !a->t_chosen) {
+            /* no self-stress: H^T has full row rank, the strain-free set is
+             * smooth here with m_internal internal degrees of freedom (a
+             * multi-DOF mechanism, not a bifurcation); with self-stresses the
+             * first-order analysis cannot tell the two apart */
+            if (f->an.s == 0)
+                return kin__fail(a, KIN_EMULTIDOF, "%d internal mechanisms, no self-stress (set one with "
+                                 "kin_path_set_direction())", f->an.m_internal);
             return kin__fail(a, KIN_EBIFURCATION,
                              "%d internal mechanisms here: choose one with kin_path_set_direction()",
                              f->an.m_internal);
+        }
         ensure_tangent(a);
     }
     double dmax = a->opt.step_fraction * a->rms_length;
@@ -679,11 +700,15 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
         return kin__fail(a, KIN_EINVAL, "a forward calculation needs delta != 0");
     }
     kin__gather(a, a->xyz, a->x0);
-    int use_chord = lu_point || f->an.m_internal == 1;
-    attempt_result res = {0, 0.0, 0.0, 0.0, 0, 0, 0.0};
+    /* the start point's factorization serves as the chord corrector where
+     * H^T keeps its rank nearby: a regular point of a path or of a multi-DOF
+     * mechanism (no self-stress); at a bifurcation, Newton */
+    int use_chord = lu_point || f->an.m_internal == 1 || f->an.s == 0;
+    int start_mi = lu_point ? 1 : f->an.m_internal;
+    attempt_result res = {0, 0.0, 0.0, 0.0, 0, 0, 0, 0.0};
     int h, tries = pred ? 0 : a->opt.max_halvings;
     for (h = 0; h <= tries; ++h, delta *= 0.5) {
-        rc = attempt(a, delta, pred, use_chord, use_lu, &res);
+        rc = attempt(a, delta, pred, use_chord, use_lu, start_mi, &res);
         if (rc == KIN_OK) break;
         if (rc == KIN_ELAPACK_ARG) return rc;
     }
@@ -710,7 +735,7 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
     }
     memcpy(a->t, a->d, sizeof(double) * (size_t)a->nf);
     a->have_t = 1;
-    a->t_chosen = 0;
+    a->t_chosen = res.multidof;
     a->l += (delta > 0.0 ? 1.0 : -1.0) * res.chord_len;
     if (automatic) {
         /* grow after an easy step (no halving, no factorization but the new

@@ -56,8 +56,12 @@ typedef struct kin_assembly kin_assembly;
  * The length bounds keep every square of a length a normal double (the
  * extensions and eq. 12 square lengths): the library works in any unit in
  * which the structure's lengths lie within them.
+ * Any such framework is accepted, whatever the counts: fewer or more bars
+ * than free coordinates, several internal degrees of freedom, joints on one
+ * line or (3D) in one plane (see docs/generality.md).
  * The counts are checked before any array is read. Allocates all workspace
- * (including the LAPACK work arrays, whose sizes are queried once here);
+ * (including the LAPACK work arrays, whose sizes are queried once here,
+ * each only for the factorizations the sizes can need);
  * each dense matrix of the analysis (nfree^2, nbars^2, nfree*(nbars+7)
  * entries) must fit LAPACK's int sizes. Nothing is half-built: on failure
  * everything allocated is released.
@@ -135,7 +139,8 @@ typedef struct kin_analysis {
     int rank;       /* r: singular values > rank_tol * v_max */
     int m;          /* nfree - r: all infinitesimal mechanisms */
     int m_rigid;    /* rigid-body mechanisms allowed by the supports */
-    int m_internal; /* m - m_rigid: 1 on a path, >= 2 at a bifurcation */
+    int m_internal; /* m - m_rigid: 1 on a path, >= 2 at a bifurcation or
+                       on a mechanism with several degrees of freedom */
     int s;          /* nbars - r: states of self-stress */
     double v_max;   /* largest singular value */
     double v_r;     /* lowest non-zero singular value (v_r of the paper) */
@@ -146,8 +151,12 @@ typedef struct kin_analysis {
  * split the mechanisms into rigid-body ones (infinitesimal rigid motions of
  * the whole assembly that keep every fixed coordinate fixed; Pellegrino &
  * Calladine 1986) and internal ones (the orthonormal complement of the rigid
- * ones within the null space). out may be NULL. The results stay readable
- * through the getters below until the configuration changes.
+ * ones within the null space). A rigid motion counts only if it moves the
+ * free joints by more than 1e-8 times the size of a unit rigid motion of
+ * the whole assembly (sqrt(njoints), coordinates measured from the centroid
+ * in units of their RMS radius): a rotation about a line through every
+ * joint moves nothing and is not a mechanism. out may be NULL. The results
+ * stay readable through the getters below until the configuration changes.
  * Returns KIN_OK, KIN_ENULL, KIN_ELAPACK_ARG, KIN_ELAPACK_CONV. */
 KIN_API int kin_analyse(kin_assembly *a, kin_analysis *out);
 

@@ -46,7 +46,31 @@
  *   kin_get_mechanisms() and kin_get_self_stresses() return KIN_ESTATE
  *   until kin_analyse() is called (which does not disturb the path);
  *   kin_get_tangent() and kin_step() work. kin_locate_next() needs the SVD
- *   at every point and must be run in SVD mode. */
+ *   at every point and must be run in SVD mode.
+ *
+ * SEVERAL INTERNAL MECHANISMS (m_internal >= 2)
+ *  At a bifurcation of a path, and at any point of a mechanism with several
+ *  internal degrees of freedom (an open chain, an under-braced framework),
+ *  the motion is not determined by the assembly alone: kin_step() needs a
+ *  direction from kin_path_set_direction() and otherwise returns
+ *  KIN_EMULTIDOF when the point has no self-stress (s == 0: H^T has full
+ *  row rank, so the strain-free set is smooth here with m_internal internal
+ *  degrees of freedom; a multi-DOF mechanism, not a bifurcation) or
+ *  KIN_EBIFURCATION when it has one (a bifurcation, or a multi-DOF point
+ *  with a self-stress somewhere, which the first-order analysis cannot tell
+ *  apart). Once a direction is set, each step follows the continuation
+ *  nearest to it: while the new point has as many internal mechanisms as
+ *  the start point, its tangent is the previous tangent projected on the
+ *  new internal mechanisms (normalised, oriented along the motion), and it
+ *  stays chosen, so kin_step() can be called again without a new
+ *  direction. When the count changes the step is still accepted; with one
+ *  internal mechanism the path continues as usual, with more (a
+ *  bifurcation reached) the next step needs a direction again: kin_step()
+ *  and kin_get_tangent() return KIN_EMULTIDOF or KIN_EBIFURCATION as
+ *  above. A point with several internal mechanisms is always analysed by
+ *  SVD, in KIN_STEP_LU mode too (the bordered matrix is not square there),
+ *  so the analysis stays current. kin_path_reset(), kin_set_coords() and
+ *  kin_relax() forget the direction. See docs/generality.md. */
 #ifndef KIN_PATH_H
 #define KIN_PATH_H
 
@@ -111,24 +135,32 @@ typedef struct kin_step_info {
  * that step's amplitude, growing by 1.5 after each easy step (one that
  * needed no factorization but the new point's). |delta| is clamped to
  * step_fraction*RMS rest length.
- * If the current point is a bifurcation (m_internal >= 2) a direction must
- * have been given with kin_path_set_direction(). info may be NULL.
+ * If the current point has several internal mechanisms (m_internal >= 2: a
+ * bifurcation or a multi-DOF mechanism) a direction must have been given
+ * with kin_path_set_direction(), and steps then follow the continuation
+ * nearest to it (SEVERAL INTERNAL MECHANISMS, top of this file). info may
+ * be NULL.
  * In KIN_STEP_LU mode a step's chord corrector uses the start point's SVD
  * analysis when that is current (the first step, after a fallback to the
  * SVD, kin_analyse() or kin_path_set_direction()) and otherwise the bordered
  * factors the previous step left; a start point with neither (after
  * kin_set_coords(), kin_relax() or kin_path_reset()) is analysed by SVD.
  * Returns KIN_OK; KIN_ENULL; KIN_EINVAL (non-finite delta);
- * KIN_ENOMECH (m_internal == 0); KIN_EBIFURCATION (no direction chosen at a
- * bifurcation); KIN_ENOTCONVERGED or KIN_EPATHJUMP (every attempt failed:
- * the reason of the last attempt; state unchanged); LAPACK codes. */
+ * KIN_ENOMECH (m_internal == 0 here, or at the points every attempt
+ * reached: an infinitesimal mechanism only; state unchanged);
+ * KIN_EMULTIDOF (m_internal >= 2, no self-stress, no direction chosen);
+ * KIN_EBIFURCATION (m_internal >= 2 with a self-stress, no direction
+ * chosen); KIN_ENOTCONVERGED or KIN_EPATHJUMP (every attempt failed: the
+ * reason of the last attempt; state unchanged); LAPACK codes. */
 KIN_API int kin_step(kin_assembly *a, double delta, kin_step_info *info);
 
 /* Choose the direction of motion: dir (nfree entries, finite, nonzero) is
  * projected on the internal mechanisms of the current point. At a regular
- * point it only orients the mechanism (t.dir > 0); at a bifurcation the
- * normalised projection is the predictor direction of the next step (e.g.
- * U_m*beta from the second-order analysis). Runs kin_analyse() if needed.
+ * point of a path it only orients the mechanism (t.dir > 0); where there are
+ * several internal mechanisms the normalised projection is the predictor
+ * direction of the next step (at a bifurcation e.g. U_m*beta from the
+ * second-order analysis; on a multi-DOF mechanism the start of the
+ * continuation the following steps keep). Runs kin_analyse() if needed.
  * Returns KIN_OK, KIN_ENULL, KIN_ERANGE (n != nfree), KIN_EGEOM (non-finite),
  * KIN_EINVAL (projection vanishes: dir is not a first-order mechanism),
  * KIN_ENOMECH, LAPACK codes. */
@@ -136,7 +168,8 @@ KIN_API int kin_path_set_direction(kin_assembly *a, const double *dir, int n);
 
 /* Oriented tangent (unit, nfree entries) that the next step will use.
  * KIN_OK, KIN_ENULL, KIN_ERANGE, KIN_ESTATE (no analysis yet),
- * KIN_EBIFURCATION (at a bifurcation with no direction chosen). */
+ * KIN_EMULTIDOF / KIN_EBIFURCATION (several internal mechanisms, no direction
+ * chosen: as kin_step()), KIN_ENOMECH. */
 KIN_API int kin_get_tangent(const kin_assembly *a, double *t, int n);
 
 /* Signed path length travelled since creation, kin_set_coords() or

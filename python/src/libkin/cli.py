@@ -1,20 +1,39 @@
-"""Command line: python -m libkin (or `libkin`) SUBCOMMAND ..."""
+"""Command line: python -m libkin (or `libkin`) SUBCOMMAND ...
+
+Exit status: 0 success; 1 a libkin error or a file that cannot be read or
+written (one line on stderr, no traceback); 2 a usage error (argparse, or a
+model that is not a valid start for the command); 3 a study that stopped
+early; 130 interrupted (Ctrl-C).
+"""
+from __future__ import annotations
+
 import argparse
+import os
 import pathlib
 import sys
+from typing import Any, List, Optional, Tuple
 
 import numpy as np
 
+from . import __version__
+from ._base import Analysis
 from .assembly import Assembly
-from .errors import KinError
+from .errors import InvalidArgumentError, KinError
+
+EXIT_ERROR = 1
+EXIT_USAGE = 2
+EXIT_STUDY_FAILED = 3
+EXIT_INTERRUPTED = 130
 
 
-def _load(spec):
+def _load(spec: str) -> Assembly:
     """MODEL is a JSON file, or a built-in: threebar:RA|RB|RC, sail:N:LOOPS."""
     if spec.startswith("threebar:"):
         return Assembly.threebar(spec.split(":", 1)[1])
     if spec.startswith("sail:"):
         parts = spec.split(":")
+        if len(parts) not in (2, 3) or not all(p.isdigit() for p in parts[1:]):
+            raise InvalidArgumentError(f"MODEL {spec!r}: expected sail:N_SIDES or sail:N_SIDES:N_LOOPS")
         return Assembly.sail(int(parts[1]), int(parts[2]) if len(parts) > 2 else 1)
     if spec.endswith(".fold"):
         from .fold import read_fold
@@ -22,7 +41,7 @@ def _load(spec):
     return Assembly.from_json(spec)
 
 
-def cmd_analyse(args):
+def cmd_analyse(args: argparse.Namespace) -> int:
     a = _load(args.model)
     an = a.analyse()
     print(f"{a.name}: dim {a.dim}, {a.njoints} joints, {a.nbars} bars, H is {a.nfree} x {a.nbars}")
@@ -36,7 +55,7 @@ def cmd_analyse(args):
     return 0
 
 
-def _regular_start(args):
+def _regular_start(args: argparse.Namespace) -> Tuple[Optional[Assembly], Optional[Analysis]]:
     """The model (perturbed and relaxed if asked) and its analysis, or None
     with a message when it is not on a single path."""
     a = _load(args.model)
@@ -50,10 +69,10 @@ def _regular_start(args):
     return a, an
 
 
-def cmd_follow(args):
+def cmd_follow(args: argparse.Namespace) -> int:
     a, an = _regular_start(args)
-    if a is None:
-        return 2
+    if a is None or an is None:
+        return EXIT_USAGE
     ls, svs, frames = [0.0], [an.singular_values], [a.coords]
     try:
         for info in a.follow(steps=args.steps, delta=args.delta, progress=not args.quiet):
@@ -78,7 +97,7 @@ def cmd_follow(args):
     return 0
 
 
-def _generic_start(a, args):
+def _generic_start(a: Assembly, args: argparse.Namespace) -> None:
     # a generic start near the model: lift the free coordinates of the last
     # axis (z in 3D, y in 2D) pseudo-randomly and relax to zero strain
     rng = np.random.default_rng(args.seed)
@@ -89,10 +108,10 @@ def _generic_start(a, args):
     a.relax(max_iter=200)
 
 
-def cmd_locate(args):
+def cmd_locate(args: argparse.Namespace) -> int:
     a, _ = _regular_start(args)
     if a is None:
-        return 2
+        return EXIT_USAGE
     info = a.locate(method=args.method, delta=args.delta, vr_tol=args.vr_tol, max_steps=args.max_steps)
     events = {1: "test function changed sign", 2: "paper's switch rule", 3: "a step landed on it",
               4: "v_r turned near zero"}
@@ -106,7 +125,7 @@ def cmd_locate(args):
     return 0
 
 
-def cmd_draw(args):
+def cmd_draw(args: argparse.Namespace) -> int:
     from . import plot
     a = _load(args.model)
     plot.draw(a, plane=args.plane, path=args.png)
@@ -114,7 +133,7 @@ def cmd_draw(args):
     return 0
 
 
-def cmd_models(args):
+def cmd_models(args: argparse.Namespace) -> int:
     out = pathlib.Path(args.dir)
     out.mkdir(parents=True, exist_ok=True)
     for spec, name in [("threebar:RA", "threebar_RA"), ("threebar:RB", "threebar_RB"),
@@ -126,24 +145,24 @@ def cmd_models(args):
     return 0
 
 
-def cmd_study(args):
+def cmd_study(args: argparse.Namespace) -> int:
     from . import sailstudy
     if args.hub == 4:
         if args.loops != 1:
             print("the square-hub study is the paper's one-loop sail (--loops 1)", file=sys.stderr)
-            return 2
+            return EXIT_USAGE
         res = sailstudy.square_study(threads=args.threads, progress=not args.quiet, out=args.out)
     else:
         res = sailstudy.hexagonal_study(args.hub, args.loops, complete=not args.quick, threads=args.threads,
                                         progress=not args.quiet, out=args.out)
     if "failed" in res:
         print(f"study stopped early: {res['failed']}", file=sys.stderr)
-        return 3
+        return EXIT_STUDY_FAILED
     print(f"report: {pathlib.Path(args.out) / 'report.md'}")
     return 0
 
 
-def cmd_fold_export(args):
+def cmd_fold_export(args: argparse.Namespace) -> int:
     from .fold import write_fold
     a = _load(args.model)
     frames = [a.coords]
@@ -152,7 +171,7 @@ def cmd_fold_export(args):
         if an.m_internal != 1:
             print(f"{a.name} has {an.m_internal} internal mechanisms here: not on a single path, "
                   "nothing to follow", file=sys.stderr)
-            return 2
+            return EXIT_USAGE
         try:
             for _ in a.follow(steps=args.follow, delta=args.delta, progress=not args.quiet):
                 frames.append(a.coords)
@@ -164,10 +183,13 @@ def cmd_fold_export(args):
     return 0
 
 
-def main(argv=None):
+def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="libkin", description=(
         "Kinematic analysis of pin-jointed bar assemblies. MODEL is a JSON model file "
-        "(schema: python/README.md) or a built-in: threebar:RA|RB|RC, sail:N_SIDES:N_LOOPS."))
+        "(schema: python/README.md) or a built-in: threebar:RA|RB|RC, sail:N_SIDES:N_LOOPS."),
+        epilog="exit status: 0 success, 1 libkin or file error, 2 usage error, 3 study stopped early, "
+               "130 interrupted")
+    p.add_argument("--version", action="version", version=f"libkin {__version__}")
     sub = p.add_subparsers(dest="cmd", required=True)
     s = sub.add_parser("analyse", help="first-order analysis: rank, mechanisms, self-stresses")
     s.add_argument("model")
@@ -229,12 +251,40 @@ def main(argv=None):
     s = sub.add_parser("models", help="write the built-in models as JSON files")
     s.add_argument("dir")
     s.set_defaults(fn=cmd_models)
-    args = p.parse_args(argv)
+    return p
+
+
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    return f"libkin: {text}"
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    """Run the command line.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status (see the module docstring); usage errors exit via
+        SystemExit(2) from argparse.
+    """
+    args = _parser().parse_args(argv)
     try:
-        return args.fn(args)
-    except (KinError, OSError, ImportError) as exc:
-        print(f"libkin: {exc}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:  # Ctrl-C: the long C calls stop within ~0.1 s
+        rc: Any = args.fn(args)
+        return int(rc)
+    except KeyboardInterrupt:
         print("libkin: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        # the reader of stdout went away (e.g. `| head`): stop quietly, and keep
+        # the interpreter's final flush from failing again
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_ERROR
+    except (KinError, OSError, ImportError, ValueError) as exc:
+        print(_one_line(exc), file=sys.stderr)
+        return EXIT_ERROR

@@ -32,13 +32,21 @@ inheriting the key frame's mesh (frame_parent 0, frame_inherit true) and
 giving only its vertices_coords; file_classes is ["animation"] then. One
 frame per configuration: the key frame is the first.
 """
+from __future__ import annotations
+
 import json
 import math
 import os
+from typing import Any, Dict, List, NoReturn, Optional, Sequence, Tuple, Union
 
 import numpy as np
+import numpy.typing as npt
 
+from .assembly import Assembly
 from .errors import ModelFormatError
+
+FoldDoc = Dict[str, Any]
+FoldSourceArg = Union[str, "os.PathLike[str]", FoldDoc]
 
 FOLD_SPEC = 1.1
 FIXED_KEY = "vertices_libkin:fixed"
@@ -50,36 +58,60 @@ class FoldSource:
     n_vertices joints and n_edges bars are the file's vertices and edges, in
     order; the rest are what was added to keep faces rigid."""
 
-    def __init__(self, n_vertices, n_edges, assignment, faces, frame_fields):
+    def __init__(self, n_vertices: int, n_edges: int, assignment: Optional[List[str]],
+                 faces: Optional[List[List[int]]], frame_fields: FoldDoc) -> None:
         self.n_vertices = n_vertices
         self.n_edges = n_edges
         self.assignment = assignment
         self.faces = faces
         self.frame_fields = frame_fields
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"FoldSource({self.n_vertices} vertices, {self.n_edges} edges, {len(self.faces or [])} faces)"
 
 
-def _fail(where, msg):
+class FoldAssembly(Assembly):
+    """An Assembly read from a FOLD file: `fold` says which joints and bars
+    are the file's vertices and edges (write_fold writes those back)."""
+
+    fold: FoldSource
+
+
+def _fail(where: str, msg: str) -> NoReturn:
     raise ModelFormatError(f"FOLD {where}: {msg}")
 
 
-def _load_doc(source):
+def _load_doc(source: FoldSourceArg) -> FoldDoc:
     if isinstance(source, dict):
         return source
     try:
         if isinstance(source, (str, os.PathLike)) and not str(source).lstrip().startswith("{"):
             with open(source) as f:
-                return json.load(f)
-        return json.loads(source)
+                doc = json.load(f)
+        else:
+            doc = json.loads(str(source))
     except json.JSONDecodeError as exc:
         raise ModelFormatError(f"FOLD JSON syntax: line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
+    if not isinstance(doc, dict):
+        _fail("file", f"expected a JSON object, got {type(doc).__name__}")
+    return doc
 
 
-def resolve_frame(doc, frame=0):
-    """Frame `frame` of a FOLD dict with inheritance applied (frame 0 is the
-    top level, frame i >= 1 is file_frames[i - 1])."""
+def resolve_frame(doc: FoldDoc, frame: int = 0) -> FoldDoc:
+    """Frame `frame` of a FOLD dict with inheritance applied.
+
+    Parameters
+    ----------
+    doc : dict
+        A parsed FOLD file.
+    frame : int
+        0 is the top level (the key frame), i >= 1 is file_frames[i - 1].
+
+    Returns
+    -------
+    dict
+        The frame's properties, those it inherits included (no file_ keys).
+    """
     if not isinstance(doc, dict):
         _fail("file", f"expected a JSON object, got {type(doc).__name__}")
     frames = doc.get("file_frames", [])
@@ -88,7 +120,7 @@ def resolve_frame(doc, frame=0):
     if isinstance(frame, bool) or not isinstance(frame, int) or not 0 <= frame <= len(frames):
         _fail("frame", f"expected 0..{len(frames)}, got {frame!r}")
     seen = set()
-    chain = []
+    chain: List[FoldDoc] = []
     k = frame
     while True:
         if k in seen:
@@ -104,13 +136,13 @@ def resolve_frame(doc, frame=0):
         if isinstance(parent, bool) or not isinstance(parent, int) or not 0 <= parent <= len(frames):
             _fail(f"file_frames[{k - 1}].frame_parent", f"expected 0..{len(frames)}, got {parent!r}")
         k = parent
-    out = {}
+    out: FoldDoc = {}
     for f in reversed(chain):
         out.update({key: v for key, v in f.items() if not key.startswith("file_")})
     return out
 
 
-def _coords(fr):
+def _coords(fr: FoldDoc) -> npt.NDArray[np.float64]:
     vc = fr.get("vertices_coords")
     if not isinstance(vc, list) or not vc:
         _fail("vertices_coords", "expected a non-empty list (abstract frames have no geometry to simulate)")
@@ -129,7 +161,7 @@ def _coords(fr):
     return x
 
 
-def _index_lists(fr, key, n, length=None):
+def _index_lists(fr: FoldDoc, key: str, n: int, length: Optional[int] = None) -> Optional[List[List[int]]]:
     v = fr.get(key)
     if v is None:
         return None
@@ -143,7 +175,7 @@ def _index_lists(fr, key, n, length=None):
     return [list(e) for e in v]
 
 
-def _fixed_from_field(fr, nv, dim):
+def _fixed_from_field(fr: FoldDoc, nv: int, dim: int) -> npt.NDArray[np.bool_]:
     f = fr.get(FIXED_KEY)
     out = np.zeros((nv, dim), dtype=bool)
     if f is None:
@@ -160,7 +192,7 @@ def _fixed_from_field(fr, nv, dim):
     return out
 
 
-def _fixed_from_arg(fixed, nv, dim):
+def _fixed_from_arg(fixed: Any, nv: int, dim: int) -> npt.NDArray[np.bool_]:
     arr = np.asarray(fixed)
     if arr.dtype == bool and arr.shape == (nv, dim):
         return arr.copy()
@@ -175,20 +207,29 @@ def _fixed_from_arg(fixed, nv, dim):
     return out
 
 
-def read_fold(source, fixed=None, frame=0, faces="rigid"):
-    """An Assembly from a FOLD file path, JSON string or dict.
+def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: str = "rigid") -> FoldAssembly:
+    """An assembly from a FOLD file.
 
-    fixed  vertex indices, or an (nvertices, dim) / (nvertices,) boolean
-           array of supports; None = the file's "vertices_libkin:fixed"
-           (none if absent)
-    frame  0 = the key frame (top level), i = file_frames[i - 1]
-           (frame_inherit honoured)
-    faces  "rigid", "triangulate" or "ignore" (module docstring)
-    The assembly's rest lengths are the frame's edges_length if given for
-    every edge, else the lengths in vertices_coords. Its `fold` attribute (a
-    FoldSource) lets write_fold() write back the file's own mesh.
-    Raises ModelFormatError on anything malformed."""
-    from .assembly import Assembly
+    Parameters
+    ----------
+    source : path, JSON text or dict
+        The FOLD file.
+    fixed : vertex indices, or an (nvertices, dim) / (nvertices,) bool array, optional
+        The supports; None = the file's "vertices_libkin:fixed" (none if absent).
+    frame : int
+        0 = the key frame (top level), i = file_frames[i - 1] (frame_inherit honoured).
+    faces : {"rigid", "triangulate", "ignore"}
+        How faces are kept rigid (module docstring).
+
+    Returns
+    -------
+    FoldAssembly
+        Rest lengths are the frame's edges_length if given for every edge,
+        else the lengths in vertices_coords; its `fold` attribute lets
+        write_fold() write back the file's own mesh.
+
+    Raises ModelFormatError on anything malformed.
+    """
     if faces not in _FACE_MODES:
         raise ModelFormatError(f"faces: expected one of {_FACE_MODES}, got {faces!r}")
     doc = _load_doc(source)
@@ -213,14 +254,14 @@ def read_fold(source, fixed=None, frame=0, faces="rigid"):
                 not all(isinstance(v, (int, float)) and not isinstance(v, bool) and v > 0 for v in el)):
             _fail("edges_length", f"expected {len(edges)} positive numbers")
         lengths = list(map(float, el))
-    bars = [tuple(e) for e in edges]
+    bars: List[Tuple[int, int]] = [(e[0], e[1]) for e in edges]
     have = {frozenset(e) for e in edges}
     labels = [f"v{i}" for i in range(nv)]
-    coords = [row for row in x]
+    coords: List[npt.NDArray[np.float64]] = [row for row in x]
     fix = _fixed_from_arg(fixed, nv, dim) if fixed is not None else _fixed_from_field(fr, nv, dim)
     fixed_rows = [row for row in fix]
 
-    def add_bar(p, q):
+    def add_bar(p: int, q: int) -> None:
         if frozenset((p, q)) not in have:
             have.add(frozenset((p, q)))
             bars.append((p, q))
@@ -239,12 +280,12 @@ def read_fold(source, fixed=None, frame=0, faces="rigid"):
             for k in range(2, len(f) - 1):
                 add_bar(f[0], f[k])
             if faces == "rigid" and dim == 3:
-                p = x[f]
-                c = p.mean(axis=0)
-                side = np.mean([np.linalg.norm(p[k] - p[(k + 1) % len(f)]) for k in range(len(f))])
+                pts = x[f]
+                c = pts.mean(axis=0)
+                side = float(np.mean([np.linalg.norm(pts[k] - pts[(k + 1) % len(f)]) for k in range(len(f))]))
                 nrm = np.zeros(3)
-                for k in range(len(f)):  # Newell's normal: fine for non-planar faces too
-                    nrm += np.cross(p[k] - c, p[(k + 1) % len(f)] - c)
+                for k in range(len(f)):  # the face's vector area: a normal for non-planar faces too
+                    nrm += np.cross(pts[k] - c, pts[(k + 1) % len(f)] - c)
                 if np.linalg.norm(nrm) < 1e-12 * side * side:
                     _fail(f"faces_vertices[{fi}]", "a degenerate face (its vertices are collinear)")
                 apex = len(coords)
@@ -260,19 +301,28 @@ def read_fold(source, fixed=None, frame=0, faces="rigid"):
         extra = [float(np.linalg.norm(xa[p] - xa[q])) for p, q in bars[len(edges):]]
         lengths = lengths + extra
     name = fr.get("frame_title") or doc.get("file_title") or "fold"
-    a = Assembly(xa, np.array(bars, dtype=np.int32).reshape(-1, 2), fixed=np.array(fixed_rows), lengths=lengths,
-                 labels=labels, name=name)
+    a = FoldAssembly(xa, np.array(bars, dtype=np.int32).reshape(-1, 2), fixed=np.array(fixed_rows),
+                     lengths=lengths, labels=labels, name=name)
     n_edges = len(edges) if edges else 0
     keep = {k: v for k, v in fr.items() if k.startswith("frame_") and k not in ("frame_parent", "frame_inherit")}
     a.fold = FoldSource(nv, n_edges, list(assignment) if assignment is not None else None, face_list, keep)
     return a
 
 
-def graph_triangles(bars):
-    """The triangles of a bar graph (three joints pairwise barred), sorted:
-    faces for models that have none (e.g. the sails, whose panels are bar
-    triangles)."""
-    adj = {}
+def graph_triangles(bars: Any) -> List[List[int]]:
+    """The triangles of a bar graph (three joints pairwise barred).
+
+    Parameters
+    ----------
+    bars : (nbars, 2) int array
+        Joint indices of each bar.
+
+    Returns
+    -------
+    list of [i, j, k], i < j < k, sorted
+        Faces for models that have none (the sails' panels are bar triangles).
+    """
+    adj: Dict[int, set[int]] = {}
     for p, q in np.asarray(bars).tolist():
         adj.setdefault(p, set()).add(q)
         adj.setdefault(q, set()).add(p)
@@ -287,7 +337,7 @@ def graph_triangles(bars):
     return out
 
 
-def _orient_ccw(tris, x):
+def _orient_ccw(tris: List[List[int]], x: npt.NDArray[np.float64]) -> List[List[int]]:
     """Faces counter-clockwise seen from +z (the spec's orientation for a
     flat pattern); a face lying in a vertical plane is left as it is."""
     out = []
@@ -300,19 +350,35 @@ def _orient_ccw(tris, x):
     return out
 
 
-def write_fold(path, assembly, path_coords=None, faces=None, title=None, description=None):
-    """Write `assembly` as a FOLD file (returns the dict; path None = don't write).
+def write_fold(path: Union[None, str, "os.PathLike[str]"], assembly: Assembly,
+               path_coords: Optional[Sequence[Any]] = None, faces: Any = None, title: Optional[str] = None,
+               description: Optional[str] = None) -> FoldDoc:
+    """Write an assembly, or a path followed from it, as a FOLD file.
 
-    path_coords  optional sequence of (njoints, dim) configurations (a
-                 followed path): frame 0 (top level) is the first, each further
-                 one a frame in file_frames that inherits the mesh; without it
-                 the single frame is the assembly's current configuration
-    faces        None = the faces read from a FOLD file (if any), "triangles"
-                 = the bar graph's triangles, or a list of vertex lists
-    Vertices are the FOLD vertices (apexes added by read_fold are dropped),
-    edges the FOLD edges (added diagonals and apex bars dropped); supports go
-    to "vertices_libkin:fixed". Rest lengths go to edges_length."""
-    src = getattr(assembly, "fold", None)
+    Parameters
+    ----------
+    path : path or None
+        Where to write; None = only return the dict.
+    assembly : Assembly
+        The model (a FoldAssembly writes back its file's vertices, edges,
+        assignment and faces; apexes and added diagonals are dropped).
+    path_coords : sequence of (njoints, dim) arrays, optional
+        A followed path: frame 0 (top level) is the first configuration, each
+        further one a frame in file_frames inheriting the mesh. Without it,
+        the single frame is the assembly's current configuration.
+    faces : None, "triangles" or a list of vertex lists
+        None = the faces read from a FOLD file (if any); "triangles" = the
+        bar graph's triangles.
+    title, description : str, optional
+        file_title and file_description.
+
+    Returns
+    -------
+    dict
+        The FOLD document (supports in "vertices_libkin:fixed", rest lengths
+        in edges_length).
+    """
+    src: Optional[FoldSource] = getattr(assembly, "fold", None)
     nv = src.n_vertices if src is not None else assembly.njoints
     ne = src.n_edges if src is not None and src.n_edges else assembly.nbars
     bars = assembly.bars[:ne]
@@ -326,6 +392,7 @@ def write_fold(path, assembly, path_coords=None, faces=None, title=None, descrip
         for i, c in enumerate(configs):
             if c.shape != (assembly.njoints, dim):
                 raise ValueError(f"path_coords[{i}]: expected shape {(assembly.njoints, dim)}, got {c.shape}")
+    face_list: Optional[List[List[int]]]
     if faces is None and src is not None:
         face_list = src.faces
     elif isinstance(faces, str):
@@ -335,11 +402,11 @@ def write_fold(path, assembly, path_coords=None, faces=None, title=None, descrip
     else:
         face_list = [list(map(int, f)) for f in faces] if faces is not None else None
 
-    def coords_of(c):
+    def coords_of(c: npt.NDArray[np.float64]) -> List[List[float]]:
         return [[float(v) for v in row] for row in c[:nv]]
 
     fixed = assembly.fixed[:nv]
-    doc = {"file_spec": FOLD_SPEC, "file_creator": "libkin", "file_classes": ["singleModel"]}
+    doc: FoldDoc = {"file_spec": FOLD_SPEC, "file_creator": "libkin", "file_classes": ["singleModel"]}
     if title or (src is None and assembly.name):
         doc["file_title"] = title or assembly.name
     if description:
@@ -354,7 +421,7 @@ def write_fold(path, assembly, path_coords=None, faces=None, title=None, descrip
     elif face_list:
         # an edge on one face is border, else a fold whose sense the
         # geometry does not fix here: unassigned
-        count = {}
+        count: Dict[frozenset[int], int] = {}
         for f in face_list:
             for k in range(len(f)):
                 e = frozenset((f[k], f[(k + 1) % len(f)]))
@@ -370,18 +437,28 @@ def write_fold(path, assembly, path_coords=None, faces=None, title=None, descrip
         doc["file_frames"] = [{"frame_parent": 0, "frame_inherit": True, "frame_classes": frame_classes,
                                "vertices_coords": coords_of(c)} for c in configs[1:]]
     if path is not None:
-        with open(path, "w") as f:
-            json.dump(doc, f, separators=(",", ":"))
-            f.write("\n")
+        with open(path, "w") as out:
+            json.dump(doc, out, separators=(",", ":"))
+            out.write("\n")
     return doc
 
 
-def check_fold(doc):
-    """The spec's structural rules that a viewer relies on, as a list of
-    problems (empty = none): vertices_coords present; every index in range;
-    per-edge and per-vertex arrays as long as the lists they describe;
-    file_* keys only at the top level; frame_parent in range; standard
-    assignment letters; custom keys namespaced by a colon."""
+def check_fold(doc: FoldDoc) -> List[str]:
+    """The spec's structural rules that a viewer relies on.
+
+    Parameters
+    ----------
+    doc : dict
+        A FOLD document.
+
+    Returns
+    -------
+    list of str
+        The problems found (empty = none): vertices_coords present; every
+        index in range; per-edge and per-vertex arrays as long as the lists
+        they describe; file_* keys only at the top level; frame_parent in
+        range; standard assignment letters; custom keys namespaced by a colon.
+    """
     probs = []
     std = {"file_spec", "file_creator", "file_author", "file_title", "file_description", "file_classes",
            "file_frames", "frame_author", "frame_title", "frame_description", "frame_classes", "frame_attributes",

@@ -556,4 +556,4 @@ def _jsonable(v):
 
 # the square sail's study (Section 6.1) lives in its own module; it is
 # reached from here as before (imported last: it uses the helpers above)
-from .squarestudy import square_study  # noqa: E402,F401
+from .squarestudy import square_study as square_study  # noqa: E402
