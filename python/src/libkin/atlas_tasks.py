@@ -9,10 +9,9 @@ the task alone: the same whichever worker runs it, in whichever order.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Dict, Optional, Tuple
+from typing import TYPE_CHECKING, Any, Dict, Optional
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 if TYPE_CHECKING:
     from .assembly import Assembly
@@ -44,38 +43,8 @@ def _rms_rest(a: Assembly) -> float:
     return float(np.sqrt(np.mean(a.rest_lengths ** 2)))
 
 
-def follow_event(a: Assembly, direction: Optional[ArrayLike] = None, max_length: float = 0.0, max_steps: int = 1000,
-                 vr_tol: float = 1e-10, vr_floor: float = 1e-6) -> Tuple[int, Any]:
-    """kin_follow_event (kin_follow.h): follow from the current point (a
-    regular point, or a bifurcation along `direction`, a first-order
-    mechanism U_m beta) to the next event. The assembly moves to the end
-    point. Returns (status, info struct); raises only for bad arguments
-    (event NONE)."""
-    from ._arrays import as_c_array, read_ptr
-    from ._lib import ffi, lib, new_struct
-    from .errors import check
-    o = new_struct("kin_follow_options")
-    lib.kin_follow_options_default(o)
-    o.max_length = float(max_length)
-    o.max_steps = int(max_steps)
-    o.vr_tol = float(vr_tol)
-    o.vr_floor = float(vr_floor)
-    info = new_struct("kin_follow_info")
-    d = ffi.NULL
-    if direction is not None:
-        arr = as_c_array(direction, np.float64, (a.nfree,), "direction")
-        d = read_ptr(arr, "double *")
-    rc = lib.kin_follow_event(a._h, d, o, info)
-    if rc and info.event == lib.KIN_FOLLOW_NONE:
-        check(rc, a._h, "follow")
-    return rc, info
-
-
-def _event_kind(event: int) -> str:
-    from ._lib import lib
-    return {lib.KIN_FOLLOW_BIFURCATION: BIFURCATION, lib.KIN_FOLLOW_NEAR_MISS: NEAR_MISS,
-            lib.KIN_FOLLOW_CLOSED_LOOP: LOOP, lib.KIN_FOLLOW_LENGTH_LIMIT: BUDGET,
-            lib.KIN_FOLLOW_STEP_LIMIT: BUDGET}.get(event, FAILURE)
+_EVENTS = {"bifurcation": BIFURCATION, "near-miss": NEAR_MISS, "closed-loop": LOOP, "length-limit": BUDGET,
+           "step-limit": BUDGET}
 
 
 def follow_branch(task: Task) -> Dict[str, Any]:
@@ -91,7 +60,6 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     (the tolerance it was located to), "steps", "samples", "message"}.
     The samples are taken by following again from the start with the length
     budget set to k/(n+1) of the event's length (the path is deterministic)."""
-    from ._lib import ffi, lib
     from .errors import KinError
     a = rebuild(task)
     start = a.clone()
@@ -100,24 +68,24 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     samples: list[Any] = []
     out: Dict[str, Any] = {"samples": samples, "message": ""}
     try:
-        rc, info = follow_event(a, d, max_length=float(task["max_length"]), **lim)
+        ev = a.follow_event(d, max_length=float(task["max_length"]), **lim)
     except KinError as exc:
         out.update(_end_state(a, FAILURE))
         out.update({"message": f"{type(exc).__name__}: {exc}", "accuracy": float("nan"), "vr_tol": 0.0,
                     "steps": 0})
         return out
-    kind = _event_kind(info.event)
+    kind = _EVENTS.get(ev.event, FAILURE)
     if kind == FAILURE:
-        out["message"] = ffi.string(lib.kin_last_error(a._h)).decode(errors="replace") if rc else "failed"
-    rank_tol = max(float(task.get("rank_tol") or 1e-9), 10.0 * info.vr_tol_used) if kind == BIFURCATION else None
+        out["message"] = f"{ev.status}: {ev.message}"
+    rank_tol = max(float(task.get("rank_tol") or 1e-9), 10.0 * ev.vr_tol_used) if kind == BIFURCATION else None
     out.update(_end_state(a, kind, rank_tol))
-    out.update({"accuracy": float(info.v_r_rel), "vr_tol": float(info.vr_tol_used), "steps": int(info.steps),
-                "length": float(info.length), "at_start": bool(info.at_start)})
+    out.update({"accuracy": float(ev.v_r_rel), "vr_tol": float(ev.vr_tol_used), "steps": int(ev.steps),
+                "length": float(ev.length), "at_start": bool(ev.at_start)})
     n = int(task.get("samples", 0))
     for k in range(1, n + 1):
         c = start.clone()
         try:
-            follow_event(c, d, max_length=info.length * k / (n + 1), **lim)
+            c.follow_event(d, max_length=ev.length * k / (n + 1), **lim)
             samples.append(c.coords.tolist())
         except KinError:
             break
