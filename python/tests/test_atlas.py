@@ -189,3 +189,14 @@ def test_bounds():
     at = libkin.explore("threebar:RC", depth=1, max_length=0.5)
     assert len(at.edges) == 4 and all(e.event == "budget" for e in at.edges)
     assert all(at.nodes[e.target].kind == atlas_mod.REGULAR and e.length >= 0.5 for e in at.edges)
+
+
+def test_square_sail_matches_stored_example(square):
+    """examples/atlas/square_sail (written by `libkin explore sail:4:1 --out ...`): the same map."""
+    import pathlib
+    stored = pathlib.Path(__file__).resolve().parents[2] / "examples" / "atlas" / "square_sail" / "atlas.json"
+    ref = atlas_mod.Atlas.from_dict(json.loads(stored.read_text()))
+    assert [(n.kind, n.m, n.s, n.orbit) for n in ref.nodes] == [(n.kind, n.m, n.s, n.orbit) for n in square.nodes]
+    assert ([(e.source, e.target, e.solution, e.sign, e.event) for e in ref.edges] ==
+            [(e.source, e.target, e.solution, e.sign, e.event) for e in square.edges])
+    assert ref.same_as(square, tol=1e-6)

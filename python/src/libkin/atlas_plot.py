@@ -150,7 +150,8 @@ def draw_map(atlas: _atlas.Atlas, path: Union[None, str, os.PathLike[str]] = Non
 
 
 def draw_nodes(atlas: _atlas.Atlas, path: Union[str, os.PathLike[str]], limit: int = 12) -> None:
-    """The configurations of the first `limit` nodes (xy projection), a panel each."""
+    """The configurations of the first `limit` nodes (xy projection), a panel
+    each, all on the same scale; joints shown as dots (folded bars overlap)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -161,11 +162,19 @@ def draw_nodes(atlas: _atlas.Atlas, path: Union[str, os.PathLike[str]], limit: i
     fig, axs = plt.subplots(rows, cols, figsize=(3.0 * cols, 3.0 * rows), squeeze=False)
     for ax in axs.ravel():
         ax.axis("off")
+    # one frame for every panel, padded: flat and folded configurations
+    # (zero extent in y) keep their scale and stay visible
+    allxy = np.vstack([n.coords[:, :2] for n in ns])
+    mid = 0.5 * (allxy.min(axis=0) + allxy.max(axis=0))
+    half = 0.54 * max(float((allxy.max(axis=0) - allxy.min(axis=0)).max()), 1e-9)
+    lo, hi = mid - half, mid + half
     for ax, n in zip(axs.ravel(), ns):
         X = n.coords
         for i, j in bars:
             ax.plot(X[[i, j], 0], X[[i, j], 1], "-", color="#1f77b4", lw=1)
         ax.plot(X[:, 0], X[:, 1], "k.", ms=3)
+        ax.set_xlim(lo[0], hi[0])
+        ax.set_ylim(lo[1], hi[1])
         ax.set_aspect("equal")
         ax.set_title(_label(atlas, n), fontsize=7)
     fig.tight_layout()
