@@ -167,6 +167,10 @@ def test_bad_arguments():
         libkin.explore("threebar:RC", depth=-1)
     with pytest.raises(libkin.errors.InvalidArgumentError):
         libkin.explore("threebar:RC", start=np.zeros((3, 2)))
+    for bad in ({"max_length": -1.0}, {"max_length": float("nan")}, {"max_nodes": 0}, {"samples": -1},
+                {"time_limit": -1.0}, {"shards": 0}, {"max_steps": 0}):
+        with pytest.raises(libkin.errors.InvalidArgumentError):
+            libkin.explore("threebar:RC", **bad)
 
 
 def test_cli(tmp_path, capsys):

@@ -548,7 +548,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     Raises
     ------
     InvalidArgumentError
-        symmetric, depth or start out of range.
+        An argument out of range (symmetric, depth, a budget, start's shape).
     """
     from .assembly import Assembly
     t0 = time.perf_counter()
@@ -560,6 +560,14 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         raise InvalidArgumentError(f"symmetric: expected False, True or 'auto', got {symmetric!r}")
     if not isinstance(depth, int) or depth < 0:
         raise InvalidArgumentError(f"depth: expected an integer >= 0, got {depth!r}")
+    for name, v, least in (("max_nodes", max_nodes, 1), ("max_steps", max_steps, 1), ("samples", samples, 0),
+                           ("threads", threads, 1), ("shards", 1 if shards is None else shards, 1)):
+        if not isinstance(v, int) or v < least:
+            raise InvalidArgumentError(f"{name}: expected an integer >= {least}, got {v!r}")
+    for name, x in (("max_length", max_length), ("time_limit", time_limit)):
+        if x is not None and not (isinstance(x, (int, float)) and math.isfinite(x) and x >= 0
+                                  and (x > 0 or name == "time_limit")):
+            raise InvalidArgumentError(f"{name}: expected a finite number > 0, got {x!r}")
     scale = max(1.0, float(np.abs(a.coords - a.coords.mean(axis=0)).max()))
     if max_length is None:
         max_length = 10.0 * scale

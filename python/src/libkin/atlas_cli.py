@@ -55,7 +55,7 @@ def run(args: argparse.Namespace, assembly: Assembly) -> int:
                      progress=None if args.quiet else True)
     rep = atlas_report.write(at, args.out)
     s = at.summary()
-    kinds = ", ".join(f"{v} {k}" for k, v in sorted(s["edge_events"].items()))
+    kinds = ", ".join(f"{v} {k}" for k, v in sorted(s["edge_events"].items())) or "none"
     print(f"{s['nodes']} nodes, {s['edges']} directed paths ({kinds}); wrote {pathlib.Path(args.out) / 'atlas.json'}, "
           f"atlas.graphml, atlas_map.png, {rep}")
     return 0
