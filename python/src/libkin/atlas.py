@@ -52,6 +52,9 @@ NODE_KINDS = (BIFURCATION, REGULAR, NEAR_MISS, MULTI_DOF, RIGID, FAILURE)
 
 # two configurations are one node when they agree to this times the model size
 SAME_TOL = 1e-6
+# points located to v_r <= tau v_max are one node within LOCATION_FACTOR
+# sqrt(tau) times the model size (see _Explorer.pair_tol)
+LOCATION_FACTOR = 10.0
 # with an executor, the complete solver is split into shards of about this
 # many homotopy paths (at most 64 shards)
 SHARD_PATHS = 256
@@ -291,17 +294,25 @@ class _Explorer:
             X = (X - cx) @ R.T + cy
         return float(np.abs(X - Y).max())
 
-    def find(self, X: NDArray[np.float64]) -> Optional[int]:
+    def pair_tol(self, located_a: float, located_b: float) -> float:
+        """How close two points must be to be one node: SAME_TOL times the
+        model size, or more for points located only to a coarse v_r: at a
+        tangency v_r ~ |l - l*|^2, so a point located to v_r <= tau v_max
+        is only within about sqrt(tau) (relative) of the true one."""
+        return self.scale * max(SAME_TOL, LOCATION_FACTOR * math.sqrt(max(located_a, located_b, 0.0)))
+
+    def find(self, X: NDArray[np.float64], located: float = 0.0) -> Optional[int]:
         for n in self.nodes:
-            if self._distance(X, n.coords) <= self.tol:
+            if self._distance(X, n.coords) <= self.pair_tol(located, n.located_tol):
                 return n.id
         return None
 
-    def orbit_of(self, X: NDArray[np.float64]) -> Optional[Tuple[int, int]]:
+    def orbit_of(self, X: NDArray[np.float64], located: float = 0.0) -> Optional[Tuple[int, int]]:
         """(node id, symmetry index) with g.node = X, if X is an image of a node."""
         for n in self.nodes:
+            tol = self.pair_tol(located, n.located_tol)
             for j, g in enumerate(self.syms):
-                if self._distance(g.apply(n.coords), X) <= self.tol:
+                if self._distance(g.apply(n.coords), X) <= tol:
                     return n.id, j
         return None
 
@@ -309,7 +320,7 @@ class _Explorer:
         i = len(self.nodes)
         n = Node(i, kind, np.asarray(X, dtype=float), an["m"], an["m_rigid"], an["s"], an["v_r_rel"], depth,
                  located_v_r=float(an.get("accuracy", 0.0)), located_tol=float(an.get("vr_tol", 0.0)), orbit=i)
-        img = self.orbit_of(n.coords) if len(self.syms) > 1 else None
+        img = self.orbit_of(n.coords, n.located_tol) if len(self.syms) > 1 else None
         if img is not None:
             n.image_of = {"node": img[0], "symmetry": img[1]}
             n.orbit = self.nodes[img[0]].orbit
@@ -332,8 +343,9 @@ class _Explorer:
         for n in self.nodes:
             n.orbit = n.id
             for m in self.nodes[: n.id]:
+                tol = self.pair_tol(m.located_tol, n.located_tol)
                 j = next((j for j, g in enumerate(self.syms)
-                          if self._distance(g.apply(m.coords), n.coords) <= self.tol), None)
+                          if self._distance(g.apply(m.coords), n.coords) <= tol), None)
                 if j is not None:
                     n.orbit = m.orbit
                     if n.image_of is None and not n.expanded:
@@ -373,7 +385,8 @@ class _Explorer:
         if use_sym:
             from .symmetry import restricted_quadrics
             stab = [self.P[j] for j, g in enumerate(self.syms)
-                    if g.proper and not g.is_identity and np.abs(g.apply(node.coords) - node.coords).max() <= self.tol]
+                    if g.proper and not g.is_identity
+                    and np.abs(g.apply(node.coords) - node.coords).max() <= self.pair_tol(node.located_tol, 0.0)]
             G = invariant_subspace(U, stab)
             k = G.shape[1]
             rec.update({"mode": "symmetric", "group_order": len(stab) + 1, "k": k})
@@ -440,7 +453,7 @@ class _Explorer:
               depth: int) -> int:
         ev = res["event"]
         X = np.asarray(res["coords"])
-        found = nid if ev == tasks.LOOP else self.find(X)
+        found = nid if ev == tasks.LOOP else self.find(X, float(res.get("vr_tol", 0.0)))
         target = found if found is not None else self.add_node(X, _node_kind(ev, res), res, depth)
         self.edges.append(Edge(len(self.edges), nid, target, int(sol), int(sign), [float(v) for v in beta], ev,
                                float(res["length"]), float(res["accuracy"]), res["samples"], res["message"],
@@ -473,8 +486,11 @@ def solve_system(Q: NDArray[np.float64], k: int, solve: Callable[[NDArray[np.flo
     norms = np.linalg.norm(Q.reshape(s, -1), axis=1)
     resid = (np.abs(np.einsum("nx,jxy,ny->nj", cand, Q, cand)) / norms).max(axis=1) if len(cand) else cand[:, 0]
     betas = cand[resid <= OVERDETERMINED_TOL]
-    return betas, {"solutions": len(betas), "accounting": res["accounting"], "combined": f"{k - 1} random "
-                   f"combinations of {s} equations", "candidates": len(cand)}
+    rec = {"solutions": len(betas), "accounting": res["accounting"],
+           "combined": f"{k - 1} random combinations of {s} equations", "candidates": len(cand)}
+    if not len(betas):
+        rec["reason"] = f"none of the {len(cand)} candidate(s) solves all {s} second-order equations"
+    return betas, rec
 
 
 def _node_kind(event: str, res: Dict[str, Any]) -> str:
