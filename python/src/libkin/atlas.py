@@ -19,6 +19,8 @@ pool or on a Dask cluster (time_limit aside: it is checked between nodes).
 """
 from __future__ import annotations
 
+import asyncio
+import concurrent.futures
 import dataclasses
 import json
 import math
@@ -215,26 +217,41 @@ def _is_dask_client(ex: Any) -> bool:
 
 
 def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = None, progress: Progress = None,
-              what: str = "tasks") -> List[Any]:
+              what: str = "tasks", deadline: Optional[float] = None) -> List[Any]:
     """fn(item) for every item, serially (executor None) or on a
     concurrent.futures.Executor or a dask.distributed.Client; the results in
-    the order of items. progress(done, total, what) after each."""
+    the order of items. progress(done, total, what) after each. deadline (a
+    time.perf_counter() value): tasks not started by then are not run (or
+    are cancelled) and give None; tasks already running complete."""
     n = len(items)
+    out: List[Any] = []
     if executor is None:
-        out = []
         for k, it in enumerate(items):
-            out.append(fn(it))
+            out.append(None if deadline is not None and time.perf_counter() > deadline else fn(it))
             _tick(progress, k + 1, n, what)
         return out
     if _is_dask_client(executor):
         futures = executor.map(fn, items, pure=False)
     else:
         futures = [executor.submit(fn, it) for it in items]
-    out = []
     for k, f in enumerate(futures):
-        out.append(f.result())
+        if deadline is not None and not f.done():
+            wait = deadline - time.perf_counter()
+            try:
+                out.append(f.result(timeout=max(wait, 0.0)) if wait > 0 else _cancel_or_wait(f))
+            except (TimeoutError, concurrent.futures.TimeoutError, asyncio.TimeoutError):
+                out.append(_cancel_or_wait(f))
+        else:
+            out.append(f.result())
         _tick(progress, k + 1, n, what)
     return out
+
+
+def _cancel_or_wait(f: Any) -> Any:
+    """Cancel a future that has not started (None); wait for a running one."""
+    if f.cancel():
+        return None
+    return f.result()
 
 
 def _tick(progress: Progress, done: int, total: int, what: str) -> None:
@@ -267,6 +284,7 @@ class _Explorer:
         self.symmetric, self.executor, self.progress = symmetric, executor, progress
         self.max_length, self.seed, self.threads = max_length, seed, threads
         self.max_steps, self.samples, self.shards = max_steps, samples, shards
+        self.deadline: Optional[float] = None
         self.symmetry_note = ""
         self.perms: List[Tuple[int, ...]] = []
         if symmetries is not None:
@@ -447,7 +465,7 @@ class _Explorer:
                   "rank_tol": self._rank_tol(self.nodes[nid]), "direction": d.tolist(),
                   "max_length": self.max_length, "max_steps": self.max_steps, "samples": self.samples}
                  for nid, _, _, _, d in work]
-        return run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches")
+        return run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches", self.deadline)
 
     def merge(self, nid: int, sol: int, sign: int, beta: NDArray[np.float64], res: Dict[str, Any],
               depth: int) -> int:
@@ -529,7 +547,9 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         Path-length budget of one branch (default: 10 times the model size,
         the largest distance of a joint from the centroid, at least 1).
     time_limit : float, optional
-        Seconds; no node is expanded after it (a level in flight completes).
+        Seconds; no node is expanded and no branch started after it
+        (branches being followed complete; the others are left out and
+        their nodes say so).
     symmetric : bool or "auto"
         False: the complete solver at every bifurcation. True: only the
         branches that keep the node's symmetry (the proper rotations among
@@ -589,6 +609,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         max_length = 10.0 * scale
     ex = _Explorer(a, symmetric, executor, progress, float(max_length), seed, threads, symmetries, int(max_steps),
                    int(samples), shards)
+    ex.deadline = None if time_limit is None else t0 + float(time_limit)
     an = a.analyse()
     rec0 = {"m": an.m_internal, "m_rigid": an.m_rigid, "s": an.s,
             "v_r_rel": float(an.v_r / an.v_max) if an.v_max > 0 else 0.0}
@@ -626,6 +647,12 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         results = ex.follow_all(work)
         n_before = len(ex.nodes)
         for (nid, i, sg, b, _), res in zip(work, results):
+            if res is None:  # not followed: the time limit ran out first
+                node = ex.nodes[nid]
+                if "time limit" not in node.status:
+                    node.status += "; some branches not followed: time limit reached"
+                stopped = stopped or "time_limit"
+                continue
             ex.merge(nid, i, sg, b, res, level + 1)
         frontier = [n.id for n in ex.nodes[n_before:] if n.kind == BIFURCATION]
         if not frontier:
