@@ -17,8 +17,8 @@ import numpy as np
 
 from . import __version__
 from ._base import Analysis
-from .assembly import Assembly, solve_quadrics
-from .errors import InvalidArgumentError, KinError
+from .assembly import Assembly, FollowEvent, solve_quadrics
+from .errors import InvalidArgumentError, KinError, NotFoundError
 
 EXIT_ERROR = 1
 EXIT_USAGE = 2
@@ -131,15 +131,17 @@ def cmd_locate(args: argparse.Namespace) -> int:
         return EXIT_USAGE
     if args.direction is not None:
         # out of a bifurcation along a branch: follow it to its next event
-        ev = a.follow_event(args.direction, vr_tol=args.vr_tol, delta=args.delta, max_steps=args.max_steps)
-        print(f"{ev.event} after {ev.steps} steps, path length {ev.length:.9g}: v_r / v_max = {ev.v_r_rel:.3g}"
-              + (f" (located to {ev.vr_tol_used:.0e})" if ev.event == "bifurcation" else "")
-              + f", m = {ev.m_internal}, s = {ev.s}" + (f": {ev.message}" if ev.message else ""))
-        if args.out:
-            a.to_json(args.out)
-            print("wrote", args.out)
-        return 0 if ev.event != "failed" else EXIT_ERROR
-    info = a.locate(method=args.method, delta=args.delta, vr_tol=args.vr_tol, max_steps=args.max_steps)
+        return _print_event(a, a.follow_event(args.direction, vr_tol=args.vr_tol, delta=args.delta,
+                                              max_steps=args.max_steps), args)
+    try:
+        info = a.locate(method=args.method, delta=args.delta, vr_tol=args.vr_tol, max_steps=args.max_steps)
+    except NotFoundError as exc:
+        if args.method != "fast":
+            raise
+        # vr_tol out of reach here, or a near miss: kin_follow_event locates to
+        # the accuracy reachable (up to 1e-6) or says it is a near miss
+        print(f"the fast locator gave up ({exc});\nfollowing on from the last regular point to the next event:")
+        return _print_event(a, a.follow_event(vr_tol=args.vr_tol, delta=args.delta, max_steps=args.max_steps), args)
     events = {1: "test function changed sign", 2: "paper's switch rule", 3: "a step landed on it",
               4: "v_r turned near zero"}
     print(f"bifurcation after {info.steps} steps ({events.get(info.event, info.event)}), located by the "
@@ -150,6 +152,17 @@ def cmd_locate(args: argparse.Namespace) -> int:
         a.to_json(args.out)
         print("wrote", args.out)
     return 0
+
+
+def _print_event(a: Assembly, ev: FollowEvent, args: argparse.Namespace) -> int:
+    """One line on a kin_follow_event result (and --out); the exit status."""
+    print(f"{ev.event} after {ev.steps} steps, path length {ev.length:.9g}: v_r / v_max = {ev.v_r_rel:.3g}"
+          + (f" (located to {ev.vr_tol_used:.0e})" if ev.event == "bifurcation" else "")
+          + f", m = {ev.m_internal}, s = {ev.s}" + (f": {ev.message}" if ev.message else ""))
+    if args.out:
+        a.to_json(args.out)
+        print("wrote", args.out)
+    return 0 if ev.event != "failed" else EXIT_ERROR
 
 
 def cmd_draw(args: argparse.Namespace) -> int:
