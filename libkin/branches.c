@@ -33,20 +33,22 @@ static int follow_one(const kin_assembly *a0, const double *dir, double l_target
     p->length = 0.0;
     p->tangent_cos = 0.0;
     double dmax = a->opt.step_fraction * a->rms_length;
-    double l_start = kin_path_length(a); /* the progress: the fraction of l_target covered from here */
+    /* l_target counts from the bifurcation: the clone carries the path
+     * length of however the caller reached it (also the progress base) */
+    double l_start = kin_path_length(a);
     kin_step_info info = {.size = sizeof info};
     if (kin__leave_bifurcation(a, dir, FIRST_STEP_FRACTION, &info, &p->tangent_cos) != KIN_OK) goto done;
     p->tangent_ok = p->tangent_cos >= TANGENT_COS_TOL;
     long budget = (long)(PATH_STEP_FACTOR * (l_target / dmax + 10)); /* l_target <= MAX_TARGET_STEPS * dmax */
-    while (kin_path_length(a) < l_target && budget-- > 0) {
+    while (kin_path_length(a) - l_start < l_target && budget-- > 0) {
         if (kin__progress(a0, done0 + fmin(1.0, fmax(0.0, kin_path_length(a) - l_start) / l_target), total)) {
             rc = KIN_ECANCELLED;
             break;
         }
-        double d = fmin(dmax, l_target - kin_path_length(a));
+        double d = fmin(dmax, l_target - (kin_path_length(a) - l_start));
         if (kin_step(a, d, &info) != KIN_OK) break;
     }
-    p->length = kin_path_length(a);
+    p->length = kin_path_length(a) - l_start;
     p->exists = 1;
     if (xyz_out) memcpy(xyz_out, a->xyz, sizeof(double) * (size_t)(a->nj * a->dim));
 done:

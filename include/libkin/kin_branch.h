@@ -263,7 +263,7 @@ typedef struct kin_branch_path {
     int exists;      /* the first step converged and the path was followed */
     int tangent_ok;  /* the first small step left along U_m*beta (|cos| >= tol) */
     int path_id;     /* distinct-path id (eq. 21-22), -1 if it does not exist */
-    double length;   /* path length reached */
+    double length;   /* path length reached, counted from the bifurcation */
     double tangent_cos; /* cos between the first chord and U_m*beta */
 } kin_branch_path;
 
@@ -271,7 +271,8 @@ typedef struct kin_branch_path {
  * nbeta) and each sign, on a clone of a: choose U_m*beta*sign, take a small
  * first step (1e-3 x the largest step) and check its chord is parallel to
  * U_m*beta (a wrong second-order solution can still let the corrector
- * converge), then follow the path to path length l_target. Paths whose
+ * converge), then follow the path to path length l_target from a (whatever
+ * path length a itself has accumulated). Paths whose
  * displacements T = R - R0 coincide (cos >= 1 - 1e-6, eq. 22 with the sign
  * kept, since +beta and -beta are different motions) share a path_id.
  * paths receives 2*nbeta entries (beta 0 +, beta 0 -, beta 1 +, ...);

@@ -35,6 +35,9 @@ def _load(spec: str) -> Assembly:
         if len(parts) not in (2, 3) or not all(p.isdigit() for p in parts[1:]):
             raise InvalidArgumentError(f"MODEL {spec!r}: expected sail:N_SIDES or sail:N_SIDES:N_LOOPS")
         return Assembly.sail(int(parts[1]), int(parts[2]) if len(parts) > 2 else 1)
+    if spec.endswith(".fold"):
+        from .fold import read_fold
+        return read_fold(spec)
     return Assembly.from_json(spec)
 
 
@@ -202,6 +205,27 @@ def cmd_study(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_fold_export(args: argparse.Namespace) -> int:
+    from .fold import write_fold
+    a = _load(args.model)
+    frames = [a.coords]
+    if args.follow:
+        an = a.analyse()
+        if an.m_internal != 1:
+            print(f"{a.name} has {an.m_internal} internal mechanisms here: not on a single path, "
+                  "nothing to follow", file=sys.stderr)
+            return EXIT_USAGE
+        try:
+            for _ in a.follow(steps=args.follow, delta=args.delta, progress=not args.quiet):
+                frames.append(a.coords)
+        except KinError as exc:
+            print(f"stopped after {len(frames) - 1} steps: {exc}", file=sys.stderr)
+    faces = "triangles" if args.faces == "triangles" else None
+    write_fold(args.out, a, path_coords=frames, faces=faces)
+    print(f"wrote {args.out} ({len(frames)} frame{'s' if len(frames) > 1 else ''})")
+    return 0
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="libkin", description=(
         "Kinematic analysis of pin-jointed bar assemblies. MODEL is a JSON model file "
@@ -266,6 +290,15 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--threads", type=int, default=2, help="threads of the homotopy solver")
     s.add_argument("--quiet", action="store_true", help="no progress messages")
     s.set_defaults(fn=cmd_study)
+    s = sub.add_parser("fold-export", help="write a model, or a path followed from it, as a FOLD file")
+    s.add_argument("model", help="MODEL as above, or a .fold file")
+    s.add_argument("--follow", type=int, default=0, help="steps to follow; each is a frame (default 0)")
+    s.add_argument("--delta", type=float, default=0.0, help="step amplitude (0 = largest allowed)")
+    s.add_argument("--faces", choices=["file", "triangles"], default="file",
+                   help="faces: the .fold file's (default) or the bar graph's triangles")
+    s.add_argument("--out", required=True, help="the .fold file to write")
+    s.add_argument("--quiet", action="store_true", help="no progress bar")
+    s.set_defaults(fn=cmd_fold_export)
     s = sub.add_parser("models", help="write the built-in models as JSON files")
     s.add_argument("dir")
     s.set_defaults(fn=cmd_models)
