@@ -89,6 +89,7 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
         counts[fi.event >= 0 && fi.event <= 6 ? fi.event : 0]++;
         back += fi.event == KIN_FOLLOW_BIFURCATION && fi.at_start;
         if (fi.event == KIN_FOLLOW_NEAR_MISS) {
+            if (fi.v_r_rel < 1e-3) printf("  branch %d: near miss at v_r / v_max %.2g after %d steps\n", k, fi.v_r_rel, fi.steps);
             nm_lo = fmin(nm_lo, fi.v_r_rel);
             nm_hi = fmax(nm_hi, fi.v_r_rel);
         }

@@ -112,6 +112,9 @@ static void resync(follow_ctx *c)
     c->len_pp = c->length;
     memcpy(c->xp, c->xq, sizeof(double) * (size_t)nf);
     memcpy(c->xpp, c->xq, sizeof(double) * (size_t)nf);
+    /* the locator may have moved back towards the start: the next chord
+     * counts for a return only if this point is away from it */
+    c->left = distance(nf, c->xq, c->xs) > 2.0 * c->o->loop_tol * c->scale;
 }
 
 /* the locator's progress, made cumulative over the attempts */
@@ -300,7 +303,7 @@ out:
         kin__gather(a, a->xyz, xe);
         info->start_distance = distance(nf, xe, c.xs) / c.scale;
         info->at_start = info->event == KIN_FOLLOW_CLOSED_LOOP ||
-                         (info->event == KIN_FOLLOW_BIFURCATION && info->start_distance <= o->loop_tol);
+                         (info->event == KIN_FOLLOW_BIFURCATION && at_bif && info->start_distance <= o->loop_tol);
     }
     if (kin__cur(a)->valid && info->event != KIN_FOLLOW_BIFURCATION && info->event != KIN_FOLLOW_NEAR_MISS) {
         info->m_internal = kin__cur(a)->an.m_internal;

@@ -77,8 +77,8 @@ typedef struct kin_follow_info {
     int m_internal, s;   /* analysis at the end point */
     int zero_order;      /* BIFURCATION: 1 a crossing, 2 a tangency, 0 not estimated */
     int path_kept;       /* BIFURCATION: the location stayed on the path (eq. 26) */
-    int at_start;        /* the end point is the start configuration (within loop_tol):
-                            CLOSED_LOOP, or BIFURCATION back at a start bifurcation */
+    int at_start;        /* the path came back to the start configuration: CLOSED_LOOP, or
+                            BIFURCATION within loop_tol of a start that is a bifurcation */
     double start_distance; /* |end - start| (free coordinates) / RMS rest length */
     double tangent_cos;  /* at a bifurcation: cos between the first chord and dir (else 1) */
 } kin_follow_info;

@@ -57,3 +57,12 @@ def test_cli_branch():
     assert "3 steps" in r.stdout
     r = run_cli("locate", "threebar:RC", "--branch", "4")
     assert r.returncode != 0 and "--branch 4" in r.stderr
+
+
+def test_cli_locate_falls_back_to_the_reachable_accuracy():
+    """The lifted hexagonal sail's flat state: 1e-10 is out of reach; the
+    fast locator's refusal is followed by kin_follow_event, which locates it
+    to the accuracy reachable there (m = 16, s = 15)."""
+    r = run_cli("locate", "sail:6:2", "--perturb", "0.3")
+    assert r.returncode == 0, r.stderr
+    assert "bifurcation after" in r.stdout and "m = 16, s = 15" in r.stdout

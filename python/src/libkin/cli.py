@@ -8,23 +8,56 @@ early; 130 interrupted (Ctrl-C).
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import pathlib
 import sys
-from typing import Any, List, Optional, Tuple
+from typing import Any, Callable, List, NoReturn, Optional, Tuple
 
 import numpy as np
 
 from . import __version__
 from ._base import Analysis
-from .assembly import Assembly, solve_quadrics
-from .errors import InvalidArgumentError, KinError
+from .assembly import Assembly, FollowEvent, solve_quadrics
+from .errors import InvalidArgumentError, KinError, NotFoundError
 
 EXIT_ERROR = 1
 EXIT_USAGE = 2
 EXIT_STUDY_FAILED = 3
 EXIT_INTERRUPTED = 130
 
+
+
+def _finite(text: str) -> float:
+    """argparse type: a finite number (inf and nan are refused as usage errors)."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return v
+
+
+def _positive(text: str) -> float:
+    """argparse type: a finite number > 0."""
+    v = _finite(text)
+    if v <= 0:
+        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text!r}")
+    return v
+
+
+def _count(minimum: int) -> Callable[[str], int]:
+    """argparse type: an integer >= minimum."""
+    def parse(text: str) -> int:
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+        if v < minimum:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {v}")
+        return v
+    return parse
 
 def _load(spec: str) -> Assembly:
     """MODEL is a JSON file, or a built-in: threebar:RA|RB|RC, sail:N:LOOPS."""
@@ -134,15 +167,17 @@ def cmd_locate(args: argparse.Namespace) -> int:
         return EXIT_USAGE
     if args.direction is not None:
         # out of a bifurcation along a branch: follow it to its next event
-        ev = a.follow_event(args.direction, vr_tol=args.vr_tol, delta=args.delta, max_steps=args.max_steps)
-        print(f"{ev.event} after {ev.steps} steps, path length {ev.length:.9g}: v_r / v_max = {ev.v_r_rel:.3g}"
-              + (f" (located to {ev.vr_tol_used:.0e})" if ev.event == "bifurcation" else "")
-              + f", m = {ev.m_internal}, s = {ev.s}" + (f": {ev.message}" if ev.message else ""))
-        if args.out:
-            a.to_json(args.out)
-            print("wrote", args.out)
-        return 0 if ev.event != "failed" else EXIT_ERROR
-    info = a.locate(method=args.method, delta=args.delta, vr_tol=args.vr_tol, max_steps=args.max_steps)
+        return _print_event(a, a.follow_event(args.direction, vr_tol=args.vr_tol, delta=args.delta,
+                                              max_steps=args.max_steps), args)
+    try:
+        info = a.locate(method=args.method, delta=args.delta, vr_tol=args.vr_tol, max_steps=args.max_steps)
+    except NotFoundError as exc:
+        if args.method != "fast":
+            raise
+        # vr_tol out of reach here, or a near miss: kin_follow_event locates to
+        # the accuracy reachable (up to 1e-6) or says it is a near miss
+        print(f"the fast locator gave up ({exc});\nfollowing on from the last regular point to the next event:")
+        return _print_event(a, a.follow_event(vr_tol=args.vr_tol, delta=args.delta, max_steps=args.max_steps), args)
     events = {1: "test function changed sign", 2: "paper's switch rule", 3: "a step landed on it",
               4: "v_r turned near zero"}
     print(f"bifurcation after {info.steps} steps ({events.get(info.event, info.event)}), located by the "
@@ -153,6 +188,17 @@ def cmd_locate(args: argparse.Namespace) -> int:
         a.to_json(args.out)
         print("wrote", args.out)
     return 0
+
+
+def _print_event(a: Assembly, ev: FollowEvent, args: argparse.Namespace) -> int:
+    """One line on a kin_follow_event result (and --out); the exit status."""
+    print(f"{ev.event} after {ev.steps} steps, path length {ev.length:.9g}: v_r / v_max = {ev.v_r_rel:.3g}"
+          + (f" (located to {ev.vr_tol_used:.0e})" if ev.event == "bifurcation" else "")
+          + f", m = {ev.m_internal}, s = {ev.s}" + (f": {ev.message}" if ev.message else ""))
+    if args.out:
+        a.to_json(args.out)
+        print("wrote", args.out)
+    return 0 if ev.event != "failed" else EXIT_ERROR
 
 
 def cmd_draw(args: argparse.Namespace) -> int:
@@ -218,32 +264,39 @@ def cmd_fold_export(args: argparse.Namespace) -> int:
     return 0
 
 
+class _OneLineParser(argparse.ArgumentParser):
+    """A usage error is one line on stderr (with where to get help), exit 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(EXIT_USAGE, f"{self.prog}: {message} (see '{self.prog} --help')\n")
+
+
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="libkin", description=(
+    p = _OneLineParser(prog="libkin", description=(
         "Kinematic analysis of pin-jointed bar assemblies. MODEL is a JSON model file "
         "(schema: python/README.md) or a built-in: threebar:RA|RB|RC, sail:N_SIDES:N_LOOPS."),
         epilog="exit status: 0 success, 1 libkin or file error, 2 usage error, 3 study stopped early, "
                "130 interrupted")
     p.add_argument("--version", action="version", version=f"libkin {__version__}")
-    sub = p.add_subparsers(dest="cmd", required=True)
+    sub = p.add_subparsers(dest="cmd", required=True, parser_class=_OneLineParser)
     s = sub.add_parser("analyse", help="first-order analysis: rank, mechanisms, self-stresses")
     s.add_argument("model")
     s.add_argument("--singular-values", action="store_true", help="print all singular values")
     s.set_defaults(fn=cmd_analyse)
     s = sub.add_parser("follow", help="follow the path from a regular configuration")
     s.add_argument("model")
-    s.add_argument("--steps", type=int, default=50, help="number of steps (default 50)")
-    s.add_argument("--delta", type=float, default=0.0, help="step amplitude (0 = largest allowed)")
+    s.add_argument("--steps", type=_count(1), default=50, help="number of steps (default 50)")
+    s.add_argument("--delta", type=_finite, default=0.0, help="step amplitude (0 = largest allowed)")
     s.add_argument("--plot", help="write the singular values along the path to this PNG")
-    s.add_argument("--count", type=int, default=15, help="how many of the lowest singular values to plot")
+    s.add_argument("--count", type=_count(1), default=15, help="how many of the lowest singular values to plot")
     s.add_argument("--gif", help="write an animation of the path to this GIF")
     s.add_argument("--plane", default="xy", choices=["xy", "xz", "yz"], help="projection of 3D models")
     s.add_argument("--out", help="write the final configuration as a JSON model")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
-    s.add_argument("--perturb", type=float, default=0.0,
+    s.add_argument("--perturb", type=_finite, default=0.0,
                    help="start from a generic point: lift free nodes by up to this amount and relax")
     s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
-    s.add_argument("--branch", type=int, default=None, metavar="K",
+    s.add_argument("--branch", type=_count(0), default=None, metavar="K",
                    help="at a bifurcation: leave along directed branch K (real second-order solution K // 2 of the "
                         "complete solver, sign + for even K, - for odd)")
     s.add_argument("--sign", type=int, default=None, choices=[1, -1], help="the sign of --branch's direction")
@@ -253,15 +306,15 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--method", default="fast", choices=["fast", "paper", "illinois"],
                    help="fast: Hermite interpolation (default); paper: the paper's quadratic (eq. 23-26); "
                         "illinois: regula falsi on the signed test function")
-    s.add_argument("--delta", type=float, default=0.0,
+    s.add_argument("--delta", type=_finite, default=0.0,
                    help="step amplitude while following (0 = largest allowed, negative = backwards)")
-    s.add_argument("--vr-tol", type=float, default=1e-10, help="located when v_r / v_max <= this (default 1e-10)")
-    s.add_argument("--max-steps", type=int, default=1000, help="steps to look for a bifurcation")
-    s.add_argument("--perturb", type=float, default=0.0,
+    s.add_argument("--vr-tol", type=_positive, default=1e-10, help="located when v_r / v_max <= this (default 1e-10)")
+    s.add_argument("--max-steps", type=_count(1), default=1000, help="steps to look for a bifurcation")
+    s.add_argument("--perturb", type=_finite, default=0.0,
                    help="start from a generic point: lift free nodes by up to this amount and relax")
     s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
     s.add_argument("--out", help="write the located configuration as a JSON model")
-    s.add_argument("--branch", type=int, default=None, metavar="K",
+    s.add_argument("--branch", type=_count(0), default=None, metavar="K",
                    help="at a bifurcation: leave along directed branch K (real second-order solution K // 2 of the "
                         "complete solver, sign + for even K, - for odd)")
     s.add_argument("--sign", type=int, default=None, choices=[1, -1], help="the sign of --branch's direction")
@@ -275,11 +328,11 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--hub", type=int, default=6,
                    help="hub sides: 6 (default) = the hexagonal study R^A-R^B-R^C and back; 4 = the square "
                         "sail's paths out of its flat state; other even n >= 6: that family member")
-    s.add_argument("--loops", type=int, default=2, help="loops of triangles (default 2; 1 for --hub 4)")
+    s.add_argument("--loops", type=_count(1), default=2, help="loops of triangles (default 2; 1 for --hub 4)")
     s.add_argument("--out", default="study_out", help="output folder for report.md, summary.json, PNGs")
     s.add_argument("--quick", action="store_true",
                    help="skip the 2^s homotopy at the flat state (the symmetric sub-problem is still solved)")
-    s.add_argument("--threads", type=int, default=2, help="threads of the homotopy solver")
+    s.add_argument("--threads", type=_count(1), default=2, help="threads of the homotopy solver")
     s.add_argument("--quiet", action="store_true", help="no progress messages")
     s.set_defaults(fn=cmd_study)
     s = sub.add_parser("explore", help="the atlas: every path out of every bifurcation met (docs/atlas.md)")
@@ -290,8 +343,8 @@ def _parser() -> argparse.ArgumentParser:
 
     s = sub.add_parser("fold-export", help="write a model, or a path followed from it, as a FOLD file")
     s.add_argument("model", help="MODEL as above, or a .fold file")
-    s.add_argument("--follow", type=int, default=0, help="steps to follow; each is a frame (default 0)")
-    s.add_argument("--delta", type=float, default=0.0, help="step amplitude (0 = largest allowed)")
+    s.add_argument("--follow", type=_count(0), default=0, help="steps to follow; each is a frame (default 0)")
+    s.add_argument("--delta", type=_finite, default=0.0, help="step amplitude (0 = largest allowed)")
     s.add_argument("--faces", choices=["file", "triangles"], default="file",
                    help="faces: the .fold file's (default) or the bar graph's triangles")
     s.add_argument("--out", required=True, help="the .fold file to write")
