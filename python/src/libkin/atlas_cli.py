@@ -11,17 +11,20 @@ if TYPE_CHECKING:
 
 
 def add_arguments(s: argparse.ArgumentParser) -> None:
+    from .cli import _count, _positive  # the command line's checked types
     s.add_argument("model")
-    s.add_argument("--depth", type=int, default=1, help="levels of bifurcations to expand (default 1)")
-    s.add_argument("--max-nodes", type=int, default=200, help="no node is expanded beyond this many (default 200)")
-    s.add_argument("--max-length", type=float, default=None,
+    s.add_argument("--depth", type=_count(0), default=1, help="levels of bifurcations to expand (default 1)")
+    s.add_argument("--max-nodes", type=_count(1), default=200,
+                   help="no node is expanded beyond this many (default 200)")
+    s.add_argument("--max-length", type=_positive, default=None,
                    help="path-length budget of one branch (default 10 x the model size)")
-    s.add_argument("--time-limit", type=float, default=None, help="seconds; no node is expanded after it")
+    s.add_argument("--time-limit", type=_positive, default=None,
+                   help="seconds; no node is expanded and no branch started after it")
     s.add_argument("--symmetric", nargs="?", const="true", default="false", choices=["true", "false", "auto"],
                    help="only the paths that keep each node's symmetry (auto: where s > 12)")
     s.add_argument("--executor", default="serial", choices=["serial", "process", "dask"],
                    help="where branches are followed: this process, a process pool, a local Dask cluster")
-    s.add_argument("--workers", type=int, default=2, help="workers of --executor process|dask (default 2)")
+    s.add_argument("--workers", type=_count(1), default=2, help="workers of --executor process|dask (default 2)")
     s.add_argument("--out", required=True, help="output folder: atlas.json, atlas.graphml, report.md, PNGs")
     s.add_argument("--quiet", action="store_true", help="no progress messages")
 
