@@ -14,6 +14,7 @@
 #include "libkin/kin_models.h"
 #include "libkin/kin_branch.h"
 #include "libkin/kin_locate.h"
+#include "libkin/kin_follow.h"
 #include "libkin/kin_io.h"
 
 #endif /* LIBKIN_H */

@@ -29,47 +29,52 @@ static int follow_one(const kin_assembly *a0, const double *dir, double l_target
     kin_assembly *a = NULL;
     int rc = kin_assembly_clone(a0, &a);
     if (rc) return rc;
-    int nf = a->nf;
     p->exists = p->tangent_ok = 0;
     p->length = 0.0;
     p->tangent_cos = 0.0;
-    if (kin_path_set_direction(a, dir, nf) != KIN_OK) goto done;
     double dmax = a->opt.step_fraction * a->rms_length;
-    double *x0 = malloc(sizeof(double) * (size_t)nf), *x1 = malloc(sizeof(double) * (size_t)nf);
-    if (!x0 || !x1) {
-        free(x0); free(x1);
-        kin_assembly_free(a);
-        return KIN_ENOMEM;
-    }
-    kin__gather(a, a->xyz, x0);
-    double l_start = kin_path_length(a); /* the progress: the fraction of l_target covered from here */
+    /* l_target counts from the bifurcation: the clone carries the path
+     * length of however the caller reached it (also the progress base) */
+    double l_start = kin_path_length(a);
     kin_step_info info = {.size = sizeof info};
-    if (kin_step(a, FIRST_STEP_FRACTION * dmax, &info) != KIN_OK) goto out;
-    kin__gather(a, a->xyz, x1);
-    double nd = kin__norm(nf, dir), dot = 0.0, nc;
-    for (int i = 0; i < nf; ++i) x1[i] -= x0[i];
-    nc = kin__norm(nf, x1);
-    dot = kin__dot(nf, x1, dir);
-    p->tangent_cos = nc > 0 && nd > 0 ? dot / (nc * nd) : 0.0;
+    if (kin__leave_bifurcation(a, dir, FIRST_STEP_FRACTION, &info, &p->tangent_cos) != KIN_OK) goto done;
     p->tangent_ok = p->tangent_cos >= TANGENT_COS_TOL;
     long budget = (long)(PATH_STEP_FACTOR * (l_target / dmax + 10)); /* l_target <= MAX_TARGET_STEPS * dmax */
-    while (kin_path_length(a) < l_target && budget-- > 0) {
+    while (kin_path_length(a) - l_start < l_target && budget-- > 0) {
         if (kin__progress(a0, done0 + fmin(1.0, fmax(0.0, kin_path_length(a) - l_start) / l_target), total)) {
             rc = KIN_ECANCELLED;
             break;
         }
-        double d = fmin(dmax, l_target - kin_path_length(a));
+        double d = fmin(dmax, l_target - (kin_path_length(a) - l_start));
         if (kin_step(a, d, &info) != KIN_OK) break;
     }
-    p->length = kin_path_length(a);
+    p->length = kin_path_length(a) - l_start;
     p->exists = 1;
-out:
     if (xyz_out) memcpy(xyz_out, a->xyz, sizeof(double) * (size_t)(a->nj * a->dim));
-    free(x0);
-    free(x1);
 done:
     if (xyz_out && !p->exists) memcpy(xyz_out, a0->xyz, sizeof(double) * (size_t)(a0->nj * a0->dim));
     kin_assembly_free(a);
+    return rc;
+}
+
+int kin__leave_bifurcation(kin_assembly *a, const double *dir, double fraction, kin_step_info *info, double *cos)
+{
+    int nf = a->nf, rc = kin_path_set_direction(a, dir, nf);
+    *cos = 0.0;
+    if (rc) return rc;
+    double dmax = a->opt.step_fraction * a->rms_length;
+    double *x0 = malloc(sizeof(double) * 2 * (size_t)nf);
+    if (!x0) return kin__fail(a, KIN_ENOMEM, "first step scratch");
+    double *x1 = x0 + nf;
+    kin__gather(a, a->xyz, x1);
+    rc = kin_step(a, fraction * dmax, info);
+    if (rc == KIN_OK) {
+        kin__gather(a, a->xyz, x0);
+        for (int i = 0; i < nf; ++i) x1[i] = x0[i] - x1[i];
+        double nc = kin__norm(nf, x1), nd = kin__norm(nf, dir);
+        *cos = nc > 0 && nd > 0 ? kin__dot(nf, x1, dir) / (nc * nd) : 0.0;
+    }
+    free(x0);
     return rc;
 }
 

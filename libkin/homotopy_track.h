@@ -81,4 +81,54 @@ hom_checks kin__hom_check(int m, int npaths, const hom_end *ends, const double *
                           hom_key *keys, int *parent, unsigned char *paired);
 int kin__hom_find(int *parent, int p);
 
+/* ---- the solver shared by homotopy.c (tracking on threads, the public
+ * entry points) and homotopy_merge.c (checks, re-tracks, accounting) ---- */
+#include "libkin/kin_branch.h"
+
+/* the first pass's tracking tolerances (homotopy_merge.c) */
+extern const hom_settings kin__hom_base_settings;
+
+/* the caller's progress callback and what it has been told */
+typedef struct hom_report {
+    kin_progress_fn fn;
+    void *user;
+    double base;  /* paths tracked in earlier runs */
+    double total; /* paths scheduled so far */
+    double last;  /* time of the last call (seconds, monotonic) */
+    int cancelled;
+} hom_report;
+
+/* the scaled problem, the sort-key direction and the worker threads'
+ * workspaces of one call */
+typedef struct hom_solver {
+    hom_problem P;
+    double *Qr, *Qb;
+    double w[HOM_MAX_M]; /* unit vector of the duplicate checks' sort key */
+    int npaths;          /* 2^s */
+    int nthreads;
+    void *pool;          /* threads and workspaces (homotopy.c) */
+} hom_solver;
+
+/* Check m, s, Q, the options (nthreads >= 0, max_paths >= 1) and set up the
+ * solver for calls that track at most `work` paths at once (the thread
+ * count is clamped to it). KIN_OK, KIN_EINVAL, KIN_ERANGE, KIN_ENOMEM. */
+int kin__hom_solver_init(hom_solver *H, int m, int s, const double *Q, const kin_homotopy_options *o, long work);
+void kin__hom_solver_free(hom_solver *H);
+
+/* Track the paths list[0..n-1] (list NULL: first .. first + n - 1), storing
+ * path p's endpoint at index p - offset of ends, zr, zi; progress through
+ * R (R->cancelled on a cancel). KIN_OK or KIN_ENOMEM. */
+int kin__hom_run(hom_solver *H, const hom_settings *S, const int *list, int first, int n, int offset, hom_end *ends,
+                 double *zr, double *zi, hom_report *R);
+
+/* The checks, re-tracks and accounting after every path has been tracked
+ * once (ends, zr, zi: all 2^s, changed by the re-tracks). KIN_OK,
+ * KIN_ECANCELLED (info zeroed, *nsol = 0), KIN_ENOMEM. */
+int kin__hom_merge(hom_solver *H, hom_end *ends, double *zr, double *zi, hom_report *R, double *betas, int maxsol,
+                   int *nsol, int *multiplicity, kin_homotopy_info *info);
+
+/* endpoint records (kin_branch.h) <-> the tracker's */
+void kin__hom_export(int m, int path, const hom_end *e, const double *zr, const double *zi, kin_homotopy_endpoint *r,
+                     double *z);
+
 #endif /* KIN_HOMOTOPY_TRACK_H */

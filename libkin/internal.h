@@ -200,6 +200,21 @@ static inline const kin_factor *kin__cur(const kin_assembly *a) { return &a->fac
  * 0 otherwise. done is clamped to [0, total]. */
 int kin__progress(const kin_assembly *a, double done, double total);
 
+/* kin_locate_next with a hook called after every accepted following step
+ * (before the detectors look at it): a nonzero return stops following there
+ * as if max_steps were reached (KIN_ENOTFOUND, event NONE, the assembly at
+ * that point). hook NULL: kin_locate_next itself. */
+typedef int (*kin__step_hook)(void *user, const kin_assembly *a);
+int kin__locate_hooked(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,
+                       void *hook_user);
+
+/* Leave a bifurcation along dir (nf entries): choose it
+ * (kin_path_set_direction) and take one step of `fraction` x the largest
+ * step; *cos receives the cosine between that step's chord and dir. Returns
+ * the status of the two calls (a failed step leaves the point unchanged, the
+ * direction chosen). */
+int kin__leave_bifurcation(kin_assembly *a, const double *dir, double fraction, kin_step_info *info, double *cos);
+
 /* copy the configuration, analysis and path state of src into dst (same
  * model; no allocation); dst keeps its own options */
 void kin__copy_state(kin_assembly *dst, const kin_assembly *src);

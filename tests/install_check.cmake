@@ -1,6 +1,8 @@
 # test_install: cmake --install into a scratch prefix, then build and run a
 # consumer with find_package(libkin) (shared and static) and one with
-# pkg-config. Arguments: -DSRC -DBIN -DWORK.
+# pkg-config; with -DFORTRAN=1 (libkin built with the Fortran module) also
+# a Fortran consumer (shared and static). Arguments: -DSRC -DBIN -DWORK
+# [-DFORTRAN].
 file(REMOVE_RECURSE ${WORK})
 set(PREFIX ${WORK}/prefix)
 
@@ -34,4 +36,14 @@ endif()
 separate_arguments(flags UNIX_COMMAND "${flags}")
 run(${CC} -std=c99 ${SRC}/tests/consumer/main.c -o ${WORK}/pc-consumer ${flags})
 run(${CMAKE_COMMAND} -E env LD_LIBRARY_PATH=${ldpath} ${WORK}/pc-consumer)
+
+# Fortran consumer: find_package(libkin COMPONENTS Fortran), module libkin
+if(FORTRAN)
+  run(${CMAKE_COMMAND} -S ${SRC}/tests/consumer/fortran -B ${WORK}/fortran-consumer
+      -DCMAKE_PREFIX_PATH=${PREFIX})
+  run(${CMAKE_COMMAND} --build ${WORK}/fortran-consumer)
+  run(${CMAKE_COMMAND} -E env LD_LIBRARY_PATH=${ldpath} ${WORK}/fortran-consumer/consumer_fortran)
+  run(${WORK}/fortran-consumer/consumer_fortran_static)
+  message(STATUS "test_install: Fortran consumers (shared, static) passed")
+endif()
 message(STATUS "test_install: find_package (shared, static) and pkg-config consumers passed")

@@ -35,7 +35,10 @@ static outcome branches(kin_assembly *a, int weighting, int starts, double l)
         CHECK_RC(kin_branch_paths(a, betas, nsol, l, p, NULL, &o.distinct), KIN_OK);
         kin_get_coords(a, after);
         CHECK(memcmp(before, after, sizeof(double) * 3 * kin_njoints(a)) == 0); /* caller's state kept */
-        for (int k = 0; k < 2 * nsol; ++k) o.paths_ok += p[k].exists && p[k].tangent_ok && p[k].length >= l - 1e-12;
+        /* lengths count from the bifurcation, not from where the assembly's
+         * own path began (R^B is reached at l = 3.39 from the flat state) */
+        for (int k = 0; k < 2 * nsol; ++k)
+            o.paths_ok += p[k].exists && p[k].tangent_ok && p[k].length >= l - 1e-12 && p[k].length < 2.0 * l;
         free(before);
         free(after);
     }

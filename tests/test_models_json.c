@@ -1,8 +1,9 @@
-/* The built-in models equal the cross-check copies in ../shared/models/NAME.json
+/* The built-in models equal the cross-check copies in examples/models/NAME.json
  * (joints in the same order with the same coordinates and fixity; the same
  * bars, in any order, with the same rest lengths), read with
- * kin_assembly_load. The library itself never reads ../shared; this test
- * skips (exit 0 with a note) when it is absent. */
+ * kin_assembly_load. The folder comes from $KIN_SHARED_DIR (set by
+ * tests/CMakeLists.txt; "../shared" if unset); the test skips (exit 0 with
+ * a note) when its models are absent. */
 #include <stdlib.h>
 #include <string.h>
 

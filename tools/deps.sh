@@ -1,17 +1,37 @@
 #!/usr/bin/env bash
 # Install what libkin needs on Debian 12 (idempotent): compiler, CMake,
-# LAPACK/BLAS (OpenBLAS), GSL, jansson (JSON model files), pkg-config, and
-# Python's venv module.
+# LAPACK/BLAS (OpenBLAS and the reference libblas3 for tools/check_blas.sh),
+# GSL, jansson (JSON model files), SuiteSparse KLU (KIN_STEP_SPARSE), pkg-config, Python's venv module,
+# gfortran (the Fortran module) and abigail-tools (tools/abi_check.sh).
+# Nothing to do (and no root needed) when everything is installed. Otherwise
+# it installs with apt-get as root, or through sudo if that works without a
+# password; failing both it prints the exact command to run and exits 1.
+# apt's output goes to build/logs/apt.log (shown if it fails).
 set -euo pipefail
-pkgs=(build-essential cmake pkg-config libopenblas-dev liblapack-dev libblas3 libgsl-dev libjansson-dev libsuitesparse-dev python3-venv python3-dev)
+cd "$(dirname "$0")/.."
+source tools/stage.sh
+pkgs=(build-essential cmake pkg-config libopenblas-dev liblapack-dev libblas3 libgsl-dev libjansson-dev libsuitesparse-dev python3-venv python3-dev
+      gfortran abigail-tools)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-if [ ${#missing[@]} -gt 0 ]; then
-  SUDO=""
-  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-  echo "installing: ${missing[*]}"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}" >/dev/null
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "libkin: Debian packages: all ${#pkgs[@]} present"
+  exit 0
 fi
+if [ "$(id -u)" -eq 0 ]; then
+  SUDO=()
+elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
+  SUDO=(sudo -n)
+else
+  echo "libkin: missing Debian packages: ${missing[*]}" >&2
+  echo "libkin: as root, run:  apt-get update && apt-get install -y ${missing[*]}" >&2
+  exit 1
+fi
+install_missing() {
+  "${SUDO[@]}" apt-get update
+  DEBIAN_FRONTEND=noninteractive "${SUDO[@]}" apt-get install -y --no-install-recommends "${missing[@]}"
+}
+stage "installing Debian packages: ${missing[*]}" "about 1-3 min; log build/logs/apt.log" \
+  build/logs/apt.log install_missing

@@ -6,7 +6,7 @@
 # for the square sail, --quick to skip the 2^15-path homotopy, --out DIR).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash tools/build.sh >/dev/null
+bash tools/build.sh
 bash tools/venv.sh
 LIBKIN_LIBRARY="$PWD/build/libkin.so" PYTHONPATH="$PWD/python/src" \
   build/venv/bin/python -m libkin study "$@"

@@ -175,6 +175,86 @@ KIN_API int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_ho
                                      double *betas, int maxsol, int *nsol, int *multiplicity,
                                      kin_homotopy_info *info);
 
+/* ---- The complete solver in shards ----
+ * kin_quadrics_homotopy_ex is kin_quadrics_homotopy_range over every path
+ * followed by kin_quadrics_homotopy_merge: the 2^s paths can be tracked in
+ * any number of ranges (on other threads, processes or machines: the ranges
+ * are independent and deterministic for a seed) and merged into exactly the
+ * result of one call.
+ *
+ * ENDPOINT RECORDS (an ABI: records may be written to files by one build
+ * and read by another). One record per path: a kin_homotopy_endpoint and 2m
+ * doubles of coordinates in a separate array.
+ *  - kin_homotopy_endpoint, in arrays with stride sizeof(kin_homotopy_endpoint)
+ *    = KIN_HOMOTOPY_ENDPOINT_SIZE (72 bytes where size_t is 8 bytes and int
+ *    4, e.g. every LP64 and LLP64 platform); element 0's `size` must equal it
+ *    (set it before range; merge checks it). The fields below, in order,
+ *    native byte order, no padding on those platforms.
+ *  - coordinates: z[2*m*i + c] (real part) and z[2*m*i + m + c] (imaginary)
+ *    for record i, c < m: the endpoint in projective coordinates,
+ *    normalised so that coordinate `chart` is 1. */
+#define KIN_HOMOTOPY_ENDPOINT_SIZE 72
+
+/* endpoint classes */
+enum kin_homotopy_end_kind {
+    KIN_HOM_END_REAL = 0,     /* certified simple real root */
+    KIN_HOM_END_NONREAL = 1,  /* certified simple non-real root */
+    KIN_HOM_END_SINGULAR = 2, /* not certified (see kin_homotopy_info.singular) */
+    KIN_HOM_END_FAILED = 3    /* the tracker lost the path */
+};
+
+typedef struct kin_homotopy_endpoint {
+    size_t size;    /* KIN_HOMOTOPY_ENDPOINT_SIZE (element 0 of an array) */
+    int path;       /* path index, 0 .. 2^s - 1 (its bits: the start solution's signs) */
+    int kind;       /* enum kin_homotopy_end_kind */
+    int chart;      /* coordinate normalised to 1 in z */
+    int steps;      /* accepted predictor-corrector steps */
+    int rejected;   /* rejected steps */
+    int recharts;   /* changes of affine chart on the way */
+    int converged;  /* Newton at t = 1 converged */
+    int reserved;   /* 0 */
+    double rminus;  /* certified: a root lies within rminus of z (chart coordinates) */
+    double rplus;   /* ... and no other root within rplus */
+    double cond;    /* |J|_F |J^-1|_F at the endpoint (inf if singular) */
+    double sigma;   /* 1 - t where tracking stopped (0: reached t = 1) */
+} kin_homotopy_endpoint;
+
+/* Track paths first_path .. first_path + npaths - 1 of the complete solver
+ * (kin_quadrics_homotopy_ex, same m, s, Q and options: opt->seed must be the
+ * same for every range of one problem; NULL = the defaults) and write their
+ * endpoints: ends (npaths records, ends[0].size = KIN_HOMOTOPY_ENDPOINT_SIZE)
+ * and z (2*m*npaths doubles), record i for path first_path + i. The work is
+ * that of those paths alone; opt->nthreads threads share them; progress
+ * (opt->progress): done = paths tracked, total = npaths. opt->max_paths
+ * bounds npaths. On a failure after the arguments are checked (KIN_ELIMIT,
+ * KIN_ECANCELLED, KIN_ENOMEM) the npaths records are zeroed (each size set);
+ * z is written only on success.
+ * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (m != s+1, m < 2, a NaN or infinite
+ * entry of Q, options, ends[0].size), KIN_ERANGE (m > 24; first_path < 0,
+ * npaths < 1 or first_path + npaths > 2^s), KIN_ELIMIT (npaths >
+ * opt->max_paths), KIN_ECANCELLED, KIN_ENOMEM. */
+KIN_API int kin_quadrics_homotopy_range(int m, int s, const double *Q, const kin_homotopy_options *opt,
+                                        long first_path, long npaths, kin_homotopy_endpoint *ends, double *z);
+
+/* Merge the endpoints of every path (2^s records in path order, ends[p].path
+ * == p, from any number of ranges concatenated; z likewise, 2*m*2^s
+ * doubles): the duplicate and conjugate checks, the re-tracking of the paths
+ * concerned (which needs Q and the options of the ranges: same seed) and the
+ * accounting. Outputs exactly as kin_quadrics_homotopy_ex (betas,
+ * multiplicity, *nsol, *info), which is range over all paths plus merge.
+ * ends and z are not changed (re-tracks work on copies). Progress: done =
+ * paths re-tracked, total = the paths scheduled for re-tracking so far (0
+ * when none is: the calls are then (0, 0) before and after).
+ * opt->max_paths bounds 2^s (memory: about (16 m + 85) bytes per path
+ * besides the input).
+ * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (as kin_quadrics_homotopy_ex; also
+ * ends[0].size, a record whose path is not its index or whose kind, chart
+ * or z is out of range), KIN_ERANGE, KIN_ELIMIT, KIN_ECANCELLED,
+ * KIN_ENOMEM; on failure as kin_quadrics_homotopy_ex. */
+KIN_API int kin_quadrics_homotopy_merge(int m, int s, const double *Q, const kin_homotopy_options *opt,
+                                        const kin_homotopy_endpoint *ends, const double *z, double *betas,
+                                        int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info);
+
 /* One candidate path out of a bifurcation (paper 3.4). */
 typedef struct kin_branch_path {
     size_t size; /* sizeof(kin_branch_path) as the caller compiled it (docs/abi.md) */
@@ -183,7 +263,7 @@ typedef struct kin_branch_path {
     int exists;      /* the first step converged and the path was followed */
     int tangent_ok;  /* the first small step left along U_m*beta (|cos| >= tol) */
     int path_id;     /* distinct-path id (eq. 21-22), -1 if it does not exist */
-    double length;   /* path length reached */
+    double length;   /* path length reached, counted from the bifurcation */
     double tangent_cos; /* cos between the first chord and U_m*beta */
 } kin_branch_path;
 
@@ -191,7 +271,8 @@ typedef struct kin_branch_path {
  * nbeta) and each sign, on a clone of a: choose U_m*beta*sign, take a small
  * first step (1e-3 x the largest step) and check its chord is parallel to
  * U_m*beta (a wrong second-order solution can still let the corrector
- * converge), then follow the path to path length l_target. Paths whose
+ * converge), then follow the path to path length l_target from a (whatever
+ * path length a itself has accumulated). Paths whose
  * displacements T = R - R0 coincide (cos >= 1 - 1e-6, eq. 22 with the sign
  * kept, since +beta and -beta are different motions) share a path_id.
  * paths receives 2*nbeta entries (beta 0 +, beta 0 -, beta 1 +, ...);

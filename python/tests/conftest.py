@@ -2,11 +2,12 @@ import pathlib
 
 import pytest
 
-SHARED = pathlib.Path(__file__).resolve().parents[2].parent / "shared" / "models"
+# the paper's models ship with the repository (copies of ../shared/models,
+# which a fresh clone does not have)
+MODELS = pathlib.Path(__file__).resolve().parents[2] / "examples" / "models"
 
 
 @pytest.fixture
 def shared_models():
-    if not SHARED.is_dir():
-        pytest.skip("../shared/models not present")
-    return SHARED
+    assert MODELS.is_dir(), f"{MODELS} is missing"
+    return MODELS

@@ -20,7 +20,7 @@ def raises(cls, fn, *a, **k):
 
 def test_creation_errors_map_to_subclasses_with_code_and_detail():
     # a dimension other than 2 or 3 is caught in Python, before C
-    with pytest.raises(libkin.ModelFormatError, match="2 or 3"):
+    with pytest.raises(errors.DimensionError, match="2 or 3"):
         libkin.Assembly(np.arange(12.0).reshape(3, 4), TRI_BARS)
     e = raises(errors.JointIndexError, libkin.Assembly, TRI, [[0, 5]])
     assert "bar 0" in str(e) and e.code == libkin.lib.KIN_EJOINT
@@ -36,18 +36,21 @@ def test_creation_errors_map_to_subclasses_with_code_and_detail():
 
 
 def test_shapes_and_dtypes_are_checked_before_c():
-    with pytest.raises(libkin.ModelFormatError, match="bars: expected shape"):
+    # wrong shapes are ValueErrors, wrong kinds of values TypeErrors; neither is a model-format error
+    with pytest.raises(errors.InvalidArgumentError, match="bars: expected shape"):
         libkin.Assembly(TRI, [0, 1, 2])
-    with pytest.raises(libkin.ModelFormatError, match="coords"):
+    with pytest.raises(errors.DimensionError, match="coords"):
         libkin.Assembly(np.zeros((3, 5)), TRI_BARS)
-    with pytest.raises(libkin.ModelFormatError, match="expected integers"):
+    with pytest.raises(errors.ArgumentTypeError, match="expected integers"):
         libkin.Assembly(TRI, [[0, 1.5]])
-    with pytest.raises(libkin.ModelFormatError, match="fixed"):
+    with pytest.raises(ValueError, match="fixed"):
         libkin.Assembly(TRI, TRI_BARS, fixed=np.zeros((2, 2), bool))
-    with pytest.raises(libkin.ModelFormatError, match="lengths"):
+    with pytest.raises(errors.InvalidArgumentError, match="lengths"):
         libkin.Assembly(TRI, TRI_BARS, lengths=[1.0, 2.0])
-    with pytest.raises(libkin.ModelFormatError, match="coords: not an array"):
+    with pytest.raises(TypeError, match="coords: not an array"):
         libkin.Assembly([[0, 0], [1]], TRI_BARS)
+    with pytest.raises(TypeError, match="non-numeric"):
+        libkin.Assembly([["a", "b"]] * 3, TRI_BARS)
     # non-contiguous and other dtypes are accepted by copying, and give the same model
     big = np.zeros((3, 4))
     big[:, ::2] = TRI
@@ -67,11 +70,11 @@ def test_step_errors_leave_state_and_raise():
     a = libkin.Assembly.threebar("RC")
     with pytest.raises(errors.AtBifurcationError):
         a.step(0.01)
-    with pytest.raises(libkin.ModelFormatError):
+    with pytest.raises(ValueError):
         a.step(float("nan"))
     with pytest.raises(errors.InvalidArgumentError, match="first-order mechanism"):
         a.set_direction([1.0, 0, 0, 0])
-    with pytest.raises(libkin.ModelFormatError, match="direction"):
+    with pytest.raises(errors.InvalidArgumentError, match="direction"):
         a.set_direction([0, 1.0])
     xyz = a.coords
     xyz[2, 0] = 0.5  # S1 is a support

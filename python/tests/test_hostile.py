@@ -132,3 +132,20 @@ def test_cli_hostile_arguments(args):
     r = run_cli(*args)
     assert r.returncode != 0
     assert "Traceback" not in r.stderr and r.stderr.strip()
+
+
+@pytest.mark.parametrize("args", [
+    ("follow", "sail:6:2", "--perturb", "0.5", "--delta", "inf"),
+    ("follow", "sail:6:2", "--perturb", "0.5", "--delta", "nan"),
+    ("follow", "threebar:RC", "--steps", "-1"),
+    ("locate", "threebar:RA", "--vr-tol", "0"),
+    ("analyse", "sail:6:x"),
+    ("no-such-command",),
+])
+def test_cli_usage_errors_are_one_line(args):
+    """Bad options are usage errors (exit 2), one line on stderr, nothing done."""
+    r = run_cli(*args)
+    assert r.returncode == 2 or (args[1] == "sail:6:x" and r.returncode == 1)
+    assert "Traceback" not in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1
+    assert r.stdout == ""

@@ -137,7 +137,7 @@ def test_step_without_direction_says_why(fw):
         with pytest.raises(errors.NoMechanismError):
             a.step()
     elif an.m_internal >= 2:
-        expected = errors.MultidofError if an.s == 0 else errors.AtBifurcationError
+        expected = errors.MultipleMechanismsError if an.s == 0 else errors.AtBifurcationError
         with pytest.raises(expected):
             a.step()
         # with a direction the step is taken or fails for a stated reason

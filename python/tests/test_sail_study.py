@@ -91,8 +91,38 @@ def test_hex_study_matches_stored_run(hex_run):
         return sorted((n["m"], n["s"], round(n["xy_extent"], 5)) for n in r["map"]["nodes"])
     got_res = json.loads((out / "summary.json").read_text())
     assert nodes(got_res) == nodes(exp)
-    for name in ("report.md", "fig13_stages.png", "fig14_singular_values.png", "strain_hub.png", "path_map.png"):
+    for name in ("report.md", "fig13_stages.png", "fig14_singular_values.png", "strain_hub.png", "path_map.png",
+                 "model.png", "stages_3d.png", "fold_measures.png", "branches_RA.png", "branches_RB.png",
+                 "branches_RC.png", "fold_animation.gif"):
         assert (out / name).stat().st_size > 1000, name
+        # every figure the report shows is there, and every one there is shown
+        assert f"({name})" in (out / "report.md").read_text() or name == "report.md", name
+
+
+def test_hex_report_is_readable_by_a_designer(hex_run):
+    """Units stated, bifurcations placed by physical measures, an animation
+    of a useful length and size."""
+    res, out = hex_run
+    md = (out / "report.md").read_text()
+    assert "units of the hub side" in md
+    rb = res["events"]["RB_fold"]["measures"]
+    # R^B: loop 1 wrapped, i.e. its fold segments stand at +-90 degrees to the hub
+    assert abs(abs(rb["fold_angle_even"][0]) - 90.0) < 1e-3 and abs(abs(rb["fold_angle_odd"][0]) - 90.0) < 1e-3
+    assert rb["fold_angle_even"][0] * rb["fold_angle_odd"][0] < 0
+    flat = res["flat"]["measures"]
+    assert flat["z_extent"] == 0.0 and flat["xy_extent"] > rb["xy_extent"]
+    from PIL import Image
+    with Image.open(out / "fold_animation.gif") as im:
+        assert 40 <= im.n_frames <= 60
+    assert (out / "fold_animation.gif").stat().st_size < 2_000_000
+    # the run as FOLD frames: one per recorded point, valid, the sail's mesh
+    from libkin import fold
+    doc = json.loads((out / "fold_run.fold").read_text())
+    track = np.load(out / "track.npz")
+    assert 1 + len(doc["file_frames"]) == len(track["l"]) and fold.check_fold(doc) == []
+    assert len(doc["vertices_coords"]) == 19 and len(doc["edges_vertices"]) == 45
+    last = fold.resolve_frame(doc, len(doc["file_frames"]))
+    assert np.abs(np.array(last["vertices_coords"]) - np.array(doc["vertices_coords"])).max() < 1e-9  # closes
 
 
 def test_square_study_flat_state():

@@ -206,6 +206,32 @@ void kin_homotopy_options_default(kin_homotopy_options *o);
 int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_options *opt,
                                      double *betas, int maxsol, int *nsol, int *multiplicity,
                                      kin_homotopy_info *info);
+enum kin_homotopy_end_kind {
+    KIN_HOM_END_REAL = 0,
+    KIN_HOM_END_NONREAL = 1,
+    KIN_HOM_END_SINGULAR = 2,
+    KIN_HOM_END_FAILED = 3
+};
+typedef struct kin_homotopy_endpoint {
+    size_t size;
+    int path;
+    int kind;
+    int chart;
+    int steps;
+    int rejected;
+    int recharts;
+    int converged;
+    int reserved;
+    double rminus;
+    double rplus;
+    double cond;
+    double sigma;
+} kin_homotopy_endpoint;
+int kin_quadrics_homotopy_range(int m, int s, const double *Q, const kin_homotopy_options *opt,
+                                        long first_path, long npaths, kin_homotopy_endpoint *ends, double *z);
+int kin_quadrics_homotopy_merge(int m, int s, const double *Q, const kin_homotopy_options *opt,
+                                        const kin_homotopy_endpoint *ends, const double *z, double *betas,
+                                        int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info);
 typedef struct kin_branch_path {
     size_t size;
     int beta;
@@ -258,6 +284,50 @@ typedef struct kin_locate_info {
 void kin_locate_options_default(kin_locate_options *o);
 int kin_test_function(kin_assembly *a, double *tau);
 int kin_locate_next(kin_assembly *a, const kin_locate_options *o, kin_locate_info *info);
+
+enum kin_follow_event {
+    KIN_FOLLOW_NONE = 0,
+    KIN_FOLLOW_BIFURCATION = 1,
+    KIN_FOLLOW_NEAR_MISS = 2,
+    KIN_FOLLOW_CLOSED_LOOP = 3,
+    KIN_FOLLOW_LENGTH_LIMIT = 4,
+    KIN_FOLLOW_STEP_LIMIT = 5,
+    KIN_FOLLOW_FAILED = 6
+};
+typedef struct kin_follow_options {
+    size_t size;
+    double vr_tol;
+    double vr_floor;
+    double switch_eps;
+    double delta;
+    int max_steps;
+    int max_iter;
+    double max_length;
+    double loop_tol;
+    double first_step;
+    double branch_cos;
+} kin_follow_options;
+typedef struct kin_follow_info {
+    size_t size;
+    int event;
+    int status;
+    int steps;
+    int forward;
+    int factorizations;
+    int attempts;
+    double length;
+    double vr_tol_used;
+    double v_r_rel;
+    int m_internal, s;
+    int zero_order;
+    int path_kept;
+    int at_start;
+    double start_distance;
+    double tangent_cos;
+} kin_follow_info;
+void kin_follow_options_default(kin_follow_options *o);
+int kin_follow_event(kin_assembly *a, const double *dir, const kin_follow_options *o,
+                             kin_follow_info *info);
 
 int kin_assembly_load(const char *path, kin_assembly **out, char *errbuf,
                               size_t errlen);

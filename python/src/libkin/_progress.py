@@ -16,29 +16,36 @@ again once the C call has returned, with the library's state consistent.
                  cancels the call, which then raises CancelledError; an
                  exception it raises cancels the call and is raised again.
 """
+from __future__ import annotations
+
 import contextlib
+from types import TracebackType
+from typing import Any, Callable, Iterator, Optional, Type, Union
 
 from ._lib import ffi, lib
+
+#: What the `progress` keyword takes: None/False, True, or progress(done, total).
+Progress = Union[None, bool, Callable[[float, float], Any]]
 
 
 class Reporter:
     """The C callback of one long call and what happened in it."""
 
-    def __init__(self, progress=None, desc=None, unit="it"):
+    def __init__(self, progress: Progress = None, desc: Optional[str] = None, unit: str = "it") -> None:
         if progress is not None and not isinstance(progress, bool) and not callable(progress):
             raise TypeError(f"progress: expected None, a bool or a callable, got {progress!r}")
-        self._fn = progress if callable(progress) else None
+        self._fn: Optional[Callable[[float, float], Any]] = progress if callable(progress) else None
         self._want_bar = progress is True
         self._desc, self._unit = desc, unit
-        self._bar = None
+        self._bar: Any = None
         self.interrupted = False  # a KeyboardInterrupt arrived during the call
-        self.error = None         # the exception the caller's callable raised
+        self.error: Optional[BaseException] = None  # the exception the caller's callable raised
         self.calls = 0
         # error=1: if an exception escapes _call anyway (a signal handled on
         # entry, before its try block), the call is cancelled too
         self.c_callback = ffi.callback("kin_progress_fn", self._call, error=1, onerror=self._onerror)
 
-    def _call(self, user, done, total):
+    def _call(self, user: Any, done: float, total: float) -> int:
         try:
             self.calls += 1
             if self._want_bar:
@@ -53,17 +60,18 @@ class Reporter:
             self.error = exc
             return 1
 
-    def _onerror(self, exc_type, exc_value, traceback):
+    def _onerror(self, exc_type: Optional[Type[BaseException]], exc_value: Optional[BaseException],
+                 traceback: Optional[TracebackType]) -> None:
         if exc_type is not None and issubclass(exc_type, KeyboardInterrupt):
             self.interrupted = True
         elif self.error is None:
             self.error = exc_value
         return None  # the callback returns its error value, 1: cancel
 
-    def _show(self, done, total):
+    def _show(self, done_f: float, total_f: float) -> None:
         # whole counts (paths, steps) shown as integers
-        done = int(done) if float(done).is_integer() else done
-        total = int(total) if float(total).is_integer() else total
+        done: float = int(done_f) if float(done_f).is_integer() else done_f
+        total: float = int(total_f) if float(total_f).is_integer() else total_f
         if self._bar is None:
             try:
                 from tqdm import tqdm
@@ -76,12 +84,12 @@ class Reporter:
         self._bar.update(done - self._bar.n)
         self._bar.n = done  # exact, and an int again after fractional steps
 
-    def close(self):
+    def close(self) -> None:
         if self._bar is not None:
             self._bar.close()
             self._bar = None
 
-    def raise_pending(self):
+    def raise_pending(self) -> None:
         """Raise the KeyboardInterrupt caught during the call, or the
         exception of the caller's callable."""
         if self.interrupted:
@@ -91,7 +99,8 @@ class Reporter:
 
 
 @contextlib.contextmanager
-def reporting(progress=None, desc=None, unit="it", handle=None):
+def reporting(progress: Progress = None, desc: Optional[str] = None, unit: str = "it",
+              handle: Any = None) -> Iterator[Reporter]:
     """Context for one long C call: yields a Reporter whose `c_callback` the
     call uses. With `handle`, the callback is installed on it
     (kin_set_progress) for the duration and removed after. On leaving,

@@ -1,25 +1,80 @@
-"""Command line: python -m libkin (or `libkin`) SUBCOMMAND ..."""
+"""Command line: python -m libkin (or `libkin`) SUBCOMMAND ...
+
+Exit status: 0 success; 1 a libkin error or a file that cannot be read or
+written (one line on stderr, no traceback); 2 a usage error (argparse, or a
+model that is not a valid start for the command); 3 a study that stopped
+early; 130 interrupted (Ctrl-C).
+"""
+from __future__ import annotations
+
 import argparse
+import math
+import os
 import pathlib
 import sys
+from typing import Any, Callable, List, NoReturn, Optional, Tuple
 
 import numpy as np
 
-from .assembly import Assembly
-from .errors import KinError
+from . import __version__
+from ._base import Analysis
+from .assembly import Assembly, FollowEvent, solve_quadrics
+from .errors import InvalidArgumentError, KinError, NotFoundError
+
+EXIT_ERROR = 1
+EXIT_USAGE = 2
+EXIT_STUDY_FAILED = 3
+EXIT_INTERRUPTED = 130
 
 
-def _load(spec):
+
+def _finite(text: str) -> float:
+    """argparse type: a finite number (inf and nan are refused as usage errors)."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return v
+
+
+def _positive(text: str) -> float:
+    """argparse type: a finite number > 0."""
+    v = _finite(text)
+    if v <= 0:
+        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text!r}")
+    return v
+
+
+def _count(minimum: int) -> Callable[[str], int]:
+    """argparse type: an integer >= minimum."""
+    def parse(text: str) -> int:
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+        if v < minimum:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {v}")
+        return v
+    return parse
+
+def _load(spec: str) -> Assembly:
     """MODEL is a JSON file, or a built-in: threebar:RA|RB|RC, sail:N:LOOPS."""
     if spec.startswith("threebar:"):
         return Assembly.threebar(spec.split(":", 1)[1])
     if spec.startswith("sail:"):
         parts = spec.split(":")
+        if len(parts) not in (2, 3) or not all(p.isdigit() for p in parts[1:]):
+            raise InvalidArgumentError(f"MODEL {spec!r}: expected sail:N_SIDES or sail:N_SIDES:N_LOOPS")
         return Assembly.sail(int(parts[1]), int(parts[2]) if len(parts) > 2 else 1)
+    if spec.endswith(".fold"):
+        from .fold import read_fold
+        return read_fold(spec)
     return Assembly.from_json(spec)
 
 
-def cmd_analyse(args):
+def cmd_analyse(args: argparse.Namespace) -> int:
     a = _load(args.model)
     an = a.analyse()
     print(f"{a.name}: dim {a.dim}, {a.njoints} joints, {a.nbars} bars, H is {a.nfree} x {a.nbars}")
@@ -33,24 +88,44 @@ def cmd_analyse(args):
     return 0
 
 
-def _regular_start(args):
+def _branch_direction(a: Assembly, args: argparse.Namespace) -> np.ndarray:
+    """U_m beta for --branch K at a bifurcation: the real second-order
+    solutions of the complete solver, K // 2 the solution, the sign by K's
+    parity (even +, odd -) unless --sign gives it."""
+    betas, _ = solve_quadrics(a.second_order())
+    if not 0 <= args.branch < 2 * len(betas):
+        raise InvalidArgumentError(f"--branch {args.branch}: this bifurcation has {2 * len(betas)} directed branches "
+                                   f"(0 .. {2 * len(betas) - 1}: {len(betas)} real second-order solutions, two signs)")
+    sign = args.sign if args.sign is not None else (1 if args.branch % 2 == 0 else -1)
+    print(f"branch {args.branch}: second-order solution {args.branch // 2} of {len(betas)}, sign {sign:+d}")
+    return float(sign) * (a.analyse().internal_mechanisms @ betas[args.branch // 2])
+
+
+def _regular_start(args: argparse.Namespace) -> Tuple[Optional[Assembly], Optional[Analysis]]:
     """The model (perturbed and relaxed if asked) and its analysis, or None
-    with a message when it is not on a single path."""
+    with a message when it is not on a single path. At a bifurcation with
+    --branch the chosen branch's direction is set (args.direction)."""
     a = _load(args.model)
     if args.perturb:
         _generic_start(a, args)
     an = a.analyse()
+    args.direction = None
+    if an.m_internal >= 2 and args.branch is not None:
+        args.direction = _branch_direction(a, args)
+        return a, an
     if an.m_internal != 1:
         print(f"{a.name} has {an.m_internal} internal mechanisms here: it is at a bifurcation; "
-              "start from a regular configuration (or relax a perturbed one)", file=sys.stderr)
+              "choose a branch (--branch K) or start from a regular configuration (--perturb)", file=sys.stderr)
         return None, None
     return a, an
 
 
-def cmd_follow(args):
+def cmd_follow(args: argparse.Namespace) -> int:
     a, an = _regular_start(args)
-    if a is None:
-        return 2
+    if a is None or an is None:
+        return EXIT_USAGE
+    if args.direction is not None:
+        a.set_direction(args.direction)
     ls, svs, frames = [0.0], [an.singular_values], [a.coords]
     try:
         for info in a.follow(steps=args.steps, delta=args.delta, progress=not args.quiet):
@@ -75,7 +150,7 @@ def cmd_follow(args):
     return 0
 
 
-def _generic_start(a, args):
+def _generic_start(a: Assembly, args: argparse.Namespace) -> None:
     # a generic start near the model: lift the free coordinates of the last
     # axis (z in 3D, y in 2D) pseudo-randomly and relax to zero strain
     rng = np.random.default_rng(args.seed)
@@ -86,11 +161,23 @@ def _generic_start(a, args):
     a.relax(max_iter=200)
 
 
-def cmd_locate(args):
+def cmd_locate(args: argparse.Namespace) -> int:
     a, _ = _regular_start(args)
     if a is None:
-        return 2
-    info = a.locate(method=args.method, delta=args.delta, vr_tol=args.vr_tol, max_steps=args.max_steps)
+        return EXIT_USAGE
+    if args.direction is not None:
+        # out of a bifurcation along a branch: follow it to its next event
+        return _print_event(a, a.follow_event(args.direction, vr_tol=args.vr_tol, delta=args.delta,
+                                              max_steps=args.max_steps), args)
+    try:
+        info = a.locate(method=args.method, delta=args.delta, vr_tol=args.vr_tol, max_steps=args.max_steps)
+    except NotFoundError as exc:
+        if args.method != "fast":
+            raise
+        # vr_tol out of reach here, or a near miss: kin_follow_event locates to
+        # the accuracy reachable (up to 1e-6) or says it is a near miss
+        print(f"the fast locator gave up ({exc});\nfollowing on from the last regular point to the next event:")
+        return _print_event(a, a.follow_event(vr_tol=args.vr_tol, delta=args.delta, max_steps=args.max_steps), args)
     events = {1: "test function changed sign", 2: "paper's switch rule", 3: "a step landed on it",
               4: "v_r turned near zero"}
     print(f"bifurcation after {info.steps} steps ({events.get(info.event, info.event)}), located by the "
@@ -103,7 +190,18 @@ def cmd_locate(args):
     return 0
 
 
-def cmd_draw(args):
+def _print_event(a: Assembly, ev: FollowEvent, args: argparse.Namespace) -> int:
+    """One line on a kin_follow_event result (and --out); the exit status."""
+    print(f"{ev.event} after {ev.steps} steps, path length {ev.length:.9g}: v_r / v_max = {ev.v_r_rel:.3g}"
+          + (f" (located to {ev.vr_tol_used:.0e})" if ev.event == "bifurcation" else "")
+          + f", m = {ev.m_internal}, s = {ev.s}" + (f": {ev.message}" if ev.message else ""))
+    if args.out:
+        a.to_json(args.out)
+        print("wrote", args.out)
+    return 0 if ev.event != "failed" else EXIT_ERROR
+
+
+def cmd_draw(args: argparse.Namespace) -> int:
     from . import plot
     a = _load(args.model)
     plot.draw(a, plane=args.plane, path=args.png)
@@ -111,7 +209,7 @@ def cmd_draw(args):
     return 0
 
 
-def cmd_models(args):
+def cmd_models(args: argparse.Namespace) -> int:
     out = pathlib.Path(args.dir)
     out.mkdir(parents=True, exist_ok=True)
     for spec, name in [("threebar:RA", "threebar_RA"), ("threebar:RB", "threebar_RB"),
@@ -123,59 +221,103 @@ def cmd_models(args):
     return 0
 
 
-def cmd_study(args):
+def cmd_study(args: argparse.Namespace) -> int:
     from . import sailstudy
     if args.hub == 4:
         if args.loops != 1:
             print("the square-hub study is the paper's one-loop sail (--loops 1)", file=sys.stderr)
-            return 2
+            return EXIT_USAGE
         res = sailstudy.square_study(threads=args.threads, progress=not args.quiet, out=args.out)
     else:
         res = sailstudy.hexagonal_study(args.hub, args.loops, complete=not args.quick, threads=args.threads,
                                         progress=not args.quiet, out=args.out)
     if "failed" in res:
         print(f"study stopped early: {res['failed']}", file=sys.stderr)
-        return 3
+        return EXIT_STUDY_FAILED
     print(f"report: {pathlib.Path(args.out) / 'report.md'}")
     return 0
 
 
-def main(argv=None):
-    p = argparse.ArgumentParser(prog="libkin", description=(
+def cmd_explore(args: argparse.Namespace) -> int:
+    from .atlas_cli import run
+    return run(args, _load(args.model))
+
+
+def cmd_fold_export(args: argparse.Namespace) -> int:
+    from .fold import write_fold
+    a = _load(args.model)
+    frames = [a.coords]
+    if args.follow:
+        an = a.analyse()
+        if an.m_internal != 1:
+            print(f"{a.name} has {an.m_internal} internal mechanisms here: not on a single path, "
+                  "nothing to follow", file=sys.stderr)
+            return EXIT_USAGE
+        try:
+            for _ in a.follow(steps=args.follow, delta=args.delta, progress=not args.quiet):
+                frames.append(a.coords)
+        except KinError as exc:
+            print(f"stopped after {len(frames) - 1} steps: {exc}", file=sys.stderr)
+    faces = "triangles" if args.faces == "triangles" else None
+    write_fold(args.out, a, path_coords=frames, faces=faces)
+    print(f"wrote {args.out} ({len(frames)} frame{'s' if len(frames) > 1 else ''})")
+    return 0
+
+
+class _OneLineParser(argparse.ArgumentParser):
+    """A usage error is one line on stderr (with where to get help), exit 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(EXIT_USAGE, f"{self.prog}: {message} (see '{self.prog} --help')\n")
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = _OneLineParser(prog="libkin", description=(
         "Kinematic analysis of pin-jointed bar assemblies. MODEL is a JSON model file "
-        "(schema: python/README.md) or a built-in: threebar:RA|RB|RC, sail:N_SIDES:N_LOOPS."))
-    sub = p.add_subparsers(dest="cmd", required=True)
+        "(schema: python/README.md) or a built-in: threebar:RA|RB|RC, sail:N_SIDES:N_LOOPS."),
+        epilog="exit status: 0 success, 1 libkin or file error, 2 usage error, 3 study stopped early, "
+               "130 interrupted")
+    p.add_argument("--version", action="version", version=f"libkin {__version__}")
+    sub = p.add_subparsers(dest="cmd", required=True, parser_class=_OneLineParser)
     s = sub.add_parser("analyse", help="first-order analysis: rank, mechanisms, self-stresses")
     s.add_argument("model")
     s.add_argument("--singular-values", action="store_true", help="print all singular values")
     s.set_defaults(fn=cmd_analyse)
     s = sub.add_parser("follow", help="follow the path from a regular configuration")
     s.add_argument("model")
-    s.add_argument("--steps", type=int, default=50, help="number of steps (default 50)")
-    s.add_argument("--delta", type=float, default=0.0, help="step amplitude (0 = largest allowed)")
+    s.add_argument("--steps", type=_count(1), default=50, help="number of steps (default 50)")
+    s.add_argument("--delta", type=_finite, default=0.0, help="step amplitude (0 = largest allowed)")
     s.add_argument("--plot", help="write the singular values along the path to this PNG")
-    s.add_argument("--count", type=int, default=15, help="how many of the lowest singular values to plot")
+    s.add_argument("--count", type=_count(1), default=15, help="how many of the lowest singular values to plot")
     s.add_argument("--gif", help="write an animation of the path to this GIF")
     s.add_argument("--plane", default="xy", choices=["xy", "xz", "yz"], help="projection of 3D models")
     s.add_argument("--out", help="write the final configuration as a JSON model")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
-    s.add_argument("--perturb", type=float, default=0.0,
+    s.add_argument("--perturb", type=_finite, default=0.0,
                    help="start from a generic point: lift free nodes by up to this amount and relax")
     s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
+    s.add_argument("--branch", type=_count(0), default=None, metavar="K",
+                   help="at a bifurcation: leave along directed branch K (real second-order solution K // 2 of the "
+                        "complete solver, sign + for even K, - for odd)")
+    s.add_argument("--sign", type=int, default=None, choices=[1, -1], help="the sign of --branch's direction")
     s.set_defaults(fn=cmd_follow)
     s = sub.add_parser("locate", help="follow the path to the next bifurcation and converge onto it")
     s.add_argument("model")
     s.add_argument("--method", default="fast", choices=["fast", "paper", "illinois"],
                    help="fast: Hermite interpolation (default); paper: the paper's quadratic (eq. 23-26); "
                         "illinois: regula falsi on the signed test function")
-    s.add_argument("--delta", type=float, default=0.0,
+    s.add_argument("--delta", type=_finite, default=0.0,
                    help="step amplitude while following (0 = largest allowed, negative = backwards)")
-    s.add_argument("--vr-tol", type=float, default=1e-10, help="located when v_r / v_max <= this (default 1e-10)")
-    s.add_argument("--max-steps", type=int, default=1000, help="steps to look for a bifurcation")
-    s.add_argument("--perturb", type=float, default=0.0,
+    s.add_argument("--vr-tol", type=_positive, default=1e-10, help="located when v_r / v_max <= this (default 1e-10)")
+    s.add_argument("--max-steps", type=_count(1), default=1000, help="steps to look for a bifurcation")
+    s.add_argument("--perturb", type=_finite, default=0.0,
                    help="start from a generic point: lift free nodes by up to this amount and relax")
     s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
     s.add_argument("--out", help="write the located configuration as a JSON model")
+    s.add_argument("--branch", type=_count(0), default=None, metavar="K",
+                   help="at a bifurcation: leave along directed branch K (real second-order solution K // 2 of the "
+                        "complete solver, sign + for even K, - for odd)")
+    s.add_argument("--sign", type=int, default=None, choices=[1, -1], help="the sign of --branch's direction")
     s.set_defaults(fn=cmd_locate)
     s = sub.add_parser("draw", help="draw a model to a PNG")
     s.add_argument("model")
@@ -186,22 +328,65 @@ def main(argv=None):
     s.add_argument("--hub", type=int, default=6,
                    help="hub sides: 6 (default) = the hexagonal study R^A-R^B-R^C and back; 4 = the square "
                         "sail's paths out of its flat state; other even n >= 6: that family member")
-    s.add_argument("--loops", type=int, default=2, help="loops of triangles (default 2; 1 for --hub 4)")
+    s.add_argument("--loops", type=_count(1), default=2, help="loops of triangles (default 2; 1 for --hub 4)")
     s.add_argument("--out", default="study_out", help="output folder for report.md, summary.json, PNGs")
     s.add_argument("--quick", action="store_true",
                    help="skip the 2^s homotopy at the flat state (the symmetric sub-problem is still solved)")
-    s.add_argument("--threads", type=int, default=2, help="threads of the homotopy solver")
+    s.add_argument("--threads", type=_count(1), default=2, help="threads of the homotopy solver")
     s.add_argument("--quiet", action="store_true", help="no progress messages")
     s.set_defaults(fn=cmd_study)
+    s = sub.add_parser("explore", help="the atlas: every path out of every bifurcation met (docs/atlas.md)")
+    from .atlas_cli import add_arguments
+    add_arguments(s)
+    s.set_defaults(fn=cmd_explore)
+
+
+    s = sub.add_parser("fold-export", help="write a model, or a path followed from it, as a FOLD file")
+    s.add_argument("model", help="MODEL as above, or a .fold file")
+    s.add_argument("--follow", type=_count(0), default=0, help="steps to follow; each is a frame (default 0)")
+    s.add_argument("--delta", type=_finite, default=0.0, help="step amplitude (0 = largest allowed)")
+    s.add_argument("--faces", choices=["file", "triangles"], default="file",
+                   help="faces: the .fold file's (default) or the bar graph's triangles")
+    s.add_argument("--out", required=True, help="the .fold file to write")
+    s.add_argument("--quiet", action="store_true", help="no progress bar")
+    s.set_defaults(fn=cmd_fold_export)
     s = sub.add_parser("models", help="write the built-in models as JSON files")
     s.add_argument("dir")
     s.set_defaults(fn=cmd_models)
-    args = p.parse_args(argv)
+    return p
+
+
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    return f"libkin: {text}"
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    """Run the command line.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status (see the module docstring); usage errors exit via
+        SystemExit(2) from argparse.
+    """
+    args = _parser().parse_args(argv)
     try:
-        return args.fn(args)
-    except (KinError, OSError, ImportError) as exc:
-        print(f"libkin: {exc}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:  # Ctrl-C: the long C calls stop within ~0.1 s
+        rc: Any = args.fn(args)
+        return int(rc)
+    except KeyboardInterrupt:
         print("libkin: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        # the reader of stdout went away (e.g. `| head`): stop quietly, and keep
+        # the interpreter's final flush from failing again
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_ERROR
+    except (KinError, OSError, ImportError, ValueError) as exc:
+        print(_one_line(exc), file=sys.stderr)
+        return EXIT_ERROR

@@ -5,20 +5,33 @@
  "bars":   [{"index": k, "joints": [i, j], "length": L (optional), "kind": str (optional)}, ...]}
 Extra keys are kept out of the way (ignored). Indices are 0-based; joint
 "index" values must be 0..n-1 in order, as must bar "index" values if given."""
+from __future__ import annotations
+
 import json
 import math
 import os
+from typing import TYPE_CHECKING, Any, Dict, List, NoReturn, Optional, Tuple, Union
 
 import numpy as np
+import numpy.typing as npt
 
-from .errors import ModelFormatError
+from .errors import ArgumentTypeError, InvalidArgumentError, ModelFormatError
+
+if TYPE_CHECKING:
+    from .assembly import Assembly
+
+#: What `parse` returns: name, coords, bars, fixed, lengths (or None), labels.
+ParsedModel = Tuple[str, npt.NDArray[np.float64], npt.NDArray[np.int32], npt.NDArray[np.bool_],
+                    Optional[npt.NDArray[np.float64]], List[str]]
+#: A model source: a file path, a JSON text starting with "{", or a parsed dict.
+ModelSource = Union[str, "os.PathLike[str]", Dict[str, Any]]
 
 
-def _fail(where, msg):
+def _fail(where: str, msg: str) -> NoReturn:
     raise ModelFormatError(f"{where}: {msg}")
 
 
-def _number(v, where):
+def _number(v: Any, where: str) -> float:
     # integers beyond 64 bits are refused, as C (jansson) refuses them
     if (isinstance(v, bool) or not isinstance(v, (int, float)) or
             (isinstance(v, int) and not -2**63 <= v < 2**63) or not math.isfinite(v)):
@@ -30,11 +43,11 @@ def _number(v, where):
 MAX_DEPTH = 64
 
 
-def _check_text(doc):
+def _check_text(doc: Any) -> None:
     """Refuse what valid JSON may hold but C's reader (jansson) refuses, so
     both loaders agree: nesting deeper than MAX_DEPTH, an unpaired surrogate
     escape ("\\ud800") in a string, a NUL in a key."""
-    stack = [(doc, 1)]
+    stack: List[Tuple[Any, int]] = [(doc, 1)]
     while stack:
         v, depth = stack.pop()
         if isinstance(v, (dict, list)):
@@ -52,12 +65,29 @@ def _check_text(doc):
                 _fail("JSON text", f"a string holds an unpaired surrogate: {v!r}")
 
 
-def _is_int(v):
+def _is_int(v: Any) -> bool:
     return isinstance(v, int) and not isinstance(v, bool)
 
 
-def parse(doc):
-    """Validate a model dict; return (name, coords, bars, fixed, lengths, labels)."""
+def parse(doc: Any) -> ParsedModel:
+    """Validate a model dict.
+
+    Parameters
+    ----------
+    doc : dict
+        A parsed JSON model.
+
+    Returns
+    -------
+    tuple
+        (name, coords (njoints, dim), bars (nbars, 2) int32, fixed
+        (njoints, dim) bool, lengths (nbars,) or None, labels).
+
+    Raises
+    ------
+    ModelFormatError
+        The model is malformed; the message names the field and position.
+    """
     if not isinstance(doc, dict):
         _fail("model", f"expected a JSON object, got {type(doc).__name__}")
     dim = doc.get("dimension")
@@ -68,7 +98,7 @@ def parse(doc):
         _fail("joints", "expected a non-empty list")
     coords = np.empty((len(joints), dim))
     fixed = np.zeros((len(joints), dim), dtype=bool)
-    labels = []
+    labels: List[str] = []
     for i, j in enumerate(joints):
         w = f"joints[{i}]"
         if not isinstance(j, dict):
@@ -119,13 +149,33 @@ def parse(doc):
     return name, coords, bars, fixed, (lengths if all(have_len) else None), labels
 
 
-def load_json(source):
-    """Build an Assembly from a JSON file path, a JSON string, or a dict."""
+def load_json(source: ModelSource) -> "Assembly":
+    """Build an Assembly from a JSON model, read by the Python loader.
+
+    Parameters
+    ----------
+    source : str, path-like or dict
+        A file path, a JSON text (starting with ``{``), or the parsed dict.
+
+    Returns
+    -------
+    Assembly
+        The model, with its labels and name.
+
+    Raises
+    ------
+    ModelFormatError
+        Malformed JSON or model (a ValueError); the message names the field
+        and position.
+    OSError
+        The file cannot be read.
+    """
     from .assembly import Assembly
+    doc: Any
     if isinstance(source, dict):
         doc = source
     else:
-        text = source
+        text: Any = source
         if isinstance(source, (str, os.PathLike)) and not str(source).lstrip().startswith("{"):
             try:
                 with open(source, encoding="utf-8") as f:
@@ -143,11 +193,24 @@ def load_json(source):
     return Assembly(coords, bars, fixed=fixed, lengths=lengths, labels=labels, name=name)
 
 
-def to_json(self, path=None):
-    """The assembly's current state as a model dict (written to path if given)."""
+def to_json(self: "Assembly", path: Union[str, "os.PathLike[str]", None] = None) -> Dict[str, Any]:
+    """The assembly's current state as a model dict.
+
+    Parameters
+    ----------
+    self : Assembly
+        The assembly.
+    path : str or path-like, optional
+        Also write the model to this file.
+
+    Returns
+    -------
+    dict
+        The model (schema in docs/model_format.md), with the rest lengths.
+    """
     coords, fixed, bars, L0 = self.coords, self.fixed, self.bars, self.rest_lengths
     labels = self.labels or [f"J{i}" for i in range(self.njoints)]
-    doc = {
+    doc: Dict[str, Any] = {
         "name": self.name or "model",
         "dimension": self.dim,
         "joints": [{"index": i, "label": labels[i], "xyz": [float(v) for v in coords[i]],
@@ -161,21 +224,44 @@ def to_json(self, path=None):
     return doc
 
 
-def load_model(source, engine="python"):
-    """Build an Assembly from a JSON model file path or JSON text (starting
-    with "{"), read by the Python loader (engine="python", as load_json; also
-    takes a dict) or by the C library's (engine="c", kin_assembly_load: the
-    same rules and verdicts, docs/model_format.md; name and joint labels are
-    not kept). Raises ModelFormatError for a malformed model, the
-    KinError of the C status otherwise (OSError for an unreadable file with
-    engine="python")."""
+def load_model(source: ModelSource, engine: str = "python") -> "Assembly":
+    """Build an Assembly from a JSON model with either loader.
+
+    Parameters
+    ----------
+    source : str, path-like or dict
+        A file path or a JSON text (starting with ``{``); a dict only with
+        engine="python".
+    engine : {'python', 'c'}, optional
+        'python': `load_json`; 'c': the C library's kin_assembly_load (the
+        same rules and verdicts, docs/model_format.md; the name and joint
+        labels are not kept).
+
+    Returns
+    -------
+    Assembly
+        The model.
+
+    Raises
+    ------
+    ModelFormatError
+        A malformed model (KIN_EFORMAT; a ValueError).
+    InvalidArgumentError
+        An unknown `engine`.
+    KinError
+        The class of the C status otherwise (e.g. `FileAccessError`, an
+        OSError, for an unreadable file with engine="c"; with
+        engine="python" an unreadable file raises the built-in OSError).
+    """
     if engine == "python":
         return load_json(source)
     if engine != "c":
-        raise ValueError(f"engine: expected 'python' or 'c', got {engine!r}")
-    from ._lib import ffi, lib
+        raise InvalidArgumentError(f"engine: expected 'python' or 'c', got {engine!r}")
+    from ._lib import c_string, ffi, lib
     from .assembly import Assembly
     from .errors import error_class
+    if isinstance(source, dict):
+        raise ArgumentTypeError("source: engine='c' reads a file path or a JSON text, not a dict")
     out, err = ffi.new("kin_assembly **"), ffi.new("char[512]")
     if isinstance(source, str) and source.lstrip().startswith("{"):
         data = source.encode("utf-8", "surrogatepass")
@@ -183,6 +269,5 @@ def load_model(source, engine="python"):
     else:
         rc = lib.kin_assembly_load(os.fsencode(source), out, err, 512)
     if rc:
-        cls = ModelFormatError if rc == lib.KIN_EFORMAT else error_class(rc)
-        raise cls(ffi.string(err).decode(errors="replace"), rc)
+        raise error_class(rc)(c_string(err), rc)
     return Assembly._from_handle(out[0])

@@ -3,10 +3,12 @@
 hexagonal_study(): from the flat state R^A along the folding path into R^B,
 on to the next bifurcation R^C, and back to R^A, recording what Figures 13
 and 14 show plus the strain, the hub's planarity and the closure error.
-square_study(): every path out of the square sail's flat state (Figure 11).
+square_study() (squarestudy.py): every path out of the square sail's flat
+state (Figure 11).
 
 Both return a plain dict of results (JSON-serialisable) and, given an output
-folder, write report.md, summary.json and the PNGs there.
+folder, write report.md, summary.json and the figures there
+(studyreport.py, studyfigures.py).
 """
 import json
 import pathlib
@@ -18,6 +20,7 @@ import numpy as np
 
 from .assembly import Assembly, solve_quadrics
 from .errors import KinError
+from .sailmeasure import measures
 from .symmetry import sail_rotation, symmetric_solutions, symmetric_subspace
 
 # Bifurcations are located to v_r / v_max <= 1e-10 (the fast method) and m, s
@@ -36,6 +39,8 @@ SWITCH_EPS = 1e-2
 N_SV = 15
 # two paths coincide when their end configurations agree to this (length unit)
 SAME_CONFIG_TOL = 1e-6
+# how far along each symmetric path out of R^A the report draws it
+SNAP_LENGTH = 1.0
 
 
 def _say(progress, msg):
@@ -53,6 +58,7 @@ class _Track:
     def __init__(self, hub_joints):
         self.hub = hub_joints
         self.l, self.sv, self.strain, self.hub_z, self.factorizations = [], [], [], [], []
+        self.coords = []  # for the drawings and the animation (not stored)
         self.offset = 0.0
         self.base = 0.0
 
@@ -69,9 +75,10 @@ class _Track:
         self.strain.append(a.max_strain)
         z = a.coords[self.hub, 2]  # V0, V2, ... are fixed at z = 0
         self.hub_z.append(float(np.abs(z).max()))
+        self.coords.append(a.coords)
 
     def pop(self):
-        for v in (self.l, self.sv, self.strain, self.hub_z):
+        for v in (self.l, self.sv, self.strain, self.hub_z, self.coords):
             v.pop()
 
 
@@ -164,7 +171,8 @@ class _PathMap:
                 return i
         an = a.analyse()
         self.nodes.append({"name": name, "coords": x, "m": an.m_internal, "s": an.s,
-                           "xy_extent": float(np.hypot(x[:, 0], x[:, 1]).max())})
+                           "xy_extent": float(np.hypot(x[:, 0], x[:, 1]).max()),
+                           "height": float(x[:, 2].max() - x[:, 2].min())})
         return len(self.nodes) - 1
 
     def names(self):
@@ -293,7 +301,11 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     flat = a.coords
     hub = _hub_joints(a)
     an = a.analyse()
-    res["flat"] = {"nfree": a.nfree, "nbars": a.nbars, "m": an.m_internal, "s": an.s}
+    res["flat"] = {"nfree": a.nfree, "nbars": a.nbars, "m": an.m_internal, "s": an.s,
+                   "measures": measures(flat, a.labels, n_sides, n_loops)}
+    # per bifurcation, the configuration a short way along each path leaving
+    # it (the report's small multiples)
+    snaps = {}
     _say(progress, f"[R^A] flat state: H is {a.nfree} x {a.nbars}, m = {an.m_internal}, s = {an.s}")
     if complete and an.s <= 16:
         _say(progress, f"[R^A] complete solver: 2^{an.s} = {2 ** an.s} homotopy paths on {threads} threads ...")
@@ -334,6 +346,10 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     _say(progress, f"[R^A] {len(wraps)} of {len(cands)} symmetric directed paths wrap loop 1; chosen: "
          f"solution {pick['beta']}, sign {pick['sign']:+d}, R^B at l = {pick['reached']:.4f}")
     d_A = next(d for i, sg, d, _, _ in followed if i == pick["beta"] and sg == pick["sign"])
+    snaps["R^A"] = {"length": SNAP_LENGTH, "base": a.coords, "paths": [
+        {"beta": i, "sign": sg, "coords": _coords_at(None, a, d, SNAP_LENGTH), "symmetric": True,
+         "tag": "chosen" if (i, sg) == (pick["beta"], pick["sign"]) else "",
+         "to": pmap.node(at) if at is not None else None} for i, sg, d, at, _ in followed]}
 
     track = _Track(hub)
     track.add(a)
@@ -346,7 +362,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     if rb is None:
         res["failed"] = "R^B not reached"
         return _finish_hex(res, track, out, t_start, progress, stages)
-    _event(ev, steps, a, rb, hub)
+    _event(ev, steps, a, rb, hub, res)
     res["events"]["RB_fold"] = ev
     stages.append(("(b) R^A to R^B", _coords_at(track, a, d_A, 0.5 * ev["l"])))
     stages.append(("(c) R^B", rb.coords))
@@ -378,6 +394,8 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     d_B = best[1]
     res["RB"]["chosen"] = {"beta": best[2].beta, "sign": best[2].sign, "xy_extent_at_0.5": best[0],
                            "cos_with_arrival": best[3], "centre_dz": float(d_B[0])}
+    snaps["R^B"] = {"length": 0.5, "base": rb.coords,
+                    "paths": _branch_snaps(br, P_rb, chord_AB, (best[2].beta, best[2].sign), "back to R^A")}
     # ---- R^B -> R^C
     track.begin(rb)
     c = _leave(rb, d_B)
@@ -386,7 +404,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     if rc is None:
         res["failed"] = "R^C not reached"
         return _finish_hex(res, track, out, t_start, progress, stages)
-    _event(ev, steps, rb, rc, hub)
+    _event(ev, steps, rb, rc, hub, res)
     res["events"]["RC_fold"] = ev
     stages.append(("(d) R^B to R^C", _coords_at(track, rb, d_B, 0.5 * ev["l"])))
     stages.append(("(e) R^C", rc.coords))
@@ -419,6 +437,12 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     else:
         d_back = -chord_BC
     res["RC"]["return_cos"] = float(d_back @ chord_BC / np.linalg.norm(d_back))
+    if br_c is not None:
+        back = [p for p in br_c.paths if p.exists and p.tangent_ok and
+                np.array_equal(br_c.directions[p.beta] * p.sign, d_back)]
+        snaps["R^C"] = {"length": 0.3, "base": rc.coords,
+                        "paths": _branch_snaps(br_c, sail_rotation(rc, n_sides, 2), chord_BC,
+                                               (back[0].beta, back[0].sign) if back else None, "back to R^B")}
     track.begin(rc)
     c = _leave(rc, d_back)
     track.add(c)
@@ -426,7 +450,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     if rb2 is None:
         res["failed"] = "R^B not reached on the way back"
         return _finish_hex(res, track, out, t_start, progress, stages)
-    _event(ev, steps, rc, rb2, hub)
+    _event(ev, steps, rc, rb2, hub, res)
     ev["distance_to_RB"] = float(np.abs(rb2.coords - rb.coords).max())
     res["events"]["RB_deploy"] = ev
     _say(progress, f"[R^B] back after {steps} steps: m = {ev['m']}, s = {ev['s']}, {ev['factorizations']} "
@@ -441,19 +465,43 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     if ra is None:
         res["failed"] = "R^A not reached on the way back"
         return _finish_hex(res, track, out, t_start, progress, stages)
-    _event(ev, steps, rb2, ra, hub)
+    _event(ev, steps, rb2, ra, hub, res)
     res["events"]["RA_deploy"] = ev
     res["closure"] = float(np.abs(ra.coords - flat).max())
     _say(progress, f"[R^A] back after {steps} steps: m = {ev['m']}, s = {ev['s']}, {ev['factorizations']} "
          f"factorizations ({ev['method']}), closure error {res['closure']:.2e}")
     res["map"] = pmap.summary()
-    return _finish_hex(res, track, out, t_start, progress, stages, pmap)
+    names = pmap.names()
+    for sn in snaps.values():
+        for p in sn["paths"]:
+            if "to" in p:
+                p["to"] = names[p["to"]] if p["to"] is not None else None
+    return _finish_hex(res, track, out, t_start, progress, stages, pmap, snaps)
 
 
-def _event(ev, steps, start, at, hub):
+def _event(ev, steps, start, at, hub, res):
     ev["steps"] = steps + 1  # with the step that left the previous bifurcation
     ev["l"] = abs(at.path_length - start.path_length)
     ev["hub_out_of_plane"] = float(np.abs(at.coords[hub, 2]).max())
+    ev["measures"] = measures(at.coords, at.labels, res["n_sides"], res["n_loops"])
+
+
+def _branch_snaps(br, P, chord_in, chosen, back_name):
+    """The end of every directed path of br (exists, right tangent): its
+    configuration, whether it keeps the symmetry P, and a tag: 'chosen',
+    the arrival path continued ('straight on', cos with the arrival chord
+    > 0.99) or retraced (back_name, cos < -0.99)."""
+    out = []
+    for p in br.paths:
+        if not (p.exists and p.tangent_ok):
+            continue
+        d = br.directions[p.beta] * p.sign
+        cos = float(d @ chord_in / np.linalg.norm(d))
+        tag = ("chosen" if (p.beta, p.sign) == chosen else back_name if cos < -0.99 else
+               "straight on" if cos > 0.99 else "")
+        out.append({"beta": int(p.beta), "sign": int(p.sign), "coords": p.final_coords, "l": float(p.length),
+                    "symmetric": bool(np.linalg.norm(P @ d - d) < 1e-6 * np.linalg.norm(d)), "tag": tag})
+    return out
 
 
 def _last_before(start, direction, l_target, back=0.05):
@@ -472,12 +520,16 @@ def _coords_at(track, start, direction, l_target):
     return _last_before(start, direction, l_target, back=0.0).coords
 
 
-def _finish_hex(res, track, out, t_start, progress, stages=(), pmap=None):
+def _finish_hex(res, track, out, t_start, progress, stages=(), pmap=None, snaps=None):
     if track is not None and track.l:
         res["max_strain"] = float(max(track.strain))
         res["max_hub_out_of_plane"] = float(max(track.hub_z))
         res["path_length_total"] = float(track.l[-1])
         res["steps_total"] = len(track.l) - 1
+        ext = [float(np.hypot(x[:, 0], x[:, 1]).max()) for x in track.coords]
+        k = int(np.argmin(ext))
+        res["most_compact_on_run"] = {"xy_extent": ext[k], "l_total": float(track.l[k]),
+                                      "height": float(np.ptp(track.coords[k][:, 2]))}
     res["seconds"] = round(time.perf_counter() - t_start, 1)
     if out is not None:
         out = pathlib.Path(out)
@@ -487,7 +539,7 @@ def _finish_hex(res, track, out, t_start, progress, stages=(), pmap=None):
             np.savez(out / "track.npz", l=np.array(track.l), sv=np.array(track.sv),
                      strain=np.array(track.strain), hub_z=np.array(track.hub_z))
             from . import studyreport
-            studyreport.hexagonal(res, track, stages, out, pmap)
+            studyreport.hexagonal(res, track, stages, out, pmap, snaps or {})
         _say(progress, f"wrote {out / 'report.md'}")
     return res
 
@@ -502,72 +554,6 @@ def _jsonable(v):
     return str(v)
 
 
-def square_study(length=1.75, threads=2, progress=True, out=None):
-    """Section 6.1: every second-order solution at the square sail's flat
-    state, each followed both ways to `length`; distinct paths, their
-    symmetry relations, and the two paths to the fully folded state."""
-    t_start = time.perf_counter()
-    a = Assembly.sail(4, 1)
-    an = a.analyse()
-    res = {"model": "sail 4-gon hub, 1 loop", "flat": {"m": an.m_internal, "m_rigid": an.m_rigid, "s": an.s}}
-    _say(progress, f"flat state: m = {an.m_internal} internal + {an.m_rigid} rigid, s = {an.s}")
-    br = a.branches(solver="homotopy", length=length, threads=threads)
-    res["accounting"] = br.accounting
-    ok = [p for p in br.paths if p.exists and p.tangent_ok]
-    res["real_solutions"] = len(br.betas)
-    res["directed_paths_ok"] = len(ok)
-    res["distinct_paths"] = br.distinct
-    _say(progress, f"complete solver {br.accounting}; {len(ok)} directed paths reach l = {length}, "
-         f"{br.distinct} distinct")
-    lab = a.labels
-    V1, V3, O0, O2 = (lab.index(n) for n in ("V1", "V3", "A0", "A2"))
-    ends = [p.final_coords for p in br.paths]
-    flat = a.coords
-    # symmetries of the flat sail with its supports: rotation by pi about z
-    # (V0 <-> V2), the mirror z -> -z, and both
-    perm = np.array([2, 3, 0, 1, 6, 7, 4, 5])
-    rot = np.diag([-1.0, -1.0, 1.0])
-    mir = np.diag([1.0, 1.0, -1.0])
-    ops = {"rot180": lambda x: (x @ rot.T)[np.argsort(perm)], "mirror": lambda x: x @ mir.T,
-           "rot180+mirror": lambda x: ((x @ rot.T) @ mir.T)[np.argsort(perm)]}
-    assert np.abs(ops["rot180"](flat) - flat).max() < 1e-12
-    relations, folded = [], []
-    for i, p in enumerate(br.paths):
-        if not (p.exists and p.tangent_ok):
-            continue
-        x = ends[i]
-        # the folding paths keep the two-fold symmetry and move the free hub
-        # nodes and the outer nodes O0, O2 to opposite sides (paper 6.1);
-        # each candidate is followed on to the bifurcation it reaches
-        pattern = None
-        if x[V1, 2] < 0 and x[V3, 2] < 0 and x[O0, 2] > 0 and x[O2, 2] > 0:
-            pattern = "V1, V3 down; O0, O2 up"
-        if x[V1, 2] > 0 and x[V3, 2] > 0 and x[O0, 2] < 0 and x[O2, 2] < 0:
-            pattern = "V1, V3 up; O0, O2 down"
-        if pattern and np.abs(ops["rot180"](x) - x).max() < SAME_CONFIG_TOL:
-            c = _leave(a, br.directions[p.beta] * p.sign)
-            at, ev, _ = follow_to_bifurcation(c, None, max_steps=400)
-            f = {"path": i, "pattern": pattern}
-            if at is not None:
-                z = at.coords[:, 2]
-                f.update({"ends_at_l": abs(at.path_length), "m": ev["m"], "s": ev["s"],
-                          "end_z": [round(float(v), 6) for v in z],
-                          "hub_fold_deg": round(float(np.degrees(np.arcsin(min(1.0, abs(z[V1]) / np.sqrt(0.5))))), 3)})
-            folded.append(f)
-        for name, op in ops.items():
-            y = op(x)
-            for j, q in enumerate(br.paths):
-                if j > i and q.exists and q.tangent_ok and np.abs(ends[j] - y).max() < SAME_CONFIG_TOL:
-                    relations.append({"path": i, "other": j, "by": name})
-    res["symmetry_relations"] = relations
-    res["fully_folded_paths"] = folded
-    res["seconds"] = round(time.perf_counter() - t_start, 1)
-    _say(progress, f"fully folded candidates: {folded}")
-    if out is not None:
-        out = pathlib.Path(out)
-        out.mkdir(parents=True, exist_ok=True)
-        (out / "summary.json").write_text(json.dumps(res, indent=1, default=_jsonable) + "\n")
-        from . import studyreport
-        studyreport.square(res, a, br, out)
-        _say(progress, f"wrote {out / 'report.md'}")
-    return res
+# the square sail's study (Section 6.1) lives in its own module; it is
+# reached from here as before (imported last: it uses the helpers above)
+from .squarestudy import square_study as square_study  # noqa: E402

@@ -21,115 +21,105 @@ def _event_row(name, ev, paper):
             f"{ev['hub_out_of_plane']:.3f} | {pcol} | {paper} |")
 
 
-def _path_map_figure(pmap, out, plt):
-    """Nodes at (x-y extent, m); a node and its mirror image (same place) are
-    drawn once; line width grows with the number of directed paths; the
-    fold-deploy route R^A - R^B - R^C is drawn in red."""
-    nodes, names = pmap.nodes, pmap.names()
-    place, label = {}, {}
-    for i, n in enumerate(nodes):
-        key = (round(n["xy_extent"], 3), n["m"])
-        place[i] = key
-        label.setdefault(key, []).append(names[i])
-    fig, ax = plt.subplots(figsize=(10, 5.8))
-    agg = {}
-    for e in pmap.edges:
-        if e["to"] is not None and place[e["from"]] != place[e["to"]]:
-            k = (place[e["from"]], place[e["to"]])
-            agg[k] = agg.get(k, 0) + 1
-    route = {("R^A", "R^B"), ("R^B", "R^C")}
-    for (p, q), cnt in agg.items():
-        on_route = any(names[i] in (r[0],) and any(names[j] == r[1] for j in range(len(nodes)) if place[j] == q)
-                       for r in route for i in range(len(nodes)) if place[i] == p)
-        ax.annotate("", xy=q, xytext=p,
-                    arrowprops=dict(arrowstyle="->", color="C3" if on_route else "0.55",
-                                    lw=(2.2 if on_route else 0.6 + 0.35 * cnt), shrinkA=7, shrinkB=7,
-                                    connectionstyle="arc3,rad=0.15"))
-    by_row = {}
-    for key in label:
-        by_row.setdefault(key[1], []).append(key)
-    for m, keys in by_row.items():
-        for j, key in enumerate(sorted(keys)):
-            main = any(nm in ("R^A", "R^B", "R^C") for nm in label[key])
-            ax.plot(*key, "o", color="C3" if main else "C0", ms=11 if main else 7, zorder=3)
-            text = ", ".join(sorted(set(label[key]), key=len))
-            ax.annotate(text, key, xytext=(0, 10 if j % 2 == 0 else -16), textcoords="offset points",
-                        fontsize=7.5, ha="center", fontweight="bold" if main else "normal")
-    ax.invert_xaxis()
-    ms = sorted(by_row)
-    ax.set_yscale("log")
-    ax.set_yticks(ms)
-    ax.set_yticklabels([str(m) for m in ms])
-    ax.minorticks_off()
-    ax.set_ylim(min(ms) * 0.85, max(ms) * 1.25)
-    ax.set_xlabel("x-y extent of the sail (largest distance of a node from the hub axis): unfolded -> folded")
-    ax.set_ylabel("internal mechanisms m at the bifurcation")
-    ax.set_title("Path map: bifurcations reached along symmetric paths (red: the fold R^A - R^B - R^C; "
-                 "' = mirror image)", fontsize=10)
-    ax.grid(True, alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(out / "path_map.png", dpi=100)
-    plt.close(fig)
-
-
-def hexagonal(res, track, stages, out, pmap=None):
-    plt = _plt()
-    from .assembly import Assembly
-    a = Assembly.sail(res["n_sides"], res["n_loops"])
-    a_bars = a.bars
-    # Figure 13: xy (top) and xz (bottom) projections of the stages
-    fig, axs = plt.subplots(2, len(stages), figsize=(3.2 * len(stages), 6.6), squeeze=False)
-    for k, (title, x) in enumerate(stages):
-        draw(x, a_bars, ax=axs[0, k], plane="xy", fixed=a.fixed.all(axis=1), title=title)
-        draw(x, a_bars, ax=axs[1, k], plane="xz", fixed=a.fixed.all(axis=1), color="C1")
-        for r in range(2):
-            axs[r, k].set_xlim(-2.4, 2.4)
-            axs[r, k].set_ylim(-2.4, 2.4)
-    fig.suptitle("Figure 13-like: folding stages, projected on x-y (top) and x-z (bottom)")
-    fig.tight_layout()
-    fig.savefig(out / "fig13_stages.png", dpi=90)
-    plt.close(fig)
-    # Figure 14: the 15 lowest singular values along the whole run
-    l = np.array(track.l)
-    sv = np.array(track.sv)
-    fig, ax = plt.subplots(figsize=(9, 4.5))
-    for j in range(sv.shape[1]):
-        ax.plot(l, sv[:, j], lw=1)
-    marks = [(k, v) for k, v in res["events"].items() if v and "l_total" in v]
-    for k, v in marks:
-        ax.axvline(v["l_total"], color="k", ls=":", lw=0.8)
-        ax.text(v["l_total"], ax.get_ylim()[1] * 0.95, k.split("_")[0].replace("R", "R^"), rotation=90,
-                va="top", fontsize=8)
-    ax.set_xlabel("path length travelled (fold, then deploy)")
-    ax.set_ylabel(f"{sv.shape[1]} lowest singular values")
-    ax.set_title("Figure 14-like: lowest singular values of H over the fold-deploy run")
-    fig.tight_layout()
-    fig.savefig(out / "fig14_singular_values.png", dpi=100)
-    plt.close(fig)
-    # strain and hub planarity
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 5), sharex=True)
-    a1.semilogy(l, np.maximum(track.strain, 1e-18), ".", ms=3)
-    a1.set_ylabel("max |L - L0| / L0")
-    a2.plot(l, track.hub_z, "-")
-    a2.set_ylabel("max |z| of hub nodes")
-    a2.set_xlabel("path length travelled")
-    a1.set_title("bar strain at every accepted step, and the hub's out-of-plane displacement")
-    fig.tight_layout()
-    fig.savefig(out / "strain_hub.png", dpi=100)
-    plt.close(fig)
+def hexagonal(res, track, stages, out, pmap=None, snaps=None):
+    """Every figure (studyfigures.py) and report.md."""
+    from . import studyfigures as F
+    M = F.Model(res["n_sides"], res["n_loops"])
+    figs = {}
+    F.model_figure(M, out)
+    F.stages_2d(M, stages, out)
+    F.stages_3d(M, stages, out)
+    figs["sv_groups"] = F.singular_values(res, track, out)
+    F.strain_hub(res, track, out)
+    F.fold_measures(M, res, track, out)
     if pmap is not None and pmap.nodes:
-        _path_map_figure(pmap, out, plt)
-    _write_hex_md(res, out)
+        F.path_map(pmap, out)
+    figs["grids"] = []
+    for name, snap in (snaps or {}).items():
+        fname = f"branches_{name.replace('^', '')}.png"
+        factor = F.branch_grid(M, name, snap, snap["base"], out, fname)
+        figs["grids"].append((name, fname, snap, factor))
+    figs["gif_frames"] = F.animation(M, res, track, out)
+    # the run for origami software: every accepted step a FOLD frame
+    from .fold import write_fold
+    doc = write_fold(out / "fold_run.fold", M.a, path_coords=track.coords, faces="triangles",
+                     title=f"libkin: {res['model']}, fold R^A-R^B-R^C and back",
+                     description="Lengths in units of the hub side a. One frame per accepted path step.")
+    figs["fold_frames"] = 1 + len(doc.get("file_frames", []))
+    _write_hex_md(res, out, M, figs)
 
 
-def _write_hex_md(res, out):
+def _nz(v, nd):
+    """v rounded to nd decimals, without a minus sign on zero."""
+    return round(v, nd) + 0.0
+
+
+def _where_row(name, m, l_total, l_prev, mn):
+    fe, fo = m["fold_angle_even"], m["fold_angle_odd"]
+    folds = " ; ".join(f"{_nz(e, 1):+.1f} / {_nz(o, 1):+.1f}" for e, o in zip(fe, fo))
+    lp = "" if l_prev is None else f"{l_prev:.4f}"
+    return (f"| {name} | {l_total:.4f} | {lp} | {mn} | {m['xy_extent']:.3f} | {m['z_extent']:.3f} | "
+            f"{_nz(m['z_min'], 3):+.3f} .. {_nz(m['z_max'], 3):+.3f} | {m['hub_out_of_plane']:.3f} | {folds} |")
+
+
+def _model_md(res, M):
+    """The model section: unit, joints, bars, supports, free coordinates."""
+    from collections import Counter
+    n = res["n_sides"]
+    L = ["## The model\n"]
+    L.append("**Units.** Lengths (coordinates, bar lengths, path length l, extents) are in units of the hub "
+             "side **a**: the model is built with a = 1, so a sail with a 2 m hub side has every length here "
+             "times 2 m. Path length l is the Euclidean length of the path in the space of free coordinates, "
+             "so it is a length too. Angles are in degrees; strains and singular values of H (whose entries "
+             "are direction cosines) have no unit.\n")
+    kinds = Counter(M.kinds)
+    sk = ["pinned" if r.all() else "partial" if r.any() else "" for r in M.fixed]
+    pinned = [M.labels[i] for i, s in enumerate(sk) if s == "pinned"]
+    partial = [(M.labels[i], "".join(c for c, f in zip("xyz", M.fixed[i]) if f)) for i, s in enumerate(sk)
+               if s == "partial"]
+    L.append(f"{len(M.labels)} joints, {len(M.bars)} bars ("
+             + ", ".join(f"{kinds[k]} {k}s" for k in ("hub edge", "spoke", "fold", "ring", "diagonal") if kinds[k])
+             + f"). Joint names: C the hub centre, V0..V{n - 1} the hub vertices (counter-clockwise, "
+             f"V0-V1 the bottom edge), A0..A{n - 1} loop 1 and B0..B{n - 1} loop 2, Ak and Bk on the fold line "
+             f"that starts at Vk perpendicular to the hub edge V(k-1)-Vk. "
+             f"Supports: {', '.join(pinned)} pinned (x, y, z fixed)"
+             + "".join(f"; {lab} held in {c} (free in "
+                       f"{''.join(ch for ch in 'xyz' if ch not in c)})" for lab, c in partial)
+             + f". Free coordinates: {int((M.fmap >= 0).sum())} (the rows of H); every other joint is free "
+             f"in x, y and z. The hub is a regular {n}-gon of side a in the plane z = 0; the fold lines are "
+             f"divided into loops of width a tan(pi/{n}) = {np.tan(np.pi / n):.4f} a.\n")
+    L.append("![model](model.png)\n")
+    L.append("*Figure 1. The model, flat, seen from above. Each joint is marked 'index: label (free "
+             "coordinates)'; bar colours give the bar kinds; black triangles are pinned supports, the black "
+             "square the centre node, held in x and y.*\n")
+    return L
+
+
+_FOLD_WORDS = {2: "two", 3: "three", 4: "four", 5: "five", 6: "six"}
+
+
+def _write_hex_md(res, out, M, figs):
+    n = res["n_sides"]
+    nfold = f"{_FOLD_WORDS.get(n // 2, str(n // 2))}-fold"
+    even = ", ".join(str(k) for k in range(0, n, 2))
+    odd = ", ".join(str(k) for k in range(1, n, 2))
     ev = res["events"]
     flat = res["flat"]
     L = []
     L.append(f"# Folding and deployment of the solar sail ({res['model']})\n")
-    L.append("Generated by `libkin study` (python/src/libkin/sailstudy.py); numbers in summary.json.\n")
+    L.append("Generated by `libkin study` (python/src/libkin/sailstudy.py); numbers in summary.json. "
+             "All lengths in units of the hub side a (below).\n")
     if "failed" in res:
         L.append(f"**The run stopped early: {res['failed']}.**\n")
+    L.append("![fold animation](fold_animation.gif)\n")
+    L.append(f"*The run, animated ({figs.get('gif_frames', 0)} frames): from the flat state R^A the sail folds "
+             "to R^B (loop 1 wrapped against the hub), on to R^C, and deploys back along the same path. "
+             "Colours as in Figure 1.*\n")
+    if figs.get("fold_frames"):
+        L.append(f"The whole run is also in `fold_run.fold` ({figs['fold_frames']} frames, one per accepted step; "
+                 "the FOLD format of origami software, faces = the sail's bar triangles, supports in "
+                 "`vertices_libkin:fixed`; docs/fold.md).\n")
+    L += _model_md(res, M)
     L.append("## The flat state R^A\n")
     L.append(f"H is {flat['nfree']} x {flat['nbars']}; m = {flat['m']} internal mechanisms, s = {flat['s']} "
              "self-stresses.")
@@ -155,10 +145,37 @@ def _write_hex_md(res, out):
                  f"{flat['candidates']} symmetric directed candidates were followed: "
                  f"{flat['candidates_reaching_bifurcation']} reach a bifurcation, "
                  f"{flat['candidates_wrapping_loop1']} wrap loop 1. Chosen: solution {ch['beta']}, sign "
-                 f"{ch['sign']:+d}, reaching R^B at l = {ch['reached']:.4f}.\n")
-    L.append("## Bifurcations along the run\n")
-    L.append("| point | l from previous | m / s | steps | factorizations to locate | method | v_r / v_max "
-             "| hub max abs z | paper's method here (tol 1e-6): factorizations, v_r | paper (steps) |")
+                 f"{ch['sign']:+d}, reaching R^B at l = {ch['reached']:.4f} a.\n")
+    L.append("## Where the bifurcations are\n")
+    L.append("Each point placed by what can be measured on the structure, as well as by path length: the "
+             "x-y extent (largest distance of a joint from the hub's axis: the radius of the folded "
+             "package), the height (z-extent of the sail), how far the free hub vertices leave the hub "
+             "plane, and the angle of each fold line to the hub plane (fold segments Vk-Ak of loop 1 and "
+             f"Ak-Bk of loop 2; the motion keeps the {nfold} symmetry, so the folds k = {even} are alike "
+             f"and so are k = {odd}: the column gives 'even / odd', positive = rising towards +z).\n")
+    L.append("| point | l from R^A along the run (a) | l from previous (a) | m / s | x-y extent (a) | height "
+             "(a) | z range (a) | hub out of plane (a) | fold angles to the hub plane (deg): loop 1 even / odd ; "
+             "loop 2 even / odd |")
+    L.append("|---|---|---|---|---|---|---|---|---|")
+    L.append(_where_row("R^A (start, flat)", flat["measures"], 0.0, None, f"{flat['m']} / {flat['s']}"))
+    for key, name in (("RB_fold", "R^B (folding)"), ("RC_fold", "R^C (folding)"), ("RB_deploy", "R^B (deploying)"),
+                      ("RA_deploy", "R^A (deploying)")):
+        e = ev.get(key)
+        if e and "measures" in e:
+            L.append(_where_row(name, e["measures"], e["l_total"], e["l"], f"{e['m']} / {e['s']}"))
+    if "most_compact_on_run" in res:
+        mc = res["most_compact_on_run"]
+        L.append(f"\nThe most compact configuration met on the run is not a bifurcation: between R^B and R^C the "
+                 f"x-y extent falls to {mc['xy_extent']:.3f} a (at l = {mc['l_total']:.2f} a from R^A, height "
+                 f"{mc['height']:.3f} a, the nearest accepted step) and grows again to R^C's value (Figure 2).")
+    L.append("\n![fold measures](fold_measures.png)\n")
+    L.append("*Figure 2. How far the sail has folded along the run: top, the angle of each fold line to the "
+             "hub plane (red loop 1, blue loop 2; solid folds k even, dashed k odd); bottom, the sail's x-y "
+             "extent and height. Dotted lines: the bifurcations. The run is symmetric about R^C because the "
+             "deployment retraces the fold.*\n")
+    L.append("## Locating the bifurcations\n")
+    L.append("| point | l from previous (a) | m / s | steps | factorizations to locate | method | v_r / v_max "
+             "| hub max abs z (a) | paper's method here (tol 1e-6): factorizations, v_r | paper (steps) |")
     L.append("|---|---|---|---|---|---|---|---|---|---|")
     L.append(_event_row("R^B (folding)", ev.get("RB_fold"), 35))
     L.append(_event_row("R^C (folding)", ev.get("RC_fold"), 26))
@@ -185,16 +202,37 @@ def _write_hex_md(res, out):
             if "chosen" in r:
                 ch = r["chosen"]
                 L.append(f" Onward folding path chosen: symmetric, not the arrival path, smallest x-y extent "
-                         f"after l = 0.5 ({ch['xy_extent_at_0.5']:.4f}); cos with the arrival chord "
+                         f"after l = 0.5 a ({ch['xy_extent_at_0.5']:.4f} a); cos with the arrival chord "
                          f"{ch['cos_with_arrival']:.3f}; the centre node moves {'down' if ch['centre_dz'] < 0 else 'up'}"
                          f" (the paper's two axisymmetric folding motions: node 1 up or down).")
             L.append("\n")
+    if figs.get("grids"):
+        L.append("## The paths leaving each bifurcation\n")
+        fig_no = 3
+        for name, fname, snap, factor in figs["grids"]:
+            n = len(snap["paths"])
+            sym = sum(p["symmetric"] for p in snap["paths"])
+            which = (f"every symmetric directed path (the run's choice is among them; the 2^{res['flat']['s']} "
+                     f"others break the {nfold} symmetry)" if name == "R^A" else
+                     f"every directed path the complete solver finds ({sym} of them keep the {nfold} symmetry)")
+            L.append(f"![branches at {name}]({fname})\n")
+            L.append(f"*Figure {fig_no}. Out of {name}: {which}, {n} drawings, each the configuration at path "
+                     f"length {snap['length']} a from {name}, seen from above over {name} itself (grey)"
+                     + (f", movements drawn {factor:.1f} times their size (colours true)" if factor > 1.05 else "")
+                     + "; joint colour: how far it moved up (red) or down (blue). Titles: "
+                     "'+b3' is second-order solution 3 followed in the + sense; '-> X' the next bifurcation "
+                     "it reaches (R^A: names as in the path map); red: the path the run takes; orange: back "
+                     "the way the run came; green: the arrival path continued; '(asym.)': breaks the "
+                     "symmetry.*\n")
+            fig_no += 1
+    else:
+        fig_no = 3
     if "map" in res:
         L.append("## Path map (symmetric paths)\n")
-        L.append("Every directed path out of R^A, R^B and R^C that keeps the three-fold symmetry, followed to "
+        L.append(f"Every directed path out of R^A, R^B and R^C that keeps the {nfold} symmetry, followed to "
                  "its next bifurcation (nodes are the same when their coordinates agree to 1e-6; a prime "
-                 "marks a mirror image z -> -z):\n")
-        L.append("| from | to | directed paths | path lengths |")
+                 "marks a mirror image z -> -z). Path lengths in a:\n")
+        L.append("| from | to | directed paths | path lengths (a) |")
         L.append("|---|---|---|---|")
         edges = res["map"]["edges"]
         done = set()
@@ -214,35 +252,61 @@ def _write_hex_md(res, out):
             L.append(f"| {e['from']} | {to} | {e['paths']} each | {', '.join(f'{v:.4f}' for v in e['l'])} |"
                      if " and " in to else
                      f"| {e['from']} | {to} | {e['paths']} | {', '.join(f'{v:.4f}' for v in e['l'])} |")
-        L.append("\n| node | m / s | x-y extent |")
-        L.append("|---|---|---|")
+        L.append("\n| node | m / s | x-y extent (a) | height (a) |")
+        L.append("|---|---|---|---|")
         for n in res["map"]["nodes"]:
-            L.append(f"| {n['name']} | {n['m']} / {n['s']} | {n['xy_extent']:.4f} |")
+            L.append(f"| {n['name']} | {n['m']} / {n['s']} | {n['xy_extent']:.4f} | {n.get('height', float('nan')):.4f} |")
         if "RC" in res and "onward" in res["RC"]:
             rc = res["RC"]
-            ends = ", ".join(f"{o['to']} (l = {o['l']:.4f})" if o["to"] else "none" for o in rc["onward"])
+            ends = ", ".join(f"{o['to']} (l = {o['l']:.4f} a)" if o["to"] else "none" for o in rc["onward"])
             verdict = ("every one of them ends at a less compact state, so R^C is as far as the structure "
                        "folds along symmetric paths" if rc["most_compact"] else
                        "at least one ends at a more compact state")
             L.append(f"\n**Onward from R^C.** Its symmetric directed paths lead to {ends}: {verdict}.\n")
         L.append("![path map](path_map.png)\n")
+        L.append(f"*Figure {fig_no}. The path map. Each dot is a bifurcation, placed by how compact the sail is "
+                 "there (x-y extent, folded to the right) and how many internal mechanisms it has; arrows are "
+                 "symmetric paths between them (thicker: more directed paths). A node and its mirror image "
+                 "z -> -z share a dot.*\n")
+        fig_no += 1
     L.append("## The paper's three questions\n")
     cont = "failed" not in res
     L.append(f"1. **Continuous strain-free motion from open to folded?** "
              f"{'Yes' if cont else 'Not shown'}: the run went R^A -> R^B -> R^C and back to R^A with a "
              f"largest bar strain of {res.get('max_strain', float('nan')):.1e} at any accepted step "
-             f"({res.get('steps_total', 0)} steps, total path length {res.get('path_length_total', 0):.3f}); "
-             f"closure error on return to the flat state {res.get('closure', float('nan')):.1e}.")
-    pts = ", ".join(f"{k.split('_')[0]} at l = {v['l_total']:.4f} (m = {v['m']}, s = {v['s']})"
-                    for k, v in ev.items() if v and "l_total" in v)
-    L.append(f"2. **Where are the bifurcations?** {pts}. At each the sail can leave the intended path "
-             "(the counts of distinct paths are above), so the deployment can go astray there.")
+             f"({res.get('steps_total', 0)} steps, total path length {res.get('path_length_total', 0):.3f} a); "
+             f"closure error on return to the flat state {res.get('closure', float('nan')):.1e} a.")
+    pts = []
+    for k, v in ev.items():
+        if v and "l_total" in v and "measures" in v:
+            m = v["measures"]
+            pts.append(f"{k.split('_')[0].replace('R', 'R^')} at l = {v['l_total']:.4f} a (m = {v['m']}, "
+                       f"s = {v['s']}): x-y extent {m['xy_extent']:.3f} a, height {m['z_extent']:.3f} a, "
+                       f"loop-1 folds at {m['fold_angle_even'][0]:+.1f} / {m['fold_angle_odd'][0]:+.1f} deg to "
+                       "the hub plane")
+    L.append("2. **Where are the bifurcations?** " + "; ".join(pts) + ". At each the sail can leave the "
+             "intended path (the counts of distinct paths, and their drawings, are above), so the deployment "
+             "can go astray there.")
     L.append(f"3. **Does the hub stay planar?** No: the largest out-of-plane displacement of a hub node is "
-             f"{res.get('max_hub_out_of_plane', float('nan')):.3f} (hub side 1); see strain_hub.png.\n")
-    L.append("## Figures\n")
+             f"{res.get('max_hub_out_of_plane', float('nan')):.3f} a, i.e. {res.get('max_hub_out_of_plane', 0):.1%}"
+             " of the hub side (strain_hub.png).\n")
+    L.append("## Figures of the run\n")
+    L.append("![stages 3D](stages_3d.png)\n")
+    L.append(f"*Figure {fig_no}. The folding stages in 3D, one scale on x, y and z: (a) flat R^A, (b) halfway "
+             "to R^B, (c) R^B with loop 1 wrapped (each Ak above or below Vk), (d) halfway to R^C, (e) R^C.*\n")
     L.append("![stages](fig13_stages.png)\n")
+    L.append(f"*Figure {fig_no + 1}. The same stages projected, as the paper's Figure 13: from above (x-y, "
+             "top) and from the side (x-z, bottom).*\n")
+    g = figs.get("sv_groups", {})
+    desc = "; ".join(f"{len(cols)} vanish at {', '.join(w)}" for w, cols in g.items())
     L.append("![singular values](fig14_singular_values.png)\n")
+    L.append(f"*Figure {fig_no + 2}. The 15 lowest singular values of H along the run (Figure 14's "
+             f"counterpart), sigma_1 the lowest, coloured by where they vanish: {desc}. Each curve is the "
+             "k-th lowest value at each point, so curves may exchange the modes they follow where they "
+             "cross.*\n")
     L.append("![strain and hub](strain_hub.png)\n")
+    L.append(f"*Figure {fig_no + 3}. Top: the largest bar strain at every accepted step (the corrector "
+             "stops at 1e-12). Bottom: how far the free hub vertices leave the hub plane, in a.*\n")
     L.append(f"Run time {res['seconds']} s.\n")
     (out / "report.md").write_text("\n".join(L))
 
@@ -260,21 +324,24 @@ def square(res, a, br, out):
             ax.axis("off")
             continue
         i, p = ok[k]
-        draw(p.final_coords, a.bars, ax=ax, plane="xy", color="C3" if i in folded else "C0",
-             title=f"path {i} ({'+' if p.sign > 0 else '-'}b{p.beta})")
+        draw(p.final_coords, a.bars, ax=ax, plane="xy", fixed=a.fixed.all(axis=1),
+             color="C3" if i in folded else "C0", title=f"path {i} ({'+' if p.sign > 0 else '-'}b{p.beta})")
         ax.set_xlim(-1.8, 1.8)
         ax.set_ylim(-1.8, 1.8)
         ax.set_xticks([])
         ax.set_yticks([])
         ax.set_xlabel("")
         ax.set_ylabel("")
-    fig.suptitle("Figure 11-like: x-y projections at l = 1.75 of every path out of the flat state "
-                 "(red: to the fully folded state)")
+    fig.suptitle("Figure 11-like: x-y projections at l = 1.75 a of every path out of the flat state "
+                 "(red: to the fully folded state; black triangles: pinned V0, V2; lengths in hub sides a)")
     fig.tight_layout()
-    fig.savefig(out / "fig11_paths.png", dpi=80)
+    from .draw3d import save_small
+    save_small(fig, out / "fig11_paths.png", 80)
     plt.close(fig)
     acc = res["accounting"]
     L = ["# Square-hub solar sail: every path out of the flat state\n",
+         "Lengths in units of the hub side a (the model has a = 1): hub vertices V0..V3 at (+-a/2, +-a/2), "
+         "outer nodes O0..O3 at distance a from them along the folds; V0 and V2 pinned.\n",
          f"Flat state: m = {res['flat']['m']} internal + {res['flat']['m_rigid']} rigid mechanisms, "
          f"s = {res['flat']['s']}.\n",
          f"Complete solver: {acc['paths']} homotopy paths, {acc['real']} real ({acc['real_distinct']} distinct), "
@@ -306,4 +373,7 @@ def square(res, a, br, out):
     else:
         L.append("none found")
     L.append("\n![paths](fig11_paths.png)\n")
+    L.append("*Every directed path out of the flat state, drawn from above at path length 1.75 a: 'path i "
+             "(+bk)' is second-order solution k followed in the + sense; red: the paths that go on to the "
+             "compact state with the hub folded 90 degrees.*\n")
     (out / "report.md").write_text("\n".join(L))

@@ -13,9 +13,19 @@ of the system restricted to the symmetric subspace of U_m (with the
 restricted matrices orthonormalised again, eq. 18). For the hexagonal sail
 that turns 2^15 = 32768 homotopy paths into 2^5 = 32.
 """
-import numpy as np
+from __future__ import annotations
 
-from .errors import ModelFormatError, StateError
+from typing import TYPE_CHECKING, Dict, Tuple
+
+import numpy as np
+import numpy.typing as npt
+
+from .errors import InvalidArgumentError, StateError
+
+if TYPE_CHECKING:
+    from .assembly import Assembly
+
+FloatArray = npt.NDArray[np.float64]
 
 # a matrix entry or singular value below this (relative) counts as zero: the
 # rotation matrices are exact to a few ulps, and eq. 18's Gram-Schmidt keeps
@@ -23,15 +33,33 @@ from .errors import ModelFormatError, StateError
 _ZERO = 1e-9
 
 
-def sail_rotation(a, n_sides, shift):
-    """The rotation V_k -> V_(k+shift) of a sail built by Assembly.sail, as an
-    (nfree, nfree) matrix acting on free-coordinate vectors. Raises
-    ModelFormatError if the assembly is not a sail of n_sides with that
-    symmetry (joint count, supports, or the configuration itself)."""
+def sail_rotation(a: "Assembly", n_sides: int, shift: int) -> FloatArray:
+    """The rotation V_k -> V_(k+shift) of a sail built by `Assembly.sail`.
+
+    Parameters
+    ----------
+    a : Assembly
+        A sail (its labels say whether there is a centre node).
+    n_sides : int
+        Sides of its hub.
+    shift : int
+        How many hub vertices the rotation advances.
+
+    Returns
+    -------
+    ndarray, shape (nfree, nfree)
+        The rotation acting on free-coordinate vectors.
+
+    Raises
+    ------
+    InvalidArgumentError
+        The assembly is not a sail of `n_sides` with that symmetry (joint
+        count, supports, or the configuration itself); a ValueError.
+    """
     labels = a.labels or []
     off = 1 if labels and labels[0] == "C" else 0
     if a.dim != 3 or (a.njoints - off) % n_sides:
-        raise ModelFormatError(f"not a 3D sail with a {n_sides}-gon hub")
+        raise InvalidArgumentError(f"not a 3D sail with a {n_sides}-gon hub")
     ang = 2.0 * np.pi * shift / n_sides
     R = np.array([[np.cos(ang), -np.sin(ang), 0.0], [np.sin(ang), np.cos(ang), 0.0], [0.0, 0.0, 1.0]])
     perm = np.arange(a.njoints)
@@ -40,7 +68,7 @@ def sail_rotation(a, n_sides, shift):
         perm[i] = off + ring * n_sides + (k + shift) % n_sides
     xyz = a.coords
     if np.abs(xyz[perm] - xyz @ R.T).max() > 1e-9 * max(1.0, np.abs(xyz).max()):
-        raise ModelFormatError("the configuration does not have this rotational symmetry")
+        raise InvalidArgumentError("the configuration does not have this rotational symmetry")
     fm = a.free_map()
     P = np.zeros((a.nfree, a.nfree))
     for i in range(a.njoints):
@@ -51,23 +79,49 @@ def sail_rotation(a, n_sides, shift):
                     continue
                 fi, fj = fm[i, ax], fm[j, bx]
                 if (fi < 0) != (fj < 0):
-                    raise ModelFormatError("the rotation does not map supports onto supports")
+                    raise InvalidArgumentError("the rotation does not map supports onto supports")
                 if fi >= 0:
                     P[fj, fi] = R[bx, ax]
     return P
 
 
-def symmetric_subspace(U, P):
-    """Orthonormal basis G (m, k) of the beta with U beta invariant under P."""
+def symmetric_subspace(U: FloatArray, P: FloatArray) -> FloatArray:
+    """The second-order unknowns that keep a symmetry.
+
+    Parameters
+    ----------
+    U : ndarray, shape (nfree, m)
+        Orthonormal internal mechanisms.
+    P : ndarray, shape (nfree, nfree)
+        The symmetry (e.g. from `sail_rotation`).
+
+    Returns
+    -------
+    ndarray, shape (m, k)
+        Orthonormal basis G of the beta with ``U @ beta`` invariant under P.
+    """
     Gm = U.T @ P @ U - np.eye(U.shape[1])
     _, sv, vt = np.linalg.svd(Gm)
     sv = np.concatenate([sv, np.zeros(U.shape[1] - sv.size)])
     return vt[sv < _ZERO * max(1.0, sv[0] if sv.size else 1.0)].T
 
 
-def restricted_quadrics(Q, G):
-    """The second-order matrices restricted to beta = G gamma and
-    orthonormalised again (eq. 18): shape (s', k, k), dependent ones dropped."""
+def restricted_quadrics(Q: FloatArray, G: FloatArray) -> FloatArray:
+    """The second-order matrices restricted to ``beta = G @ gamma``.
+
+    Parameters
+    ----------
+    Q : ndarray, shape (s, m, m)
+        Second-order matrices.
+    G : ndarray, shape (m, k)
+        Orthonormal basis of the subspace.
+
+    Returns
+    -------
+    ndarray, shape (s', k, k)
+        The restricted matrices orthonormalised again (eq. 18), dependent
+        ones dropped.
+    """
     Qr = np.einsum("ai,jab,bk->jik", G, Q, G)
     M = Qr.reshape(Qr.shape[0], -1)
     _, sv, vt = np.linalg.svd(M, full_matrices=False)
@@ -76,12 +130,37 @@ def restricted_quadrics(Q, G):
     return 0.5 * (Qs + Qs.transpose(0, 2, 1))
 
 
-def symmetric_solutions(a, P, threads=2, seed=1):
-    """Second-order solutions at the bifurcation `a` that keep the symmetry P:
-    returns (betas (nsol, m_internal), accounting of the restricted
-    homotopy, k = dimension of the symmetric subspace, s' = independent
-    restricted equations)."""
-    from .assembly import solve_quadrics
+def symmetric_solutions(a: "Assembly", P: FloatArray, threads: int = 2,
+                        seed: int = 1) -> Tuple[FloatArray, Dict[str, int], int, int]:
+    """Second-order solutions at a bifurcation that keep a symmetry.
+
+    Parameters
+    ----------
+    a : Assembly
+        At a bifurcation.
+    P : ndarray, shape (nfree, nfree)
+        The symmetry.
+    threads, seed : int, optional
+        Passed to the homotopy solver.
+
+    Returns
+    -------
+    betas : ndarray, shape (nsol, m_internal)
+        The symmetric solutions.
+    accounting : dict
+        The restricted homotopy's counts.
+    k : int
+        Dimension of the symmetric subspace.
+    s_restricted : int
+        Independent restricted equations.
+
+    Raises
+    ------
+    StateError
+        Fewer than 2 symmetric mechanisms, or a restricted system the
+        solvers cannot take (they need k - 1 equations).
+    """
+    from ._branching import solve_quadrics
     an = a.analyse()
     G = symmetric_subspace(an.internal_mechanisms, P)
     k = G.shape[1]

@@ -1,0 +1,149 @@
+/* Every directed branch out of a bifurcation followed to its next event
+ * with kin_follow_event (kin_follow.h): counts by event and time per branch.
+ *   bench_follow_atlas rb           R^B of the hexagonal sail (16) and the
+ *                                   first R^C (m = 6) reached from it (all)
+ *   bench_follow_atlas flat N [th [cache [k...]]]  N branches spread
+ *                                   evenly over the flat state's directed
+ *                                   branches (2 x the real second-order
+ *                                   solutions); cache: a file keeping the
+ *                                   solutions between runs; k...: only those
+ * Not a test: prints a summary. */
+#define _POSIX_C_SOURCE 199309L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <math.h>
+#include <time.h>
+
+#include "libkin.h"
+#include "sail_states.h"
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static const char *event_name(int e)
+{
+    static const char *n[] = {"none", "bifurcation", "near-miss", "closed-loop", "length", "steps", "failed"};
+    return e >= 0 && e <= 6 ? n[e] : "?";
+}
+
+/* follow `want` of the directed branches out of a (all if want <= 0);
+ * optionally keep a clone of the first end with m_internal == keep_m */
+static const char *cache = NULL; /* optional file of the solutions (flat state: saves the solver's minutes) */
+static const int *only = NULL;    /* optional list of branch indices, -1 terminated */
+
+static int atlas(const char *name, kin_assembly *a, int want, int threads, int keep_m, kin_assembly **kept)
+{
+    kin_analysis an = {.size = sizeof an};
+    if (kin_analyse(a, &an)) return 1;
+    int m = an.m_internal, s = 0, maxsol = 1 << an.s, nsol = 0, nf = kin_nfree(a);
+    double *Q = malloc(sizeof(double) * (size_t)m * m * an.s), *betas = malloc(sizeof(double) * (size_t)m * maxsol);
+    double *U = malloc(sizeof(double) * (size_t)nf * m), *dir = malloc(sizeof(double) * (size_t)nf);
+    if (!Q || !betas || !U || !dir || kin_second_order(a, KIN_Q_EXACT, 1, Q, m * m * an.s, &s)) return 1;
+    kin_get_mechanisms(a, KIN_MECH_INTERNAL, U, nf, m);
+    kin_homotopy_info hi = {.size = sizeof hi};
+    double t0 = now();
+    FILE *fc = cache ? fopen(cache, "rb") : NULL;
+    if (fc) {
+        if (fread(&nsol, sizeof nsol, 1, fc) != 1 || nsol > maxsol ||
+            fread(betas, sizeof(double) * (size_t)m, (size_t)nsol, fc) != (size_t)nsol)
+            return 1;
+        fclose(fc);
+    } else {
+        if (kin_quadrics_homotopy(m, s, Q, 1, threads, betas, maxsol, &nsol, NULL, &hi)) return 1;
+        if (cache && (fc = fopen(cache, "wb"))) {
+            fwrite(&nsol, sizeof nsol, 1, fc);
+            fwrite(betas, sizeof(double) * (size_t)m, (size_t)nsol, fc);
+            fclose(fc);
+        }
+    }
+    int total = 2 * nsol, n = want > 0 && want < total ? want : total;
+    if (only) for (n = 0; only[n] >= 0; ++n) {}
+    printf("%s: m = %d, s = %d, %d real solutions (%.1f s): following %d of %d directed branches\n", name, m, s,
+           nsol, now() - t0, n, total);
+    int counts[7] = {0}, tols[8] = {0}, mhist[64] = {0}, back = 0;
+    double nm_lo = INFINITY, nm_hi = 0.0;
+    double t1 = now(), worst = 0.0;
+    kin_follow_options o;
+    kin_follow_options_default(&o);
+    for (int i = 0; i < n; ++i) {
+        int k = only ? only[i] : (int)((long long)i * total / n);
+        if (k >= total) continue;
+        double sg = k % 2 ? -1.0 : 1.0;
+        for (int r = 0; r < nf; ++r) {
+            double v = 0.0;
+            for (int c = 0; c < m; ++c) v += U[r + (size_t)nf * c] * betas[(size_t)m * (k / 2) + c];
+            dir[r] = sg * v;
+        }
+        kin_assembly *b = NULL;
+        if (kin_assembly_clone(a, &b)) return 1;
+        kin_follow_info fi = {.size = sizeof fi};
+        double tb = now();
+        int rc = kin_follow_event(b, dir, &o, &fi);
+        tb = now() - tb;
+        if (tb > worst) worst = tb;
+        counts[fi.event >= 0 && fi.event <= 6 ? fi.event : 0]++;
+        back += fi.event == KIN_FOLLOW_BIFURCATION && fi.at_start;
+        if (fi.event == KIN_FOLLOW_NEAR_MISS) {
+            if (fi.v_r_rel < 1e-3) printf("  branch %d: near miss at v_r / v_max %.2g after %d steps\n", k, fi.v_r_rel, fi.steps);
+            nm_lo = fmin(nm_lo, fi.v_r_rel);
+            nm_hi = fmax(nm_hi, fi.v_r_rel);
+        }
+        if (fi.event == KIN_FOLLOW_BIFURCATION) {
+            int e = 0;
+            for (double t = o.vr_tol; t < fi.vr_tol_used * 0.5 && e < 7; t *= 10) ++e;
+            tols[e]++;
+            mhist[fi.m_internal < 63 ? fi.m_internal : 63]++;
+            if (kept && !*kept && fi.m_internal == keep_m) kin_assembly_clone(b, kept);
+        }
+        if (fi.event == KIN_FOLLOW_FAILED || fi.event == KIN_FOLLOW_STEP_LIMIT || fi.event == KIN_FOLLOW_NONE)
+            printf("  branch %d: %s (%s): %s\n", k, event_name(fi.event), kin_status_name(rc), kin_last_error(b));
+        kin_assembly_free(b);
+    }
+    double t2 = now();
+    printf("  events:");
+    for (int e = 0; e < 7; ++e)
+        if (counts[e]) printf(" %s %d", event_name(e), counts[e]);
+    printf("\n  bifurcations back at the start: %d; near misses at v_r / v_max %.2g .. %.2g",
+           back, counts[KIN_FOLLOW_NEAR_MISS] ? nm_lo : 0.0, nm_hi);
+    printf("\n  bifurcations located to vr_tol x 10^k, k = 0..:");
+    for (int e = 0; e < 8; ++e) printf(" %d", tols[e]);
+    printf("\n  m_internal at the located bifurcations:");
+    for (int q = 0; q < 64; ++q)
+        if (mhist[q]) printf(" m=%d: %d", q, mhist[q]);
+    printf("\n  %.3f s per branch (worst %.3f s), %.1f s in all\n", (t2 - t1) / n, worst, t2 - t1);
+    free(Q); free(betas); free(U); free(dir);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    const char *mode = argc > 1 ? argv[1] : "rb";
+    if (!strcmp(mode, "rb")) {
+        kin_assembly *a = test_sail(6, 2), *rc = NULL;
+        if (!a || test_hex_to_RB(a)) return 1;
+        if (atlas("hex sail R^B", a, 0, 1, 6, &rc)) return 1;
+        if (rc && atlas("hex sail R^C", rc, 0, 1, 0, NULL)) return 1;
+        kin_assembly_free(a);
+        kin_assembly_free(rc);
+        return 0;
+    }
+    int n = argc > 2 ? atoi(argv[2]) : 200, threads = argc > 3 ? atoi(argv[3]) : 2;
+    cache = argc > 4 ? argv[4] : NULL;
+    int list[64];
+    if (argc > 5) {
+        int k = 0;
+        for (int i = 5; i < argc && k < 63; ++i) list[k++] = atoi(argv[i]);
+        list[k] = -1;
+        only = list;
+    }
+    kin_assembly *a = test_sail(6, 2);
+    if (!a) return 1;
+    int rc = atlas("hex sail flat state R^A", a, n, threads, 0, NULL);
+    kin_assembly_free(a);
+    return rc;
+}

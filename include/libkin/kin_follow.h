@@ -1,0 +1,117 @@
+/* libkin: following a path to its next event (docs/follow.md).
+ *
+ * One call follows a path, from a regular point or out of a bifurcation
+ * along a chosen branch, until something happens, and says what:
+ *   - a bifurcation, located (kin_locate_next with the fast method) to
+ *     vr_tol, or, where rounding puts vr_tol out of reach at that point, to
+ *     the best accuracy reached there (the tolerance is relaxed tenfold at a
+ *     time up to vr_floor, and the accuracy reached is reported);
+ *   - a near miss: v_r has a non-zero minimum (a near-singular but regular
+ *     configuration);
+ *   - a closed loop: the path returns to the start configuration;
+ *   - a budget: the path length or the number of steps allowed;
+ *   - a failure (a step that cannot be taken, the branch direction not
+ *     leading anywhere, a cancel), with its status and kin_last_error(). */
+#ifndef KIN_FOLLOW_H
+#define KIN_FOLLOW_H
+
+#include <stddef.h>
+#include "kin_export.h"
+#include "kin_assembly.h"
+#include "kin_progress.h"
+
+/* How a follow ended. */
+enum kin_follow_event {
+    KIN_FOLLOW_NONE = 0,         /* nothing followed (argument errors: info zeroed) */
+    KIN_FOLLOW_BIFURCATION = 1,  /* a bifurcation located; the assembly sits on it (analysed:
+                                    m, s, U_m, W_s readable, counted at the accuracy reached) */
+    KIN_FOLLOW_NEAR_MISS = 2,    /* v_r has a non-zero minimum (v_r_rel above vr_floor): the
+                                    assembly is at the regular point before it */
+    KIN_FOLLOW_CLOSED_LOOP = 3,  /* the path came back to the start configuration (within
+                                    loop_tol, with a parallel tangent): the assembly is at the
+                                    first point of the path past that return */
+    KIN_FOLLOW_LENGTH_LIMIT = 4, /* path length max_length reached: the assembly at the
+                                    first point beyond it */
+    KIN_FOLLOW_STEP_LIMIT = 5,   /* max_steps steps taken without an event */
+    KIN_FOLLOW_FAILED = 6        /* the call failed after it started following: status and
+                                    kin_last_error() say why; the assembly is at the last
+                                    regular point reached (stepping can resume) */
+};
+
+/* Settings. Start from kin_follow_options_default() and change what you need. */
+typedef struct kin_follow_options {
+    size_t size;        /* sizeof(kin_follow_options) as the caller compiled it (docs/abi.md) */
+    double vr_tol;      /* a bifurcation is located when v_r <= vr_tol * v_max. Default 1e-10 */
+    double vr_floor;    /* largest tolerance accepted where vr_tol is out of reach (the
+                           located point is then only that exact). Default 1e-6 */
+    double switch_eps;  /* detection threshold of the locator (kin_locate_options). Default 1e-2 */
+    double delta;       /* step amplitude while following; 0 = automatic. Default 0 */
+    int max_steps;      /* step budget (following steps). Default 1000 */
+    int max_iter;       /* location iterations per attempt. Default 60 */
+    double max_length;  /* path-length budget (length units), > 0, or 0 = none. Default 0 */
+    double loop_tol;    /* closed loop: the path passes within loop_tol * RMS rest length of
+                           the start configuration after having been 2 loop_tol away.
+                           Default 1e-2 */
+    double first_step;  /* at a bifurcation: the first step, as a fraction of the largest
+                           step (step_fraction * RMS rest length), in (0, 1]; made ten
+                           times as long (up to the largest step) while the point it
+                           reaches still counts as a bifurcation. Default 1e-3 */
+    double branch_cos;  /* at a bifurcation: the first chord must be parallel to the branch
+                           direction to this |cos|. Default 0.99 */
+} kin_follow_options;
+
+/* What a follow did and where it ended. */
+typedef struct kin_follow_info {
+    size_t size;         /* sizeof(kin_follow_info) as the caller compiled it (docs/abi.md) */
+    int event;           /* enum kin_follow_event */
+    int status;          /* the call's return value (KIN_OK for every event but FAILED) */
+    int steps;           /* path-following steps taken (the first step off a bifurcation
+                            included) */
+    int forward;         /* forward calculations while locating */
+    int factorizations;  /* factorizations while locating */
+    int attempts;        /* location attempts (1 + the relaxations of vr_tol) */
+    double length;       /* path length travelled (sum of chords, >= 0) */
+    double vr_tol_used;  /* BIFURCATION: the tolerance it was located to (vr_tol ... vr_floor) */
+    double v_r_rel;      /* at the end point: the vanishing singular values' largest / v_max
+                            (kin_locate_info.v_r_rel); NEAR_MISS: v_r / v_max there */
+    int m_internal, s;   /* analysis at the end point */
+    int zero_order;      /* BIFURCATION: 1 a crossing, 2 a tangency, 0 not estimated */
+    int path_kept;       /* BIFURCATION: the location stayed on the path (eq. 26) */
+    int at_start;        /* the path came back to the start configuration: CLOSED_LOOP, or
+                            BIFURCATION within loop_tol of a start that is a bifurcation */
+    double start_distance; /* |end - start| (free coordinates) / RMS rest length */
+    double tangent_cos;  /* at a bifurcation: cos between the first chord and dir (else 1) */
+} kin_follow_info;
+
+/* Fill o with the defaults above. Does nothing if o is NULL. */
+KIN_API void kin_follow_options_default(kin_follow_options *o);
+
+/* Follow the path from the current point to its next event (above).
+ *  a     the assembly (SVD step mode is used while following; the handle's
+ *        options are otherwise kept and restored).
+ *  dir   NULL at a regular point (follow the current orientation: forwards
+ *        along the last tangent, or the mechanism's deterministic
+ *        orientation after kin_set_coords), or nfree entries: at a regular
+ *        point the direction to follow (t.dir > 0), at a bifurcation the
+ *        branch direction, e.g. U_m*beta for a second-order solution beta
+ *        (kin_quadrics_scan / kin_quadrics_homotopy) with a sign. At a
+ *        bifurcation the first step is small (first_step) and its chord
+ *        must be parallel to dir (branch_cos), or the call fails with
+ *        KIN_EPATHJUMP.
+ *  o     options (NULL: the defaults).
+ *  info  optional; receives the event and the counts.
+ * The start configuration is the point at the call. Progress goes to the
+ * handle's callback (kin_set_progress): done = steps + forward calculations
+ * over all attempts, total = max_steps + max_iter x the attempts possible;
+ * a successful call ends with done = total. A cancel returns KIN_ECANCELLED
+ * with event FAILED, the assembly at the last regular point reached.
+ * Returns KIN_OK for every event but FAILED (see info->event);
+ * KIN_ENULL, KIN_EINVAL (options out of range, info or options size; dir
+ * not finite or not a first-order mechanism), KIN_ERANGE, KIN_EBIFURCATION
+ * (at a bifurcation with dir NULL), KIN_ENOMECH: before anything moved
+ * (event NONE); after following started (event FAILED): KIN_EPATHJUMP,
+ * KIN_ENOTCONVERGED, KIN_ECANCELLED, KIN_ENOMEM, LAPACK codes. */
+KIN_API int kin_follow_event(kin_assembly *a, const double *dir, const kin_follow_options *o,
+                             kin_follow_info *info);
+
+#endif /* KIN_FOLLOW_H */
