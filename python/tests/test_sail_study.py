@@ -18,7 +18,7 @@ TOL_L = 1e-6
 TOL_SV = 1e-6
 # not compared key by key: timings, the paper's method's counts (run for
 # comparison only), solution indices (their order is the solver's), and the
-# path map (compared as a set below)
+# path map (the explorer's atlas: compared by its counts and as a set below)
 SKIP = {"seconds", "fast_gave_up", "stopped", "paper_method", "beta", "map", "onward"}
 
 
@@ -97,6 +97,29 @@ def test_hex_study_matches_stored_run(hex_run):
         assert (out / name).stat().st_size > 1000, name
         # every figure the report shows is there, and every one there is shown
         assert f"({name})" in (out / "report.md").read_text() or name == "report.md", name
+
+
+def test_hex_path_map_is_the_explorers_atlas(hex_run):
+    """The path map comes from libkin.explore (symmetric, depth 2 from R^A):
+    the same atlas as the stored run, the run's points named in it, and no
+    node drawn as a bifurcation unless the analysis there says it is one."""
+    from libkin.atlas import Atlas
+    res, out = hex_run
+    exp = json.loads((EXPECTED / "hex_quick" / "summary.json").read_text())
+    got = res["map"]["atlas"]
+    for k in ("depth", "nodes", "edges", "node_kinds", "edge_events"):
+        assert got[k] == exp["map"]["atlas"][k], k
+    names = [n["name"] for n in res["map"]["nodes"]]
+    assert {"R^A", "R^B", "R^C"} <= set(names) and len(set(names)) == len(names)
+    for n in res["map"]["nodes"]:
+        assert (n["kind"] == "bifurcation") == (n["m"] >= 2 and n["s"] >= 1), n["name"]
+    # the atlas is stored with the report and reads back
+    at = Atlas.from_dict(json.loads((out / "atlas.json").read_text()))
+    assert len(at.nodes) == got["nodes"] and len(at.edges) == got["edges"]
+    # the fold's first leg is one of the atlas's paths out of R^A
+    ch = res["flat"]["chosen"]
+    assert any(e.source == 0 and abs(e.length - ch["reached"]) < 1e-9 for e in at.edges)
+    assert res["RB"]["symmetric"]["k"] == 2 and res["RC"]["symmetric"]["k"] == 2
 
 
 def test_hex_report_is_readable_by_a_designer(hex_run):

@@ -229,8 +229,11 @@ def cmd_study(args: argparse.Namespace) -> int:
             return EXIT_USAGE
         res = sailstudy.square_study(threads=args.threads, progress=not args.quiet, out=args.out)
     else:
-        res = sailstudy.hexagonal_study(args.hub, args.loops, complete=not args.quick, threads=args.threads,
-                                        progress=not args.quiet, out=args.out)
+        from .atlas_cli import executor
+        with executor(args.executor, args.workers) as ex:
+            res = sailstudy.hexagonal_study(args.hub, args.loops, complete=not args.quick, threads=args.threads,
+                                            progress=not args.quiet, out=args.out, executor=ex,
+                                            map_depth=args.map_depth)
     if "failed" in res:
         print(f"study stopped early: {res['failed']}", file=sys.stderr)
         return EXIT_STUDY_FAILED
@@ -333,6 +336,11 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--quick", action="store_true",
                    help="skip the 2^s homotopy at the flat state (the symmetric sub-problem is still solved)")
     s.add_argument("--threads", type=_count(1), default=2, help="threads of the homotopy solver")
+    s.add_argument("--map-depth", type=_count(1), default=2,
+                   help="levels of the path map's atlas (libkin explore's --depth; default 2)")
+    s.add_argument("--executor", default="serial", choices=["serial", "process", "dask"],
+                   help="where the path map's branches are followed (libkin explore's --executor)")
+    s.add_argument("--workers", type=_count(1), default=2, help="workers of --executor process|dask (default 2)")
     s.add_argument("--quiet", action="store_true", help="no progress messages")
     s.set_defaults(fn=cmd_study)
     s = sub.add_parser("explore", help="the atlas: every path out of every bifurcation met (docs/atlas.md)")

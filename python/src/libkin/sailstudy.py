@@ -3,6 +3,10 @@
 hexagonal_study(): from the flat state R^A along the folding path into R^B,
 on to the next bifurcation R^C, and back to R^A, recording what Figures 13
 and 14 show plus the strain, the hub's planarity and the closure error.
+The path map of every symmetric path is the explorer's atlas
+(libkin.explore, read through sailmap.py); what the study adds is
+sail-specific: which of the flat state's paths is the folding branch, which
+of R^B's continues the fold, and the paper's questions.
 square_study() (squarestudy.py): every path out of the square sail's flat
 state (Figure 11).
 
@@ -21,7 +25,8 @@ import numpy as np
 from .assembly import Assembly, solve_quadrics
 from .errors import KinError
 from .sailmeasure import measures
-from .symmetry import sail_rotation, symmetric_solutions, symmetric_subspace
+from .sailmap import MAP_DEPTH, SailMap, explore_symmetric
+from .symmetry import sail_rotation
 
 # Bifurcations are located to v_r / v_max <= 1e-10 (the fast method) and m, s
 # counted with the default rank tolerance there.
@@ -155,94 +160,6 @@ def follow_to_bifurcation(a, track=None, max_steps=400, vr_tol=SAIL_VR_TOL, comp
     return None, None, max_steps
 
 
-class _PathMap:
-    """Bifurcations met along symmetric paths, and the paths between them.
-    Two located points are the same node when their coordinates agree to
-    SAME_CONFIG_TOL; a node's mirror image (z -> -z) is named with a prime."""
-
-    def __init__(self):
-        self.nodes, self.edges = [], []
-
-    def node(self, a, name=None):
-        x = a.coords
-        for i, nd in enumerate(self.nodes):
-            if np.abs(nd["coords"] - x).max() < SAME_CONFIG_TOL:
-                nd["name"] = nd["name"] or name
-                return i
-        an = a.analyse()
-        self.nodes.append({"name": name, "coords": x, "m": an.m_internal, "s": an.s,
-                           "xy_extent": float(np.hypot(x[:, 0], x[:, 1]).max()),
-                           "height": float(x[:, 2].max() - x[:, 2].min())})
-        return len(self.nodes) - 1
-
-    def names(self):
-        """Node names: the given ones, their mirror images (z -> -z) primed,
-        the others X1, X2, ... in order of discovery with mirror pairs
-        sharing a number."""
-        out = [n["name"] for n in self.nodes]
-        mirror = [None] * len(self.nodes)
-        for i, a in enumerate(self.nodes):
-            for j, b in enumerate(self.nodes):
-                if i != j and np.abs(a["coords"] * np.array([1.0, 1.0, -1.0]) - b["coords"]).max() < SAME_CONFIG_TOL:
-                    mirror[i] = j
-        for i in range(len(out)):
-            if out[i] is None and mirror[i] is not None and self.nodes[mirror[i]]["name"]:
-                out[i] = self.nodes[mirror[i]]["name"] + "'"
-        k = 0
-        for i in range(len(out)):
-            if out[i] is None:
-                k += 1
-                out[i] = f"X{k}"
-                if mirror[i] is not None and out[mirror[i]] is None:
-                    out[mirror[i]] = f"X{k}'"
-        return out
-
-    def explore(self, src, a, n_sides, threads, max_steps=300, progress=False, results=None):
-        """Follow every symmetric directed path out of the bifurcation a (node
-        src) to its next bifurcation; results (optional) receives, per path,
-        (beta index, sign, direction, assembly at the end or None, event)."""
-        P = sail_rotation(a, n_sides, 2)
-        U = a.analyse().internal_mechanisms
-        G = symmetric_subspace(U, P)
-        if G.shape[1] >= 2:
-            betas, acc, k, s_red = symmetric_solutions(a, P, threads=threads)
-        else:
-            # one symmetric first-order mechanism (both its senses are the
-            # symmetric paths, if they extend) or none
-            betas, k, s_red = [G[:, 0]] if G.shape[1] == 1 else [], G.shape[1], 0
-            acc = {"paths": 0, "real": len(betas), "real_distinct": len(betas), "nonreal": 0, "singular": 0,
-                   "failed": 0}
-        for i, b in enumerate(betas):
-            for sg in (1, -1):
-                d = sg * (U @ b)
-                at, ev, _ = follow_to_bifurcation(_leave(a, d), None, max_steps=max_steps)
-                edge = {"from": src, "beta": i, "sign": sg}
-                if at is None:
-                    edge.update({"to": None, "why": (ev or {}).get("stopped", "no bifurcation located")})
-                else:
-                    edge.update({"to": self.node(at), "l": abs(at.path_length - a.path_length)})
-                self.edges.append(edge)
-                if results is not None:
-                    results.append((i, sg, d, at, ev))
-        _say(progress, f"[map] {self.names()[src]}: {2 * len(betas)} symmetric directed paths followed")
-        return {"k": k, "s": s_red, "accounting": acc}
-
-    def summary(self):
-        names = self.names()
-        nodes = [dict({k: v for k, v in n.items() if k != "coords"}, name=names[i]) for i, n in enumerate(self.nodes)]
-        agg = {}
-        for e in self.edges:
-            key = (e["from"], e["to"])
-            g = agg.setdefault(key, {"from": names[e["from"]], "to": names[e["to"]] if e["to"] is not None else None,
-                                     "paths": 0, "l": []})
-            g["paths"] += 1
-            if "l" in e:
-                g["l"].append(round(e["l"], 6))
-        for g in agg.values():
-            g["l"] = sorted(set(g["l"]))
-        return {"nodes": nodes, "edges": list(agg.values())}
-
-
 def _chord(a_from, a_to):
     d = _free_vec(a_to, a_to.coords) - _free_vec(a_from, a_from.coords)
     return d / np.linalg.norm(d)
@@ -254,15 +171,15 @@ def _hub_joints(a):
     return [i for i, lab in enumerate(a.labels) if lab.startswith("V")]
 
 
-def _loop_nodes(a, n, loop):
-    off = 1 if a.labels[0] == "C" else 0
+def _loop_nodes(labels, n, loop):
+    off = 1 if labels[0] == "C" else 0
     return list(range(off + loop * n, off + (loop + 1) * n))
 
 
-def _wraps_loop1(a, n):
-    """Loop-1 nodes directly above or below their hub vertices, alternating."""
-    x = a.coords
-    V, A = _loop_nodes(a, n, 0), _loop_nodes(a, n, 1)
+def _wraps_loop1(x, labels, n):
+    """Loop-1 nodes directly above or below their hub vertices, alternating
+    (configuration x of a sail with joint labels `labels`)."""
+    V, A = _loop_nodes(labels, n, 0), _loop_nodes(labels, n, 1)
     xy = np.abs(x[A, :2] - x[V, :2]).max()
     z = x[A, 2] - x[V, 2]
     alternating = all(z[k] * z[(k + 1) % n] < 0 for k in range(n))
@@ -289,11 +206,15 @@ def _branch_report(a, threads, length, max_s=12):
                 "seconds": round(time.perf_counter() - t0, 2)}
 
 
-def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=True, out=None):
+def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=True, out=None, executor=None,
+                    map_depth=MAP_DEPTH):
     """The folding and deployment study of Section 6.2 on a CENTRE-supported
     family member (the paper's: n_sides=6, n_loops=2). complete=False skips
     the 2^s homotopy at the flat state (the symmetric sub-problem is solved
-    either way)."""
+    either way). The path map is the explorer's symmetric atlas to
+    map_depth levels (sailmap.py), its branches followed on `executor`
+    (None: in this process; a concurrent.futures.Executor or a
+    dask.distributed.Client)."""
     t_start = time.perf_counter()
     res = {"model": f"sail {n_sides}-gon hub, {n_loops} loops", "n_sides": n_sides, "n_loops": n_loops,
            "events": {}}
@@ -314,42 +235,46 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
         acc["seconds"] = round(time.perf_counter() - t0, 1)
         res["flat"]["complete"] = acc
         _say(progress, f"[R^A]   {acc}")
-    # every symmetric directed path out of the flat state, followed to its
-    # first bifurcation (the start of the path map); the folding branch is
-    # among those whose first bifurcation has loop 1 wrapped (A_k over V_k,
-    # alternating): the shortest such path
-    pmap = _PathMap()
-    ia = pmap.node(a, "R^A")
-    followed = []
-    sym = pmap.explore(ia, a, n_sides, threads, progress=progress, results=followed)
-    res["flat"]["symmetric"] = sym
+    # the path map: the explorer's atlas of every symmetric path out of the
+    # flat state and out of the bifurcations they reach (sailmap.py); the
+    # folding branch is among the flat state's paths whose first bifurcation
+    # has loop 1 wrapped (A_k over V_k, alternating): the shortest such path
+    _say(progress, f"[map] exploring the symmetric paths (depth {map_depth}) ...")
+    smap = SailMap(explore_symmetric(a, map_depth, executor=executor, threads=threads, progress=progress))
+    res["flat"]["symmetric"] = _symmetric_record(smap.branches_record(0))
+    sym = res["flat"]["symmetric"]
     _say(progress, f"[R^A] {n_sides // 2}-fold symmetric motions: {sym['k']} mechanisms, {sym['s']} equations, "
          f"{sym['accounting']['real_distinct']} real solutions of {sym['accounting']['paths']}")
+    U = a.analyse().internal_mechanisms
+    followed = []  # (solution, sign, direction, target node or None)
     cands = []
-    for i, sg, d, at, ev in followed:
-        if at is None:
-            cands.append({"beta": i, "sign": sg, "reached": None})
+    for e, t in smap.paths_from(0):
+        d = e.sign * (U @ np.asarray(e.beta))
+        tn = smap.nodes[t] if t is not None and e.event == "bifurcation" else None
+        followed.append((e.solution, e.sign, d, t))
+        if tn is None or tn.kind != "bifurcation":
+            cands.append({"beta": e.solution, "sign": e.sign, "reached": None, "event": e.event})
             continue
-        xy, alt = _wraps_loop1(at, n_sides)
-        cands.append({"beta": i, "sign": sg, "reached": abs(at.path_length - a.path_length), "m": ev["m"],
-                      "s": ev["s"], "loop1_xy": float(xy), "alternating": alt, "centre_dz": float(d[0])})
+        xy, alt = _wraps_loop1(tn.coords, a.labels, n_sides)
+        cands.append({"beta": e.solution, "sign": e.sign, "reached": e.length, "m": tn.m, "s": tn.s,
+                      "loop1_xy": float(xy), "alternating": alt, "centre_dz": float(d[0])})
     wraps = [c for c in cands if c["reached"] and c["alternating"] and c["loop1_xy"] < 1e-5]
     res["flat"]["candidates"] = len(cands)
     res["flat"]["candidates_reaching_bifurcation"] = sum(1 for c in cands if c["reached"])
     res["flat"]["candidates_wrapping_loop1"] = len(wraps)
     if not wraps:
         res["failed"] = "no symmetric path out of the flat state wraps loop 1"
-        return _finish_hex(res, None, out, t_start, progress)
+        return _finish_hex(res, None, out, t_start, progress, smap=smap)
     wraps.sort(key=lambda c: (round(c["reached"], 6), c["centre_dz"] > 0))
     pick = wraps[0]
     res["flat"]["chosen"] = pick
     _say(progress, f"[R^A] {len(wraps)} of {len(cands)} symmetric directed paths wrap loop 1; chosen: "
          f"solution {pick['beta']}, sign {pick['sign']:+d}, R^B at l = {pick['reached']:.4f}")
-    d_A = next(d for i, sg, d, _, _ in followed if i == pick["beta"] and sg == pick["sign"])
+    d_A = next(d for i, sg, d, _ in followed if i == pick["beta"] and sg == pick["sign"])
     snaps["R^A"] = {"length": SNAP_LENGTH, "base": a.coords, "paths": [
         {"beta": i, "sign": sg, "coords": _coords_at(None, a, d, SNAP_LENGTH), "symmetric": True,
-         "tag": "chosen" if (i, sg) == (pick["beta"], pick["sign"]) else "",
-         "to": pmap.node(at) if at is not None else None} for i, sg, d, at, _ in followed]}
+         "tag": "chosen" if (i, sg) == (pick["beta"], pick["sign"]) else "", "to": t}
+        for i, sg, d, t in followed]}
 
     track = _Track(hub)
     track.add(a)
@@ -361,7 +286,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     rb, ev, steps = follow_to_bifurcation(c, track, compare=True)
     if rb is None:
         res["failed"] = "R^B not reached"
-        return _finish_hex(res, track, out, t_start, progress, stages)
+        return _finish_hex(res, track, out, t_start, progress, stages, smap)
     _event(ev, steps, a, rb, hub, res)
     res["events"]["RB_fold"] = ev
     stages.append(("(b) R^A to R^B", _coords_at(track, a, d_A, 0.5 * ev["l"])))
@@ -372,7 +297,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     br, rep = _branch_report(rb, threads, 0.5)
     res["RB"] = rep
     _say(progress, f"[R^B] {rep}")
-    ib = pmap.node(rb, "R^B")
+    smap.mark(rb.coords, "R^B")
     # onward: a symmetric candidate that is not the arrival path and folds
     # the sail (smallest xy extent after 0.5)
     P_rb = sail_rotation(rb, n_sides, 2)
@@ -390,7 +315,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
             best = (extent, d, p, cos_in)
     if best is None:
         res["failed"] = "no symmetric folding path out of R^B"
-        return _finish_hex(res, track, out, t_start, progress, stages)
+        return _finish_hex(res, track, out, t_start, progress, stages, smap)
     d_B = best[1]
     res["RB"]["chosen"] = {"beta": best[2].beta, "sign": best[2].sign, "xy_extent_at_0.5": best[0],
                            "cos_with_arrival": best[3], "centre_dz": float(d_B[0])}
@@ -403,7 +328,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     rc, ev, steps = follow_to_bifurcation(c, track, max_steps=600, compare=True)
     if rc is None:
         res["failed"] = "R^C not reached"
-        return _finish_hex(res, track, out, t_start, progress, stages)
+        return _finish_hex(res, track, out, t_start, progress, stages, smap)
     _event(ev, steps, rb, rc, hub, res)
     res["events"]["RC_fold"] = ev
     stages.append(("(d) R^B to R^C", _coords_at(track, rb, d_B, 0.5 * ev["l"])))
@@ -414,22 +339,30 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     br_c, rep = _branch_report(rc, threads, 0.3)
     res["RC"] = rep
     _say(progress, f"[R^C] {rep}")
-    # onward from R^C, and the rest of the map: every symmetric path out of
-    # R^B and R^C followed to its next bifurcation
-    ic = pmap.node(rc, "R^C")
-    res["RB"]["symmetric"] = pmap.explore(ib, rb, n_sides, threads, progress=progress)
-    res["RC"]["symmetric"] = pmap.explore(ic, rc, n_sides, threads, progress=progress)
-    ext_c = pmap.nodes[ic]["xy_extent"]
-    onward = [e for e in pmap.edges if e["from"] == ic]
-    names = pmap.names()
-    res["RC"]["onward"] = [{"to": names[e["to"]] if e["to"] is not None else None,
-                            "l": e.get("l"), "xy_extent": pmap.nodes[e["to"]]["xy_extent"] if e["to"] is not None
-                            else None} for e in onward]
-    res["RC"]["most_compact"] = all(e["to"] is not None and pmap.nodes[e["to"]]["xy_extent"] > ext_c + 1e-9
-                                    for e in onward)
-    _say(progress, f"[R^C] symmetric paths onward lead to "
-         f"{', '.join(str(o['to']) for o in res['RC']['onward'])}; R^C is "
-         f"{'the most compact symmetric state' if res['RC']['most_compact'] else 'not the end of the fold'}")
+    # onward from R^C: every symmetric path out of it in the atlas
+    ib, _ = smap.mark(rb.coords, "R^B")
+    ic, ic_is_rc = smap.mark(rc.coords, "R^C")
+    for key, i in (("RB", ib), ("RC", ic)):
+        rec = smap.branches_record(i) if i is not None else None
+        if rec is not None and "k" in rec:
+            res[key]["symmetric"] = _symmetric_record(rec)
+        else:
+            res[key]["map"] = ("not reached in the atlas" if i is None else
+                               f"not expanded in the atlas of depth {map_depth}: its paths are not mapped")
+    if ic is not None and ic_is_rc and smap.branches_record(ic) is not None:
+        names = smap.names()
+        ext_c = smap.measures(smap.nodes[ic])["xy_extent"]
+        onward = [(e, t) for e, t in smap.paths_from(ic)]
+        res["RC"]["onward"] = [{"to": names[t] if t is not None else None, "event": e.event, "l": e.length,
+                                "xy_extent": smap.measures(smap.nodes[t])["xy_extent"] if t is not None else None}
+                               for e, t in onward]
+        res["RC"]["most_compact"] = all(o["xy_extent"] is not None and o["xy_extent"] > ext_c + 1e-9
+                                        for o in res["RC"]["onward"])
+        _say(progress, f"[R^C] symmetric paths onward lead to "
+             f"{', '.join(str(o['to']) for o in res['RC']['onward'])}; R^C is "
+             f"{'the most compact symmetric state' if res['RC']['most_compact'] else 'not the end of the fold'}")
+    else:
+        _say(progress, f"[R^C] {res['RC'].get('map', 'an image of a node in the atlas')}")
     # ---- back: R^C -> R^B along the same path
     if br_c is not None:
         dirs = [br_c.directions[p.beta] * p.sign for p in br_c.paths if p.exists and p.tangent_ok]
@@ -449,7 +382,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     rb2, ev, steps = follow_to_bifurcation(c, track, max_steps=600, compare=True)
     if rb2 is None:
         res["failed"] = "R^B not reached on the way back"
-        return _finish_hex(res, track, out, t_start, progress, stages)
+        return _finish_hex(res, track, out, t_start, progress, stages, smap)
     _event(ev, steps, rc, rb2, hub, res)
     ev["distance_to_RB"] = float(np.abs(rb2.coords - rb.coords).max())
     res["events"]["RB_deploy"] = ev
@@ -464,19 +397,13 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     ra, ev, steps = follow_to_bifurcation(c, track, max_steps=600, compare=True)
     if ra is None:
         res["failed"] = "R^A not reached on the way back"
-        return _finish_hex(res, track, out, t_start, progress, stages)
+        return _finish_hex(res, track, out, t_start, progress, stages, smap)
     _event(ev, steps, rb2, ra, hub, res)
     res["events"]["RA_deploy"] = ev
     res["closure"] = float(np.abs(ra.coords - flat).max())
     _say(progress, f"[R^A] back after {steps} steps: m = {ev['m']}, s = {ev['s']}, {ev['factorizations']} "
          f"factorizations ({ev['method']}), closure error {res['closure']:.2e}")
-    res["map"] = pmap.summary()
-    names = pmap.names()
-    for sn in snaps.values():
-        for p in sn["paths"]:
-            if "to" in p:
-                p["to"] = names[p["to"]] if p["to"] is not None else None
-    return _finish_hex(res, track, out, t_start, progress, stages, pmap, snaps)
+    return _finish_hex(res, track, out, t_start, progress, stages, smap, snaps)
 
 
 def _event(ev, steps, start, at, hub, res):
@@ -520,7 +447,25 @@ def _coords_at(track, start, direction, l_target):
     return _last_before(start, direction, l_target, back=0.0).coords
 
 
-def _finish_hex(res, track, out, t_start, progress, stages=(), pmap=None, snaps=None):
+def _symmetric_record(rec):
+    """The symmetric sub-problem at a node, from the atlas's record of how
+    its branches were enumerated: k symmetric mechanisms, s equations."""
+    return {"k": rec.get("k"), "s": rec.get("s_restricted", 0), "solutions": rec.get("solutions", 0),
+            "accounting": rec.get("accounting", {"paths": 0, "real": rec.get("solutions", 0),
+                                                 "real_distinct": rec.get("solutions", 0), "nonreal": 0,
+                                                 "singular": 0, "failed": 0})}
+
+
+def _finish_hex(res, track, out, t_start, progress, stages=(), smap=None, snaps=None):
+    if smap is not None:
+        res["map"] = smap.summary(Assembly.sail(res["n_sides"], res["n_loops"]))
+        names = smap.names()
+        for sn in (snaps or {}).values():
+            for p in sn["paths"]:
+                if "to" in p and p["to"] is not None:
+                    # a path's end that is not a bifurcation says what it is
+                    t = smap.nodes[p["to"]]
+                    p["to"] = names[t.id] + ("" if t.kind == "bifurcation" else f" ({t.kind.replace('_', '-')})")
     if track is not None and track.l:
         res["max_strain"] = float(max(track.strain))
         res["max_hub_out_of_plane"] = float(max(track.hub_z))
@@ -535,11 +480,13 @@ def _finish_hex(res, track, out, t_start, progress, stages=(), pmap=None, snaps=
         out = pathlib.Path(out)
         out.mkdir(parents=True, exist_ok=True)
         (out / "summary.json").write_text(json.dumps(res, indent=1, default=_jsonable) + "\n")
+        if smap is not None:
+            smap.atlas.to_json(out / "atlas.json")
         if track is not None and track.l:
             np.savez(out / "track.npz", l=np.array(track.l), sv=np.array(track.sv),
                      strain=np.array(track.strain), hub_z=np.array(track.hub_z))
             from . import studyreport
-            studyreport.hexagonal(res, track, stages, out, pmap, snaps or {})
+            studyreport.hexagonal(res, track, stages, out, smap, snaps or {})
         _say(progress, f"wrote {out / 'report.md'}")
     return res
 

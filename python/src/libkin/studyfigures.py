@@ -243,26 +243,62 @@ def _short_label(names):
     return ", ".join(tex(n) for n in names)
 
 
-def path_map(pmap, out):
-    """Nodes at (x-y extent, m); a node and its mirror image (same place) are
-    drawn once; line width grows with the number of directed paths; the
-    fold route R^A - R^B - R^C in red. Labels are placed where they overlap
-    no other label or node (leader lines when moved away)."""
+# how the path map draws a node of each kind (the atlas's kinds, atlas.py):
+# only a bifurcation is a filled marker; a bifurcation the follower located
+# only to a coarser v_r is filled in another colour; every point that is not
+# a bifurcation is hollow
+MAP_STYLE = {  # key: (marker, filled, colour, legend)
+    "bifurcation": ("o", True, "C0", "bifurcation (m >= 2, s >= 1), located to v_r <= 1e-10 v_max"),
+    "relaxed": ("D", True, "C1", "bifurcation located only to v_r <= 1e-8 .. 1e-7 v_max "
+                "(m, s counted at 10 x that)"),
+    "near_miss": ("o", False, "C2", "near-miss (m = 1): a dip of v_r, regular"),
+    "regular": ("s", False, "0.4", "regular point (m = 1): path-length budget"),
+    "multi_dof": ("^", False, "C4", "several freedoms (m >= 2, s = 0)"),
+    "rigid": ("v", False, "k", "rigid (m = 0)"),
+    "failure": ("X", False, "C5", "following failed"),
+}
+ROUTE = ("R^A", "R^B", "R^C")
+
+
+def _map_style(smap, n):
+    return "relaxed" if smap.relaxed(n) else n.kind
+
+
+def path_map(smap, out):
+    """The path map of the explorer's atlas (sailmap.SailMap): nodes at
+    (x-y extent, m), their kind by the marker (MAP_STYLE); a node and its
+    mirror image (same place) drawn once; line width grows with the number
+    of directed paths; the fold route R^A - R^B - R^C in red. Labels are
+    placed where they overlap no other label or node (leader lines when
+    moved away)."""
     plt = _plt()
-    nodes, names = pmap.nodes, pmap.names()
-    place, label = {}, {}
-    for i, n in enumerate(nodes):
-        key = (round(n["xy_extent"], 3), n["m"])
-        place[i] = key
-        label.setdefault(key, []).append(names[i])
-    fig, ax = plt.subplots(figsize=(11, 6.4))
+    from matplotlib.lines import Line2D
+    nodes, names = smap.nodes, smap.names()
+    # nodes of one kind at the same (x-y extent, m) share a marker; where
+    # several kinds meet, the bifurcation keeps the place and the others
+    # are drawn a little above it
+    place, label, style, kinds_at = {}, {}, {}, {}
+    base_of = {n.id: (round(smap.measures(n)["xy_extent"], 3), max(n.m, 1)) for n in nodes}
+    for n in nodes:
+        kinds_at.setdefault(base_of[n.id], set()).add(_map_style(smap, n))
+    for n in nodes:
+        base, st = base_of[n.id], _map_style(smap, n)
+        rank = [k for k in MAP_STYLE if k in kinds_at[base]].index(st)
+        key = (base[0], base[1] * 1.09 ** rank)
+        place[n.id] = key
+        label.setdefault(key, []).append(names[n.id])
+        style[key] = st
+    fig, ax = plt.subplots(figsize=(11, 7.2))
     agg = {}
-    for e in pmap.edges:
-        if e["to"] is not None and place[e["from"]] != place[e["to"]]:
-            k = (place[e["from"]], place[e["to"]])
+    for e in smap.atlas.edges:
+        if place[e.source] != place[e.target]:
+            k = (place[e.source], place[e.target])
             agg[k] = agg.get(k, 0) + 1
-    key_of = {nm: place[i] for i, nm in enumerate(names)}
-    route = {(key_of.get("R^A"), key_of.get("R^B")), (key_of.get("R^B"), key_of.get("R^C"))}
+    key_of = {nm: place[i] for i, nm in names.items()}
+    # a run's point and its mirror image share a place: the route is drawn
+    # to whichever of them the atlas holds
+    at_ = {r: key_of.get(r, key_of.get(r + "'")) for r in ROUTE}
+    route = {(at_["R^A"], at_["R^B"]), (at_["R^B"], at_["R^C"])}
     for (p, q), cnt in agg.items():
         on_route = (p, q) in route
         ax.annotate("", xy=q, xytext=p,
@@ -271,10 +307,18 @@ def path_map(pmap, out):
                                     connectionstyle="arc3,rad=0.15", alpha=1.0 if on_route else 0.8),
                     zorder=2 if on_route else 1)
     for key, nm in label.items():
-        main = any(n in ("R^A", "R^B", "R^C") for n in nm)
-        ax.plot(*key, "o", color="C3" if main else "C0", ms=11 if main else 7, zorder=3)
+        main = any(n.rstrip("'") in ROUTE for n in nm)
+        marker, filled, colour, _ = MAP_STYLE[style[key]]
+        colour = "C3" if main and style[key] == "bifurcation" else colour
+        ax.plot(*key, marker, mfc=colour if filled else "white", mec=colour, mew=1.0 if filled else 1.8,
+                ms=11 if main else 7, ls="", zorder=3)
+    handles = [Line2D([], [], ls="", marker=MAP_STYLE[k][0], ms=7, mec=MAP_STYLE[k][2],
+                      mfc=MAP_STYLE[k][2] if MAP_STYLE[k][1] else "white", mew=1.0 if MAP_STYLE[k][1] else 1.8,
+                      label=MAP_STYLE[k][3]) for k in MAP_STYLE if k in set(style.values())]
+    handles.append(Line2D([], [], color="C3", lw=2.4, label="the run's fold $R^A$ - $R^B$ - $R^C$"))
+    ax.legend(handles=handles, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=2, frameon=False)
     ax.invert_xaxis()
-    ms = sorted({k[1] for k in label})
+    ms = sorted({round(k[1]) for k in label})
     ax.set_yscale("log")
     ax.set_yticks(ms)
     ax.set_yticklabels([str(m) for m in ms])
@@ -284,9 +328,9 @@ def path_map(pmap, out):
     ax.set_xlim(max(xs) + 0.12, min(xs) - 0.12)
     ax.set_xlabel(f"x-y extent of the sail (largest distance of a joint from the hub axis, {UNIT}): "
                   "unfolded (left) -> folded (right)")
-    ax.set_ylabel("internal mechanisms m at the bifurcation")
-    ax.set_title("Path map: bifurcations reached along symmetric paths (red: the fold $R^A$ - $R^B$ - $R^C$; "
-                 "' = mirror image z -> -z, (+') = each with its mirror image)", fontsize=10)
+    ax.set_ylabel("internal mechanisms m at the node")
+    ax.set_title("Path map: the points reached along symmetric paths (the explorer's atlas)\nred: the run's fold "
+                 "$R^A$ - $R^B$ - $R^C$; ' = mirror image z -> -z, (+') = each with its mirror image", fontsize=10)
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
     # labels: try offsets near the node until the text box hits no other
@@ -301,7 +345,7 @@ def path_map(pmap, out):
              (35, -13), (-35, -13), (0, 63), (0, -65)]
     for key in sorted(label, key=lambda k: (-k[1], -k[0])):
         nm = label[key]
-        main = any(n in ("R^A", "R^B", "R^C") for n in nm)
+        main = any(n.rstrip("'") in ROUTE for n in nm)
         text = _short_label(nm)
         for dx, dy in cands:
             t = ax.annotate(text, key, xytext=(dx, dy), textcoords="offset points", ha="center",

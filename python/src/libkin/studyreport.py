@@ -21,7 +21,7 @@ def _event_row(name, ev, paper):
             f"{ev['hub_out_of_plane']:.3f} | {pcol} | {paper} |")
 
 
-def hexagonal(res, track, stages, out, pmap=None, snaps=None):
+def hexagonal(res, track, stages, out, smap=None, snaps=None):
     """Every figure (studyfigures.py) and report.md."""
     from . import studyfigures as F
     M = F.Model(res["n_sides"], res["n_loops"])
@@ -32,8 +32,8 @@ def hexagonal(res, track, stages, out, pmap=None, snaps=None):
     figs["sv_groups"] = F.singular_values(res, track, out)
     F.strain_hub(res, track, out)
     F.fold_measures(M, res, track, out)
-    if pmap is not None and pmap.nodes:
-        F.path_map(pmap, out)
+    if smap is not None and smap.nodes:
+        F.path_map(smap, out)
     figs["grids"] = []
     for name, snap in (snaps or {}).items():
         fname = f"branches_{name.replace('^', '')}.png"
@@ -228,46 +228,14 @@ def _write_hex_md(res, out, M, figs):
     else:
         fig_no = 3
     if "map" in res:
-        L.append("## Path map (symmetric paths)\n")
-        L.append(f"Every directed path out of R^A, R^B and R^C that keeps the {nfold} symmetry, followed to "
-                 "its next bifurcation (nodes are the same when their coordinates agree to 1e-6; a prime "
-                 "marks a mirror image z -> -z). Path lengths in a:\n")
-        L.append("| from | to | directed paths | path lengths (a) |")
-        L.append("|---|---|---|---|")
-        edges = res["map"]["edges"]
-        done = set()
-        for i, e in enumerate(edges):
-            if i in done:
-                continue
-            to = e["to"] or "no bifurcation located"
-            # a path and its mirror image: one row
-            for j in range(i + 1, len(edges)):
-                f = edges[j]
-                if (j not in done and f["from"] == e["from"] and e["to"] and f["to"] and f["l"] == e["l"]
-                        and f["paths"] == e["paths"] and f["to"] in (e["to"] + "'", e["to"].rstrip("'"))
-                        and f["to"] != e["to"]):
-                    to = f"{e['to']} and {f['to']} (mirror)"
-                    done.add(j)
-                    break
-            L.append(f"| {e['from']} | {to} | {e['paths']} each | {', '.join(f'{v:.4f}' for v in e['l'])} |"
-                     if " and " in to else
-                     f"| {e['from']} | {to} | {e['paths']} | {', '.join(f'{v:.4f}' for v in e['l'])} |")
-        L.append("\n| node | m / s | x-y extent (a) | height (a) |")
-        L.append("|---|---|---|---|")
-        for n in res["map"]["nodes"]:
-            L.append(f"| {n['name']} | {n['m']} / {n['s']} | {n['xy_extent']:.4f} | {n.get('height', float('nan')):.4f} |")
-        if "RC" in res and "onward" in res["RC"]:
-            rc = res["RC"]
-            ends = ", ".join(f"{o['to']} (l = {o['l']:.4f} a)" if o["to"] else "none" for o in rc["onward"])
-            verdict = ("every one of them ends at a less compact state, so R^C is as far as the structure "
-                       "folds along symmetric paths" if rc["most_compact"] else
-                       "at least one ends at a more compact state")
-            L.append(f"\n**Onward from R^C.** Its symmetric directed paths lead to {ends}: {verdict}.\n")
+        L += _map_md(res, nfold)
         L.append("![path map](path_map.png)\n")
-        L.append(f"*Figure {fig_no}. The path map. Each dot is a bifurcation, placed by how compact the sail is "
-                 "there (x-y extent, folded to the right) and how many internal mechanisms it has; arrows are "
-                 "symmetric paths between them (thicker: more directed paths). A node and its mirror image "
-                 "z -> -z share a dot.*\n")
+        L.append(f"*Figure {fig_no}. The path map. Each marker is a node of the atlas, placed by how compact "
+                 "the sail is there (x-y extent, folded to the right) and how many internal mechanisms it has; "
+                 "filled markers are bifurcations (orange diamonds: located only to a coarser v_r, so m and s "
+                 "are counted at a relaxed rank tolerance), hollow markers points that are not bifurcations "
+                 "(near-misses, regular points); arrows are symmetric paths between them (thicker: more "
+                 "directed paths). A node and its mirror image z -> -z share a marker.*\n")
         fig_no += 1
     L.append("## The paper's three questions\n")
     cont = "failed" not in res
@@ -309,6 +277,101 @@ def _write_hex_md(res, out, M, figs):
              "stops at 1e-12). Bottom: how far the free hub vertices leave the hub plane, in a.*\n")
     L.append(f"Run time {res['seconds']} s.\n")
     (out / "report.md").write_text("\n".join(L))
+
+
+_KIND_WORDS = {"bifurcation": "bifurcation", "near_miss": "near-miss (m = 1)", "regular": "regular point (m = 1)",
+               "multi_dof": "several freedoms (s = 0)", "rigid": "rigid (m = 0)", "failure": "following failed"}
+_EVENT_WORDS = {"bifurcation": "bifurcation", "near_miss": "near-miss (m = 1)", "loop": "closed loop",
+                "budget": "length budget", "failure": "failure"}
+
+
+def _kind_word(n):
+    if n["kind"] == "bifurcation" and n["located_tol"] > 1e-10:
+        return f"bifurcation, located only to {n['located_tol']:.0e} (m, s at 10 x that)"
+    return _KIND_WORDS.get(n["kind"], n["kind"])
+
+
+def _relaxed_words(nodes):
+    """What the default rank tolerance says at the coarsely located bifurcations."""
+    out = []
+    for n in nodes:
+        if "m_default" in n and not n["name"].endswith("'"):
+            sv = n["lowest_sv_rel"]
+            out.append(f"at {n['name']} the lowest singular values are {', '.join(f'{v:.0e}' for v in sv)} "
+                       f"of v_max, so the default rank tolerance (1e-9) counts m = {n['m_default']}, "
+                       f"s = {n['s_default']}")
+    return ("; ".join(out) + ".") if out else ""
+
+
+def _map_md(res, nfold):
+    """The path map's tables: the directed paths, then the nodes by kind."""
+    mp = res["map"]
+    at = mp["atlas"]
+    kinds = ", ".join(f"{v} {_KIND_WORDS.get(k, k)}" for k, v in sorted(at["node_kinds"].items()))
+    events = ", ".join(f"{v} {_EVENT_WORDS.get(k, k)}" for k, v in sorted(at["edge_events"].items()))
+    relaxed = sum(1 for n in mp["nodes"] if n["kind"] == "bifurcation" and n["located_tol"] > 1e-10)
+    L = ["## Path map (symmetric paths)\n"]
+    L.append(f"The explorer's atlas (`libkin.explore`, docs/atlas.md; `atlas.json` here) in symmetric mode: "
+             f"every directed path out of R^A that keeps the {nfold} symmetry, followed to its next event, and "
+             f"(depth {at['depth']}) every such path out of each bifurcation reached, R^B and R^C among them. "
+             f"{at['nodes']} nodes ({kinds}), {at['edges']} directed paths (ending at: {events}); "
+             f"{at['seconds']:.1f} s. A node's kind comes from the analysis at its point, not from how the "
+             "path got there: a point that is not a bifurcation is never listed as one. "
+             + (f"{relaxed} of the bifurcations were located only to a coarser v_r ('located only to' in the "
+                "node table), so their m and s are counted at ten times that rank tolerance and points reached "
+                "along different paths are one node when they agree to 10 sqrt(tolerance) x the model size; "
+                f"{_relaxed_words(mp['nodes'])} Whether they are true bifurcations or near-misses is not "
+                "settled here. " if relaxed else "")
+             + "A prime marks the image of a node under the mirror z -> -z. Path lengths in a:\n")
+    L.append("| from | to | ends at | directed paths | path lengths (a) |")
+    L.append("|---|---|---|---|---|")
+    edges = mp["edges"]
+    done = set()
+    for i, e in enumerate(edges):
+        if i in done:
+            continue
+        to = e["to"]
+        both = False
+        # a path and its mirror image: one row
+        for j in range(i + 1, len(edges)):
+            f = edges[j]
+            if (j not in done and f["from"] == e["from"] and f["l"] == e["l"] and f["paths"] == e["paths"]
+                    and f["event"] == e["event"] and f["to"] != e["to"]
+                    and f["to"].rstrip("'") == e["to"].rstrip("'")):
+                to = f"{e['to']} and {f['to']} (mirror)"
+                both = True
+                done.add(j)
+                break
+        L.append(f"| {e['from']} | {to} | {_EVENT_WORDS.get(e['event'], e['event'])} | "
+                 f"{e['paths']}{' each' if both else ''} | {', '.join(f'{v:.4f}' for v in e['l'])} |")
+    L.append("\n| node | kind | m / s | x-y extent (a) | height (a) | symmetric branches out |")
+    L.append("|---|---|---|---|---|---|")
+    rows = {}
+    for n in mp["nodes"]:
+        base = n["name"].rstrip("'")
+        rows.setdefault(base, []).append(n)
+    for base, ns in rows.items():
+        n = ns[0]
+        out = n["symmetric_branches"]
+        if n["kind"] != "bifurcation":
+            out = f"none: not a bifurcation ({n['status']})"
+        elif out is None:
+            out = "not expanded (depth reached)"
+        else:
+            out = f"{2 * out} directed" if out else f"none ({n['status']})"
+        L.append(f"| {', '.join(x['name'] for x in ns)} | {_kind_word(n)} | {n['m']} / {n['s']} | "
+                 f"{n['xy_extent']:.4f} | {n['height']:.4f} | {out} |")
+    if "RC" in res and "onward" in res["RC"]:
+        rc = res["RC"]
+        ends = ", ".join(f"{o['to']} (l = {o['l']:.4f} a)" if o["to"] else "none" for o in rc["onward"])
+        verdict = ("every one of them ends at a less compact state, so R^C is as far as the structure "
+                   "folds from R^B along symmetric paths" if rc["most_compact"] else
+                   "at least one ends at a more compact state")
+        L.append(f"\n**Onward from R^C.** Its symmetric directed paths lead to {ends}: {verdict}.\n")
+    elif "RC" in res and "map" in res["RC"]:
+        L.append(f"\n**Onward from R^C.** R^C is {res['RC']['map']} (`libkin study --map-depth` "
+                 f"{at['depth'] + 1} maps them).\n")
+    return L
 
 
 def square(res, a, br, out):
