@@ -45,6 +45,26 @@
 
 #include "homotopy_track.h"
 
+/* The hottest kernels are compiled twice where the compiler and the
+ * platform support function multiversioning (GCC or Clang on x86-64 ELF):
+ * for AVX2 (4 doubles per vector register) and for the baseline, picked at
+ * load time by the CPU. Floating-point contraction stays off (ISO C mode),
+ * so both versions round identically. */
+#if defined(__x86_64__) && defined(__ELF__) && defined(__has_attribute) && !defined(KIN_NO_MULTIVERSION)
+#if __has_attribute(target_clones)
+#define HOM_KERNEL __attribute__((target_clones("avx2", "default")))
+#endif
+#endif
+#ifndef HOM_KERNEL
+#define HOM_KERNEL
+#endif
+/* inner loops of the kernels, inlined so that each version gets its own */
+#if defined(__GNUC__)
+#define HOM_INLINE static inline __attribute__((always_inline))
+#else
+#define HOM_INLINE static inline
+#endif
+
 enum { HOM_ORDER = 8 }; /* Taylor order of the predictor */
 enum {
     HOM_NY = HOM_ORDER / 2 + 1,   /* Q x_i needed for i <= HOM_ORDER / 2 */
@@ -113,8 +133,18 @@ static const double EVAL_ROUNDING = 2.0 * DBL_EPSILON;
  * existence balls far smaller than that. */
 static const double R_MINUS_MAX = 1e-8;
 
+/* Complex n x n matrices are column-major with the column stride
+ * np = n rounded up to whole lanes (entry (i, j) at j*np + i, rows n..np-1
+ * zero): the factorisation's updates and both substitutions run down
+ * contiguous columns in whole groups of HOM_LANES rows (independent
+ * updates the compiler puts in vector registers), the rows outside the
+ * range being multiplied by stored zeros. Every entry in the range receives
+ * the same operations in the same order as in a row-oriented elimination. */
 typedef struct hom_lu {
-    double r[HOM_MM], i[HOM_MM];     /* row-major; L (unit, below) and U after factoring */
+    double r[HOM_MM], i[HOM_MM];     /* J; after factoring, U strictly above the diagonal (zeros on
+                                        and below it) */
+    double lr[HOM_MM], li[HOM_MM];   /* after factoring, L strictly below the diagonal (zeros on
+                                        and above it; the unit diagonal is implied) */
     double dr[HOM_MAX_M], di[HOM_MAX_M]; /* 1 / U_kk */
     int piv[HOM_MAX_M];
 } hom_lu;
@@ -146,13 +176,14 @@ static double vnorm(int n, const double *xr, const double *xi)
     return sqrt(s);
 }
 
-/* y_i = sum_c Q[i][c] x_c, i < s*m, from the blocked copy of Q: eight
- * rows at a time, their entries of column c adjacent (independent
- * accumulators, and the compiler can pair them in vector registers) */
-static void qmul(const hom_problem *P, const double *restrict xr, const double *restrict xi, double *restrict yr,
-                 double *restrict yi)
+/* y_i = sum_c Q[i][c] x_c, i < m*sp (the interleaved rows: y[r*sp + j] is
+ * row r of Q_j x), from the blocked copy of Q: eight rows at a time, their
+ * entries of column c adjacent (independent accumulators, and the compiler
+ * pairs them in vector registers) */
+HOM_KERNEL static void qmul(const hom_problem *P, const double *restrict xr, const double *restrict xi,
+                            double *restrict yr, double *restrict yi)
 {
-    int n = P->s * P->m, m = P->m;
+    int n = P->sp * P->m, m = P->m;
     const double *qb = P->Qb;
     for (int i = 0; i < n; i += HOM_QBLOCK, qb += HOM_QBLOCK * m) {
         double r0 = 0.0, r1 = 0.0, r2 = 0.0, r3 = 0.0, r4 = 0.0, r5 = 0.0, r6 = 0.0, r7 = 0.0;
@@ -171,49 +202,59 @@ static void qmul(const hom_problem *P, const double *restrict xr, const double *
     }
 }
 
-/* LU with partial pivoting (largest |re| + |im|) in place; 0 if singular */
-static int lu_factor(int n, hom_lu *F)
+static int lanes_up(int n) { return (n + HOM_LANES - 1) / HOM_LANES * HOM_LANES; }
+
+/* b[i] -= (lr + i li)[i] * (vr + i vi) for lo <= i < hi, lo and hi whole
+ * lanes */
+HOM_INLINE void axpy_sub(int lo, int hi, const double *restrict lr, const double *restrict li, double vr,
+                         double vi, double *restrict br, double *restrict bi)
 {
+    for (int i = lo; i < hi; i += HOM_LANES) {
+        br[i] -= lr[i] * vr - li[i] * vi, bi[i] -= lr[i] * vi + li[i] * vr;
+        br[i + 1] -= lr[i + 1] * vr - li[i + 1] * vi, bi[i + 1] -= lr[i + 1] * vi + li[i + 1] * vr;
+        br[i + 2] -= lr[i + 2] * vr - li[i + 2] * vi, bi[i + 2] -= lr[i + 2] * vi + li[i + 2] * vr;
+        br[i + 3] -= lr[i + 3] * vr - li[i + 3] * vi, bi[i + 3] -= lr[i + 3] * vi + li[i + 3] * vr;
+    }
+}
+
+/* LU with partial pivoting (largest |re| + |im|) in place; 0 if singular */
+HOM_KERNEL static int lu_factor(int n, hom_lu *F)
+{
+    int np = lanes_up(n);
     double *Ar = F->r, *Ai = F->i;
     for (int k = 0; k < n; ++k) {
+        double *lr = Ar + k * np, *li = Ai + k * np; /* column k */
         int p = k;
-        double best = fabs(Ar[k * n + k]) + fabs(Ai[k * n + k]);
+        double best = fabs(lr[k]) + fabs(li[k]);
         for (int i = k + 1; i < n; ++i) {
-            double v = fabs(Ar[i * n + k]) + fabs(Ai[i * n + k]);
+            double v = fabs(lr[i]) + fabs(li[i]);
             if (v > best) best = v, p = i;
         }
         F->piv[k] = p;
         if (!(best > 0.0) || !isfinite(best)) return 0;
-        if (p != k)
+        if (p != k) /* rows k and p: of L in columns j < k, of the rest in the others */
             for (int j = 0; j < n; ++j) {
-                double t = Ar[k * n + j];
-                Ar[k * n + j] = Ar[p * n + j], Ar[p * n + j] = t;
-                t = Ai[k * n + j];
-                Ai[k * n + j] = Ai[p * n + j], Ai[p * n + j] = t;
+                double *cr = j < k ? F->lr : Ar, *ci = j < k ? F->li : Ai;
+                double t = cr[j * np + k];
+                cr[j * np + k] = cr[j * np + p], cr[j * np + p] = t;
+                t = ci[j * np + k];
+                ci[j * np + k] = ci[j * np + p], ci[j * np + p] = t;
             }
-        double pr = Ar[k * n + k], pi = Ai[k * n + k], d = pr * pr + pi * pi;
+        double pr = lr[k], pi = li[k], d = pr * pr + pi * pi;
         double ir = pr / d, ii = -pi / d; /* 1 / pivot */
         F->dr[k] = ir, F->di[k] = ii;
-        /* rows k and i never overlap (restrict lets the compiler keep the
-         * pivot row's entries in registers); two columns per iteration */
-        const double *restrict ukr = Ar + k * n, *restrict uki = Ai + k * n;
+        /* column k of L, in F->lr (zeros outside k < i < n) */
+        double *restrict mr = F->lr + k * np, *restrict mi = F->li + k * np;
+        for (int i = 0; i < np; ++i) mr[i] = mi[i] = 0.0;
         for (int i = k + 1; i < n; ++i) {
-            double *restrict rr = Ar + i * n, *restrict ri = Ai + i * n;
-            double fr = rr[k] * ir - ri[k] * ii, fi = rr[k] * ii + ri[k] * ir;
-            rr[k] = fr, ri[k] = fi;
-            if (fr == 0.0 && fi == 0.0) continue;
-            int j = k + 1;
-            for (; j + 2 <= n; j += 2) {
-                double a0 = ukr[j], b0 = uki[j], a1 = ukr[j + 1], b1 = uki[j + 1];
-                rr[j] -= fr * a0 - fi * b0, ri[j] -= fr * b0 + fi * a0;
-                rr[j + 1] -= fr * a1 - fi * b1, ri[j + 1] -= fr * b1 + fi * a1;
-            }
-            for (; j < n; ++j) {
-                rr[j] -= fr * ukr[j] - fi * uki[j];
-                ri[j] -= fr * uki[j] + fi * ukr[j];
-            }
+            mr[i] = lr[i] * ir - li[i] * ii, mi[i] = lr[i] * ii + li[i] * ir;
+            lr[i] = li[i] = 0.0;
         }
+        int lo = (k + 1) / HOM_LANES * HOM_LANES;
+        for (int j = k + 1; j < n; ++j) /* column j -= L(:, k) U(k, j) */
+            axpy_sub(lo, np, mr, mi, Ar[j * np + k], Ai[j * np + k], Ar + j * np, Ai + j * np);
     }
+    for (int j = 0; j < n; ++j) Ar[j * np + j] = Ai[j * np + j] = 0.0; /* U's diagonal is in dr, di */
     return 1;
 }
 
@@ -227,40 +268,34 @@ static void swap_entries(int p, int k, double *br, double *bi)
     bi[k] = bi[p], bi[p] = t;
 }
 
-/* b <- A^-1 b (column-oriented substitutions: independent updates) */
-static void lu_solve(int n, const hom_lu *F, double *br, double *bi)
+/* b <- A^-1 b (column-oriented substitutions: independent updates); b has
+ * lanes_up(n) entries (the last ones scratch) */
+HOM_KERNEL static void lu_solve(int n, const hom_lu *F, double *restrict br, double *restrict bi)
 {
-    const double *Ar = F->r, *Ai = F->i;
+    int np = lanes_up(n);
     for (int k = 0; k < n; ++k) swap_entries(F->piv[k], k, br, bi);
     for (int j = 0; j < n - 1; ++j) {
         double vr = br[j], vi = bi[j];
         if (vr == 0.0 && vi == 0.0) continue;
-        for (int i = j + 1; i < n; ++i) {
-            double lr = Ar[i * n + j], li = Ai[i * n + j];
-            br[i] -= lr * vr - li * vi;
-            bi[i] -= lr * vi + li * vr;
-        }
+        axpy_sub((j + 1) / HOM_LANES * HOM_LANES, np, F->lr + j * np, F->li + j * np, vr, vi, br, bi);
     }
     for (int j = n - 1; j >= 0; --j) {
         double vr = br[j] * F->dr[j] - bi[j] * F->di[j], vi = br[j] * F->di[j] + bi[j] * F->dr[j];
         br[j] = vr, bi[j] = vi;
-        for (int i = 0; i < j; ++i) {
-            double ur = Ar[i * n + j], ui = Ai[i * n + j];
-            br[i] -= ur * vr - ui * vi;
-            bi[i] -= ur * vi + ui * vr;
-        }
+        axpy_sub(0, lanes_up(j), F->r + j * np, F->i + j * np, vr, vi, br, bi);
     }
 }
 
 /* b <- A^-H b (A = P^T L U, so A^H = U^H L^H P) */
 static void lu_solve_adj(int n, const hom_lu *F, double *br, double *bi)
 {
+    int np = lanes_up(n);
     const double *Ar = F->r, *Ai = F->i;
     for (int j = 0; j < n; ++j) { /* U^H w = b: forward, column j of U^H is conj of row j of U */
         double vr = br[j] * F->dr[j] + bi[j] * F->di[j], vi = bi[j] * F->dr[j] - br[j] * F->di[j];
         br[j] = vr, bi[j] = vi;
         for (int i = j + 1; i < n; ++i) {
-            double ur = Ar[j * n + i], ui = -Ai[j * n + i];
+            double ur = Ar[i * np + j], ui = -Ai[i * np + j];
             br[i] -= ur * vr - ui * vi;
             bi[i] -= ur * vi + ui * vr;
         }
@@ -268,7 +303,7 @@ static void lu_solve_adj(int n, const hom_lu *F, double *br, double *bi)
     for (int j = n - 1; j > 0; --j) { /* L^H v = w: backward, unit diagonal */
         double vr = br[j], vi = bi[j];
         for (int i = 0; i < j; ++i) {
-            double lr = Ar[j * n + i], li = -Ai[j * n + i];
+            double lr = F->lr[i * np + j], li = -F->li[i * np + j];
             br[i] -= lr * vr - li * vi;
             bi[i] -= lr * vi + li * vr;
         }
@@ -315,41 +350,62 @@ static double inv_norm1(int n, const hom_lu *F)
 
 /* ---- the homotopy ---- */
 
+/* out_j = sum_c u_c y[c*sp + j], j < sp (the complex dots of u with Q_j x,
+ * from y = Q x in the interleaved rows): HOM_LANES equations at a time,
+ * each summed over c in order */
+HOM_KERNEL static void dots_raw(int m, int sp, const double *restrict ur, const double *restrict ui,
+                                const double *restrict yr, const double *restrict yi, double *restrict outr,
+                                double *restrict outi)
+{
+    for (int j = 0; j < sp; j += HOM_LANES) {
+        double p0 = 0.0, p1 = 0.0, p2 = 0.0, p3 = 0.0, q0 = 0.0, q1 = 0.0, q2 = 0.0, q3 = 0.0;
+        for (int c = 0; c < m; ++c) {
+            const double *ar = yr + c * sp + j, *ai = yi + c * sp + j;
+            double a = ur[c], b = ui[c];
+            p0 += a * ar[0] - b * ai[0], p1 += a * ar[1] - b * ai[1];
+            p2 += a * ar[2] - b * ai[2], p3 += a * ar[3] - b * ai[3];
+            q0 += a * ai[0] + b * ar[0], q1 += a * ai[1] + b * ar[1];
+            q2 += a * ai[2] + b * ar[2], q3 += a * ai[3] + b * ar[3];
+        }
+        outr[j] = p0, outr[j + 1] = p1, outr[j + 2] = p2, outr[j + 3] = p3;
+        outi[j] = q0, outi[j + 1] = q1, outi[j + 2] = q2, outi[j + 3] = q3;
+    }
+}
+
 /* Q x, H and J at p->x, t, in the chart (car, cai); J goes to p->lu
- * (unfactored) */
+ * (unfactored, column-major) */
 static void eval(const hom_problem *P, const double *car, const double *cai, double t, hom_point *p)
 {
-    int m = P->m, s = P->s;
+    int m = P->m, s = P->s, sp = P->sp;
     const double *xr = p->xr, *xi = p->xi;
     qmul(P, xr, xi, p->yr, p->yi);
     double alr = (1.0 - t) * P->gr, ali = (1.0 - t) * P->gi;
     double *Jr = p->lu.r, *Ji = p->lu.i;
+    double fr[HOM_MAX_M], fi[HOM_MAX_M]; /* F_j(x) */
+    dots_raw(m, sp, xr, xi, p->yr, p->yi, fr, fi);
+    int np = lanes_up(m);
+    for (int c = 0; c < m; ++c) { /* J(j, c) = 2 t (Q_j x)_c + the G terms below */
+        const double *yr = p->yr + c * sp, *yi = p->yi + c * sp;
+        double *jr = Jr + c * np, *ji = Ji + c * np;
+        for (int j = 0; j < s; ++j) jr[j] = 2.0 * t * yr[j], ji[j] = 2.0 * t * yi[j];
+        jr[s] = car[c], ji[s] = cai[c];
+        for (int j = m; j < np; ++j) jr[j] = ji[j] = 0.0;
+    }
     double g0r = xr[0] * xr[0] - xi[0] * xi[0], g0i = 2.0 * xr[0] * xi[0];
     for (int j = 0; j < s; ++j) {
-        const double *yr = p->yr + j * m, *yi = p->yi + j * m;
-        double fr = 0.0, fi = 0.0;
-        double *jr = Jr + j * m, *ji = Ji + j * m;
-        for (int c = 0; c < m; ++c) {
-            fr += xr[c] * yr[c] - xi[c] * yi[c];
-            fi += xr[c] * yi[c] + xi[c] * yr[c];
-            jr[c] = 2.0 * t * yr[c];
-            ji[c] = 2.0 * t * yi[c];
-        }
         int q = j + 1;
         double gr = xr[q] * xr[q] - xi[q] * xi[q] - g0r, gi = 2.0 * xr[q] * xi[q] - g0i;
-        p->hr[j] = alr * gr - ali * gi + t * fr;
-        p->hi[j] = alr * gi + ali * gr + t * fi;
-        jr[0] -= 2.0 * (alr * xr[0] - ali * xi[0]);
-        ji[0] -= 2.0 * (alr * xi[0] + ali * xr[0]);
-        jr[q] += 2.0 * (alr * xr[q] - ali * xi[q]);
-        ji[q] += 2.0 * (alr * xi[q] + ali * xr[q]);
+        p->hr[j] = alr * gr - ali * gi + t * fr[j];
+        p->hi[j] = alr * gi + ali * gr + t * fi[j];
+        Jr[j] -= 2.0 * (alr * xr[0] - ali * xi[0]);
+        Ji[j] -= 2.0 * (alr * xi[0] + ali * xr[0]);
+        Jr[q * np + j] += 2.0 * (alr * xr[q] - ali * xi[q]);
+        Ji[q * np + j] += 2.0 * (alr * xi[q] + ali * xr[q]);
     }
     double cr = -1.0, ci = 0.0;
     for (int c = 0; c < m; ++c) {
         cr += car[c] * xr[c] - cai[c] * xi[c];
         ci += car[c] * xi[c] + cai[c] * xr[c];
-        Jr[s * m + c] = car[c];
-        Ji[s * m + c] = cai[c];
     }
     p->hr[s] = cr;
     p->hi[s] = ci;
@@ -358,28 +414,14 @@ static void eval(const hom_problem *P, const double *car, const double *cai, dou
 /* |A(t)[u, v]| <= normA |u||v| for the homotopy's bilinear form */
 static double norm_A(const hom_problem *P, double t) { return (1.0 - t) * P->normG + t * P->normF; }
 
-/* out_j += wgt * (u . y_j), j < s: the dot of u with each row block of y,
- * two blocks at a time */
-static void dots(int m, int s, double wgt, const double *ur, const double *ui, const double *yr, const double *yi,
-                 double *outr, double *outi)
+/* out_j += wgt * (u . y_j), j < s: the dot of u with each equation's
+ * part of y = Q x */
+static void dots(int m, int s, int sp, double wgt, const double *ur, const double *ui, const double *yr,
+                 const double *yi, double *outr, double *outi)
 {
-    int j = 0;
-    for (; j + 2 <= s; j += 2) {
-        const double *ar = yr + j * m, *ai = yi + j * m, *br = ar + m, *bi = ai + m;
-        double pr = 0.0, pi = 0.0, qr = 0.0, qi = 0.0;
-        for (int c = 0; c < m; ++c) {
-            pr += ur[c] * ar[c] - ui[c] * ai[c], pi += ur[c] * ai[c] + ui[c] * ar[c];
-            qr += ur[c] * br[c] - ui[c] * bi[c], qi += ur[c] * bi[c] + ui[c] * br[c];
-        }
-        outr[j] += wgt * pr, outi[j] += wgt * pi;
-        outr[j + 1] += wgt * qr, outi[j + 1] += wgt * qi;
-    }
-    for (; j < s; ++j) {
-        const double *ar = yr + j * m, *ai = yi + j * m;
-        double pr = 0.0, pi = 0.0;
-        for (int c = 0; c < m; ++c) pr += ur[c] * ar[c] - ui[c] * ai[c], pi += ur[c] * ai[c] + ui[c] * ar[c];
-        outr[j] += wgt * pr, outi[j] += wgt * pi;
-    }
+    double pr[HOM_MAX_M], pi[HOM_MAX_M];
+    dots_raw(m, sp, ur, ui, yr, yi, pr, pi);
+    for (int j = 0; j < s; ++j) outr[j] += wgt * pr[j], outi[j] += wgt * pi[j];
 }
 
 /* f_j = sum_{i = lo}^{k - lo} F_j[x_i, x_{k-i}] and g_j the same for G_j,
@@ -394,7 +436,7 @@ static void pair_sums(const hom_problem *P, const hom_ws *w, const double *const
         int l = k - i;
         double wgt = i < l ? 2.0 : 1.0;
         const double *ar = w->cr[l], *ai = w->ci[l], *ur = w->cr[i], *ui = w->ci[i];
-        dots(m, s, wgt, ar, ai, yr[i], yi[i], fr, fi);
+        dots(m, s, P->sp, wgt, ar, ai, yr[i], yi[i], fr, fi);
         double e0r = ur[0] * ar[0] - ui[0] * ai[0], e0i = ur[0] * ai[0] + ui[0] * ar[0];
         for (int j = 0; j < s; ++j) {
             int q = j + 1;
@@ -441,7 +483,7 @@ static void taylor(const hom_problem *P, hom_ws *w, const hom_point *b, double t
                 fi[j] += (rhi[j] - wgt * (alr * ei + ali * er)) / t0;
             }
         }
-        if (!recover) dots(m, s, wgt, ur, ui, yr[0], yi[0], fr, fi);
+        if (!recover) dots(m, s, P->sp, wgt, ur, ui, yr[0], yi[0], fr, fi);
         if (k >= 2) pair_sums(P, w, yr, yi, k, 1, ftr, fti, gtr, gti);
         for (int j = 0; j < s; ++j) { /* -(alpha gt + t0 ft - gamma g + f) */
             rr[j] = -(alr * gtr[j] - ali * gti[j] + t0 * ftr[j] - (P->gr * gr[j] - P->gi * gi[j]) + fr[j]);
@@ -559,7 +601,11 @@ static void certify(const hom_problem *P, hom_ws *w, const double *xr, const dou
         memcpy(p->xi, zi, sizeof(double) * (size_t)m);
         double jf = 0.0;
         eval(P, car, cai, 1.0, p);
-        for (int j = 0; j < s * m; ++j) jf += p->lu.r[j] * p->lu.r[j] + p->lu.i[j] * p->lu.i[j];
+        for (int j = 0; j < s; ++j) /* rows j < s of J, row by row (column-major) */
+            for (int c = 0; c < m; ++c) {
+                double a = p->lu.r[c * lanes_up(m) + j], b = p->lu.i[c * lanes_up(m) + j];
+                jf += a * a + b * b;
+            }
         if (!lu_factor(m, &p->lu)) return;
         memcpy(dr, p->hr, sizeof(double) * (size_t)m);
         memcpy(di, p->hi, sizeof(double) * (size_t)m);
