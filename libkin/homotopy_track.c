@@ -53,6 +53,7 @@
 #if defined(__x86_64__) && defined(__ELF__) && defined(__has_attribute) && !defined(KIN_NO_MULTIVERSION)
 #if __has_attribute(target_clones)
 #define HOM_KERNEL __attribute__((target_clones("avx2", "default")))
+#define HOM_MULTIVERSION 1
 #endif
 #endif
 #ifndef HOM_KERNEL
@@ -176,30 +177,71 @@ static double vnorm(int n, const double *xr, const double *xi)
     return sqrt(s);
 }
 
+/* rows i .. i + 7 of y = Q x from block qb of the blocked copy of Q */
+#define HOM_QBLOCK_DECL(r, im)                                                                                     \
+    double r##0 = 0.0, r##1 = 0.0, r##2 = 0.0, r##3 = 0.0, r##4 = 0.0, r##5 = 0.0, r##6 = 0.0, r##7 = 0.0;         \
+    double im##0 = 0.0, im##1 = 0.0, im##2 = 0.0, im##3 = 0.0, im##4 = 0.0, im##5 = 0.0, im##6 = 0.0, im##7 = 0.0
+#define HOM_QBLOCK_ACC(r, im, q, a, b)                                                                             \
+    (r##0 += (q)[0] * (a), r##1 += (q)[1] * (a), r##2 += (q)[2] * (a), r##3 += (q)[3] * (a),                      \
+     r##4 += (q)[4] * (a), r##5 += (q)[5] * (a), r##6 += (q)[6] * (a), r##7 += (q)[7] * (a),                      \
+     im##0 += (q)[0] * (b), im##1 += (q)[1] * (b), im##2 += (q)[2] * (b), im##3 += (q)[3] * (b),                  \
+     im##4 += (q)[4] * (b), im##5 += (q)[5] * (b), im##6 += (q)[6] * (b), im##7 += (q)[7] * (b))
+#define HOM_QBLOCK_STORE(r, im, u, v)                                                                              \
+    ((u)[0] = r##0, (u)[1] = r##1, (u)[2] = r##2, (u)[3] = r##3, (u)[4] = r##4, (u)[5] = r##5, (u)[6] = r##6,      \
+     (u)[7] = r##7, (v)[0] = im##0, (v)[1] = im##1, (v)[2] = im##2, (v)[3] = im##3, (v)[4] = im##4,              \
+     (v)[5] = im##5, (v)[6] = im##6, (v)[7] = im##7)
+
 /* y_i = sum_c Q[i][c] x_c, i < m*sp (the interleaved rows: y[r*sp + j] is
  * row r of Q_j x), from the blocked copy of Q: eight rows at a time, their
- * entries of column c adjacent (independent accumulators, and the compiler
- * pairs them in vector registers) */
-HOM_KERNEL static void qmul(const hom_problem *P, const double *restrict xr, const double *restrict xi,
+ * entries of column c adjacent (independent sums over c in order, which the
+ * compiler pairs in vector registers); `pairs`: two blocks at once (sixteen
+ * independent sums: with 4-wide registers, eight would leave the adders
+ * waiting on their own latency; with 2-wide ones, sixteen would not fit) */
+HOM_INLINE void qmul_blocks(const hom_problem *P, int pairs, const double *restrict xr, const double *restrict xi,
                             double *restrict yr, double *restrict yi)
 {
-    int n = P->sp * P->m, m = P->m;
+    int n = P->sp * P->m, m = P->m, i = 0;
     const double *qb = P->Qb;
-    for (int i = 0; i < n; i += HOM_QBLOCK, qb += HOM_QBLOCK * m) {
-        double r0 = 0.0, r1 = 0.0, r2 = 0.0, r3 = 0.0, r4 = 0.0, r5 = 0.0, r6 = 0.0, r7 = 0.0;
-        double i0 = 0.0, i1 = 0.0, i2 = 0.0, i3 = 0.0, i4 = 0.0, i5 = 0.0, i6 = 0.0, i7 = 0.0;
-        for (int c = 0; c < m; ++c) {
-            const double *q = qb + HOM_QBLOCK * c;
-            double a = xr[c], b = xi[c];
-            r0 += q[0] * a, r1 += q[1] * a, r2 += q[2] * a, r3 += q[3] * a;
-            r4 += q[4] * a, r5 += q[5] * a, r6 += q[6] * a, r7 += q[7] * a;
-            i0 += q[0] * b, i1 += q[1] * b, i2 += q[2] * b, i3 += q[3] * b;
-            i4 += q[4] * b, i5 += q[5] * b, i6 += q[6] * b, i7 += q[7] * b;
+    if (pairs)
+        for (; i + 2 * HOM_QBLOCK <= n; i += 2 * HOM_QBLOCK, qb += 2 * HOM_QBLOCK * m) {
+            HOM_QBLOCK_DECL(r, ri);
+            HOM_QBLOCK_DECL(u, ui);
+            const double *qc = qb + HOM_QBLOCK * m;
+            for (int c = 0; c < m; ++c) {
+                double a = xr[c], b = xi[c];
+                HOM_QBLOCK_ACC(r, ri, qb + HOM_QBLOCK * c, a, b);
+                HOM_QBLOCK_ACC(u, ui, qc + HOM_QBLOCK * c, a, b);
+            }
+            HOM_QBLOCK_STORE(r, ri, yr + i, yi + i);
+            HOM_QBLOCK_STORE(u, ui, yr + i + HOM_QBLOCK, yi + i + HOM_QBLOCK);
         }
-        double *u = yr + i, *v = yi + i; /* padded to a whole block */
-        u[0] = r0, u[1] = r1, u[2] = r2, u[3] = r3, u[4] = r4, u[5] = r5, u[6] = r6, u[7] = r7;
-        v[0] = i0, v[1] = i1, v[2] = i2, v[3] = i3, v[4] = i4, v[5] = i5, v[6] = i6, v[7] = i7;
+    for (; i < n; i += HOM_QBLOCK, qb += HOM_QBLOCK * m) {
+        HOM_QBLOCK_DECL(r, ri);
+        for (int c = 0; c < m; ++c) {
+            double a = xr[c], b = xi[c];
+            HOM_QBLOCK_ACC(r, ri, qb + HOM_QBLOCK * c, a, b);
+        }
+        HOM_QBLOCK_STORE(r, ri, yr + i, yi + i); /* padded to a whole block */
     }
+}
+
+#if defined(HOM_MULTIVERSION)
+__attribute__((target("avx2"))) static void qmul_avx2(const hom_problem *P, const double *xr, const double *xi,
+                                                      double *yr, double *yi)
+{
+    qmul_blocks(P, 1, xr, xi, yr, yi);
+}
+#endif
+
+static void qmul(const hom_problem *P, const double *xr, const double *xi, double *yr, double *yi)
+{
+#if defined(HOM_MULTIVERSION)
+    if (__builtin_cpu_supports("avx2")) {
+        qmul_avx2(P, xr, xi, yr, yi);
+        return;
+    }
+#endif
+    qmul_blocks(P, 0, xr, xi, yr, yi);
 }
 
 static int lanes_up(int n) { return (n + HOM_LANES - 1) / HOM_LANES * HOM_LANES; }
@@ -268,21 +310,88 @@ static void swap_entries(int p, int k, double *br, double *bi)
     bi[k] = bi[p], bi[p] = t;
 }
 
-/* b <- A^-1 b (column-oriented substitutions: independent updates); b has
- * lanes_up(n) entries (the last ones scratch) */
+/* b[lo..hi-1] -= sum_{c = 0..3} (cr[c] + i ci[c]) (vr[c] + i vi[c]), the four
+ * columns applied in the order given (lo, hi whole lanes): b stays in
+ * registers across the four updates */
+#define HOM_UPD4(x, y, cr, ci, k, i, vr, vi)                                                                       \
+    (x##0 -= cr[k][i] * vr[k] - ci[k][i] * vi[k], y##0 -= cr[k][i] * vi[k] + ci[k][i] * vr[k],                     \
+     x##1 -= cr[k][i + 1] * vr[k] - ci[k][i + 1] * vi[k], y##1 -= cr[k][i + 1] * vi[k] + ci[k][i + 1] * vr[k],     \
+     x##2 -= cr[k][i + 2] * vr[k] - ci[k][i + 2] * vi[k], y##2 -= cr[k][i + 2] * vi[k] + ci[k][i + 2] * vr[k],     \
+     x##3 -= cr[k][i + 3] * vr[k] - ci[k][i + 3] * vi[k], y##3 -= cr[k][i + 3] * vi[k] + ci[k][i + 3] * vr[k])
+/* x + i y -= (lr + i li) (vr + i vi) */
+#define HOM_CSUB(x, y, lr, li, vr, vi) ((x) -= (lr) * (vr) - (li) * (vi), (y) -= (lr) * (vi) + (li) * (vr))
+HOM_INLINE void axpy4_sub(int lo, int hi, const double *const *cr, const double *const *ci, const double *vr,
+                          const double *vi, double *restrict br, double *restrict bi)
+{
+    for (int i = lo; i < hi; i += HOM_LANES) {
+        double x0 = br[i], x1 = br[i + 1], x2 = br[i + 2], x3 = br[i + 3];
+        double y0 = bi[i], y1 = bi[i + 1], y2 = bi[i + 2], y3 = bi[i + 3];
+        HOM_UPD4(x, y, cr, ci, 0, i, vr, vi);
+        HOM_UPD4(x, y, cr, ci, 1, i, vr, vi);
+        HOM_UPD4(x, y, cr, ci, 2, i, vr, vi);
+        HOM_UPD4(x, y, cr, ci, 3, i, vr, vi);
+        br[i] = x0, br[i + 1] = x1, br[i + 2] = x2, br[i + 3] = x3;
+        bi[i] = y0, bi[i + 1] = y1, bi[i + 2] = y2, bi[i + 3] = y3;
+    }
+}
+
+/* b <- A^-1 b: column-oriented substitutions (independent updates), in
+ * blocks of four columns (the block's triangle in scalars, then the rows
+ * beyond it updated by all four columns at once); every entry receives the
+ * updates of the columns in the same order as one column at a time. b has
+ * lanes_up(n) entries (the last ones scratch). */
 HOM_KERNEL static void lu_solve(int n, const hom_lu *F, double *restrict br, double *restrict bi)
 {
-    int np = lanes_up(n);
+    int np = lanes_up(n), j0 = 0;
     for (int k = 0; k < n; ++k) swap_entries(F->piv[k], k, br, bi);
-    for (int j = 0; j < n - 1; ++j) {
+    for (; j0 + HOM_LANES <= n; j0 += HOM_LANES) { /* L y = b, unit diagonal */
+        const double *cr[HOM_LANES], *ci[HOM_LANES];
+        for (int a = 0; a < HOM_LANES; ++a) cr[a] = F->lr + (j0 + a) * np, ci[a] = F->li + (j0 + a) * np;
+        double vr[HOM_LANES], vi[HOM_LANES];
+        double x0 = br[j0], y0 = bi[j0], x1 = br[j0 + 1], y1 = bi[j0 + 1];
+        double x2 = br[j0 + 2], y2 = bi[j0 + 2], x3 = br[j0 + 3], y3 = bi[j0 + 3];
+        HOM_CSUB(x1, y1, cr[0][j0 + 1], ci[0][j0 + 1], x0, y0);
+        HOM_CSUB(x2, y2, cr[0][j0 + 2], ci[0][j0 + 2], x0, y0);
+        HOM_CSUB(x3, y3, cr[0][j0 + 3], ci[0][j0 + 3], x0, y0);
+        HOM_CSUB(x2, y2, cr[1][j0 + 2], ci[1][j0 + 2], x1, y1);
+        HOM_CSUB(x3, y3, cr[1][j0 + 3], ci[1][j0 + 3], x1, y1);
+        HOM_CSUB(x3, y3, cr[2][j0 + 3], ci[2][j0 + 3], x2, y2);
+        br[j0] = vr[0] = x0, bi[j0] = vi[0] = y0, br[j0 + 1] = vr[1] = x1, bi[j0 + 1] = vi[1] = y1;
+        br[j0 + 2] = vr[2] = x2, bi[j0 + 2] = vi[2] = y2, br[j0 + 3] = vr[3] = x3, bi[j0 + 3] = vi[3] = y3;
+        axpy4_sub(j0 + HOM_LANES, np, cr, ci, vr, vi, br, bi);
+    }
+    for (int j = j0; j < n - 1; ++j) {
         double vr = br[j], vi = bi[j];
         if (vr == 0.0 && vi == 0.0) continue;
         axpy_sub((j + 1) / HOM_LANES * HOM_LANES, np, F->lr + j * np, F->li + j * np, vr, vi, br, bi);
     }
-    for (int j = n - 1; j >= 0; --j) {
+    /* U x = y: the columns beyond the last whole block one at a time */
+    for (int j = n - 1; j >= j0; --j) {
         double vr = br[j] * F->dr[j] - bi[j] * F->di[j], vi = br[j] * F->di[j] + bi[j] * F->dr[j];
         br[j] = vr, bi[j] = vi;
         axpy_sub(0, lanes_up(j), F->r + j * np, F->i + j * np, vr, vi, br, bi);
+    }
+    for (j0 -= HOM_LANES; j0 >= 0; j0 -= HOM_LANES) {
+        const double *cr[HOM_LANES], *ci[HOM_LANES]; /* the block's columns, last first */
+        for (int a = 0; a < HOM_LANES; ++a)
+            cr[a] = F->r + (j0 + HOM_LANES - 1 - a) * np, ci[a] = F->i + (j0 + HOM_LANES - 1 - a) * np;
+        const double *dr = F->dr + j0, *di = F->di + j0;
+        double vr[HOM_LANES], vi[HOM_LANES], t;
+        double x0 = br[j0], y0 = bi[j0], x1 = br[j0 + 1], y1 = bi[j0 + 1];
+        double x2 = br[j0 + 2], y2 = bi[j0 + 2], x3 = br[j0 + 3], y3 = bi[j0 + 3];
+        t = x3 * dr[3] - y3 * di[3], y3 = x3 * di[3] + y3 * dr[3], x3 = t;
+        HOM_CSUB(x0, y0, cr[0][j0], ci[0][j0], x3, y3);
+        HOM_CSUB(x1, y1, cr[0][j0 + 1], ci[0][j0 + 1], x3, y3);
+        HOM_CSUB(x2, y2, cr[0][j0 + 2], ci[0][j0 + 2], x3, y3);
+        t = x2 * dr[2] - y2 * di[2], y2 = x2 * di[2] + y2 * dr[2], x2 = t;
+        HOM_CSUB(x0, y0, cr[1][j0], ci[1][j0], x2, y2);
+        HOM_CSUB(x1, y1, cr[1][j0 + 1], ci[1][j0 + 1], x2, y2);
+        t = x1 * dr[1] - y1 * di[1], y1 = x1 * di[1] + y1 * dr[1], x1 = t;
+        HOM_CSUB(x0, y0, cr[2][j0], ci[2][j0], x1, y1);
+        t = x0 * dr[0] - y0 * di[0], y0 = x0 * di[0] + y0 * dr[0], x0 = t;
+        br[j0] = vr[3] = x0, bi[j0] = vi[3] = y0, br[j0 + 1] = vr[2] = x1, bi[j0 + 1] = vi[2] = y1;
+        br[j0 + 2] = vr[1] = x2, bi[j0 + 2] = vi[1] = y2, br[j0 + 3] = vr[0] = x3, bi[j0 + 3] = vi[0] = y3;
+        axpy4_sub(0, j0, cr, ci, vr, vi, br, bi);
     }
 }
 
@@ -351,13 +460,35 @@ static double inv_norm1(int n, const hom_lu *F)
 /* ---- the homotopy ---- */
 
 /* out_j = sum_c u_c y[c*sp + j], j < sp (the complex dots of u with Q_j x,
- * from y = Q x in the interleaved rows): HOM_LANES equations at a time,
- * each summed over c in order */
+ * from y = Q x in the interleaved rows): eight equations at a time (four
+ * for the last group when sp is not a multiple of eight), each summed over c
+ * in order; eight independent sums keep the adders busy */
 HOM_KERNEL static void dots_raw(int m, int sp, const double *restrict ur, const double *restrict ui,
                                 const double *restrict yr, const double *restrict yi, double *restrict outr,
                                 double *restrict outi)
 {
-    for (int j = 0; j < sp; j += HOM_LANES) {
+    int j = 0;
+    for (; j + 8 <= sp; j += 8) {
+        double p0 = 0.0, p1 = 0.0, p2 = 0.0, p3 = 0.0, p4 = 0.0, p5 = 0.0, p6 = 0.0, p7 = 0.0;
+        double q0 = 0.0, q1 = 0.0, q2 = 0.0, q3 = 0.0, q4 = 0.0, q5 = 0.0, q6 = 0.0, q7 = 0.0;
+        for (int c = 0; c < m; ++c) {
+            const double *ar = yr + c * sp + j, *ai = yi + c * sp + j;
+            double a = ur[c], b = ui[c];
+            p0 += a * ar[0] - b * ai[0], p1 += a * ar[1] - b * ai[1];
+            p2 += a * ar[2] - b * ai[2], p3 += a * ar[3] - b * ai[3];
+            p4 += a * ar[4] - b * ai[4], p5 += a * ar[5] - b * ai[5];
+            p6 += a * ar[6] - b * ai[6], p7 += a * ar[7] - b * ai[7];
+            q0 += a * ai[0] + b * ar[0], q1 += a * ai[1] + b * ar[1];
+            q2 += a * ai[2] + b * ar[2], q3 += a * ai[3] + b * ar[3];
+            q4 += a * ai[4] + b * ar[4], q5 += a * ai[5] + b * ar[5];
+            q6 += a * ai[6] + b * ar[6], q7 += a * ai[7] + b * ar[7];
+        }
+        outr[j] = p0, outr[j + 1] = p1, outr[j + 2] = p2, outr[j + 3] = p3;
+        outr[j + 4] = p4, outr[j + 5] = p5, outr[j + 6] = p6, outr[j + 7] = p7;
+        outi[j] = q0, outi[j + 1] = q1, outi[j + 2] = q2, outi[j + 3] = q3;
+        outi[j + 4] = q4, outi[j + 5] = q5, outi[j + 6] = q6, outi[j + 7] = q7;
+    }
+    if (j < sp) {
         double p0 = 0.0, p1 = 0.0, p2 = 0.0, p3 = 0.0, q0 = 0.0, q1 = 0.0, q2 = 0.0, q3 = 0.0;
         for (int c = 0; c < m; ++c) {
             const double *ar = yr + c * sp + j, *ai = yi + c * sp + j;
