@@ -17,6 +17,7 @@ from .assembly import (Analysis, Assembly, BranchPath, Branches, FollowEvent, Lo
                        solve_quadrics)
 from .errors import KinError, ModelFormatError
 from .model_json import load_json, load_model, to_json
+from .atlas import Atlas, explore
 
 #: The version of the loaded C library (``kin_version_string()``), which is
 #: also the version of this package.
@@ -24,4 +25,4 @@ __version__: str = _c_string(lib.kin_version_string())
 
 __all__ = ["Assembly", "Analysis", "Options", "StepInfo", "Branches", "BranchPath", "LocateInfo", "FollowEvent",
            "solve_quadrics", "KinError", "ModelFormatError", "errors", "load_json", "load_model", "to_json", "lib",
-           "library_path", "__version__"]
+           "library_path", "__version__", "explore", "Atlas"]

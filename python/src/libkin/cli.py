@@ -238,6 +238,11 @@ def cmd_study(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_explore(args: argparse.Namespace) -> int:
+    from .atlas_cli import run
+    return run(args, _load(args.model))
+
+
 def cmd_fold_export(args: argparse.Namespace) -> int:
     from .fold import write_fold
     a = _load(args.model)
@@ -330,6 +335,12 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--threads", type=_count(1), default=2, help="threads of the homotopy solver")
     s.add_argument("--quiet", action="store_true", help="no progress messages")
     s.set_defaults(fn=cmd_study)
+    s = sub.add_parser("explore", help="the atlas: every path out of every bifurcation met (docs/atlas.md)")
+    from .atlas_cli import add_arguments
+    add_arguments(s)
+    s.set_defaults(fn=cmd_explore)
+
+
     s = sub.add_parser("fold-export", help="write a model, or a path followed from it, as a FOLD file")
     s.add_argument("model", help="MODEL as above, or a .fold file")
     s.add_argument("--follow", type=_count(0), default=0, help="steps to follow; each is a frame (default 0)")

@@ -1,0 +1,211 @@
+"""The atlas (libkin.explore): symmetry detection, the map of the square
+sail's flat state serially, on a process pool and on a Dask cluster, other
+structures and starts, the outputs and the command line."""
+import json
+from concurrent.futures import ProcessPoolExecutor
+
+import networkx as nx
+import numpy as np
+import pytest
+
+import libkin
+from libkin import atlas as atlas_mod
+from libkin import homotopy_shards
+from libkin.atlas_tasks import EVENT_KINDS
+from libkin.automorphisms import detect_symmetries, invariant_subspace
+from libkin.cli import main
+from libkin.symmetry import sail_rotation, symmetric_subspace
+
+
+@pytest.fixture(scope="module")
+def square():
+    """The serial atlas of the square sail's flat state, depth 1."""
+    return libkin.explore("sail:4:1", depth=1)
+
+
+def _check_square(at):
+    assert at.nodes[0].kind == atlas_mod.BIFURCATION and (at.nodes[0].m, at.nodes[0].s) == (5, 4)
+    assert at.nodes[0].branches["solutions"] == 16 and at.nodes[0].branches["accounting"]["paths"] == 16
+    assert len(at.edges) == 32
+    assert sorted((e.solution, e.sign) for e in at.edges) == sorted((i, s) for i in range(16) for s in (1, -1))
+    assert all(e.source == 0 and e.event in EVENT_KINDS for e in at.edges)
+
+
+def test_symmetries_detected():
+    sq = detect_symmetries(libkin.Assembly.sail(4, 1))
+    # identity, the mirror z -> -z, the half-turn about z (V0 <-> V2), and both
+    assert len(sq) == 4 and sum(g.proper for g in sq) == 2 and sq[0].is_identity
+    half = [g for g in sq if g.proper and not g.is_identity][0]
+    assert half.perm == (2, 3, 0, 1, 6, 7, 4, 5)
+    assert len(detect_symmetries(libkin.Assembly.threebar("RC"))) == 2  # the mirror y -> -y
+    hexa = libkin.Assembly.sail(6, 2)
+    gs = detect_symmetries(hexa)
+    assert len(gs) == 6 and sum(g.proper for g in gs) == 3
+    # the proper rotations give the sail study's symmetric subspace (k = 6)
+    U = hexa.analyse().internal_mechanisms
+    P = [g.free_matrix(hexa.free_map()) for g in gs if g.proper and not g.is_identity]
+    G = invariant_subspace(U, P)
+    G_study = symmetric_subspace(U, sail_rotation(hexa, 6, 2))
+    assert G.shape == G_study.shape == (16, 6)
+    assert np.linalg.svd(G.T @ G_study, compute_uv=False).min() > 1 - 1e-9  # the same subspace
+
+
+def test_square_sail_serial(square):
+    _check_square(square)
+    at = square
+    for n in at.nodes:
+        # a node says what it is: regular points are never bifurcations
+        if n.kind == atlas_mod.BIFURCATION:
+            assert n.m >= 2 and n.s >= 1
+        elif n.kind in (atlas_mod.REGULAR, atlas_mod.NEAR_MISS):
+            assert n.m == 1
+    assert at.summary()["edge_events"].get("bifurcation", 0) > 0
+    # end points related by the structure's symmetry share an orbit
+    imgs = [n for n in at.nodes if n.image_of is not None]
+    assert imgs and all(n.orbit == at.nodes[n.image_of["node"]].orbit for n in imgs)
+    for n in imgs:
+        g = at.symmetries[n.image_of["symmetry"]]
+        assert np.abs(g.apply(at.nodes[n.image_of["node"]].coords) - n.coords).max() < 1e-5
+    # deterministic
+    assert libkin.explore("sail:4:1", depth=1).same_as(at, tol=0.0)
+
+
+def test_square_sail_process_pool(square):
+    with ProcessPoolExecutor(max_workers=2) as ex:
+        at = libkin.explore("sail:4:1", depth=1, executor=ex)
+        # the complete solver in shards on the same pool: the same answer
+        sharded = libkin.explore("sail:4:1", depth=1, executor=ex, shards=4)
+        Q = libkin.Assembly.sail(4, 1).second_order()
+        betas, acc = homotopy_shards.solve_sharded(Q, ex, shards=3)
+    _check_square(at)
+    assert at.same_as(square)
+    assert sharded.nodes[0].branches["accounting"]["shards"] == 4 and sharded.same_as(square)
+    ref, ref_acc = libkin.solve_quadrics(Q, threads=1)
+    assert np.array_equal(betas, ref) and all(acc[k] == ref_acc[k] for k in acc)
+
+
+def test_square_sail_dask(square):
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        at = libkin.explore("sail:4:1", depth=1, executor=client)
+    _check_square(at)
+    assert at.same_as(square)
+
+
+def test_symmetric_mode():
+    at = libkin.explore("sail:4:1", depth=1, symmetric=True)
+    b = at.nodes[0].branches
+    # the half-turn's symmetric subspace: 3 mechanisms, 2 equations, 4 real solutions
+    assert (b["mode"], b["k"], b["s_restricted"], b["solutions"]) == ("symmetric", 3, 2, 4)
+    assert len(at.edges) == 8
+
+
+def test_threebar_and_regular_start(tmp_path):
+    at = libkin.explore("threebar:RC", depth=2)
+    bif = [n for n in at.nodes if n.kind == atlas_mod.BIFURCATION]
+    assert len(bif) == 3 and all((n.m, n.s) == (2, 1) for n in bif)
+    assert len([e for e in at.edges if e.source == 0]) == 4
+    # every branch ends at one of the three bifurcations, with 2 samples along the way
+    assert all(e.event == "bifurcation" and len(e.samples) == 2 for e in at.edges)
+    # a regular start: a point on a path (a sample of the atlas above)
+    at2 = libkin.explore("threebar:RC", start=at.edges[0].samples[0], depth=1)
+    assert at2.nodes[0].kind == atlas_mod.REGULAR and at2.nodes[0].branches["mode"] == "regular"
+    assert len(at2.edges) == 2 and {e.sign for e in at2.edges} == {1, -1}
+    assert any(at2.nodes[e.target].kind == atlas_mod.BIFURCATION for e in at2.edges)
+
+
+def test_json_model_and_outputs(tmp_path):
+    path = tmp_path / "three.json"
+    libkin.Assembly.threebar("RC").to_json(path)
+    at = libkin.explore(str(path), depth=1)
+    assert len(at.edges) == 4
+    from libkin import atlas_report
+    rep = atlas_report.write(at, tmp_path / "out")
+    for f in ("atlas.json", "atlas.graphml", "atlas_map.png", "atlas_nodes.png", "report.md"):
+        assert (tmp_path / "out" / f).stat().st_size > 0
+    assert "N0" in rep.read_text()
+    back = atlas_mod.Atlas.from_dict(json.loads((tmp_path / "out" / "atlas.json").read_text()))
+    assert back.same_as(at, tol=0.0)
+    G = nx.read_graphml(tmp_path / "out" / "atlas.graphml")
+    assert G.number_of_nodes() == len(at.nodes) and G.number_of_edges() == len(at.edges)
+    assert G.nodes["N0"]["kind"] == "bifurcation"
+
+
+def _solve(Q):
+    betas, acc = libkin.solve_quadrics(Q, threads=1)
+    return {"betas": betas.tolist(), "accounting": acc}
+
+
+def test_overdetermined_and_continuum_systems():
+    # two equations in two unknowns: b0^2 = 0 and 2 b0 b1 = 0 share the root (0, 1)
+    Q = np.array([[[1.0, 0.0], [0.0, 0.0]], [[0.0, 1.0], [1.0, 0.0]]]) / np.sqrt([[[1.0]], [[2.0]]])
+    betas, rec = atlas_mod.solve_system(Q, 2, _solve)
+    assert betas.shape == (1, 2) and abs(abs(betas[0, 1]) - 1.0) < 1e-9 and rec["candidates"] >= 1
+    # ... b0^2 - b1^2 = 0 and 2 b0 b1 = 0 share none
+    Q2 = np.array([[[1.0, 0.0], [0.0, -1.0]], [[0.0, 1.0], [1.0, 0.0]]]) / np.sqrt(2.0)
+    betas, rec = atlas_mod.solve_system(Q2, 2, _solve)
+    assert betas.shape == (0, 2) and rec["solutions"] == 0
+    # one equation in three unknowns: a continuum, not enumerated
+    Q3 = np.zeros((1, 3, 3))
+    Q3[0, 0, 0], Q3[0, 1, 1] = 1.0 / np.sqrt(2.0), -1.0 / np.sqrt(2.0)
+    betas, rec = atlas_mod.solve_system(Q3, 3, _solve)
+    assert betas is None and rec["solutions"] == 0
+
+
+def test_shard_ranges_cover_every_path():
+    for s, k in ((4, 3), (4, 16), (4, 40), (10, 7)):
+        r = homotopy_shards.shard_ranges(s, k)
+        assert r[0][0] == 0 and sum(c for _, c in r) == 1 << s and all(c > 0 for _, c in r)
+        assert all(r[i][0] + r[i][1] == r[i + 1][0] for i in range(len(r) - 1))
+
+
+def test_bad_arguments():
+    with pytest.raises(libkin.errors.InvalidArgumentError):
+        libkin.explore("threebar:RC", symmetric="maybe")
+    with pytest.raises(libkin.errors.InvalidArgumentError):
+        libkin.explore("threebar:RC", depth=-1)
+    with pytest.raises(libkin.errors.InvalidArgumentError):
+        libkin.explore("threebar:RC", start=np.zeros((3, 2)))
+    for bad in ({"max_length": -1.0}, {"max_length": float("nan")}, {"max_nodes": 0}, {"samples": -1},
+                {"time_limit": -1.0}, {"shards": 0}, {"max_steps": 0}):
+        with pytest.raises(libkin.errors.InvalidArgumentError):
+            libkin.explore("threebar:RC", **bad)
+
+
+def test_cli(tmp_path, capsys):
+    out = tmp_path / "atl"
+    assert main(["explore", "threebar:RC", "--depth", "1", "--out", str(out), "--quiet"]) == 0
+    doc = json.loads((out / "atlas.json").read_text())
+    assert len(doc["edges"]) == 4 and doc["nodes"][0]["kind"] == "bifurcation"
+    assert (out / "report.md").exists() and (out / "atlas_map.png").exists()
+
+
+def test_bounds():
+    # the start is expanded, then the node budget stops the next level
+    at = libkin.explore("threebar:RC", depth=3, max_nodes=2)
+    assert at.nodes[0].expanded and not any(n.expanded for n in at.nodes[1:])
+    assert at.stats["stopped_by"] == "max_nodes"
+    # no time at all: nothing is expanded, and the atlas says why
+    at = libkin.explore("threebar:RC", depth=3, time_limit=0.0)
+    assert len(at.nodes) == 1 and not at.edges and at.stats["stopped_by"] == "time_limit"
+    # a time limit that runs out while the start's branches are followed: the
+    # branches not started are left out, and the start says so
+    at = libkin.explore("sail:4:1", depth=1, time_limit=0.1)
+    if len(at.edges) < 32:  # (a fast machine may finish in time)
+        assert "time limit" in at.nodes[0].status and at.stats["stopped_by"] == "time_limit"
+    # a path-length budget shorter than every path: every branch ends in `budget` at a regular point
+    at = libkin.explore("threebar:RC", depth=1, max_length=0.5)
+    assert len(at.edges) == 4 and all(e.event == "budget" for e in at.edges)
+    assert all(at.nodes[e.target].kind == atlas_mod.REGULAR and e.length >= 0.5 for e in at.edges)
+
+
+def test_square_sail_matches_stored_example(square):
+    """examples/atlas/square_sail (written by `libkin explore sail:4:1 --out ...`): the same map."""
+    import pathlib
+    stored = pathlib.Path(__file__).resolve().parents[2] / "examples" / "atlas" / "square_sail" / "atlas.json"
+    ref = atlas_mod.Atlas.from_dict(json.loads(stored.read_text()))
+    assert [(n.kind, n.m, n.s, n.orbit) for n in ref.nodes] == [(n.kind, n.m, n.s, n.orbit) for n in square.nodes]
+    assert ([(e.source, e.target, e.solution, e.sign, e.event) for e in ref.edges] ==
+            [(e.source, e.target, e.solution, e.sign, e.event) for e in square.edges])
+    assert ref.same_as(square, tol=1e-6)
