@@ -48,8 +48,9 @@
 /* The hottest kernels are compiled twice where the compiler and the
  * platform support function multiversioning (GCC or Clang on x86-64 ELF):
  * for AVX2 (4 doubles per vector register) and for the baseline, picked at
- * load time by the CPU. Floating-point contraction stays off (ISO C mode),
- * so both versions round identically. */
+ * load time by the CPU. The AVX2 target has no FMA instructions, so no
+ * product-sum is contracted whatever the -ffp-contract setting, and both
+ * versions round identically (the results are bit-identical). */
 #if defined(__x86_64__) && defined(__ELF__) && defined(__has_attribute) && !defined(KIN_NO_MULTIVERSION)
 #if __has_attribute(target_clones)
 #define HOM_KERNEL __attribute__((target_clones("avx2", "default")))
