@@ -111,6 +111,10 @@ static kin_assembly *copy_in_mode(const kin_assembly *a, int mode)
     kin_options o = {.size = sizeof o};
     kin_get_options(b, &o);
     o.factorization = mode;
+    /* the SVD mode's step amplitudes in both modes: this program compares
+     * the modes' points after the same steps (the LU modes' own control is
+     * measured by bench_step_sparse.c) */
+    o.step_control = KIN_STEP_CONTROL_SHARED;
     kin_set_options(b, &o);
     return b;
 }

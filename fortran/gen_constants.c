@@ -49,7 +49,9 @@ static void constants(void)
     printf("! enum kin_mech_kind\n");
     P(KIN_MECH_INTERNAL) P(KIN_MECH_RIGID) P(KIN_MECH_ALL)
     printf("! enum kin_step_factorization\n");
-    P(KIN_STEP_SVD) P(KIN_STEP_LU)
+    P(KIN_STEP_SVD) P(KIN_STEP_LU) P(KIN_STEP_SPARSE)
+    printf("! enum kin_step_control\n");
+    P(KIN_STEP_CONTROL_MODE) P(KIN_STEP_CONTROL_SHARED)
     printf("! enum kin_locate_method\n");
     P(KIN_LOCATE_PAPER) P(KIN_LOCATE_FAST) P(KIN_LOCATE_ILLINOIS)
     printf("! enum kin_locate_event\n");
@@ -121,7 +123,7 @@ static void layout(void)
     BEGIN(kin_options) F(kin_options, size) F(kin_options, rank_tol) F(kin_options, corrector_tol)
         F(kin_options, corrector_max_iter) F(kin_options, step_fraction)
         F(kin_options, max_halvings) F(kin_options, direction_tol) F(kin_options, max_correction)
-        F(kin_options, factorization) end();
+        F(kin_options, factorization) F(kin_options, step_control) end();
     BEGIN(kin_step_info) F(kin_step_info, size) F(kin_step_info, l) F(kin_step_info, delta)
         F(kin_step_info, v_r) F(kin_step_info, residual) F(kin_step_info, cos_turn)
         F(kin_step_info, iterations) F(kin_step_info, halvings) F(kin_step_info, factorizations)

@@ -40,6 +40,7 @@ module libkin
     integer(c_int) :: max_halvings = 0
     real(c_double) :: direction_tol = 0, max_correction = 0
     integer(c_int) :: factorization = 0
+    integer(c_int) :: step_control = 0
   end type
 
   type, bind(C), public :: kin_step_info

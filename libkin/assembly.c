@@ -367,6 +367,7 @@ static void release(kin_assembly *a)
     }
     free(a->luR);
     free(a->luw);
+    kin__sparse_free(a);
     free(a);
 }
 
@@ -475,8 +476,11 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
     for (int f = 0; f < 2; ++f) {
         const kin_lufactor *s = &src->lu[f];
         kin_lufactor *t = &a->lu[f];
-        t->valid = s->valid;
-        if (!s->valid) continue;
+        /* sparse factors live in src's KLU objects: not copied (dst factorizes
+         * its point again when it steps) */
+        t->valid = s->valid && !s->sparse;
+        t->sparse = 0;
+        if (!t->valid) continue;
         t->rows = s->rows;
         t->v_r = s->v_r;
         t->v_max = s->v_max;
@@ -495,6 +499,7 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
     a->t_chosen = src->t_chosen;
     a->l = src->l;
     a->step_hint = src->step_hint;
+    a->chord_hopeless = src->chord_hopeless;
 }
 
 int kin_assembly_clone(const kin_assembly *src, kin_assembly **out)
@@ -508,6 +513,10 @@ int kin_assembly_clone(const kin_assembly *src, kin_assembly **out)
     if (rc) return rc;
     kin__copy_state(a, src);
     a->opt = src->opt;
+    if (src->sp && (rc = kin__sparse_prepare(a)) != KIN_OK) {
+        kin_assembly_free(a);
+        return rc;
+    }
     a->nfact = src->nfact;
     memcpy(a->err, src->err, sizeof a->err);
     *out = a;
@@ -586,6 +595,7 @@ int kin_set_coords(kin_assembly *a, const double *xyz)
     kin__lu_invalidate(a);
     a->have_t = a->t_chosen = 0;
     a->step_hint = 0.0;
+    a->chord_hopeless = 0;
     a->l = 0.0;
     return KIN_OK;
 }

@@ -33,6 +33,7 @@ typedef struct kin_factor {
 typedef struct kin_lufactor {
     int valid;        /* factors of a regular point (estimated m_internal = 1) */
     int rows;         /* nb + 1 + m_rigid */
+    int sparse;       /* factors live in the KLU slot of the same index (sparse.c), not in JT */
     double *JT;       /* nf x (nb + 1 + nrig) factors; NULL, like ipiv and tq, where no route applies */
     int *ipiv;        /* nf pivots (LU; NULL unless nf - nb - 1 is in 0..nrig) */
     double *tq;       /* nf Householder scalars (LQ; NULL unless nb + 1 + nrig > nf) */
@@ -81,6 +82,8 @@ struct kin_assembly {
     int t_chosen;            /* t was set by kin_path_set_direction at a bifurcation */
     double l;                /* signed path length */
     double step_hint;        /* amplitude the next automatic step starts from (0: the largest) */
+    int chord_hopeless;      /* LU modes: automatic steps left before the chord-only control is tried
+                                again (shorter steps did not let the chord converge) */
 
     /* step scratch, each nf or nb */
     double *x0, *x, *xp, *d, *y, *e, *len, *chord;
@@ -99,6 +102,10 @@ struct kin_assembly {
     double *luR;             /* nf x 6 rigid mechanisms of a trial point */
     double *luw;             /* max(nf, nb + 1 + nrig) solve vector */
 
+    /* KIN_STEP_SPARSE: KLU pattern, symbolic analysis and one numeric
+     * factorization per lu[] slot (sparse.c); NULL until the mode is set */
+    struct kin_sparse *sp;
+
     /* progress callback of the long loops (kin_set_progress); not copied
      * by kin_assembly_clone nor kin__copy_state */
     kin_progress_fn progress;
@@ -108,7 +115,12 @@ struct kin_assembly {
 /* Fault injection for the tests (not exported): the SVD of the next analyses
  * reports info < 0, info > 0 in both dgesdd and dgesvd, or info > 0 in dgesdd
  * only (exercising the dgesvd fallback). */
-enum kin__fault { KIN__FAULT_NONE = 0, KIN__FAULT_SVD_ARG, KIN__FAULT_SVD_CONV, KIN__FAULT_SDD_CONV };
+enum kin__fault { KIN__FAULT_NONE = 0, KIN__FAULT_SVD_ARG, KIN__FAULT_SVD_CONV, KIN__FAULT_SDD_CONV,
+                  /* sparse.c: the KLU analysis or a factorization cannot
+                   * allocate; every numeric factorization reports a singular
+                   * J; every refactorization is rejected (pivot again) */
+                  KIN__FAULT_SPARSE_NOMEM, KIN__FAULT_SPARSE_FACTOR_NOMEM, KIN__FAULT_SPARSE_SINGULAR,
+                  KIN__FAULT_SPARSE_REPIVOT };
 void kin__set_fault(kin_assembly *a, int fault);
 
 /* error helpers: set the handle's message and return the code */
@@ -157,6 +169,29 @@ int kin__rigid_basis(kin_assembly *a, const double *xyz, double *R, int *mr);
 /* LU mode: invalidate both bordered factorizations (the configuration or
  * the rank tolerance changed) */
 static inline void kin__lu_invalidate(kin_assembly *a) { a->lu[0].valid = a->lu[1].valid = 0; }
+
+/* ---- sparse bordered factorization (sparse.c, KIN_STEP_SPARSE) ----
+ * J = [C; b^T; R^T] (nf x nf, nb bar rows then nf - nb dense border rows)
+ * in compressed-column form, factorized by KLU into slot 0 or 1 (the slots
+ * of a->lu[]). */
+/* Build the pattern, the symbolic analysis and both slots' first numeric
+ * factorization at the current configuration, once per handle (a no-op when
+ * done, or when J can never be square: then a->sp stays NULL). KIN_OK or
+ * KIN_ENOMEM. */
+int kin__sparse_prepare(kin_assembly *a);
+void kin__sparse_free(kin_assembly *a);
+/* 1 when the square sparse route is ready for a point with mr rigid mechanisms */
+int kin__sparse_usable(const kin_assembly *a, int mr);
+/* Factorize J(xyz) with border rows b (nf) and R (nf x mr, ld nf) into slot;
+ * *singular = 1 when J is singular (exactly, to KLU). Counts in a->nfact.
+ * KIN_OK, KIN_ENOMEM (a re-pivoting factorization could not allocate). */
+int kin__sparse_factor(kin_assembly *a, int slot, const double *xyz, const double *b, const double *R,
+                       int mr, int *singular);
+/* trans = 0: v := J^-1 v; trans = 1: v := J^-T v (nf entries) with slot's factors */
+int kin__sparse_solve(kin_assembly *a, int slot, int trans, double *v);
+/* y (nb) := C x and x (nf) := C^T y with the values of slot's last factorization */
+void kin__sparse_C(const kin_assembly *a, const double *x, double *y);
+void kin__sparse_CT(const kin_assembly *a, const double *y, double *x);
 
 static inline const kin_factor *kin__cur(const kin_assembly *a) { return &a->fac[a->cur]; }
 

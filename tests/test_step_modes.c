@@ -61,7 +61,7 @@ static void invalid_options(void)
     kin_options_default(&o);
     CHECK(o.factorization == KIN_STEP_SVD);
     kin_get_options(a, &keep);
-    const int bad[] = {-1, 2, 99};
+    const int bad[] = {-1, 3, 99};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
         o.factorization = bad[i];
         CHECK_RC(kin_set_options(a, &o), KIN_EINVAL);
@@ -80,6 +80,10 @@ static int same_path(kin_assembly *svd, kin_assembly *lu, int steps, double delt
     double *x1 = malloc(sizeof(double) * (size_t)n), *x2 = malloc(sizeof(double) * (size_t)n);
     set_mode(lu, KIN_STEP_LU);
     kin_options o = {.size = sizeof o};
+    /* automatic steps with the SVD mode's amplitudes: the same points */
+    kin_get_options(lu, &o);
+    o.step_control = KIN_STEP_CONTROL_SHARED;
+    CHECK_RC(kin_set_options(lu, &o), KIN_OK);
     kin_get_options(svd, &o);
     double worst = 0.0, worst_strain = 0.0, vr_ratio_max = 0.0, vr_ratio_min = INFINITY;
     int fact_svd = 0, fact_lu = 0, fallbacks = 0;

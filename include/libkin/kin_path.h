@@ -47,6 +47,37 @@
  *   until kin_analyse() is called (which does not disturb the path);
  *   kin_get_tangent() and kin_step() work. kin_locate_next() needs the SVD
  *   at every point and must be run in SVD mode.
+ *  KIN_STEP_SPARSE: the LU mode with a sparse LU (SuiteSparse KLU) of the
+ *   square bordered matrix J, built in compressed-column form from the bars
+ *   (C has at most 2*dim non-zeros per row; the 1 + m_rigid border rows are
+ *   dense and stay in the matrix: the column ordering, COLAMD, ignores
+ *   dense rows, so they add about (1 + m_rigid) * nf entries to the
+ *   factors, and the exact border needs no Schur complement or
+ *   re-analysis). It pays on sail-like structures; compact 3D blocks fill
+ *   in (docs/performance.md). The symbolic
+ *   analysis and a first numeric factorization are made when the mode is
+ *   set (kin_set_options, which may then return KIN_ENOMEM); each new point
+ *   refactorizes with the same pivot order (klu_refactor), and pivots again
+ *   only when that order has become unstable (reciprocal pivot growth below
+ *   1e-8) or singular. Where J is not square (redundant bars: J tall; or
+ *   nf - nb - 1 outside 0..m_rigid) a point is handled as in KIN_STEP_LU
+ *   (dense LQ, or the SVD). A start point without factors (a new handle,
+ *   after kin_set_coords() or kin_relax()) is factorized sparsely too, with
+ *   a fixed pseudo-random border row (or the previous tangent), its
+ *   tangent oriented like the SVD's (largest entry positive), so a large
+ *   structure is followed without any dense factorization unless a point
+ *   comes near a bifurcation. Everything else (estimates, fallback to the
+ *   SVD, the analysis not being current) is as in KIN_STEP_LU.
+ *  STEP CONTROL in KIN_STEP_LU and KIN_STEP_SPARSE: an automatic step
+ *   (delta == 0) whose chord corrector stalls is halved instead of being
+ *   finished by Newton (each Newton iteration is a new factorization, a
+ *   failed chord attempt costs only solves); after 3 such halvings in one
+ *   call Newton is used as in the SVD mode, and then (the chord did not
+ *   converge even on shorter steps: close to a bifurcation) the next 4
+ *   automatic steps use Newton at the full amplitude. Explicit amplitudes are
+ *   corrected as in the SVD mode, so the modes give the same points; with
+ *   kin_options.step_control = KIN_STEP_CONTROL_SHARED automatic steps do
+ *   too (the SVD mode's amplitudes).
  *
  * SEVERAL INTERNAL MECHANISMS (m_internal >= 2)
  *  At a bifurcation of a path, and at any point of a mechanism with several
@@ -89,12 +120,25 @@ typedef struct kin_options {
     double direction_tol;   /* minimum |cos| between new mechanism and chord. Default 0.9 */
     double max_correction;  /* largest |correction| / |delta| accepted. Default 0.5 */
     int factorization;      /* enum kin_step_factorization. Default KIN_STEP_SVD */
+    /* appended after the V1 layout: callers compiled without it get the default */
+    int step_control;       /* enum kin_step_control. Default KIN_STEP_CONTROL_MODE */
 } kin_options;
 
 /* How kin_step() factorizes at each new point (see the top of this file). */
 enum kin_step_factorization {
     KIN_STEP_SVD = 0, /* full SVD of H at every point (dgesdd) */
-    KIN_STEP_LU = 1   /* LU/QR of the bordered matrix; SVD only near a bifurcation */
+    KIN_STEP_LU = 1,  /* LU/QR of the bordered matrix; SVD only near a bifurcation */
+    KIN_STEP_SPARSE = 2 /* KIN_STEP_LU with a sparse LU (SuiteSparse KLU) of the
+                           square bordered matrix: for large structures */
+};
+
+/* How automatic steps (delta == 0) choose their amplitude (STEP CONTROL at
+ * the top of this file). */
+enum kin_step_control {
+    KIN_STEP_CONTROL_MODE = 0,  /* LU modes halve a stalling chord before Newton */
+    KIN_STEP_CONTROL_SHARED = 1 /* every mode takes the SVD mode's amplitudes (the
+                                   same points as the SVD mode, at more
+                                   factorizations per step in the LU modes) */
 };
 
 /* Fill *o with the defaults above. Does nothing if o is NULL. */
@@ -102,10 +146,13 @@ KIN_API void kin_options_default(kin_options *o);
 
 /* Replace the handle's options. Validated first (tolerances finite and in
  * (0,1), counts >= 0 (iterations >= 1), step_fraction > 0, factorization one
- * of enum kin_step_factorization); on KIN_EINVAL nothing changes. Changing
- * rank_tol invalidates the analysis (and the LU mode's factors). Switching
- * the factorization mode keeps the path state.
- * Returns KIN_OK, KIN_ENULL, KIN_EINVAL. */
+ * of enum kin_step_factorization, step_control one of enum
+ * kin_step_control); on KIN_EINVAL nothing changes. Changing rank_tol
+ * invalidates the analysis (and the LU mode's factors). Switching the
+ * factorization mode keeps the path state. The first switch to
+ * KIN_STEP_SPARSE builds the sparse pattern, its KLU analysis and first
+ * factors (KIN_ENOMEM if that fails; then nothing changes).
+ * Returns KIN_OK, KIN_ENULL, KIN_EINVAL, KIN_ENOMEM. */
 KIN_API int kin_set_options(kin_assembly *a, const kin_options *o);
 
 /* Copy the handle's options. KIN_OK or KIN_ENULL. */

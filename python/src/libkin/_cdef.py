@@ -96,10 +96,16 @@ typedef struct kin_options {
     double direction_tol;
     double max_correction;
     int factorization;
+    int step_control;
 } kin_options;
 enum kin_step_factorization {
     KIN_STEP_SVD = 0,
-    KIN_STEP_LU = 1
+    KIN_STEP_LU = 1,
+    KIN_STEP_SPARSE = 2
+};
+enum kin_step_control {
+    KIN_STEP_CONTROL_MODE = 0,
+    KIN_STEP_CONTROL_SHARED = 1
 };
 void kin_options_default(kin_options *o);
 int kin_set_options(kin_assembly *a, const kin_options *o);

@@ -77,7 +77,13 @@ class Options:
         0 = ``lib.KIN_STEP_SVD`` (default: the full SVD analysis of every
         point); 1 = ``lib.KIN_STEP_LU`` (LU/QR of the bordered matrix, the
         SVD only near a bifurcation: the same points to rounding for a
-        fraction of the cost; `StepInfo.v_r` is then an upper-bound estimate).
+        fraction of the cost; `StepInfo.v_r` is then an upper-bound estimate);
+        2 = ``lib.KIN_STEP_SPARSE`` (the LU mode with a sparse LU, SuiteSparse
+        KLU: for large structures).
+    step_control : int
+        0 = ``lib.KIN_STEP_CONTROL_MODE`` (default: automatic steps in the LU
+        modes halve a stalling chord before paying for Newton); 1 =
+        ``lib.KIN_STEP_CONTROL_SHARED`` (the SVD mode's amplitudes in every mode).
     """
 
     rank_tol: float = 1e-9
@@ -88,6 +94,7 @@ class Options:
     direction_tol: float = 0.9
     max_correction: float = 0.5
     factorization: int = 0
+    step_control: int = 0
 
 
 _OPTION_FIELDS = [f.name for f in dataclasses.fields(Options)]

@@ -1,0 +1,511 @@
+/* Path following past the dense floor: the sparse LU mode (KIN_STEP_SPARSE)
+ * against the dense LU mode (KIN_STEP_LU), and the LU modes' step control.
+ * Not a test: one command, three tables (and bench_step_sparse.csv):
+ *
+ *  sails     sail family members n = 24, loops 6..20 at the dome point of
+ *            bench_step.c: mean automatic step of the dense LU and sparse
+ *            modes (seconds, factorizations, halvings), one dgesdd of the
+ *            same H, the largest difference between the two modes' points;
+ *            growth exponents of the step cost against nfree.
+ *  lattice   generated 3D truss mechanisms (blocks of the face-centred cubic
+ *            lattice, every joint braced to three earlier neighbours: rigid
+ *            and isostatic; one bar taken out: one internal mechanism; no
+ *            supports: six rigid mechanisms, seven dense border rows) of
+ *            1095 to 10290 free coordinates, followed in sparse mode from a fresh handle (no
+ *            SVD anywhere); one dense dgetrf of the same size where it is
+ *            affordable; resident and virtual memory of the process.
+ *  control   the LU mode's mean step on sail:24:12 and sail:24:14 with the
+ *            shared step control (the SVD mode's amplitudes, libkin <=
+ *            0.3.0) and with the LU modes' own (KIN_STEP_CONTROL_MODE), in
+ *            dgesdd-equivalents (mean step seconds / one dgesdd of the same
+ *            H, measured back to back) and per unit path length.
+ *
+ * usage: bench_step_sparse [OUTDIR [all|sails|lattice|control|quick]]
+ * Every table is measured once (the machine may be shared: `uptime` is
+ * printed with every table); run with OPENBLAS_NUM_THREADS=1. */
+#define _POSIX_C_SOURCE 199309L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "internal.h"
+#include "lapack.h"
+#include "libkin.h"
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static void print_load(const char *when)
+{
+    double l[3] = {NAN, NAN, NAN};
+    FILE *f = fopen("/proc/loadavg", "r");
+    if (f) {
+        if (fscanf(f, "%lf %lf %lf", &l[0], &l[1], &l[2]) != 3) l[0] = NAN;
+        fclose(f);
+    }
+    printf("[load average %s: %.2f %.2f %.2f]\n", when, l[0], l[1], l[2]);
+}
+
+/* resident and virtual size of this process, MB (Linux /proc) */
+static void memory_mb(double *rss, double *vsz)
+{
+    *rss = *vsz = NAN;
+    FILE *f = fopen("/proc/self/status", "r");
+    if (!f) return;
+    char line[256];
+    while (fgets(line, sizeof line, f)) {
+        double kb;
+        if (sscanf(line, "VmRSS: %lf", &kb) == 1) *rss = kb / 1024.0;
+        if (sscanf(line, "VmSize: %lf", &kb) == 1) *vsz = kb / 1024.0;
+    }
+    fclose(f);
+}
+
+/* least-squares slope of log y against log x */
+static double loglog_slope(int n, const double *x, const double *y)
+{
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    int k = 0;
+    for (int i = 0; i < n; ++i)
+        if (x[i] > 0 && y[i] > 0 && isfinite(y[i])) {
+            double lx = log(x[i]), ly = log(y[i]);
+            sx += lx;
+            sy += ly;
+            sxx += lx * lx;
+            sxy += lx * ly;
+            ++k;
+        }
+    return k >= 2 ? (k * sxy - sx * sy) / (k * sxx - sx * sx) : NAN;
+}
+
+/* the sail member with the bar lengths of a dome lift (bench_step.c's
+ * generic_by_lengths): strain-free by construction; checked regular by SVD
+ * when check is set */
+static kin_assembly *sail_dome(int n, int loops, int check)
+{
+    kin_sail_params p = {.size = sizeof p};
+    kin_sail_params_default(&p, n, loops);
+    kin_assembly *a = NULL, *b = NULL;
+    if (kin_model_sail(&p, &a, NULL, 0)) return NULL;
+    int nj = kin_njoints(a), nb = kin_nbars(a);
+    double *xyz = malloc(sizeof(double) * 3 * (size_t)nj);
+    unsigned char *fixed = malloc(3 * (size_t)nj);
+    int *bars = malloc(sizeof(int) * 2 * (size_t)nb);
+    if (xyz && fixed && bars) {
+        kin_get_coords(a, xyz);
+        kin_get_fixed(a, fixed);
+        kin_get_bars(a, bars);
+        unsigned long long st = 2024;
+        for (int j = 0; j < nj; ++j)
+            if (!fixed[3 * j + 2]) {
+                double r2 = xyz[3 * j] * xyz[3 * j] + xyz[3 * j + 1] * xyz[3 * j + 1];
+                double noise = (double)(kin__splitmix(&st) >> 11) * 0x1.0p-53 - 0.5;
+                xyz[3 * j + 2] += 0.3 * (r2 + 0.01 * noise);
+            }
+        kin_assembly_create(3, nj, xyz, fixed, nb, bars, NULL, &b, NULL, 0);
+    }
+    free(xyz);
+    free(fixed);
+    free(bars);
+    kin_assembly_free(a);
+    kin_analysis an = {.size = sizeof an};
+    if (b && check && !(kin_analyse(b, &an) == KIN_OK && an.m_internal == 1)) {
+        kin_assembly_free(b);
+        return NULL;
+    }
+    return b;
+}
+
+static void set_mode(kin_assembly *a, int mode, int control)
+{
+    kin_options o = {.size = sizeof o};
+    kin_get_options(a, &o);
+    o.factorization = mode;
+    o.step_control = control;
+    if (kin_set_options(a, &o)) printf("  (set_options: %s)\n", kin_last_error(a));
+}
+
+typedef struct run {
+    double seconds, length;
+    long fact, halvings, fallbacks;
+    int steps, ok;
+} run;
+
+/* nsteps automatic steps; xs (may be NULL) receives every point */
+static run follow(kin_assembly *a, int nsteps, double *xs)
+{
+    run r = {0.0, 0.0, 0, 0, 0, 0, 1};
+    int n = kin_njoints(a) * kin_dim(a);
+    double l0 = kin_path_length(a);
+    kin_step_info info = {.size = sizeof info};
+    for (; r.steps < nsteps; ++r.steps) {
+        double t0 = now();
+        int rc = kin_step(a, 0.0, &info);
+        r.seconds += now() - t0;
+        if (rc) {
+            printf("  (step %d: %s)\n", r.steps, kin_last_error(a));
+            r.ok = 0;
+            break;
+        }
+        r.fact += info.factorizations;
+        r.halvings += info.halvings;
+        kin_analysis an = {.size = sizeof an};
+        if (kin_get_analysis(a, &an) == KIN_OK) r.fallbacks++;
+        if (xs) kin_get_coords(a, xs + (size_t)r.steps * n);
+    }
+    r.length = kin_path_length(a) - l0;
+    return r;
+}
+
+/* seconds of one dgesdd (jobz 'A') of the current H */
+static double dgesdd_seconds(kin_assembly *a)
+{
+    int nf = a->nf, nb = a->nb, info = 0;
+    kin__build_H(a, a->xyz, a->A, nf);
+    double t0 = now();
+    dgesdd_("A", &nf, &nb, a->A, &nf, a->fac[0].sv, a->fac[0].U, &nf, a->fac[0].VT, &nb, a->work, &a->lwork,
+            a->iwork, &info, 1);
+    return now() - t0;
+}
+
+/* seconds of one dgetrf of an nf x nf matrix (H with random columns to make
+ * it square: the size of the dense LU mode's bordered matrix) */
+static double dgetrf_seconds(kin_assembly *a)
+{
+    int nf = a->nf, nb = a->nb, info = 0;
+    double *M = malloc(sizeof(double) * (size_t)nf * (size_t)nf);
+    int *ipiv = malloc(sizeof(int) * (size_t)nf);
+    double t = NAN;
+    if (M && ipiv) {
+        kin__build_H(a, a->xyz, M, nf);
+        unsigned long long st = 7;
+        for (size_t i = (size_t)nf * (size_t)nb; i < (size_t)nf * (size_t)nf; ++i)
+            M[i] = (double)(kin__splitmix(&st) >> 11) * 0x1.0p-53 - 0.5;
+        double t0 = now();
+        dgetrf_(&nf, &nf, M, &nf, ipiv, &info);
+        t = now() - t0;
+    }
+    free(M);
+    free(ipiv);
+    return t;
+}
+
+static double max_abs_diff(size_t n, const double *x, const double *y)
+{
+    double m = 0.0;
+    for (size_t i = 0; i < n; ++i) m = fmax(m, fabs(x[i] - y[i]));
+    return m;
+}
+
+/* ---- sails: dense LU against sparse -------------------------------------- */
+
+static void sails(FILE *csv, int quick)
+{
+    const int loops[] = {6, 8, 10, 12, 14, 20};
+    int nm = quick ? 3 : (int)(sizeof loops / sizeof loops[0]);
+    double xs[8], yl[8], ys[8];
+    int np = 0;
+    print_load("before the sail table");
+    printf("\nsail n = 24 family, dome point, %s automatic steps per mode (own step control), measured once\n",
+           "12");
+    printf("%4s %5s %9s | %9s %5s %5s %3s %6s | %9s %5s %5s %3s %6s | %8s\n", "lp", "nfree", "dgesdd[s]", "LU st[s]",
+           "fact", "half", "fb", "/sdd", "SP st[s]", "fact", "half", "fb", "/sdd", "|dx|");
+    for (int i = 0; i < nm; ++i) {
+        kin_assembly *a = sail_dome(24, loops[i], 1);
+        if (!a) {
+            printf("%4d: no regular dome point\n", loops[i]);
+            continue;
+        }
+        kin_step_info info = {.size = sizeof info};
+        kin_step(a, 0.0, &info); /* from a point reached by a step */
+        int nsteps = 12, n = 3 * kin_njoints(a), nf = kin_nfree(a);
+        double *x[2] = {malloc(sizeof(double) * (size_t)n * nsteps), malloc(sizeof(double) * (size_t)n * nsteps)};
+        run r[2];
+        for (int m = 0; m < 2; ++m) {
+            kin_assembly *b = NULL;
+            kin_assembly_clone(a, &b);
+            set_mode(b, m ? KIN_STEP_SPARSE : KIN_STEP_LU, KIN_STEP_CONTROL_MODE);
+            kin_step(b, 0.0, &info); /* untimed: the mode's own factors at the start */
+            r[m] = follow(b, nsteps, x[m]);
+            kin_assembly_free(b);
+        }
+        double sdd = dgesdd_seconds(a);
+        int common = r[0].steps < r[1].steps ? r[0].steps : r[1].steps;
+        double dx = common ? max_abs_diff((size_t)n * common, x[0], x[1]) : NAN;
+        double st[2];
+        for (int m = 0; m < 2; ++m) st[m] = r[m].steps ? r[m].seconds / r[m].steps : NAN;
+        printf("%4d %5d %9.3e | %9.3e %5.2f %5.2f %3ld %6.3f | %9.3e %5.2f %5.2f %3ld %6.3f | %8.1e\n", loops[i], nf,
+               sdd, st[0], (double)r[0].fact / r[0].steps, (double)r[0].halvings / r[0].steps, r[0].fallbacks,
+               st[0] / sdd, st[1], (double)r[1].fact / r[1].steps, (double)r[1].halvings / r[1].steps,
+               r[1].fallbacks, st[1] / sdd, dx);
+        fprintf(csv, "sails,%d,%d,%d,%.6e,%.6e,%.3f,%.3f,%ld,%.6e,%.3f,%.3f,%ld,%.3e,NAN,NAN,NAN\n", 24, loops[i], nf,
+                sdd, st[0], (double)r[0].fact / r[0].steps, (double)r[0].halvings / r[0].steps, r[0].fallbacks, st[1],
+                (double)r[1].fact / r[1].steps, (double)r[1].halvings / r[1].steps, r[1].fallbacks, dx);
+        fflush(stdout);
+        fflush(csv);
+        if (r[0].ok && r[1].ok && np < 8) {
+            xs[np] = nf;
+            yl[np] = st[0];
+            ys[np] = st[1];
+            ++np;
+        }
+        free(x[0]);
+        free(x[1]);
+        kin_assembly_free(a);
+    }
+    printf("growth exponent of the mean step (time ~ nfree^p, log-log fit over %d members): dense LU %.2f, sparse "
+           "%.2f\n",
+           np, loglog_slope(np, xs, yl), loglog_slope(np, xs, ys));
+    print_load("after the sail table");
+}
+
+/* ---- generated 3D lattice mechanisms ------------------------------------- */
+
+static int cmp_key(const void *p, const void *q)
+{
+    double a = *(const double *)p, b = *(const double *)q;
+    return a < b ? -1 : a > b;
+}
+
+/* A block of the face-centred cubic lattice (the points of an
+ * nx x ny x nz cube grid with x + y + z even), 5 % noise. The joints are
+ * numbered by the generic height x + 2.3 y + 5.3 z; each one is braced to
+ * three of its nearest lattice neighbours numbered before it (the first
+ * not coplanar with the ones already chosen), so each adds three bars: a
+ * Henneberg construction (rigid, isostatic). The middle joint's last bar is
+ * then taken out: one internal mechanism. No supports: six rigid
+ * mechanisms. */
+static kin_assembly *lattice(int nx, int ny, int nz)
+{
+    int cap = nx * ny * nz, nj = 0;
+    double *key = malloc(sizeof(double) * 2 * (size_t)cap);
+    int *at = malloc(sizeof(int) * (size_t)cap); /* grid cell -> joint, or -1 */
+    double *xyz = malloc(sizeof(double) * 3 * (size_t)cap);
+    int *bars = malloc(sizeof(int) * 2 * 3 * (size_t)cap), nb = 0, removed = -1;
+    kin_assembly *a = NULL;
+    if (!key || !at || !xyz || !bars) goto done;
+    for (int z = 0; z < nz; ++z)
+        for (int y = 0; y < ny; ++y)
+            for (int x = 0; x < nx; ++x)
+                if ((x + y + z) % 2 == 0) {
+                    key[2 * nj] = x + 2.3 * y + 5.3 * z;
+                    key[2 * nj + 1] = x + nx * (y + ny * z);
+                    ++nj;
+                }
+    qsort(key, (size_t)nj, 2 * sizeof(double), cmp_key);
+    for (int c = 0; c < cap; ++c) at[c] = -1;
+    for (int j = 0; j < nj; ++j) at[(int)key[2 * j + 1]] = j;
+    unsigned long long st = 99;
+    for (int j = 0; j < nj; ++j) {
+        int c = (int)key[2 * j + 1], x = c % nx, y = (c / nx) % ny, z = c / (nx * ny);
+        const int g[3] = {x, y, z};
+        for (int k = 0; k < 3; ++k)
+            xyz[3 * j + k] = g[k] + 0.1 * ((double)(kin__splitmix(&st) >> 11) * 0x1.0p-53 - 0.5);
+    }
+    for (int j = 0; j < nj; ++j) {
+        int c = (int)key[2 * j + 1], x = c % nx, y = (c / nx) % ny, z = c / (nx * ny), got = 0;
+        int off[3][3];
+        /* nearest lattice neighbours first: squared distance 2 (the 12
+         * nearest), then 4, 6, 8 (next shells, at the block's faces) */
+        for (int pass = 0; pass < 4 && got < 3; ++pass)
+            for (int u = -2; u <= 2 && got < 3; ++u)
+                for (int v = -2; v <= 2 && got < 3; ++v)
+                    for (int w = -2; w <= 2 && got < 3; ++w) {
+                        int n2 = u * u + v * v + w * w;
+                        if (n2 != 2 * (pass + 1)) continue;
+                        int X = x + u, Y = y + v, Z = z + w;
+                        if (X < 0 || Y < 0 || Z < 0 || X >= nx || Y >= ny || Z >= nz) continue;
+                        int k = at[X + nx * (Y + ny * Z)];
+                        if (k < 0 || k >= j) continue;
+                        int o[3] = {u, v, w};
+                        if (got == 1) { /* not parallel to the first */
+                            int cx = off[0][1] * o[2] - off[0][2] * o[1], cy = off[0][2] * o[0] - off[0][0] * o[2],
+                                cz = off[0][0] * o[1] - off[0][1] * o[0];
+                            if (cx == 0 && cy == 0 && cz == 0) continue;
+                        }
+                        if (got == 2) { /* not coplanar with the first two */
+                            int det = off[0][0] * (off[1][1] * o[2] - off[1][2] * o[1]) -
+                                      off[0][1] * (off[1][0] * o[2] - off[1][2] * o[0]) +
+                                      off[0][2] * (off[1][0] * o[1] - off[1][1] * o[0]);
+                            if (det == 0) continue;
+                        }
+                        memcpy(off[got], o, sizeof o);
+                        bars[2 * nb] = k;
+                        bars[2 * nb + 1] = j;
+                        ++nb;
+                        ++got;
+                    }
+        /* near the first joints: the nearest earlier joints in space that
+         * keep the bars well spread (first joints: all earlier ones) */
+        for (double spread = 0.2; got < 3 && got < j && spread > 1e-4;) {
+            int pick = -1;
+            double best = INFINITY;
+            for (int k = 0; k < j; ++k) {
+                double o[3], d = 0.0;
+                int dup = 0;
+                for (int b = nb - got; b < nb; ++b) dup |= bars[2 * b] == k;
+                if (dup) continue;
+                for (int q = 0; q < 3; ++q) {
+                    o[q] = xyz[3 * k + q] - xyz[3 * j + q];
+                    d += o[q] * o[q];
+                }
+                if (got == 2 && j >= 3) {
+                    const double *p0 = xyz + 3 * bars[2 * (nb - 2)], *p1 = xyz + 3 * bars[2 * (nb - 1)];
+                    double a0[3], a1[3];
+                    for (int q = 0; q < 3; ++q) {
+                        a0[q] = p0[q] - xyz[3 * j + q];
+                        a1[q] = p1[q] - xyz[3 * j + q];
+                    }
+                    double det = a0[0] * (a1[1] * o[2] - a1[2] * o[1]) - a0[1] * (a1[0] * o[2] - a1[2] * o[0]) +
+                                 a0[2] * (a1[0] * o[1] - a1[1] * o[0]);
+                    if (fabs(det) < spread * sqrt(d * (a0[0] * a0[0] + a0[1] * a0[1] + a0[2] * a0[2]) *
+                                               (a1[0] * a1[0] + a1[1] * a1[1] + a1[2] * a1[2])))
+                        continue;
+                }
+                if (d < best) {
+                    best = d;
+                    pick = k;
+                }
+            }
+            if (pick < 0) {
+                spread *= 0.1;
+                continue;
+            }
+            bars[2 * nb] = pick;
+            bars[2 * nb + 1] = j;
+            ++nb;
+            ++got;
+        }
+        if (j == nj / 2) removed = nb - 1;
+    }
+    if (removed >= 0) {
+        memmove(bars + 2 * removed, bars + 2 * removed + 2, sizeof(int) * 2 * (size_t)(nb - removed - 1));
+        --nb;
+    }
+    int rc = kin_assembly_create(3, nj, xyz, NULL, nb, bars, NULL, &a, NULL, 0);
+    if (rc) printf("  (lattice %dx%dx%d: create returned %d)\n", nx, ny, nz, rc);
+done:
+    free(key);
+    free(at);
+    free(xyz);
+    free(bars);
+    return a;
+}
+
+static void lattices(FILE *csv, int quick)
+{
+    const int dims[][3] = {{9, 9, 9}, {11, 11, 11}, {13, 13, 13}, {15, 15, 15}, {19, 19, 19}};
+    int nm = quick ? 2 : (int)(sizeof dims / sizeof dims[0]);
+    double xs[8], ys[8], yd[8];
+    int np = 0, nd = 0;
+    print_load("before the lattice table");
+    printf("\n3D lattice mechanisms (one internal, six rigid mechanisms), sparse mode from a fresh handle, %d automatic "
+           "steps, measured once\n", 10);
+    printf("%10s %6s %6s | %9s %9s %5s %5s %3s %6s | %9s | %8s %8s\n", "grid", "nfree", "nbars", "start[s]",
+           "SP st[s]", "fact", "half", "fb", "strain", "dgetrf[s]", "RSS[MB]", "VM[MB]");
+    for (int i = 0; i < nm; ++i) {
+        kin_assembly *a = lattice(dims[i][0], dims[i][1], dims[i][2]);
+        if (!a) continue;
+        int nf = kin_nfree(a);
+        double t0 = now();
+        set_mode(a, KIN_STEP_SPARSE, KIN_STEP_CONTROL_MODE);
+        kin_step_info info = {.size = sizeof info};
+        int rc = kin_step(a, 0.0, &info); /* sparse start + first step */
+        double start = now() - t0;
+        run r = {0.0, 0.0, 0, 0, 0, 0, 0};
+        if (rc == KIN_OK) r = follow(a, 10, NULL);
+        else printf("  (first step: %s)\n", kin_last_error(a));
+        double rss, vsz;
+        memory_mb(&rss, &vsz);
+        /* a dense LU of the same size where it is affordable (<= 5200) */
+        double lu = nf <= 5200 ? dgetrf_seconds(a) : NAN;
+        double st = r.steps ? r.seconds / r.steps : NAN;
+        char grid[32];
+        snprintf(grid, sizeof grid, "%dx%dx%d", dims[i][0], dims[i][1], dims[i][2]);
+        printf("%10s %6d %6d | %9.3e %9.3e %5.2f %5.2f %3ld %6.0e | %9.3e | %8.0f %8.0f\n", grid, nf, kin_nbars(a), start,
+               st, r.steps ? (double)r.fact / r.steps : NAN, r.steps ? (double)r.halvings / r.steps : NAN,
+               r.fallbacks, kin_max_strain(a), lu, rss, vsz);
+        fprintf(csv, "lattice,%d,%d,%d,NAN,NAN,NAN,NAN,0,%.6e,%.3f,%.3f,%ld,NAN,%.6e,%.0f,%.0f\n", dims[i][0],
+                dims[i][1] * dims[i][2], nf, st, r.steps ? (double)r.fact / r.steps : NAN,
+                r.steps ? (double)r.halvings / r.steps : NAN, r.fallbacks, lu, rss, vsz);
+        fflush(stdout);
+        fflush(csv);
+        if (r.ok && r.steps && np < 8) {
+            xs[np] = nf;
+            ys[np] = st;
+            ++np;
+        }
+        if (isfinite(lu) && nd < 8) yd[nd++] = lu;
+        kin_assembly_free(a);
+    }
+    printf("growth exponent (log-log fit over %d sizes): sparse mean step %.2f; dense dgetrf %.2f (%d sizes)\n", np,
+           loglog_slope(np, xs, ys), loglog_slope(nd, xs, yd), nd);
+    print_load("after the lattice table");
+}
+
+/* ---- the LU mode's step control, before and after ------------------------- */
+
+static void control(FILE *csv)
+{
+    const int loops[] = {12, 14};
+    print_load("before the control table");
+    printf("\nLU mode (dense), sail n = 24, dome point, 24 automatic steps: shared step control (before) and the LU "
+           "modes' own (after), measured once\n");
+    printf("%4s %5s %9s | %-7s %5s %5s %9s %7s %9s\n", "lp", "nfree", "dgesdd[s]", "control", "fact", "half",
+           "step[s]", "/sdd", "/sdd/len");
+    for (int i = 0; i < 2; ++i) {
+        kin_assembly *a = sail_dome(24, loops[i], 1);
+        if (!a) continue;
+        kin_step_info info = {.size = sizeof info};
+        kin_step(a, 0.0, &info);
+        for (int c = 0; c < 2; ++c) {
+            kin_assembly *b = NULL;
+            kin_assembly_clone(a, &b);
+            set_mode(b, KIN_STEP_LU, c ? KIN_STEP_CONTROL_MODE : KIN_STEP_CONTROL_SHARED);
+            kin_step(b, 0.0, &info);
+            run r = follow(b, 24, NULL);
+            double sdd = dgesdd_seconds(b); /* back to back with the run */
+            double st = r.seconds / r.steps;
+            printf("%4d %5d %9.3e | %-7s %5.2f %5.2f %9.3e %7.3f %9.3f\n", loops[i], kin_nfree(a), sdd,
+                   c ? "own" : "shared", (double)r.fact / r.steps, (double)r.halvings / r.steps, st, st / sdd,
+                   r.seconds / sdd / r.length);
+            fprintf(csv, "control_%s,24,%d,%d,%.6e,%.6e,%.3f,%.3f,%ld,NAN,NAN,NAN,0,NAN,NAN,NAN,%.6e\n",
+                    c ? "own" : "shared", loops[i], kin_nfree(a), sdd, st, (double)r.fact / r.steps,
+                    (double)r.halvings / r.steps, r.fallbacks, r.seconds / sdd / r.length);
+            fflush(stdout);
+            kin_assembly_free(b);
+        }
+        kin_assembly_free(a);
+    }
+    print_load("after the control table");
+}
+
+int main(int argc, char **argv)
+{
+    const char *dir = argc > 1 ? argv[1] : ".";
+    const char *what = argc > 2 ? argv[2] : "all";
+    int quick = strcmp(what, "quick") == 0, all = quick || strcmp(what, "all") == 0;
+    char path[1024];
+    snprintf(path, sizeof path, "%s/bench_step_sparse.csv", dir);
+    FILE *csv = fopen(path, "w");
+    if (!csv) {
+        fprintf(stderr, "cannot write %s\n", path);
+        return 1;
+    }
+    /* columns: table, n (or nx), loops (or ny*nz), nfree, dgesdd_s, lu_step_s, lu_fact, lu_halvings,
+     * lu_fallbacks, sparse_step_s, sparse_fact, sparse_halvings, sparse_fallbacks, max_dx, dgetrf_s, rss_mb,
+     * vm_mb (control rows: the last column is dgesdd-equivalents per unit length) */
+    fprintf(csv, "table,n,loops,nfree,dgesdd_s,lu_step_s,lu_fact,lu_halvings,lu_fallbacks,sparse_step_s,sparse_fact,"
+                 "sparse_halvings,sparse_fallbacks,max_dx,dgetrf_s,rss_mb,vm_mb\n");
+    if (all || strcmp(what, "control") == 0) control(csv);
+    if (all || strcmp(what, "sails") == 0) sails(csv, quick);
+    if (all || strcmp(what, "lattice") == 0) lattices(csv, quick);
+    fclose(csv);
+    return 0;
+}
