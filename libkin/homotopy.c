@@ -242,7 +242,7 @@ int kin__hom_solver_init(hom_solver *H, int m, int s, const double *Q, const kin
     if (nthreads > work) nthreads = (int)work; /* more would idle; the result is the same */
     H->nthreads = nthreads;
     size_t mm = (size_t)m * m;
-    size_t nrows = ((size_t)s * m + HOM_QBLOCK - 1) / HOM_QBLOCK * HOM_QBLOCK;
+    size_t nrows = (size_t)kin__hom_rows(m, s);
     double *Qr = H->Qr = malloc(sizeof(double) * mm * (size_t)s), *Qb = H->Qb = calloc(nrows * m, sizeof(double));
     hom_pool *pool = H->pool = calloc(1, sizeof(hom_pool));
     if (!Qr || !Qb || !pool) return KIN_ENOMEM;
@@ -258,7 +258,7 @@ int kin__hom_solver_init(hom_solver *H, int m, int s, const double *Q, const kin
      * change; the tolerances then mean the same for every input), by rows
      * and in blocks of rows for Q x */
     hom_problem *P = &H->P;
-    P->m = m, P->s = s, P->Qr = Qr, P->Qb = Qb;
+    P->m = m, P->s = s, P->sp = kin__hom_sp(s), P->Qr = Qr, P->Qb = Qb;
     double nf2 = 0.0;
     for (int j = 0; j < s; ++j) {
         const double *q = Q + (size_t)j * mm;
@@ -278,9 +278,13 @@ int kin__hom_solver_init(hom_solver *H, int m, int s, const double *Q, const kin
         nf2 += n2 * n2;
     }
     P->normF = sqrt(nf2);
-    for (size_t i = 0; i < (size_t)s * m; ++i) /* row i to block i / B, slot i % B */
-        for (int c = 0; c < m; ++c)
-            Qb[(i / HOM_QBLOCK) * HOM_QBLOCK * m + (size_t)c * HOM_QBLOCK + i % HOM_QBLOCK] = Qr[i * m + c];
+    for (int j = 0; j < s; ++j) /* row r of Q_j to interleaved row i = r*sp + j: block i / B, slot i % B */
+        for (int r = 0; r < m; ++r) {
+            size_t i = (size_t)r * P->sp + j;
+            for (int c = 0; c < m; ++c)
+                Qb[(i / HOM_QBLOCK) * HOM_QBLOCK * m + (size_t)c * HOM_QBLOCK + i % HOM_QBLOCK] =
+                    Qr[((size_t)j * m + r) * m + c];
+        }
     P->normG = sqrt((double)s);
     unsigned long long st = (unsigned long long)o->seed * 0x2545F4914F6CDD1Dull + 7u;
     double th0 = 6.283185307179586 * ((kin__splitmix(&st) >> 11) * 0x1.0p-53);

@@ -7,10 +7,19 @@
 
 enum {
     HOM_MAX_M = 24,
+    HOM_LANES = 4,  /* the equations j < s are padded to a multiple of this (sp) */
     HOM_QBLOCK = 8, /* rows of Q per block in hom_problem.Qb */
-    /* s*m rounded up to whole blocks, at most: */
-    HOM_MAX_ROWS = (HOM_MAX_M * (HOM_MAX_M - 1) + HOM_QBLOCK - 1) / HOM_QBLOCK * HOM_QBLOCK
+    /* m*sp rounded up to whole blocks, at most: */
+    HOM_MAX_ROWS = (HOM_MAX_M * HOM_MAX_M + HOM_QBLOCK - 1) / HOM_QBLOCK * HOM_QBLOCK
 };
+
+/* s rounded up to whole lanes: the stride of the interleaved rows of Q */
+static inline int kin__hom_sp(int s) { return (s + HOM_LANES - 1) / HOM_LANES * HOM_LANES; }
+/* rows of hom_problem.Qb (zero-padded to whole blocks) */
+static inline int kin__hom_rows(int m, int s)
+{
+    return (m * kin__hom_sp(s) + HOM_QBLOCK - 1) / HOM_QBLOCK * HOM_QBLOCK;
+}
 
 /* endpoint classes */
 enum { HOM_REAL = 0, HOM_NONREAL = 1, HOM_SINGULAR = 2, HOM_FAILED = 3 };
@@ -18,10 +27,12 @@ enum { HOM_REAL = 0, HOM_NONREAL = 1, HOM_SINGULAR = 2, HOM_FAILED = 3 };
 /* The homotopy H(x, t) = (1 - t) gamma G(x) + t F(x), G_j = x_{j+1}^2 - x_0^2,
  * F_j = x^T Q_j x (j < s), in the affine chart a.x = 1 (m = s + 1). */
 typedef struct hom_problem {
-    int m, s;
+    int m, s, sp;                        /* sp = kin__hom_sp(s) */
     const double *Qr;                    /* s*m rows of m: row j*m + r is row r of Q_j / |Q_j|_F */
-    const double *Qb;                    /* the same in blocks of HOM_QBLOCK rows (zero-padded),
-                                            column-major within a block */
+    const double *Qb;                    /* the same interleaved, row r*sp + j is row r of Q_j (rows
+                                            j >= s zero: Q x then has equation j fastest, so sums
+                                            over equations vectorise), in blocks of HOM_QBLOCK rows
+                                            (kin__hom_rows, zero-padded), column-major within a block */
     double gr, gi;                       /* gamma, |gamma| = 1 */
     double ar[HOM_MAX_M], ai[HOM_MAX_M]; /* the random chart */
     double normF, normG;                 /* |F[u,v]| <= normF |u||v| (2-norms); same for G */
