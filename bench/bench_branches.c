@@ -11,14 +11,8 @@
 #include <time.h>
 
 #include "libkin.h"
+#include "bench_common.h"
 #include "sail_states.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 static void scan(FILE *csv, const char *name, kin_assembly *a, int max_log2, int nreal)
 {

@@ -10,14 +10,8 @@
 #include <time.h>
 
 #include "libkin.h"
+#include "bench_common.h"
 #include "sail_states.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 int main(int argc, char **argv)
 {

@@ -16,14 +16,8 @@
 #include <time.h>
 
 #include "libkin.h"
+#include "bench_common.h"
 #include "sail_states.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 static const char *event_name(int e)
 {

@@ -18,40 +18,8 @@
 
 #include "internal.h"
 #include "libkin.h"
+#include "bench_common.h"
 #include "sail_states.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static double gauss(unsigned long long *st)
-{
-    double u = ((kin__splitmix(st) >> 11) + 0.5) * 0x1.0p-53;
-    double v = ((kin__splitmix(st) >> 11) + 0.5) * 0x1.0p-53;
-    return sqrt(-2.0 * log(u)) * cos(6.283185307179586 * v);
-}
-
-/* as bench_homotopy.c: s random symmetric m x m matrices, orthonormal */
-static void random_system(int m, int s, unsigned long long seed, double *Q)
-{
-    unsigned long long st = seed;
-    size_t mm = (size_t)m * m;
-    for (int j = 0; j < s; ++j) {
-        double *q = Q + j * mm;
-        for (int r = 0; r < m; ++r)
-            for (int c = r; c < m; ++c) q[r + c * m] = q[c + r * m] = gauss(&st);
-        for (int pass = 0; pass < 2; ++pass)
-            for (int k = 0; k < j; ++k) {
-                double d = kin__dot((int)mm, Q + k * mm, q);
-                for (size_t i = 0; i < mm; ++i) q[i] -= d * Q[k * mm + i];
-            }
-        double n = kin__norm((int)mm, q);
-        for (size_t i = 0; i < mm; ++i) q[i] /= n;
-    }
-}
 
 static double *sail_system(int hexrb, int *m, int *s)
 {

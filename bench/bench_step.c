@@ -30,14 +30,8 @@
 #include "internal.h"
 #include "lapack.h"
 #include "libkin.h"
+#include "bench_common.h"
 #include "sail_states.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 /* The hexagonal sail's generic point of the earlier benchmark: lift the free
  * nodes pseudo-randomly and relax; try smaller lifts until the relaxed point
@@ -63,45 +57,21 @@ static int generic(kin_assembly *a, double amp)
     return rc;
 }
 
-/* The large members' flat states are so degenerate that lifting and relaxing
- * does not reach a regular point. For timing, a member of the same topology
- * (same bars, supports and matrix sizes) with the bar lengths of a lifted
- * configuration is just as representative, and strain-free by construction:
- * *pa is replaced by it. The lift is a smooth dome z = amp*r^2 plus 1% noise:
- * random lifts alone give configurations within 1e-8 (relative v_r) of a
- * bifurcation, where every step is halved many times (measured: 90-290
- * factorizations per step on the 12-gon, 8-loop member; the dome: 1.0). */
+/* *pa replaced by its dome member (bench_common.h, dome_lengths) if that is a
+ * regular point (m_internal = 1): for timing, a member of the same topology
+ * and matrix sizes is just as representative as the degenerate flat state. */
 static int generic_by_lengths(kin_assembly **pa, double amp)
 {
-    kin_assembly *a = *pa, *b = NULL;
-    int nj = kin_njoints(a), nb = kin_nbars(a), rc = KIN_ENOMEM;
-    double *xyz = malloc(sizeof(double) * 3 * (size_t)nj);
-    unsigned char *fixed = malloc(3 * (size_t)nj);
-    int *bars = malloc(sizeof(int) * 2 * (size_t)nb);
-    if (xyz && fixed && bars) {
-        kin_get_coords(a, xyz);
-        kin_get_fixed(a, fixed);
-        kin_get_bars(a, bars);
-        unsigned long long st = 2024;
-        for (int j = 0; j < nj; ++j)
-            if (!fixed[3 * j + 2]) {
-                double r2 = xyz[3 * j] * xyz[3 * j] + xyz[3 * j + 1] * xyz[3 * j + 1];
-                double noise = (double)(kin__splitmix(&st) >> 11) * 0x1.0p-53 - 0.5;
-                xyz[3 * j + 2] += amp * (r2 + 0.01 * noise);
-            }
-        rc = kin_assembly_create(3, nj, xyz, fixed, nb, bars, NULL, &b, NULL, 0);
-    }
-    free(xyz);
-    free(fixed);
-    free(bars);
+    kin_assembly *b = dome_lengths(*pa, amp);
+    if (!b) return KIN_ENOMEM;
     kin_analysis an = {.size = sizeof an};
-    if (rc == KIN_OK && kin_analyse(b, &an) == KIN_OK && an.m_internal == 1) {
-        kin_assembly_free(a);
+    if (kin_analyse(b, &an) == KIN_OK && an.m_internal == 1) {
+        kin_assembly_free(*pa);
         *pa = b;
         return KIN_OK;
     }
     kin_assembly_free(b);
-    return rc ? rc : KIN_ENOMECH;
+    return KIN_ENOMECH;
 }
 
 static kin_assembly *copy_in_mode(const kin_assembly *a, int mode)

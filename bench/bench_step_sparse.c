@@ -33,13 +33,7 @@
 #include "internal.h"
 #include "lapack.h"
 #include "libkin.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
+#include "bench_common.h"
 
 static void print_load(const char *when)
 {
@@ -84,35 +78,16 @@ static double loglog_slope(int n, const double *x, const double *y)
     return k >= 2 ? (k * sxy - sx * sy) / (k * sxx - sx * sx) : NAN;
 }
 
-/* the sail member with the bar lengths of a dome lift (bench_step.c's
- * generic_by_lengths): strain-free by construction; checked regular by SVD
+/* the sail member with the bar lengths of a dome lift (bench_common.h's
+ * dome_lengths): strain-free by construction; checked regular by SVD
  * when check is set */
 static kin_assembly *sail_dome(int n, int loops, int check)
 {
     kin_sail_params p = {.size = sizeof p};
     kin_sail_params_default(&p, n, loops);
-    kin_assembly *a = NULL, *b = NULL;
+    kin_assembly *a = NULL;
     if (kin_model_sail(&p, &a, NULL, 0)) return NULL;
-    int nj = kin_njoints(a), nb = kin_nbars(a);
-    double *xyz = malloc(sizeof(double) * 3 * (size_t)nj);
-    unsigned char *fixed = malloc(3 * (size_t)nj);
-    int *bars = malloc(sizeof(int) * 2 * (size_t)nb);
-    if (xyz && fixed && bars) {
-        kin_get_coords(a, xyz);
-        kin_get_fixed(a, fixed);
-        kin_get_bars(a, bars);
-        unsigned long long st = 2024;
-        for (int j = 0; j < nj; ++j)
-            if (!fixed[3 * j + 2]) {
-                double r2 = xyz[3 * j] * xyz[3 * j] + xyz[3 * j + 1] * xyz[3 * j + 1];
-                double noise = (double)(kin__splitmix(&st) >> 11) * 0x1.0p-53 - 0.5;
-                xyz[3 * j + 2] += 0.3 * (r2 + 0.01 * noise);
-            }
-        kin_assembly_create(3, nj, xyz, fixed, nb, bars, NULL, &b, NULL, 0);
-    }
-    free(xyz);
-    free(fixed);
-    free(bars);
+    kin_assembly *b = dome_lengths(a, 0.3);
     kin_assembly_free(a);
     kin_analysis an = {.size = sizeof an};
     if (b && check && !(kin_analyse(b, &an) == KIN_OK && an.m_internal == 1)) {

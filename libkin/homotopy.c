@@ -332,26 +332,20 @@ static int homotopy_impl(int m, int s, const double *Q, const kin_homotopy_optio
     hom_solver H;
     int rc = kin__hom_solver_init(&H, m, s, Q, o, m >= 2 && m <= HOM_MAX_M ? 1L << (m - 1) : 1);
     int npaths = H.npaths;
-    hom_end *ends = NULL;
-    double *zr = NULL, *zi = NULL;
-    if (!rc) {
-        ends = malloc(sizeof(hom_end) * (size_t)npaths);
-        zr = malloc(sizeof(double) * (size_t)npaths * (size_t)m);
-        zi = malloc(sizeof(double) * (size_t)npaths * (size_t)m);
-        if (!ends || !zr || !zi) rc = KIN_ENOMEM;
-    }
+    hom_endset E = {NULL, NULL, NULL};
+    if (!rc) rc = kin__hom_endset_alloc(&E, npaths, m);
     if (!rc) {
         hom_report R = {o->progress, o->user, 0.0, (double)npaths, 0.0, 0};
         report(&R, NULL, 1);
-        if (!R.cancelled) rc = kin__hom_run(&H, &kin__hom_base_settings, NULL, 0, npaths, 0, ends, zr, zi, &R);
+        if (!R.cancelled) rc = kin__hom_run(&H, &kin__hom_base_settings, NULL, 0, npaths, 0, E.ends, E.zr, E.zi, &R);
         if (!rc && R.cancelled) rc = KIN_ECANCELLED;
-        if (!rc) rc = kin__hom_merge(&H, ends, zr, zi, &R, betas, maxsol, nsol, multiplicity, info);
+        if (!rc) rc = kin__hom_merge(&H, E.ends, E.zr, E.zi, &R, betas, maxsol, nsol, multiplicity, info);
     }
     if (rc) {
         memset(info, 0, sizeof *info);
         *nsol = 0;
     }
-    free(ends), free(zr), free(zi);
+    kin__hom_endset_free(&E);
     kin__hom_solver_free(&H);
     return rc;
 }
@@ -408,27 +402,22 @@ int kin_quadrics_homotopy_range(int m, int s, const double *Q, const kin_homotop
     hom_solver H;
     int rc = kin__hom_solver_init(&H, m, s, Q, &o, npaths);
     int n = (int)npaths, first = (int)first_path;
-    hom_end *e = NULL;
-    double *zr = NULL, *zi = NULL;
-    if (!rc) {
-        e = malloc(sizeof(hom_end) * (size_t)n);
-        zr = malloc(sizeof(double) * (size_t)n * (size_t)m);
-        zi = malloc(sizeof(double) * (size_t)n * (size_t)m);
-        if (!e || !zr || !zi) rc = KIN_ENOMEM;
-    }
+    hom_endset E = {NULL, NULL, NULL};
+    if (!rc) rc = kin__hom_endset_alloc(&E, n, m);
     if (!rc) {
         hom_report R = {o.progress, o.user, 0.0, (double)n, 0.0, 0};
         report(&R, NULL, 1);
-        if (!R.cancelled) rc = kin__hom_run(&H, &kin__hom_base_settings, NULL, first, n, first, e, zr, zi, &R);
+        if (!R.cancelled)
+            rc = kin__hom_run(&H, &kin__hom_base_settings, NULL, first, n, first, E.ends, E.zr, E.zi, &R);
         if (!rc && R.cancelled) rc = KIN_ECANCELLED;
         if (!rc) {
             for (int i = 0; i < n; ++i)
-                kin__hom_export(m, first + i, &e[i], zr + (size_t)i * m, zi + (size_t)i * m, &ends[i],
+                kin__hom_export(m, first + i, &E.ends[i], E.zr + (size_t)i * m, E.zi + (size_t)i * m, &ends[i],
                                 z + (size_t)2 * m * i);
             if (R.fn) R.fn(R.user, R.total, R.total); /* finished: its answer no longer matters */
         }
     }
-    free(e), free(zr), free(zi);
+    kin__hom_endset_free(&E);
     kin__hom_solver_free(&H);
     return rc;
 }

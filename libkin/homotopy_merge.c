@@ -286,22 +286,17 @@ static int merge_impl(int m, int s, const double *Q, const kin_homotopy_options 
     hom_solver H;
     int rc = kin__hom_solver_init(&H, m, s, Q, o, 1L << s);
     int npaths = H.npaths;
-    hom_end *ends = NULL;
-    double *zr = NULL, *zi = NULL;
-    if (!rc) {
-        ends = malloc(sizeof(hom_end) * (size_t)npaths);
-        zr = malloc(sizeof(double) * (size_t)npaths * (size_t)m);
-        zi = malloc(sizeof(double) * (size_t)npaths * (size_t)m);
-        if (!ends || !zr || !zi) rc = KIN_ENOMEM;
-    }
+    hom_endset E = {NULL, NULL, NULL};
+    if (!rc) rc = kin__hom_endset_alloc(&E, npaths, m);
     for (int p = 0; !rc && p < npaths; ++p)
-        rc = import_record(m, p, &recs[p], z + (size_t)2 * m * p, &ends[p], zr + (size_t)p * m, zi + (size_t)p * m);
+        rc = import_record(m, p, &recs[p], z + (size_t)2 * m * p, &E.ends[p], E.zr + (size_t)p * m,
+                           E.zi + (size_t)p * m);
     if (!rc) {
         hom_report R = {o->progress, o->user, 0.0, 0.0, 0.0, 0};
         if (R.fn && R.fn(R.user, 0.0, 0.0)) rc = KIN_ECANCELLED;
-        if (!rc) rc = kin__hom_merge(&H, ends, zr, zi, &R, betas, maxsol, nsol, multiplicity, info);
+        if (!rc) rc = kin__hom_merge(&H, E.ends, E.zr, E.zi, &R, betas, maxsol, nsol, multiplicity, info);
     }
-    free(ends), free(zr), free(zi);
+    kin__hom_endset_free(&E);
     kin__hom_solver_free(&H);
     return rc;
 }
@@ -329,4 +324,20 @@ int kin_quadrics_homotopy_merge(int m, int s, const double *Q, const kin_homotop
     }
     kin__abi_write(info, &local, sizeof local);
     return rc;
+}
+
+int kin__hom_endset_alloc(hom_endset *E, int n, int m)
+{
+    E->ends = malloc(sizeof(hom_end) * (size_t)n);
+    E->zr = malloc(sizeof(double) * (size_t)n * (size_t)m);
+    E->zi = malloc(sizeof(double) * (size_t)n * (size_t)m);
+    if (E->ends && E->zr && E->zi) return KIN_OK;
+    kin__hom_endset_free(E);
+    return KIN_ENOMEM;
+}
+
+void kin__hom_endset_free(hom_endset *E)
+{
+    free(E->ends), free(E->zr), free(E->zi);
+    E->ends = NULL, E->zr = E->zi = NULL;
 }

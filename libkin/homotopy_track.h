@@ -138,6 +138,17 @@ int kin__hom_run(hom_solver *H, const hom_settings *S, const int *list, int firs
 int kin__hom_merge(hom_solver *H, hom_end *ends, double *zr, double *zi, hom_report *R, double *betas, int maxsol,
                    int *nsol, int *multiplicity, kin_homotopy_info *info);
 
+/* The endpoints of n paths: the tracker's records and their coordinates
+ * (real and imaginary parts, m each). */
+typedef struct hom_endset {
+    hom_end *ends;
+    double *zr, *zi;
+} hom_endset;
+/* allocate E for n paths of m coordinates: KIN_OK, or KIN_ENOMEM with E empty */
+int kin__hom_endset_alloc(hom_endset *E, int n, int m);
+/* release E (an empty or failed one too) */
+void kin__hom_endset_free(hom_endset *E);
+
 /* endpoint records (kin_branch.h) <-> the tracker's */
 void kin__hom_export(int m, int path, const hom_end *e, const double *zr, const double *zi, kin_homotopy_endpoint *r,
                      double *z);

@@ -1,0 +1,83 @@
+/* What the benchmark programs share: a monotonic clock, the random
+ * second-order systems of the complete-solver benchmarks, and the "dome"
+ * member of a sail family used to time stepping. Include after defining
+ * _POSIX_C_SOURCE (clock_gettime). */
+#ifndef KIN_BENCH_COMMON_H
+#define KIN_BENCH_COMMON_H
+
+#include <math.h>
+#include <stdlib.h>
+#include <time.h>
+
+#include "internal.h"
+
+/* wall-clock seconds, monotonic */
+static inline double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* a standard normal draw (Box-Muller on splitmix) */
+static inline double gauss(unsigned long long *st)
+{
+    double u = ((kin__splitmix(st) >> 11) + 0.5) * 0x1.0p-53;
+    double v = ((kin__splitmix(st) >> 11) + 0.5) * 0x1.0p-53;
+    return sqrt(-2.0 * log(u)) * cos(6.283185307179586 * v);
+}
+
+/* s random symmetric m x m matrices, orthonormal as vectors of length m*m */
+static inline void random_system(int m, int s, unsigned long long seed, double *Q)
+{
+    unsigned long long st = seed;
+    size_t mm = (size_t)m * m;
+    for (int j = 0; j < s; ++j) {
+        double *q = Q + j * mm;
+        for (int r = 0; r < m; ++r)
+            for (int c = r; c < m; ++c) q[r + c * m] = q[c + r * m] = gauss(&st);
+        for (int pass = 0; pass < 2; ++pass)
+            for (int k = 0; k < j; ++k) {
+                double d = kin__dot((int)mm, Q + k * mm, q);
+                for (size_t i = 0; i < mm; ++i) q[i] -= d * Q[k * mm + i];
+            }
+        double n = kin__norm((int)mm, q);
+        for (size_t i = 0; i < mm; ++i) q[i] /= n;
+    }
+}
+
+/* A member of a (3D) family with the same bars and supports as a, whose rest
+ * lengths are those of a smooth dome lift z += amp*(r^2 + 1% noise) of a's
+ * configuration: strain-free by construction. Large flat sails are so
+ * degenerate that lifting and relaxing does not reach a regular point, and
+ * random lifts alone land within 1e-8 (relative v_r) of a bifurcation, where
+ * every step is halved many times (measured: 90-290 factorizations per step
+ * on the 12-gon, 8-loop member; the dome: 1.0). Returns the new handle, or
+ * NULL (creation failed). a is not changed. */
+static inline kin_assembly *dome_lengths(const kin_assembly *a, double amp)
+{
+    kin_assembly *b = NULL;
+    int nj = kin_njoints(a), nb = kin_nbars(a);
+    double *xyz = malloc(sizeof(double) * 3 * (size_t)nj);
+    unsigned char *fixed = malloc(3 * (size_t)nj);
+    int *bars = malloc(sizeof(int) * 2 * (size_t)nb);
+    if (xyz && fixed && bars) {
+        kin_get_coords(a, xyz);
+        kin_get_fixed(a, fixed);
+        kin_get_bars(a, bars);
+        unsigned long long st = 2024;
+        for (int j = 0; j < nj; ++j)
+            if (!fixed[3 * j + 2]) {
+                double r2 = xyz[3 * j] * xyz[3 * j] + xyz[3 * j + 1] * xyz[3 * j + 1];
+                double noise = (double)(kin__splitmix(&st) >> 11) * 0x1.0p-53 - 0.5;
+                xyz[3 * j + 2] += amp * (r2 + 0.01 * noise);
+            }
+        kin_assembly_create(3, nj, xyz, fixed, nb, bars, NULL, &b, NULL, 0);
+    }
+    free(xyz);
+    free(fixed);
+    free(bars);
+    return b;
+}
+
+#endif /* KIN_BENCH_COMMON_H */
