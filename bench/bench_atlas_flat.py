@@ -45,6 +45,10 @@ def summarize(d: Dict[str, Any]) -> Dict[str, Any]:
     orbits = {n["orbit"] for n in ends}
     orbit_kind = collections.Counter(next(m["kind"] for m in ends if m["orbit"] == o) for o in orbits)
     back = sum(1 for e in edges if e["target"] == start["id"])
+    targets = {e["target"] for e in edges}
+    by_id = {n["id"]: n for n in nodes}
+    next_orbits = {by_id[t]["orbit"] for t in targets}
+    per_node = collections.Counter(e["target"] for e in edges)
     steps = collections.defaultdict(list)
     for e in edges:
         steps[e["event"]].append(e["steps"])
@@ -55,6 +59,9 @@ def summarize(d: Dict[str, Any]) -> Dict[str, Any]:
         "directed_branches": len(edges),
         "events": dict(events),
         "back_to_start": back,
+        "next_nodes": len(targets),
+        "next_nodes_up_to_symmetry": len(next_orbits),
+        "branches_per_next_node_max": max(per_node.values()) if per_node else 0,
         "distinct_end_nodes": len(ends),
         "end_nodes_by_kind": dict(kinds),
         "orbits": len(orbits),
@@ -126,8 +133,9 @@ def chart(args: argparse.Namespace) -> None:
     ms = s["bifurcation_nodes_by_m_s"]
     labels = list(ms)[:14]
     ax[2].barh(labels[::-1], [ms[k] for k in labels][::-1], color="#c0392b")
-    ax[2].set_xlabel("distinct bifurcation nodes reached")
-    ax[2].set_title(f"{s['distinct_end_nodes']:,} end nodes, {s['orbits']:,} up to symmetry")
+    ax[2].set_xlabel("distinct bifurcation nodes reached (other than the start), by m, s")
+    ax[2].set_title(f"{s['next_nodes']:,} next nodes ({s['next_nodes_up_to_symmetry']:,} up to symmetry), "
+                    f"start incl.")
     fig.suptitle(f"Depth-1 atlas of {s['model'] or 'the flat state'}: "
                  f"{s['stats'].get('seconds', 0) / 60:.1f} min wall, "
                  f"{s['stats'].get('follow_cpu_seconds', 0) / 3600:.2f} CPU-h following", fontsize=11)
