@@ -8,8 +8,8 @@ group found automatically.
 
   python bench/bench_atlas_flat.py run [--model sail:6:2] [--workers 2] --out DIR
       explores and writes DIR/atlas.json and DIR/summary.json;
-  python bench/bench_atlas_flat.py chart DIR [--png docs/atlas_flat.png]
-      the summary table and a chart from DIR/atlas.json.
+  python bench/bench_atlas_flat.py chart DIR [--png docs/atlas_flat.png] [--map docs/atlas_flat_map.png]
+      the summary table, a chart and the condensed map from DIR/atlas.json.
 
 Not a test: prints a table. The load average is printed at the start and
 the end, and the followers' CPU time is reported beside the wall time, so a
@@ -133,15 +133,19 @@ def chart(args: argparse.Namespace) -> None:
     ms = s["bifurcation_nodes_by_m_s"]
     labels = list(ms)[:14]
     ax[2].barh(labels[::-1], [ms[k] for k in labels][::-1], color="#c0392b")
-    ax[2].set_xlabel("distinct bifurcation nodes reached (other than the start), by m, s")
-    ax[2].set_title(f"{s['next_nodes']:,} next nodes ({s['next_nodes_up_to_symmetry']:,} up to symmetry), "
-                    f"start incl.")
+    ax[2].set_xlabel("bifurcation nodes reached (not the start)")
+    ax[2].set_title(f"{s['next_nodes']:,} next nodes, {s['next_nodes_up_to_symmetry']:,} up to symmetry")
     fig.suptitle(f"Depth-1 atlas of {s['model'] or 'the flat state'}: "
                  f"{s['stats'].get('seconds', 0) / 60:.1f} min wall, "
                  f"{s['stats'].get('follow_cpu_seconds', 0) / 3600:.2f} CPU-h following", fontsize=11)
     fig.tight_layout()
     fig.savefig(args.png, dpi=110)
     print(f"wrote {args.png}")
+    if args.map:
+        from libkin import atlas_plot
+        from libkin.atlas import Atlas
+        atlas_plot.draw_map(Atlas.from_dict(d), args.map, max_nodes=30)
+        print(f"wrote {args.map}")
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -154,6 +158,7 @@ def main(argv: list[str] | None = None) -> None:
     c = sub.add_parser("chart")
     c.add_argument("dir")
     c.add_argument("--png", default="docs/atlas_flat.png")
+    c.add_argument("--map", default="docs/atlas_flat_map.png", help="the condensed map ('' for none)")
     args = p.parse_args(argv)
     (run if args.cmd == "run" else chart)(args)
 
