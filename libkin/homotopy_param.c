@@ -27,6 +27,12 @@
 
 #include "homotopy_param.h"
 
+/* the kernels are simple loops over contiguous arrays: let GCC vectorise
+ * them (at -O2 its cost model leaves loops with a remainder scalar) */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("tree-vectorize", "vect-cost-model=dynamic")
+#endif
+
 /* compile the matrix-vector product for AVX2 too where possible (as
  * homotopy_track.c does; the result is bit-identical) */
 #if defined(__x86_64__) && defined(__ELF__) && defined(__has_attribute) && !defined(KIN_NO_MULTIVERSION)
@@ -39,7 +45,7 @@
 #endif
 
 enum {
-    ORDER = 8,               /* Taylor order of the predictor */
+    ORDER = 6,               /* Taylor order of the predictor */
     NY = ORDER / 2 + 1,      /* M0 x_i for i <= ORDER / 2 */
     NZ = (ORDER - 1) / 2 + 1, /* D x_i for i <= (ORDER - 1) / 2 */
     NEWTON_MAX = 3,          /* corrector iterations per step */
@@ -126,16 +132,19 @@ HPAR_KERNEL static void form(const hpar_problem *P, double t, double *restrict M
     for (size_t i = 0; i < n; ++i) Mr[i] = P->Ar[i] + t * P->Dr[i], Mi[i] = P->Ai[i] + t * P->Di[i];
 }
 
-/* out_j += wgt * (u . y_j), j < s, y in the stacked row order */
-static void dots(int m, int s, double wgt, const double *ur, const double *ui, const double *yr, const double *yi,
-                 double *outr, double *outi)
+/* out_j += wgt * (u . y_j), j < s (y_j: entries r*s + j of y): the
+ * equations are the inner, contiguous loop (independent sums) */
+HPAR_KERNEL static void dots(int m, int s, double wgt, const double *restrict ur, const double *restrict ui,
+                             const double *restrict yr, const double *restrict yi, double *restrict outr,
+                             double *restrict outi)
 {
-    for (int j = 0; j < s; ++j) {
-        const double *ar = yr + j * m, *ai = yi + j * m;
-        double pr = 0.0, pi = 0.0;
-        for (int r = 0; r < m; ++r) pr += ur[r] * ar[r] - ui[r] * ai[r], pi += ur[r] * ai[r] + ui[r] * ar[r];
-        outr[j] += wgt * pr, outi[j] += wgt * pi;
+    double pr[HOM_MAX_M] = {0}, pi[HOM_MAX_M] = {0};
+    for (int r = 0; r < m; ++r) {
+        const double *ar = yr + r * s, *ai = yi + r * s;
+        double a = ur[r], b = ui[r];
+        for (int j = 0; j < s; ++j) pr[j] += a * ar[j] - b * ai[j], pi[j] += a * ai[j] + b * ar[j];
     }
+    for (int j = 0; j < s; ++j) outr[j] += wgt * pr[j], outi[j] += wgt * pi[j];
 }
 
 static double vnorm(int n, const double *xr, const double *xi)
@@ -235,7 +244,7 @@ static int newton(const hpar_problem *P, hpar_ws *w, const double *Mr, const dou
     }
     dr[s] = cr, di[s] = ci;
     for (int c = 0; c < m; ++c) { /* J(j, c) = 2 (M_j x)_c (symmetric M_j); the chart row */
-        for (int j = 0; j < s; ++j) w->jr[c * m + j] = 2.0 * yr[j * m + c], w->ji[c * m + j] = 2.0 * yi[j * m + c];
+        for (int j = 0; j < s; ++j) w->jr[c * m + j] = 2.0 * yr[c * s + j], w->ji[c * m + j] = 2.0 * yi[c * s + j];
         w->jr[c * m + s] = car[c], w->ji[c * m + s] = cai[c];
     }
     if (!lu_factor(w)) return 0;

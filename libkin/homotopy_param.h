@@ -4,9 +4,10 @@
  * monodromy between random members of an equivariant family and the last
  * leg to the caller's system). Complex matrices are split into real and
  * imaginary arrays in the "stacked" layout: the m columns of the (s m) x m
- * matrix whose row j*m + r is row r of the equation's matrix M_j, column c
- * at offset c*s*m, so that y = M x (y[j*m + r] = (M_j x)_r) is m
- * contiguous axpys. */
+ * matrix whose row r*s + j is row r of the equation's matrix M_j, column c
+ * at offset c*s*m, so that y = M x (y[r*s + j] = (M_j x)_r) is m
+ * contiguous axpys and the dots u . (M_j x) run over the equations j
+ * innermost. */
 #ifndef KIN_HOMOTOPY_PARAM_H
 #define KIN_HOMOTOPY_PARAM_H
 

@@ -208,8 +208,8 @@ static void random_member(sym_ctx *C, unsigned long long *st, double *zr, double
             for (int c = 0; c <= r; ++c) {
                 double a, b;
                 gaussian2(st, &a, &b);
-                zr[(size_t)c * sm + j * m + r] = zr[(size_t)r * sm + j * m + c] = a;
-                zi[(size_t)c * sm + j * m + r] = zi[(size_t)r * sm + j * m + c] = b;
+                zr[(size_t)c * sm + r * s + j] = zr[(size_t)r * sm + c * s + j] = a;
+                zi[(size_t)c * sm + r * s + j] = zi[(size_t)r * sm + c * s + j] = b;
             }
     kin__sym_reynolds(&C->G, zr, zi, pr, pi);
     double n2 = 0.0;
@@ -227,8 +227,8 @@ static void evaluate(const sym_ctx *C, const double *Pr, const double *Pi, const
     for (int j = 0; j < C->s; ++j) {
         double a = 0.0, b = 0.0;
         for (int r = 0; r < m; ++r) {
-            a += br[r] * yr[j * m + r] - bi[r] * yi[j * m + r];
-            b += br[r] * yi[j * m + r] + bi[r] * yr[j * m + r];
+            a += br[r] * yr[r * C->s + j] - bi[r] * yi[r * C->s + j];
+            b += br[r] * yi[r * C->s + j] + bi[r] * yr[r * C->s + j];
         }
         qr[j] = a, qi[j] = b;
     }
@@ -366,8 +366,8 @@ static int force_roots(sym_ctx *C, unsigned long long *st, int K, const double *
             for (int r = 0; r < m; ++r)
                 for (int c = 0; c < m; ++c) {
                     double pr = vr[r] * vr[c] - vi[r] * vi[c], pi = vr[r] * vi[c] + vi[r] * vr[c];
-                    zr[(size_t)c * sm + j * m + r] += cr * pr - ci * pi;
-                    zi[(size_t)c * sm + j * m + r] += cr * pi + ci * pr;
+                    zr[(size_t)c * sm + r * s + j] += cr * pr - ci * pi;
+                    zi[(size_t)c * sm + r * s + j] += cr * pi + ci * pr;
                 }
         }
     double *dr = C->tmp[0], *di = C->tmp[1];
@@ -601,7 +601,7 @@ static int ctx_init(sym_ctx *C, int m, int s, const double *Q, int ngroup, const
     /* Q stacked (the scaled symmetric rows of the certificate's problem) */
     for (int j = 0; j < s; ++j)
         for (int r = 0; r < m; ++r)
-            for (int c = 0; c < m; ++c) C->Qst[(size_t)c * C->sm + j * m + r] = C->H.Qr[((size_t)j * m + r) * m + c];
+            for (int c = 0; c < m; ++c) C->Qst[(size_t)c * C->sm + r * s + j] = C->H.Qr[((size_t)j * m + r) * m + c];
     /* the random systems, chart and set keys (from the seed: deterministic) */
     C->st = (unsigned long long)o->seed * 0x9E3779B97F4A7C15ull + 0x5851F42D4C957F2Dull;
     unsigned long long *st = &C->st;

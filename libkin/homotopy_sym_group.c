@@ -189,13 +189,13 @@ void kin__sym_reynolds(const sym_group *G, const double *Zr, const double *Zi, d
             double *P = part ? Pi : Pr;
             for (int i = 0; i < s; ++i) {
                 for (int c = 0; c < m; ++c) /* Z_i (stacked) to column-major B */
-                    for (int r = 0; r < m; ++r) B[c * m + r] = Z[(size_t)c * sm + i * m + r];
+                    for (int r = 0; r < m; ++r) B[c * m + r] = Z[(size_t)c * sm + r * s + i];
                 congruence(m, Rg, B, T, C);
                 for (int j = 0; j < s; ++j) {
                     double f = Si[i * s + j] / G->n;
                     if (f == 0.0) continue;
                     for (int c = 0; c < m; ++c)
-                        for (int r = 0; r < m; ++r) P[(size_t)c * sm + j * m + r] += f * C[c * m + r];
+                        for (int r = 0; r < m; ++r) P[(size_t)c * sm + r * s + j] += f * C[c * m + r];
                 }
             }
         }
