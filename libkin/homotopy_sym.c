@@ -38,9 +38,12 @@
 #include "lapack.h"
 
 enum { NODES = 3, RETRACK_ROUNDS = 3, BUDGET_PER_ORBIT = 40, BUDGET_EXTRA = 1000 };
-/* loops: loose (a jump only wastes a path); the leg to Q: tight */
+/* Loops: loose (a jump only wastes a path). The leg to Q: tighter; a jump
+ * there lands on a root another path reaches too (every root of Q is
+ * reached by exactly one orbit's path when all are simple), which the
+ * duplicate check sees and a re-track with tighter settings repairs. */
 static const hpar_settings LOOP_SETTINGS = {1e-3, 1e-2, 0.0};
-static const hpar_settings FINAL_SETTINGS = {1e-5, 1e-3, 1e-10};
+static const hpar_settings FINAL_SETTINGS = {1e-4, 3e-3, 1e-10};
 static const double TIGHTEN = 0.1, SIGMA_TIGHTEN = 0.01, REPORT_INTERVAL = 0.05;
 
 enum { JOB_LOOP, JOB_FINAL, JOB_CERT };
