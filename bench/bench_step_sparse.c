@@ -14,13 +14,18 @@
  *            1095 to 10290 free coordinates, followed in sparse mode from a fresh handle (no
  *            SVD anywhere); one dense dgetrf of the same size where it is
  *            affordable; resident and virtual memory of the process.
+ *  order     the sparse mode's column order: COLAMD alone against the
+ *            order kept at set-up (COLAMD or METIS nested dissection,
+ *            whichever factors with fewer entries), on the sails and the
+ *            lattices: factor entries, mean step, growth exponents
+ *            (COLAMD alone at 10^4 free coordinates only in order-full).
  *  control   the LU mode's mean step on sail:24:12 and sail:24:14 with the
  *            shared step control (the SVD mode's amplitudes, libkin <=
  *            0.3.0) and with the LU modes' own (KIN_STEP_CONTROL_MODE), in
  *            dgesdd-equivalents (mean step seconds / one dgesdd of the same
  *            H, measured back to back) and per unit path length.
  *
- * usage: bench_step_sparse [OUTDIR [all|sails|lattice|control|quick]]
+ * usage: bench_step_sparse [OUTDIR [all|sails|lattice|control|order|order-full|quick]]
  * Every table is measured once (the machine may be shared: `uptime` is
  * printed with every table); run with OPENBLAS_NUM_THREADS=1. */
 #define _POSIX_C_SOURCE 199309L
@@ -34,6 +39,7 @@
 #include "lapack.h"
 #include "libkin.h"
 #include "bench_common.h"
+#include "lattice_model.h"
 
 static void print_load(const char *when)
 {
@@ -240,139 +246,6 @@ static void sails(FILE *csv, int quick)
     print_load("after the sail table");
 }
 
-/* ---- generated 3D lattice mechanisms ------------------------------------- */
-
-static int cmp_key(const void *p, const void *q)
-{
-    double a = *(const double *)p, b = *(const double *)q;
-    return a < b ? -1 : a > b;
-}
-
-/* A block of the face-centred cubic lattice (the points of an
- * nx x ny x nz cube grid with x + y + z even), 5 % noise. The joints are
- * numbered by the generic height x + 2.3 y + 5.3 z; each one is braced to
- * three of its nearest lattice neighbours numbered before it (the first
- * not coplanar with the ones already chosen), so each adds three bars: a
- * Henneberg construction (rigid, isostatic). The middle joint's last bar is
- * then taken out: one internal mechanism. No supports: six rigid
- * mechanisms. */
-static kin_assembly *lattice(int nx, int ny, int nz)
-{
-    int cap = nx * ny * nz, nj = 0;
-    double *key = malloc(sizeof(double) * 2 * (size_t)cap);
-    int *at = malloc(sizeof(int) * (size_t)cap); /* grid cell -> joint, or -1 */
-    double *xyz = malloc(sizeof(double) * 3 * (size_t)cap);
-    int *bars = malloc(sizeof(int) * 2 * 3 * (size_t)cap), nb = 0, removed = -1;
-    kin_assembly *a = NULL;
-    if (!key || !at || !xyz || !bars) goto done;
-    for (int z = 0; z < nz; ++z)
-        for (int y = 0; y < ny; ++y)
-            for (int x = 0; x < nx; ++x)
-                if ((x + y + z) % 2 == 0) {
-                    key[2 * nj] = x + 2.3 * y + 5.3 * z;
-                    key[2 * nj + 1] = x + nx * (y + ny * z);
-                    ++nj;
-                }
-    qsort(key, (size_t)nj, 2 * sizeof(double), cmp_key);
-    for (int c = 0; c < cap; ++c) at[c] = -1;
-    for (int j = 0; j < nj; ++j) at[(int)key[2 * j + 1]] = j;
-    unsigned long long st = 99;
-    for (int j = 0; j < nj; ++j) {
-        int c = (int)key[2 * j + 1], x = c % nx, y = (c / nx) % ny, z = c / (nx * ny);
-        const int g[3] = {x, y, z};
-        for (int k = 0; k < 3; ++k)
-            xyz[3 * j + k] = g[k] + 0.1 * ((double)(kin__splitmix(&st) >> 11) * 0x1.0p-53 - 0.5);
-    }
-    for (int j = 0; j < nj; ++j) {
-        int c = (int)key[2 * j + 1], x = c % nx, y = (c / nx) % ny, z = c / (nx * ny), got = 0;
-        int off[3][3];
-        /* nearest lattice neighbours first: squared distance 2 (the 12
-         * nearest), then 4, 6, 8 (next shells, at the block's faces) */
-        for (int pass = 0; pass < 4 && got < 3; ++pass)
-            for (int u = -2; u <= 2 && got < 3; ++u)
-                for (int v = -2; v <= 2 && got < 3; ++v)
-                    for (int w = -2; w <= 2 && got < 3; ++w) {
-                        int n2 = u * u + v * v + w * w;
-                        if (n2 != 2 * (pass + 1)) continue;
-                        int X = x + u, Y = y + v, Z = z + w;
-                        if (X < 0 || Y < 0 || Z < 0 || X >= nx || Y >= ny || Z >= nz) continue;
-                        int k = at[X + nx * (Y + ny * Z)];
-                        if (k < 0 || k >= j) continue;
-                        int o[3] = {u, v, w};
-                        if (got == 1) { /* not parallel to the first */
-                            int cx = off[0][1] * o[2] - off[0][2] * o[1], cy = off[0][2] * o[0] - off[0][0] * o[2],
-                                cz = off[0][0] * o[1] - off[0][1] * o[0];
-                            if (cx == 0 && cy == 0 && cz == 0) continue;
-                        }
-                        if (got == 2) { /* not coplanar with the first two */
-                            int det = off[0][0] * (off[1][1] * o[2] - off[1][2] * o[1]) -
-                                      off[0][1] * (off[1][0] * o[2] - off[1][2] * o[0]) +
-                                      off[0][2] * (off[1][0] * o[1] - off[1][1] * o[0]);
-                            if (det == 0) continue;
-                        }
-                        memcpy(off[got], o, sizeof o);
-                        bars[2 * nb] = k;
-                        bars[2 * nb + 1] = j;
-                        ++nb;
-                        ++got;
-                    }
-        /* near the first joints: the nearest earlier joints in space that
-         * keep the bars well spread (first joints: all earlier ones) */
-        for (double spread = 0.2; got < 3 && got < j && spread > 1e-4;) {
-            int pick = -1;
-            double best = INFINITY;
-            for (int k = 0; k < j; ++k) {
-                double o[3], d = 0.0;
-                int dup = 0;
-                for (int b = nb - got; b < nb; ++b) dup |= bars[2 * b] == k;
-                if (dup) continue;
-                for (int q = 0; q < 3; ++q) {
-                    o[q] = xyz[3 * k + q] - xyz[3 * j + q];
-                    d += o[q] * o[q];
-                }
-                if (got == 2 && j >= 3) {
-                    const double *p0 = xyz + 3 * bars[2 * (nb - 2)], *p1 = xyz + 3 * bars[2 * (nb - 1)];
-                    double a0[3], a1[3];
-                    for (int q = 0; q < 3; ++q) {
-                        a0[q] = p0[q] - xyz[3 * j + q];
-                        a1[q] = p1[q] - xyz[3 * j + q];
-                    }
-                    double det = a0[0] * (a1[1] * o[2] - a1[2] * o[1]) - a0[1] * (a1[0] * o[2] - a1[2] * o[0]) +
-                                 a0[2] * (a1[0] * o[1] - a1[1] * o[0]);
-                    if (fabs(det) < spread * sqrt(d * (a0[0] * a0[0] + a0[1] * a0[1] + a0[2] * a0[2]) *
-                                               (a1[0] * a1[0] + a1[1] * a1[1] + a1[2] * a1[2])))
-                        continue;
-                }
-                if (d < best) {
-                    best = d;
-                    pick = k;
-                }
-            }
-            if (pick < 0) {
-                spread *= 0.1;
-                continue;
-            }
-            bars[2 * nb] = pick;
-            bars[2 * nb + 1] = j;
-            ++nb;
-            ++got;
-        }
-        if (j == nj / 2) removed = nb - 1;
-    }
-    if (removed >= 0) {
-        memmove(bars + 2 * removed, bars + 2 * removed + 2, sizeof(int) * 2 * (size_t)(nb - removed - 1));
-        --nb;
-    }
-    int rc = kin_assembly_create(3, nj, xyz, NULL, nb, bars, NULL, &a, NULL, 0);
-    if (rc) printf("  (lattice %dx%dx%d: create returned %d)\n", nx, ny, nz, rc);
-done:
-    free(key);
-    free(at);
-    free(xyz);
-    free(bars);
-    return a;
-}
-
 static void lattices(FILE *csv, int quick)
 {
     const int dims[][3] = {{9, 9, 9}, {11, 11, 11}, {13, 13, 13}, {15, 15, 15}, {19, 19, 19}};
@@ -461,6 +334,87 @@ static void control(FILE *csv)
     print_load("after the control table");
 }
 
+/* ---- the sparse mode's column order: COLAMD against nested dissection ---- */
+
+/* one structure in sparse mode with the order kin__sparse_prepare keeps
+ * (nd_allowed) or with COLAMD only: factor entries, start, mean step */
+typedef struct order_run {
+    int nested;
+    double entries_colamd, entries_nd, start, step;
+    run r;
+} order_run;
+
+static order_run order_follow(kin_assembly *a, int nd_allowed, int nsteps)
+{
+    order_run o = {0, NAN, NAN, NAN, NAN, {0.0, 0.0, 0, 0, 0, 0, 0}};
+    kin_assembly *b = NULL;
+    if (kin_assembly_clone(a, &b)) return o;
+    if (!nd_allowed) kin__set_fault(b, KIN__FAULT_SPARSE_NO_ND);
+    double t0 = now();
+    set_mode(b, KIN_STEP_SPARSE, KIN_STEP_CONTROL_MODE);
+    kin_step_info info = {.size = sizeof info};
+    int rc = kin_step(b, 0.0, &info);
+    o.start = now() - t0;
+    o.nested = kin__sparse_order(b, &o.entries_colamd, &o.entries_nd);
+    if (rc == KIN_OK) o.r = follow(b, nsteps, NULL);
+    o.step = o.r.steps ? o.r.seconds / o.r.steps : NAN;
+    kin_assembly_free(b);
+    return o;
+}
+
+static void orders(FILE *csv, int quick, int full)
+{
+    const int loops[] = {6, 8, 10, 12, 14, 20};
+    const int dims[][3] = {{9, 9, 9}, {11, 11, 11}, {13, 13, 13}, {15, 15, 15}, {19, 19, 19}};
+    int ns = quick ? 2 : 6, nl = quick ? 2 : 5;
+    double xs[16], yc[16], yk[16];
+    print_load("before the order table");
+    printf("\nsparse mode, column order: COLAMD only against the order kept at set-up (COLAMD or METIS nested "
+           "dissection, whichever has fewer factor entries); 10 automatic steps each, measured once\n");
+    printf("%-14s %6s | %10s %10s %5s | %9s %9s | %9s %9s | %6s\n", "structure", "nfree", "L+U colamd", "L+U nd",
+           "kept", "COL st[s]", "kept st[s]", "COL start", "kept strt", "speedup");
+    for (int fam = 0; fam < 2; ++fam) {
+        int n = fam ? nl : ns, np = 0;
+        for (int i = 0; i < n; ++i) {
+            kin_assembly *a = fam ? lattice(dims[i][0], dims[i][1], dims[i][2]) : sail_dome(24, loops[i], 1);
+            if (!a) continue;
+            if (!fam) {
+                kin_step_info info = {.size = sizeof info};
+                kin_step(a, 0.0, &info);
+            }
+            int nf = kin_nfree(a);
+            /* COLAMD alone at 10^4 free coordinates costs minutes: only with
+             * `order-full` */
+            int big = fam && nf > 6000 && !full;
+            order_run c = big ? (order_run){0, NAN, NAN, NAN, NAN, {0.0, 0.0, 0, 0, 0, 0, 0}} : order_follow(a, 0, 10);
+            order_run k = order_follow(a, 1, 10);
+            char name[32];
+            if (fam) snprintf(name, sizeof name, "lattice %d^3", dims[i][0]);
+            else snprintf(name, sizeof name, "sail 24x%d", loops[i]);
+            printf("%-14s %6d | %10.3e %10.3e %5s | %9.3e %9.3e | %9.3e %9.3e | %6.2f\n", name, nf, k.entries_colamd,
+                   k.entries_nd, k.nested ? "ND" : "COL", c.step, k.step, c.start, k.start, c.step / k.step);
+            fprintf(csv, "order_%s,%d,%d,%d,NAN,%.6e,%.6e,%.0f,%d,%.6e,%.6e,NAN,0,NAN,NAN,NAN,NAN\n",
+                    fam ? "lattice" : "sails", fam ? dims[i][0] : 24, fam ? dims[i][0] : loops[i], nf, c.step,
+                    k.entries_colamd, k.entries_nd, k.nested, k.step, k.start);
+            fflush(stdout);
+            fflush(csv);
+            if (k.r.ok && k.r.steps && np < 16) {
+                xs[np] = nf;
+                yk[np] = k.step;
+                yc[np] = c.step;
+                ++np;
+            }
+            kin_assembly_free(a);
+        }
+        int npc = np;
+        while (npc > 0 && !isfinite(yc[npc - 1])) --npc;
+        printf("growth exponent of the mean step, %s (log-log fit): COLAMD only %.2f (%d sizes), kept order %.2f (%d "
+               "sizes)\n",
+               fam ? "lattices" : "sails", loglog_slope(npc, xs, yc), npc, loglog_slope(np, xs, yk), np);
+    }
+    print_load("after the order table");
+}
+
 int main(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : ".";
@@ -481,6 +435,7 @@ int main(int argc, char **argv)
     if (all || strcmp(what, "control") == 0) control(csv);
     if (all || strcmp(what, "sails") == 0) sails(csv, quick);
     if (all || strcmp(what, "lattice") == 0) lattices(csv, quick);
+    if (all || strncmp(what, "order", 5) == 0) orders(csv, quick, strcmp(what, "order-full") == 0);
     fclose(csv);
     return 0;
 }

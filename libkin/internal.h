@@ -118,9 +118,10 @@ struct kin_assembly {
 enum kin__fault { KIN__FAULT_NONE = 0, KIN__FAULT_SVD_ARG, KIN__FAULT_SVD_CONV, KIN__FAULT_SDD_CONV,
                   /* sparse.c: the KLU analysis or a factorization cannot
                    * allocate; every numeric factorization reports a singular
-                   * J; every refactorization is rejected (pivot again) */
+                   * J; every refactorization is rejected (pivot again);
+                   * no nested-dissection order (as when METIS fails) */
                   KIN__FAULT_SPARSE_NOMEM, KIN__FAULT_SPARSE_FACTOR_NOMEM, KIN__FAULT_SPARSE_SINGULAR,
-                  KIN__FAULT_SPARSE_REPIVOT };
+                  KIN__FAULT_SPARSE_REPIVOT, KIN__FAULT_SPARSE_NO_ND };
 void kin__set_fault(kin_assembly *a, int fault);
 
 /* error helpers: set the handle's message and return the code */
@@ -194,6 +195,11 @@ int kin__sparse_solve(kin_assembly *a, int slot, int trans, double *v);
 /* y (nb) := C x and x (nf) := C^T y with the values of slot's last factorization */
 void kin__sparse_C(const kin_assembly *a, const double *x, double *y);
 void kin__sparse_CT(const kin_assembly *a, const double *y, double *x);
+/* The column order kept by kin__sparse_prepare (1: METIS nested dissection,
+ * 0: COLAMD) and the factor entries (L + U) of each order tried at the
+ * first factorization (INFINITY where not tried or failed). 0 without
+ * sparse factors. */
+int kin__sparse_order(const kin_assembly *a, double *entries_colamd, double *entries_nd);
 
 static inline const kin_factor *kin__cur(const kin_assembly *a) { return &a->fac[a->cur]; }
 

@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cholmod.h>
 #include <klu.h>
 
 #include "internal.h"
@@ -42,6 +43,8 @@ struct kin_sparse {
     klu_common common;
     klu_symbolic *sym;
     klu_numeric *num[2];
+    int nested_dissection; /* the column order is METIS's (1) or COLAMD's (0) */
+    double entries[2];     /* factor entries of the first factorization: COLAMD, METIS */
 };
 
 void kin__sparse_free(kin_assembly *a)
@@ -86,6 +89,43 @@ static void fill(const kin_assembly *a, const double *xyz, const double *b, cons
         for (int r = 1; r < s->nbr; ++r) col[r] = R[j + (size_t)(r - 1) * nf];
     }
 }
+
+/* The nested-dissection order (METIS, through CHOLMOD) of the columns of J
+ * for the pattern of C^T C (coordinates linked by a bar; the dense border
+ * rows left out, as COLAMD leaves them out): Q receives nf entries. Returns
+ * 1, or 0 when CHOLMOD/METIS gives no order (the caller keeps COLAMD's). */
+static int nd_order(const kin_assembly *a, int *Q)
+{
+    int nf = a->nf, nb = a->nb, d = a->dim;
+    cholmod_common cc;
+    cholmod_start(&cc);
+    cc.print = 0;
+    cc.error_handler = NULL;
+    int ok = 0;
+    /* C^T: nf rows, one column per bar holding the free coordinates of its ends */
+    cholmod_sparse *A = cholmod_allocate_sparse((size_t)nf, (size_t)nb, (size_t)nb * 2 * (size_t)d, 0, 1, 0,
+                                                CHOLMOD_PATTERN, &cc);
+    if (A) {
+        int *Cp = A->p, *Ci = A->i, nz = 0;
+        for (int k = 0; k < nb; ++k) {
+            Cp[k] = nz;
+            for (int e = 0; e < 2; ++e)
+                for (int c = 0; c < d; ++c) {
+                    int col = a->free_index[a->bars[2 * k + e] * d + c];
+                    if (col >= 0) Ci[nz++] = col;
+                }
+        }
+        Cp[nb] = nz;
+        /* orders A A^T = C^T C */
+        ok = cholmod_metis(A, NULL, 0, 1, Q, &cc) && cc.status == CHOLMOD_OK;
+        cholmod_free_sparse(&A, &cc);
+    }
+    cholmod_finish(&cc);
+    return ok;
+}
+
+/* entries of the L and U factors */
+static double factor_entries(const klu_numeric *num) { return num ? (double)num->lnz + (double)num->unz : INFINITY; }
 
 int kin__sparse_prepare(kin_assembly *a)
 {
@@ -154,16 +194,49 @@ int kin__sparse_prepare(kin_assembly *a)
      * loop; a structurally singular J leaves the slots empty (every point
      * then pivots afresh or falls back, as a singular J does) */
     double *border = malloc((size_t)nf * (size_t)nbr * sizeof *border);
-    if (!border) goto nomem;
+    int *Q = malloc((size_t)nf * sizeof *Q);
+    if (!border || !Q) {
+        free(border);
+        free(Q);
+        goto nomem;
+    }
     unsigned long long seed = FIRST_BORDER_SEED;
     for (size_t i = 0; i < (size_t)nf * (size_t)nbr; ++i)
         border[i] = (double)(kin__splitmix(&seed) >> 11) * 0x1.0p-53 - 0.5;
     fill(a, a->xyz, border, border + nf);
     free(border);
-    for (int f = 0; f < 2; ++f) {
-        s->num[f] = klu_factor(s->Ap, s->Ai, s->Ax, s->sym, &s->common);
-        if (!s->num[f] && s->common.status == KLU_OUT_OF_MEMORY) goto nomem;
+    s->num[0] = klu_factor(s->Ap, s->Ai, s->Ax, s->sym, &s->common);
+    if (!s->num[0] && s->common.status == KLU_OUT_OF_MEMORY) {
+        free(Q);
+        goto nomem;
     }
+    /* The column order: COLAMD (minimum degree) suits small and nearly
+     * one-dimensional structures, nested dissection (METIS) large 2D and 3D
+     * ones, where COLAMD's factors fill in (the 13^3 lattice block: 19 % of
+     * a dense matrix). Rather than guess from the shape, both are tried on
+     * the same matrix, once per handle, and the one with the fewer factor
+     * entries is kept (a second analysis and factorization at creation of
+     * the mode, none in the stepping loop). */
+    s->entries[0] = factor_entries(s->num[0]);
+    s->entries[1] = INFINITY;
+    if (a->fault != KIN__FAULT_SPARSE_NO_ND && nd_order(a, Q)) {
+        klu_symbolic *sym = klu_analyze_given(nf, s->Ap, s->Ai, NULL, Q, &s->common);
+        klu_numeric *num = sym ? klu_factor(s->Ap, s->Ai, s->Ax, sym, &s->common) : NULL;
+        s->entries[1] = factor_entries(num);
+        if (num && s->entries[1] < s->entries[0]) {
+            if (s->num[0]) klu_free_numeric(&s->num[0], &s->common);
+            klu_free_symbolic(&s->sym, &s->common);
+            s->sym = sym;
+            s->num[0] = num;
+            s->nested_dissection = 1;
+        } else {
+            if (num) klu_free_numeric(&num, &s->common);
+            if (sym) klu_free_symbolic(&sym, &s->common);
+        }
+    }
+    free(Q);
+    s->num[1] = klu_factor(s->Ap, s->Ai, s->Ax, s->sym, &s->common);
+    if (!s->num[1] && s->common.status == KLU_OUT_OF_MEMORY) goto nomem;
     return KIN_OK;
 nomem:
     kin__sparse_free(a);
@@ -213,6 +286,14 @@ int kin__sparse_solve(kin_assembly *a, int slot, int trans, double *v)
                    : klu_solve(s->sym, s->num[slot], s->n, 1, v, &s->common);
     if (!ok) return kin__fail(a, KIN_ESTATE, "sparse mode: KLU solve failed (status %d)", s->common.status);
     return KIN_OK;
+}
+
+int kin__sparse_order(const kin_assembly *a, double *entries_colamd, double *entries_nd)
+{
+    const struct kin_sparse *s = a ? a->sp : NULL;
+    *entries_colamd = s ? s->entries[0] : INFINITY;
+    *entries_nd = s ? s->entries[1] : INFINITY;
+    return s ? s->nested_dissection : 0;
 }
 
 void kin__sparse_C(const kin_assembly *a, const double *x, double *y)

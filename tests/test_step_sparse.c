@@ -15,6 +15,7 @@
 #include "internal.h"
 #include "libkin.h"
 #include "sail_states.h"
+#include "lattice_model.h"
 
 #define PI 3.14159265358979323846
 
@@ -145,6 +146,66 @@ static void random_3d(void)
     if (!a) return;
     three_modes(a, 15, 0.0, "random 3D mechanism (7 dense rows)");
     kin_assembly_free(a);
+}
+
+/* The column order kept at set-up is the one with the fewer factor
+ * entries (COLAMD or METIS nested dissection); without a nested-dissection
+ * order (as when METIS fails) COLAMD is used; either way the same points. */
+static void column_orders(kin_assembly *a, int steps)
+{
+    kin_assembly *h[2] = {NULL, NULL};
+    double ec[2], en[2];
+    int nested[2];
+    for (int k = 0; k < 2; ++k) {
+        CHECK_RC(kin_assembly_clone(a, &h[k]), KIN_OK);
+        if (k == 1) kin__set_fault(h[k], KIN__FAULT_SPARSE_NO_ND);
+        set_mode(h[k], KIN_STEP_SPARSE, KIN_STEP_CONTROL_SHARED);
+        nested[k] = kin__sparse_order(h[k], &ec[k], &en[k]);
+    }
+    /* the kept order has the fewer entries */
+    CHECK(isfinite(ec[0]) && ec[0] == ec[1]);
+    CHECK(nested[0] ? en[0] < ec[0] : !(en[0] < ec[0]));
+    CHECK(nested[1] == 0 && en[1] == INFINITY);
+    printf("%d free coordinates: column order %s (factor entries: COLAMD %.0f, nested dissection %.0f)\n",
+           kin_nfree(a), nested[0] ? "nested dissection" : "COLAMD", ec[0], en[0]);
+    kin_step_info info = {.size = sizeof info};
+    for (int s = 0; s < steps; ++s)
+        for (int k = 0; k < 2; ++k) CHECK_RC(kin_step(h[k], 0.0, &info), KIN_OK);
+    int n = kin_njoints(a) * kin_dim(a);
+    double *x = malloc(sizeof(double) * 2 * (size_t)n);
+    kin_get_coords(h[0], x);
+    kin_get_coords(h[1], x + n);
+    /* the corrector stops anywhere within its tolerance; across the path
+     * that difference is amplified by up to the conditioning v_max / v_r */
+    kin_analysis an = {.size = sizeof an};
+    CHECK_RC(kin_analyse(h[1], &an), KIN_OK);
+    double allowed = path_tol(a, steps) * fmax(1.0, an.v_max / an.v_r);
+    printf("  after %d steps: |x_kept - x_colamd| = %.1e (allowed %.1e)\n", steps, max_diff(n, x, x + n), allowed);
+    CHECK(max_diff(n, x, x + n) <= allowed);
+    free(x);
+    for (int k = 0; k < 2; ++k) kin_assembly_free(h[k]);
+}
+
+static void orders(void)
+{
+    kin_assembly *a = random_mechanism(60, 7);
+    CHECK(a != NULL);
+    if (a) column_orders(a, 8);
+    kin_assembly_free(a);
+    /* a compact 3D block: nested dissection gives the fewer entries */
+    kin_assembly *b = lattice(8, 8, 8);
+    CHECK(b != NULL);
+    if (b) column_orders(b, 3);
+    kin_assembly_free(b);
+    kin_assembly *s = test_sail(6, 2);
+    CHECK(s != NULL && test_make_generic(s, 0.3) == KIN_OK);
+    if (s) column_orders(s, 8);
+    kin_assembly_free(s);
+    /* no sparse factors: no order */
+    kin_assembly *t = test_sail(6, 2);
+    double ec = 0.0, en = 0.0;
+    CHECK(t != NULL && kin__sparse_order(t, &ec, &en) == 0 && ec == INFINITY && en == INFINITY);
+    kin_assembly_free(t);
 }
 
 /* three-bar linkage on the parallelogram mode P1 at joint angle th */
@@ -319,6 +380,7 @@ int main(void)
 {
     hex_sail();
     random_3d();
+    orders();
     land_near_rc(0.0, 1, 2);  /* on R^C: the SVD finds m_internal = 2 */
     land_near_rc(1e-7, 1, 1); /* v_r / v_max ~ 5e-8: SVD fallback */
     land_near_rc(0.02, 0, 1); /* v_r / v_max ~ 1e-2: no SVD */

@@ -40,6 +40,7 @@ Progress = Union[None, bool, Callable[[int, int, str], Any]]
 Branch = Tuple[int, int, NDArray[np.float64], NDArray[np.float64]]
 
 from . import atlas_tasks as tasks
+from .atlas_index import ConfigIndex
 from .automorphisms import graph_automorphisms, invariant_subspace, same_symmetry, symmetries_at
 from .errors import InvalidArgumentError, KinError
 
@@ -299,6 +300,11 @@ class _Explorer:
         self.nodes: List[Node] = []
         self.edges: List[Edge] = []
         self.rigid = a.analyse().m_rigid > 0
+        # the nodes, and their images under each symmetry, by position
+        self.index = ConfigIndex(a.coords.shape, self.rigid)
+        self.images = ConfigIndex(a.coords.shape, self.rigid)
+        self.max_located = 0.0  # the largest located_tol of any node (the index's window)
+        self.follow_cpu = 0.0   # CPU seconds the followers reported
 
     # -- identification
     def _distance(self, X: NDArray[np.float64], Y: NDArray[np.float64]) -> float:
@@ -320,19 +326,31 @@ class _Explorer:
         return self.scale * max(SAME_TOL, LOCATION_FACTOR * math.sqrt(max(located_a, located_b, 0.0)))
 
     def find(self, X: NDArray[np.float64], located: float = 0.0) -> Optional[int]:
-        for n in self.nodes:
+        """The first node (in id order) that is the configuration X."""
+        for i in self.index.near(X, self.pair_tol(located, self.max_located)):
+            n = self.nodes[i]
             if self._distance(X, n.coords) <= self.pair_tol(located, n.located_tol):
                 return n.id
         return None
 
-    def orbit_of(self, X: NDArray[np.float64], located: float = 0.0) -> Optional[Tuple[int, int]]:
-        """(node id, symmetry index) with g.node = X, if X is an image of a node."""
-        for n in self.nodes:
-            tol = self.pair_tol(located, n.located_tol)
-            for j, g in enumerate(self.syms):
-                if self._distance(g.apply(n.coords), X) <= tol:
-                    return n.id, j
+    def orbit_of(self, X: NDArray[np.float64], located: float = 0.0,
+                 before: Optional[int] = None) -> Optional[Tuple[int, int]]:
+        """(node id, symmetry index) with g.node = X, if X is an image of a
+        node (of one with id < before, if given): the first such pair in
+        the order (node, symmetry)."""
+        for i, j in self.images.near(X, self.pair_tol(located, self.max_located)):
+            if before is not None and i >= before:
+                break
+            n = self.nodes[i]
+            if self._distance(self.syms[j].apply(n.coords), X) <= self.pair_tol(located, n.located_tol):
+                return n.id, j
         return None
+
+    def _index_node(self, n: Node) -> None:
+        self.index.add(n.coords, n.id)
+        for j, g in enumerate(self.syms):
+            self.images.add(g.apply(n.coords), (n.id, j))
+        self.max_located = max(self.max_located, n.located_tol)
 
     def add_node(self, X: ArrayLike, kind: str, an: Dict[str, Any], depth: int) -> int:
         i = len(self.nodes)
@@ -343,6 +361,7 @@ class _Explorer:
             n.image_of = {"node": img[0], "symmetry": img[1]}
             n.orbit = self.nodes[img[0]].orbit
         self.nodes.append(n)
+        self._index_node(n)
         return i
 
     # -- enumeration at a node
@@ -350,25 +369,29 @@ class _Explorer:
         """Add the symmetries of the node's configuration to the group: each
         is a symmetry of the structure (automorphisms.py), found at the
         configuration that has it."""
+        grown = False
         for g in symmetries_at(self.a, self.perms, node.coords) if self.perms else []:
             if not any(same_symmetry(g, h) for h in self.syms):
                 self.syms.append(g)
                 self.P.append(g.free_matrix(self.free_map))
+                grown = True
+        if grown:
+            self.images.clear()
+            for n in self.nodes:
+                for j, g in enumerate(self.syms):
+                    self.images.add(g.apply(n.coords), (n.id, j))
 
     def final_orbits(self) -> None:
         """Orbits with the whole group found: node i joins the orbit of the
         first node j < i that a symmetry maps onto it."""
         for n in self.nodes:
             n.orbit = n.id
-            for m in self.nodes[: n.id]:
-                tol = self.pair_tol(m.located_tol, n.located_tol)
-                j = next((j for j, g in enumerate(self.syms)
-                          if self._distance(g.apply(m.coords), n.coords) <= tol), None)
-                if j is not None:
-                    n.orbit = m.orbit
-                    if n.image_of is None and not n.expanded:
-                        n.image_of = {"node": m.id, "symmetry": j}
-                    break
+            img = self.orbit_of(n.coords, n.located_tol, before=n.id)
+            if img is not None:
+                m, j = self.nodes[img[0]], img[1]
+                n.orbit = m.orbit
+                if n.image_of is None and not n.expanded:
+                    n.image_of = {"node": m.id, "symmetry": j}
 
     def _assembly_at(self, node: Node) -> Assembly:
         a = self.a.clone()
@@ -470,6 +493,7 @@ class _Explorer:
     def merge(self, nid: int, sol: int, sign: int, beta: NDArray[np.float64], res: Dict[str, Any],
               depth: int) -> int:
         ev = res["event"]
+        self.follow_cpu += float(res.get("cpu_seconds", 0.0))
         X = np.asarray(res["coords"])
         found = nid if ev == tasks.LOOP else self.find(X, float(res.get("vr_tol", 0.0)))
         target = found if found is not None else self.add_node(X, _node_kind(ev, res), res, depth)
@@ -674,7 +698,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                 "symmetric": symmetric, "seed": seed, "same_tol": ex.tol, "max_steps": int(max_steps),
                 "samples": int(samples), "symmetries": ex.symmetry_note or f"{len(ex.syms)} detected",
                 "executor": None if executor is None else type(executor).__name__}
-    stats = {"seconds": round(time.perf_counter() - t0, 3), "stopped_by": stopped}
+    stats = {"seconds": round(time.perf_counter() - t0, 3), "follow_cpu_seconds": round(ex.follow_cpu, 3),
+             "stopped_by": stopped}
     atlas = Atlas(ex.doc, ex.nodes, ex.edges, ex.syms, settings, stats)
     stats.update(atlas.summary())
     return atlas

@@ -9,6 +9,7 @@ the task alone: the same whichever worker runs it, in whichever order.
 """
 from __future__ import annotations
 
+import time
 from typing import TYPE_CHECKING, Any, Dict, Optional
 
 import numpy as np
@@ -57,10 +58,12 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     configuration, "length": path length travelled, "m", "m_rigid", "s",
     "v_r_rel" at the end (analysis at the rank tolerance), "accuracy" (the
     vanishing singular value / v_max where the event was located), "vr_tol"
-    (the tolerance it was located to), "steps", "samples", "message"}.
+    (the tolerance it was located to), "steps", "samples", "message",
+    "cpu_seconds" (this task's CPU time in its process)}.
     The samples are taken by following again from the start with the length
     budget set to k/(n+1) of the event's length (the path is deterministic)."""
     from .errors import KinError
+    cpu0 = time.process_time()
     a = rebuild(task)
     start = a.clone()
     d = np.asarray(task["direction"], dtype=float)
@@ -72,7 +75,7 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     except KinError as exc:
         out.update(_end_state(a, FAILURE))
         out.update({"message": f"{type(exc).__name__}: {exc}", "accuracy": float("nan"), "vr_tol": 0.0,
-                    "steps": 0})
+                    "steps": 0, "cpu_seconds": time.process_time() - cpu0})
         return out
     kind = _EVENTS.get(ev.event, FAILURE)
     if kind == FAILURE:
@@ -89,6 +92,7 @@ def follow_branch(task: Task) -> Dict[str, Any]:
             samples.append(c.coords.tolist())
         except KinError:
             break
+    out["cpu_seconds"] = time.process_time() - cpu0
     return out
 
 

@@ -4,7 +4,9 @@ hexagonal_study(): from the flat state R^A along the folding path into R^B,
 on to the next bifurcation R^C, and back to R^A, recording what Figures 13
 and 14 show plus the strain, the hub's planarity and the closure error.
 The path map of every symmetric path is the explorer's atlas
-(libkin.explore, read through sailmap.py); what the study adds is
+(libkin.explore, read through sailmap.py), and each leg of the run is
+followed to its next event by the explorer's follower (kin_follow_event);
+what the study adds is
 sail-specific: which of the flat state's paths is the folding branch, which
 of R^B's continues the fold, and the paper's questions.
 square_study() (squarestudy.py): every path out of the square sail's flat
@@ -16,7 +18,6 @@ folder, write report.md, summary.json and the figures there
 """
 import json
 import pathlib
-import re
 import sys
 import time
 
@@ -28,18 +29,13 @@ from .sailmeasure import measures
 from .sailmap import MAP_DEPTH, SailMap, explore_symmetric
 from .symmetry import sail_rotation
 
-# Bifurcations are located to v_r / v_max <= 1e-10 (the fast method) and m, s
-# counted with the default rank tolerance there.
+# Bifurcations are located to v_r / v_max <= 1e-10 by the follower
+# (kin_follow_event: the fast method, relaxed towards 1e-6 only where 1e-10 is
+# out of reach, e.g. at a tangency) and m, s counted as the follower saw them.
 SAIL_VR_TOL = 1e-10
 # The paper's method is also run from the same point, at the paper's own
 # tolerance, to compare its cost with the paper's step counts.
 PAPER_VR_TOL = 1e-6
-# A bifurcation the fast method reports as located only to a coarser v_r (a
-# tangency: v_r ~ |l - l*|^2) is accepted at up to this tolerance rather than
-# stepped over.
-ACCEPT_VR_TOL = 1e-6
-# the paper's switch rule threshold on v_r / v_max for starting to locate
-SWITCH_EPS = 1e-2
 # number of lowest singular values recorded (Figure 14)
 N_SV = 15
 # two paths coincide when their end configurations agree to this (length unit)
@@ -87,77 +83,73 @@ class _Track:
             v.pop()
 
 
-def _locate(base, vr_tol, max_steps=30, compare=False):
-    """Locate from the regular point `base`: the fast method, and the paper's
-    if that gives up. Returns (assembly at the point, dict) or (None, reason).
-    compare=True also runs the paper's method (tolerance PAPER_VR_TOL) from
-    the same point and records its cost."""
-    reasons = []
-    tries = [("fast", vr_tol), ("paper", vr_tol)]
-    for method, tol in tries:
-        c = base.clone()
-        try:
-            li = c.locate(method=method, vr_tol=tol, max_steps=max_steps)
-        except KinError as exc:
-            reasons.append(f"{method}: {exc}")
-            m = re.search(r"located only to v_r = ([0-9.eE+-]+)", str(exc))
-            looser = min(10.0 * float(m.group(1)), ACCEPT_VR_TOL) if m else 0.0
-            if method == "fast" and looser > tol:
-                # a bifurcation the fast method pinned only so far (a
-                # tangency, docs/locate.md): accept it at that accuracy (once)
-                tries.insert(tries.index((method, tol)) + 1, ("fast", looser))
-            continue
-        an = c.analyse()
-        sv = np.sort(an.singular_values)
-        ev = {"method": method, "vr_tol": tol, "factorizations": li.factorizations, "forward": li.forward,
-              "steps": li.steps, "v_r_rel": li.v_r_rel, "distance": li.distance,
-              "path_kept": li.path_kept, "m": an.m_internal, "s": an.s, "zero_order": li.zero_order,
-              "lowest_sv_rel": [float(v / an.v_max) for v in sv[: an.s + 2]],
-              "fast_gave_up": reasons[0] if reasons else None}
+def _paper_locate(prev, at):
+    """The paper's locator (tolerance PAPER_VR_TOL) from the regular point
+    `prev` before the bifurcation `at`: its cost, for the report's question
+    of how it compares with the follower's locator."""
+    p = prev.clone()
+    try:
+        lp = p.locate(method="paper", vr_tol=PAPER_VR_TOL, max_steps=30)
+    except KinError as exc:
+        return {"gave_up": str(exc)}
+    return {"factorizations": lp.factorizations, "forward": lp.forward, "v_r_rel": lp.v_r_rel,
+            "distance_to_point": float(np.abs(p.coords - at.coords).max())}
+
+
+def follow_to_bifurcation(start, direction, track=None, max_steps=600, vr_tol=SAIL_VR_TOL, compare=False):
+    """Follow the branch `direction` out of the bifurcation `start` to its
+    next event with the library's follower (kin_follow_event, the one the
+    explorer uses), which locates a bifurcation to vr_tol (or to the best
+    accuracy reachable, down to 1e-6) and classifies anything else.
+
+    With a track, the path is then stepped again up to about one step
+    before the event (the path is deterministic) to record the singular
+    values, strains and configurations along it for the figures; compare=True
+    also runs the paper's locator from the last point recorded.
+
+    Returns (assembly at the bifurcation, event dict, steps), or (None,
+    {"stopped": why}, steps) when the next event is not a bifurcation."""
+    at = start.clone()
+    fe = at.follow_event(direction, vr_tol=vr_tol, max_steps=max_steps)
+    if fe.event != "bifurcation":
+        return None, {"stopped": f"{fe.event} after l = {fe.length:.4f}" + (f": {fe.message}" if fe.message
+                                                                              else "")}, fe.steps
+    an = at.analyse()
+    sv = np.sort(an.singular_values)
+    ev = {"method": "fast", "follower": "kin_follow_event", "vr_tol": fe.vr_tol_used, "factorizations": fe.factorizations,
+          "forward": fe.forward, "attempts": fe.attempts, "v_r_rel": fe.v_r_rel, "path_kept": fe.path_kept,
+          "m": an.m_internal, "s": an.s, "zero_order": fe.zero_order, "tangent_cos": fe.tangent_cos,
+          "lowest_sv_rel": [float(v / an.v_max) for v in sv[: an.s + 2]], "detected_after_steps": fe.steps}
+    if track is not None or compare:
+        prev = _record(start, direction, fe.length, track)
         if compare:
-            p = base.clone()
-            try:
-                lp = p.locate(method="paper", vr_tol=PAPER_VR_TOL, max_steps=max_steps)
-                ev["paper_method"] = {"factorizations": lp.factorizations, "forward": lp.forward,
-                                      "v_r_rel": lp.v_r_rel,
-                                      "distance_to_point": float(np.abs(p.coords - c.coords).max())}
-            except KinError as exc:
-                ev["paper_method"] = {"gave_up": str(exc)}
-        return c, ev
-    return None, "; ".join(reasons)
-
-
-def follow_to_bifurcation(a, track=None, max_steps=400, vr_tol=SAIL_VR_TOL, compare=False):
-    """Step along the current path (recording into track) until the signed
-    test function changes sign or the paper's switch rule fires, then locate.
-    A locator that gives up (a non-zero minimum of v_r) lets stepping go on.
-    Returns (assembly at the bifurcation, event dict, steps) or (None, None, steps)."""
-    prev = a.clone()
-    tau_prev, vr_prev = None, None
-    for k in range(max_steps):
-        try:
-            a.step(0.0)
-        except KinError as exc:
-            return None, {"stopped": str(exc)}, k
-        an = a.analyse()
+            ev["paper_method"] = _paper_locate(prev, at)
         if track is not None:
-            track.add(a, an.singular_values)
-        vr = an.v_r / an.v_max
-        tau = a.test_function()
-        fire = (tau_prev is not None and (tau > 0) != (tau_prev > 0)) or (
-            vr_prev is not None and vr < SWITCH_EPS and vr < vr_prev)
-        if fire:
-            c, ev = _locate(prev, vr_tol, compare=compare)
-            if c is not None:
-                if track is not None:
-                    track.pop()
-                    track.add(c)
-                    ev["l_total"] = track.l[-1]
-                ev["detected_after_steps"] = k + 1
-                return c, ev, k + 1
-        prev = a.clone()
-        tau_prev, vr_prev = tau, vr
-    return None, None, max_steps
+            track.add(at, an.singular_values)
+            ev["l_total"] = track.l[-1]
+    return at, ev, fe.steps
+
+
+def _record(start, direction, length, track):
+    """Step from the bifurcation `start` along `direction` until within about
+    two full steps of path length `length` (where the follower found the
+    next event), recording each point in track; returns the last point."""
+    l0 = start.path_length
+    c = _leave(start, direction)
+    dmax = c.options.step_fraction * np.sqrt(np.mean(c.rest_lengths ** 2))
+    if track is not None:
+        track.add(c)
+    while length - abs(c.path_length - l0) > 2.0 * dmax:
+        prev = c.clone()
+        try:
+            c.step(0.0)
+        except KinError:
+            return prev
+        if abs(c.path_length - l0) > length:  # an automatic step went past the event
+            return prev
+        if track is not None:
+            track.add(c)
+    return c
 
 
 def _chord(a_from, a_to):
@@ -281,9 +273,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     stages = [("(a) flat, R^A", a.coords)]
     # ---- R^A -> R^B
     track.begin(a)
-    c = _leave(a, d_A)
-    track.add(c)
-    rb, ev, steps = follow_to_bifurcation(c, track, compare=True)
+    rb, ev, steps = follow_to_bifurcation(a, d_A, track, compare=True)
     if rb is None:
         res["failed"] = "R^B not reached"
         return _finish_hex(res, track, out, t_start, progress, stages, smap)
@@ -323,9 +313,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
                     "paths": _branch_snaps(br, P_rb, chord_AB, (best[2].beta, best[2].sign), "back to R^A")}
     # ---- R^B -> R^C
     track.begin(rb)
-    c = _leave(rb, d_B)
-    track.add(c)
-    rc, ev, steps = follow_to_bifurcation(c, track, max_steps=600, compare=True)
+    rc, ev, steps = follow_to_bifurcation(rb, d_B, track, compare=True)
     if rc is None:
         res["failed"] = "R^C not reached"
         return _finish_hex(res, track, out, t_start, progress, stages, smap)
@@ -377,9 +365,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
                         "paths": _branch_snaps(br_c, sail_rotation(rc, n_sides, 2), chord_BC,
                                                (back[0].beta, back[0].sign) if back else None, "back to R^B")}
     track.begin(rc)
-    c = _leave(rc, d_back)
-    track.add(c)
-    rb2, ev, steps = follow_to_bifurcation(c, track, max_steps=600, compare=True)
+    rb2, ev, steps = follow_to_bifurcation(rc, d_back, track, compare=True)
     if rb2 is None:
         res["failed"] = "R^B not reached on the way back"
         return _finish_hex(res, track, out, t_start, progress, stages, smap)
@@ -392,9 +378,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     d_flat = -chord_AB
     d_flat = an2.internal_mechanisms @ (an2.internal_mechanisms.T @ d_flat)
     track.begin(rb2)
-    c = _leave(rb2, d_flat)
-    track.add(c)
-    ra, ev, steps = follow_to_bifurcation(c, track, max_steps=600, compare=True)
+    ra, ev, steps = follow_to_bifurcation(rb2, d_flat, track, compare=True)
     if ra is None:
         res["failed"] = "R^A not reached on the way back"
         return _finish_hex(res, track, out, t_start, progress, stages, smap)
@@ -407,7 +391,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
 
 
 def _event(ev, steps, start, at, hub, res):
-    ev["steps"] = steps + 1  # with the step that left the previous bifurcation
+    ev["steps"] = steps  # kin_follow_event's, the step that left the previous bifurcation included
     ev["l"] = abs(at.path_length - start.path_length)
     ev["hub_out_of_plane"] = float(np.abs(at.coords[hub, 2]).max())
     ev["measures"] = measures(at.coords, at.labels, res["n_sides"], res["n_loops"])

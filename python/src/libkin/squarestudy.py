@@ -8,7 +8,7 @@ import time
 import numpy as np
 
 from .assembly import Assembly
-from .sailstudy import SAME_CONFIG_TOL, _jsonable, _leave, _say, follow_to_bifurcation
+from .sailstudy import SAME_CONFIG_TOL, _jsonable, _say, follow_to_bifurcation
 
 
 def square_study(length=1.75, threads=2, progress=True, out=None):
@@ -54,8 +54,7 @@ def square_study(length=1.75, threads=2, progress=True, out=None):
         if x[V1, 2] > 0 and x[V3, 2] > 0 and x[O0, 2] < 0 and x[O2, 2] < 0:
             pattern = "V1, V3 up; O0, O2 down"
         if pattern and np.abs(ops["rot180"](x) - x).max() < SAME_CONFIG_TOL:
-            c = _leave(a, br.directions[p.beta] * p.sign)
-            at, ev, _ = follow_to_bifurcation(c, None, max_steps=400)
+            at, ev, _ = follow_to_bifurcation(a, br.directions[p.beta] * p.sign, None, max_steps=400)
             f = {"path": i, "pattern": pattern}
             if at is not None:
                 z = at.coords[:, 2]

@@ -181,12 +181,15 @@ def _write_hex_md(res, out, M, figs):
     L.append(_event_row("R^C (folding)", ev.get("RC_fold"), 26))
     L.append(_event_row("R^B (deploying)", ev.get("RB_deploy"), 58))
     L.append(_event_row("R^A (deploying)", ev.get("RA_deploy"), 149))
-    L.append("\n'steps' are the path steps from the previous bifurcation until the detector fired; the "
+    L.append("\nEach leg is followed by the library's follower (kin_follow_event, the explorer's): 'steps' "
+             "are its path steps from the previous bifurcation until the bifurcation was detected (the "
+             "first steps off a bifurcation are short, 1e-3 of a full step growing tenfold); the "
              "factorizations (SVDs, QR and LU factorizations) are those of locating after that, to "
              "v_r / v_max <= 1e-10 for every singular value that vanishes there, by the fast method "
-             "(Hermite interpolation, docs/locate.md). The paper's method was run from the same point at the "
-             "paper's own tolerance for comparison; the paper's counts are its locator steps at 1e-6, each "
-             "at least one factorization.\n")
+             "(Hermite interpolation, docs/locate.md). The paper's method was run for comparison at the "
+             "paper's own tolerance from the last point recorded before the bifurcation (about two full "
+             "steps before it); the paper's counts are its locator steps at 1e-6, each at least one "
+             "factorization.\n")
     for key, name in (("RB", "R^B"), ("RC", "R^C")):
         if key in res:
             r = res[key]
