@@ -18,67 +18,9 @@
 #include "bench_common.h"
 #include "sail_states.h"
 
-enum { THREADS = 2, MAXG = 16 };
+enum { THREADS = 2, MAXG = 6 };
 
 static double cpu(void) { return (double)clock() / CLOCKS_PER_SEC; }
-
-/* R for the maps x -> T x (T: 3 x 3 row-major about the centroid) that
- * permute the joints; returns how many */
-static int symmetries(kin_assembly *a, int m, const double *U, double *R)
-{
-    int nj = kin_njoints(a), nf = kin_nfree(a), ng = 0;
-    double *X = malloc(sizeof(double) * 3 * nj), *P = malloc(sizeof(double) * nf * nf), c[3] = {0, 0, 0};
-    double *PU = malloc(sizeof(double) * nf * m);
-    kin_get_coords(a, X);
-    for (int j = 0; j < nj; ++j)
-        for (int k = 0; k < 3; ++k) c[k] += X[3 * j + k] / nj;
-    for (int rot = 0; rot < 3; ++rot)
-        for (int mir = 0; mir < 2; ++mir) {
-            double th = 2.0 * 3.14159265358979323846 * rot / 3.0, cs = cos(th), sn = sin(th);
-            double T[9] = {cs, -sn, 0, sn, cs, 0, 0, 0, mir ? -1.0 : 1.0};
-            memset(P, 0, sizeof(double) * nf * nf);
-            int ok = 1;
-            for (int i = 0; i < nj && ok; ++i) {
-                double y[3];
-                for (int r = 0; r < 3; ++r) {
-                    y[r] = c[r];
-                    for (int k = 0; k < 3; ++k) y[r] += T[3 * r + k] * (X[3 * i + k] - c[k]);
-                }
-                int to = -1;
-                for (int j = 0; j < nj && to < 0; ++j)
-                    if (fabs(X[3 * j] - y[0]) + fabs(X[3 * j + 1] - y[1]) + fabs(X[3 * j + 2] - y[2]) < 1e-9) to = j;
-                if (to < 0) ok = 0;
-                for (int ax = 0; ax < 3 && ok; ++ax) {
-                    int fi = kin_free_index(a, i, ax);
-                    if (fi < 0) continue;
-                    for (int b = 0; b < 3; ++b) {
-                        int fj = kin_free_index(a, to, b);
-                        if (fabs(T[3 * b + ax]) > 1e-12) {
-                            if (fj < 0) ok = 0;
-                            else P[(size_t)fi * nf + fj] = T[3 * b + ax];
-                        }
-                    }
-                }
-            }
-            if (!ok || ng == MAXG) continue;
-            for (int k = 0; k < m; ++k) /* PU = P U (column-major, nf rows) */
-                for (int r = 0; r < nf; ++r) {
-                    double v = 0.0;
-                    for (int q = 0; q < nf; ++q) v += P[(size_t)q * nf + r] * U[(size_t)k * nf + q];
-                    PU[(size_t)k * nf + r] = v;
-                }
-            double *Rg = R + (size_t)ng * m * m;
-            for (int k = 0; k < m; ++k)
-                for (int r = 0; r < m; ++r) {
-                    double v = 0.0;
-                    for (int q = 0; q < nf; ++q) v += U[(size_t)r * nf + q] * PU[(size_t)k * nf + q];
-                    Rg[(size_t)k * m + r] = v;
-                }
-            ng++;
-        }
-    free(X), free(P), free(PU);
-    return ng;
-}
 
 static int match(int m, int n, const double *a, const double *b)
 {
@@ -110,7 +52,7 @@ int main(int argc, char **argv)
     double *R = malloc(sizeof(double) * MAXG * m * m);
     if (kin_second_order(a, KIN_Q_EXACT, 1, Q, m * m * an.s, &s) || s != m - 1) return 1;
     kin_get_mechanisms(a, KIN_MECH_INTERNAL, U, nf, m);
-    int ng = symmetries(a, m, U, R);
+    int ng = test_rotation_group(a, m, U, R, MAXG);
     int N = 1 << s;
     double *b0 = malloc(sizeof(double) * m * N), *b1 = malloc(sizeof(double) * m * N);
     printf("sail %d,%d flat: m = %d, s = %d, %d paths, %d symmetries found; load: ", sides, loops, m, s, N, ng);

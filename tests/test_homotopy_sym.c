@@ -1,8 +1,10 @@
 /* kin_quadrics_homotopy_sym: the complete solver with symmetry against the
  * plain one (kin_quadrics_homotopy_ex) on small equivariant systems built
  * here (cyclic groups permuting coordinates and equations, a group given
- * with -I and sign copies, a rotation group acting on a plane), root by
- * root; and every error path. */
+ * with -I and sign copies, rotations in planes) and on the flat state of
+ * the hexagonal sail with one loop (its C3 symmetry and the mirror z -> -z,
+ * which acts as -I), root by root; a family the monodromy cannot complete;
+ * and every error path. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -10,6 +12,7 @@
 
 #include "check.h"
 #include "libkin.h"
+#include "sail_states.h"
 
 enum { MAXM = 8 };
 
@@ -289,6 +292,23 @@ int main(void)
         CHECK_RC(kin_quadrics_homotopy_sym(m, s, Q, 3, R, NULL, b, N, &n, NULL, &h, &si, NULL, 0),
                  KIN_ENOTCONVERGED);
         CHECK(n == 0 && h.paths == N && h.real == 0 && si.found > 0 && si.found < N && si.group == 3);
+    }
+    /* 4. the hexagonal sail with one loop, flat (m = 10, s = 9) */
+    {
+        kin_assembly *a = test_sail(6, 1);
+        kin_analysis an = {.size = sizeof an};
+        CHECK(a && kin_analyse(a, &an) == KIN_OK);
+        int m = an.m_internal, s = 0, nf = kin_nfree(a);
+        double *Q = malloc(sizeof(double) * (size_t)m * m * an.s), *U = malloc(sizeof(double) * (size_t)nf * m);
+        double *R = malloc(sizeof(double) * 6 * (size_t)m * m);
+        CHECK_RC(kin_second_order(a, KIN_Q_EXACT, 1, Q, m * m * an.s, &s), KIN_OK);
+        CHECK_RC(kin_get_mechanisms(a, KIN_MECH_INTERNAL, U, nf, m), KIN_OK);
+        CHECK(m == 10 && s == 9);
+        int ng = test_rotation_group(a, m, U, R, 6);
+        CHECK(ng == 6); /* 3 rotations x (z -> -z or not); projectively 3 */
+        if (m == 10 && s == 9 && ng == 6) compare("hexagonal sail 6,1 flat", m, Q, ng, R, 3);
+        free(Q), free(U), free(R);
+        kin_assembly_free(a);
     }
     TEST_REPORT("test_homotopy_sym");
 }
