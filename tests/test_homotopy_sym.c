@@ -259,6 +259,21 @@ int main(void)
         for (int i = 1; i < m; ++i) P[perm[i] * m + i] = 1.0;
         cyclic_system(m, 3, P, 0, Q, R);
         compare("C3 on m = 7", m, Q, 3, R, 3);
+        /* the result does not depend on the thread count */
+        {
+            int s = m - 1, N = 1 << s, n1 = 0, n2 = 0;
+            double b1[M2 << 6], b2[M2 << 6];
+            kin_homotopy_options o;
+            kin_homotopy_options_default(&o);
+            kin_homotopy_info h1 = {.size = sizeof h1}, h2 = {.size = sizeof h2};
+            kin_homotopy_sym_info s1 = {.size = sizeof s1}, s2 = {.size = sizeof s2};
+            o.nthreads = 1;
+            CHECK_RC(kin_quadrics_homotopy_sym(m, s, Q, 3, R, &o, b1, N, &n1, NULL, &h1, &s1, NULL, 0), KIN_OK);
+            o.nthreads = 2;
+            CHECK_RC(kin_quadrics_homotopy_sym(m, s, Q, 3, R, &o, b2, N, &n2, NULL, &h2, &s2, NULL, 0), KIN_OK);
+            CHECK(n1 == n2 && n1 > 0 && memcmp(b1, b2, sizeof(double) * (size_t)m * n1) == 0);
+            CHECK(s1.monodromy_paths == s2.monodromy_paths && h1.steps == h2.steps);
+        }
         /* the same group given with -I and the sign copies -R_g (6
          * matrices, 3 projectively distinct) */
         double R6[6 * M2 * M2];
@@ -282,8 +297,8 @@ int main(void)
         compare("C3 rotations, m = 7", m, Q, 3, R, 3);
         /* one orbit of 3 equations and 3 invariant ones: the generic
          * member of the equivariant family has 48 isolated roots, not 64
-         * (Q has 16 singular ones): the monodromy cannot reach 2^s and
-         * says so */
+         * (Q has 16 singular ones): the monodromy spends its budget and
+         * says how far it got */
         cyclic_system(m, 3, P, 3, Q, R);
         int s = m - 1, N = 1 << s, n = -1;
         double b[M3 << 6];
@@ -292,8 +307,28 @@ int main(void)
         CHECK_RC(kin_quadrics_homotopy_sym(m, s, Q, 3, R, NULL, b, N, &n, NULL, &h, &si, NULL, 0),
                  KIN_ENOTCONVERGED);
         CHECK(n == 0 && h.paths == N && h.real == 0 && si.found > 0 && si.found < N && si.group == 3);
+        CHECK(si.monodromy_paths > N);
     }
-    /* 4. the hexagonal sail with one loop, flat (m = 10, s = 9) */
+
+    /* 4. C3 cycling coordinates 1..3 of m = 4 with 3 invariant equations:
+     * the generic member of that equivariant family has fewer than 2^s = 8
+     * isolated roots (Q has singular ones): refused with KIN_ENOTCONVERGED
+     * (here already the forced roots of the start system cannot be placed) */
+    {
+        int m = 4, s = 3, N = 8, n = -1;
+        double P[16] = {0}, Q[48], R[48], b[32];
+        P[0] = 1.0;
+        P[2 * 4 + 1] = P[3 * 4 + 2] = P[1 * 4 + 3] = 1.0;
+        cyclic_system(m, 3, P, 3, Q, R);
+        kin_homotopy_info h = {.size = sizeof h};
+        kin_homotopy_sym_info si = {.size = sizeof si};
+        CHECK_RC(kin_quadrics_homotopy_sym(m, s, Q, 3, R, NULL, b, N, &n, NULL, &h, &si, NULL, 0),
+                 KIN_ENOTCONVERGED);
+        CHECK(n == 0 && h.paths == N && h.real == 0 && si.found < N && si.group == 3);
+        printf("C3 on m = 4, invariant equations: monodromy found %d of %d in %d paths\n", si.found, N,
+               si.monodromy_paths);
+    }
+    /* 5. the hexagonal sail with one loop, flat (m = 10, s = 9) */
     {
         kin_assembly *a = test_sail(6, 1);
         kin_analysis an = {.size = sizeof an};

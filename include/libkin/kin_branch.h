@@ -298,9 +298,11 @@ typedef struct kin_homotopy_sym_info {
  * sinfo (optional, NULL: none) receives the counts above.
  * err (optional, errlen bytes) receives a message on failure.
  * If the monodromy does not reach 2^s roots within 40 * 2^s / |G| + 1000
- * paths (e.g. a family whose generic member has fewer isolated roots), the
- * call returns KIN_ENOTCONVERGED with *info zeroed but for info->paths = 2^s
- * and sinfo filled (sinfo->found < 2^s); never an incomplete answer.
+ * paths, or the start system's roots cannot be placed (e.g. a family whose
+ * generic member has fewer isolated roots), the call returns
+ * KIN_ENOTCONVERGED with *info zeroed but for info->paths = 2^s and sinfo
+ * filled (sinfo->found < 2^s); never an incomplete answer. The result does
+ * not depend on the thread count.
  * Returns KIN_OK, KIN_ENULL (Q, betas, nsol, info; R with ngroup > 0),
  * KIN_EINVAL (as kin_quadrics_homotopy_ex; ngroup < 0; R not orthogonal,
  * not a group, or Q not equivariant; Q_j linearly dependent), KIN_ERANGE,
