@@ -54,4 +54,48 @@ int kin__sym_set_find(const sym_set *S, const double *xr, const double *xi);
  * index, -1 if the set is full (nothing added) or x normalises badly. */
 int kin__sym_set_add_orbit(sym_set *S, const sym_group *G, const double *xr, const double *xi);
 
+/* ---- the solver's state (homotopy_sym.c) ---- */
+enum { NODES = 3 }; /* P0 and the two helper systems of the monodromy */
+
+typedef struct sym_ctx { /* one call of kin_quadrics_homotopy_sym */
+    int m, s, N, sm;
+    hom_solver H; /* the scaled Q, certificate workspaces, threads */
+    sym_group G;
+    size_t nsys;  /* doubles per stacked system */
+    double *Qr0;  /* zeros (imaginary part of Q) */
+    double *Qst;  /* Q stacked */
+    double *sys[NODES][2];
+    double *dif[NODES][NODES][2]; /* sys[b] - sys[a] */
+    double *dq[2];                /* Q - sys[0] */
+    double *tmp[4];               /* scratch systems */
+    double *scr;                  /* scratch, 2 s m */
+    double seeds[2 * 64 * HOM_MAX_M]; /* points forced to be roots of P0 */
+    sym_set set[NODES];
+    int *queue[NODES][2], nq[NODES][2];
+    double wr[HOM_MAX_M], wi[HOM_MAX_M], key[HOM_MAX_M], ar[HOM_MAX_M], ai[HOM_MAX_M];
+    hpar_ws **pw;
+    /* progress */
+    kin_progress_fn fn;
+    void *user;
+    double last;
+    long done, queued;
+    int cancelled;
+    double lsteps, lrej; /* monodromy steps */
+    unsigned long long st; /* the random stream (from opt->seed) */
+} sym_ctx;
+
+/* ---- the start system (homotopy_sym_start.c) ---- */
+double kin__sym_uniform(unsigned long long *st); /* uniform in [0, 1) */
+void kin__sym_gaussian2(unsigned long long *st, double *a, double *b); /* two standard normals */
+/* a random complex member of E (stacked) of total Frobenius norm sqrt(s);
+ * zr, zi: scratch systems */
+void kin__sym_random_member(sym_ctx *C, unsigned long long *st, double *zr, double *zi, double *pr, double *pi);
+/* points to force as roots of P0 (m complex each, at most maxseeds); the
+ * count, -1 if out of memory */
+int kin__sym_seeds(sym_ctx *C, unsigned long long *st, double *br, double *bi, int maxseeds);
+/* correct C->sys[0] so that the K points are roots; 0 if impossible. zr,
+ * zi: scratch systems */
+int kin__sym_force_roots(sym_ctx *C, unsigned long long *st, int K, const double *br, const double *bi, double *zr,
+                         double *zi);
+
 #endif /* KIN_HOMOTOPY_SYM_H */
