@@ -48,3 +48,27 @@ def test_window_finds_every_neighbour(rigid, dim):
         assert len(cands) < len(entries) // 4   # a window, not the whole list
         found += len(truth)
     assert found > len(entries[::5])  # the clusters do have neighbours beyond the query itself
+
+
+def test_grouped_window_per_accuracy():
+    """Each group is searched with its own tolerance: a coarse entry is
+    found from far, and does not widen the search among the fine ones."""
+    from libkin.atlas_index import GroupedIndex
+    rng = np.random.default_rng(3)
+    shape = (8, 3)
+    idx = GroupedIndex(shape, rigid=False)
+    entries = [(rng.normal(size=shape), 1e-10 if k % 50 else 1e-4) for k in range(500)]
+    for i, (X, loc) in enumerate(entries):
+        idx.add(X, i, loc)
+
+    def window(worst):  # as atlas.pair_tol: grows with the coarser accuracy
+        return max(1e-6, 10.0 * np.sqrt(worst))
+
+    for q in range(0, 500, 7):
+        Y = entries[q][0] + rng.uniform(-1, 1, size=shape) * 0.05
+        truth = [i for i, (X, loc) in enumerate(entries) if np.abs(X - Y).max() <= window(loc)]
+        cands = idx.near(Y, window)
+        assert cands == sorted(cands) and set(truth) <= set(cands)
+        # the fine entries' window (1e-4) admits only a few of them
+        assert sum(1 for c in cands if entries[c][1] < 1e-9) < 50
+    assert len(idx) == 500

@@ -40,7 +40,7 @@ Progress = Union[None, bool, Callable[[int, int, str], Any]]
 Branch = Tuple[int, int, NDArray[np.float64], NDArray[np.float64]]
 
 from . import atlas_tasks as tasks
-from .atlas_index import ConfigIndex
+from .atlas_index import GroupedIndex
 from .automorphisms import graph_automorphisms, invariant_subspace, same_symmetry, symmetries_at
 from .errors import InvalidArgumentError, KinError
 
@@ -301,9 +301,8 @@ class _Explorer:
         self.edges: List[Edge] = []
         self.rigid = a.analyse().m_rigid > 0
         # the nodes, and their images under each symmetry, by position
-        self.index = ConfigIndex(a.coords.shape, self.rigid)
-        self.images = ConfigIndex(a.coords.shape, self.rigid)
-        self.max_located = 0.0  # the largest located_tol of any node (the index's window)
+        self.index = GroupedIndex(a.coords.shape, self.rigid)
+        self.images = GroupedIndex(a.coords.shape, self.rigid)
         self.follow_cpu = 0.0   # CPU seconds the followers reported
 
     # -- identification
@@ -327,7 +326,7 @@ class _Explorer:
 
     def find(self, X: NDArray[np.float64], located: float = 0.0) -> Optional[int]:
         """The first node (in id order) that is the configuration X."""
-        for i in self.index.near(X, self.pair_tol(located, self.max_located)):
+        for i in self.index.near(X, lambda worst: self.pair_tol(located, worst)):
             n = self.nodes[i]
             if self._distance(X, n.coords) <= self.pair_tol(located, n.located_tol):
                 return n.id
@@ -338,7 +337,7 @@ class _Explorer:
         """(node id, symmetry index) with g.node = X, if X is an image of a
         node (of one with id < before, if given): the first such pair in
         the order (node, symmetry)."""
-        for i, j in self.images.near(X, self.pair_tol(located, self.max_located)):
+        for i, j in self.images.near(X, lambda worst: self.pair_tol(located, worst)):
             if before is not None and i >= before:
                 break
             n = self.nodes[i]
@@ -347,10 +346,9 @@ class _Explorer:
         return None
 
     def _index_node(self, n: Node) -> None:
-        self.index.add(n.coords, n.id)
+        self.index.add(n.coords, n.id, n.located_tol)
         for j, g in enumerate(self.syms):
-            self.images.add(g.apply(n.coords), (n.id, j))
-        self.max_located = max(self.max_located, n.located_tol)
+            self.images.add(g.apply(n.coords), (n.id, j), n.located_tol)
 
     def add_node(self, X: ArrayLike, kind: str, an: Dict[str, Any], depth: int) -> int:
         i = len(self.nodes)
@@ -379,7 +377,7 @@ class _Explorer:
             self.images.clear()
             for n in self.nodes:
                 for j, g in enumerate(self.syms):
-                    self.images.add(g.apply(n.coords), (n.id, j))
+                    self.images.add(g.apply(n.coords), (n.id, j), n.located_tol)
 
     def final_orbits(self) -> None:
         """Orbits with the whole group found: node i joins the orbit of the

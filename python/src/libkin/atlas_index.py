@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import bisect
 import math
-from typing import Any, List, Tuple
+from typing import Any, Callable, List, Tuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -71,3 +71,44 @@ class ConfigIndex:
 
     def __len__(self) -> int:
         return len(self.keys)
+
+
+class GroupedIndex:
+    """ConfigIndex entries grouped by how coarsely each point is known.
+
+    Two points are one node within a tolerance that grows with the coarser
+    of their location accuracies (atlas.py, pair_tol). One index queried with
+    the coarsest accuracy in the atlas would make a single point located to
+    1e-6 widen every query a hundredfold; grouping the entries by decade of
+    their accuracy lets each group be queried with its own widest tolerance.
+    """
+
+    def __init__(self, shape: Tuple[int, int], rigid: bool) -> None:
+        self.shape, self.rigid = shape, rigid
+        self.groups: dict[int, Tuple[ConfigIndex, List[float]]] = {}
+
+    @staticmethod
+    def _decade(located: float) -> int:
+        return -400 if located <= 0.0 else math.floor(math.log10(located))
+
+    def add(self, X: NDArray[np.float64], label: Any, located: float) -> None:
+        d = self._decade(located)
+        if d not in self.groups:
+            self.groups[d] = (ConfigIndex(self.shape, self.rigid), [0.0])
+        idx, worst = self.groups[d]
+        idx.add(X, label)
+        worst[0] = max(worst[0], located)
+
+    def near(self, X: NDArray[np.float64], window: Callable[[float], float]) -> List[Any]:
+        """Labels of every entry that can lie within window(g) of X, g the
+        coarsest accuracy in the entry's group; sorted."""
+        out: List[Any] = []
+        for idx, worst in self.groups.values():
+            out += idx.near(X, window(worst[0]))
+        return sorted(out)
+
+    def clear(self) -> None:
+        self.groups.clear()
+
+    def __len__(self) -> int:
+        return sum(len(idx) for idx, _ in self.groups.values())

@@ -60,12 +60,18 @@ def layout(atlas: _atlas.Atlas) -> Dict[int, Tuple[float, float]]:
 
 
 def draw_map(atlas: _atlas.Atlas, path: Union[None, str, os.PathLike[str]] = None,
-             title: Optional[str] = None) -> Any:
-    """Draw the map; write a PNG to path (if given). Returns the figure."""
+             title: Optional[str] = None, max_nodes: int = 40) -> Any:
+    """Draw the map; write a PNG to path (if given). Returns the figure.
+    An atlas of more than max_nodes nodes is drawn condensed
+    (atlas_condense.py): its most-reached nodes, the others merged."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
+
+    from .atlas_condense import condense
+    summ = atlas.summary()
+    atlas, merged = condense(atlas, max_nodes)
 
     pos = layout(atlas)
     ncol = max(p[0] for p in pos.values()) + 1
@@ -123,7 +129,7 @@ def draw_map(atlas: _atlas.Atlas, path: Union[None, str, os.PathLike[str]] = Non
         x, y = pos[n.id]
         ax.scatter([x], [y], marker=mk, s=sz, c=fc, edgecolors="k", linewidths=1.8 if n.id == 0 else 0.6,
                    zorder=3)
-        txt = _label(atlas, n)
+        txt = merged.get(n.id) or _label(atlas, n)
         if n.id in loops:
             txt += f"  [{loops[n.id]} path(s) back to itself]"
         ax.text(x + 0.06, y, txt, fontsize=8.5, va="center", ha="left", zorder=4,
@@ -140,9 +146,10 @@ def draw_map(atlas: _atlas.Atlas, path: Union[None, str, os.PathLike[str]] = Non
     ax.set_yticks([])
     for side in ("left", "right", "top"):
         ax.spines[side].set_visible(False)
-    summ = atlas.summary()
-    ax.set_title(title or f"atlas of {atlas.model.get('name', 'model')}: {summ['nodes']} nodes, "
-                          f"{summ['edges']} directed paths", fontsize=10)
+    ax.set_title(title or f"atlas of {atlas.model.get('name', 'model')}: {summ['nodes']:,} nodes, "
+                          f"{summ['edges']:,} directed paths"
+                          + (f"\n({len(atlas.nodes) - len(merged)} shown: the start, the expanded nodes and "
+                             "the most reached; the others merged by depth and kind)" if merged else ""), fontsize=10)
     if path is not None:
         fig.savefig(path, dpi=110)
         plt.close(fig)

@@ -1,6 +1,7 @@
 """report.md (and the files it shows) for an atlas of any structure."""
 from __future__ import annotations
 
+import collections
 import math
 import os
 import pathlib
@@ -34,7 +35,10 @@ def write(atlas: _atlas.Atlas, out: Union[str, os.PathLike[str]], map_png: str =
 
 
 def text(atlas: _atlas.Atlas, map_png: str = "atlas_map.png", nodes_png: str = "atlas_nodes.png",
-         graphml: str = "atlas.graphml", json_name: str = "atlas.json") -> str:
+         graphml: str = "atlas.graphml", json_name: str = "atlas.json", max_listed: int = 40) -> str:
+    """report.md's text. Atlases of more than max_listed nodes (or path
+    groups) get counts of all of them and a table of the max_listed that
+    most paths reach."""
     m = atlas.model
     st, se = atlas.stats, atlas.settings
     n0 = atlas.nodes[0]
@@ -63,12 +67,32 @@ def text(atlas: _atlas.Atlas, map_png: str = "atlas_map.png", nodes_png: str = "
              f"{_f(se['same_tol'], '.1e')} (up to the rigid motions the supports allow); a node that is "
              "the image of an earlier one under a symmetry of the structure is marked so and not "
              "expanded again (its paths are the images of the earlier node's).\n")
-    L.append("| node | kind | m | s | v_r/v_max | located to | depth | orbit | paths out | status |")
-    L.append("|---|---|---|---|---|---|---|---|---|---|")
-    for n in atlas.nodes:
-        nout = sum(1 for e in atlas.edges if e.source == n.id)
+    nout = collections.Counter(e.source for e in atlas.edges)
+    nin = collections.Counter(e.target for e in atlas.edges)
+    listed = atlas.nodes
+    if len(atlas.nodes) > max_listed:
+        from .atlas_condense import condense
+        view, _ = condense(atlas, max_listed)
+        keep = {n.id for n in view.nodes}
+        listed = [n for n in atlas.nodes if n.id in keep]
+        L.append(f"The atlas has {len(atlas.nodes):,} nodes; by kind and counts (all of them):\n")
+        L.append("| kind | m | s | nodes | up to symmetry | paths arriving |")
+        L.append("|---|---|---|---|---|---|")
+        rows: Dict[Tuple[str, int, int], List[_atlas.Node]] = {}
+        for n in atlas.nodes:
+            rows.setdefault((n.kind, n.m, n.s), []).append(n)
+        for (k, m_, s_), ns in sorted(rows.items(), key=lambda kv: (-len(kv[1]), kv[0])):
+            L.append(f"| {k.replace('_', '-')} | {m_} | {s_} | {len(ns):,} | {len({n.orbit for n in ns}):,} | "
+                     f"{sum(nin.get(n.id, 0) for n in ns):,} |")
+        L.append("")
+        L.append(f"The {len(listed)} nodes listed below are the start, the expanded nodes and the orbits most "
+                 "paths arrive at (the map shows the same ones; the others are merged there); every node is in "
+                 f"`{json_name}`.\n")
+    L.append("| node | kind | m | s | v_r/v_max | located to | depth | orbit | paths in | paths out | status |")
+    L.append("|---|---|---|---|---|---|---|---|---|---|---|")
+    for n in listed:
         L.append(f"| N{n.id} | {n.kind.replace('_', '-')} | {n.m} | {n.s} | {_f(n.v_r_rel, '.2e')} | {_f(n.located_v_r, '.1e') if n.depth and n.kind != 'regular' else '-'} | {n.depth} | "
-                 f"N{n.orbit} | {nout} | {n.status} |")
+                 f"N{n.orbit} | {nin.get(n.id, 0)} | {nout.get(n.id, 0)} | {n.status} |")
     L.append("")
     L.append("v_r/v_max: the lowest non-zero singular value of the equilibrium matrix (relative to the largest) "
              "at the node, at the rank tolerance; located to: the vanishing singular value (relative) where "
@@ -98,13 +122,18 @@ def text(atlas: _atlas.Atlas, map_png: str = "atlas_map.png", nodes_png: str = "
     groups: Dict[Tuple[int, int, str], List[_atlas.Edge]] = {}
     for e in atlas.edges:
         groups.setdefault((e.source, e.target, e.event), []).append(e)
-    for (s, t, ev), es in sorted(groups.items()):
+    shown = sorted(groups.items())
+    if len(shown) > max_listed:
+        shown = sorted(sorted(groups.items(), key=lambda kv: (-len(kv[1]), kv[0]))[:max_listed])
+    for (s, t, ev), es in shown:
         ls = [e.length for e in es]
         lr = _f(min(ls)) if np.ptp(ls) < 1e-9 * max(1.0, max(ls)) else f"{_f(min(ls))} - {_f(max(ls))}"
         who = ", ".join(f"({e.solution}, {'+' if e.sign > 0 else '-'})" for e in es[:8])
         if len(es) > 8:
             who += ", ..."
         L.append(f"| N{s} | N{t} | {ev.replace('_', '-')} | {len(es)} | {who} | {lr} |")
+    if len(shown) < len(groups):
+        L.append(f"\n(The {len(shown)} groups with the most paths of {len(groups):,}; every path is in `{json_name}`.)")
     L.append("")
     if len(atlas.symmetries) > 1:
         L.append("## Symmetries\n")
