@@ -60,7 +60,7 @@ static const double NEWTON_TOL = 1e-10;
 static const double CONTRACTION = 0.25;
 /* corrections below NOISE |x| are rounding: the point is on its root (two
  * roots that close cannot be told apart in double precision anyway) */
-static const double NOISE = 1e-13;
+static const double NOISE = 1e-13, STALL_TOL = 1e-8;
 /* the step is at most this fraction of the series' radius of convergence */
 static const double RADIUS_FRACTION = 0.7;
 static const double REJECT_SHRINK = 0.5, ACCEPT_GROW = 2.0, H_MIN = 1e-14;
@@ -309,7 +309,10 @@ static int correct(const hpar_problem *P, const hpar_settings *S, hpar_ws *w, co
     for (int it = 0; it < NEWTON_MAX; ++it) {
         if (!newton(P, w, w->m1r, w->m1i, car, cai, xr, xi, w->pyr, w->pyi, dr, di)) return 0;
         double nd = vnorm(m, dr, di), nx = vnorm(m, xr, xi);
-        int noise = nd <= NOISE * nx; /* at rounding level: no contraction to see */
+        /* at rounding level there is no contraction to see: a correction
+         * below NOISE |x|, or two below NEWTON_TOL |x| and STALL_TOL |x| (the
+         * rounding of a point far out in its chart) */
+        int noise = nd <= NOISE * nx || (it > 0 && nd <= NEWTON_TOL * nx && prev <= STALL_TOL * nx);
         if (it == 0 && !(nd <= S->corr_rel * nx)) return 0;
         if (it > 0 && !noise && !(nd <= CONTRACTION * prev)) return 0;
         for (int c = 0; c < m; ++c) xr[c] -= dr[c], xi[c] -= di[c];
@@ -336,6 +339,11 @@ void kin__hpar_track(const hpar_problem *P, const hpar_settings *S, hpar_ws *w, 
     if (!(d > 0.0)) return;
     for (int c = 0; c < m; ++c)
         xr[c] = (x0r[c] * sr + x0i[c] * si) / d, xi[c] = (x0i[c] * sr - x0r[c] * si) / d;
+    double nx0 = vnorm(m, xr, xi);
+    if (nx0 * na > CHART_TILT * sqrt((double)m)) { /* x0 far out in the chart: the one orthogonal to it */
+        for (int c = 0; c < m; ++c) car[c] = xr[c] / (nx0 * nx0), cai[c] = -xi[c] / (nx0 * nx0);
+        na = 1.0 / nx0;
+    }
     double t = 0.0, hcap = INFINITY;
     form(P, 0.0, w->m1r, w->m1i);
     if (!correct(P, S, w, car, cai, xr, xi)) return;

@@ -119,9 +119,10 @@ static void compare(const char *name, int m, const double *Q, int ng, const doub
     int rc = kin_quadrics_homotopy_sym(m, s, Q, ng, R, &o, b1, N, &n1, mult, &h1, &si, err, sizeof err);
     CHECK_RC(rc, KIN_OK);
     if (rc) printf("%s: %s\n", name, err);
-    printf("%s: m = %d, group %d, orbits %d, loop paths %d, final %d; real %d/%d nonreal %d/%d sing %d/%d\n", name,
+    printf("%s: m = %d, group %d, orbits %d, loop paths %d, final %d; real %d/%d nonreal %d/%d sing %d/%d "
+           "failed %d dup %d unpaired %d\n", name,
            m, si.group, si.orbits, si.monodromy_paths, si.final_paths, h1.real, h0.real, h1.nonreal, h0.nonreal,
-           h1.singular, h0.singular);
+           h1.singular, h0.singular, h1.failed, h1.duplicates, h1.unpaired);
     CHECK(si.group == want_group);
     CHECK(si.found == N);
     CHECK(h1.paths == N);
