@@ -72,7 +72,7 @@ static void constants(void)
     printf("! sizeof of the public structs, as the C compiler lays them out\n");
     S(kin_analysis) S(kin_options) S(kin_step_info) S(kin_locate_options) S(kin_locate_info)
     S(kin_solve_info) S(kin_homotopy_info) S(kin_homotopy_options) S(kin_branch_path)
-    S(kin_sail_params) S(kin_homotopy_endpoint) S(kin_follow_options) S(kin_follow_info)
+    S(kin_sail_params) S(kin_homotopy_endpoint) S(kin_homotopy_sym_info) S(kin_follow_options) S(kin_follow_info)
     printf("! enum kin_threebar_state\n");
     P(KIN_THREEBAR_RA) P(KIN_THREEBAR_RB) P(KIN_THREEBAR_RC)
     printf("! enum kin_sail_support\n");

@@ -77,6 +77,12 @@ module libkin
     real(c_double) :: max_residual = 0, max_cond = 0
   end type
 
+  type, bind(C), public :: kin_homotopy_sym_info
+    integer(c_size_t) :: size = KIN_SIZEOF_HOMOTOPY_SYM_INFO
+    integer(c_int) :: group = 0, orbits = 0, found = 0, monodromy_paths = 0, final_paths = 0
+    real(c_double) :: monodromy_steps = 0, monodromy_rejected = 0
+  end type
+
   ! progress: c_funloc of a bind(C) function with the interface
   ! kin_progress_callback, or c_null_funptr; user is passed to it unchanged.
   ! Start from kin_homotopy_options_default.
@@ -144,7 +150,7 @@ module libkin
   public :: kin_locate_options_default, kin_test_function, kin_locate_next
   public :: kin_second_order, kin_quadrics_scan, kin_quadrics_homotopy, kin_branch_paths
   public :: kin_homotopy_options_default, kin_quadrics_homotopy_ex
-  public :: kin_quadrics_homotopy_range, kin_quadrics_homotopy_merge
+  public :: kin_quadrics_homotopy_range, kin_quadrics_homotopy_merge, kin_quadrics_homotopy_sym
   public :: kin_follow_options_default, kin_follow_event
   public :: kin_set_progress, kin_progress_callback
   public :: kin_assembly_load, kin_assembly_load_string, kin_assembly_save
@@ -451,6 +457,23 @@ module libkin
       integer(c_int), intent(out) :: multiplicity(*)
       type(kin_homotopy_info), intent(out) :: info
       integer(c_int) :: kin_quadrics_homotopy_ex
+    end function
+    ! r: ngroup m x m matrices (column-major); sinfo: c_loc of a
+    ! kin_homotopy_sym_info or c_null_ptr; err: a character(len=errlen)
+    ! buffer (c_loc of its first character) or c_null_ptr
+    function kin_quadrics_homotopy_sym(m, s, q, ngroup, r, opt, betas, maxsol, nsol, multiplicity, info, &
+        sinfo, err, errlen) bind(C, name='kin_quadrics_homotopy_sym')
+      import :: c_int, c_double, c_ptr, c_size_t, kin_homotopy_options, kin_homotopy_info
+      integer(c_int), value :: m, s, ngroup, maxsol
+      real(c_double), intent(in) :: q(*), r(*)
+      type(kin_homotopy_options), intent(in) :: opt
+      real(c_double), intent(out) :: betas(*)
+      integer(c_int), intent(out) :: nsol
+      integer(c_int), intent(out) :: multiplicity(*)
+      type(kin_homotopy_info), intent(out) :: info
+      type(c_ptr), value :: sinfo, err
+      integer(c_size_t), value :: errlen
+      integer(c_int) :: kin_quadrics_homotopy_sym
     end function
     ! ends: element 1's size must be KIN_SIZEOF_HOMOTOPY_ENDPOINT (the default)
     function kin_quadrics_homotopy_range(m, s, q, opt, first_path, npaths, ends, z) &

@@ -303,6 +303,8 @@ int kin__hom_solver_init(hom_solver *H, int m, int s, const double *Q, const kin
     return KIN_OK;
 }
 
+hom_ws *kin__hom_pool_ws(const hom_solver *H, int t) { return ((hom_pool *)H->pool)->ws[t]; }
+
 void kin__hom_solver_free(hom_solver *H)
 {
     hom_pool *pool = H->pool;

@@ -122,48 +122,16 @@ hom_checks kin__hom_check(int m, int npaths, const hom_end *ends, const double *
     return c;
 }
 
-int kin__hom_merge(hom_solver *H, hom_end *ends, double *zr, double *zi, hom_report *R, double *betas, int maxsol,
-                   int *nsol, int *multiplicity, kin_homotopy_info *info)
+/* the accounting of the checked endpoints (parent: kin__hom_check's
+ * grouping; size: npaths ints of scratch) */
+static void tally(const hom_solver *H, const hom_end *ends, const double *zr, const double *zi, int *parent,
+                  int *size, hom_checks ck, int retracked, double *betas, int maxsol, int *nsol, int *multiplicity,
+                  kin_homotopy_info *info)
 {
-    int m = H->P.m, s = H->P.s, npaths = H->npaths, rc = KIN_OK;
+    int m = H->P.m, s = H->P.s, npaths = H->npaths;
     size_t mm = (size_t)m * m;
-    const double *Qr = H->Qr, *w = H->w;
-    hom_key *keys = malloc(sizeof(hom_key) * (size_t)npaths);
-    int *parent = malloc(sizeof(int) * (size_t)npaths), *list = malloc(sizeof(int) * (size_t)npaths);
-    int *size = calloc((size_t)npaths, sizeof(int));
-    unsigned char *paired = malloc((size_t)npaths);
-    hom_settings S = kin__hom_base_settings;
-    if (!keys || !parent || !list || !size || !paired) {
-        rc = KIN_ENOMEM;
-        goto done;
-    }
-    hom_checks ck = kin__hom_check(m, npaths, ends, zr, zi, w, keys, parent, paired);
-    int retracked = 0;
-    for (int round = 1; round <= RETRACK_ROUNDS; ++round) {
-        /* the suspects: failed paths, every path on a root reached more than
-         * once, non-real endpoints without a conjugate and, from the second
-         * round on while conjugates are missing, the singular endpoints (a
-         * lost conjugate may have been taken for one) */
-        memset(size, 0, sizeof(int) * (size_t)npaths);
-        for (int p = 0; p < npaths; ++p)
-            if (ends[p].kind == HOM_REAL || ends[p].kind == HOM_NONREAL) size[kin__hom_find(parent, p)]++;
-        int n = 0;
-        for (int p = 0; p < npaths; ++p) {
-            int k = ends[p].kind;
-            int sus = k == HOM_FAILED || ((k == HOM_REAL || k == HOM_NONREAL) && size[kin__hom_find(parent, p)] > 1) ||
-                      (k == HOM_NONREAL && !paired[p]) || (k == HOM_SINGULAR && round >= 2 && ck.unpaired > 0);
-            if (sus) list[n++] = p;
-        }
-        if (!n) break;
-        S.pred_rel *= TIGHTEN, S.pred_sep *= TIGHTEN, S.corr_sep *= TIGHTEN;
-        S.sigma_end *= SIGMA_TIGHTEN;
-        R->total += n;
-        if ((rc = kin__hom_run(H, &S, list, 0, n, 0, ends, zr, zi, R))) goto done;
-        if (R->cancelled) goto cancelled;
-        retracked += n;
-        ck = kin__hom_check(m, npaths, ends, zr, zi, w, keys, parent, paired);
-    }
-
+    const double *Qr = H->Qr;
+    (void)zi;
     memset(info, 0, sizeof *info);
     info->paths = npaths;
     info->retracked = retracked;
@@ -214,6 +182,61 @@ int kin__hom_merge(hom_solver *H, hom_end *ends, double *zr, double *zi, hom_rep
     }
     info->real_distinct = nd;
     *nsol = nd < maxsol ? nd : maxsol;
+}
+
+int kin__hom_tally(const hom_solver *H, const hom_end *ends, const double *zr, const double *zi, int *parent,
+                   hom_checks ck, int retracked, double *betas, int maxsol, int *nsol, int *multiplicity,
+                   kin_homotopy_info *info)
+{
+    int *size = calloc((size_t)H->npaths, sizeof(int));
+    if (!size) return KIN_ENOMEM;
+    tally(H, ends, zr, zi, parent, size, ck, retracked, betas, maxsol, nsol, multiplicity, info);
+    free(size);
+    return KIN_OK;
+}
+
+int kin__hom_merge(hom_solver *H, hom_end *ends, double *zr, double *zi, hom_report *R, double *betas, int maxsol,
+                   int *nsol, int *multiplicity, kin_homotopy_info *info)
+{
+    int m = H->P.m, npaths = H->npaths, rc = KIN_OK;
+    const double *w = H->w;
+    hom_key *keys = malloc(sizeof(hom_key) * (size_t)npaths);
+    int *parent = malloc(sizeof(int) * (size_t)npaths), *list = malloc(sizeof(int) * (size_t)npaths);
+    int *size = calloc((size_t)npaths, sizeof(int));
+    unsigned char *paired = malloc((size_t)npaths);
+    hom_settings S = kin__hom_base_settings;
+    if (!keys || !parent || !list || !size || !paired) {
+        rc = KIN_ENOMEM;
+        goto done;
+    }
+    hom_checks ck = kin__hom_check(m, npaths, ends, zr, zi, w, keys, parent, paired);
+    int retracked = 0;
+    for (int round = 1; round <= RETRACK_ROUNDS; ++round) {
+        /* the suspects: failed paths, every path on a root reached more than
+         * once, non-real endpoints without a conjugate and, from the second
+         * round on while conjugates are missing, the singular endpoints (a
+         * lost conjugate may have been taken for one) */
+        memset(size, 0, sizeof(int) * (size_t)npaths);
+        for (int p = 0; p < npaths; ++p)
+            if (ends[p].kind == HOM_REAL || ends[p].kind == HOM_NONREAL) size[kin__hom_find(parent, p)]++;
+        int n = 0;
+        for (int p = 0; p < npaths; ++p) {
+            int k = ends[p].kind;
+            int sus = k == HOM_FAILED || ((k == HOM_REAL || k == HOM_NONREAL) && size[kin__hom_find(parent, p)] > 1) ||
+                      (k == HOM_NONREAL && !paired[p]) || (k == HOM_SINGULAR && round >= 2 && ck.unpaired > 0);
+            if (sus) list[n++] = p;
+        }
+        if (!n) break;
+        S.pred_rel *= TIGHTEN, S.pred_sep *= TIGHTEN, S.corr_sep *= TIGHTEN;
+        S.sigma_end *= SIGMA_TIGHTEN;
+        R->total += n;
+        if ((rc = kin__hom_run(H, &S, list, 0, n, 0, ends, zr, zi, R))) goto done;
+        if (R->cancelled) goto cancelled;
+        retracked += n;
+        ck = kin__hom_check(m, npaths, ends, zr, zi, w, keys, parent, paired);
+    }
+
+    tally(H, ends, zr, zi, parent, size, ck, retracked, betas, maxsol, nsol, multiplicity, info);
     if (R->fn) R->fn(R->user, R->total, R->total); /* finished: its answer no longer matters */
     goto done;
 

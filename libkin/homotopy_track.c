@@ -683,8 +683,8 @@ static int newton_step(const hom_problem *P, const double *car, const double *ca
 
 /* ---- endpoint: refine at t = 1 in the chart z_k = 1 and certify ---- */
 
-static void certify(const hom_problem *P, hom_ws *w, const double *xr, const double *xi, double *zr, double *zi,
-                    hom_end *e)
+void kin__hom_certify(const hom_problem *P, hom_ws *w, const double *xr, const double *xi, double *zr, double *zi,
+                      hom_end *e)
 {
     int m = P->m, s = P->s, k = 0;
     double big = -1.0;
@@ -900,5 +900,5 @@ void kin__hom_track(const hom_problem *P, const hom_settings *S, hom_ws *w, int 
         memcpy(zi, xi, sizeof(double) * (size_t)m);
         return;
     }
-    certify(P, w, xr, xi, zr, zi, e);
+    kin__hom_certify(P, w, xr, xi, zr, zi, e);
 }

@@ -125,6 +125,8 @@ typedef struct hom_solver {
  * count is clamped to it). KIN_OK, KIN_EINVAL, KIN_ERANGE, KIN_ENOMEM. */
 int kin__hom_solver_init(hom_solver *H, int m, int s, const double *Q, const kin_homotopy_options *o, long work);
 void kin__hom_solver_free(hom_solver *H);
+/* the workspace of thread t < H->nthreads */
+hom_ws *kin__hom_pool_ws(const hom_solver *H, int t);
 
 /* Track the paths list[0..n-1] (list NULL: first .. first + n - 1), storing
  * path p's endpoint at index p - offset of ends, zr, zi; progress through
@@ -137,6 +139,20 @@ int kin__hom_run(hom_solver *H, const hom_settings *S, const int *list, int firs
  * KIN_ECANCELLED (info zeroed, *nsol = 0), KIN_ENOMEM. */
 int kin__hom_merge(hom_solver *H, hom_end *ends, double *zr, double *zi, hom_report *R, double *betas, int maxsol,
                    int *nsol, int *multiplicity, kin_homotopy_info *info);
+
+/* The accounting of kin__hom_merge after the checks (ck, parent: from
+ * kin__hom_check over H->npaths endpoints): fills info, betas,
+ * multiplicity, *nsol. KIN_OK or KIN_ENOMEM. */
+int kin__hom_tally(const hom_solver *H, const hom_end *ends, const double *zr, const double *zi, int *parent,
+                   hom_checks ck, int retracked, double *betas, int maxsol, int *nsol, int *multiplicity,
+                   kin_homotopy_info *info);
+
+/* Refine the approximate root (xr, xi) of F (any scale, not near the
+ * chart's infinity) at t = 1 by Newton in the chart z_k = 1 (k: its
+ * largest entry) and certify it (the certificate of kin__hom_track);
+ * zr, zi (m each) receive the refined root. */
+void kin__hom_certify(const hom_problem *P, hom_ws *w, const double *xr, const double *xi, double *zr, double *zi,
+                      hom_end *e);
 
 /* The endpoints of n paths: the tracker's records and their coordinates
  * (real and imaginary parts, m each). */

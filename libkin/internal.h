@@ -127,6 +127,8 @@ void kin__set_fault(kin_assembly *a, int fault);
 /* error helpers: set the handle's message and return the code */
 int kin__fail(kin_assembly *a, int code, const char *fmt, ...);
 int kin__failv(char *buf, size_t len, int code, const char *fmt, va_list ap);
+/* kin__failv with arguments: a message into a caller's buffer (NULL: none) */
+int kin__failbuf(char *buf, size_t len, int code, const char *fmt, ...);
 
 /* free coordinates <-> full coordinates */
 void kin__gather(const kin_assembly *a, const double *xyz, double *x);

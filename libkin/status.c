@@ -38,6 +38,15 @@ int kin__failv(char *buf, size_t len, int code, const char *fmt, va_list ap)
     return code;
 }
 
+int kin__failbuf(char *buf, size_t len, int code, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    kin__failv(buf, len, code, fmt, ap);
+    va_end(ap);
+    return code;
+}
+
 int kin__fail(kin_assembly *a, int code, const char *fmt, ...)
 {
     va_list ap;

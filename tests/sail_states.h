@@ -167,4 +167,72 @@ static inline int test_hex_fold(kin_assembly **rb_start, kin_assembly **ra_start
     return rc ? rc : found ? KIN_OK : KIN_ENOTFOUND;
 }
 
+/* The symmetries of a sail with 3-fold symmetry about the z axis through
+ * the centroid (the hexagonal sails) at its current state, acting on the
+ * internal-mechanism coordinates: for the maps x -> T x (rotations by 0,
+ * 120, 240 degrees, each with and without z -> -z) that permute the joints,
+ * R = U^T P U (P: T's action on free coordinates; U: nfree x m internal
+ * mechanisms, column-major). Writes at most maxg m x m matrices (column-
+ * major) to R and returns how many (-1: out of memory). */
+static inline int test_rotation_group(kin_assembly *a, int m, const double *U, double *R, int maxg)
+{
+    int nj = kin_njoints(a), nf = kin_nfree(a), ng = 0;
+    double *X = malloc(sizeof(double) * 3 * nj), *P = malloc(sizeof(double) * nf * nf), c[3] = {0, 0, 0};
+    double *PU = malloc(sizeof(double) * nf * m);
+    if (!X || !P || !PU) {
+        free(X), free(P), free(PU);
+        return -1;
+    }
+    kin_get_coords(a, X);
+    for (int j = 0; j < nj; ++j)
+        for (int k = 0; k < 3; ++k) c[k] += X[3 * j + k] / nj;
+    for (int rot = 0; rot < 3; ++rot)
+        for (int mir = 0; mir < 2; ++mir) {
+            double th = 2.0 * 3.14159265358979323846 * rot / 3.0, cs = cos(th), sn = sin(th);
+            double T[9] = {cs, -sn, 0, sn, cs, 0, 0, 0, mir ? -1.0 : 1.0};
+            memset(P, 0, sizeof(double) * nf * nf);
+            int ok = 1;
+            for (int i = 0; i < nj && ok; ++i) {
+                double y[3];
+                for (int r = 0; r < 3; ++r) {
+                    y[r] = c[r];
+                    for (int k = 0; k < 3; ++k) y[r] += T[3 * r + k] * (X[3 * i + k] - c[k]);
+                }
+                int to = -1;
+                for (int j = 0; j < nj && to < 0; ++j)
+                    if (fabs(X[3 * j] - y[0]) + fabs(X[3 * j + 1] - y[1]) + fabs(X[3 * j + 2] - y[2]) < 1e-9) to = j;
+                if (to < 0) ok = 0;
+                for (int ax = 0; ax < 3 && ok; ++ax) {
+                    int fi = kin_free_index(a, i, ax);
+                    if (fi < 0) continue;
+                    for (int b = 0; b < 3; ++b) {
+                        int fj = kin_free_index(a, to, b);
+                        if (fabs(T[3 * b + ax]) > 1e-12) {
+                            if (fj < 0) ok = 0;
+                            else P[(size_t)fi * nf + fj] = T[3 * b + ax];
+                        }
+                    }
+                }
+            }
+            if (!ok || ng == maxg) continue;
+            for (int k = 0; k < m; ++k) /* PU = P U (column-major, nf rows) */
+                for (int r = 0; r < nf; ++r) {
+                    double v = 0.0;
+                    for (int q = 0; q < nf; ++q) v += P[(size_t)q * nf + r] * U[(size_t)k * nf + q];
+                    PU[(size_t)k * nf + r] = v;
+                }
+            double *Rg = R + (size_t)ng * m * m;
+            for (int k = 0; k < m; ++k)
+                for (int r = 0; r < m; ++r) {
+                    double v = 0.0;
+                    for (int q = 0; q < nf; ++q) v += U[(size_t)r * nf + q] * PU[(size_t)k * nf + q];
+                    Rg[(size_t)k * m + r] = v;
+                }
+            ng++;
+        }
+    free(X), free(P), free(PU);
+    return ng;
+}
+
+
 #endif

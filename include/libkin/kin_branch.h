@@ -255,6 +255,68 @@ KIN_API int kin_quadrics_homotopy_merge(int m, int s, const double *Q, const kin
                                         const kin_homotopy_endpoint *ends, const double *z, double *betas,
                                         int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info);
 
+/* ---- The complete solver with symmetry ----
+ * What kin_quadrics_homotopy_sym reports besides kin_homotopy_info. */
+typedef struct kin_homotopy_sym_info {
+    size_t size;         /* sizeof(kin_homotopy_sym_info) as the caller compiled it (docs/abi.md) */
+    int group;           /* projectively distinct group elements (R_g and -R_g count once; the
+                            identity is always one) */
+    int orbits;          /* orbits of the start system's roots: the paths tracked to Q (first pass) */
+    int found;           /* roots of the start system found by monodromy, orbits expanded; 2^s
+                            when complete */
+    int monodromy_paths; /* paths tracked in the monodromy loops */
+    int final_paths;     /* paths tracked from the start system to Q, re-tracks included */
+    double monodromy_steps; /* accepted steps of the monodromy paths */
+    double monodromy_rejected; /* rejected steps of the monodromy paths */
+} kin_homotopy_sym_info;
+
+/* The complete solver for a system with symmetry: the same result as
+ * kin_quadrics_homotopy_ex (every one of the 2^s roots of beta^T Q_j beta =
+ * 0 in P^s, m = s + 1, certified and classified with the same certificate
+ * and checks; betas, multiplicity, *nsol and *info as there, info->paths =
+ * 2^s) with about |G| times fewer paths to Q.
+ * R: ngroup orthogonal m x m matrices (column-major, one after the other)
+ * acting on beta such that the system is equivariant, q(R_g b) = S_g q(b)
+ * for some s x s S_g (found by least squares), and forming a group up to
+ * sign (every product R_g R_h is +-R_k of the list or +-I); the identity may
+ * be left out (it is always added), ngroup = 0 (R may be NULL) is the
+ * trivial group. Tolerances: |R^T R - I| <= 1e-8 (largest entry) and
+ * |R_g^T Q_j R_g - sum_i (S_g)_ji Q_i|_F <= 1e-7 with each Q_j scaled to
+ * unit Frobenius norm; the Q_j must be linearly independent.
+ * Method (docs/performance.md): a random complex start system P0 in the
+ * family E of equivariant systems (the Reynolds projection of a random
+ * system) with one root forced; monodromy through two more random members
+ * of E, tracking one root per orbit (the group commutes with every path in
+ * E) and adding whole orbits, until 2^s roots are known at P0; then one
+ * path per orbit from P0 to Q (parameter homotopy), the endpoints' orbits
+ * expanded, every one of the 2^s endpoints refined and certified, the
+ * duplicate and conjugate checks of kin_quadrics_homotopy; representatives
+ * of suspect endpoints are tracked again with tighter settings (3 rounds).
+ * opt as for kin_quadrics_homotopy_ex (NULL: defaults): seed (the random
+ * systems and charts), threads, max_paths (bounds 2^s), progress (done =
+ * paths tracked, total = done + paths queued; cancel: KIN_ECANCELLED).
+ * sinfo (optional, NULL: none) receives the counts above. Memory: about
+ * (100 m + 160) bytes per root (2^s; 56 MB at s = 15), allocated per call.
+ * Time: on the hexagonal sail's flat state (C3) ~3x the plain solver's
+ * (about 4 monodromy paths per orbit besides the one to Q): it pays off
+ * for groups of projective order well above 5 only.
+ * err (optional, errlen bytes) receives a message on failure.
+ * If the monodromy does not reach 2^s roots within 40 * 2^s / |G| + 1000
+ * paths, or the start system's roots cannot be placed (e.g. a family whose
+ * generic member has fewer isolated roots), the call returns
+ * KIN_ENOTCONVERGED with *info zeroed but for info->paths = 2^s and sinfo
+ * filled (sinfo->found < 2^s); never an incomplete answer. The result does
+ * not depend on the thread count.
+ * Returns KIN_OK, KIN_ENULL (Q, betas, nsol, info; R with ngroup > 0),
+ * KIN_EINVAL (as kin_quadrics_homotopy_ex; ngroup < 0; R not orthogonal,
+ * not a group, or Q not equivariant; Q_j linearly dependent), KIN_ERANGE,
+ * KIN_ELIMIT, KIN_ENOTCONVERGED, KIN_ECANCELLED, KIN_ENOMEM. On failure
+ * *nsol = 0 and betas and multiplicity are not written. */
+KIN_API int kin_quadrics_homotopy_sym(int m, int s, const double *Q, int ngroup, const double *R,
+                                      const kin_homotopy_options *opt, double *betas, int maxsol, int *nsol,
+                                      int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *sinfo,
+                                      char *err, size_t errlen);
+
 /* One candidate path out of a bifurcation (paper 3.4). */
 typedef struct kin_branch_path {
     size_t size; /* sizeof(kin_branch_path) as the caller compiled it (docs/abi.md) */

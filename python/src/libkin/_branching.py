@@ -83,7 +83,8 @@ class Branches:
 
 def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 1024, seed: int = 1,
                    threads: int = 2, progress: Progress = None,
-                   max_paths: Optional[int] = None) -> Tuple[FloatArray, Dict[str, int]]:
+                   max_paths: Optional[int] = None,
+                   group: Optional[npt.ArrayLike] = None) -> Tuple[FloatArray, Dict[str, int]]:
     """Real solutions of the second-order equations ``beta^T Q_j beta = 0``, ``|beta| = 1``.
 
     Parameters
@@ -107,6 +108,15 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
         Ctrl-C stops the solver within about 0.1 s and raises KeyboardInterrupt.
     max_paths : int, optional
         Refuse more than this many homotopy paths 2^s (None: the library's 2^20).
+    group : array_like, shape (k, m, m), optional
+        'homotopy' only: a symmetry group of the system acting on beta by
+        orthogonal matrices (``q(R b) = S q(b)``; closed under products up to
+        sign; the identity may be left out), e.g. from
+        `libkin.automorphisms.mechanism_group`. The solver then tracks one
+        path per orbit (kin_quadrics_homotopy_sym: monodromy in the
+        equivariant family, then one path per orbit to Q) with the same
+        certified accounting of all 2^s roots; the accounting gains
+        'group', 'orbits', 'found', 'monodromy_paths' and 'final_paths'.
 
     Returns
     -------
@@ -127,7 +137,10 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
     CancelledError
         The `progress` callable asked to stop.
     KinError
-        As the C solver reports (e.g. `GslError`).
+        As the C solver reports (e.g. `GslError`); with `group`, an
+        InvalidArgumentError if a matrix is not orthogonal, the set is not a
+        group or the system is not equivariant, NotConvergedError if the
+        monodromy could not find 2^s roots.
     """
     Qa = np.asarray(Q, dtype=np.float64)
     if Qa.ndim != 3 or Qa.shape[1] != Qa.shape[2]:
@@ -142,6 +155,11 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
     betas = np.empty((maxsol, m))
     nsol = ffi.new("int *")
     accounting: Dict[str, int]
+    if group is not None:
+        if solver != "homotopy":
+            raise InvalidArgumentError("group: only with solver='homotopy'")
+        return _solve_symmetric(Qc, np.asarray(group, dtype=np.float64), seed, threads, progress, max_paths,
+                                betas, nsol)
     if solver == "scan":
         info: Any = new_struct("kin_solve_info")
         check(lib.kin_quadrics_scan(m, s, read_ptr(Qc, "double *"), int(starts), int(seed),
@@ -162,6 +180,34 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
         check(rc, what="homotopy")
         accounting = {k: getattr(info, k) for k in ("paths", "real", "real_distinct", "nonreal", "singular",
                                                     "failed", "duplicates", "unpaired", "retracked")}
+    return betas[: nsol[0]].copy(), accounting
+
+
+def _solve_symmetric(Qc: FloatArray, R: FloatArray, seed: int, threads: int, progress: Progress,
+                     max_paths: Optional[int], betas: FloatArray, nsol: Any) -> Tuple[FloatArray, Dict[str, int]]:
+    s, m = Qc.shape[0], Qc.shape[1]
+    if R.ndim != 3 or R.shape[1:] != (m, m):
+        raise InvalidArgumentError(f"group: expected shape (k, {m}, {m}), got {R.shape}")
+    Rc = np.ascontiguousarray(R.transpose(0, 2, 1))  # column-major matrices
+    info: Any = new_struct("kin_homotopy_info")
+    sinfo: Any = new_struct("kin_homotopy_sym_info")
+    opt: Any = new_struct("kin_homotopy_options")
+    lib.kin_homotopy_options_default(opt)
+    opt.seed = int(seed)
+    opt.nthreads = int(threads)
+    if max_paths is not None:
+        opt.max_paths = int(max_paths)
+    err = ffi.new("char[]", 256)
+    with reporting(progress, f"homotopy 2^{s} with symmetry", "path") as rep:
+        opt.progress = rep.c_callback
+        rc = lib.kin_quadrics_homotopy_sym(m, s, read_ptr(Qc, "double *"), R.shape[0], read_ptr(Rc, "double *"),
+                                           opt, write_ptr(betas, "double *"), betas.shape[0], nsol, ffi.NULL,
+                                           info, sinfo, err, 256)
+    check(rc, what="homotopy with symmetry: " + ffi.string(err).decode(errors="replace"))
+    accounting = {k: getattr(info, k) for k in ("paths", "real", "real_distinct", "nonreal", "singular",
+                                                "failed", "duplicates", "unpaired", "retracked")}
+    accounting.update({k: getattr(sinfo, k) for k in ("group", "orbits", "found", "monodromy_paths",
+                                                      "final_paths")})
     return betas[: nsol[0]].copy(), accounting
 
 

@@ -232,6 +232,20 @@ int kin_quadrics_homotopy_range(int m, int s, const double *Q, const kin_homotop
 int kin_quadrics_homotopy_merge(int m, int s, const double *Q, const kin_homotopy_options *opt,
                                         const kin_homotopy_endpoint *ends, const double *z, double *betas,
                                         int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info);
+typedef struct kin_homotopy_sym_info {
+    size_t size;
+    int group;
+    int orbits;
+    int found;
+    int monodromy_paths;
+    int final_paths;
+    double monodromy_steps;
+    double monodromy_rejected;
+} kin_homotopy_sym_info;
+int kin_quadrics_homotopy_sym(int m, int s, const double *Q, int ngroup, const double *R,
+                                      const kin_homotopy_options *opt, double *betas, int maxsol, int *nsol,
+                                      int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *sinfo,
+                                      char *err, size_t errlen);
 typedef struct kin_branch_path {
     size_t size;
     int beta;

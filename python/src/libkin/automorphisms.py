@@ -206,3 +206,49 @@ def invariant_subspace(U: NDArray[np.float64], matrices: List[NDArray[np.float64
     _, sv, vt = np.linalg.svd(A)
     sv = np.concatenate([sv, np.zeros(m - sv.size)])
     return vt[sv < 1e-9 * max(1.0, sv[0] if sv.size else 1.0)].T
+
+
+def mechanism_group(assembly: "Assembly", coords: Optional[ArrayLike] = None,
+                    max_candidates: int = MAX_CANDIDATES) -> NDArray[np.float64]:
+    """The symmetry group acting on the internal-mechanism coordinates beta.
+
+    For each symmetry g of the assembly at `coords` (detect_symmetries;
+    default: its current configuration), R_g = U^T P_g U with U the internal
+    mechanisms (``analyse().internal_mechanisms``) and P_g its action on
+    free coordinates (`Symmetry.free_matrix`): the second-order system
+    ``beta^T Q_j beta`` at that configuration is then equivariant under
+    R_g, which is what ``solve_quadrics(Q, group=...)`` takes.
+
+    Parameters
+    ----------
+    assembly : Assembly
+        Moved to `coords` if given (and left there).
+    coords : array_like, shape (njoints, dim), optional
+    max_candidates : int, optional
+        As for detect_symmetries.
+
+    Returns
+    -------
+    ndarray, shape (k, m_internal, m_internal)
+        Orthogonal matrices, the identity first.
+
+    Raises
+    ------
+    InvalidArgumentError
+        A symmetry does not map the mechanism space to itself (R_g not
+        orthogonal to 1e-8): the configuration is not the one the
+        symmetries were found at.
+    """
+    if coords is not None:
+        assembly.coords = np.asarray(coords, dtype=float)
+    syms = detect_symmetries(assembly, None, max_candidates)
+    U = assembly.analyse().internal_mechanisms
+    fm = assembly.free_map()
+    mats = []
+    for g in syms:
+        R = U.T @ g.free_matrix(fm) @ U
+        if np.abs(R.T @ R - np.eye(len(R))).max() > 1e-8:
+            raise InvalidArgumentError("a symmetry does not preserve the internal mechanisms")
+        mats.append(R)
+    mats.sort(key=lambda R: -float(np.trace(R)))
+    return np.array(mats) if mats else np.eye(U.shape[1])[None]

@@ -1,0 +1,58 @@
+"""The complete solver with symmetry from Python: solve_quadrics(group=...)
+against the plain solver on sail flat states, mechanism_group, and the
+errors."""
+import numpy as np
+import pytest
+
+import libkin
+from libkin._branching import solve_quadrics
+from libkin.automorphisms import mechanism_group
+from libkin.errors import InvalidArgumentError
+
+
+def same_roots(a, b):
+    """every row of a is +-a row of b"""
+    return all(min(np.abs(b - r).max(axis=1).min(), np.abs(b + r).max(axis=1).min()) < 1e-8 for r in a)
+
+
+@pytest.mark.parametrize("sides,loops", [(6, 1), (4, 1)])
+def test_sail_flat_state_same_roots(sides, loops):
+    a = libkin.Assembly.sail(sides, loops)
+    Q = a.second_order()
+    R = mechanism_group(a)
+    m = Q.shape[1]
+    assert R.shape[1:] == (m, m)
+    assert np.allclose(R[0], np.eye(m))
+    for Rg in R:  # orthogonal, and the system equivariant: R^T Q_j R in the span of the Q_j
+        assert np.abs(Rg.T @ Rg - np.eye(m)).max() < 1e-10
+        M = Q.reshape(len(Q), -1).T
+        for Qj in Q:
+            coef = np.linalg.lstsq(M, (Rg.T @ Qj @ Rg).ravel(), rcond=None)[0]
+            assert np.abs(M @ coef - (Rg.T @ Qj @ Rg).ravel()).max() < 1e-9
+    b0, acc0 = solve_quadrics(Q, "homotopy")
+    b1, acc1 = solve_quadrics(Q, "homotopy", group=R)
+    s = len(Q)
+    assert acc1["paths"] == 2 ** s and acc1["found"] == 2 ** s
+    assert acc1["real"] + acc1["nonreal"] + acc1["singular"] + acc1["failed"] == 2 ** s
+    for k in ("real", "real_distinct", "nonreal", "singular", "failed", "duplicates", "unpaired"):
+        assert acc1[k] == acc0[k], k
+    assert len(b1) == len(b0) and same_roots(b1, b0) and same_roots(b0, b1)
+    if sides == 6:  # C3 (the mirror z -> -z acts as -I): orbits of 3 or 1
+        assert acc1["group"] == 3 and acc1["orbits"] < 2 ** s
+
+
+def test_group_errors():
+    a = libkin.Assembly.sail(6, 1)
+    Q = a.second_order()
+    R = mechanism_group(a)
+    with pytest.raises(InvalidArgumentError):
+        solve_quadrics(Q, "homotopy", group=R[:, :2, :2])  # wrong shape
+    with pytest.raises(InvalidArgumentError):
+        solve_quadrics(Q, "scan", group=R)
+    bad = R.copy()
+    bad[1, 0, 0] *= 1.01  # not orthogonal
+    with pytest.raises(InvalidArgumentError):
+        solve_quadrics(Q, "homotopy", group=bad)
+    perm = np.eye(Q.shape[1])[[1, 0] + list(range(2, Q.shape[1]))]  # orthogonal, not a symmetry
+    with pytest.raises(InvalidArgumentError):
+        solve_quadrics(Q, "homotopy", group=perm[None])
