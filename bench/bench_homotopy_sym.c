@@ -17,28 +17,13 @@
 #include "libkin.h"
 #include "bench_common.h"
 #include "sail_states.h"
+#include "root_match.h"
 
 enum { THREADS = 2, MAXG = 6 };
 
 static double cpu(void) { return (double)clock() / CLOCKS_PER_SEC; }
 
-static int match(int m, int n, const double *a, const double *b)
-{
-    int bad = 0;
-    for (int i = 0; i < n; ++i) {
-        int found = 0;
-        for (int j = 0; j < n && !found; ++j) {
-            double dp = 0.0, dm = 0.0;
-            for (int c = 0; c < m; ++c) {
-                dp = fmax(dp, fabs(a[i * m + c] - b[j * m + c]));
-                dm = fmax(dm, fabs(a[i * m + c] + b[j * m + c]));
-            }
-            found = fmin(dp, dm) <= 1e-8;
-        }
-        bad += !found;
-    }
-    return bad;
-}
+static int match(int m, int n, const double *a, const double *b) { return unmatched_roots(m, n, a, b, 1e-8); }
 
 int main(int argc, char **argv)
 {

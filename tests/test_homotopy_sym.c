@@ -13,6 +13,7 @@
 #include "check.h"
 #include "libkin.h"
 #include "sail_states.h"
+#include "root_match.h"
 
 enum { MAXM = 8 };
 
@@ -86,22 +87,7 @@ static void cyclic_system(int m, int k, const double *P, int fixed, double *Q, d
 }
 
 /* every real root of one solve is a root of the other (up to sign) */
-static int same_roots(int m, int n, const double *a, const double *b)
-{
-    for (int i = 0; i < n; ++i) {
-        int found = 0;
-        for (int j = 0; j < n && !found; ++j) {
-            double dp = 0.0, dm = 0.0;
-            for (int c = 0; c < m; ++c) {
-                dp = fmax(dp, fabs(a[i * m + c] - b[j * m + c]));
-                dm = fmax(dm, fabs(a[i * m + c] + b[j * m + c]));
-            }
-            found = fmin(dp, dm) <= 1e-9;
-        }
-        if (!found) return 0;
-    }
-    return 1;
-}
+static int same_roots(int m, int n, const double *a, const double *b) { return unmatched_roots(m, n, a, b, 1e-9) == 0; }
 
 /* solve with and without the group; compare */
 static void compare(const char *name, int m, const double *Q, int ng, const double *R, int want_group)
