@@ -209,3 +209,43 @@ def test_square_sail_matches_stored_example(square):
     assert ([(e.source, e.target, e.solution, e.sign, e.event) for e in ref.edges] ==
             [(e.source, e.target, e.solution, e.sign, e.event) for e in square.edges])
     assert ref.same_as(square, tol=1e-6)
+
+
+def test_follow_orbits_gives_the_same_atlas():
+    """One branch per orbit of the node's stabilizer followed, the others
+    mapped by the symmetry: the same nodes and edges as following all."""
+    full = libkin.explore("sail:4:1", depth=1, samples=1)
+    fast = libkin.explore("sail:4:1", depth=1, samples=1, follow_orbits=True)
+    assert full.same_as(fast, tol=1e-7)
+    assert fast.stats["branches_followed"] < full.stats["branches_followed"] == len(full.edges)
+    assert fast.stats["branches_followed"] + fast.stats["branches_mapped"] == len(fast.edges)
+    for e, f in zip(full.edges, fast.edges):
+        assert abs(e.accuracy - f.accuracy) <= 1e-9 or e.accuracy == f.accuracy
+        assert np.abs(np.asarray(e.samples) - np.asarray(f.samples)).max() <= 1e-7
+    from libkin.errors import InvalidArgumentError
+    with pytest.raises(InvalidArgumentError):
+        libkin.explore("sail:4:1", depth=1, follow_orbits="yes")
+
+
+def test_branch_orbits_match_images():
+    from libkin.atlas_orbits import branch_orbits
+    rng = np.random.default_rng(5)
+    # a group of order 4 acting on R^3 by signed permutations, and an orbit-closed set of directions
+    P = [np.diag([1.0, 1.0, -1.0]), np.array([[0, 1, 0], [1, 0, 0], [0, 0, 1.0]]),
+         np.array([[0, 1, 0], [1, 0, 0], [0, 0, -1.0]])]
+    base = [rng.normal(size=3) for _ in range(5)]
+    dirs = []
+    for b in base:
+        for M in [np.eye(3)] + P:
+            dirs.append(M @ b)
+    order = rng.permutation(len(dirs))
+    dirs = [dirs[i] for i in order]
+    orb = branch_orbits(dirs, P)
+    reps = [k for k, (r, j) in enumerate(orb) if j < 0]
+    assert len(reps) == 5
+    for k, (r, j) in enumerate(orb):
+        assert r <= k and orb[r][1] == -1
+        if j >= 0:
+            u = dirs[k] / np.linalg.norm(dirs[k])
+            v = P[j] @ dirs[r] / np.linalg.norm(dirs[r])
+            assert np.abs(u - v).max() < 1e-12

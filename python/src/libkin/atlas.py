@@ -41,6 +41,7 @@ Branch = Tuple[int, int, NDArray[np.float64], NDArray[np.float64]]
 
 from . import atlas_tasks as tasks
 from .atlas_index import GroupedIndex
+from .atlas_orbits import branch_orbits, mapped_result
 from .automorphisms import graph_automorphisms, invariant_subspace, same_symmetry, symmetries_at
 from .errors import InvalidArgumentError, KinError
 
@@ -304,6 +305,8 @@ class _Explorer:
         self.index = GroupedIndex(a.coords.shape, self.rigid)
         self.images = GroupedIndex(a.coords.shape, self.rigid)
         self.follow_cpu = 0.0   # CPU seconds the followers reported
+        self.followed = 0       # branches followed, and mapped from a followed one by symmetry
+        self.mapped = 0
 
     # -- identification
     def _distance(self, X: NDArray[np.float64], Y: NDArray[np.float64]) -> float:
@@ -390,6 +393,12 @@ class _Explorer:
                 n.orbit = m.orbit
                 if n.image_of is None and not n.expanded:
                     n.image_of = {"node": m.id, "symmetry": j}
+
+    def stabilizer(self, node: Node) -> List[int]:
+        """Indices of the symmetries (not the identity) that fix the node."""
+        tol = self.pair_tol(node.located_tol, 0.0)
+        return [j for j, g in enumerate(self.syms)
+                if not g.is_identity and np.abs(g.apply(node.coords) - node.coords).max() <= tol]
 
     def _assembly_at(self, node: Node) -> Assembly:
         a = self.a.clone()
@@ -550,7 +559,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
             time_limit: Optional[float] = None, symmetric: Union[bool, str] = False, executor: Any = None,
             progress: Progress = None, seed: int = 1, threads: int = 1,
             symmetries: Optional[Sequence[Symmetry]] = None, max_steps: int = 2000, samples: int = 2,
-            shards: Optional[int] = None) -> Atlas:
+            shards: Optional[int] = None, follow_orbits: bool = False) -> Atlas:
     """Map the paths out of `start` and out of every bifurcation they reach.
 
     Parameters
@@ -597,6 +606,11 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     shards : int, optional
         The complete solver's paths are tracked in this many tasks (default:
         about SHARD_PATHS paths a shard with an executor, one task without).
+    follow_orbits : bool
+        False: every directed branch is followed. True: one branch per orbit
+        of the node's stabilizer (the symmetries that fix it) is followed
+        and the others are its images (atlas_orbits.py): the same atlas to
+        the identification tolerance, up to |stabilizer| times less work.
 
     Returns
     -------
@@ -614,6 +628,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     if start is not None:
         a = a.clone()
         a.coords = np.asarray(start, dtype=float)
+    if not isinstance(follow_orbits, bool):
+        raise InvalidArgumentError(f"follow_orbits: expected True or False, got {follow_orbits!r}")
     if symmetric not in (False, True, "auto"):
         raise InvalidArgumentError(f"symmetric: expected False, True or 'auto', got {symmetric!r}")
     if not isinstance(depth, int) or depth < 0:
@@ -642,6 +658,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     stopped = None
     for level in range(depth):
         work = []
+        images: List[Optional[Tuple[int, int]]] = []  # per work item: None (followed) or (work index, symmetry)
         for nid in frontier:
             node = ex.nodes[nid]
             if node.image_of is not None:
@@ -664,9 +681,24 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
             node.branches = rec
             node.expanded = True
             node.status = rec.get("reason", f"{len(br)} directed branches")
+            if follow_orbits and br:
+                stab = ex.stabilizer(node)
+                orbits = branch_orbits([d for _, _, _, d in br], [ex.P[j] for j in stab])
+                images += [None if j < 0 else (len(work) + rep, stab[j]) for rep, j in orbits]
+            else:
+                images += [None] * len(br)
             work += [(nid, i, sg, b, d) for i, sg, b, d in br]
-        _say(progress, f"level {level + 1}: {len(work)} directed branches from {len(frontier)} node(s)")
-        results = ex.follow_all(work)
+        todo = [k for k, im in enumerate(images) if im is None]
+        _say(progress, f"level {level + 1}: {len(work)} directed branches from {len(frontier)} node(s)"
+             + (f", {len(todo)} followed, the others their images by symmetry" if len(todo) < len(work) else ""))
+        results: List[Any] = [None] * len(work)
+        for k, res in zip(todo, ex.follow_all([work[k] for k in todo])):
+            results[k] = res
+        for k, im in enumerate(images):
+            if im is not None and results[im[0]] is not None:
+                results[k] = mapped_result(results[im[0]], ex.syms[im[1]])
+        ex.followed += len(todo)
+        ex.mapped += len(work) - len(todo)
         n_before = len(ex.nodes)
         for (nid, i, sg, b, _), res in zip(work, results):
             if res is None:  # not followed: the time limit ran out first
@@ -695,9 +727,10 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     settings = {"depth": depth, "max_nodes": max_nodes, "max_length": float(max_length), "time_limit": time_limit,
                 "symmetric": symmetric, "seed": seed, "same_tol": ex.tol, "max_steps": int(max_steps),
                 "samples": int(samples), "symmetries": ex.symmetry_note or f"{len(ex.syms)} detected",
+                "follow_orbits": follow_orbits,
                 "executor": None if executor is None else type(executor).__name__}
     stats = {"seconds": round(time.perf_counter() - t0, 3), "follow_cpu_seconds": round(ex.follow_cpu, 3),
-             "stopped_by": stopped}
+             "branches_followed": ex.followed, "branches_mapped": ex.mapped, "stopped_by": stopped}
     atlas = Atlas(ex.doc, ex.nodes, ex.edges, ex.syms, settings, stats)
     stats.update(atlas.summary())
     return atlas

@@ -22,6 +22,8 @@ def add_arguments(s: argparse.ArgumentParser) -> None:
                    help="seconds; no node is expanded and no branch started after it")
     s.add_argument("--symmetric", nargs="?", const="true", default="false", choices=["true", "false", "auto"],
                    help="only the paths that keep each node's symmetry (auto: where s > 12)")
+    s.add_argument("--follow-orbits", action="store_true",
+                   help="follow one branch per orbit of each node's symmetries, map the others (faster)")
     s.add_argument("--executor", default="serial", choices=["serial", "process", "dask"],
                    help="where branches are followed: this process, a process pool, a local Dask cluster")
     s.add_argument("--workers", type=_count(1), default=2, help="workers of --executor process|dask (default 2)")
@@ -55,7 +57,7 @@ def run(args: argparse.Namespace, assembly: Assembly) -> int:
     with executor(args.executor, args.workers) as ex:
         at = explore(assembly, depth=args.depth, max_nodes=args.max_nodes, max_length=args.max_length,
                      time_limit=args.time_limit, symmetric=sym, executor=ex,
-                     progress=None if args.quiet else True)
+                     progress=None if args.quiet else True, follow_orbits=args.follow_orbits)
     rep = atlas_report.write(at, args.out)
     s = at.summary()
     kinds = ", ".join(f"{v} {k}" for k, v in sorted(s["edge_events"].items())) or "none"
