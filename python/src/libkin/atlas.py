@@ -657,7 +657,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     frontier = [0]
     stopped = None
     for level in range(depth):
-        work = []
+        work: List[Tuple[int, int, int, NDArray[np.float64], NDArray[np.float64]]] = []
         images: List[Optional[Tuple[int, int]]] = []  # per work item: None (followed) or (work index, symmetry)
         for nid in frontier:
             node = ex.nodes[nid]
