@@ -10,19 +10,7 @@
 #include "internal.h"
 #include "libkin.h"
 #include "sail_states.h"
-
-#define PI 3.14159265358979323846
-
-/* Each step's corrector may stop anywhere within its position tolerance
- * (corrector_tol * RMS bar length; see kin_path.h), and a difference along
- * the path is carried by every later step: two runs of n steps may differ
- * by up to n such tolerances. */
-static double path_tol(const kin_assembly *a, int steps)
-{
-    kin_options o = {.size = sizeof o};
-    kin_get_options(a, &o);
-    return steps * o.corrector_tol * a->rms_length;
-}
+#include "step_compare.h"
 
 static void set_mode(kin_assembly *a, int mode)
 {
@@ -30,28 +18,6 @@ static void set_mode(kin_assembly *a, int mode)
     kin_get_options(a, &o);
     o.factorization = mode;
     CHECK_RC(kin_set_options(a, &o), KIN_OK);
-}
-
-static double max_diff(int n, const double *x, const double *y)
-{
-    double m = 0.0;
-    for (int i = 0; i < n; ++i) m = fmax(m, fabs(x[i] - y[i]));
-    return m;
-}
-
-/* three-bar linkage on the parallelogram mode P1 at joint angle th */
-static kin_assembly *threebar_at(double th)
-{
-    kin_assembly *a = NULL;
-    CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
-    double xyz[8];
-    kin_get_coords(a, xyz);
-    xyz[0] = cos(th);
-    xyz[1] = sin(th);
-    xyz[2] = xyz[0] + 1.0;
-    xyz[3] = xyz[1];
-    CHECK_RC(kin_set_coords(a, xyz), KIN_OK);
-    return a;
 }
 
 static void invalid_options(void)

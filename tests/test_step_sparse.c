@@ -16,15 +16,7 @@
 #include "libkin.h"
 #include "sail_states.h"
 #include "lattice_model.h"
-
-#define PI 3.14159265358979323846
-
-/* two runs of n steps may differ by n corrector position tolerances (see
- * test_step_modes.c) */
-static double path_tol(const kin_assembly *a, int steps)
-{
-    return steps * a->opt.corrector_tol * a->rms_length;
-}
+#include "step_compare.h"
 
 static void set_mode(kin_assembly *a, int mode, int control)
 {
@@ -33,13 +25,6 @@ static void set_mode(kin_assembly *a, int mode, int control)
     o.factorization = mode;
     o.step_control = control;
     CHECK_RC(kin_set_options(a, &o), KIN_OK);
-}
-
-static double max_diff(int n, const double *x, const double *y)
-{
-    double m = 0.0;
-    for (int i = 0; i < n; ++i) m = fmax(m, fabs(x[i] - y[i]));
-    return m;
 }
 
 /* copy of a in mode (shared step control: the SVD mode's amplitudes) */
@@ -206,21 +191,6 @@ static void orders(void)
     double ec = 0.0, en = 0.0;
     CHECK(t != NULL && kin__sparse_order(t, &ec, &en) == 0 && ec == INFINITY && en == INFINITY);
     kin_assembly_free(t);
-}
-
-/* three-bar linkage on the parallelogram mode P1 at joint angle th */
-static kin_assembly *threebar_at(double th)
-{
-    kin_assembly *a = NULL;
-    CHECK_RC(kin_model_threebar(KIN_THREEBAR_RC, &a), KIN_OK);
-    double xyz[8];
-    kin_get_coords(a, xyz);
-    xyz[0] = cos(th);
-    xyz[1] = sin(th);
-    xyz[2] = xyz[0] + 1.0;
-    xyz[3] = xyz[1];
-    CHECK_RC(kin_set_coords(a, xyz), KIN_OK);
-    return a;
 }
 
 /* From th0 on P1 one step landing at angle th1 near R^C (th = 0): near it
