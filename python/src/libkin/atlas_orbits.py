@@ -9,9 +9,9 @@ others are mapped, which divides the following by up to the order of the
 node's stabilizer (6 at the hexagonal sail's flat state, where the mirror
 z -> -z maps each branch onto its opposite sense).
 
-The branches are matched through a sorted scalar key of the directions (as
-atlas_index.py does for configurations), so n branches cost O(n log n)
-rather than n^2 comparisons.
+The branches are matched through atlas_index.ConfigIndex (a sorted scalar key
+of the unit directions), so n branches cost O(n log n) rather than n^2
+comparisons.
 """
 from __future__ import annotations
 
@@ -19,6 +19,8 @@ from typing import Any, Dict, List, Sequence, Tuple
 
 import numpy as np
 from numpy.typing import NDArray
+
+from .atlas_index import ConfigIndex
 
 # two unit directions are the same branch when they agree to this (max-norm);
 # the complete solver's roots are certified far below it, and distinct
@@ -32,25 +34,20 @@ def branch_orbits(directions: Sequence[NDArray[np.float64]], P: Sequence[NDArray
     direction rep, rep the smallest index of its orbit; (k, -1) for a
     representative. P: the stabilizer's matrices on the free coordinates
     (the identity may be among them)."""
-    n = len(directions)
-    if n == 0:
+    if not len(directions):
         return []
     D = np.array([d / np.linalg.norm(d) for d in directions])
-    w = np.random.default_rng(seed).uniform(-1.0, 1.0, D.shape[1])
-    keys = D @ w
-    order = np.argsort(keys, kind="stable")
-    sk = keys[order]
-    r = SAME_DIRECTION * float(np.abs(w).sum()) + 1e-12 * float(np.abs(w).sum())
-    out: List[Any] = [None] * n
-    for k in range(n):
+    index = ConfigIndex((D.shape[1], 1), rigid=False, seed=seed)
+    for i, d in enumerate(D):
+        index.add(d.reshape(-1, 1), i)
+    out: List[Any] = [None] * len(D)
+    for k in range(len(D)):
         if out[k] is not None:
             continue
         out[k] = (k, -1)
         for j, Pj in enumerate(P):
             img = Pj @ D[k]
-            kk = float(img @ w)
-            lo, hi = np.searchsorted(sk, kk - r), np.searchsorted(sk, kk + r, side="right")
-            for i in sorted(int(order[t]) for t in range(lo, hi)):
+            for i in index.near(img.reshape(-1, 1), SAME_DIRECTION):
                 if out[i] is None and np.abs(D[i] - img).max() <= SAME_DIRECTION:
                     out[i] = (k, j)
                     break
