@@ -1,4 +1,7 @@
-/* The path tracker behind kin_quadrics_homotopy.
+/* The path tracker behind kin_quadrics_homotopy, one path at a time: the
+ * reference that the lockstep tracker (homotopy_batch.c, which the solver
+ * runs) follows operation for operation, and the endpoint certificate both
+ * use.
  *
  * Predictor: the Taylor series of the path x(t0 + h) to order HOM_ORDER,
  * exact and cheap here because H is quadratic in x and linear in t: with
@@ -43,83 +46,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy_track.h"
+#include "homotopy_control.h"
 
-/* The hottest kernels are compiled twice where the compiler and the
- * platform support function multiversioning (GCC or Clang on x86-64 ELF):
- * for AVX2 (4 doubles per vector register) and for the baseline, picked at
- * load time by the CPU. The AVX2 target has no FMA instructions, so no
- * product-sum is contracted whatever the -ffp-contract setting, and both
- * versions round identically (the results are bit-identical). */
-#if defined(__x86_64__) && defined(__ELF__) && defined(__has_attribute) && !defined(KIN_NO_MULTIVERSION)
-#if __has_attribute(target_clones)
-#define HOM_KERNEL __attribute__((target_clones("avx2", "default")))
-#define HOM_MULTIVERSION 1
-#endif
-#endif
-#ifndef HOM_KERNEL
-#define HOM_KERNEL
-#endif
-/* inner loops of the kernels, inlined so that each version gets its own */
-#if defined(__GNUC__)
-#define HOM_INLINE static inline __attribute__((always_inline))
-#else
-#define HOM_INLINE static inline
-#endif
-
-enum { HOM_ORDER = 8 }; /* Taylor order of the predictor */
-enum {
-    HOM_NY = HOM_ORDER / 2 + 1,   /* Q x_i needed for i <= HOM_ORDER / 2 */
-    HOM_MM = HOM_MAX_M * HOM_MAX_M,
-    NEWTON_MAX = 3,               /* corrector iterations per step */
-    HAGER_ITERS = 1,              /* iterations of the |J^-1|_1 estimator */
-    REFINE_MAX = 12,              /* Newton iterations at t = 1 */
-    MAX_STEPS = 20000             /* accepted + rejected steps before a path counts as lost */
-};
-
-/* The error model is calibrated along each path by the ratio of the actual
- * predictor error (the first Newton correction) to its estimate (a running
- * geometric mean), kept within [CALIB_MIN, CALIB_MAX]: the model is usually
- * pessimistic by a factor 3-10, and trusting it more than 10x is not safe. */
-static const double CALIB_MIN = 0.1, CALIB_MAX = 4.0;
-/* The series' F[x_0, x_k] terms are recovered from J x_k = r_k (see
- * taylor) when t >= T_RECOVER; below, the division by t would amplify
- * rounding by more than 1/T_RECOVER, and they are computed directly. */
-static const double T_RECOVER = 1e-3;
-/* The predictor's step is at most this fraction of the estimated radius of
- * convergence of the series (beyond it the truncation-error model fails). */
-static const double RADIUS_FRACTION = 0.7;
-/* A step is accepted when a Newton correction d after the first leaves an
- * error (about |d|^2 / r, r the separation radius, by Newton's quadratic
- * convergence) below NEWTON_TOL |x|, or d itself is below it: the next
- * predictor starts from there, and 1e-9 is far below any predictor error
- * (the endpoint is refined to rounding level anyway). A correction that
- * does not shrink by CONTRACTION means the convergence estimate was wrong,
- * and the step is rejected. */
-static const double NEWTON_TOL = 1e-9, CONTRACTION = 0.5;
-/* The first correction may not exceed this fraction of |x| whatever the
- * separation radius says (guards a grossly wrong predictor). */
-static const double CORR_REL_MAX = 1e-2;
-/* After a rejection the step shrinks by REJECT_SHRINK; after an accepted
- * step the cap grows by ACCEPT_GROW (prevents reject/accept oscillation). */
-static const double REJECT_SHRINK = 0.5, ACCEPT_GROW = 2.0;
-/* For the chart a.x = 1, |a||x| >= 1 measures how far x tilts from it (a
- * random chart gives about sqrt(m)); beyond CHART_TILT sqrt(m) the chart is
- * replaced by the one orthogonal to x. */
-static const double CHART_TILT = 8.0;
-/* Steps below H_MIN cannot be resolved in t in double precision. */
-static const double H_MIN = 1e-14;
-/* Newton's corrections cannot fall below rounding noise, about
- * eps |x| / r relative to |x| (r: the separation radius, small where J is
- * nearly singular); the acceptance tolerance is NOISE_FACTOR times that when
- * it exceeds NEWTON_TOL. */
-static const double NOISE_FACTOR = 100.0;
-/* A path that stalls (step below H_MIN) within SIGMA_STALL of t = 1 is
- * approaching a singular endpoint closer than double precision can follow
- * (near a positive-dimensional component the separation radius shrinks like
- * 1 - t) and goes to the endpoint classification; one that stalls earlier
- * is lost. */
-static const double SIGMA_STALL = 1e-3;
 /* Refinement at t = 1 stops when the correction is below REFINE_TOL |z|
  * or stops shrinking by at least REFINE_RATE per iteration. */
 static const double REFINE_TOL = 4.0 * DBL_EPSILON, REFINE_RATE = 0.5;
@@ -629,11 +557,8 @@ static void taylor(const hom_problem *P, hom_ws *w, const hom_point *b, double t
     }
 }
 
-/* the predictor's step for an error target, from the coefficients */
-static double series_step(hom_ws *w, int m, double target)
+double kin__hom_series_step(const double *n, double target, double *rho_out, double *tail_out)
 {
-    double n[HOM_ORDER + 1];
-    for (int k = 1; k <= HOM_ORDER; ++k) n[k] = vnorm(m, w->cr[k], w->ci[k]);
     const int K = HOM_ORDER;
     /* radius of convergence from the last coefficients (the smallest of
      * three ratio estimates: robust to one coefficient that happens to be
@@ -641,20 +566,31 @@ static double series_step(hom_ws *w, int m, double target)
     double rho = INFINITY;
     if (n[K] > 0.0) rho = fmin(n[K - 1] / n[K], sqrt(n[K - 2] / n[K]));
     if (n[K - 1] > 0.0) rho = fmin(rho, n[K - 2] / n[K - 1]);
-    w->rho = rho, w->tail = 0.0;
+    *rho_out = rho, *tail_out = 0.0;
     if (!(rho < INFINITY)) return INFINITY; /* the series terminates: any step */
     if (!(rho > 0.0)) return 0.0;
     /* geometric tail: error(h) ~ tail (h / rho)^(K+1) for h <= rho / 2 */
-    w->tail = 2.0 * fmax(n[K] * pow(rho, K), n[K - 1] * pow(rho, K - 1));
-    double q = w->tail > 0.0 ? pow(target / w->tail, 1.0 / (K + 1)) : RADIUS_FRACTION;
+    double tail = 2.0 * fmax(n[K] * pow(rho, K), n[K - 1] * pow(rho, K - 1));
+    *tail_out = tail;
+    double q = tail > 0.0 ? pow(target / tail, 1.0 / (K + 1)) : RADIUS_FRACTION;
     return fmin(q, RADIUS_FRACTION) * rho;
 }
 
-/* the error model's estimate for step h */
-static double series_error(const hom_ws *w, double h)
+double kin__hom_series_error(double rho, double tail, double h)
 {
-    return w->rho < INFINITY ? w->tail * pow(h / w->rho, HOM_ORDER + 1) : 0.0;
+    return rho < INFINITY ? tail * pow(h / rho, HOM_ORDER + 1) : 0.0;
 }
+
+/* the predictor's step for an error target, from the coefficients */
+static double series_step(hom_ws *w, int m, double target)
+{
+    double n[HOM_ORDER + 1];
+    for (int k = 1; k <= HOM_ORDER; ++k) n[k] = vnorm(m, w->cr[k], w->ci[k]);
+    return kin__hom_series_step(n, target, &w->rho, &w->tail);
+}
+
+/* the error model's estimate for step h */
+static double series_error(const hom_ws *w, double h) { return kin__hom_series_error(w->rho, w->tail, h); }
 
 static void predict(const hom_ws *w, int m, double h, double *xr, double *xi)
 {

@@ -72,6 +72,30 @@ void kin__hom_ws_free(hom_ws *w);
 void kin__hom_track(const hom_problem *P, const hom_settings *S, hom_ws *w, int path, double *zr, double *zi,
                     hom_end *e);
 
+/* ---- lockstep tracking (homotopy_batch.c) ---- */
+enum {
+    HOM_BATCH = 4,        /* paths tracked at once, one per lane */
+    HOM_BATCH_STOP = -2   /* hom_batch_sink.next: abandon the paths in flight */
+};
+/* where the batch tracker gets its paths and leaves their endpoints */
+typedef struct hom_batch_sink {
+    void *ctx;
+    /* the next path to track, -1 when there is none, HOM_BATCH_STOP to stop
+     * at once (the paths in flight are abandoned: not passed to done) */
+    int (*next)(void *ctx);
+    /* path's endpoint (zr, zi: m each, in e->chart) and record */
+    void (*done)(void *ctx, int path, const double *zr, const double *zi, const hom_end *e);
+} hom_batch_sink;
+/* per-thread workspace of the batch tracker, allocated once per thread */
+typedef struct hom_bws hom_bws;
+hom_bws *kin__hom_bws_new(void);
+void kin__hom_bws_free(hom_bws *b);
+/* Track every path K->next hands out, HOM_BATCH at a time, each exactly as
+ * kin__hom_track would (the same endpoint and record, bit for bit); w is
+ * the one-path workspace for the endpoints' certificates. */
+void kin__hom_track_batch(const hom_problem *P, const hom_settings *S, hom_bws *B, hom_ws *w,
+                          const hom_batch_sink *K);
+
 /* ---- checks on the endpoints (homotopy.c) ---- */
 typedef struct hom_key {
     double key;
