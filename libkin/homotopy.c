@@ -274,8 +274,9 @@ int kin__hom_solver_init(hom_solver *H, int m, int s, const double *Q, const kin
     size_t mm = (size_t)m * m;
     size_t nrows = (size_t)kin__hom_rows(m, s);
     double *Qr = H->Qr = malloc(sizeof(double) * mm * (size_t)s), *Qb = H->Qb = calloc(nrows * m, sizeof(double));
+    double *Qs = H->Qs = calloc((size_t)kin__hom_srows(m, s) * m, sizeof(double));
     hom_pool *pool = H->pool = calloc(1, sizeof(hom_pool));
-    if (!Qr || !Qb || !pool) return KIN_ENOMEM;
+    if (!Qr || !Qb || !Qs || !pool) return KIN_ENOMEM;
     pool->jobs = malloc(sizeof(hom_job) * (size_t)nthreads);
     pool->th = malloc(sizeof(pthread_t) * (size_t)nthreads);
     pool->running = calloc((size_t)nthreads, sizeof(int));
@@ -289,7 +290,7 @@ int kin__hom_solver_init(hom_solver *H, int m, int s, const double *Q, const kin
      * change; the tolerances then mean the same for every input), by rows
      * and in blocks of rows for Q x */
     hom_problem *P = &H->P;
-    P->m = m, P->s = s, P->sp = kin__hom_sp(s), P->Qr = Qr, P->Qb = Qb;
+    P->m = m, P->s = s, P->sp = kin__hom_sp(s), P->Qr = Qr, P->Qb = Qb, P->Qs = Qs;
     double nf2 = 0.0;
     for (int j = 0; j < s; ++j) {
         const double *q = Q + (size_t)j * mm;
@@ -314,6 +315,13 @@ int kin__hom_solver_init(hom_solver *H, int m, int s, const double *Q, const kin
             size_t i = (size_t)r * P->sp + j;
             for (int c = 0; c < m; ++c)
                 Qb[(i / HOM_QBLOCK) * HOM_QBLOCK * m + (size_t)c * HOM_QBLOCK + i % HOM_QBLOCK] =
+                    Qr[((size_t)j * m + r) * m + c];
+        }
+    for (int j = 0; j < s; ++j) /* row r of Q_j to row i = r*s + j: block i / HOM_SBLOCK, slot i % HOM_SBLOCK */
+        for (int r = 0; r < m; ++r) {
+            size_t i = (size_t)r * s + j;
+            for (int c = 0; c < m; ++c)
+                Qs[(i / HOM_SBLOCK) * HOM_SBLOCK * m + (size_t)c * HOM_SBLOCK + i % HOM_SBLOCK] =
                     Qr[((size_t)j * m + r) * m + c];
         }
     P->normG = sqrt((double)s);
@@ -346,7 +354,7 @@ void kin__hom_solver_free(hom_solver *H)
             for (int t = 0; t < H->nthreads; ++t) kin__hom_bws_free(pool->bws[t]);
         free(pool->ws), free(pool->bws), free(pool->running), free(pool->th), free(pool->jobs), free(pool);
     }
-    free(H->Qr), free(H->Qb);
+    free(H->Qr), free(H->Qb), free(H->Qs);
     memset(H, 0, sizeof *H);
 }
 

@@ -168,7 +168,7 @@ static int top_checks(const hom_problem *P, const hom_settings *S, hom_bws *B, h
 static void prepare_bases(const hom_problem *P, const hom_settings *S, hom_bws *B, hom_ws *w,
                           const hom_batch_sink *K)
 {
-    int m = P->m, rows = kin__hom_rows(m, P->s);
+    int m = P->m, rows = kin__hom_srows(m, P->s);
     for (;;) {
         int any = 0;
         for (int l = 0; l < BL; ++l) any |= B->L[l].state == LANE_START || B->L[l].state == LANE_RECHART;
@@ -205,7 +205,7 @@ static void prepare_bases(const hom_problem *P, const hom_settings *S, hom_bws *
 void kin__hom_track_batch(const hom_problem *P, const hom_settings *S, hom_bws *B, hom_ws *w,
                           const hom_batch_sink *K)
 {
-    int m = P->m, rows = kin__hom_rows(m, P->s), drained = 0;
+    int m = P->m, rows = kin__hom_srows(m, P->s), drained = 0;
     B->base = &B->pt[0], B->trial = &B->pt[1];
     for (int l = 0; l < BL; ++l) B->L[l].state = LANE_EMPTY, B->L[l].path = -1;
     for (;;) {

@@ -16,36 +16,35 @@
 #endif
 
 
-/* y = Q x from the blocked copy of Q (rows r*sp + j: row r of Q_j), each
- * row summed over c in order, as qmul in homotopy_track.c */
+/* y = Q x from the lockstep copy of Q (row r*s + j: row r of Q_j), each row
+ * summed over c in order, as qmul in homotopy_kernels.c */
 HOM_INLINE void bqmul_rows(const hom_problem *P, const lanes *restrict xr, const lanes *restrict xi,
                            lanes *restrict yr, lanes *restrict yi)
 {
-    int n = P->sp * P->m, m = P->m;
-    const double *qb = P->Qb;
-    for (int i = 0; i < n; i += HOM_QBLOCK, qb += HOM_QBLOCK * m)
-        for (int r0 = 0; r0 < HOM_QBLOCK; r0 += 4) {
-            lanes a0 = ALL(0.0), a1 = a0, a2 = a0, a3 = a0, b0 = a0, b1 = a0, b2 = a0, b3 = a0;
-            for (int c = 0; c < m; ++c) {
-                const double *q = qb + HOM_QBLOCK * c + r0;
-                lanes u = xr[c], v = xi[c];
-                a0 += q[0] * u, b0 += q[0] * v;
-                a1 += q[1] * u, b1 += q[1] * v;
-                a2 += q[2] * u, b2 += q[2] * v;
-                a3 += q[3] * u, b3 += q[3] * v;
-            }
-            lanes *ur = yr + i + r0, *ui = yi + i + r0;
-            ur[0] = a0, ur[1] = a1, ur[2] = a2, ur[3] = a3;
-            ui[0] = b0, ui[1] = b1, ui[2] = b2, ui[3] = b3;
+    int n = kin__hom_srows(P->m, P->s), m = P->m;
+    const double *qb = P->Qs;
+    for (int i = 0; i < n; i += HOM_SBLOCK, qb += HOM_SBLOCK * m) {
+        lanes a0 = ALL(0.0), a1 = a0, a2 = a0, a3 = a0, b0 = a0, b1 = a0, b2 = a0, b3 = a0;
+        for (int c = 0; c < m; ++c) {
+            const double *q = qb + HOM_SBLOCK * c;
+            lanes u = xr[c], v = xi[c];
+            a0 += q[0] * u, b0 += q[0] * v;
+            a1 += q[1] * u, b1 += q[1] * v;
+            a2 += q[2] * u, b2 += q[2] * v;
+            a3 += q[3] * u, b3 += q[3] * v;
         }
+        lanes *ur = yr + i, *ui = yi + i;
+        ur[0] = a0, ur[1] = a1, ur[2] = a2, ur[3] = a3;
+        ui[0] = b0, ui[1] = b1, ui[2] = b2, ui[3] = b3;
+    }
 }
 HOMB_KERNEL static void bqmul(const hom_problem *P, const lanes *xr, const lanes *xi, lanes *yr, lanes *yi)
 {
     bqmul_rows(P, xr, xi, yr, yi);
 }
 
-/* out_j = sum_c u_c y[c*sp + j], j < s, summed over c in order */
-HOMB_KERNEL static void bdots(int m, int s, int sp, const lanes *restrict ur, const lanes *restrict ui,
+/* out_j = sum_c u_c y[c*s + j], j < s, summed over c in order */
+HOMB_KERNEL static void bdots(int m, int s, const lanes *restrict ur, const lanes *restrict ui,
                               const lanes *restrict yr, const lanes *restrict yi, lanes *restrict outr,
                               lanes *restrict outi)
 {
@@ -53,7 +52,7 @@ HOMB_KERNEL static void bdots(int m, int s, int sp, const lanes *restrict ur, co
     for (; j + 4 <= s; j += 4) { /* 8 independent sums keep the adders busy */
         lanes p0 = ALL(0.0), q0 = p0, p1 = p0, q1 = p0, p2 = p0, q2 = p0, p3 = p0, q3 = p0;
         for (int c = 0; c < m; ++c) {
-            const lanes *ar = yr + c * sp + j, *ai = yi + c * sp + j;
+            const lanes *ar = yr + c * s + j, *ai = yi + c * s + j;
             lanes a = ur[c], b = ui[c];
             p0 += a * ar[0] - b * ai[0], q0 += a * ai[0] + b * ar[0];
             p1 += a * ar[1] - b * ai[1], q1 += a * ai[1] + b * ar[1];
@@ -66,7 +65,7 @@ HOMB_KERNEL static void bdots(int m, int s, int sp, const lanes *restrict ur, co
     for (; j < s; ++j) {
         lanes p0 = ALL(0.0), q0 = p0;
         for (int c = 0; c < m; ++c) {
-            lanes a = ur[c], b = ui[c], ar = yr[c * sp + j], ai = yi[c * sp + j];
+            lanes a = ur[c], b = ui[c], ar = yr[c * s + j], ai = yi[c * s + j];
             p0 += a * ar - b * ai, q0 += a * ai + b * ar;
         }
         outr[j] = p0, outi[j] = q0;
@@ -245,16 +244,16 @@ HOMB_KERNEL void kin__lanes_inv_norm1(int n, const hom_llu *F, double *est)
 /* Q x, H and J at p->x, each lane at its t in its chart, as eval */
 HOM_INLINE void beval(const hom_problem *P, const lanes *tp, const lanes *car, const lanes *cai, hom_lpoint *p)
 {
-    int m = P->m, s = P->s, sp = P->sp;
+    int m = P->m, s = P->s;
     const lanes *xr = p->xr, *xi = p->xi;
     lanes t = *tp, two_t = 2.0 * t;
     bqmul(P, xr, xi, p->yr, p->yi);
     lanes alr = (1.0 - t) * P->gr, ali = (1.0 - t) * P->gi;
     lanes *Jr = p->lu.r, *Ji = p->lu.i;
     lanes fr[HOM_MAX_M], fi[HOM_MAX_M]; /* F_j(x) */
-    bdots(m, s, sp, xr, xi, p->yr, p->yi, fr, fi);
+    bdots(m, s, xr, xi, p->yr, p->yi, fr, fi);
     for (int c = 0; c < m; ++c) { /* J(j, c) = 2 t (Q_j x)_c + the G terms below */
-        const lanes *yr = p->yr + c * sp, *yi = p->yi + c * sp;
+        const lanes *yr = p->yr + c * s, *yi = p->yi + c * s;
         lanes *jr = Jr + c * m, *ji = Ji + c * m;
         for (int j = 0; j < s; ++j) jr[j] = two_t * yr[j], ji[j] = two_t * yi[j];
         jr[s] = car[c], ji[s] = cai[c];
@@ -293,11 +292,11 @@ HOMB_KERNEL void kin__lanes_newton(const hom_problem *P, const lanes *t, const l
 }
 
 /* out_j += wgt * (u . y_j), j < s, every lane (as dots) */
-HOMB_KERNEL static void bdots_add(int m, int s, int sp, double wgt, const lanes *ur, const lanes *ui, const lanes *yr,
+HOMB_KERNEL static void bdots_add(int m, int s, double wgt, const lanes *ur, const lanes *ui, const lanes *yr,
                       const lanes *yi, lanes *outr, lanes *outi)
 {
     lanes pr[HOM_MAX_M], pi[HOM_MAX_M];
-    bdots(m, s, sp, ur, ui, yr, yi, pr, pi);
+    bdots(m, s, ur, ui, yr, yi, pr, pi);
     for (int j = 0; j < s; ++j) outr[j] += wgt * pr[j], outi[j] += wgt * pi[j];
 }
 
@@ -311,7 +310,7 @@ HOMB_KERNEL static void bpair_sums(const hom_problem *P, const hom_lseries *B, c
         int li = k - i;
         double wgt = i < li ? 2.0 : 1.0;
         const lanes *ar = B->cr[li], *ai = B->ci[li], *ur = B->cr[i], *ui = B->ci[i];
-        bdots_add(m, s, P->sp, wgt, ar, ai, yr[i], yi[i], fr, fi);
+        bdots_add(m, s, wgt, ar, ai, yr[i], yi[i], fr, fi);
         lanes e0r = ur[0] * ar[0] - ui[0] * ai[0], e0i = ur[0] * ai[0] + ui[0] * ar[0];
         for (int j = 0; j < s; ++j) {
             int q = j + 1;
@@ -346,7 +345,7 @@ HOMB_KERNEL void kin__lanes_taylor(const hom_problem *P, const lanes *t0p, const
         const lanes *ur = k > 1 ? B->cr[k - 1] : vr, *ui = k > 1 ? B->ci[k - 1] : vi;
         double wgt = k > 1 ? 2.0 : 1.0;
         if (anydirect) { /* wgt F[x_0, x_{k-1}] directly, for the lanes that need it */
-            bdots(m, s, P->sp, ur, ui, yr[0], yi[0], dtr, dti);
+            bdots(m, s, ur, ui, yr[0], yi[0], dtr, dti);
             for (int j = 0; j < s; ++j) dtr[j] = wgt * dtr[j], dti[j] = wgt * dti[j];
         }
         lanes u0r = ur[0] * vr[0] - ui[0] * vi[0], u0i = ur[0] * vi[0] + ui[0] * vr[0];

@@ -21,6 +21,10 @@ static inline int kin__hom_rows(int m, int s)
     return (m * kin__hom_sp(s) + HOM_QBLOCK - 1) / HOM_QBLOCK * HOM_QBLOCK;
 }
 
+/* rows of hom_problem.Qs: m*s rounded up to whole blocks of HOM_SBLOCK */
+enum { HOM_SBLOCK = 4 };
+static inline int kin__hom_srows(int m, int s) { return (m * s + HOM_SBLOCK - 1) / HOM_SBLOCK * HOM_SBLOCK; }
+
 /* endpoint classes */
 enum { HOM_REAL = 0, HOM_NONREAL = 1, HOM_SINGULAR = 2, HOM_FAILED = 3 };
 
@@ -33,6 +37,9 @@ typedef struct hom_problem {
                                             j >= s zero: Q x then has equation j fastest, so sums
                                             over equations vectorise), in blocks of HOM_QBLOCK rows
                                             (kin__hom_rows, zero-padded), column-major within a block */
+    const double *Qs;                    /* the lockstep kernels' copy: row r*s + j is row r of Q_j (no
+                                            padding), in blocks of HOM_SBLOCK rows (kin__hom_srows,
+                                            zero-padded), column-major within a block */
     double gr, gi;                       /* gamma, |gamma| = 1 */
     double ar[HOM_MAX_M], ai[HOM_MAX_M]; /* the random chart */
     double normF, normG;                 /* |F[u,v]| <= normF |u||v| (2-norms); same for G */
@@ -137,7 +144,7 @@ typedef struct hom_report {
  * workspaces of one call */
 typedef struct hom_solver {
     hom_problem P;
-    double *Qr, *Qb;
+    double *Qr, *Qb, *Qs;
     double w[HOM_MAX_M]; /* unit vector of the duplicate checks' sort key */
     int npaths;          /* 2^s */
     int nthreads;
