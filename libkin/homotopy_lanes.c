@@ -111,7 +111,17 @@ HOMB_KERNEL static void blu_factor(int n, hom_llu *F)
             lanes a = ar[i], b = ai[i];
             mr[i] = a * ir - b * ii, mi[i] = a * ii + b * ir;
         }
-        for (int j = k + 1; j < n; ++j) { /* column j -= L(:, k) U(k, j) */
+        int j = k + 1;
+        for (; j + 1 < n; j += 2) { /* columns j, j + 1 -= L(:, k) U(k, j..j+1): L loaded once */
+            lanes *br = F->r + j * n, *bi = F->i + j * n, *cr = br + n, *ci = bi + n;
+            lanes vr = br[k], vi = bi[k], ur = cr[k], ui = ci[k];
+            for (int i = k + 1; i < n; ++i) {
+                lanes a = mr[i], b = mi[i];
+                br[i] -= a * vr - b * vi, bi[i] -= a * vi + b * vr;
+                cr[i] -= a * ur - b * ui, ci[i] -= a * ui + b * ur;
+            }
+        }
+        for (; j < n; ++j) { /* column j -= L(:, k) U(k, j) */
             lanes *br = F->r + j * n, *bi = F->i + j * n;
             lanes vr = br[k], vi = bi[k];
             for (int i = k + 1; i < n; ++i) {
@@ -143,7 +153,22 @@ HOMB_KERNEL static void bpermute(int n, const hom_llu *F, lanes *br, lanes *bi, 
 HOMB_KERNEL static void blu_solve(int n, const hom_llu *F, lanes *restrict br, lanes *restrict bi)
 {
     bpermute(n, F, br, bi, 0);
-    for (int j = 0; j < n - 1; ++j) { /* L y = b, unit diagonal */
+    /* L y = b (unit diagonal), two columns at a time: each entry below them
+     * loaded and stored once for both updates, in column order */
+    int j = 0;
+    for (; j + 2 < n; j += 2) {
+        const lanes *cr = F->lr + j * n, *ci = F->li + j * n, *dr = cr + n, *di = ci + n;
+        lanes vr = br[j], vi = bi[j];
+        br[j + 1] -= cr[j + 1] * vr - ci[j + 1] * vi, bi[j + 1] -= cr[j + 1] * vi + ci[j + 1] * vr;
+        lanes ur = br[j + 1], ui = bi[j + 1];
+        for (int i = j + 2; i < n; ++i) {
+            lanes xr = br[i], xi = bi[i];
+            xr -= cr[i] * vr - ci[i] * vi, xi -= cr[i] * vi + ci[i] * vr;
+            xr -= dr[i] * ur - di[i] * ui, xi -= dr[i] * ui + di[i] * ur;
+            br[i] = xr, bi[i] = xi;
+        }
+    }
+    for (; j < n - 1; ++j) {
         const lanes *cr = F->lr + j * n, *ci = F->li + j * n;
         lanes vr = br[j], vi = bi[j];
         for (int i = j + 1; i < n; ++i) {
@@ -151,14 +176,26 @@ HOMB_KERNEL static void blu_solve(int n, const hom_llu *F, lanes *restrict br, l
             bi[i] -= cr[i] * vi + ci[i] * vr;
         }
     }
-    for (int j = n - 1; j >= 0; --j) { /* U x = y */
-        const lanes *cr = F->r + j * n, *ci = F->i + j * n;
+    /* U x = y, two columns at a time (the last first) */
+    j = n - 1;
+    for (; j >= 1; j -= 2) {
+        const lanes *cr = F->r + j * n, *ci = F->i + j * n, *dr = cr - n, *di = ci - n;
         lanes vr = br[j] * F->dr[j] - bi[j] * F->di[j], vi = br[j] * F->di[j] + bi[j] * F->dr[j];
         br[j] = vr, bi[j] = vi;
-        for (int i = 0; i < j; ++i) {
-            br[i] -= cr[i] * vr - ci[i] * vi;
-            bi[i] -= cr[i] * vi + ci[i] * vr;
+        lanes xr = br[j - 1], xi = bi[j - 1];
+        xr -= cr[j - 1] * vr - ci[j - 1] * vi, xi -= cr[j - 1] * vi + ci[j - 1] * vr;
+        lanes ur = xr * F->dr[j - 1] - xi * F->di[j - 1], ui = xr * F->di[j - 1] + xi * F->dr[j - 1];
+        br[j - 1] = ur, bi[j - 1] = ui;
+        for (int i = 0; i < j - 1; ++i) {
+            lanes yr = br[i], yi = bi[i];
+            yr -= cr[i] * vr - ci[i] * vi, yi -= cr[i] * vi + ci[i] * vr;
+            yr -= dr[i] * ur - di[i] * ui, yi -= dr[i] * ui + di[i] * ur;
+            br[i] = yr, bi[i] = yi;
         }
+    }
+    if (j == 0) {
+        lanes vr = br[0] * F->dr[0] - bi[0] * F->di[0], vi = br[0] * F->di[0] + bi[0] * F->dr[0];
+        br[0] = vr, bi[0] = vi;
     }
 }
 
