@@ -140,6 +140,23 @@ static void sails(void)
         double *R = malloc(sizeof(double) * MAXG * m * m);
         int ng = group_of(a, cases[c][2], m, R);
         printf("sail %d,%d flat: %d symmetries, m = %d\n", cases[c][0], cases[c][1], ng, m);
+        if (cases[c][0] == 6 && ng == 6) {
+            /* the same set as the hand-written C3 x mirror finder of sail_states.h */
+            int nf = kin_nfree(a);
+            double *U = malloc(sizeof(double) * nf * m), *Rh = malloc(sizeof(double) * 6 * m * m);
+            CHECK_RC(kin_get_mechanisms(a, KIN_MECH_INTERNAL, U, nf, m), KIN_OK);
+            CHECK(test_rotation_group(a, m, U, Rh, 6) == 6);
+            for (int g = 0; g < 6; ++g) {
+                int k = -1; /* R_g exactly (not up to sign) among Rh */
+                for (int h = 0; h < 6 && k < 0; ++h) {
+                    double dmax = 0.0;
+                    for (int i = 0; i < m * m; ++i) dmax = fmax(dmax, fabs(R[g * m * m + i] - Rh[h * m * m + i]));
+                    if (dmax <= 1e-10) k = h;
+                }
+                CHECK(k >= 0);
+            }
+            free(U), free(Rh);
+        }
         free(R);
         kin_assembly_free(a);
     }
