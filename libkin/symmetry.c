@@ -466,10 +466,12 @@ int kin_mechanism_group(kin_assembly *a, int max_group, double *R, int *ngroup)
         double *Rg = G + (size_t)g * mm, worst = 0.0;
         mechanism_action(a, f->Uint, m, L.perm + (size_t)g * a->nj, L.Q + (size_t)g * a->dim * a->dim, PU, Rg);
         if (a->fault == KIN__FAULT_SYM_NOT_ORTHOGONAL) Rg[0] += 0.25;
-        for (int r = 0; r < m; ++r) /* |R^T R - I| */
-            for (int c = 0; c < m; ++c) {
-                double v = kin__dot(m, Rg + (size_t)r * m, Rg + (size_t)c * m) - (r == c);
-                if (fabs(v) > worst) worst = fabs(v);
+        double one = 1.0, zero = 0.0; /* |R^T R - I|, R^T R in PU (nf >= m rows) */
+        dgemm_("T", "N", &m, &m, &m, &one, Rg, &m, Rg, &m, &zero, PU, &m, 1, 1);
+        for (int c = 0; c < m; ++c)
+            for (int r = 0; r < m; ++r) {
+                double e = fabs(PU[r + (size_t)c * m] - (r == c));
+                if (!(e <= worst)) worst = e; /* a NaN sticks */
             }
         if (!(worst <= ORTH_TOL))
             rc = kin__fail(a, KIN_ESTATE,

@@ -50,9 +50,11 @@
  * are, the arrays are not written), KIN_ELIMIT (the coloured bar graph has
  * more than KIN_SYMMETRY_MAX_CANDIDATES automorphisms), KIN_ENOMEM,
  * KIN_ELAPACK_ARG, KIN_ELAPACK_CONV. On other failures *nsym = 0 (if nsym
- * is not NULL) and the arrays are not written. nauty aborts the process if
- * its own allocations fail (its behaviour, about 100 bytes per joint and
- * bar). */
+ * is not NULL) and the arrays are not written. Memory: the candidates, at
+ * most KIN_SYMMETRY_MAX_CANDIDATES x njoints ints, allocated per call.
+ * nauty's own work arrays (a few ints per joint and bar) end the process
+ * if they cannot be allocated: nauty's behaviour, which libkin cannot
+ * change. */
 KIN_API int kin_symmetries(kin_assembly *a, int max_sym, int *perm, double *Q, double *t, int *nsym);
 
 /* The symmetry group acting on the internal-mechanism coordinates beta:
