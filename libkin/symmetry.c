@@ -21,7 +21,7 @@
 #include "symmetry_graph.h"
 
 /* coordinates agree when they differ by at most 100 REL_TOL x the model
- * size; a direction is missing from the joints' span when its singular
+ * size (the largest centred coordinate); a direction is missing from the joints' span when its singular
  * value is at most REL_TOL x size x njoints (Python's _REL_TOL) */
 static const double REL_TOL = 1e-9;
 /* colour classes: centroid distances and current lengths within
@@ -98,7 +98,7 @@ typedef struct sym_ctx {
     int nj, d;
     double c[3];     /* centroid */
     double *Xc;      /* nj x d, column-major: centred coordinates */
-    double scale;    /* max(1, largest centred coordinate) */
+    double scale;    /* largest centred coordinate: the model size */
     double null[9];  /* directions the joints do not span, rows of d */
     int nnull;
     double *Yc;      /* nj x d scratch */
@@ -138,13 +138,17 @@ static int ctx_init(sym_ctx *x, kin_assembly *a)
         for (int j = 0; j < nj; ++j) c += a->xyz[j * d + k];
         x->c[k] = c / nj;
     }
-    x->scale = 1.0;
+    x->scale = 0.0;
     for (int j = 0; j < nj; ++j)
         for (int k = 0; k < d; ++k) {
             double v = a->xyz[j * d + k] - x->c[k];
             x->Xc[j + (size_t)k * nj] = v;
             if (fabs(v) > x->scale) x->scale = fabs(v);
         }
+    /* > 0: some bar has length >= 1e-150 (kin_assembly_create), and the
+     * tolerances are relative to it in any unit (Python's _scale floors it
+     * at 1, an absolute tolerance for models smaller than a unit) */
+    if (!(x->scale > 0.0)) x->scale = 1.0;
     /* missing directions: right singular vectors of Xc with (near) zero
      * singular values, including those beyond min(nj, d) */
     memcpy(A, x->Xc, sizeof(double) * (size_t)nj * d);

@@ -162,6 +162,32 @@ static void sails(void)
     }
 }
 
+/* the symmetries do not depend on the unit: the hexagonal sail scaled by
+ * 1e-100 and 1e100 has the same 6 (an absolute tolerance would accept
+ * every candidate of the tiny one) */
+static void units(void)
+{
+    kin_assembly *a = test_sail(6, 1);
+    CHECK(a != NULL);
+    if (!a) return;
+    int nj = kin_njoints(a), nb = kin_nbars(a), *bars = malloc(sizeof(int) * 2 * nb);
+    double *xyz = malloc(sizeof(double) * 3 * nj), *L0 = malloc(sizeof(double) * nb), *x2 = malloc(sizeof(double) * 3 * nj);
+    double *l2 = malloc(sizeof(double) * nb), R[MAXG * 100];
+    unsigned char *fixed = malloc((size_t)3 * nj);
+    kin_get_coords(a, xyz), kin_get_rest_lengths(a, L0), kin_get_bars(a, bars), kin_get_fixed(a, fixed);
+    const double scales[] = {1e-100, 1e100};
+    for (int k = 0; k < 2; ++k) {
+        for (int i = 0; i < 3 * nj; ++i) x2[i] = xyz[i] * scales[k];
+        for (int i = 0; i < nb; ++i) l2[i] = L0[i] * scales[k];
+        kin_assembly *b = NULL;
+        CHECK_RC(kin_assembly_create(3, nj, x2, fixed, nb, bars, l2, &b, NULL, 0), KIN_OK);
+        if (b) group_of(b, 6, 10, R);
+        kin_assembly_free(b);
+    }
+    free(bars), free(xyz), free(L0), free(x2), free(l2), free(fixed);
+    kin_assembly_free(a);
+}
+
 /* the square sail's flat state: the system is equivariant under the group
  * found, and the complete solver with symmetry counts as the plain one */
 static void sail_solve(void)
@@ -316,6 +342,7 @@ static void errors(void)
 int main(void)
 {
     sails();
+    units();
     sail_solve();
     planar();
     errors();
