@@ -6,7 +6,9 @@
  * and its endpoint certified and classified: real, complex, singular (a
  * multiple root, a point of a positive-dimensional component, Figure
  * 5(c)-(d), or a root too ill-conditioned to certify), or failed. The tracker
- * and the certificate are in homotopy_track.c.
+ * and the certificate are in homotopy_track.c; each thread tracks its paths
+ * HOM_BATCH at a time in lockstep (homotopy_batch.c), each path exactly as
+ * the one-path tracker would.
  *
  * Then the endpoints are checked against what total-degree homotopy
  * guarantees: every non-singular root is reached by exactly one path, so two
@@ -96,40 +98,66 @@ typedef struct hom_job {
     int first, offset; /* path p goes to index p - offset of ends, zr, zi */
     hom_queue *queue;
     hom_ws *ws;
+    hom_bws *bws;
     hom_end *ends;
     double *zr, *zi;
+    hom_report *R; /* the calling thread's job only, else NULL */
+    int taken, left; /* the chunk of queue positions this thread holds */
+    int stopped;     /* the queue was stopped (seen at the last path finished) */
 } hom_job;
 
-/* Track chunks of paths until the queue is empty or stopped; R (the
- * calling thread only, else NULL) reports progress between paths. */
-static void track_chunks(hom_job *J, hom_report *R)
+/* the batch tracker's next path: from the thread's chunk, refilled from the
+ * shared queue; HOM_BATCH_STOP once the caller cancelled */
+static int job_next(void *ctx)
 {
+    hom_job *J = ctx;
     hom_queue *q = J->queue;
-    int m = J->P->m;
-    for (;;) {
+    if (J->stopped || (J->R && J->R->cancelled)) return HOM_BATCH_STOP;
+    if (J->left == 0) {
         pthread_mutex_lock(&q->lock);
-        int first = q->next, last = first + PATH_CHUNK < q->n ? first + PATH_CHUNK : q->n;
-        if (q->stop) last = first;
-        q->next = last;
+        int first = q->next, last = first + PATH_CHUNK < q->n ? first + PATH_CHUNK : q->n, stop = q->stop;
+        if (!stop) q->next = last;
         pthread_mutex_unlock(&q->lock);
-        if (first >= last) break;
-        for (int i = first; i < last; ++i) {
-            int p = J->list ? J->list[i] : J->first + i, k = p - J->offset;
-            kin__hom_track(J->P, J->S, J->ws, p, J->zr + (size_t)k * m, J->zi + (size_t)k * m, &J->ends[k]);
-            pthread_mutex_lock(&q->lock);
-            q->tracked++;
-            int stop = q->stop;
-            pthread_mutex_unlock(&q->lock);
-            if (R) report(R, q, 0);
-            if (stop || (R && R->cancelled)) break;
+        if (stop) return HOM_BATCH_STOP;
+        J->taken = first, J->left = last - first;
+        if (J->left <= 0) {
+            J->left = 0;
+            return -1;
         }
     }
+    int i = J->taken++;
+    J->left--;
+    return J->list ? J->list[i] : J->first + i;
+}
+
+/* the batch tracker's finished path: stored by index, counted, reported */
+static void job_done(void *ctx, int p, const double *zr, const double *zi, const hom_end *e)
+{
+    hom_job *J = ctx;
+    hom_queue *q = J->queue;
+    int m = J->P->m, k = p - J->offset;
+    memcpy(J->zr + (size_t)k * m, zr, sizeof(double) * (size_t)m);
+    memcpy(J->zi + (size_t)k * m, zi, sizeof(double) * (size_t)m);
+    J->ends[k] = *e;
+    pthread_mutex_lock(&q->lock);
+    q->tracked++;
+    J->stopped = q->stop;
+    pthread_mutex_unlock(&q->lock);
+    if (J->R) report(J->R, q, 0);
+}
+
+/* Track paths, HOM_BATCH at a time, until the queue is empty or stopped. */
+static void track_chunks(hom_job *J)
+{
+    hom_batch_sink K = {J, job_next, job_done};
+    J->taken = J->left = 0;
+    kin__hom_track_batch(J->P, J->S, J->bws, J->ws, &K);
 }
 
 static void *worker(void *arg)
 {
     hom_job *J = arg;
-    track_chunks(J, NULL);
+    track_chunks(J);
     pthread_mutex_lock(&J->queue->lock);
     J->queue->active--;
     pthread_cond_signal(&J->queue->idle);
@@ -139,6 +167,7 @@ static void *worker(void *arg)
 
 typedef struct hom_pool {
     hom_ws **ws;
+    hom_bws **bws;
     hom_job *jobs;
     pthread_t *th;
     int *running;
@@ -161,7 +190,8 @@ int kin__hom_run(hom_solver *H, const hom_settings *S, const int *list, int firs
         pthread_mutex_destroy(&q.lock);
         return KIN_ENOMEM;
     }
-    for (int t = 0; t < nthreads; ++t) jobs[t] = (hom_job){P, S, list, first, offset, &q, pool->ws[t], ends, zr, zi};
+    for (int t = 0; t < nthreads; ++t) jobs[t] = (hom_job){P, S, list, first, offset, &q, pool->ws[t], pool->bws[t], ends, zr, zi,
+                                           t == 0 ? R : NULL, 0, 0, 0};
     /* thread 0 is this one; threads that cannot be started leave their
      * share to the others */
     for (int t = 1; t < nthreads; ++t) {
@@ -175,7 +205,7 @@ int kin__hom_run(hom_solver *H, const hom_settings *S, const int *list, int firs
             pthread_mutex_unlock(&q.lock);
         }
     }
-    track_chunks(&jobs[0], R);
+    track_chunks(&jobs[0]);
     /* the others finish their last paths: keep reporting meanwhile */
     pthread_mutex_lock(&q.lock);
     while (q.active > 0) {
@@ -244,21 +274,23 @@ int kin__hom_solver_init(hom_solver *H, int m, int s, const double *Q, const kin
     size_t mm = (size_t)m * m;
     size_t nrows = (size_t)kin__hom_rows(m, s);
     double *Qr = H->Qr = malloc(sizeof(double) * mm * (size_t)s), *Qb = H->Qb = calloc(nrows * m, sizeof(double));
+    double *Qs = H->Qs = calloc((size_t)kin__hom_srows(m, s) * m, sizeof(double));
     hom_pool *pool = H->pool = calloc(1, sizeof(hom_pool));
-    if (!Qr || !Qb || !pool) return KIN_ENOMEM;
+    if (!Qr || !Qb || !Qs || !pool) return KIN_ENOMEM;
     pool->jobs = malloc(sizeof(hom_job) * (size_t)nthreads);
     pool->th = malloc(sizeof(pthread_t) * (size_t)nthreads);
     pool->running = calloc((size_t)nthreads, sizeof(int));
     pool->ws = calloc((size_t)nthreads, sizeof(hom_ws *));
-    if (!pool->jobs || !pool->th || !pool->running || !pool->ws) return KIN_ENOMEM;
+    pool->bws = calloc((size_t)nthreads, sizeof(hom_bws *));
+    if (!pool->jobs || !pool->th || !pool->running || !pool->ws || !pool->bws) return KIN_ENOMEM;
     for (int t = 0; t < nthreads; ++t)
-        if (!(pool->ws[t] = kin__hom_ws_new())) return KIN_ENOMEM;
+        if (!(pool->ws[t] = kin__hom_ws_new()) || !(pool->bws[t] = kin__hom_bws_new())) return KIN_ENOMEM;
 
     /* the problem: Q_j scaled to unit Frobenius norm (the roots do not
      * change; the tolerances then mean the same for every input), by rows
      * and in blocks of rows for Q x */
     hom_problem *P = &H->P;
-    P->m = m, P->s = s, P->sp = kin__hom_sp(s), P->Qr = Qr, P->Qb = Qb;
+    P->m = m, P->s = s, P->sp = kin__hom_sp(s), P->Qr = Qr, P->Qb = Qb, P->Qs = Qs;
     double nf2 = 0.0;
     for (int j = 0; j < s; ++j) {
         const double *q = Q + (size_t)j * mm;
@@ -283,6 +315,13 @@ int kin__hom_solver_init(hom_solver *H, int m, int s, const double *Q, const kin
             size_t i = (size_t)r * P->sp + j;
             for (int c = 0; c < m; ++c)
                 Qb[(i / HOM_QBLOCK) * HOM_QBLOCK * m + (size_t)c * HOM_QBLOCK + i % HOM_QBLOCK] =
+                    Qr[((size_t)j * m + r) * m + c];
+        }
+    for (int j = 0; j < s; ++j) /* row r of Q_j to row i = r*s + j: block i / HOM_SBLOCK, slot i % HOM_SBLOCK */
+        for (int r = 0; r < m; ++r) {
+            size_t i = (size_t)r * s + j;
+            for (int c = 0; c < m; ++c)
+                Qs[(i / HOM_SBLOCK) * HOM_SBLOCK * m + (size_t)c * HOM_SBLOCK + i % HOM_SBLOCK] =
                     Qr[((size_t)j * m + r) * m + c];
         }
     P->normG = sqrt((double)s);
@@ -311,9 +350,11 @@ void kin__hom_solver_free(hom_solver *H)
     if (pool) {
         if (pool->ws)
             for (int t = 0; t < H->nthreads; ++t) kin__hom_ws_free(pool->ws[t]);
-        free(pool->ws), free(pool->running), free(pool->th), free(pool->jobs), free(pool);
+        if (pool->bws)
+            for (int t = 0; t < H->nthreads; ++t) kin__hom_bws_free(pool->bws[t]);
+        free(pool->ws), free(pool->bws), free(pool->running), free(pool->th), free(pool->jobs), free(pool);
     }
-    free(H->Qr), free(H->Qb);
+    free(H->Qr), free(H->Qb), free(H->Qs);
     memset(H, 0, sizeof *H);
 }
 

@@ -21,6 +21,10 @@ static inline int kin__hom_rows(int m, int s)
     return (m * kin__hom_sp(s) + HOM_QBLOCK - 1) / HOM_QBLOCK * HOM_QBLOCK;
 }
 
+/* rows of hom_problem.Qs: m*s rounded up to whole blocks of HOM_SBLOCK */
+enum { HOM_SBLOCK = 4 };
+static inline int kin__hom_srows(int m, int s) { return (m * s + HOM_SBLOCK - 1) / HOM_SBLOCK * HOM_SBLOCK; }
+
 /* endpoint classes */
 enum { HOM_REAL = 0, HOM_NONREAL = 1, HOM_SINGULAR = 2, HOM_FAILED = 3 };
 
@@ -33,6 +37,9 @@ typedef struct hom_problem {
                                             j >= s zero: Q x then has equation j fastest, so sums
                                             over equations vectorise), in blocks of HOM_QBLOCK rows
                                             (kin__hom_rows, zero-padded), column-major within a block */
+    const double *Qs;                    /* the lockstep kernels' copy: row r*s + j is row r of Q_j (no
+                                            padding), in blocks of HOM_SBLOCK rows (kin__hom_srows,
+                                            zero-padded), column-major within a block */
     double gr, gi;                       /* gamma, |gamma| = 1 */
     double ar[HOM_MAX_M], ai[HOM_MAX_M]; /* the random chart */
     double normF, normG;                 /* |F[u,v]| <= normF |u||v| (2-norms); same for G */
@@ -71,6 +78,30 @@ void kin__hom_ws_free(hom_ws *w);
  * receive the endpoint in its chart. */
 void kin__hom_track(const hom_problem *P, const hom_settings *S, hom_ws *w, int path, double *zr, double *zi,
                     hom_end *e);
+
+/* ---- lockstep tracking (homotopy_batch.c) ---- */
+enum {
+    HOM_BATCH = 4,        /* paths tracked at once, one per lane */
+    HOM_BATCH_STOP = -2   /* hom_batch_sink.next: abandon the paths in flight */
+};
+/* where the batch tracker gets its paths and leaves their endpoints */
+typedef struct hom_batch_sink {
+    void *ctx;
+    /* the next path to track, -1 when there is none, HOM_BATCH_STOP to stop
+     * at once (the paths in flight are abandoned: not passed to done) */
+    int (*next)(void *ctx);
+    /* path's endpoint (zr, zi: m each, in e->chart) and record */
+    void (*done)(void *ctx, int path, const double *zr, const double *zi, const hom_end *e);
+} hom_batch_sink;
+/* per-thread workspace of the batch tracker, allocated once per thread */
+typedef struct hom_bws hom_bws;
+hom_bws *kin__hom_bws_new(void);
+void kin__hom_bws_free(hom_bws *b);
+/* Track every path K->next hands out, HOM_BATCH at a time, each exactly as
+ * kin__hom_track would (the same endpoint and record, bit for bit); w is
+ * the one-path workspace for the endpoints' certificates. */
+void kin__hom_track_batch(const hom_problem *P, const hom_settings *S, hom_bws *B, hom_ws *w,
+                          const hom_batch_sink *K);
 
 /* ---- checks on the endpoints (homotopy.c) ---- */
 typedef struct hom_key {
@@ -113,7 +144,7 @@ typedef struct hom_report {
  * workspaces of one call */
 typedef struct hom_solver {
     hom_problem P;
-    double *Qr, *Qb;
+    double *Qr, *Qb, *Qs;
     double w[HOM_MAX_M]; /* unit vector of the duplicate checks' sort key */
     int npaths;          /* 2^s */
     int nthreads;
