@@ -1,11 +1,11 @@
 /* The complete solver with and without symmetry on the hexagonal sail's
  * flat state (sail 6, 2: m = 16, s = 15, 32768 roots) in one run: wall and
  * CPU seconds, paths tracked, the accounting, and the real roots compared
- * root by root. The symmetry group is found here from the geometry: the
- * rotations by 0, 120 and 240 degrees about the z axis through the centroid
- * and the mirror z -> -z of the flat state (a node permutation with a 3 x 3
- * orthogonal map each), acting on beta by R = U^T P U (U: the internal
- * mechanisms, P: the action on free coordinates).
+ * root by root. The symmetry group is found by kin_mechanism_group
+ * (kin_symmetry.h): for the hexagonal sail the rotations by 0, 120 and 240
+ * degrees about the z axis through the centroid and the mirror z -> -z of
+ * the flat state, acting on beta by R = U^T P U (U: the internal
+ * mechanisms, P: the action on free coordinates); any sail works.
  * usage: bench_homotopy_sym [n_sides (6)] [loops (2)] [runs (1)] */
 #define _POSIX_C_SOURCE 199309L
 #include <math.h>
@@ -19,7 +19,7 @@
 #include "sail_states.h"
 #include "root_match.h"
 
-enum { THREADS = 2, MAXG = 6 };
+enum { THREADS = 2, MAXG = 64 };
 
 static double cpu(void) { return (double)clock() / CLOCKS_PER_SEC; }
 
@@ -32,12 +32,14 @@ int main(int argc, char **argv)
     kin_assembly *a = test_sail(sides, loops);
     kin_analysis an = {.size = sizeof an};
     if (!a || kin_analyse(a, &an)) return 1;
-    int m = an.m_internal, s = 0, nf = kin_nfree(a);
-    double *Q = malloc(sizeof(double) * m * m * an.s), *U = malloc(sizeof(double) * nf * m);
+    int m = an.m_internal, s = 0, ng = 0;
+    double *Q = malloc(sizeof(double) * m * m * an.s);
     double *R = malloc(sizeof(double) * MAXG * m * m);
     if (kin_second_order(a, KIN_Q_EXACT, 1, Q, m * m * an.s, &s) || s != m - 1) return 1;
-    kin_get_mechanisms(a, KIN_MECH_INTERNAL, U, nf, m);
-    int ng = test_rotation_group(a, m, U, R, MAXG);
+    if (kin_mechanism_group(a, MAXG, R, &ng)) {
+        fprintf(stderr, "bench_homotopy_sym: %s\n", kin_last_error(a));
+        return 1;
+    }
     int N = 1 << s;
     double *b0 = malloc(sizeof(double) * m * N), *b1 = malloc(sizeof(double) * m * N);
     printf("sail %d,%d flat: m = %d, s = %d, %d paths, %d symmetries found; load: ", sides, loops, m, s, N, ng);
@@ -78,7 +80,7 @@ int main(int argc, char **argv)
                n1 == n0 ? match(m, n0, b0, b1) : -1);
         fflush(stdout);
     }
-    free(Q), free(U), free(R), free(b0), free(b1);
+    free(Q), free(R), free(b0), free(b1);
     kin_assembly_free(a);
     return 0;
 }

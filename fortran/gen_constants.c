@@ -65,6 +65,8 @@ static void constants(void)
     printf("! enum kin_follow_event\n");
     P(KIN_FOLLOW_NONE) P(KIN_FOLLOW_BIFURCATION) P(KIN_FOLLOW_NEAR_MISS) P(KIN_FOLLOW_CLOSED_LOOP)
     P(KIN_FOLLOW_LENGTH_LIMIT) P(KIN_FOLLOW_STEP_LIMIT) P(KIN_FOLLOW_FAILED)
+    printf("! kin_symmetry.h: graph automorphisms tested at most\n");
+    P(KIN_SYMMETRY_MAX_CANDIDATES)
     printf("! kin_branch.h: default limit on the complete solver's paths\n");
     printf("  integer(c_long), parameter, public :: KIN_HOMOTOPY_MAX_PATHS = %ld_c_long\n",
            (long)KIN_HOMOTOPY_MAX_PATHS);

@@ -156,6 +156,7 @@ module libkin
   public :: kin_assembly_load, kin_assembly_load_string, kin_assembly_save
   public :: kin_assembly_save_string, kin_free_string
   public :: kin_model_threebar, kin_sail_params_default, kin_sail_size, kin_model_sail
+  public :: kin_symmetries, kin_mechanism_group
   ! ---- Fortran strings and wrappers --------------------------------------
   public :: kin_version_string, kin_strerror, kin_status_name, kin_last_error
   public :: kinf_create, kinf_get_bars, kinf_get_fixed, kinf_free_index, kinf_model_sail
@@ -570,6 +571,27 @@ module libkin
       import :: c_ptr
       type(c_ptr), value :: text
     end subroutine
+
+    ! kin_symmetry.h. perm holds 0-based joint indices (perm(k*njoints + i + 1)
+    ! is the image of joint i, 0-based, under symmetry k); KIN_ERANGE sets
+    ! nsym / ngroup to the count needed
+    function kin_symmetries(a, max_sym, perm, q, t, nsym) bind(C, name='kin_symmetries')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int), value :: max_sym
+      integer(c_int), intent(inout) :: perm(*)
+      real(c_double), intent(inout) :: q(*), t(*)
+      integer(c_int), intent(out) :: nsym
+      integer(c_int) :: kin_symmetries
+    end function
+    function kin_mechanism_group(a, max_group, r, ngroup) bind(C, name='kin_mechanism_group')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int), value :: max_group
+      real(c_double), intent(inout) :: r(*)
+      integer(c_int), intent(out) :: ngroup
+      integer(c_int) :: kin_mechanism_group
+    end function
 
     ! kin_models.h
     function kin_model_threebar(state, out) bind(C, name='kin_model_threebar')

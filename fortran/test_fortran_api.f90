@@ -136,6 +136,23 @@ contains
     call kin_assembly_free(a)
   end subroutine
 
+  ! the square sail's flat state: 4 symmetries (the half turn and the mirror
+  ! z -> -z), the identity first; room for 3 is too little
+  subroutine test_symmetries(a)
+    type(c_ptr), value :: a
+    integer(c_int) :: perm(4 * 64), ns, ng, m
+    real(c_double) :: q(9 * 4), t(3 * 4), r(4 * 64 * 64)
+    type(kin_analysis) :: an
+    call expect(kin_symmetries(a, 4, perm, q, t, ns) == KIN_OK .and. ns == 4, 'symmetries')
+    call expect(all(q(1:9) == [1d0, 0d0, 0d0, 0d0, 1d0, 0d0, 0d0, 0d0, 1d0]), 'identity first')
+    call expect(kin_symmetries(a, 3, perm, q, t, ns) == KIN_ERANGE .and. ns == 4, 'symmetries: room')
+    call expect(kin_mechanism_group(a, 4, r, ng) == KIN_OK .and. ng == 4, 'mechanism group')
+    call expect(kin_get_analysis(a, an) == KIN_OK, 'analysis')
+    m = an%m_internal
+    call expect(m > 0 .and. abs(r(1) - 1d0) < 1d-12 .and. abs(r(m * m) - 1d0) < 1d-12, 'R_1 = I')
+    call expect(kin_mechanism_group(a, 0, r, ng) == KIN_EINVAL .and. ng == 0, 'mechanism group: max_group')
+  end subroutine
+
   subroutine test_sail()
     type(kin_sail_params) :: p
     type(c_ptr) :: a
@@ -146,6 +163,7 @@ contains
     call expect(kinf_model_sail(p, a, widths=[0.5d0, 0.5d0]) == KIN_ERANGE, 'widths of n_loops')
     call expect(kinf_model_sail(p, a, widths=[0.5d0], errmsg=msg) == KIN_OK .and. &
                 kin_njoints(a) == nj .and. kin_nbars(a) == nb, 'sail with widths')
+    call test_symmetries(a)
     call kin_assembly_free(a)
     p%n_sides = 2
     call expect(kinf_model_sail(p, a, errmsg=msg) == KIN_EINVAL .and. len(msg) > 0 .and. &

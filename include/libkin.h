@@ -16,5 +16,6 @@
 #include "libkin/kin_locate.h"
 #include "libkin/kin_follow.h"
 #include "libkin/kin_io.h"
+#include "libkin/kin_symmetry.h"
 
 #endif /* LIBKIN_H */

@@ -121,7 +121,10 @@ enum kin__fault { KIN__FAULT_NONE = 0, KIN__FAULT_SVD_ARG, KIN__FAULT_SVD_CONV, 
                    * J; every refactorization is rejected (pivot again);
                    * no nested-dissection order (as when METIS fails) */
                   KIN__FAULT_SPARSE_NOMEM, KIN__FAULT_SPARSE_FACTOR_NOMEM, KIN__FAULT_SPARSE_SINGULAR,
-                  KIN__FAULT_SPARSE_REPIVOT, KIN__FAULT_SPARSE_NO_ND };
+                  KIN__FAULT_SPARSE_REPIVOT, KIN__FAULT_SPARSE_NO_ND,
+                  /* symmetry.c: the action of each symmetry on the internal
+                   * mechanisms is disturbed (R_g not orthogonal) */
+                  KIN__FAULT_SYM_NOT_ORTHOGONAL };
 void kin__set_fault(kin_assembly *a, int fault);
 
 /* error helpers: set the handle's message and return the code */

@@ -173,7 +173,9 @@ static inline int test_hex_fold(kin_assembly **rb_start, kin_assembly **ra_start
  * 120, 240 degrees, each with and without z -> -z) that permute the joints,
  * R = U^T P U (P: T's action on free coordinates; U: nfree x m internal
  * mechanisms, column-major). Writes at most maxg m x m matrices (column-
- * major) to R and returns how many (-1: out of memory). */
+ * major) to R and returns how many (-1: out of memory). Written by hand
+ * for these sails: tests/test_mechanism_group.c checks kin_mechanism_group
+ * (which finds the group of any assembly) against it. */
 static inline int test_rotation_group(kin_assembly *a, int m, const double *U, double *R, int maxg)
 {
     int nj = kin_njoints(a), nf = kin_nfree(a), ng = 0;

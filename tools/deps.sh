@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Install what libkin needs on Debian 12 (idempotent): compiler, CMake,
 # LAPACK/BLAS (OpenBLAS and the reference libblas3 for tools/check_blas.sh),
-# GSL, jansson (JSON model files), SuiteSparse KLU (KIN_STEP_SPARSE), pkg-config, Python's venv module,
+# GSL, jansson (JSON model files), SuiteSparse KLU (KIN_STEP_SPARSE), nauty (kin_symmetries), pkg-config, Python's venv module,
 # gfortran (the Fortran module) and abigail-tools (tools/abi_check.sh).
 # Nothing to do (and no root needed) when everything is installed. Otherwise
 # it installs with apt-get as root, or through sudo if that works without a
@@ -10,7 +10,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source tools/stage.sh
-pkgs=(build-essential cmake pkg-config libopenblas-dev liblapack-dev libblas3 libgsl-dev libjansson-dev libsuitesparse-dev python3-venv python3-dev
+pkgs=(build-essential cmake pkg-config libopenblas-dev liblapack-dev libblas3 libgsl-dev libjansson-dev libsuitesparse-dev libnauty2-dev python3-venv python3-dev
       gfortran abigail-tools)
 missing=()
 for p in "${pkgs[@]}"; do

@@ -352,4 +352,7 @@ int kin_assembly_save(const kin_assembly *a, const char *name, const char *path,
 int kin_assembly_save_string(const kin_assembly *a, const char *name, char **text,
                                      size_t *len, char *errbuf, size_t errlen);
 void kin_free_string(char *text);
+
+int kin_symmetries(kin_assembly *a, int max_sym, int *perm, double *Q, double *t, int *nsym);
+int kin_mechanism_group(kin_assembly *a, int max_group, double *R, int *ngroup);
 '''

@@ -18,6 +18,11 @@ the configurations with zero residual. When the joints span fewer
 dimensions than the space (a flat sail in 3D), the fit is not unique: the
 reflections through the missing directions are added (the mirror z -> -z of
 a flat sail is a symmetry with the identity permutation).
+
+The C library finds the same symmetries (kin_symmetries, kin_mechanism_group
+in include/libkin/kin_symmetry.h: nauty's Traces on the coloured bar graph
+instead of VF2, the same Procrustes test): ``method="c"`` in
+detect_symmetries and mechanism_group uses it.
 """
 from __future__ import annotations
 
@@ -181,13 +186,55 @@ def symmetries_at(assembly: Assembly, perms: List[Tuple[int, ...]], coords: Arra
 
 
 def detect_symmetries(assembly: Assembly, coords: Optional[ArrayLike] = None,
-                      max_candidates: int = MAX_CANDIDATES) -> List[Symmetry]:
+                      max_candidates: int = MAX_CANDIDATES, method: str = "python") -> List[Symmetry]:
     """Every symmetry of `assembly` in the configuration `coords` (default:
     its current one): symmetries_at(graph_automorphisms(...)). A symmetry
     of one configuration is one of the structure: it maps every
-    configuration to another."""
+    configuration to another.
+
+    method="c" asks the C library (kin_symmetries: nauty's Traces; at most
+    KIN_SYMMETRY_MAX_CANDIDATES graph automorphisms, beyond which it raises
+    LimitError; max_candidates is not used); the assembly is then moved to
+    `coords` if given (and left there). Raises InvalidArgumentError for
+    another method."""
+    if method == "c":
+        if coords is not None:
+            assembly.coords = np.asarray(coords, dtype=float)
+        return c_symmetries(assembly)
+    if method != "python":
+        raise InvalidArgumentError(f"method: expected 'python' or 'c', got {method!r}")
     X = assembly.coords if coords is None else coords
     return symmetries_at(assembly, graph_automorphisms(assembly, max_candidates), X)
+
+
+def _c_count(call: Any, assembly: "Assembly", what: str) -> int:
+    """How many entries a kin_symmetries-like call has: asked with room for
+    one (KIN_ERANGE reports the count)."""
+    from ._lib import ffi, lib
+    n = ffi.new("int *")
+    rc = call(1, n)
+    if rc == lib.KIN_ERANGE:
+        return int(n[0])
+    assembly._check(rc, what)
+    return int(n[0])
+
+
+def c_symmetries(assembly: "Assembly") -> List[Symmetry]:
+    """detect_symmetries(assembly, method="c"): the C library's
+    kin_symmetries at the current configuration, in its order (the
+    identity first, then by permutation)."""
+    from ._lib import ffi, lib
+    h, nj, d = assembly._h, assembly.njoints, assembly.dim
+    count = _c_count(lambda k, n: lib.kin_symmetries(h, k, ffi.NULL, ffi.NULL, ffi.NULL, n), assembly, "symmetries")
+    perm = np.zeros((count, nj), dtype=np.int32)
+    Q = np.zeros((count, d, d))  # each block column-major: stored transposed
+    t = np.zeros((count, d))
+    n = ffi.new("int *")
+    assembly._check(lib.kin_symmetries(h, count, ffi.cast("int *", ffi.from_buffer(perm, require_writable=True)),
+                                       ffi.cast("double *", ffi.from_buffer(Q, require_writable=True)),
+                                       ffi.cast("double *", ffi.from_buffer(t, require_writable=True)), n),
+                    "symmetries")
+    return [Symmetry(tuple(int(p) for p in perm[k]), Q[k].T.copy(), t[k].copy()) for k in range(int(n[0]))]
 
 
 def same_symmetry(g: Symmetry, h: Symmetry) -> bool:
@@ -209,7 +256,7 @@ def invariant_subspace(U: NDArray[np.float64], matrices: List[NDArray[np.float64
 
 
 def mechanism_group(assembly: "Assembly", coords: Optional[ArrayLike] = None,
-                    max_candidates: int = MAX_CANDIDATES) -> NDArray[np.float64]:
+                    max_candidates: int = MAX_CANDIDATES, method: str = "python") -> NDArray[np.float64]:
     """The symmetry group acting on the internal-mechanism coordinates beta.
 
     For each symmetry g of the assembly at `coords` (detect_symmetries;
@@ -226,6 +273,9 @@ def mechanism_group(assembly: "Assembly", coords: Optional[ArrayLike] = None,
     coords : array_like, shape (njoints, dim), optional
     max_candidates : int, optional
         As for detect_symmetries.
+    method : {'python', 'c'}, optional
+        'c': the C library's kin_mechanism_group (the same group, found with
+        nauty; the order of matrices of equal trace may differ).
 
     Returns
     -------
@@ -237,10 +287,18 @@ def mechanism_group(assembly: "Assembly", coords: Optional[ArrayLike] = None,
     InvalidArgumentError
         A symmetry does not map the mechanism space to itself (R_g not
         orthogonal to 1e-8): the configuration is not the one the
-        symmetries were found at.
+        symmetries were found at. Also an unknown method.
+    StateError
+        method='c': as InvalidArgumentError above (KIN_ESTATE).
+    NoMechanismError
+        method='c': the assembly has no internal mechanism.
     """
+    if method not in ("python", "c"):
+        raise InvalidArgumentError(f"method: expected 'python' or 'c', got {method!r}")
     if coords is not None:
         assembly.coords = np.asarray(coords, dtype=float)
+    if method == "c":
+        return c_mechanism_group(assembly)
     syms = detect_symmetries(assembly, None, max_candidates)
     U = assembly.analyse().internal_mechanisms
     fm = assembly.free_map()
@@ -252,3 +310,23 @@ def mechanism_group(assembly: "Assembly", coords: Optional[ArrayLike] = None,
         mats.append(R)
     mats.sort(key=lambda R: -float(np.trace(R)))
     return np.array(mats) if mats else np.eye(U.shape[1])[None]
+
+
+def c_mechanism_group(assembly: "Assembly") -> NDArray[np.float64]:
+    """mechanism_group(assembly, method="c"): the C library's
+    kin_mechanism_group at the current configuration, shape (k, m, m)."""
+    from ._lib import ffi, lib, new_struct
+    h = assembly._h
+    an = new_struct("kin_analysis")
+    if lib.kin_get_analysis(h, an) != 0:  # none current: make it (kin_mechanism_group would)
+        assembly._check(lib.kin_analyse(h, an), "analyse")
+    m = int(an.m_internal)
+    # kin_symmetries is cheap next to the R_g (m x m products over nfree): the count first
+    count = _c_count(lambda k, n: lib.kin_symmetries(h, k, ffi.NULL, ffi.NULL, ffi.NULL, n), assembly,
+                     "mechanism group")
+    R = np.zeros((max(count, 1), m, m))  # each block column-major: stored transposed
+    n = ffi.new("int *")
+    assembly._check(lib.kin_mechanism_group(h, max(count, 1),
+                                            ffi.cast("double *", ffi.from_buffer(R, require_writable=True)), n),
+                    "mechanism group")
+    return np.ascontiguousarray(R[: int(n[0])].transpose(0, 2, 1))
