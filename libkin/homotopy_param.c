@@ -25,7 +25,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy_param.h"
+#include "homotopy_param_control.h"
 
 /* the kernels are simple loops over contiguous arrays: let GCC vectorise
  * them (at -O2 its cost model leaves loops with a remainder scalar) */
@@ -44,30 +44,26 @@
 #define HPAR_KERNEL
 #endif
 
+/* the step control (constants shared with the lockstep tracker) */
 enum {
-    ORDER = 6,               /* Taylor order of the predictor */
-    NY = ORDER / 2 + 1,      /* M0 x_i for i <= ORDER / 2 */
-    NZ = (ORDER - 1) / 2 + 1, /* D x_i for i <= (ORDER - 1) / 2 */
-    NEWTON_MAX = 3,          /* corrector iterations per step */
-    REFINE_MAX = 6,          /* Newton iterations at t = 1 */
-    MAX_STEPS = 5000         /* accepted + rejected steps before a path counts as lost */
+    ORDER = HPAR_ORDER,
+    NY = HPAR_NY,
+    NZ = HPAR_NZ,
+    NEWTON_MAX = HPAR_NEWTON_MAX,
+    REFINE_MAX = HPAR_REFINE_MAX,
+    MAX_STEPS = HPAR_MAX_STEPS
 };
-
-/* a correction below NEWTON_TOL |x| ends the corrector (the next step's
- * predictor starts from there; endpoints are refined anyway) */
-static const double NEWTON_TOL = 1e-10;
-/* the second correction must be at most CONTRACTION times the first (see above) */
-static const double CONTRACTION = 0.25;
-/* corrections below NOISE |x| are rounding: the point is on its root (two
- * roots that close cannot be told apart in double precision anyway) */
-static const double NOISE = 1e-13, STALL_TOL = 1e-8;
+#define NEWTON_TOL HPAR_NEWTON_TOL
+#define CONTRACTION HPAR_CONTRACTION
+#define NOISE HPAR_NOISE
+#define STALL_TOL HPAR_STALL_TOL
+#define REJECT_SHRINK HPAR_REJECT_SHRINK
+#define ACCEPT_GROW HPAR_ACCEPT_GROW
+#define H_MIN HPAR_H_MIN
+#define CHART_TILT HPAR_CHART_TILT
+#define REFINE_TOL HPAR_REFINE_TOL
 /* the step is at most this fraction of the series' radius of convergence */
 static const double RADIUS_FRACTION = 0.7;
-static const double REJECT_SHRINK = 0.5, ACCEPT_GROW = 2.0, H_MIN = 1e-14;
-/* chart change when |a||x| exceeds CHART_TILT sqrt(m) (see homotopy_track.c) */
-static const double CHART_TILT = 8.0;
-/* at t = 1: converged when the correction is below REFINE_TOL |x| */
-static const double REFINE_TOL = 1e-12;
 
 struct hpar_ws {
     int m, s, sm;
@@ -79,7 +75,6 @@ struct hpar_ws {
     double cr[ORDER + 1][HOM_MAX_M], ci[ORDER + 1][HOM_MAX_M];
     double jr[HOM_MAX_M * HOM_MAX_M], ji[HOM_MAX_M * HOM_MAX_M]; /* J, then its LU factors */
     int piv[HOM_MAX_M];
-    double rho, tail; /* the series' error model */
 };
 
 hpar_ws *kin__hpar_ws_new(int m, int s)
@@ -273,21 +268,25 @@ static void taylor(const hpar_problem *P, hpar_ws *w)
     }
 }
 
+double kin__hpar_series_step(const double *n, double target)
+{
+    const int K = ORDER;
+    double rho = INFINITY;
+    if (n[K] > 0.0) rho = fmin(n[K - 1] / n[K], sqrt(n[K - 2] / n[K]));
+    if (n[K - 1] > 0.0) rho = fmin(rho, n[K - 2] / n[K - 1]);
+    if (!(rho < INFINITY)) return INFINITY;
+    if (!(rho > 0.0)) return 0.0;
+    double tail = 2.0 * fmax(n[K] * pow(rho, K), n[K - 1] * pow(rho, K - 1));
+    double q = tail > 0.0 ? pow(target / tail, 1.0 / (K + 1)) : RADIUS_FRACTION;
+    return fmin(q, RADIUS_FRACTION) * rho;
+}
+
 /* the step whose estimated truncation error is `target` */
 static double series_step(hpar_ws *w, int m, double target)
 {
     double n[ORDER + 1];
     for (int k = 1; k <= ORDER; ++k) n[k] = vnorm(m, w->cr[k], w->ci[k]);
-    const int K = ORDER;
-    double rho = INFINITY;
-    if (n[K] > 0.0) rho = fmin(n[K - 1] / n[K], sqrt(n[K - 2] / n[K]));
-    if (n[K - 1] > 0.0) rho = fmin(rho, n[K - 2] / n[K - 1]);
-    w->rho = rho, w->tail = 0.0;
-    if (!(rho < INFINITY)) return INFINITY;
-    if (!(rho > 0.0)) return 0.0;
-    w->tail = 2.0 * fmax(n[K] * pow(rho, K), n[K - 1] * pow(rho, K - 1));
-    double q = w->tail > 0.0 ? pow(target / w->tail, 1.0 / (K + 1)) : RADIUS_FRACTION;
-    return fmin(q, RADIUS_FRACTION) * rho;
+    return kin__hpar_series_step(n, target);
 }
 
 static void predict(const hpar_ws *w, int m, double h, double *xr, double *xi)

@@ -49,4 +49,27 @@ void kin__hpar_track(const hpar_problem *P, const hpar_settings *S, hpar_ws *w, 
 void kin__hpar_matvec(int sm, int m, const double *Mr, const double *Mi, const double *xr, const double *xi,
                       double *yr, double *yi);
 
+/* ---- lockstep tracking (homotopy_param_batch.c) ---- */
+enum { HPAR_BATCH_STOP = -2 }; /* hpar_batch_sink.next: abandon the paths in flight */
+/* where the batch tracker gets its paths and leaves their endpoints */
+typedef struct hpar_batch_sink {
+    void *ctx;
+    /* the next path: its id (>= 0) with its start point written to x0r,
+     * x0i (m each); -1 when there is none, HPAR_BATCH_STOP to stop at once
+     * (the paths in flight are abandoned: not passed to done) */
+    int (*next)(void *ctx, double *x0r, double *x0i);
+    /* path id's endpoint (m each, any scale) and record, as
+     * kin__hpar_track gives them (where that one leaves x unwritten, a
+     * start point with a = 0 in the chart, x is the start point) */
+    void (*done)(void *ctx, int id, const double *xr, const double *xi, const hpar_end *e);
+} hpar_batch_sink;
+typedef struct hpar_bws hpar_bws;
+/* per-thread workspace of the batch tracker for problems of s equations and
+ * m unknowns (m <= HOM_MAX_M), allocated once per thread */
+hpar_bws *kin__hpar_bws_new(int m, int s);
+void kin__hpar_bws_free(hpar_bws *b);
+/* Track every path K->next hands out, HOM_BATCH at a time, each exactly as
+ * kin__hpar_track would (the same endpoint and record, bit for bit). */
+void kin__hpar_track_batch(const hpar_problem *P, const hpar_settings *S, hpar_bws *B, const hpar_batch_sink *K);
+
 #endif /* KIN_HOMOTOPY_PARAM_H */

@@ -79,54 +79,97 @@ static void report(sym_ctx *C, long done, int force)
     if (C->fn(C->user, (double)done, (double)(done + C->queued))) C->cancelled = 1;
 }
 
-static void do_item(sym_batch *B, int t, int i)
+/* the certified endpoint of a path of the leg to Q (item i, tracked into
+ * B->xr, B->pe) */
+static void final_item(sym_batch *B, int t, int i)
 {
     sym_ctx *C = B->C;
     int m = C->m;
     double *xr = B->xr + (size_t)i * m, *xi = B->xi + (size_t)i * m;
-    if (B->kind == JOB_CERT) {
-        memset(&B->he[i], 0, sizeof B->he[i]);
-        kin__hom_certify(&C->H.P, kin__hom_pool_ws(&C->H, t), B->inr + (size_t)i * m, B->ini + (size_t)i * m, xr,
-                         xi, &B->he[i]);
-        return;
+    hom_end *e = &B->he[i];
+    memset(e, 0, sizeof *e);
+    e->kind = HOM_FAILED;
+    e->rminus = e->rplus = e->cond = INFINITY;
+    if (B->pe[i].ok) {
+        double zr[HOM_MAX_M], zi[HOM_MAX_M];
+        kin__hom_certify(&C->H.P, kin__hom_pool_ws(&C->H, t), xr, xi, zr, zi, e);
+        memcpy(xr, zr, sizeof(double) * (size_t)m);
+        memcpy(xi, zi, sizeof(double) * (size_t)m);
     }
-    const sym_set *S = &C->set[B->kind == JOB_LOOP ? B->from : 0];
-    int p = B->items[i];
-    kin__hpar_track(B->P, B->S, C->pw[t], S->xr + (size_t)p * m, S->xi + (size_t)p * m, xr, xi, &B->pe[i]);
-    if (B->kind == JOB_FINAL) {
-        hom_end *e = &B->he[i];
-        memset(e, 0, sizeof *e);
-        e->kind = HOM_FAILED;
-        e->rminus = e->rplus = e->cond = INFINITY;
-        if (B->pe[i].ok) {
-            double zr[HOM_MAX_M], zi[HOM_MAX_M];
-            kin__hom_certify(&C->H.P, kin__hom_pool_ws(&C->H, t), xr, xi, zr, zi, e);
-            memcpy(xr, zr, sizeof(double) * (size_t)m);
-            memcpy(xi, zi, sizeof(double) * (size_t)m);
+    e->steps = B->pe[i].steps, e->rejected = B->pe[i].rejected, e->sigma = B->pe[i].sigma;
+}
+
+/* one item's end: counted, reported (by the calling thread), cancelled */
+static void item_done(sym_batch *B, int caller)
+{
+    pthread_mutex_lock(&B->lock);
+    int fin = ++B->finished;
+    pthread_mutex_unlock(&B->lock);
+    if (caller && B->kind != JOB_CERT) {
+        report(B->C, B->C->done + fin, 0);
+        if (B->C->cancelled) {
+            pthread_mutex_lock(&B->lock);
+            B->stop = 1;
+            pthread_mutex_unlock(&B->lock);
         }
-        e->steps = B->pe[i].steps, e->rejected = B->pe[i].rejected, e->sigma = B->pe[i].sigma;
     }
+}
+
+/* the paths of a batch go through the lockstep tracker
+ * (homotopy_param_batch.c) of each thread: items handed out in order,
+ * endpoints stored by index */
+typedef struct sym_sink {
+    sym_batch *B;
+    int t, caller;
+} sym_sink;
+
+static int sink_next(void *ctx, double *x0r, double *x0i)
+{
+    sym_sink *k = ctx;
+    sym_batch *B = k->B;
+    pthread_mutex_lock(&B->lock);
+    int stop = B->stop, i = stop ? B->n : B->next++;
+    pthread_mutex_unlock(&B->lock);
+    if (stop) return HPAR_BATCH_STOP;
+    if (i >= B->n) return -1;
+    int m = B->C->m, p = B->items[i];
+    const sym_set *S = &B->C->set[B->kind == JOB_LOOP ? B->from : 0];
+    memcpy(x0r, S->xr + (size_t)p * m, sizeof(double) * (size_t)m);
+    memcpy(x0i, S->xi + (size_t)p * m, sizeof(double) * (size_t)m);
+    return i;
+}
+
+static void sink_done(void *ctx, int i, const double *xr, const double *xi, const hpar_end *e)
+{
+    sym_sink *k = ctx;
+    sym_batch *B = k->B;
+    int m = B->C->m;
+    memcpy(B->xr + (size_t)i * m, xr, sizeof(double) * (size_t)m);
+    memcpy(B->xi + (size_t)i * m, xi, sizeof(double) * (size_t)m);
+    B->pe[i] = *e;
+    if (B->kind == JOB_FINAL) final_item(B, k->t, i);
+    item_done(B, k->caller);
 }
 
 static void batch_loop(sym_batch *B, int t, int caller)
 {
+    sym_ctx *C = B->C;
+    if (B->kind != JOB_CERT) {
+        sym_sink k = {B, t, caller};
+        hpar_batch_sink K = {&k, sink_next, sink_done};
+        kin__hpar_track_batch(B->P, B->S, C->pb[t], &K);
+        return;
+    }
+    int m = C->m;
     for (;;) {
         pthread_mutex_lock(&B->lock);
         int i = B->stop ? B->n : B->next++;
         pthread_mutex_unlock(&B->lock);
         if (i >= B->n) break;
-        do_item(B, t, i);
-        pthread_mutex_lock(&B->lock);
-        int fin = ++B->finished;
-        pthread_mutex_unlock(&B->lock);
-        if (caller && B->kind != JOB_CERT) {
-            report(B->C, B->C->done + fin, 0);
-            if (B->C->cancelled) {
-                pthread_mutex_lock(&B->lock);
-                B->stop = 1;
-                pthread_mutex_unlock(&B->lock);
-            }
-        }
+        memset(&B->he[i], 0, sizeof B->he[i]);
+        kin__hom_certify(&C->H.P, kin__hom_pool_ws(&C->H, t), B->inr + (size_t)i * m, B->ini + (size_t)i * m,
+                         B->xr + (size_t)i * m, B->xi + (size_t)i * m, &B->he[i]);
+        item_done(B, caller);
     }
 }
 
@@ -348,7 +391,9 @@ static void ctx_free(sym_ctx *C)
     for (int k = 0; k < 4; ++k) free(C->tmp[k]);
     if (C->pw)
         for (int t = 0; t < C->H.nthreads; ++t) kin__hpar_ws_free(C->pw[t]);
-    free(C->pw);
+    if (C->pb)
+        for (int t = 0; t < C->H.nthreads; ++t) kin__hpar_bws_free(C->pb[t]);
+    free(C->pw), free(C->pb);
     kin__sym_group_free(&C->G);
     kin__hom_solver_free(&C->H);
 }
@@ -366,12 +411,13 @@ static int ctx_init(sym_ctx *C, int m, int s, const double *Q, int ngroup, const
     C->dq[0] = malloc(sizeof(double) * 2 * ns);
     C->scr = malloc(sizeof(double) * 2 * (size_t)C->sm);
     C->pw = calloc((size_t)C->H.nthreads, sizeof(hpar_ws *));
-    if (!C->Qst || !C->dq[0] || !C->scr || !C->pw) return KIN_ENOMEM;
+    C->pb = calloc((size_t)C->H.nthreads, sizeof(hpar_bws *));
+    if (!C->Qst || !C->dq[0] || !C->scr || !C->pw || !C->pb) return KIN_ENOMEM;
     C->Qr0 = C->Qst + ns, C->dq[1] = C->dq[0] + ns;
     for (int k = 0; k < 4; ++k)
         if (!(C->tmp[k] = malloc(sizeof(double) * ns))) return KIN_ENOMEM;
     for (int t = 0; t < C->H.nthreads; ++t)
-        if (!(C->pw[t] = kin__hpar_ws_new(m, s))) return KIN_ENOMEM;
+        if (!(C->pw[t] = kin__hpar_ws_new(m, s)) || !(C->pb[t] = kin__hpar_bws_new(m, s))) return KIN_ENOMEM;
     for (int a = 0; a < NODES; ++a) {
         if (!(C->sys[a][0] = malloc(sizeof(double) * 2 * ns))) return KIN_ENOMEM;
         C->sys[a][1] = C->sys[a][0] + ns;

@@ -73,7 +73,8 @@ typedef struct sym_ctx { /* one call of kin_quadrics_homotopy_sym */
     sym_set set[NODES];
     int *queue[NODES][2], nq[NODES][2];
     double wr[HOM_MAX_M], wi[HOM_MAX_M], key[HOM_MAX_M], ar[HOM_MAX_M], ai[HOM_MAX_M];
-    hpar_ws **pw;
+    hpar_ws **pw;  /* per thread: the one-path tracker (the seeds) */
+    hpar_bws **pb; /* per thread: the lockstep tracker (loops, the leg to Q) */
     /* progress */
     kin_progress_fn fn;
     void *user;
