@@ -15,59 +15,99 @@
 #define PLAN_KERNEL
 #endif
 
-enum { RB = 4 }; /* rows of y kept in registers by the products */
+/* one entry of M: A + t D formed as the one-path `form` does, or D */
+#define PENTRY(o) (formed ? Ar[o] + t * Dr[o] : ALL(Dr[o]))
+#define PENTRYI(o) (formed ? Ai[o] + t * Di[o] : ALL(Di[o]))
 
 /* y = M x, M = A + t D formed entry by entry (formed) or M = D, each row
- * summed over the columns c in order from 0, as kin__hpar_matvec */
+ * summed over the columns c in order from 0, as kin__hpar_matvec; four
+ * rows at a time in registers */
 HOM_INLINE void pmatvec(const hpar_problem *P, int formed, const lanes *tp, const lanes *restrict xr,
                         const lanes *restrict xi, lanes *restrict yr, lanes *restrict yi)
 {
     int m = P->m, sm = P->s * P->m, i = 0;
     const double *Ar = P->Ar, *Ai = P->Ai, *Dr = P->Dr, *Di = P->Di;
     lanes t = *tp;
-    for (; i + RB <= sm; i += RB) {
-        lanes ur[RB], ui[RB];
-        for (int q = 0; q < RB; ++q) ur[q] = ui[q] = ALL(0.0);
+    for (; i + 4 <= sm; i += 4) {
+        lanes u0 = ALL(0.0), u1 = u0, u2 = u0, u3 = u0, v0 = u0, v1 = u0, v2 = u0, v3 = u0;
         for (int c = 0; c < m; ++c) {
             size_t o = (size_t)c * sm + i;
-            lanes a = xr[c], b = xi[c];
-            for (int q = 0; q < RB; ++q) {
-                lanes mr, mi;
-                if (formed) mr = Ar[o + q] + t * Dr[o + q], mi = Ai[o + q] + t * Di[o + q];
-                else mr = ALL(Dr[o + q]), mi = ALL(Di[o + q]);
-                ur[q] += mr * a - mi * b;
-                ui[q] += mr * b + mi * a;
-            }
+            lanes a = xr[c], b = xi[c], mr, mi;
+            mr = PENTRY(o), mi = PENTRYI(o);
+            u0 += mr * a - mi * b, v0 += mr * b + mi * a;
+            mr = PENTRY(o + 1), mi = PENTRYI(o + 1);
+            u1 += mr * a - mi * b, v1 += mr * b + mi * a;
+            mr = PENTRY(o + 2), mi = PENTRYI(o + 2);
+            u2 += mr * a - mi * b, v2 += mr * b + mi * a;
+            mr = PENTRY(o + 3), mi = PENTRYI(o + 3);
+            u3 += mr * a - mi * b, v3 += mr * b + mi * a;
         }
-        for (int q = 0; q < RB; ++q) yr[i + q] = ur[q], yi[i + q] = ui[q];
+        yr[i] = u0, yr[i + 1] = u1, yr[i + 2] = u2, yr[i + 3] = u3;
+        yi[i] = v0, yi[i + 1] = v1, yi[i + 2] = v2, yi[i + 3] = v3;
     }
     for (; i < sm; ++i) {
-        lanes ur = ALL(0.0), ui = ALL(0.0);
+        lanes u = ALL(0.0), v = ALL(0.0);
         for (int c = 0; c < m; ++c) {
             size_t o = (size_t)c * sm + i;
-            lanes mr, mi;
-            if (formed) mr = Ar[o] + t * Dr[o], mi = Ai[o] + t * Di[o];
-            else mr = ALL(Dr[o]), mi = ALL(Di[o]);
-            ur += mr * xr[c] - mi * xi[c];
-            ui += mr * xi[c] + mi * xr[c];
+            lanes mr = PENTRY(o), mi = PENTRYI(o);
+            u += mr * xr[c] - mi * xi[c];
+            v += mr * xi[c] + mi * xr[c];
         }
-        yr[i] = ur, yi[i] = ui;
+        yr[i] = u, yi[i] = v;
     }
 }
 
-/* out_j += wgt * (u . y_j), j < s (y_j: entries r*s + j of y), as dots */
+/* out_j += wgt * (u . y_j), j < s (y_j: entries r*s + j of y), as dots;
+ * four equations at a time in registers */
 HOM_INLINE void pdots(int m, int s, double wgt, const lanes *restrict ur, const lanes *restrict ui,
                       const lanes *restrict yr, const lanes *restrict yi, lanes *restrict outr,
                       lanes *restrict outi)
 {
-    lanes pr[HOM_MAX_M], pi[HOM_MAX_M];
-    for (int j = 0; j < s; ++j) pr[j] = pi[j] = ALL(0.0);
-    for (int r = 0; r < m; ++r) {
-        const lanes *ar = yr + r * s, *ai = yi + r * s;
-        lanes a = ur[r], b = ui[r];
-        for (int j = 0; j < s; ++j) pr[j] += a * ar[j] - b * ai[j], pi[j] += a * ai[j] + b * ar[j];
+    int j = 0;
+    for (; j + 4 <= s; j += 4) {
+        lanes p0 = ALL(0.0), p1 = p0, p2 = p0, p3 = p0, q0 = p0, q1 = p0, q2 = p0, q3 = p0;
+        for (int r = 0; r < m; ++r) {
+            const lanes *ar = yr + r * s + j, *ai = yi + r * s + j;
+            lanes a = ur[r], b = ui[r];
+            p0 += a * ar[0] - b * ai[0], q0 += a * ai[0] + b * ar[0];
+            p1 += a * ar[1] - b * ai[1], q1 += a * ai[1] + b * ar[1];
+            p2 += a * ar[2] - b * ai[2], q2 += a * ai[2] + b * ar[2];
+            p3 += a * ar[3] - b * ai[3], q3 += a * ai[3] + b * ar[3];
+        }
+        outr[j] += wgt * p0, outi[j] += wgt * q0, outr[j + 1] += wgt * p1, outi[j + 1] += wgt * q1;
+        outr[j + 2] += wgt * p2, outi[j + 2] += wgt * q2, outr[j + 3] += wgt * p3, outi[j + 3] += wgt * q3;
     }
-    for (int j = 0; j < s; ++j) outr[j] += wgt * pr[j], outi[j] += wgt * pi[j];
+    for (; j < s; ++j) {
+        lanes p0 = ALL(0.0), q0 = p0;
+        for (int r = 0; r < m; ++r) {
+            lanes a = ur[r], b = ui[r], ar = yr[r * s + j], ai = yi[r * s + j];
+            p0 += a * ar - b * ai, q0 += a * ai + b * ar;
+        }
+        outr[j] += wgt * p0, outi[j] += wgt * q0;
+    }
+}
+
+/* exchange rows k and piv[l] of the ncol columns (stride n) of every lane
+ * l: whole vectors blended under the mask of the lanes that share a pivot
+ * row (no lane-by-lane stores for the vector loads to trip over) */
+HOM_INLINE void swap_rows(int n, int k, const int *piv, lanes *restrict ar, lanes *restrict ai, int ncol)
+{
+    int done = 0; /* lanes swapped (bit l) */
+    for (int l = 0; l < BL; ++l) {
+        int p = piv[l];
+        if (p == k || (done >> l & 1)) continue;
+        lmask mask = (lmask){0};
+        for (int q = 0; q < BL; ++q) {
+            mask[q] = piv[q] == p ? -1 : 0;
+            if (piv[q] == p) done |= 1 << q;
+        }
+        for (int j = 0; j < ncol; ++j) {
+            lanes *xr = ar + (size_t)j * n, *xi = ai + (size_t)j * n;
+            lanes a = xr[k], b = xr[p], c = xi[k], d = xi[p];
+            xr[k] = select_lanes(mask, b, a), xr[p] = select_lanes(mask, a, b);
+            xi[k] = select_lanes(mask, d, c), xi[p] = select_lanes(mask, c, d);
+        }
+    }
 }
 
 /* LU with partial pivoting (the first largest |re| + |im|), each lane its
@@ -88,17 +128,10 @@ HOM_INLINE void plu_factor(int n, hpar_llu *F)
             piv = (gt & ((lmask){0} + i)) | (~gt & piv);
         }
         for (int l = 0; l < BL; ++l) {
-            int p = (int)piv[l];
-            F->piv[k][l] = p;
+            F->piv[k][l] = (int)piv[l];
             if (!(best[l] > 0.0) || !isfinite(best[l])) F->ok[l] = 0;
-            if (p != k)
-                for (int j = 0; j < n; ++j) {
-                    double t = Ar[j * n + k][l];
-                    Ar[j * n + k][l] = Ar[j * n + p][l], Ar[j * n + p][l] = t;
-                    t = Ai[j * n + k][l];
-                    Ai[j * n + k][l] = Ai[j * n + p][l], Ai[j * n + p][l] = t;
-                }
         }
+        swap_rows(n, k, F->piv[k], Ar, Ai, n);
         lanes pr = Ar[k * n + k], pi = Ai[k * n + k], d = pr * pr + pi * pi;
         lanes ir = pr / d, ii = -pi / d;
         for (int i = k + 1; i < n; ++i) {
@@ -132,16 +165,7 @@ HOM_INLINE void plu_factor(int n, hpar_llu *F)
 HOM_INLINE void plu_solve(int n, const hpar_llu *F, lanes *restrict br, lanes *restrict bi)
 {
     const lanes *Ar = F->r, *Ai = F->i;
-    for (int k = 0; k < n; ++k)
-        for (int l = 0; l < BL; ++l) {
-            int p = F->piv[k][l];
-            if (p != k) {
-                double t = br[k][l];
-                br[k][l] = br[p][l], br[p][l] = t;
-                t = bi[k][l];
-                bi[k][l] = bi[p][l], bi[p][l] = t;
-            }
-        }
+    for (int k = 0; k < n; ++k) swap_rows(n, k, F->piv[k], br, bi, 1);
     for (int j = 0; j < n; ++j) {
         lanes vr = br[j], vi = bi[j];
         for (int i = j + 1; i < n; ++i) {
