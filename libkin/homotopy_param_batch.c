@@ -57,7 +57,7 @@ struct hpar_bws {
 hpar_bws *kin__hpar_bws_new(int m, int s)
 {
     void *b = NULL, *v = NULL;
-    size_t nv = (size_t)2 * (HPAR_NY + HPAR_NZ + 1) * s * m;
+    size_t nv = (size_t)2 * (HPAR_NY + HPAR_NZ + 1) * s * m + (size_t)2 * s * m * m;
     if (posix_memalign(&b, 64, sizeof(hpar_bws)) != 0) return NULL; /* vector alignment */
     if (posix_memalign(&v, 64, sizeof(lanes) * nv) != 0) {
         free(b);
@@ -71,7 +71,8 @@ hpar_bws *kin__hpar_bws_new(int m, int s)
     size_t sm = (size_t)s * m;
     for (int k = 0; k < HPAR_NY; ++k) B->W.yr[k] = p, B->W.yi[k] = p + sm, p += 2 * sm;
     for (int k = 0; k < HPAR_NZ; ++k) B->W.zr[k] = p, B->W.zi[k] = p + sm, p += 2 * sm;
-    B->W.pyr = p, B->W.pyi = p + sm;
+    B->W.pyr = p, B->W.pyi = p + sm, p += 2 * sm;
+    B->W.mr = p, B->W.mi = p + sm * m;
     return B;
 }
 

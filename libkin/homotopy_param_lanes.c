@@ -15,15 +15,15 @@
 #define PLAN_KERNEL
 #endif
 
+enum { MAT_D, MAT_FORM, MAT_LANES }; /* M = D, A + t D formed where used, formed already (Mr, Mi) */
 /* one entry of M: A + t D formed as the one-path `form` does, or D */
-#define PENTRY(o) (formed ? Ar[o] + t * Dr[o] : ALL(Dr[o]))
-#define PENTRYI(o) (formed ? Ai[o] + t * Di[o] : ALL(Di[o]))
+#define PENTRY(o) (formed == MAT_LANES ? Mr[o] : formed == MAT_FORM ? Ar[o] + t * Dr[o] : ALL(Dr[o]))
+#define PENTRYI(o) (formed == MAT_LANES ? Mi[o] : formed == MAT_FORM ? Ai[o] + t * Di[o] : ALL(Di[o]))
 
-/* y = M x, M = A + t D formed entry by entry (formed) or M = D, each row
- * summed over the columns c in order from 0, as kin__hpar_matvec; four
- * rows at a time in registers */
-HOM_INLINE void pmatvec(const hpar_problem *P, int formed, const lanes *tp, const lanes *restrict xr,
-                        const lanes *restrict xi, lanes *restrict yr, lanes *restrict yi)
+/* y = M x (M: see PENTRY), each row summed over the columns c in order
+ * from 0, as kin__hpar_matvec; four rows at a time in registers */
+HOM_INLINE void pmatvec(const hpar_problem *P, int formed, const lanes *tp, const lanes *Mr, const lanes *Mi,
+                        const lanes *restrict xr, const lanes *restrict xi, lanes *restrict yr, lanes *restrict yi)
 {
     int m = P->m, sm = P->s * P->m, i = 0;
     const double *Ar = P->Ar, *Ai = P->Ai, *Dr = P->Dr, *Di = P->Di;
@@ -190,7 +190,7 @@ PLAN_KERNEL void kin__plan_newton(const hpar_problem *P, const lanes *t, const l
 {
     int m = P->m, s = P->s;
     lanes *yr = W->pyr, *yi = W->pyi;
-    pmatvec(P, 1, t, xr, xi, yr, yi);
+    pmatvec(P, MAT_FORM, t, NULL, NULL, xr, xi, yr, yi);
     for (int j = 0; j < s; ++j) dr[j] = di[j] = ALL(0.0);
     pdots(m, s, 1.0, xr, xi, yr, yi, dr, di);
     lanes cr = ALL(-1.0), ci = ALL(0.0);
@@ -214,8 +214,13 @@ PLAN_KERNEL void kin__plan_taylor(const hpar_problem *P, const lanes *t0, const 
                                   lanes (*cr)[HOM_MAX_M], lanes (*ci)[HOM_MAX_M])
 {
     int m = P->m, s = P->s;
-    pmatvec(P, 1, t0, cr[0], ci[0], W->yr[0], W->yi[0]);
-    pmatvec(P, 0, t0, cr[0], ci[0], W->zr[0], W->zi[0]);
+    { /* M(t0) of every lane, used HPAR_NY times */
+        size_t n = (size_t)s * m * m;
+        lanes t = *t0;
+        for (size_t i = 0; i < n; ++i) W->mr[i] = P->Ar[i] + t * P->Dr[i], W->mi[i] = P->Ai[i] + t * P->Di[i];
+    }
+    pmatvec(P, MAT_LANES, t0, W->mr, W->mi, cr[0], ci[0], W->yr[0], W->yi[0]);
+    pmatvec(P, MAT_D, t0, NULL, NULL, cr[0], ci[0], W->zr[0], W->zi[0]);
     for (int k = 1; k <= HPAR_ORDER; ++k) {
         lanes *rr = cr[k], *ri = ci[k];
         for (int j = 0; j <= s; ++j) rr[j] = ri[j] = ALL(0.0);
@@ -225,8 +230,8 @@ PLAN_KERNEL void kin__plan_taylor(const hpar_problem *P, const lanes *t0, const 
             pdots(m, s, 2 * i < k - 1 ? 2.0 : 1.0, cr[k - 1 - i], ci[k - 1 - i], W->zr[i], W->zi[i], rr, ri);
         for (int j = 0; j < s; ++j) rr[j] = -rr[j], ri[j] = -ri[j];
         plu_solve(m, F, rr, ri);
-        if (k < HPAR_NY) pmatvec(P, 1, t0, rr, ri, W->yr[k], W->yi[k]);
-        if (k < HPAR_NZ) pmatvec(P, 0, t0, rr, ri, W->zr[k], W->zi[k]);
+        if (k < HPAR_NY) pmatvec(P, MAT_LANES, t0, W->mr, W->mi, rr, ri, W->yr[k], W->yi[k]);
+        if (k < HPAR_NZ) pmatvec(P, MAT_D, t0, NULL, NULL, rr, ri, W->zr[k], W->zi[k]);
     }
 }
 

@@ -3,10 +3,11 @@
  * vectors of homotopy_lanes.h (entry c of lane l's vector at v[c][l]).
  * Each lane gets exactly the operations of the one-path kernels of
  * homotopy_param.c, every sum in the same order and no contraction to fused
- * multiply-adds, so each lane's results are bit for bit theirs. M(t) = A +
- * t D is never stored: every lane has its own t, and its entries are formed
- * where they are used (the same expression as the one-path `form`), which
- * shares every load of A and D among the lanes. GCC and Clang only. */
+ * multiply-adds, so each lane's results are bit for bit theirs. Every lane
+ * has its own t, so M(t) = A + t D is formed per lane with the one-path
+ * `form`'s expression: in Newton where it is used (once per iteration; the
+ * loads of A and D shared among the lanes), for the series once into
+ * scratch (used HPAR_NY times). GCC and Clang only. */
 #ifndef KIN_HOMOTOPY_PARAM_LANES_H
 #define KIN_HOMOTOPY_PARAM_LANES_H
 
@@ -29,6 +30,7 @@ typedef struct hpar_lscratch {
     lanes *yr[HPAR_NY], *yi[HPAR_NY]; /* M0 x_k */
     lanes *zr[HPAR_NZ], *zi[HPAR_NZ]; /* D x_k */
     lanes *pyr, *pyi;                 /* M(t) x in Newton */
+    lanes *mr, *mi;                   /* M(t0) of the series (s*m*m each) */
 } hpar_lscratch;
 
 /* Newton's correction d = J^-1 H at x for M(t) (each lane its t, *t) in the
