@@ -8,7 +8,10 @@
  * Systems: "rand<s>" (s random quadrics in s + 1 unknowns, as
  * bench_homotopy), "hexflat" (the hexagonal sail's flat state, s = 15),
  * "hexrb" (its R^B, s = 3).
- * usage: bench_hom_kernel system first n [write|compare file] */
+ * "onepath" instead of write/compare tracks the same paths with the one-path
+ * reference tracker (kin__hom_track) instead of the solver's lockstep
+ * tracker: the ratio of the two times is what the lockstep tracking gains.
+ * usage: bench_hom_kernel system first n [write|compare file | onepath] */
 #define _POSIX_C_SOURCE 199309L
 #include <math.h>
 #include <stdio.h>
@@ -16,6 +19,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "homotopy_track.h"
 #include "internal.h"
 #include "libkin.h"
 #include "bench_common.h"
@@ -67,7 +71,23 @@ int main(int argc, char **argv)
     if (!e || !z) return 1;
     e[0].size = sizeof *e;
     double t0 = now();
-    int rc = kin_quadrics_homotopy_range(m, s, Q, &o, first, n, e, z);
+    int rc = KIN_OK;
+    if (argc >= 5 && !strcmp(argv[4], "onepath")) {
+        /* the one-path reference tracker on the same paths (the solver runs
+         * the lockstep tracker, which must give the same records) */
+        hom_solver H;
+        rc = kin__hom_solver_init(&H, m, s, Q, &o, n);
+        for (long i = 0; rc == KIN_OK && i < n; ++i) {
+            hom_end he;
+            double *zr = z + 2 * (size_t)m * i, *zi = zr + m;
+            kin__hom_track(&H.P, &kin__hom_base_settings, kin__hom_pool_ws(&H, 0), (int)(first + i), zr, zi, &he);
+            e[i].steps = he.steps, e[i].rejected = he.rejected, e[i].kind = he.kind;
+        }
+        kin__hom_solver_free(&H);
+        argc = 4; /* no write / compare: the records are only partly filled */
+    } else {
+        rc = kin_quadrics_homotopy_range(m, s, Q, &o, first, n, e, z);
+    }
     double sec = now() - t0;
     if (rc) {
         printf("%s\n", kin_strerror(rc));
