@@ -9,16 +9,17 @@
  * batch (tests/test_homotopy_batch.c).
  *
  * Rounds: almost every step is the same sequence (Taylor series at the base
- * point, predictor, two Newton iterations, accept; on the hexagonal sail's
- * flat state 2 % of the steps are rejected and 0.01 % need a third Newton
- * iteration), so all lanes go through one round per step: the series for
- * every lane, then the Newton iterations while any lane still iterates. A
- * lane whose step is rejected repeats the round with half the step (its
- * series is recomputed from the same base point, bit for bit the same); a
- * third Newton iteration runs for all lanes, the others' results discarded.
- * A lane whose path ends is certified (one path, kin__hom_certify) and takes
- * the next path from the sink; its start point (and a lane's change of
- * chart) gets the base-point evaluation before the round's series.
+ * point, predictor (Taylor or rational, homotopy_pade.c, per lane), two
+ * Newton iterations, accept; on the hexagonal sail's flat state 1 % of the
+ * steps are rejected and 0.01 % need a third Newton iteration), so all lanes
+ * go through one round per step: the series for every lane, then the Newton
+ * iterations while any lane still iterates. A lane whose step is rejected
+ * repeats the round with half the step (its series is recomputed from the
+ * same base point, bit for bit the same); a third Newton iteration runs for
+ * all lanes, the others' results discarded. A lane whose path ends is
+ * certified (one path, kin__hom_certify) and takes the next path from the
+ * sink; its start point (and a lane's change of chart) gets the base-point
+ * evaluation before the round's series.
  *
  * Base and trial points: the round's Newton iterations write the trial
  * slot; when some lanes accept, the others' base points are copied into the
@@ -40,6 +41,9 @@ typedef struct blane {
     int state, path;
     hom_end e;
     double t, rsep, hcap, calib, na, h, t1, rho, tail, prevd;
+    double hser, target, calibp, pest; /* the rational predictor's step control, as in kin__hom_track */
+    hom_pade pd;
+    int first, pade;
     int it_ok; /* Newton: 0 iterating, 1 accepted, -1 rejected */
 } blane;
 
@@ -50,6 +54,7 @@ struct hom_bws {
     lanes dr[HOM_MAX_M], di[HOM_MAX_M];   /* Newton's corrections */
     lanes car[HOM_MAX_M], cai[HOM_MAX_M]; /* each lane's chart */
     hom_lseries T;                        /* the series at the base points */
+    double pcr[BL][HOM_ORDER + 1][HOM_MAX_M], pci[BL][HOM_ORDER + 1][HOM_MAX_M]; /* each lane's series */
     lanes tv;                             /* each lane's t for the kernels */
     blane L[BL];
 };
@@ -108,6 +113,7 @@ static void start_lane(const hom_problem *P, hom_bws *B, int l, int path)
     L->t = 0.0;
     L->hcap = INFINITY;
     L->calib = 1.0;
+    L->calibp = 1.0;
 }
 
 /* the end of lane l's path: certified from its current point (or returned
@@ -254,9 +260,24 @@ void kin__hom_track_batch(const hom_problem *P, const hom_settings *S, hom_bws *
                 double target = fmin(S->pred_rel * nx, S->pred_sep * L->rsep);
                 double hser = kin__hom_series_step(n, target / L->calib, &L->rho, &L->tail);
                 L->h = fmin(hser, L->hcap);
+                L->hser = hser, L->target = target;
+                L->first = 1;
                 L->state = LANE_RETRY;
             }
+            /* the lane's series (the same every round until accepted) */
+            for (int k = 0; k <= HOM_ORDER; ++k)
+                for (int c = 0; c < m; ++c) B->pcr[l][k][c] = B->T.cr[k][c][l], B->pci[l][k][c] = B->T.ci[k][c][l];
+            const double(*lcr)[HOM_MAX_M] = (const double(*)[HOM_MAX_M])B->pcr[l];
+            const double(*lci)[HOM_MAX_M] = (const double(*)[HOM_MAX_M])B->pci[l];
+            if (L->first) kin__hom_pade_setup(m, lcr, lci, &L->pd);
             if (L->h >= sigma) L->h = sigma;
+            /* the rational predictor, as in kin__hom_track */
+            L->pest = kin__hom_pade_error(&L->pd, L->h);
+            L->pade = L->pest <= L->target / L->calibp;
+            if (L->pade && L->first)
+                L->h = kin__hom_pade_extend(&L->pd, L->h, fmin(PADE_REACH * L->hser, L->hcap), sigma,
+                                            L->target / L->calibp, &L->pest);
+            L->first = 0;
             if (L->h < H_MIN) {
                 finish_lane(P, B, w, l, 1, 1, K);
                 B->tv[l] = 0.0;
@@ -266,6 +287,11 @@ void kin__hom_track_batch(const hom_problem *P, const hom_settings *S, hom_bws *
             L->t1 = L->h == sigma ? 1.0 : L->t + L->h;
             B->tv[l] = L->t1;
             double h = L->h;
+            if (L->pade) {
+                double xr[HOM_MAX_M], xi[HOM_MAX_M];
+                kin__hom_pade_predict(m, lcr, lci, &L->pd, h, xr, xi);
+                for (int c = 0; c < m; ++c) p->xr[c][l] = xr[c], p->xi[c][l] = xi[c];
+            } else
             for (int c = 0; c < m; ++c) { /* the predictor, as predict */
                 double vr = B->T.cr[HOM_ORDER][c][l], vi = B->T.ci[HOM_ORDER][c][l];
                 for (int k = HOM_ORDER - 1; k >= 0; --k) {
@@ -310,9 +336,11 @@ void kin__hom_track_batch(const hom_problem *P, const hom_settings *S, hom_bws *
                 }
                 double tol = fmax(NEWTON_TOL, NOISE_FACTOR * DBL_EPSILON * np[l] / L->rsep) * np[l];
                 if (it == 0) {
-                    double est = kin__hom_series_error(L->rho, L->tail, L->h);
-                    if (est > 0.0 && nd[l] > 0.0)
-                        L->calib = fmin(CALIB_MAX, fmax(CALIB_MIN, sqrt(L->calib * nd[l] / est)));
+                    double est = L->pade ? L->pest : kin__hom_series_error(L->rho, L->tail, L->h);
+                    if (est > 0.0 && nd[l] > 0.0) {
+                        double *cal = L->pade ? &L->calibp : &L->calib;
+                        *cal = fmin(CALIB_MAX, fmax(CALIB_MIN, sqrt(*cal * nd[l] / est)));
+                    }
                     double rs = 1.0 / (inv[l] * ((1.0 - L->t1) * P->normG + L->t1 * P->normF));
                     if (!(nd[l] <= S->corr_sep * rs) || !(nd[l] <= CORR_REL_MAX * np[l])) {
                         L->it_ok = -1;

@@ -17,6 +17,15 @@
  * the separation radius r = 1 / (|J^-1| |A(t)|) (for a quadratic map,
  * H(x + d) = H(x) + J d + A[d, d], so no other solution of H(., t) = 0 lies
  * within r of a solution x).
+ * Where the series' radius is set by a nearby complex singularity (the
+ * clustered paths of the sails' flat states), the rational approximant
+ * [K-1/1] built from the same coefficients (homotopy_pade.c) is usually
+ * far more accurate: it replaces the Taylor polynomial whenever its own
+ * error estimate (calibrated along the path like the Taylor model) meets
+ * the target at the Taylor step, and the step then grows while it still
+ * does (on the hexagonal sail's flat state 20 % fewer steps). The Taylor
+ * model, calibrated by the steps it predicted, gives the first trial step
+ * and the fallback.
  * Corrector: Newton with a fresh Jacobian per iteration; a step is accepted
  * only if the first correction is a small fraction of the separation radius
  * at the new t (then, by the Kantorovich theorem, Newton converges to the
@@ -326,7 +335,8 @@ void kin__hom_track(const hom_problem *P, const hom_settings *S, hom_ws *w, int 
     if (!kin__hom_newton_step(P, car, cai, t, base, dr, di)) return;
     memcpy(xr, base->xr, sizeof xr);
     memcpy(xi, base->xi, sizeof xi);
-    double rsep = 1.0 / (kin__hom_inv_norm1(m, &base->lu) * kin__hom_norm_A(P, t)), hcap = INFINITY, calib = 1.0;
+    double rsep = 1.0 / (kin__hom_inv_norm1(m, &base->lu) * kin__hom_norm_A(P, t)), hcap = INFINITY;
+    double calib = 1.0, calibp = 1.0; /* the Taylor and the rational error models' calibrations */
     int lost = 0;
     while (t < 1.0) {
         double sigma = 1.0 - t;
@@ -356,16 +366,29 @@ void kin__hom_track(const hom_problem *P, const hom_settings *S, hom_ws *w, int 
         taylor(P, w, base, t);
         double target = fmin(S->pred_rel * nx, S->pred_sep * rsep);
         double hser = series_step(w, m, target / calib), h = fmin(hser, hcap);
-        int accepted = 0;
+        hom_pade pd;
+        kin__hom_pade_setup(m, (const double(*)[HOM_MAX_M])w->cr, (const double(*)[HOM_MAX_M])w->ci, &pd);
+        int accepted = 0, first = 1;
         while (!accepted) {
             if (h >= sigma) h = sigma;
+            /* the rational predictor where its estimate meets the target,
+             * then as far as it does (first attempt only) */
+            double pest = kin__hom_pade_error(&pd, h);
+            int pade = pest <= target / calibp;
+            if (pade && first)
+                h = kin__hom_pade_extend(&pd, h, fmin(PADE_REACH * hser, hcap), sigma, target / calibp, &pest);
+            first = 0;
             if (h < H_MIN) {
                 lost = 1;
                 break;
             }
             double t1 = h == sigma ? 1.0 : t + h;
             hom_point *p = tr[0];
-            predict(w, m, h, p->xr, p->xi);
+            if (pade)
+                kin__hom_pade_predict(m, (const double(*)[HOM_MAX_M])w->cr, (const double(*)[HOM_MAX_M])w->ci, &pd, h,
+                                      p->xr, p->xi);
+            else
+                predict(w, m, h, p->xr, p->xi);
             double prevd = INFINITY;
             int ok = 0;
             for (int it = 0; it < NEWTON_MAX; ++it) {
@@ -378,9 +401,12 @@ void kin__hom_track(const hom_problem *P, const hom_settings *S, hom_ws *w, int 
                 double nd = kin__hom_vnorm(m, dr, di), np = kin__hom_vnorm(m, p->xr, p->xi);
                 double tol = fmax(NEWTON_TOL, NOISE_FACTOR * DBL_EPSILON * np / rsep) * np;
                 if (it == 0) {
-                    double est = series_error(w, h);
-                    if (est > 0.0 && nd > 0.0) /* calibrate the error model by the actual error */
-                        calib = fmin(CALIB_MAX, fmax(CALIB_MIN, sqrt(calib * nd / est)));
+                    /* calibrate the predictor's error model by the actual error */
+                    double est = pade ? pest : series_error(w, h);
+                    if (est > 0.0 && nd > 0.0) {
+                        double *cal = pade ? &calibp : &calib;
+                        *cal = fmin(CALIB_MAX, fmax(CALIB_MIN, sqrt(*cal * nd / est)));
+                    }
                     double rs = 1.0 / (kin__hom_inv_norm1(m, &p->lu) * kin__hom_norm_A(P, t1));
                     if (!(nd <= S->corr_sep * rs) || !(nd <= CORR_REL_MAX * np)) break;
                     rsep = rs;
