@@ -23,9 +23,11 @@
  * endpoints (failed, duplicate, unpaired) are tracked again with tighter
  * settings.
  *
- * The batches of paths are tracked by threads; results are stored by index
- * and processed in order, so the result does not depend on the thread
- * count. */
+ * The batches of paths are tracked by threads, each four paths at a time in
+ * lockstep (homotopy_param_batch.c: every path bit for bit as the one-path
+ * tracker follows it); results are stored by index and processed in order,
+ * so the result does not depend on the thread count or on which paths
+ * share a batch. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <pthread.h>
