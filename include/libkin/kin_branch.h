@@ -297,10 +297,11 @@ typedef struct kin_homotopy_sym_info {
  * paths tracked, total = done + paths queued; cancel: KIN_ECANCELLED).
  * sinfo (optional, NULL: none) receives the counts above. Memory: about
  * (100 m + 160) bytes per root (2^s; 56 MB at s = 15), allocated per call.
- * Time: on the hexagonal sail's flat state (C3) ~4x the plain solver's
+ * Time: on the hexagonal sail's flat state (C3) ~5x the plain solver's
  * (about 4 monodromy paths per orbit besides the one to Q, and a step with
- * complex A + t D costs ~2.5x the plain tracker's): it pays off for groups
- * of projective order well above 10 only.
+ * complex A + t D costs ~2.5x the plain tracker's; both follow four paths
+ * in lockstep): it pays off for groups of projective order well above 10
+ * only.
  * err (optional, errlen bytes) receives a message on failure.
  * If the monodromy does not reach 2^s roots within 40 * 2^s / |G| + 1000
  * paths, or the start system's roots cannot be placed (e.g. a family whose
