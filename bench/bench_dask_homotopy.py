@@ -8,7 +8,10 @@ kin_quadrics_homotopy_range per shard, one kin_quadrics_homotopy_merge).
       tracks the first N paths (default 16384) in 8*workers shards on a
       LocalCluster of each size and prints the time and the speed-up;
   python bench/bench_dask_homotopy.py full [--workers 2]
-      the complete solve, merged: time and the accounting of every path.
+      the complete solve, merged: time and the accounting of every path;
+  python bench/bench_dask_homotopy.py inprocess [--workers 2]
+      the same without Dask: kin_quadrics_homotopy_ex on that many threads in
+      this process (no endpoint records to move between processes).
 
 Run it on an idle machine (uptime is printed); one worker process per core,
 one thread each.
@@ -87,9 +90,19 @@ def full(Q: np.ndarray, workers: int) -> dict:
     return out
 
 
+def inprocess(Q: np.ndarray, threads: int) -> dict:
+    t0 = time.perf_counter()
+    betas, acc = libkin.solve_quadrics(Q, threads=threads)
+    dt = time.perf_counter() - t0
+    out = {"threads": threads, "seconds": dt, "accounting": acc, "real_solutions_returned": int(betas.shape[0]),
+           "load_after": load()}
+    print(json.dumps(out, indent=1), flush=True)
+    return out
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("mode", choices=["scaling", "full"])
+    p.add_argument("mode", choices=["scaling", "full", "inprocess"])
     p.add_argument("--hub", type=int, default=8)
     p.add_argument("--loops", type=int, default=2)
     p.add_argument("--paths", type=int, default=16384)
@@ -100,7 +113,12 @@ def main() -> None:
     print(f"sail:{args.hub}:{args.loops} flat state: s = {Q.shape[0]}, m = {Q.shape[1]}, "
           f"{1 << Q.shape[0]} paths; load {load()}", flush=True)
     workers = [int(w) for w in args.workers.split(",")]
-    res = scaling(Q, args.paths, workers) if args.mode == "scaling" else full(Q, workers[-1])
+    if args.mode == "scaling":
+        res = scaling(Q, args.paths, workers)
+    elif args.mode == "full":
+        res = full(Q, workers[-1])
+    else:
+        res = inprocess(Q, workers[-1])
     if args.json:
         with open(args.json, "w") as f:
             json.dump(res, f, indent=1)

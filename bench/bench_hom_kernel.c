@@ -7,7 +7,8 @@
  * change of the kernels leaves the results unchanged.
  * Systems: "rand<s>" (s random quadrics in s + 1 unknowns, as
  * bench_homotopy), "hexflat" (the hexagonal sail's flat state, s = 15),
- * "hexrb" (its R^B, s = 3).
+ * "hexrb" (its R^B, s = 3), "oct" (the octagonal 2-loop sail's flat state,
+ * s = 20).
  * "onepath" instead of write/compare tracks the same paths with the one-path
  * reference tracker (kin__hom_track) instead of the solver's lockstep
  * tracker: the ratio of the two times is what the lockstep tracking gains.
@@ -25,9 +26,9 @@
 #include "bench_common.h"
 #include "sail_states.h"
 
-static double *sail_system(int hexrb, int *m, int *s)
+static double *sail_system(int hexrb, int sides, int *m, int *s)
 {
-    kin_assembly *a = test_sail(6, 2);
+    kin_assembly *a = test_sail(sides, 2);
     kin_analysis an = {.size = sizeof an};
     double *Q = NULL;
     if (a && (!hexrb || test_hex_to_RB(a) == KIN_OK) && kin_analyse(a, &an) == KIN_OK) {
@@ -45,7 +46,7 @@ static double *sail_system(int hexrb, int *m, int *s)
 int main(int argc, char **argv)
 {
     if (argc < 4) {
-        fprintf(stderr, "usage: bench_hom_kernel rand<s>|hexflat|hexrb first n [write|compare file]\n");
+        fprintf(stderr, "usage: bench_hom_kernel rand<s>|hexflat|hexrb|oct first n [write|compare file]\n");
         return 2;
     }
     int m = 0, s = 0;
@@ -56,7 +57,9 @@ int main(int argc, char **argv)
         Q = s >= 1 && s <= 23 ? malloc(sizeof(double) * (size_t)m * m * s) : NULL;
         if (Q) random_system(m, s, 1000 + (unsigned long long)s, Q);
     } else if (!strcmp(argv[1], "hexflat") || !strcmp(argv[1], "hexrb")) {
-        Q = sail_system(!strcmp(argv[1], "hexrb"), &m, &s);
+        Q = sail_system(!strcmp(argv[1], "hexrb"), 6, &m, &s);
+    } else if (!strcmp(argv[1], "oct")) {
+        Q = sail_system(0, 8, &m, &s);
     }
     long first = atol(argv[2]), n = atol(argv[3]);
     if (!Q || n < 1) {
