@@ -428,17 +428,12 @@ static void mechanism_action(const kin_assembly *a, const double *U, int m, cons
     dgemm_("T", "N", &m, &m, &nf, &one, U, &nf, PU, &nf, &zero, Rg, &m, 1, 1);
 }
 
-typedef struct trace_ref {
-    double trace;
-    int index;
-} trace_ref;
-
 static int cmp_trace_desc(const void *pa, const void *pb)
 {
-    const trace_ref *a = pa, *b = pb;
+    const ranked *a = pa, *b = pb; /* v: the trace, i: the symmetry */
     /* equal up to rounding: keep the symmetries' order (identity first) */
-    if (fabs(a->trace - b->trace) > 1e-9) return a->trace > b->trace ? -1 : 1;
-    return (a->index > b->index) - (a->index < b->index);
+    if (fabs(a->v - b->v) > 1e-9) return a->v > b->v ? -1 : 1;
+    return (a->i > b->i) - (a->i < b->i);
 }
 
 int kin_mechanism_group(kin_assembly *a, int max_group, double *R, int *ngroup)
@@ -464,7 +459,7 @@ int kin_mechanism_group(kin_assembly *a, int max_group, double *R, int *ngroup)
     }
     size_t mm = (size_t)m * m;
     double *PU = malloc(sizeof(double) * (size_t)nf * m), *G = malloc(sizeof(double) * mm * (size_t)L.n);
-    trace_ref *tr = malloc(sizeof(trace_ref) * (size_t)L.n);
+    ranked *tr = malloc(sizeof(ranked) * (size_t)L.n);
     if (!PU || !G || !tr) rc = kin__fail(a, KIN_ENOMEM, "kin_mechanism_group: out of memory");
     for (int g = 0; !rc && g < L.n; ++g) {
         double *Rg = G + (size_t)g * mm, worst = 0.0;
@@ -483,13 +478,13 @@ int kin_mechanism_group(kin_assembly *a, int max_group, double *R, int *ngroup)
                            "(|R^T R - I| = %.3g > %.0e): near-zero singular values straddle rank_tol, or the "
                            "configuration is strained",
                            g, worst, ORTH_TOL);
-        tr[g].index = g;
-        tr[g].trace = 0.0;
-        for (int r = 0; r < m; ++r) tr[g].trace += Rg[r + (size_t)r * m];
+        tr[g].i = g;
+        tr[g].v = 0.0;
+        for (int r = 0; r < m; ++r) tr[g].v += Rg[r + (size_t)r * m];
     }
     if (!rc) {
-        qsort(tr, (size_t)L.n, sizeof(trace_ref), cmp_trace_desc);
-        for (int g = 0; g < L.n; ++g) memcpy(R + (size_t)g * mm, G + (size_t)tr[g].index * mm, sizeof(double) * mm);
+        qsort(tr, (size_t)L.n, sizeof(ranked), cmp_trace_desc);
+        for (int g = 0; g < L.n; ++g) memcpy(R + (size_t)g * mm, G + (size_t)tr[g].i * mm, sizeof(double) * mm);
         *ngroup = L.n;
     }
     free(PU), free(G), free(tr);
