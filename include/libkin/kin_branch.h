@@ -294,6 +294,9 @@ typedef struct kin_homotopy_sym_info {
  *    tracked and its endpoint permuted gives the others' (each refined and
  *    certified on its own). The sails' flat states qualify (C3 or C4 permuting
  *    cycles of mechanisms and of self-stresses alike);
+ *  - otherwise, for a group of fewer than 12 projectively distinct
+ *    elements, every one of the 2^s paths as kin_quadrics_homotopy_ex (the
+ *    monodromy below costs about 12 plain paths per orbit);
  *  - otherwise monodromy: a random complex start system P0 in the
  *    family E of equivariant systems (the Reynolds projection of a random
  *    system) with one root forced; monodromy through two more random members
@@ -313,8 +316,8 @@ typedef struct kin_homotopy_sym_info {
  * the subgroup's order; 2.6x faster on the hexagonal sail's flat state,
  * C3). The monodromy route costs ~5x the plain solver's on that state
  * (about 4 monodromy paths per orbit besides the one to Q, and a step with
- * complex A + t D costs ~2.5x the plain tracker's): it pays off for groups
- * of projective order well above 10 only.
+ * complex A + t D costs ~2.5x the plain tracker's): hence it is used for
+ * groups of 12 or more projectively distinct elements only.
  * err (optional, errlen bytes) receives a message on failure.
  * If the monodromy does not reach 2^s roots within 40 * 2^s / |G| + 1000
  * paths, or the start system's roots cannot be placed (e.g. a family whose

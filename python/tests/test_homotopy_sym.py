@@ -39,6 +39,9 @@ def test_sail_flat_state_same_roots(sides, loops):
     assert len(b1) == len(b0) and same_roots(b1, b0) and same_roots(b0, b1)
     if sides == 6:  # C3 (the mirror z -> -z acts as -I): orbits of 3 or 1
         assert acc1["group"] == 3 and acc1["orbits"] < 2 ** s
+        # it permutes 3 triples of mechanisms and of self-stresses alike: the
+        # equivariant start system, one path per orbit of start roots
+        assert acc1["monodromy_paths"] == 0 and acc1["orbits"] == (2 ** 9 - 8) // 3 + 8
 
 
 def test_group_errors():
