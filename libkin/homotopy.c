@@ -227,6 +227,7 @@ int kin__hom_run(hom_solver *H, const hom_settings *S, const int *list, int firs
             if (!O->mark[r]) O->mark[r] = 1, O->list[nr++] = r;
         }
         for (int i = 0; i < nr; ++i) O->mark[O->list[i]] = 0;
+        R->total -= (double)(n - nr); /* the caller scheduled n paths; nr are tracked */
         list = O->list, n = nr, offset = 0;
     }
     hom_queue q;
