@@ -1,4 +1,5 @@
-/* kin_quadrics_homotopy_sym: the complete solver for a system with a
+/* kin_quadrics_homotopy_sym's monodromy route (homotopy_sym_route.c picks the
+ * route): the complete solver for a system with a
  * symmetry group G acting on beta by orthogonal R_g, q(R_g b) = S_g q(b).
  *
  * Every member P of the linear family E = {P : q_P(R_g b) = S_g q_P(b)} is
@@ -381,7 +382,7 @@ done:
 
 /* ---- the entry point ---- */
 
-static void ctx_free(sym_ctx *C)
+void kin__sym_ctx_free(sym_ctx *C)
 {
     for (int a = 0; a < NODES; ++a) {
         free(C->sys[a][0]);
@@ -467,60 +468,31 @@ static int monodromy_init(sym_ctx *C, int m, int s, const kin_homotopy_options *
     return KIN_OK;
 }
 
-static int sym_impl(int route, int m, int s, const double *Q, int ngroup, const double *R,
-                    const kin_homotopy_options *o, double *betas, int maxsol, int *nsol, int *multiplicity,
-                    kin_homotopy_info *info, kin_homotopy_sym_info *si, char *err, size_t errlen)
+int kin__sym_monodromy_solve(sym_ctx *C, const kin_homotopy_options *o, double *betas, int maxsol, int *nsol,
+                             int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *si, char *err,
+                             size_t errlen)
 {
-    if (!Q || !betas || !nsol || (ngroup > 0 && !R)) return KIN_ENULL;
-    if (maxsol < 1 || ngroup < 0 || m < 2 || s != m - 1 || o->nthreads < 0 || o->max_paths < 1)
-        return kin__failbuf(err, errlen, KIN_EINVAL, "bad size or option (m = %d, s = %d, ngroup = %d, maxsol = %d)",
-                          m, s, ngroup, maxsol);
-    if (m > HOM_MAX_M) return kin__failbuf(err, errlen, KIN_ERANGE, "m = %d > %d", m, HOM_MAX_M);
-    for (size_t i = 0; i < (size_t)m * m * s; ++i)
-        if (!isfinite(Q[i])) return kin__failbuf(err, errlen, KIN_EINVAL, "Q has a NaN or infinite entry");
-    if ((1L << s) > o->max_paths) return kin__failbuf(err, errlen, KIN_ELIMIT, "2^%d paths > max_paths", s);
-    sym_ctx C;
-    memset(&C, 0, sizeof C);
-    C.fn = o->progress, C.user = o->user;
+    int m = C->H.P.m, s = C->H.P.s;
     hom_endset E = {NULL, NULL, NULL};
-    int rc = kin__hom_solver_init(&C.H, m, s, Q, o, 1L << (m - 1));
-    if (!rc) rc = kin__sym_group_init(&C.G, m, s, C.H.Qr, ngroup, R, err, errlen);
-    if (!rc && route == KIN__SYM_AUTO) {
-        /* the equivariant start system where a subgroup allows it; else,
-         * for a small group, every path (the monodromy would cost more) */
-        int used = 0;
-        rc = kin__sym_equi_solve(&C.H, &C.G, o, betas, maxsol, nsol, multiplicity, info, si, &used);
-        if (!rc && !used && C.G.n < SYM_MONODROMY_MIN_GROUP) {
-            used = 1;
-            rc = kin__sym_plain_solve(&C.H, &C.G, o, betas, maxsol, nsol, multiplicity, info, si);
-        }
-        if (rc == KIN_ECANCELLED) kin__failbuf(err, errlen, rc, "cancelled");
-        else if (rc) kin__failbuf(err, errlen, rc, "%s", kin_strerror(rc));
-        if (rc || used) {
-            if (rc) memset(info, 0, sizeof *info), *nsol = 0;
-            ctx_free(&C);
-            return rc;
-        }
-    }
-    if (!rc) rc = monodromy_init(&C, m, s, o);
+    int rc = monodromy_init(C, m, s, o);
     long loops = 0, finals = 0;
     int *reps = NULL, *list = NULL, *parent = NULL;
     hom_key *keys = NULL;
     unsigned char *paired = NULL;
-    report(&C, 0, 1);
-    if (!rc && C.cancelled) rc = KIN_ECANCELLED;
-    if (!rc) rc = monodromy(&C, &loops);
+    report(C, 0, 1);
+    if (!rc && C->cancelled) rc = KIN_ECANCELLED;
+    if (!rc) rc = monodromy(C, &loops);
     if (si) {
-        si->group = C.G.n, si->found = C.set[0].n;
+        si->group = C->G.n, si->found = C->set[0].n;
         si->monodromy_paths = (int)loops;
-        si->monodromy_steps = C.lsteps, si->monodromy_rejected = C.lrej;
+        si->monodromy_steps = C->lsteps, si->monodromy_rejected = C->lrej;
     }
     if (rc == KIN_ENOTCONVERGED) {
         info->paths = 1 << s;
-        kin__failbuf(err, errlen, rc, "monodromy found %d of %d roots in %ld paths", C.set[0].n, 1 << s, loops);
+        kin__failbuf(err, errlen, rc, "monodromy found %d of %d roots in %ld paths", C->set[0].n, 1 << s, loops);
         goto done;
     }
-    int N = C.N, norb = 0;
+    int N = C->N, norb = 0;
     if (!rc) rc = kin__hom_endset_alloc(&E, N, m);
     if (!rc) {
         reps = malloc(sizeof(int) * (size_t)N), list = malloc(sizeof(int) * (size_t)N);
@@ -530,10 +502,10 @@ static int sym_impl(int route, int m, int s, const double *Q, int ngroup, const 
     }
     if (rc) goto done;
     for (int p = 0; p < N; ++p)
-        if (C.set[0].rep[p] == p) reps[norb++] = p;
-    C.queued = norb;
-    if ((rc = final_leg(&C, reps, norb, &FINAL_SETTINGS, &E, &finals))) goto done;
-    hom_checks ck = kin__hom_check(m, N, E.ends, E.zr, E.zi, C.H.w, keys, parent, paired);
+        if (C->set[0].rep[p] == p) reps[norb++] = p;
+    C->queued = norb;
+    if ((rc = final_leg(C, reps, norb, &FINAL_SETTINGS, &E, &finals))) goto done;
+    hom_checks ck = kin__hom_check(m, N, E.ends, E.zr, E.zi, C->H.w, keys, parent, paired);
     hpar_settings S = FINAL_SETTINGS;
     int retracked = 0, *size = list; /* size: root multiplicities, then the suspects' representatives */
     for (int round = 1; round <= RETRACK_ROUNDS; ++round) {
@@ -545,7 +517,7 @@ static int sym_impl(int route, int m, int s, const double *Q, int ngroup, const 
             int k = E.ends[p].kind;
             int sus = k == HOM_FAILED || ((k == HOM_REAL || k == HOM_NONREAL) && size[kin__hom_find(parent, p)] > 1) ||
                       (k == HOM_NONREAL && !paired[p]) || (k == HOM_SINGULAR && round >= 2 && ck.unpaired > 0);
-            if (sus) reps[n++] = C.set[0].rep[p];
+            if (sus) reps[n++] = C->set[0].rep[p];
         }
         if (!n) break;
         /* distinct representatives, in order */
@@ -554,61 +526,19 @@ static int sym_impl(int route, int m, int s, const double *Q, int ngroup, const 
         for (int i = 0; i < n; ++i)
             if (!size[reps[i]]) size[reps[i]] = 1, reps[nr++] = reps[i];
         S.pred_rel *= TIGHTEN, S.corr_rel *= TIGHTEN, S.sigma_end *= SIGMA_TIGHTEN;
-        C.queued = nr;
-        if ((rc = final_leg(&C, reps, nr, &S, &E, &finals))) goto done;
+        C->queued = nr;
+        if ((rc = final_leg(C, reps, nr, &S, &E, &finals))) goto done;
         retracked += nr;
-        ck = kin__hom_check(m, N, E.ends, E.zr, E.zi, C.H.w, keys, parent, paired);
+        ck = kin__hom_check(m, N, E.ends, E.zr, E.zi, C->H.w, keys, parent, paired);
     }
-    rc = kin__hom_tally(&C.H, E.ends, E.zr, E.zi, parent, ck, retracked, betas, maxsol, nsol, multiplicity, info);
-    if (!rc && C.fn) C.fn(C.user, (double)C.done, (double)C.done);
+    rc = kin__hom_tally(&C->H, E.ends, E.zr, E.zi, parent, ck, retracked, betas, maxsol, nsol, multiplicity, info);
+    if (!rc && C->fn) C->fn(C->user, (double)C->done, (double)C->done);
     if (si) si->orbits = norb, si->final_paths = (int)finals;
 done:
     if (rc && rc != KIN_ENOTCONVERGED) memset(info, 0, sizeof *info);
     if (rc) *nsol = 0;
     free(reps), free(list), free(parent), free(keys), free(paired);
     kin__hom_endset_free(&E);
-    ctx_free(&C);
     return rc;
 }
 
-int kin__quadrics_homotopy_sym_route(int route, int m, int s, const double *Q, int ngroup, const double *R,
-                                     const kin_homotopy_options *opt, double *betas, int maxsol, int *nsol,
-                                     int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *sinfo,
-                                     char *err, size_t errlen)
-{
-    if (err && errlen > 0) err[0] = '\0';
-    if (nsol) *nsol = 0;
-    if (!info) return kin__failbuf(err, errlen, KIN_ENULL, "info is NULL");
-    if (kin__abi_check(info, KIN__V1_SIZE(kin_homotopy_info, max_cond), sizeof *info))
-        return kin__failbuf(err, errlen, KIN_EINVAL, "info->size");
-    kin__abi_zero(info);
-    if (sinfo) {
-        if (kin__abi_check(sinfo, KIN__V1_SIZE(kin_homotopy_sym_info, monodromy_rejected), sizeof *sinfo))
-            return kin__failbuf(err, errlen, KIN_EINVAL, "sinfo->size");
-        kin__abi_zero(sinfo);
-    }
-    kin_homotopy_options o;
-    kin_homotopy_options_default(&o);
-    if (opt) {
-        if (kin__abi_check(opt, KIN__V1_SIZE(kin_homotopy_options, user), sizeof *opt))
-            return kin__failbuf(err, errlen, KIN_EINVAL, "opt->size");
-        kin__abi_read(&o, opt, sizeof o);
-    }
-    kin_homotopy_info local = {.size = sizeof local};
-    kin_homotopy_sym_info slocal = {.size = sizeof slocal};
-    int rc = sym_impl(route, m, s, Q, ngroup, R, &o, betas, maxsol, nsol, multiplicity, &local, &slocal, err, errlen);
-    if (rc && rc != KIN_ENOTCONVERGED) memset(&slocal, 0, sizeof slocal), slocal.size = sizeof slocal;
-    local.size = sizeof local;
-    kin__abi_write(info, &local, sizeof local);
-    if (sinfo) kin__abi_write(sinfo, &slocal, sizeof slocal);
-    return rc;
-}
-
-int kin_quadrics_homotopy_sym(int m, int s, const double *Q, int ngroup, const double *R,
-                              const kin_homotopy_options *opt, double *betas, int maxsol, int *nsol,
-                              int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *sinfo, char *err,
-                              size_t errlen)
-{
-    return kin__quadrics_homotopy_sym_route(KIN__SYM_AUTO, m, s, Q, ngroup, R, opt, betas, maxsol, nsol,
-                                            multiplicity, info, sinfo, err, errlen);
-}

@@ -99,6 +99,15 @@ int kin__sym_seeds(sym_ctx *C, unsigned long long *st, double *br, double *bi, i
 int kin__sym_force_roots(sym_ctx *C, unsigned long long *st, int K, const double *br, const double *bi, double *zr,
                          double *zi);
 
+/* release what C holds (a zeroed or partly set up C too) */
+void kin__sym_ctx_free(sym_ctx *C);
+/* The monodromy route (homotopy_sym.c), C->H and C->G set up: results as
+ * kin_quadrics_homotopy_sym's. KIN_OK, KIN_ENOTCONVERGED (info->paths set,
+ * si filled, *nsol = 0), KIN_ECANCELLED, KIN_ENOMEM. */
+int kin__sym_monodromy_solve(sym_ctx *C, const kin_homotopy_options *o, double *betas, int maxsol, int *nsol,
+                             int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *si, char *err,
+                             size_t errlen);
+
 /* ---- the routes of kin_quadrics_homotopy_sym ---- */
 enum {
     KIN__SYM_AUTO = 0,     /* the equivariant start system where a cyclic subgroup allows it, else
