@@ -25,8 +25,11 @@
  *            internal mechanism), followed in sparse mode from a fresh
  *            handle, 10 automatic steps, with the kept order and with
  *            COLAMD only; the SVD's verdict (m_internal, s, v_r / v_max)
- *            where affordable, factor entries of both orders and of COLAMD
- *            with a sparse border row, strain after the steps, the dense LU
+ *            where affordable, factor entries of both orders (of J0, the
+ *            matrix sparse.c factorizes: C with a unit stand-in row), of
+ *            COLAMD with a three-entry border row, and of J with its dense
+ *            row (set-up, "L+U rows"), stand-in re-choices and points
+ *            factorized with the dense row (both runs), strain after the steps, the dense LU
  *            mode's step on the same path (<= 3000 free coordinates),
  *            memory; growth exponents.
  *  control   the LU mode's mean step on sail:24:12 and sail:24:14 with the
@@ -560,13 +563,13 @@ static double joint_distance(const kin_assembly *a, const int ends[2])
  * `dense` steps taken next on the same handle (0: none) */
 typedef struct mast_run {
     order_run o;
-    double strain, gap0, gap1, vr_est, rss, vsz, dense_step, entries_sb;
-    long dense_fact, dense_fallbacks;
+    double strain, gap0, gap1, vr_est, rss, vsz, dense_step, entries_sb, entries_rows;
+    long dense_fact, dense_fallbacks, rechoices, dense_points;
 } mast_run;
 
 static mast_run mast_follow(int sides, int nbays, int nd_allowed, int nsteps, int dense)
 {
-    mast_run m = {{0, NAN, NAN, NAN, NAN, {0.0, 0.0, 0, 0, 0, 0, 0}}, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, 0, 0};
+    mast_run m = {{0, NAN, NAN, NAN, NAN, {0.0, 0.0, 0, 0, 0, 0, 0}}, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, 0, 0, 0, 0};
     int ends[2];
     kin_assembly *a = mast(sides, nbays, ends);
     if (!a) return m;
@@ -582,6 +585,8 @@ static mast_run mast_follow(int sides, int nbays, int nd_allowed, int nsteps, in
     if (rc == KIN_OK) m.o.r = follow(a, nsteps, NULL);
     else printf("  (first step: %s)\n", kin_last_error(a));
     m.o.step = m.o.r.steps ? m.o.r.seconds / m.o.r.steps : NAN;
+    double entries_kept = NAN;
+    kin__sparse_stats(a, &entries_kept, &m.entries_rows, &m.rechoices, &m.dense_points);
     m.strain = kin_max_strain(a);
     m.gap1 = joint_distance(a, ends);
     const kin_lufactor *f = &a->lu[a->lu_cur];
@@ -609,9 +614,9 @@ static void masts(FILE *csv, int quick)
            "mechanism), rank_tol %.0e, sparse mode from a fresh handle, 10 automatic steps, measured once\n",
            MAST_RANK_TOL);
     printf("%-5s %5s %6s | %8s %3s %3s %8s | %9s %9s %4s %9s | %8s %9s %9s %5s %5s %3s | %7s %8s %8s | %9s %5s %6s | "
-           "%6s %6s\n",
+           "%6s %6s | %9s %4s %4s\n",
            "mast", "bays", "nfree", "svd vr", "mi", "s", "LU vr", "L+U col", "L+U nd", "kept", "L+U sb", "start[s]", "COL st[s]",
-           "kept st", "fact", "half", "fb", "strain", "gap0", "gap1", "LU st[s]", "fb", "LU/SP", "RSS", "VM[MB]");
+           "kept st", "fact", "half", "fb", "strain", "gap0", "gap1", "LU st[s]", "fb", "LU/SP", "RSS", "VM[MB]", "L+U rows", "rech", "dpts");
     for (int fam = 0; fam < 2; ++fam) {
         int sides = fam ? 4 : 3, np = 0, npd = 0;
         double xs[8], yk[8], yc[8], ye[8], ys[8], xd[8], yd[8];
@@ -632,12 +637,13 @@ static void masts(FILE *csv, int quick)
             mast_run c = mast_follow(sides, nb, 0, 10, 0);
             mast_run k = mast_follow(sides, nb, 1, 10, nf <= 3000 ? 2 : 0);
             printf("%-5s %5d %6d | %8.1e %3d %3d %8.1e | %9.3e %9.3e %4s %9.3e | %8.3f %9.3e %9.3e %5.2f %5.2f %3ld | %7.0e "
-                   "%8.5f %8.5f | %9.3e %5ld %6.1f | %6.0f %6.0f\n",
+                   "%8.5f %8.5f | %9.3e %5ld %6.1f | %6.0f %6.0f | %9.3e %4ld %4ld\n",
                    sides == 3 ? "tri" : "square", nb, nf, an.v_r / an.v_max, an.m_internal, an.s, k.vr_est,
                    k.o.entries_colamd, k.o.entries_nd, k.o.nested ? "ND" : "COL", k.entries_sb, k.o.start, c.o.step, k.o.step,
                    k.o.r.steps ? (double)k.o.r.fact / k.o.r.steps : NAN,
                    k.o.r.steps ? (double)k.o.r.halvings / k.o.r.steps : NAN, k.o.r.fallbacks + c.o.r.fallbacks,
-                   k.strain, k.gap0, k.gap1, k.dense_step, k.dense_fallbacks, k.dense_step / k.o.step, k.rss, k.vsz);
+                   k.strain, k.gap0, k.gap1, k.dense_step, k.dense_fallbacks, k.dense_step / k.o.step, k.rss, k.vsz,
+                   k.entries_rows, k.rechoices + c.rechoices, k.dense_points + c.dense_points);
             /* mast rows: max_dx is the COLAMD-only mean step, dgetrf_s the
              * kept order's factor entries */
             fprintf(csv, "mast_%s,%d,%d,%d,NAN,%.6e,%.3f,NAN,%ld,%.6e,%.3f,%.3f,%ld,%.6e,%.0f,%.0f,%.0f\n",
