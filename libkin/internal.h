@@ -181,8 +181,9 @@ static inline void kin__lu_invalidate(kin_assembly *a) { a->lu[0].valid = a->lu[
 
 /* ---- sparse bordered factorization (sparse.c, KIN_STEP_SPARSE) ----
  * J = [C; b^T; R^T] (nf x nf, nb bar rows then nf - nb dense border rows)
- * in compressed-column form, factorized by KLU into slot 0 or 1 (the slots
- * of a->lu[]). */
+ * in compressed-column form, solved through KLU's factors of J0 (the border
+ * rows replaced by unit stand-in rows) and a bordering correction, per slot
+ * 0 or 1 (the slots of a->lu[]); sparse.c's header has the details. */
 /* Build the pattern, the symbolic analysis and both slots' first numeric
  * factorization at the current configuration, once per handle (a no-op when
  * done, or when J can never be square: then a->sp stays NULL). KIN_OK or
