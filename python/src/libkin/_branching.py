@@ -81,6 +81,9 @@ class Branches:
     accounting: Dict[str, int]
 
 
+# KIN_HOMOTOPY_MAX_PATHS (kin_branch.h): the homotopy's default path limit
+_MAX_PATHS_DEFAULT = 1 << 20
+
 def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 1024, seed: int = 1,
                    threads: int = 2, progress: Progress = None,
                    max_paths: Optional[int] = None,
@@ -113,10 +116,14 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
         orthogonal matrices (``q(R b) = S q(b)``; closed under products up to
         sign; the identity may be left out), e.g. from
         `libkin.automorphisms.mechanism_group`. The solver then tracks one
-        path per orbit (kin_quadrics_homotopy_sym: monodromy in the
-        equivariant family, then one path per orbit to Q) with the same
-        certified accounting of all 2^s roots; the accounting gains
-        'group', 'orbits', 'found', 'monodromy_paths' and 'final_paths'.
+        path per orbit (kin_quadrics_homotopy_sym: the total-degree homotopy
+        in coordinates where a cyclic subgroup permutes the mechanisms and
+        the equations alike, one path per orbit of start roots, e.g. 10944
+        instead of 32768 on the hexagonal sail's flat state; for other
+        groups monodromy in the equivariant family, then one path per orbit
+        to Q) with the same certified accounting of all 2^s roots; the
+        accounting gains 'group', 'orbits', 'found', 'monodromy_paths' (0 on
+        the first route) and 'final_paths'.
 
     Returns
     -------
@@ -151,7 +158,12 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
     if m != s + 1:
         raise StateError(f"the solvers need m = s + 1; here m = {m}, s = {s}")
     Qc = np.ascontiguousarray(Qa)
-    maxsol = 1 << min(s, 16)
+    # room for every real solution the solver can return (2^s for the
+    # homotopy within its path limit, at most `starts` for the scan); the
+    # pages the solver does not write are never touched
+    limit = _MAX_PATHS_DEFAULT if max_paths is None else max(1, int(max_paths))
+    maxsol = max(1, min(int(starts), 1 << min(s, 30))) if solver == "scan" else \
+        (1 << s if s < 62 and (1 << s) <= limit else 1)
     betas = np.empty((maxsol, m))
     nsol = ffi.new("int *")
     accounting: Dict[str, int]
