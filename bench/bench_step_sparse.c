@@ -6,14 +6,17 @@
  *            bench_step.c: mean automatic step of the dense LU and sparse
  *            modes (seconds, factorizations, halvings), one dgesdd of the
  *            same H, the largest difference between the two modes' points;
- *            growth exponents of the step cost against nfree.
+ *            growth exponents of the step cost against nfree; the sparse
+ *            handle's factor entries (J0 and J with its dense rows, at
+ *            set-up), stand-in re-choices and dense-row points.
  *  lattice   generated 3D truss mechanisms (blocks of the face-centred cubic
  *            lattice, every joint braced to three earlier neighbours: rigid
  *            and isostatic; one bar taken out: one internal mechanism; no
  *            supports: six rigid mechanisms, seven dense border rows) of
  *            1095 to 10290 free coordinates, followed in sparse mode from a fresh handle (no
  *            SVD anywhere); one dense dgetrf of the same size where it is
- *            affordable; resident and virtual memory of the process.
+ *            affordable; resident and virtual memory of the process;
+ *            factor entries, re-choices and dense-row points as for sails.
  *  order     the sparse mode's column order: COLAMD alone against the
  *            order kept at set-up (COLAMD or METIS nested dissection,
  *            whichever factors with fewer entries), on the sails and the
@@ -25,8 +28,11 @@
  *            internal mechanism), followed in sparse mode from a fresh
  *            handle, 10 automatic steps, with the kept order and with
  *            COLAMD only; the SVD's verdict (m_internal, s, v_r / v_max)
- *            where affordable, factor entries of both orders and of COLAMD
- *            with a sparse border row, strain after the steps, the dense LU
+ *            where affordable, factor entries of both orders (of J0, the
+ *            matrix sparse.c factorizes: C with a unit stand-in row), of
+ *            COLAMD with a three-entry border row, and of J with its dense
+ *            row (set-up, "L+U rows"), stand-in re-choices and points
+ *            factorized with the dense row (both runs), strain after the steps, the dense LU
  *            mode's step on the same path (<= 3000 free coordinates),
  *            memory; growth exponents.
  *  control   the LU mode's mean step on sail:24:12 and sail:24:14 with the
@@ -207,8 +213,9 @@ static void sails(FILE *csv, int quick)
     print_load("before the sail table");
     printf("\nsail n = 24 family, dome point, %s automatic steps per mode (own step control), measured once\n",
            "12");
-    printf("%4s %5s %9s | %9s %5s %5s %3s %6s | %9s %5s %5s %3s %6s | %8s\n", "lp", "nfree", "dgesdd[s]", "LU st[s]",
-           "fact", "half", "fb", "/sdd", "SP st[s]", "fact", "half", "fb", "/sdd", "|dx|");
+    printf("%4s %5s %9s | %9s %5s %5s %3s %6s | %9s %5s %5s %3s %6s | %8s | %9s %9s %4s %4s\n", "lp", "nfree",
+           "dgesdd[s]", "LU st[s]", "fact", "half", "fb", "/sdd", "SP st[s]", "fact", "half", "fb", "/sdd", "|dx|", "L+U",
+           "L+U rows", "rech", "dpts");
     for (int i = 0; i < nm; ++i) {
         kin_assembly *a = sail_dome(24, loops[i], 1);
         if (!a) {
@@ -220,12 +227,15 @@ static void sails(FILE *csv, int quick)
         int nsteps = 12, n = 3 * kin_njoints(a), nf = kin_nfree(a);
         double *x[2] = {malloc(sizeof(double) * (size_t)n * nsteps), malloc(sizeof(double) * (size_t)n * nsteps)};
         run r[2];
+        double ent = NAN, ent_rows = NAN;
+        long rech = 0, dpts = 0;
         for (int m = 0; m < 2; ++m) {
             kin_assembly *b = NULL;
             kin_assembly_clone(a, &b);
             set_mode(b, m ? KIN_STEP_SPARSE : KIN_STEP_LU, KIN_STEP_CONTROL_MODE);
             kin_step(b, 0.0, &info); /* untimed: the mode's own factors at the start */
             r[m] = follow(b, nsteps, x[m]);
+            if (m) kin__sparse_stats(b, &ent, &ent_rows, &rech, &dpts);
             kin_assembly_free(b);
         }
         double sdd = dgesdd_seconds(a);
@@ -233,10 +243,11 @@ static void sails(FILE *csv, int quick)
         double dx = common ? max_abs_diff((size_t)n * common, x[0], x[1]) : NAN;
         double st[2];
         for (int m = 0; m < 2; ++m) st[m] = r[m].steps ? r[m].seconds / r[m].steps : NAN;
-        printf("%4d %5d %9.3e | %9.3e %5.2f %5.2f %3ld %6.3f | %9.3e %5.2f %5.2f %3ld %6.3f | %8.1e\n", loops[i], nf,
-               sdd, st[0], (double)r[0].fact / r[0].steps, (double)r[0].halvings / r[0].steps, r[0].fallbacks,
-               st[0] / sdd, st[1], (double)r[1].fact / r[1].steps, (double)r[1].halvings / r[1].steps,
-               r[1].fallbacks, st[1] / sdd, dx);
+        printf("%4d %5d %9.3e | %9.3e %5.2f %5.2f %3ld %6.3f | %9.3e %5.2f %5.2f %3ld %6.3f | %8.1e | %9.3e %9.3e %4ld "
+               "%4ld\n",
+               loops[i], nf, sdd, st[0], (double)r[0].fact / r[0].steps, (double)r[0].halvings / r[0].steps,
+               r[0].fallbacks, st[0] / sdd, st[1], (double)r[1].fact / r[1].steps, (double)r[1].halvings / r[1].steps,
+               r[1].fallbacks, st[1] / sdd, dx, ent, ent_rows, rech, dpts);
         fprintf(csv, "sails,%d,%d,%d,%.6e,%.6e,%.3f,%.3f,%ld,%.6e,%.3f,%.3f,%ld,%.3e,NAN,NAN,NAN\n", 24, loops[i], nf,
                 sdd, st[0], (double)r[0].fact / r[0].steps, (double)r[0].halvings / r[0].steps, r[0].fallbacks, st[1],
                 (double)r[1].fact / r[1].steps, (double)r[1].halvings / r[1].steps, r[1].fallbacks, dx);
@@ -267,8 +278,9 @@ static void lattices(FILE *csv, int quick)
     print_load("before the lattice table");
     printf("\n3D lattice mechanisms (one internal, six rigid mechanisms), sparse mode from a fresh handle, %d automatic "
            "steps, measured once\n", 10);
-    printf("%10s %6s %6s | %9s %9s %5s %5s %3s %6s | %9s | %8s %8s\n", "grid", "nfree", "nbars", "start[s]",
-           "SP st[s]", "fact", "half", "fb", "strain", "dgetrf[s]", "RSS[MB]", "VM[MB]");
+    printf("%10s %6s %6s | %9s %9s %5s %5s %3s %6s | %9s | %8s %8s | %9s %9s %4s %4s\n", "grid", "nfree", "nbars",
+           "start[s]", "SP st[s]", "fact", "half", "fb", "strain", "dgetrf[s]", "RSS[MB]", "VM[MB]", "L+U", "L+U rows",
+           "rech", "dpts");
     for (int i = 0; i < nm; ++i) {
         kin_assembly *a = lattice(dims[i][0], dims[i][1], dims[i][2]);
         if (!a) continue;
@@ -281,16 +293,19 @@ static void lattices(FILE *csv, int quick)
         run r = {0.0, 0.0, 0, 0, 0, 0, 0};
         if (rc == KIN_OK) r = follow(a, 10, NULL);
         else printf("  (first step: %s)\n", kin_last_error(a));
-        double rss, vsz;
+        double rss, vsz, ent = NAN, ent_rows = NAN;
+        long rech = 0, dpts = 0;
         memory_mb(&rss, &vsz);
+        kin__sparse_stats(a, &ent, &ent_rows, &rech, &dpts);
         /* a dense LU of the same size where it is affordable (<= 5200) */
         double lu = nf <= 5200 ? dgetrf_seconds(a) : NAN;
         double st = r.steps ? r.seconds / r.steps : NAN;
         char grid[32];
         snprintf(grid, sizeof grid, "%dx%dx%d", dims[i][0], dims[i][1], dims[i][2]);
-        printf("%10s %6d %6d | %9.3e %9.3e %5.2f %5.2f %3ld %6.0e | %9.3e | %8.0f %8.0f\n", grid, nf, kin_nbars(a), start,
-               st, r.steps ? (double)r.fact / r.steps : NAN, r.steps ? (double)r.halvings / r.steps : NAN,
-               r.fallbacks, kin_max_strain(a), lu, rss, vsz);
+        printf("%10s %6d %6d | %9.3e %9.3e %5.2f %5.2f %3ld %6.0e | %9.3e | %8.0f %8.0f | %9.3e %9.3e %4ld %4ld\n", grid,
+               nf, kin_nbars(a), start, st, r.steps ? (double)r.fact / r.steps : NAN,
+               r.steps ? (double)r.halvings / r.steps : NAN, r.fallbacks, kin_max_strain(a), lu, rss, vsz, ent,
+               ent_rows, rech, dpts);
         fprintf(csv, "lattice,%d,%d,%d,NAN,NAN,NAN,NAN,0,%.6e,%.3f,%.3f,%ld,NAN,%.6e,%.0f,%.0f\n", dims[i][0],
                 dims[i][1] * dims[i][2], nf, st, r.steps ? (double)r.fact / r.steps : NAN,
                 r.steps ? (double)r.halvings / r.steps : NAN, r.fallbacks, lu, rss, vsz);
@@ -560,13 +575,13 @@ static double joint_distance(const kin_assembly *a, const int ends[2])
  * `dense` steps taken next on the same handle (0: none) */
 typedef struct mast_run {
     order_run o;
-    double strain, gap0, gap1, vr_est, rss, vsz, dense_step, entries_sb;
-    long dense_fact, dense_fallbacks;
+    double strain, gap0, gap1, vr_est, rss, vsz, dense_step, entries_sb, entries_rows;
+    long dense_fact, dense_fallbacks, rechoices, dense_points;
 } mast_run;
 
 static mast_run mast_follow(int sides, int nbays, int nd_allowed, int nsteps, int dense)
 {
-    mast_run m = {{0, NAN, NAN, NAN, NAN, {0.0, 0.0, 0, 0, 0, 0, 0}}, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, 0, 0};
+    mast_run m = {{0, NAN, NAN, NAN, NAN, {0.0, 0.0, 0, 0, 0, 0, 0}}, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, 0, 0, 0, 0};
     int ends[2];
     kin_assembly *a = mast(sides, nbays, ends);
     if (!a) return m;
@@ -582,6 +597,8 @@ static mast_run mast_follow(int sides, int nbays, int nd_allowed, int nsteps, in
     if (rc == KIN_OK) m.o.r = follow(a, nsteps, NULL);
     else printf("  (first step: %s)\n", kin_last_error(a));
     m.o.step = m.o.r.steps ? m.o.r.seconds / m.o.r.steps : NAN;
+    double entries_kept = NAN;
+    kin__sparse_stats(a, &entries_kept, &m.entries_rows, &m.rechoices, &m.dense_points);
     m.strain = kin_max_strain(a);
     m.gap1 = joint_distance(a, ends);
     const kin_lufactor *f = &a->lu[a->lu_cur];
@@ -609,9 +626,9 @@ static void masts(FILE *csv, int quick)
            "mechanism), rank_tol %.0e, sparse mode from a fresh handle, 10 automatic steps, measured once\n",
            MAST_RANK_TOL);
     printf("%-5s %5s %6s | %8s %3s %3s %8s | %9s %9s %4s %9s | %8s %9s %9s %5s %5s %3s | %7s %8s %8s | %9s %5s %6s | "
-           "%6s %6s\n",
+           "%6s %6s | %9s %4s %4s\n",
            "mast", "bays", "nfree", "svd vr", "mi", "s", "LU vr", "L+U col", "L+U nd", "kept", "L+U sb", "start[s]", "COL st[s]",
-           "kept st", "fact", "half", "fb", "strain", "gap0", "gap1", "LU st[s]", "fb", "LU/SP", "RSS", "VM[MB]");
+           "kept st", "fact", "half", "fb", "strain", "gap0", "gap1", "LU st[s]", "fb", "LU/SP", "RSS", "VM[MB]", "L+U rows", "rech", "dpts");
     for (int fam = 0; fam < 2; ++fam) {
         int sides = fam ? 4 : 3, np = 0, npd = 0;
         double xs[8], yk[8], yc[8], ye[8], ys[8], xd[8], yd[8];
@@ -632,12 +649,13 @@ static void masts(FILE *csv, int quick)
             mast_run c = mast_follow(sides, nb, 0, 10, 0);
             mast_run k = mast_follow(sides, nb, 1, 10, nf <= 3000 ? 2 : 0);
             printf("%-5s %5d %6d | %8.1e %3d %3d %8.1e | %9.3e %9.3e %4s %9.3e | %8.3f %9.3e %9.3e %5.2f %5.2f %3ld | %7.0e "
-                   "%8.5f %8.5f | %9.3e %5ld %6.1f | %6.0f %6.0f\n",
+                   "%8.5f %8.5f | %9.3e %5ld %6.1f | %6.0f %6.0f | %9.3e %4ld %4ld\n",
                    sides == 3 ? "tri" : "square", nb, nf, an.v_r / an.v_max, an.m_internal, an.s, k.vr_est,
                    k.o.entries_colamd, k.o.entries_nd, k.o.nested ? "ND" : "COL", k.entries_sb, k.o.start, c.o.step, k.o.step,
                    k.o.r.steps ? (double)k.o.r.fact / k.o.r.steps : NAN,
                    k.o.r.steps ? (double)k.o.r.halvings / k.o.r.steps : NAN, k.o.r.fallbacks + c.o.r.fallbacks,
-                   k.strain, k.gap0, k.gap1, k.dense_step, k.dense_fallbacks, k.dense_step / k.o.step, k.rss, k.vsz);
+                   k.strain, k.gap0, k.gap1, k.dense_step, k.dense_fallbacks, k.dense_step / k.o.step, k.rss, k.vsz,
+                   k.entries_rows, k.rechoices + c.rechoices, k.dense_points + c.dense_points);
             /* mast rows: max_dx is the COLAMD-only mean step, dgetrf_s the
              * kept order's factor entries */
             fprintf(csv, "mast_%s,%d,%d,%d,NAN,%.6e,%.3f,NAN,%ld,%.6e,%.3f,%.3f,%ld,%.6e,%.0f,%.0f,%.0f\n",

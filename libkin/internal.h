@@ -124,7 +124,10 @@ enum kin__fault { KIN__FAULT_NONE = 0, KIN__FAULT_SVD_ARG, KIN__FAULT_SVD_CONV, 
                   KIN__FAULT_SPARSE_REPIVOT, KIN__FAULT_SPARSE_NO_ND,
                   /* symmetry.c: the action of each symmetry on the internal
                    * mechanisms is disturbed (R_g not orthogonal) */
-                  KIN__FAULT_SYM_NOT_ORTHOGONAL };
+                  KIN__FAULT_SYM_NOT_ORTHOGONAL,
+                  /* sparse.c: every capacitance of the bordering is judged
+                   * ill-conditioned (each point factorized with the dense rows) */
+                  KIN__FAULT_SPARSE_CAPACITANCE };
 void kin__set_fault(kin_assembly *a, int fault);
 
 /* error helpers: set the handle's message and return the code */
@@ -178,8 +181,9 @@ static inline void kin__lu_invalidate(kin_assembly *a) { a->lu[0].valid = a->lu[
 
 /* ---- sparse bordered factorization (sparse.c, KIN_STEP_SPARSE) ----
  * J = [C; b^T; R^T] (nf x nf, nb bar rows then nf - nb dense border rows)
- * in compressed-column form, factorized by KLU into slot 0 or 1 (the slots
- * of a->lu[]). */
+ * in compressed-column form, solved through KLU's factors of J0 (the border
+ * rows replaced by unit stand-in rows) and a bordering correction, per slot
+ * 0 or 1 (the slots of a->lu[]); sparse.c's header has the details. */
 /* Build the pattern, the symbolic analysis and both slots' first numeric
  * factorization at the current configuration, once per handle (a no-op when
  * done, or when J can never be square: then a->sp stays NULL). KIN_OK or
@@ -203,6 +207,16 @@ void kin__sparse_CT(const kin_assembly *a, const double *y, double *x);
  * first factorization (INFINITY where not tried or failed). 0 without
  * sparse factors. */
 int kin__sparse_order(const kin_assembly *a, double *entries_colamd, double *entries_nd);
+/* The factor entries (L + U) of J0 (the stand-in rows, kept order) and of J
+ * with its dense rows, both at set-up; the stand-in re-choices and the
+ * factorizations made with the dense rows since (INFINITY, 0 without sparse
+ * factors). */
+void kin__sparse_stats(const kin_assembly *a, double *entries, double *entries_dense, long *rechoices,
+                       long *dense_points);
+/* Test hook: make k (1 + m_rigid distinct free coordinates) the stand-in
+ * coordinates; each slot re-analyses at its next factorization. KIN_OK,
+ * KIN_ESTATE (no sparse factors), KIN_EINVAL. */
+int kin__sparse_set_standins(kin_assembly *a, const int *k);
 
 static inline const kin_factor *kin__cur(const kin_assembly *a) { return &a->fac[a->cur]; }
 
