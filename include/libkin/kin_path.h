@@ -49,12 +49,16 @@
  *   at every point and must be run in SVD mode.
  *  KIN_STEP_SPARSE: the LU mode with a sparse LU (SuiteSparse KLU) of the
  *   square bordered matrix J, built in compressed-column form from the bars
- *   (C has at most 2*dim non-zeros per row; the 1 + m_rigid border rows are
- *   dense and stay in the matrix: the column ordering, COLAMD, ignores
- *   dense rows, so they add about (1 + m_rigid) * nf entries to the
- *   factors, and the exact border needs no Schur complement or
- *   re-analysis). It pays on sail-like structures; compact 3D blocks fill
- *   in (docs/performance.md). The symbolic
+ *   (C has at most 2*dim non-zeros per row). The 1 + m_rigid border rows
+ *   are dense: KLU factorizes J with each replaced by a unit row at a
+ *   stand-in coordinate (chosen where the mechanisms move most), and every
+ *   solve with the true J adds a Sherman-Morrison-Woodbury correction (one
+ *   extra solve per border row and factorization), so the factors keep the
+ *   sparsity of C (linear fill on slender structures such as masts); when
+ *   the stand-ins go bad along the path they are chosen again, and a point
+ *   whose correction is ill-conditioned is factorized with the dense rows.
+ *   It pays on sail-like and slender structures; compact 3D blocks still
+ *   fill in (docs/performance.md). The symbolic
  *   analysis and a first numeric factorization are made when the mode is
  *   set (kin_set_options, which may then return KIN_ENOMEM); each new point
  *   refactorizes with the same pivot order (klu_refactor), and pivots again
