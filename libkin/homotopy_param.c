@@ -11,6 +11,11 @@
  * needs M0 x_i only for i <= k/2 (the forms are symmetric), D x_i for
  * i <= (k-1)/2. The step is the one whose estimated truncation error (from
  * the series' radius of convergence and last terms) meets pred_rel |x|.
+ * Where the rational approximant [K-1/1] of the same series
+ * (homotopy_pade.c) has an error estimate, calibrated along the path, that
+ * meets the target at that step, it predicts instead, and the step grows
+ * while its estimate still meets the target (as in homotopy_track.c; on
+ * the hexagonal sail's flat state 17-26 % fewer steps, docs/performance.md).
  * Corrector: Newton at the new t. A step is accepted only if the first
  * correction is at most corr_rel |x| and the next ones contract by at least
  * CONTRACTION: for a quadratic map the ratio of two Newton corrections is

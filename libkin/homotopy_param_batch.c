@@ -4,8 +4,8 @@
  *
  * Each lane follows its path through exactly the operations of the
  * one-path tracker kin__hpar_track (homotopy_param.c, the reference: same
- * predictor, corrector, acceptance tests, charts and refinement, every sum
- * in the same order), so a path's endpoint and record are bit for bit the
+ * predictor (Taylor or rational, per lane), corrector, acceptance tests,
+ * charts and refinement, every sum in the same order), so a path's endpoint and record are bit for bit the
  * one-path tracker's, whatever other paths share its batch
  * (tests/test_homotopy_param_batch.c).
  *
