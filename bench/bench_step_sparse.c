@@ -1,6 +1,6 @@
 /* Path following past the dense floor: the sparse LU mode (KIN_STEP_SPARSE)
  * against the dense LU mode (KIN_STEP_LU), and the LU modes' step control.
- * Not a test: one command, three tables (and bench_step_sparse.csv):
+ * Not a test: one command, several tables (and bench_step_sparse.csv):
  *
  *  sails     sail family members n = 24, loops 6..20 at the dome point of
  *            bench_step.c: mean automatic step of the dense LU and sparse
@@ -19,13 +19,23 @@
  *            whichever factors with fewer entries), on the sails and the
  *            lattices: factor entries, mean step, growth exponents
  *            (COLAMD alone at 10^4 free coordinates only in order-full).
+ *  mast      generated deployable masts (triangular and square section,
+ *            84 to 1180 bays, 1008 to 10620 free coordinates, base ring
+ *            fixed, one face diagonal of the middle bay left out: one
+ *            internal mechanism), followed in sparse mode from a fresh
+ *            handle, 10 automatic steps, with the kept order and with
+ *            COLAMD only; the SVD's verdict (m_internal, s, v_r / v_max)
+ *            where affordable, factor entries of both orders and of COLAMD
+ *            with a sparse border row, strain after the steps, the dense LU
+ *            mode's step on the same path (<= 3000 free coordinates),
+ *            memory; growth exponents.
  *  control   the LU mode's mean step on sail:24:12 and sail:24:14 with the
  *            shared step control (the SVD mode's amplitudes, libkin <=
  *            0.3.0) and with the LU modes' own (KIN_STEP_CONTROL_MODE), in
  *            dgesdd-equivalents (mean step seconds / one dgesdd of the same
  *            H, measured back to back) and per unit path length.
  *
- * usage: bench_step_sparse [OUTDIR [all|sails|lattice|control|order|order-full|quick]]
+ * usage: bench_step_sparse [OUTDIR [all|sails|lattice|control|order|order-full|mast|quick]]
  * Every table is measured once (the machine may be shared: `uptime` is
  * printed with every table); run with OPENBLAS_NUM_THREADS=1. */
 #define _POSIX_C_SOURCE 199309L
@@ -40,6 +50,8 @@
 #include "libkin.h"
 #include "bench_common.h"
 #include "lattice_model.h"
+
+#include <suitesparse/klu.h>
 
 static void print_load(const char *when)
 {
@@ -415,6 +427,248 @@ static void orders(FILE *csv, int quick, int full)
     print_load("after the order table");
 }
 
+/* ---- deployable masts: long, slender 3D trusses ---------------------------- */
+
+/* A mast of nbays bays on a regular `sides`-gon section (side 1, bay height
+ * 1), the base ring fixed: each bay adds a ring of `sides` joints and
+ * 3 * sides bars (longerons, battens round the new ring, one diagonal per
+ * side face, handedness alternating from bay to bay), so each bay is rigid
+ * and statically determinate on the one below (a triangulated prism on a
+ * rigid base). The middle bay's first face diagonal is left out (a bay
+ * halfway through deployment, its diagonal still slack): one internal
+ * finite mechanism, the bay shearing and the mast above it swinging as one
+ * body; no rigid mechanisms (one dense border row). The joints of the
+ * removed diagonal go to *ends (may be NULL): their distance measures the
+ * motion. Only the bars the structure needs are built. */
+static kin_assembly *mast(int sides, int nbays, int ends[2])
+{
+    int nj = sides * (nbays + 1), nb = 0, mid = nbays / 2;
+    double *xyz = malloc(sizeof(double) * 3 * (size_t)nj);
+    unsigned char *fixed = calloc((size_t)nj * 3, 1);
+    int *bars = malloc(sizeof(int) * 2 * 3 * (size_t)sides * (size_t)nbays);
+    kin_assembly *a = NULL;
+    if (!xyz || !fixed || !bars) goto done;
+    double pi = acos(-1.0), r = 0.5 / sin(pi / sides); /* circumradius of a unit-side polygon */
+    for (int l = 0; l <= nbays; ++l)
+        for (int i = 0; i < sides; ++i) {
+            double th = 2.0 * pi * i / sides;
+            int j = l * sides + i;
+            xyz[3 * j] = r * cos(th);
+            xyz[3 * j + 1] = r * sin(th);
+            xyz[3 * j + 2] = l;
+            if (l == 0) fixed[3 * j] = fixed[3 * j + 1] = fixed[3 * j + 2] = 1;
+        }
+    for (int l = 1; l <= nbays; ++l)
+        for (int i = 0; i < sides; ++i) {
+            int i1 = (i + 1) % sides, bot = (l - 1) * sides, top = l * sides;
+            int add[3][2] = {{bot + i, top + i}, /* longeron */
+                             {top + i, top + i1}, /* batten */
+                             {l % 2 ? bot + i : bot + i1, l % 2 ? top + i1 : top + i}}; /* face diagonal */
+            for (int k = 0; k < 3; ++k) {
+                if (k == 2 && l == mid && i == 0) {
+                    if (ends) memcpy(ends, add[k], sizeof add[k]);
+                    continue;
+                }
+                bars[2 * nb] = add[k][0];
+                bars[2 * nb + 1] = add[k][1];
+                ++nb;
+            }
+        }
+    int rc = kin_assembly_create(3, nj, xyz, fixed, nb, bars, NULL, &a, NULL, 0);
+    if (rc) printf("  (mast %d x %d: create returned %d)\n", sides, nbays, rc);
+done:
+    free(xyz);
+    free(fixed);
+    free(bars);
+    return a;
+}
+
+/* Factor entries of the mast's J under COLAMD with the KLU settings of
+ * sparse.c, but with the dense border row replaced by a sparse one (random
+ * entries at the last three free coordinates, the top joint's, which the
+ * mechanism moves): how much of the fill the dense border row causes. NAN
+ * when KLU fails (a singular J). */
+static double entries_sparse_border(const kin_assembly *a)
+{
+    int nf = a->nf, nb = a->nb, nz = 0;
+    int *Ap = calloc((size_t)nf + 1, sizeof *Ap), *Ai = malloc(sizeof(int) * ((size_t)nb * 6 + 3));
+    double *Ax = malloc(sizeof(double) * ((size_t)nb * 6 + 3)), e = NAN;
+    if (!Ap || !Ai || !Ax) goto done;
+    /* columns are free coordinates: gather each column's bar rows */
+    for (int j = 0; j < a->nj; ++j)
+        for (int c = 0; c < 3; ++c) {
+            int col = a->free_index[3 * j + c];
+            if (col < 0) continue;
+            Ap[col] = nz;
+            for (int k = 0; k < nb; ++k) {
+                int ja = a->bars[2 * k], jb = a->bars[2 * k + 1];
+                if (ja != j && jb != j) continue;
+                double v[3];
+                for (int q = 0; q < 3; ++q) v[q] = a->xyz[3 * ja + q] - a->xyz[3 * jb + q];
+                Ai[nz] = k;
+                Ax[nz++] = (ja == j ? 1.0 : -1.0) * v[c] / kin__norm(3, v);
+            }
+            if (col >= nf - 3) {
+                Ai[nz] = nb;
+                Ax[nz++] = 0.25 + 0.5 * (nf - col);
+            }
+        }
+    Ap[nf] = nz;
+    klu_common cm;
+    klu_defaults(&cm);
+    cm.ordering = 1;
+    cm.btf = 0;
+    cm.tol = 1.0;
+    klu_symbolic *sym = klu_analyze(nf, Ap, Ai, &cm);
+    klu_numeric *num = sym ? klu_factor(Ap, Ai, Ax, sym, &cm) : NULL;
+    if (num) e = (double)num->lnz + (double)num->unz;
+    if (num) klu_free_numeric(&num, &cm);
+    if (sym) klu_free_symbolic(&sym, &cm);
+done:
+    free(Ap);
+    free(Ai);
+    free(Ax);
+    return e;
+}
+
+/* The slender-structure setting of the mast table: a mast's v_r / v_max
+ * falls as bays^-2 (measured: 4.6e-5 at 112 bays by SVD,
+ * 4.3e-7 estimated at 1180), under the LU modes' default SVD threshold
+ * (1000 * rank_tol = 1e-6) from ~750 bays on, although nowhere near a
+ * bifurcation; 1e-11 moves the threshold to 1e-8. */
+static const double MAST_RANK_TOL = 1e-11;
+
+static void set_mast_options(kin_assembly *a, int mode)
+{
+    kin_options o = {.size = sizeof o};
+    kin_get_options(a, &o);
+    o.rank_tol = MAST_RANK_TOL;
+    o.factorization = mode;
+    o.step_control = KIN_STEP_CONTROL_MODE;
+    if (kin_set_options(a, &o)) printf("  (set_options: %s)\n", kin_last_error(a));
+}
+
+static double joint_distance(const kin_assembly *a, const int ends[2])
+{
+    const double *p = a->xyz + 3 * ends[0], *q = a->xyz + 3 * ends[1];
+    double v[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+    return kin__norm(3, v);
+}
+
+/* one mast member in sparse mode from a fresh handle, with the order kept
+ * at set-up (nd_allowed) or COLAMD only; the dense LU mode's mean step of
+ * `dense` steps taken next on the same handle (0: none) */
+typedef struct mast_run {
+    order_run o;
+    double strain, gap0, gap1, vr_est, rss, vsz, dense_step, entries_sb;
+    long dense_fact, dense_fallbacks;
+} mast_run;
+
+static mast_run mast_follow(int sides, int nbays, int nd_allowed, int nsteps, int dense)
+{
+    mast_run m = {{0, NAN, NAN, NAN, NAN, {0.0, 0.0, 0, 0, 0, 0, 0}}, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, 0, 0};
+    int ends[2];
+    kin_assembly *a = mast(sides, nbays, ends);
+    if (!a) return m;
+    if (!nd_allowed) kin__set_fault(a, KIN__FAULT_SPARSE_NO_ND);
+    m.gap0 = joint_distance(a, ends);
+    if (nd_allowed) m.entries_sb = entries_sparse_border(a);
+    double t0 = now();
+    set_mast_options(a, KIN_STEP_SPARSE);
+    kin_step_info info = {.size = sizeof info};
+    int rc = kin_step(a, 0.0, &info); /* sparse start + first step */
+    m.o.start = now() - t0;
+    m.o.nested = kin__sparse_order(a, &m.o.entries_colamd, &m.o.entries_nd);
+    if (rc == KIN_OK) m.o.r = follow(a, nsteps, NULL);
+    else printf("  (first step: %s)\n", kin_last_error(a));
+    m.o.step = m.o.r.steps ? m.o.r.seconds / m.o.r.steps : NAN;
+    m.strain = kin_max_strain(a);
+    m.gap1 = joint_distance(a, ends);
+    const kin_lufactor *f = &a->lu[a->lu_cur];
+    m.vr_est = f->valid ? f->v_r / f->v_max : NAN;
+    memory_mb(&m.rss, &m.vsz);
+    if (dense && m.o.r.ok) {
+        set_mast_options(a, KIN_STEP_LU); /* keeps the path state */
+        kin_step(a, 0.0, &info);          /* untimed: the dense factors of the start */
+        run d = follow(a, dense, NULL);
+        m.dense_step = d.ok && d.steps ? d.seconds / d.steps : NAN;
+        m.dense_fact = d.fact;
+        m.dense_fallbacks = d.fallbacks;
+    }
+    kin_assembly_free(a);
+    return m;
+}
+
+static void masts(FILE *csv, int quick)
+{
+    /* 9 (triangle) and 12 (square) free coordinates per bay: ~1000 to ~10600 */
+    const int bays[2][6] = {{112, 180, 288, 460, 736, 1180}, {84, 135, 216, 345, 552, 885}};
+    int nm = quick ? 2 : 6;
+    print_load("before the mast table");
+    printf("\ndeployable masts (base ring fixed, one face diagonal of the middle bay left out: one internal "
+           "mechanism), rank_tol %.0e, sparse mode from a fresh handle, 10 automatic steps, measured once\n",
+           MAST_RANK_TOL);
+    printf("%-5s %5s %6s | %8s %3s %3s %8s | %9s %9s %4s %9s | %8s %9s %9s %5s %5s %3s | %7s %8s %8s | %9s %5s %6s | "
+           "%6s %6s\n",
+           "mast", "bays", "nfree", "svd vr", "mi", "s", "LU vr", "L+U col", "L+U nd", "kept", "L+U sb", "start[s]", "COL st[s]",
+           "kept st", "fact", "half", "fb", "strain", "gap0", "gap1", "LU st[s]", "fb", "LU/SP", "RSS", "VM[MB]");
+    for (int fam = 0; fam < 2; ++fam) {
+        int sides = fam ? 4 : 3, np = 0, npd = 0;
+        double xs[8], yk[8], yc[8], ye[8], ys[8], xd[8], yd[8];
+        for (int i = 0; i < nm; ++i) {
+            int nb = bays[fam][i], nf = 3 * sides * nb;
+            /* the SVD's verdict where it is affordable: one internal
+             * mechanism, no self-stress, and the v_r / v_max the LU
+             * estimates are checked against */
+            kin_analysis an = {.size = sizeof an};
+            an.m_internal = an.s = -1;
+            an.v_r = NAN;
+            an.v_max = 1.0;
+            if (nf <= 1700) {
+                kin_assembly *c = mast(sides, nb, NULL);
+                if (!c || kin_analyse(c, &an) != KIN_OK) printf("  (analysis failed)\n");
+                kin_assembly_free(c);
+            }
+            mast_run c = mast_follow(sides, nb, 0, 10, 0);
+            mast_run k = mast_follow(sides, nb, 1, 10, nf <= 3000 ? 2 : 0);
+            printf("%-5s %5d %6d | %8.1e %3d %3d %8.1e | %9.3e %9.3e %4s %9.3e | %8.3f %9.3e %9.3e %5.2f %5.2f %3ld | %7.0e "
+                   "%8.5f %8.5f | %9.3e %5ld %6.1f | %6.0f %6.0f\n",
+                   sides == 3 ? "tri" : "square", nb, nf, an.v_r / an.v_max, an.m_internal, an.s, k.vr_est,
+                   k.o.entries_colamd, k.o.entries_nd, k.o.nested ? "ND" : "COL", k.entries_sb, k.o.start, c.o.step, k.o.step,
+                   k.o.r.steps ? (double)k.o.r.fact / k.o.r.steps : NAN,
+                   k.o.r.steps ? (double)k.o.r.halvings / k.o.r.steps : NAN, k.o.r.fallbacks + c.o.r.fallbacks,
+                   k.strain, k.gap0, k.gap1, k.dense_step, k.dense_fallbacks, k.dense_step / k.o.step, k.rss, k.vsz);
+            /* mast rows: max_dx is the COLAMD-only mean step, dgetrf_s the
+             * kept order's factor entries */
+            fprintf(csv, "mast_%s,%d,%d,%d,NAN,%.6e,%.3f,NAN,%ld,%.6e,%.3f,%.3f,%ld,%.6e,%.0f,%.0f,%.0f\n",
+                    sides == 3 ? "tri" : "square", sides, nb, nf, k.dense_step,
+                    (double)k.dense_fact / 2, k.dense_fallbacks, k.o.step,
+                    k.o.r.steps ? (double)k.o.r.fact / k.o.r.steps : NAN,
+                    k.o.r.steps ? (double)k.o.r.halvings / k.o.r.steps : NAN, k.o.r.fallbacks, c.o.step,
+                    k.o.nested ? k.o.entries_nd : k.o.entries_colamd, k.rss, k.vsz);
+            fflush(stdout);
+            fflush(csv);
+            if (k.o.r.ok && k.o.r.steps == 10 && c.o.r.ok && c.o.r.steps == 10 && np < 8) {
+                xs[np] = nf;
+                yk[np] = k.o.step;
+                yc[np] = c.o.step;
+                ye[np] = k.o.nested ? k.o.entries_nd : k.o.entries_colamd;
+                ys[np] = k.entries_sb;
+                ++np;
+            }
+            if (isfinite(k.dense_step) && npd < 8) {
+                xd[npd] = nf;
+                yd[npd++] = k.dense_step;
+            }
+        }
+        printf("growth exponents, %s masts (log-log fit over %d sizes): mean step, kept order %.2f, COLAMD only %.2f; "
+               "L+U entries, kept %.2f, COLAMD with a sparse border row %.2f; dense LU step %.2f (%d sizes)\n",
+               sides == 3 ? "triangular" : "square", np, loglog_slope(np, xs, yk), loglog_slope(np, xs, yc),
+               loglog_slope(np, xs, ye), loglog_slope(np, xs, ys), loglog_slope(npd, xd, yd), npd);
+    }
+    print_load("after the mast table");
+}
+
 int main(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : ".";
@@ -429,13 +683,16 @@ int main(int argc, char **argv)
     }
     /* columns: table, n (or nx), loops (or ny*nz), nfree, dgesdd_s, lu_step_s, lu_fact, lu_halvings,
      * lu_fallbacks, sparse_step_s, sparse_fact, sparse_halvings, sparse_fallbacks, max_dx, dgetrf_s, rss_mb,
-     * vm_mb (control rows: the last column is dgesdd-equivalents per unit length) */
+     * vm_mb (control rows: the last column is dgesdd-equivalents per unit length; mast rows: n is the
+     * number of sides, loops the number of bays, max_dx the COLAMD-only mean step, dgetrf_s the kept
+     * order's factor entries) */
     fprintf(csv, "table,n,loops,nfree,dgesdd_s,lu_step_s,lu_fact,lu_halvings,lu_fallbacks,sparse_step_s,sparse_fact,"
                  "sparse_halvings,sparse_fallbacks,max_dx,dgetrf_s,rss_mb,vm_mb\n");
     if (all || strcmp(what, "control") == 0) control(csv);
     if (all || strcmp(what, "sails") == 0) sails(csv, quick);
     if (all || strcmp(what, "lattice") == 0) lattices(csv, quick);
     if (all || strncmp(what, "order", 5) == 0) orders(csv, quick, strcmp(what, "order-full") == 0);
+    if (all || strcmp(what, "mast") == 0) masts(csv, quick);
     fclose(csv);
     return 0;
 }
