@@ -7,7 +7,11 @@
  * several sizes, and to the hexagonal sail's flat state (clustered,
  * singular endpoints: rejected steps, chart changes, stalls), with the
  * solver's loop settings (refined at t = 1), its leg-to-Q settings (stop
- * short of t = 1) and tightened ones; a stop abandons the paths in flight. */
+ * short of t = 1) and tightened ones; a stop abandons the paths in flight.
+ * The records count the steps of the rational predictor (homotopy_pade.c)
+ * too, accepted and rejected: both predictors must take and lose steps
+ * here, so that the rational one's step logic (choice, extension,
+ * calibration) is compared lane by lane. */
 #include <string.h>
 
 #include "check.h"
