@@ -39,6 +39,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "homotopy_equi.h"
 #include "homotopy_track.h"
 #include "internal.h"
 
@@ -102,6 +103,7 @@ typedef struct hom_job {
     hom_end *ends;
     double *zr, *zi;
     hom_report *R; /* the calling thread's job only, else NULL */
+    const hom_orbits *orb; /* NULL, or every finished path's orbit is stored (offset 0) */
     int taken, left; /* the chunk of queue positions this thread holds */
     int stopped;     /* the queue was stopped (seen at the last path finished) */
 } hom_job;
@@ -130,6 +132,39 @@ static int job_next(void *ctx)
     return J->list ? J->list[i] : J->first + i;
 }
 
+/* The endpoints of the other members of path p's orbit: p's endpoint (z,
+ * e) permuted, each then refined and certified on its own (the tracked
+ * system is exactly equivariant, but its scaling and the certificate's
+ * sums are not: each point gets its own certificate); uncertified ones are
+ * copied as they are. No steps are counted for them. */
+static void expand_orbit(hom_job *J, int p, const double *zr, const double *zi, const hom_end *e)
+{
+    const hom_orbits *O = J->orb;
+    int m = J->P->m, pinv[HOM_MAX_M];
+    for (int c = 0; c < m; ++c) pinv[O->perm[c]] = c;
+    double xr[HOM_MAX_M], xi[HOM_MAX_M], yr[HOM_MAX_M], yi[HOM_MAX_M];
+    memcpy(xr, zr, sizeof(double) * (size_t)m);
+    memcpy(xi, zi, sizeof(double) * (size_t)m);
+    int chart = e->chart;
+    for (int q = O->next[p]; q != p; q = O->next[q]) {
+        for (int c = 0; c < m; ++c) yr[c] = xr[O->perm[c]], yi[c] = xi[O->perm[c]]; /* (P x)_c = x_{p(c)} */
+        memcpy(xr, yr, sizeof(double) * (size_t)m);
+        memcpy(xi, yi, sizeof(double) * (size_t)m);
+        chart = pinv[chart];
+        hom_end f = *e;
+        f.steps = f.rejected = f.recharts = 0;
+        double *outr = J->zr + (size_t)q * m, *outi = J->zi + (size_t)q * m;
+        if (e->kind == HOM_REAL || e->kind == HOM_NONREAL) {
+            kin__hom_certify(J->P, J->ws, xr, xi, outr, outi, &f);
+        } else {
+            f.chart = chart;
+            memcpy(outr, xr, sizeof(double) * (size_t)m);
+            memcpy(outi, xi, sizeof(double) * (size_t)m);
+        }
+        J->ends[q] = f;
+    }
+}
+
 /* the batch tracker's finished path: stored by index, counted, reported */
 static void job_done(void *ctx, int p, const double *zr, const double *zi, const hom_end *e)
 {
@@ -139,6 +174,7 @@ static void job_done(void *ctx, int p, const double *zr, const double *zi, const
     memcpy(J->zr + (size_t)k * m, zr, sizeof(double) * (size_t)m);
     memcpy(J->zi + (size_t)k * m, zi, sizeof(double) * (size_t)m);
     J->ends[k] = *e;
+    if (J->orb) expand_orbit(J, p, zr, zi, e);
     pthread_mutex_lock(&q->lock);
     q->tracked++;
     J->stopped = q->stop;
@@ -182,6 +218,16 @@ int kin__hom_run(hom_solver *H, const hom_settings *S, const int *list, int firs
     hom_job *jobs = pool->jobs;
     pthread_t *th = pool->th;
     int *running = pool->running;
+    hom_orbits *O = H->orb;
+    if (O) { /* the distinct orbit representatives of the paths, in order */
+        int nr = 0;
+        for (int i = 0; i < n; ++i) {
+            int r = O->rep[list ? list[i] : first + i];
+            if (!O->mark[r]) O->mark[r] = 1, O->list[nr++] = r;
+        }
+        for (int i = 0; i < nr; ++i) O->mark[O->list[i]] = 0;
+        list = O->list, n = nr, offset = 0;
+    }
     hom_queue q;
     memset(&q, 0, sizeof q);
     q.n = n;
@@ -191,7 +237,7 @@ int kin__hom_run(hom_solver *H, const hom_settings *S, const int *list, int firs
         return KIN_ENOMEM;
     }
     for (int t = 0; t < nthreads; ++t) jobs[t] = (hom_job){P, S, list, first, offset, &q, pool->ws[t], pool->bws[t], ends, zr, zi,
-                                           t == 0 ? R : NULL, 0, 0, 0};
+                                           t == 0 ? R : NULL, O, 0, 0, 0};
     /* thread 0 is this one; threads that cannot be started leave their
      * share to the others */
     for (int t = 1; t < nthreads; ++t) {

@@ -400,12 +400,10 @@ static void ctx_free(sym_ctx *C)
     kin__hom_solver_free(&C->H);
 }
 
-static int ctx_init(sym_ctx *C, int m, int s, const double *Q, int ngroup, const double *R,
-                    const kin_homotopy_options *o, char *err, size_t errlen)
+/* the monodromy's state, C->H and C->G set up */
+static int monodromy_init(sym_ctx *C, int m, int s, const kin_homotopy_options *o)
 {
-    int rc = kin__hom_solver_init(&C->H, m, s, Q, o, 1L << (m - 1));
-    if (rc) return rc;
-    if ((rc = kin__sym_group_init(&C->G, m, s, C->H.Qr, ngroup, R, err, errlen))) return rc;
+    int rc;
     C->m = m, C->s = s, C->N = 1 << s, C->sm = s * m;
     C->nsys = (size_t)s * m * m;
     size_t ns = C->nsys;
@@ -469,9 +467,9 @@ static int ctx_init(sym_ctx *C, int m, int s, const double *Q, int ngroup, const
     return KIN_OK;
 }
 
-static int sym_impl(int m, int s, const double *Q, int ngroup, const double *R, const kin_homotopy_options *o,
-                    double *betas, int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info,
-                    kin_homotopy_sym_info *si, char *err, size_t errlen)
+static int sym_impl(int route, int m, int s, const double *Q, int ngroup, const double *R,
+                    const kin_homotopy_options *o, double *betas, int maxsol, int *nsol, int *multiplicity,
+                    kin_homotopy_info *info, kin_homotopy_sym_info *si, char *err, size_t errlen)
 {
     if (!Q || !betas || !nsol || (ngroup > 0 && !R)) return KIN_ENULL;
     if (maxsol < 1 || ngroup < 0 || m < 2 || s != m - 1 || o->nthreads < 0 || o->max_paths < 1)
@@ -485,7 +483,20 @@ static int sym_impl(int m, int s, const double *Q, int ngroup, const double *R, 
     memset(&C, 0, sizeof C);
     C.fn = o->progress, C.user = o->user;
     hom_endset E = {NULL, NULL, NULL};
-    int rc = ctx_init(&C, m, s, Q, ngroup, R, o, err, errlen);
+    int rc = kin__hom_solver_init(&C.H, m, s, Q, o, 1L << (m - 1));
+    if (!rc) rc = kin__sym_group_init(&C.G, m, s, C.H.Qr, ngroup, R, err, errlen);
+    if (!rc && route == KIN__SYM_AUTO) { /* the equivariant start system where a subgroup allows it */
+        int used = 0;
+        rc = kin__sym_equi_solve(&C.H, &C.G, o, betas, maxsol, nsol, multiplicity, info, si, &used);
+        if (rc == KIN_ECANCELLED) kin__failbuf(err, errlen, rc, "cancelled");
+        else if (rc) kin__failbuf(err, errlen, rc, "equivariant start system: %s", kin_strerror(rc));
+        if (rc || used) {
+            if (rc) memset(info, 0, sizeof *info), *nsol = 0;
+            ctx_free(&C);
+            return rc;
+        }
+    }
+    if (!rc) rc = monodromy_init(&C, m, s, o);
     long loops = 0, finals = 0;
     int *reps = NULL, *list = NULL, *parent = NULL;
     hom_key *keys = NULL;
@@ -554,10 +565,10 @@ done:
     return rc;
 }
 
-int kin_quadrics_homotopy_sym(int m, int s, const double *Q, int ngroup, const double *R,
-                              const kin_homotopy_options *opt, double *betas, int maxsol, int *nsol,
-                              int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *sinfo, char *err,
-                              size_t errlen)
+int kin__quadrics_homotopy_sym_route(int route, int m, int s, const double *Q, int ngroup, const double *R,
+                                     const kin_homotopy_options *opt, double *betas, int maxsol, int *nsol,
+                                     int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *sinfo,
+                                     char *err, size_t errlen)
 {
     if (err && errlen > 0) err[0] = '\0';
     if (nsol) *nsol = 0;
@@ -579,10 +590,19 @@ int kin_quadrics_homotopy_sym(int m, int s, const double *Q, int ngroup, const d
     }
     kin_homotopy_info local = {.size = sizeof local};
     kin_homotopy_sym_info slocal = {.size = sizeof slocal};
-    int rc = sym_impl(m, s, Q, ngroup, R, &o, betas, maxsol, nsol, multiplicity, &local, &slocal, err, errlen);
+    int rc = sym_impl(route, m, s, Q, ngroup, R, &o, betas, maxsol, nsol, multiplicity, &local, &slocal, err, errlen);
     if (rc && rc != KIN_ENOTCONVERGED) memset(&slocal, 0, sizeof slocal), slocal.size = sizeof slocal;
     local.size = sizeof local;
     kin__abi_write(info, &local, sizeof local);
     if (sinfo) kin__abi_write(sinfo, &slocal, sizeof slocal);
     return rc;
+}
+
+int kin_quadrics_homotopy_sym(int m, int s, const double *Q, int ngroup, const double *R,
+                              const kin_homotopy_options *opt, double *betas, int maxsol, int *nsol,
+                              int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *sinfo, char *err,
+                              size_t errlen)
+{
+    return kin__quadrics_homotopy_sym_route(KIN__SYM_AUTO, m, s, Q, ngroup, R, opt, betas, maxsol, nsol,
+                                            multiplicity, info, sinfo, err, errlen);
 }

@@ -99,4 +99,26 @@ int kin__sym_seeds(sym_ctx *C, unsigned long long *st, double *br, double *bi, i
 int kin__sym_force_roots(sym_ctx *C, unsigned long long *st, int K, const double *br, const double *bi, double *zr,
                          double *zi);
 
+/* ---- the routes of kin_quadrics_homotopy_sym ---- */
+enum {
+    KIN__SYM_AUTO = 0,     /* the equivariant start system where a cyclic subgroup allows it, else
+                              the monodromy */
+    KIN__SYM_MONODROMY = 1 /* the monodromy always (tests compare the two) */
+};
+/* kin_quadrics_homotopy_sym by the given route */
+int kin__quadrics_homotopy_sym_route(int route, int m, int s, const double *Q, int ngroup, const double *R,
+                                     const kin_homotopy_options *opt, double *betas, int maxsol, int *nsol,
+                                     int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *sinfo,
+                                     char *err, size_t errlen);
+
+/* The equivariant route (homotopy_sym_equi.c): if a cyclic subgroup of G
+ * acts by permutations (homotopy_equi.h), solve with one total-degree path
+ * per orbit of start roots and *used = 1; else *used = 0 and nothing is
+ * written. H0: the caller's scaled problem (its Qr). Results as
+ * kin_quadrics_homotopy_sym's (si: group, orbits, found, final_paths).
+ * KIN_OK, KIN_ECANCELLED, KIN_ENOMEM, KIN_ELAPACK_*. */
+int kin__sym_equi_solve(const hom_solver *H0, const sym_group *G, const kin_homotopy_options *o, double *betas,
+                        int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *si,
+                        int *used);
+
 #endif /* KIN_HOMOTOPY_SYM_H */

@@ -140,6 +140,10 @@ typedef struct hom_report {
     int cancelled;
 } hom_report;
 
+/* the orbits of the start roots under a symmetry of the homotopy
+ * (homotopy_equi.h) */
+typedef struct hom_orbits hom_orbits;
+
 /* the scaled problem, the sort-key direction and the worker threads'
  * workspaces of one call */
 typedef struct hom_solver {
@@ -149,6 +153,9 @@ typedef struct hom_solver {
     int npaths;          /* 2^s */
     int nthreads;
     void *pool;          /* threads and workspaces (homotopy.c) */
+    hom_orbits *orb;     /* NULL, or the start roots' orbits: kin__hom_run then tracks one path
+                            per orbit and stores every member's endpoint (the representative's
+                            permuted, refined and certified) */
 } hom_solver;
 
 /* Check m, s, Q, the options (nthreads >= 0, max_paths >= 1) and set up the
@@ -161,7 +168,9 @@ hom_ws *kin__hom_pool_ws(const hom_solver *H, int t);
 
 /* Track the paths list[0..n-1] (list NULL: first .. first + n - 1), storing
  * path p's endpoint at index p - offset of ends, zr, zi; progress through
- * R (R->cancelled on a cancel). KIN_OK or KIN_ENOMEM. */
+ * R (R->cancelled on a cancel). With H->orb (offset 0), the paths' orbit
+ * representatives are tracked and every member of their orbits stored.
+ * KIN_OK or KIN_ENOMEM. */
 int kin__hom_run(hom_solver *H, const hom_settings *S, const int *list, int first, int n, int offset, hom_end *ends,
                  double *zr, double *zi, hom_report *R);
 

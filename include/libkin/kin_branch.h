@@ -262,9 +262,9 @@ typedef struct kin_homotopy_sym_info {
     int group;           /* projectively distinct group elements (R_g and -R_g count once; the
                             identity is always one) */
     int orbits;          /* orbits of the start system's roots: the paths tracked to Q (first pass) */
-    int found;           /* roots of the start system found by monodromy, orbits expanded; 2^s
-                            when complete */
-    int monodromy_paths; /* paths tracked in the monodromy loops */
+    int found;           /* roots of the start system known, orbits expanded; 2^s when complete */
+    int monodromy_paths; /* paths tracked in the monodromy loops (0: the equivariant
+                            total-degree start system was used, see below) */
     int final_paths;     /* paths tracked from the start system to Q, re-tracks included */
     double monodromy_steps; /* accepted steps of the monodromy paths */
     double monodromy_rejected; /* rejected steps of the monodromy paths */
@@ -283,25 +283,38 @@ typedef struct kin_homotopy_sym_info {
  * trivial group. Tolerances: |R^T R - I| <= 1e-8 (largest entry) and
  * |R_g^T Q_j R_g - sum_i (S_g)_ji Q_i|_F <= 1e-7 with each Q_j scaled to
  * unit Frobenius norm; the Q_j must be linearly independent.
- * Method (docs/performance.md): a random complex start system P0 in the
- * family E of equivariant systems (the Reynolds projection of a random
- * system) with one root forced; monodromy through two more random members
- * of E, tracking one root per orbit (the group commutes with every path in
- * E) and adding whole orbits, until 2^s roots are known at P0; then one
- * path per orbit from P0 to Q (parameter homotopy), the endpoints' orbits
- * expanded, every one of the 2^s endpoints refined and certified, the
- * duplicate and conjugate checks of kin_quadrics_homotopy; representatives
- * of suspect endpoints are tracked again with tighter settings (3 rounds).
+ * Method (docs/performance.md), one of two routes:
+ *  - equivariant start system, when a cyclic subgroup <h> acts on beta
+ *    like a permutation of coordinates that fixes one and on the equations
+ *    like the same permutation of the others (decided from the characters
+ *    tr R_h^j, tr S_h^j; the largest such subgroup is used): in coordinates
+ *    beta = U x (U orthogonal) and orthogonal combinations of the
+ *    equations where h is that permutation, the plain solver's homotopy is
+ *    equivariant, so one total-degree path per orbit of start roots is
+ *    tracked and its endpoint permuted gives the others' (each refined and
+ *    certified on its own). The sails' flat states qualify (C3 or C4 permuting
+ *    cycles of mechanisms and of self-stresses alike);
+ *  - otherwise monodromy: a random complex start system P0 in the
+ *    family E of equivariant systems (the Reynolds projection of a random
+ *    system) with one root forced; monodromy through two more random members
+ *    of E, tracking one root per orbit (the group commutes with every path in
+ *    E) and adding whole orbits, until 2^s roots are known at P0; then one
+ *    path per orbit from P0 to Q (parameter homotopy), the endpoints' orbits
+ *    expanded and every one of the 2^s endpoints refined and certified.
+ * Both then apply the duplicate and conjugate checks of
+ * kin_quadrics_homotopy; representatives of suspect endpoints are tracked
+ * again with tighter settings (3 rounds).
  * opt as for kin_quadrics_homotopy_ex (NULL: defaults): seed (the random
  * systems and charts), threads, max_paths (bounds 2^s), progress (done =
  * paths tracked, total = done + paths queued; cancel: KIN_ECANCELLED).
  * sinfo (optional, NULL: none) receives the counts above. Memory: about
  * (100 m + 160) bytes per root (2^s; 56 MB at s = 15), allocated per call.
- * Time: on the hexagonal sail's flat state (C3) ~5x the plain solver's
+ * Time: the equivariant route costs about 1/k of the plain solver's (k:
+ * the subgroup's order; 2.6x faster on the hexagonal sail's flat state,
+ * C3). The monodromy route costs ~5x the plain solver's on that state
  * (about 4 monodromy paths per orbit besides the one to Q, and a step with
- * complex A + t D costs ~2.5x the plain tracker's; both follow four paths
- * in lockstep): it pays off for groups of projective order well above 10
- * only.
+ * complex A + t D costs ~2.5x the plain tracker's): it pays off for groups
+ * of projective order well above 10 only.
  * err (optional, errlen bytes) receives a message on failure.
  * If the monodromy does not reach 2^s roots within 40 * 2^s / |G| + 1000
  * paths, or the start system's roots cannot be placed (e.g. a family whose

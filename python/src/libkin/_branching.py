@@ -113,10 +113,14 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
         orthogonal matrices (``q(R b) = S q(b)``; closed under products up to
         sign; the identity may be left out), e.g. from
         `libkin.automorphisms.mechanism_group`. The solver then tracks one
-        path per orbit (kin_quadrics_homotopy_sym: monodromy in the
-        equivariant family, then one path per orbit to Q) with the same
-        certified accounting of all 2^s roots; the accounting gains
-        'group', 'orbits', 'found', 'monodromy_paths' and 'final_paths'.
+        path per orbit (kin_quadrics_homotopy_sym: the total-degree homotopy
+        in coordinates where a cyclic subgroup permutes the mechanisms and
+        the equations alike, one path per orbit of start roots, e.g. 10944
+        instead of 32768 on the hexagonal sail's flat state; for other
+        groups monodromy in the equivariant family, then one path per orbit
+        to Q) with the same certified accounting of all 2^s roots; the
+        accounting gains 'group', 'orbits', 'found', 'monodromy_paths' (0 on
+        the first route) and 'final_paths'.
 
     Returns
     -------

@@ -24,6 +24,7 @@ import time
 import numpy as np
 
 from .assembly import Assembly, solve_quadrics
+from .automorphisms import mechanism_group
 from .errors import KinError
 from .sailmeasure import measures
 from .sailmap import MAP_DEPTH, SailMap, explore_symmetric
@@ -221,9 +222,13 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     snaps = {}
     _say(progress, f"[R^A] flat state: H is {a.nfree} x {a.nbars}, m = {an.m_internal}, s = {an.s}")
     if complete and an.s <= 16:
-        _say(progress, f"[R^A] complete solver: 2^{an.s} = {2 ** an.s} homotopy paths on {threads} threads ...")
+        _say(progress, f"[R^A] complete solver: 2^{an.s} = {2 ** an.s} homotopy paths on {threads} threads, "
+             "one per orbit of the sail's rotations ...")
         t0 = time.perf_counter()
-        _, acc = solve_quadrics(a.second_order(), "homotopy", threads=threads, progress=progress)
+        # the sail's symmetry group acting on beta (found from C): the solver
+        # tracks one path per orbit of start roots and certifies all 2^s
+        group = mechanism_group(a, method="c")
+        _, acc = solve_quadrics(a.second_order(), "homotopy", threads=threads, progress=progress, group=group)
         acc["seconds"] = round(time.perf_counter() - t0, 1)
         res["flat"]["complete"] = acc
         _say(progress, f"[R^A]   {acc}")

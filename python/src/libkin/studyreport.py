@@ -128,6 +128,10 @@ def _write_hex_md(res, out, M, figs):
         L.append(f" Complete solver over all {c['paths']} homotopy paths: {c['real']} real endpoints "
                  f"({c['real_distinct']} distinct), {c['nonreal']} complex, {c['singular']} singular, "
                  f"{c['failed']} failed, in {c['seconds']} s.")
+        if c.get("orbits", c["paths"]) < c["paths"]:
+            L.append(f" By the sail's symmetry ({c['group']} rotations) {c['orbits']} of the paths were tracked, "
+                     "one per orbit of start roots; the others' endpoints are theirs rotated, each refined "
+                     "and certified on its own.")
         if (c["singular"] == 0 and c["failed"] == 0 and c.get("duplicates", 1) == 0 and c.get("unpaired", 1) == 0
                 and c["real"] == c["real_distinct"]):
             L.append(" Every endpoint is a certified simple root reached by one path, and the complex ones pair "
