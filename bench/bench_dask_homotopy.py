@@ -12,6 +12,10 @@ kin_quadrics_homotopy_range per shard, one kin_quadrics_homotopy_merge).
   python bench/bench_dask_homotopy.py inprocess [--workers 2]
       the same without Dask: kin_quadrics_homotopy_ex on that many threads in
       this process (no endpoint records to move between processes).
+  add --sym to `full` and `inprocess`: with the sail's symmetry group
+      (mechanism_group, found from C inside the timing): one path per orbit
+      of start roots (kin_quadrics_homotopy_orbit_range shards and the merge
+      on the equivariant form; in process kin_quadrics_homotopy_sym).
 
 Run it on an idle machine (uptime is printed); one worker process per core,
 one thread each.
@@ -75,27 +79,32 @@ def scaling(Q: np.ndarray, paths: int, workers_list: list[int]) -> list[dict]:
     return rows
 
 
-def full(Q: np.ndarray, workers: int) -> dict:
+def group_of(a: libkin.Assembly | None) -> np.ndarray | None:
+    from libkin.automorphisms import mechanism_group
+    return None if a is None else mechanism_group(a, method="c")
+
+
+def full(Q: np.ndarray, workers: int, sym: libkin.Assembly | None = None) -> dict:
     lc, client = cluster(workers)
     try:
         t0 = time.perf_counter()
-        betas, acc = hs.solve_sharded(Q, executor=client, shards=64 * workers)
+        betas, acc = hs.solve_sharded(Q, executor=client, shards=64 * workers, group=group_of(sym))
         dt = time.perf_counter() - t0
     finally:
         client.close()
         lc.close()
     out = {"workers": workers, "seconds": dt, "accounting": acc, "real_solutions": int(betas.shape[0]),
-           "load_after": load()}
+           "symmetry": sym is not None, "load_after": load()}
     print(json.dumps(out, indent=1), flush=True)
     return out
 
 
-def inprocess(Q: np.ndarray, threads: int) -> dict:
+def inprocess(Q: np.ndarray, threads: int, sym: libkin.Assembly | None = None) -> dict:
     t0 = time.perf_counter()
-    betas, acc = libkin.solve_quadrics(Q, threads=threads)
+    betas, acc = libkin.solve_quadrics(Q, threads=threads, group=group_of(sym))
     dt = time.perf_counter() - t0
     out = {"threads": threads, "seconds": dt, "accounting": acc, "real_solutions_returned": int(betas.shape[0]),
-           "load_after": load()}
+           "symmetry": sym is not None, "load_after": load()}
     print(json.dumps(out, indent=1), flush=True)
     return out
 
@@ -108,17 +117,19 @@ def main() -> None:
     p.add_argument("--paths", type=int, default=16384)
     p.add_argument("--workers", default="1,2")
     p.add_argument("--json", help="write the results here")
+    p.add_argument("--sym", action="store_true", help="use the sail's symmetry group (full, inprocess)")
     args = p.parse_args()
     Q = flat_state_system(args.hub, args.loops)
     print(f"sail:{args.hub}:{args.loops} flat state: s = {Q.shape[0]}, m = {Q.shape[1]}, "
           f"{1 << Q.shape[0]} paths; load {load()}", flush=True)
     workers = [int(w) for w in args.workers.split(",")]
+    sym = libkin.Assembly.sail(args.hub, args.loops) if args.sym else None
     if args.mode == "scaling":
         res = scaling(Q, args.paths, workers)
     elif args.mode == "full":
-        res = full(Q, workers[-1])
+        res = full(Q, workers[-1], sym)
     else:
-        res = inprocess(Q, workers[-1])
+        res = inprocess(Q, workers[-1], sym)
     if args.json:
         with open(args.json, "w") as f:
             json.dump(res, f, indent=1)

@@ -5,7 +5,10 @@
  *     s quadrics in m = s + 1 unknowns (symmetric Gaussian matrices,
  *     orthonormalised as eq. 18 does), s = 2 .. smax -> bench_homotopy.csv;
  *  2. the same for the hexagonal sail's flat state (s = 15, 32768 paths),
- *     `hexruns` times (the machine may be shared: report best and spread);
+ *     `hexruns` times (the machine may be shared: report best and spread),
+ *     each run followed by the symmetric solver (kin_quadrics_homotopy_sym
+ *     with the group of kin_mechanism_group, its finding timed too: the
+ *     equivariant start system, 10944 paths);
  *  3. completeness against time -> bench_completeness.csv: the fraction of
  *     the complete solver's real solutions that the root scan finds from
  *     2^6 .. 2^scanmax starting points, and its time, on the square sail's
@@ -25,20 +28,32 @@
 #include "bench_common.h"
 #include "sail_states.h"
 
-enum { THREADS = 2, SCAN_MIN_LOG2 = 6, SCAN_SEED = 11, HOMOTOPY_SEED = 1 };
+enum { THREADS = 2, SCAN_MIN_LOG2 = 6, SCAN_SEED = 11, HOMOTOPY_SEED = 1, MAX_GROUP = 64 };
 
 static double cpu(void) { return (double)clock() / CLOCKS_PER_SEC; }
 
 /* the complete solver on one system: a table row and a CSV row; returns
- * the number of distinct real solutions (-1 on error), *sec its time */
-static int homotopy(FILE *csv, const char *name, int run, int m, int s, const double *Q, double *sec)
+ * the number of distinct real solutions (-1 on error), *sec its time.
+ * sym (an assembly whose second-order system Q is): the symmetric solver
+ * with the group from kin_mechanism_group, found inside the timing. */
+static int homotopy_sym(FILE *csv, const char *name, int run, int m, int s, const double *Q, kin_assembly *sym,
+                        double *sec)
 {
-    int maxsol = 1 << s, nsol = 0;
+    int maxsol = 1 << s, nsol = 0, ng = 0;
     double *betas = malloc(sizeof(double) * (size_t)m * maxsol);
+    double *R = sym ? malloc(sizeof(double) * (size_t)m * m * MAX_GROUP) : NULL;
     kin_homotopy_info h = {.size = sizeof h};
+    kin_homotopy_sym_info si = {.size = sizeof si};
+    kin_homotopy_options o;
+    kin_homotopy_options_default(&o);
+    o.seed = HOMOTOPY_SEED, o.nthreads = THREADS;
     double t0 = now(), c0 = cpu();
-    int rc = betas ? kin_quadrics_homotopy(m, s, Q, HOMOTOPY_SEED, THREADS, betas, maxsol, &nsol, NULL, &h)
-                   : KIN_ENOMEM;
+    int rc = !betas || (sym && !R) ? KIN_ENOMEM : KIN_OK;
+    if (!rc && sym) rc = kin_mechanism_group(sym, MAX_GROUP, R, &ng);
+    if (!rc)
+        rc = sym ? kin_quadrics_homotopy_sym(m, s, Q, ng, R, &o, betas, maxsol, &nsol, NULL, &h, &si, NULL, 0)
+                 : kin_quadrics_homotopy(m, s, Q, HOMOTOPY_SEED, THREADS, betas, maxsol, &nsol, NULL, &h);
+    free(R);
     double wall = now() - t0, cs = cpu() - c0;
     free(betas);
     *sec = wall;
@@ -53,9 +68,16 @@ static int homotopy(FILE *csv, const char *name, int run, int m, int s, const do
     fprintf(csv, "%s,%d,%d,%d,%.6f,%.6f,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%d,%.3g,%.3g\n", name, run, s, h.paths, wall,
             cs, h.real, h.real_distinct, h.nonreal, h.singular, h.failed, THREADS, h.steps, h.rejected, h.retracked,
             h.duplicates, h.unpaired, h.uncertified, h.max_residual, h.max_cond);
+    if (sym) printf("           (group %d, %d paths tracked: one per orbit of start roots, %d monodromy paths)\n",
+                    si.group, si.final_paths, si.monodromy_paths);
     fflush(stdout);
     fflush(csv);
     return h.real_distinct;
+}
+
+static int homotopy(FILE *csv, const char *name, int run, int m, int s, const double *Q, double *sec)
+{
+    return homotopy_sym(csv, name, run, m, s, Q, NULL, sec);
 }
 
 static void header(void)
@@ -240,13 +262,19 @@ int main(int argc, char **argv)
         printf("\n2. hexagonal sail, flat state, %d run(s)\n", hexruns);
         kin_assembly *a = test_sail(6, 2);
         int m = 0, s = 0;
-        double *Q = second_order(a, &m, &s), best = INFINITY, worst = 0.0, sec;
+        double *Q = second_order(a, &m, &s), best = INFINITY, worst = 0.0, sbest = INFINITY, sworst = 0.0, sec;
         header();
-        for (int r = 0; Q && r < hexruns; ++r) {
+        for (int r = 0; Q && r < hexruns; ++r) { /* plain and symmetric alternately: ratios in the same minutes */
             homotopy(hcsv, "hex_flat", r, m, s, Q, &sec);
             best = fmin(best, sec), worst = fmax(worst, sec);
+            double plain = sec;
+            homotopy_sym(hcsv, "hex_sym", r, m, s, Q, a, &sec);
+            sbest = fmin(sbest, sec), sworst = fmax(sworst, sec);
+            printf("           plain / sym wall ratio %.2f\n", plain / sec);
         }
-        if (Q) printf("best %.2f s, worst %.2f s (wall, %d threads)\n", best, worst, THREADS);
+        if (Q)
+            printf("plain: best %.2f s, worst %.2f s; sym (group found in the timing): best %.2f s, worst %.2f s "
+                   "(wall, %d threads)\n", best, worst, sbest, sworst, THREADS);
         free(Q);
         kin_assembly_free(a);
     }

@@ -151,6 +151,7 @@ module libkin
   public :: kin_second_order, kin_quadrics_scan, kin_quadrics_homotopy, kin_branch_paths
   public :: kin_homotopy_options_default, kin_quadrics_homotopy_ex
   public :: kin_quadrics_homotopy_range, kin_quadrics_homotopy_merge, kin_quadrics_homotopy_sym
+  public :: kin_quadrics_equivariant_form, kin_quadrics_homotopy_orbit_range
   public :: kin_follow_options_default, kin_follow_event
   public :: kin_set_progress, kin_progress_callback
   public :: kin_assembly_load, kin_assembly_load_string, kin_assembly_save
@@ -487,6 +488,34 @@ module libkin
       type(kin_homotopy_endpoint), intent(inout) :: ends(*)
       real(c_double), intent(out) :: z(*)
       integer(c_int) :: kin_quadrics_homotopy_range
+    end function
+    ! err: c_loc of a character(len=errlen) buffer or c_null_ptr
+    function kin_quadrics_equivariant_form(m, s, q, ngroup, r, seed, qt, u, perm, order, norbits, err, &
+        errlen) bind(C, name='kin_quadrics_equivariant_form')
+      import :: c_int, c_long, c_double, c_ptr, c_size_t
+      integer(c_int), value :: m, s, ngroup
+      real(c_double), intent(in) :: q(*), r(*)
+      integer(c_long), value :: seed
+      real(c_double), intent(out) :: qt(*), u(*)
+      integer(c_int), intent(out) :: perm(*), order
+      integer(c_long), intent(out) :: norbits
+      type(c_ptr), value :: err
+      integer(c_size_t), value :: errlen
+      integer(c_int) :: kin_quadrics_equivariant_form
+    end function
+    ! ends: element 1's size must be KIN_SIZEOF_HOMOTOPY_ENDPOINT (the default)
+    function kin_quadrics_homotopy_orbit_range(m, s, qt, perm, opt, first_orbit, norbits, maxends, ends, z, &
+        nends) bind(C, name='kin_quadrics_homotopy_orbit_range')
+      import :: c_int, c_long, c_double, kin_homotopy_options, kin_homotopy_endpoint
+      integer(c_int), value :: m, s
+      real(c_double), intent(in) :: qt(*)
+      integer(c_int), intent(in) :: perm(*)
+      type(kin_homotopy_options), intent(in) :: opt
+      integer(c_long), value :: first_orbit, norbits, maxends
+      type(kin_homotopy_endpoint), intent(inout) :: ends(*)
+      real(c_double), intent(out) :: z(*)
+      integer(c_long), intent(out) :: nends
+      integer(c_int) :: kin_quadrics_homotopy_orbit_range
     end function
     function kin_quadrics_homotopy_merge(m, s, q, opt, ends, z, betas, maxsol, nsol, multiplicity, info) &
         bind(C, name='kin_quadrics_homotopy_merge')

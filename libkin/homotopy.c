@@ -153,7 +153,8 @@ static void expand_orbit(hom_job *J, int p, const double *zr, const double *zi, 
         chart = pinv[chart];
         hom_end f = *e;
         f.steps = f.rejected = f.recharts = 0;
-        double *outr = J->zr + (size_t)q * m, *outi = J->zi + (size_t)q * m;
+        size_t at = (size_t)(O->slot ? O->slot[q] : q);
+        double *outr = J->zr + at * m, *outi = J->zi + at * m;
         if (e->kind == HOM_REAL || e->kind == HOM_NONREAL) {
             kin__hom_certify(J->P, J->ws, xr, xi, outr, outi, &f);
         } else {
@@ -161,7 +162,7 @@ static void expand_orbit(hom_job *J, int p, const double *zr, const double *zi, 
             memcpy(outr, xr, sizeof(double) * (size_t)m);
             memcpy(outi, xi, sizeof(double) * (size_t)m);
         }
-        J->ends[q] = f;
+        J->ends[O->slot ? O->slot[q] : q] = f;
     }
 }
 
@@ -170,7 +171,7 @@ static void job_done(void *ctx, int p, const double *zr, const double *zi, const
 {
     hom_job *J = ctx;
     hom_queue *q = J->queue;
-    int m = J->P->m, k = p - J->offset;
+    int m = J->P->m, k = J->orb && J->orb->slot ? J->orb->slot[p] : p - J->offset;
     memcpy(J->zr + (size_t)k * m, zr, sizeof(double) * (size_t)m);
     memcpy(J->zi + (size_t)k * m, zi, sizeof(double) * (size_t)m);
     J->ends[k] = *e;
@@ -226,6 +227,7 @@ int kin__hom_run(hom_solver *H, const hom_settings *S, const int *list, int firs
             if (!O->mark[r]) O->mark[r] = 1, O->list[nr++] = r;
         }
         for (int i = 0; i < nr; ++i) O->mark[O->list[i]] = 0;
+        R->total -= (double)(n - nr); /* the caller scheduled n paths; nr are tracked */
         list = O->list, n = nr, offset = 0;
     }
     hom_queue q;

@@ -384,6 +384,6 @@ int kin__orbits_init(hom_orbits *O, int m, const int *perm)
 
 void kin__orbits_free(hom_orbits *O)
 {
-    free(O->next), free(O->rep), free(O->reps), free(O->list), free(O->mark);
+    free(O->next), free(O->rep), free(O->reps), free(O->list), free(O->mark), free(O->slot);
     memset(O, 0, sizeof *O);
 }

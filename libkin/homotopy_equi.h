@@ -44,6 +44,8 @@ struct hom_orbits {
     int *reps;           /* the representatives, ascending (nreps) */
     int *list;           /* kin__hom_run's scratch: npaths */
     unsigned char *mark; /* kin__hom_run's scratch: npaths */
+    int *slot;           /* NULL: path p's endpoint is stored at index p; else at slot[p] (a
+                            range of orbits stored compactly, kin_quadrics_homotopy_orbit_range) */
 };
 /* KIN_OK or KIN_ENOMEM (O then empty) */
 int kin__orbits_init(hom_orbits *O, int m, const int *perm);

@@ -485,11 +485,17 @@ static int sym_impl(int route, int m, int s, const double *Q, int ngroup, const 
     hom_endset E = {NULL, NULL, NULL};
     int rc = kin__hom_solver_init(&C.H, m, s, Q, o, 1L << (m - 1));
     if (!rc) rc = kin__sym_group_init(&C.G, m, s, C.H.Qr, ngroup, R, err, errlen);
-    if (!rc && route == KIN__SYM_AUTO) { /* the equivariant start system where a subgroup allows it */
+    if (!rc && route == KIN__SYM_AUTO) {
+        /* the equivariant start system where a subgroup allows it; else,
+         * for a small group, every path (the monodromy would cost more) */
         int used = 0;
         rc = kin__sym_equi_solve(&C.H, &C.G, o, betas, maxsol, nsol, multiplicity, info, si, &used);
+        if (!rc && !used && C.G.n < SYM_MONODROMY_MIN_GROUP) {
+            used = 1;
+            rc = kin__sym_plain_solve(&C.H, &C.G, o, betas, maxsol, nsol, multiplicity, info, si);
+        }
         if (rc == KIN_ECANCELLED) kin__failbuf(err, errlen, rc, "cancelled");
-        else if (rc) kin__failbuf(err, errlen, rc, "equivariant start system: %s", kin_strerror(rc));
+        else if (rc) kin__failbuf(err, errlen, rc, "%s", kin_strerror(rc));
         if (rc || used) {
             if (rc) memset(info, 0, sizeof *info), *nsol = 0;
             ctx_free(&C);

@@ -102,9 +102,14 @@ int kin__sym_force_roots(sym_ctx *C, unsigned long long *st, int K, const double
 /* ---- the routes of kin_quadrics_homotopy_sym ---- */
 enum {
     KIN__SYM_AUTO = 0,     /* the equivariant start system where a cyclic subgroup allows it, else
-                              the monodromy */
+                              the monodromy if the group has at least SYM_MONODROMY_MIN_GROUP
+                              projectively distinct elements, else every path (the plain solver) */
     KIN__SYM_MONODROMY = 1 /* the monodromy always (tests compare the two) */
 };
+/* The monodromy costs about 12 plain paths per orbit (4 loop paths and
+ * the leg to Q, each step ~2.5x a plain step; docs/performance.md): below
+ * this group order tracking all 2^s paths is faster. */
+enum { SYM_MONODROMY_MIN_GROUP = 12 };
 /* kin_quadrics_homotopy_sym by the given route */
 int kin__quadrics_homotopy_sym_route(int route, int m, int s, const double *Q, int ngroup, const double *R,
                                      const kin_homotopy_options *opt, double *betas, int maxsol, int *nsol,
@@ -120,5 +125,10 @@ int kin__quadrics_homotopy_sym_route(int route, int m, int s, const double *Q, i
 int kin__sym_equi_solve(const hom_solver *H0, const sym_group *G, const kin_homotopy_options *o, double *betas,
                         int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *si,
                         int *used);
+
+/* The plain route (homotopy_sym_equi.c): all 2^s paths of H's system, as
+ * kin_quadrics_homotopy_ex, with si filled (orbits = 2^s, no monodromy). */
+int kin__sym_plain_solve(hom_solver *H, const sym_group *G, const kin_homotopy_options *o, double *betas,
+                         int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *si);
 
 #endif /* KIN_HOMOTOPY_SYM_H */

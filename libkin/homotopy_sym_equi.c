@@ -10,7 +10,11 @@
  * On the hexagonal sail's flat state (C3 permuting 5 triples of
  * mechanisms and of self-stresses) that is 10944 paths instead of 32768;
  * on the octagonal two-loop sail's (C4, 5 cycles of 4) 262416 instead of
- * 1048576. */
+ * 1048576.
+ *
+ * Also here: the plain route (every path of the caller's system), which the
+ * solver takes when no subgroup qualifies and the group is too small for
+ * the monodromy to pay off. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -52,6 +56,24 @@ static double to_beta(int m, int s, const double *U, const double *Qr, double *b
     return res;
 }
 
+/* the first pass over list[0..n-1] (NULL: every path), then the checks,
+ * re-tracks and accounting; *tracked: the paths tracked */
+static int track_and_merge(hom_solver *H, const int *list, int n, const kin_homotopy_options *o, double *betas,
+                           int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info, long *tracked)
+{
+    int m = H->P.m;
+    hom_endset X = {NULL, NULL, NULL};
+    int rc = kin__hom_endset_alloc(&X, H->npaths, m);
+    hom_report R = {o->progress, o->user, 0.0, (double)n, 0.0, 0};
+    if (!rc && R.fn && R.fn(R.user, 0.0, R.total)) rc = KIN_ECANCELLED;
+    if (!rc) rc = kin__hom_run(H, &kin__hom_base_settings, list, 0, n, 0, X.ends, X.zr, X.zi, &R);
+    if (!rc && R.cancelled) rc = KIN_ECANCELLED;
+    if (!rc) rc = kin__hom_merge(H, X.ends, X.zr, X.zi, &R, betas, maxsol, nsol, multiplicity, info);
+    *tracked = (long)R.base;
+    kin__hom_endset_free(&X);
+    return rc;
+}
+
 int kin__sym_equi_solve(const hom_solver *H0, const sym_group *G, const kin_homotopy_options *o, double *betas,
                         int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *si,
                         int *used)
@@ -65,30 +87,35 @@ int kin__sym_equi_solve(const hom_solver *H0, const sym_group *G, const kin_homo
     hom_orbits O;
     hom_solver H;
     memset(&H, 0, sizeof H);
-    hom_endset X = {NULL, NULL, NULL};
+    long tracked = 0;
     if ((rc = kin__orbits_init(&O, m, E.perm))) goto done;
     if ((rc = kin__hom_solver_init(&H, m, s, E.Qt, o, O.nreps))) goto done;
     H.orb = &O;
-    if ((rc = kin__hom_endset_alloc(&X, H.npaths, m))) goto done;
-    hom_report R = {o->progress, o->user, 0.0, (double)O.nreps, 0.0, 0};
-    if (R.fn && R.fn(R.user, 0.0, R.total)) {
-        rc = KIN_ECANCELLED;
-        goto done;
-    }
-    rc = kin__hom_run(&H, &kin__hom_base_settings, O.reps, 0, O.nreps, 0, X.ends, X.zr, X.zi, &R);
-    if (!rc && R.cancelled) rc = KIN_ECANCELLED;
-    if (!rc) rc = kin__hom_merge(&H, X.ends, X.zr, X.zi, &R, betas, maxsol, nsol, multiplicity, info);
+    rc = track_and_merge(&H, O.reps, O.nreps, o, betas, maxsol, nsol, multiplicity, info, &tracked);
     if (rc) goto done;
     info->max_residual = fmax(info->max_residual, to_beta(m, s, E.U, H0->Qr, betas, *nsol));
     si->group = G->n;
     si->orbits = O.nreps;
     si->found = H.npaths;
     si->monodromy_paths = 0;
-    si->final_paths = (int)R.base;
+    si->final_paths = (int)tracked;
 done:
-    kin__hom_endset_free(&X);
     kin__hom_solver_free(&H);
     kin__orbits_free(&O);
     kin__equi_free(&E);
     return rc;
+}
+
+int kin__sym_plain_solve(hom_solver *H, const sym_group *G, const kin_homotopy_options *o, double *betas,
+                         int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *si)
+{
+    long tracked = 0;
+    int rc = track_and_merge(H, NULL, H->npaths, o, betas, maxsol, nsol, multiplicity, info, &tracked);
+    if (rc) return rc;
+    si->group = G->n;
+    si->orbits = H->npaths;
+    si->found = H->npaths;
+    si->monodromy_paths = 0;
+    si->final_paths = (int)tracked;
+    return KIN_OK;
 }

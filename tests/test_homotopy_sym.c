@@ -143,16 +143,18 @@ static void compare_route(const char *name, int route, int m, const double *Q, i
     CHECK(h1.real + h1.nonreal == N); /* generic: all simple */
     CHECK(h1.duplicates == 0 && h1.unpaired == 0);
     CHECK(h1.real == h0->real && h1.real_distinct == h0->real_distinct && n1 == n0);
-    CHECK(si->orbits < N || want_group == 1);
+    CHECK(si->orbits < N || want_group == 1 || route == KIN__SYM_AUTO);
     CHECK(same_roots(m, n0, b0, b1) && same_roots(m, n1, b1, b0));
     for (int i = 0; i < n1; ++i) CHECK(mult[i] == 1);
     CHECK(h1.max_residual <= 1e3 * DBL_EPSILON);
     free(b1), free(mult);
 }
 
-/* Solve with and without the group and compare, by both routes.
- * want_orbits > 0: the automatic route must be the equivariant start
- * system with that many orbits (no monodromy paths); 0: the monodromy. */
+/* Solve with and without the group and compare, by the automatic route
+ * and by the monodromy. want_orbits: the orbits of start roots the
+ * automatic route tracks (the equivariant start system; 2^s: every path,
+ * when no subgroup qualifies and the group is small), without monodromy
+ * paths. */
 static void compare(const char *name, int m, const double *Q, int ng, const double *R, int want_group,
                     int want_orbits)
 {
@@ -165,13 +167,9 @@ static void compare(const char *name, int m, const double *Q, int ng, const doub
     CHECK_RC(kin_quadrics_homotopy_ex(m, s, Q, &o, b0, N, &n0, NULL, &h0), KIN_OK);
     kin_homotopy_sym_info sa, sm;
     compare_route(name, KIN__SYM_AUTO, m, Q, ng, R, want_group, n0, b0, &h0, &sa);
-    if (want_orbits > 0) {
-        CHECK(sa.monodromy_paths == 0 && sa.orbits == want_orbits);
-        compare_route(name, KIN__SYM_MONODROMY, m, Q, ng, R, want_group, n0, b0, &h0, &sm);
-        CHECK(sm.monodromy_paths > 0);
-    } else {
-        CHECK(sa.monodromy_paths > 0);
-    }
+    CHECK(sa.monodromy_paths == 0 && sa.orbits == want_orbits);
+    compare_route(name, KIN__SYM_MONODROMY, m, Q, ng, R, want_group, n0, b0, &h0, &sm);
+    CHECK(sm.monodromy_paths > 0);
     free(b0);
 }
 
@@ -277,7 +275,7 @@ int main(void)
         errors(m, Q, R);
         not_a_group(m, Q, R);
         /* the trivial group: the plain solver's result */
-        compare("trivial, m = 5", m, Q, 0, NULL, 1, 0);
+        compare("trivial, m = 5", m, Q, 0, NULL, 1, 16);
         /* cancelled from the first progress call */
         int calls = 0, n = -1, N = 1 << s;
         double b[M1 << 4];
@@ -334,15 +332,15 @@ int main(void)
     }
     /* 2c. C2 changing the signs of coordinates 1 and 2 of m = 5, every
      * equation invariant: not a permutation of the coordinates that
-     * matches the equations' (characters 1 and 4 + 1 at the generator), so
-     * the monodromy, whose result must still be the plain solver's */
+     * matches the equations' (characters 1 and 4 + 1 at the generator), and
+     * the group is too small for the monodromy: every path */
     {
         int m = M1;
         mm = (size_t)m * m;
         double D[M1 * M1] = {0}, Q[M1 * M1 * 4], R[2 * M1 * M1];
         for (int i = 0; i < m; ++i) D[i * m + i] = i == 1 || i == 2 ? -1.0 : 1.0;
         cyclic_system(m, 2, D, 4, Q, R);
-        compare("C2 sign changes, m = 5", m, Q, 2, R, 2, 0);
+        compare("C2 sign changes, m = 5", m, Q, 2, R, 2, 16);
     }
     /* 3. C3 by rotations in two planes of m = 7 (orthogonal matrices that
      * are not permutations) */
@@ -361,22 +359,30 @@ int main(void)
         /* one orbit of 3 equations and 3 invariant ones: the generic
          * member of the equivariant family has 48 isolated roots, not 64
          * (Q has 16 singular ones): the monodromy spends its budget and
-         * says how far it got */
+         * says how far it got; the automatic route (no subgroup qualifies,
+         * C3 is small) tracks every path and reports the singular
+         * endpoints as the plain solver does */
         cyclic_system(m, 3, P, 3, Q, R);
-        int s = m - 1, N = 1 << s, n = -1;
+        int s = m - 1, N = 1 << s, n = -1, n0 = -1;
         double b[M3 << 6];
-        kin_homotopy_info h = {.size = sizeof h};
+        kin_homotopy_info h = {.size = sizeof h}, h0 = {.size = sizeof h0};
         kin_homotopy_sym_info si = {.size = sizeof si};
-        CHECK_RC(kin_quadrics_homotopy_sym(m, s, Q, 3, R, NULL, b, N, &n, NULL, &h, &si, NULL, 0),
+        CHECK_RC(kin__quadrics_homotopy_sym_route(KIN__SYM_MONODROMY, m, s, Q, 3, R, NULL, b, N, &n, NULL, &h, &si,
+                                                  NULL, 0),
                  KIN_ENOTCONVERGED);
         CHECK(n == 0 && h.paths == N && h.real == 0 && si.found > 0 && si.found < N && si.group == 3);
         CHECK(si.monodromy_paths > N);
+        CHECK_RC(kin_quadrics_homotopy(m, s, Q, 1, 2, b, N, &n0, NULL, &h0), KIN_OK);
+        CHECK_RC(kin_quadrics_homotopy_sym(m, s, Q, 3, R, NULL, b, N, &n, NULL, &h, &si, NULL, 0), KIN_OK);
+        CHECK(h.singular == h0.singular && h.singular > 0 && h.real == h0.real && n == n0);
+        CHECK(si.monodromy_paths == 0 && si.orbits == N);
     }
 
     /* 4. C3 cycling coordinates 1..3 of m = 4 with 3 invariant equations:
      * the generic member of that equivariant family has fewer than 2^s = 8
-     * isolated roots (Q has singular ones): refused with KIN_ENOTCONVERGED
-     * (here already the forced roots of the start system cannot be placed) */
+     * isolated roots (Q has singular ones): the monodromy refuses with
+     * KIN_ENOTCONVERGED (here already the forced roots of the start system
+     * cannot be placed) */
     {
         int m = 4, s = 3, N = 8, n = -1;
         double P[16] = {0}, Q[48], R[48], b[32];
@@ -385,7 +391,8 @@ int main(void)
         cyclic_system(m, 3, P, 3, Q, R);
         kin_homotopy_info h = {.size = sizeof h};
         kin_homotopy_sym_info si = {.size = sizeof si};
-        CHECK_RC(kin_quadrics_homotopy_sym(m, s, Q, 3, R, NULL, b, N, &n, NULL, &h, &si, NULL, 0),
+        CHECK_RC(kin__quadrics_homotopy_sym_route(KIN__SYM_MONODROMY, m, s, Q, 3, R, NULL, b, N, &n, NULL, &h, &si,
+                                                  NULL, 0),
                  KIN_ENOTCONVERGED);
         CHECK(n == 0 && h.paths == N && h.real == 0 && si.found < N && si.group == 3);
         printf("C3 on m = 4, invariant equations: monodromy found %d of %d in %d paths\n", si.found, N,

@@ -294,6 +294,9 @@ typedef struct kin_homotopy_sym_info {
  *    tracked and its endpoint permuted gives the others' (each refined and
  *    certified on its own). The sails' flat states qualify (C3 or C4 permuting
  *    cycles of mechanisms and of self-stresses alike);
+ *  - otherwise, for a group of fewer than 12 projectively distinct
+ *    elements, every one of the 2^s paths as kin_quadrics_homotopy_ex (the
+ *    monodromy below costs about 12 plain paths per orbit);
  *  - otherwise monodromy: a random complex start system P0 in the
  *    family E of equivariant systems (the Reynolds projection of a random
  *    system) with one root forced; monodromy through two more random members
@@ -313,8 +316,8 @@ typedef struct kin_homotopy_sym_info {
  * the subgroup's order; 2.6x faster on the hexagonal sail's flat state,
  * C3). The monodromy route costs ~5x the plain solver's on that state
  * (about 4 monodromy paths per orbit besides the one to Q, and a step with
- * complex A + t D costs ~2.5x the plain tracker's): it pays off for groups
- * of projective order well above 10 only.
+ * complex A + t D costs ~2.5x the plain tracker's): hence it is used for
+ * groups of 12 or more projectively distinct elements only.
  * err (optional, errlen bytes) receives a message on failure.
  * If the monodromy does not reach 2^s roots within 40 * 2^s / |G| + 1000
  * paths, or the start system's roots cannot be placed (e.g. a family whose
@@ -331,6 +334,60 @@ KIN_API int kin_quadrics_homotopy_sym(int m, int s, const double *Q, int ngroup,
                                       const kin_homotopy_options *opt, double *betas, int maxsol, int *nsol,
                                       int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *sinfo,
                                       char *err, size_t errlen);
+
+/* ---- The complete solver with symmetry, in shards ----
+ * kin_quadrics_homotopy_sym's equivariant route as independent tasks:
+ * kin_quadrics_equivariant_form once, kin_quadrics_homotopy_orbit_range
+ * on ranges of orbits anywhere (other threads, processes, machines), then
+ * kin_quadrics_homotopy_merge on the form (Qt, all 2^s records sorted by
+ * path) and beta = U x for each real solution x: the same roots and
+ * accounting as the one call. */
+
+/* The equivariant form of a symmetric system (see kin_quadrics_homotopy_sym
+ * for Q, ngroup, R and their checks): if a cyclic subgroup of order k >= 2
+ * permutes the mechanisms and the equations alike, *order = k and
+ *  Qt   (s*m*m doubles, s matrices m x m column-major as Q) receives the
+ *       system in coordinates x with beta = U x, exactly equivariant under
+ *       the permutation: Qt_{perm[j]} is Qt_j with rows and columns
+ *       permuted (equations numbered like coordinates 1..s);
+ *  U    (m*m, column-major) the orthogonal change of coordinates;
+ *  perm (m ints) the permutation, (P x)_i = x_{perm[i]}, perm[0] = 0;
+ *  *norbits the orbits of the 2^s start roots under it (the paths to
+ *       track). seed: the random intertwiners (the one-call solver uses
+ *       opt->seed: the same seed gives the same form).
+ * If no subgroup qualifies, *order = 0, *norbits = 0 and Qt, U, perm are not
+ * written (use kin_quadrics_homotopy_range on Q). err (optional) receives a
+ * message on failure.
+ * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (sizes; R not orthogonal, not a
+ * group, or Q not equivariant; Q_j linearly dependent; a NaN in Q),
+ * KIN_ERANGE (m > 24), KIN_ENOMEM, KIN_ELAPACK_ARG, KIN_ELAPACK_CONV. */
+KIN_API int kin_quadrics_equivariant_form(int m, int s, const double *Q, int ngroup, const double *R,
+                                          unsigned long seed, double *Qt, double *U, int *perm, int *order,
+                                          long *norbits, char *err, size_t errlen);
+
+/* Track the orbit representatives first_orbit .. first_orbit + norbits - 1
+ * (orbit i: the one whose smallest path is the i-th smallest
+ * representative) of the start roots of the equivariant form (Qt, perm)
+ * and write the endpoints of every member of those orbits, orbit after
+ * orbit: ends (records, ends[0].size = KIN_HOMOTOPY_ENDPOINT_SIZE; record
+ * i's .path says which path) and z (2*m per record), *nends of them. The
+ * members other than the representative are its endpoint permuted, each
+ * refined and certified on its own. opt as for kin_quadrics_homotopy_range
+ * (the same seed for every range and the merge); opt->max_paths bounds
+ * norbits; progress: done = representatives tracked, total = norbits.
+ * maxends: room in ends and z (records); an orbit has at most k members,
+ * so norbits * order is always enough; if the members do not fit,
+ * KIN_ERANGE with *nends = how many there are and nothing written.
+ * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (sizes, options, ends[0].size,
+ * maxends < 1, perm not a permutation fixing 0, Qt not finite or not
+ * equivariant under perm within 1e-12 of its largest entry), KIN_ERANGE
+ * (m > 24, the orbit range outside 0 .. *norbits, members beyond maxends),
+ * KIN_ELIMIT, KIN_ECANCELLED, KIN_ENOMEM (on the last two the records are
+ * zeroed, each size set). Memory: about 17 bytes per path (2^s) for the
+ * orbit table, plus (16 m + 85) bytes per record. */
+KIN_API int kin_quadrics_homotopy_orbit_range(int m, int s, const double *Qt, const int *perm,
+                                              const kin_homotopy_options *opt, long first_orbit, long norbits,
+                                              long maxends, kin_homotopy_endpoint *ends, double *z, long *nends);
 
 /* One candidate path out of a bifurcation (paper 3.4). */
 typedef struct kin_branch_path {

@@ -39,6 +39,9 @@ def test_sail_flat_state_same_roots(sides, loops):
     assert len(b1) == len(b0) and same_roots(b1, b0) and same_roots(b0, b1)
     if sides == 6:  # C3 (the mirror z -> -z acts as -I): orbits of 3 or 1
         assert acc1["group"] == 3 and acc1["orbits"] < 2 ** s
+        # it permutes 3 triples of mechanisms and of self-stresses alike: the
+        # equivariant start system, one path per orbit of start roots
+        assert acc1["monodromy_paths"] == 0 and acc1["orbits"] == (2 ** 9 - 8) // 3 + 8
 
 
 def test_group_errors():
@@ -56,3 +59,29 @@ def test_group_errors():
     perm = np.eye(Q.shape[1])[[1, 0] + list(range(2, Q.shape[1]))]  # orthogonal, not a symmetry
     with pytest.raises(InvalidArgumentError):
         solve_quadrics(Q, "homotopy", group=perm[None])
+
+
+def test_sharded_with_group():
+    """The equivariant route in shards on a process pool (one path per orbit
+    of start roots, the merge on the equivariant form, beta = U x): the
+    one-call answer; a group without a qualifying subgroup: every path."""
+    from concurrent.futures import ProcessPoolExecutor
+    from libkin import homotopy_shards
+    a = libkin.Assembly.sail(6, 1)
+    Q = a.second_order()
+    R = mechanism_group(a, method="c")
+    form = homotopy_shards.equivariant_form(Q, R)
+    assert form is not None
+    Qt, U, perm, order, norbits = form
+    assert order == 3 and norbits == 176 and perm[0] == 0
+    assert np.abs(U.T @ U - np.eye(len(U))).max() < 1e-12
+    b0, acc0 = solve_quadrics(Q, "homotopy", group=R)
+    with ProcessPoolExecutor(max_workers=2) as ex:
+        b1, acc1 = homotopy_shards.solve_sharded(Q, ex, shards=3, group=R)
+        b2, acc2 = homotopy_shards.solve_sharded(Q, ex, shards=2, group=np.eye(Q.shape[1])[None])
+    for k in ("paths", "real", "real_distinct", "nonreal", "singular", "failed", "duplicates", "unpaired"):
+        assert acc1[k] == acc0[k], k
+    assert acc1["orbits"] == 176 and acc1["order"] == 3
+    assert len(b1) == len(b0) and same_roots(b1, b0) and same_roots(b0, b1)
+    assert "orbits" not in acc2 and acc2["real"] == acc0["real"] and same_roots(b2, b0)
+    assert homotopy_shards.equivariant_form(Q, np.eye(Q.shape[1])[None]) is None

@@ -81,6 +81,9 @@ class Branches:
     accounting: Dict[str, int]
 
 
+# KIN_HOMOTOPY_MAX_PATHS (kin_branch.h): the homotopy's default path limit
+_MAX_PATHS_DEFAULT = 1 << 20
+
 def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 1024, seed: int = 1,
                    threads: int = 2, progress: Progress = None,
                    max_paths: Optional[int] = None,
@@ -155,7 +158,12 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
     if m != s + 1:
         raise StateError(f"the solvers need m = s + 1; here m = {m}, s = {s}")
     Qc = np.ascontiguousarray(Qa)
-    maxsol = 1 << min(s, 16)
+    # room for every real solution the solver can return (2^s for the
+    # homotopy within its path limit, at most `starts` for the scan); the
+    # pages the solver does not write are never touched
+    limit = _MAX_PATHS_DEFAULT if max_paths is None else max(1, int(max_paths))
+    maxsol = max(1, min(int(starts), 1 << min(s, 30))) if solver == "scan" else \
+        (1 << s if s < 62 and (1 << s) <= limit else 1)
     betas = np.empty((maxsol, m))
     nsol = ffi.new("int *")
     accounting: Dict[str, int]

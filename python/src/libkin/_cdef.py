@@ -246,6 +246,12 @@ int kin_quadrics_homotopy_sym(int m, int s, const double *Q, int ngroup, const d
                                       const kin_homotopy_options *opt, double *betas, int maxsol, int *nsol,
                                       int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *sinfo,
                                       char *err, size_t errlen);
+int kin_quadrics_equivariant_form(int m, int s, const double *Q, int ngroup, const double *R,
+                                          unsigned long seed, double *Qt, double *U, int *perm, int *order,
+                                          long *norbits, char *err, size_t errlen);
+int kin_quadrics_homotopy_orbit_range(int m, int s, const double *Qt, const int *perm,
+                                              const kin_homotopy_options *opt, long first_orbit, long norbits,
+                                              long maxends, kin_homotopy_endpoint *ends, double *z, long *nends);
 typedef struct kin_branch_path {
     size_t size;
     int beta;
