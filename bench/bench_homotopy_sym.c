@@ -6,7 +6,11 @@
  * degrees about the z axis through the centroid and the mirror z -> -z of
  * the flat state, acting on beta by R = U^T P U (U: the internal
  * mechanisms, P: the action on free coordinates); any sail works.
- * usage: bench_homotopy_sym [n_sides (6)] [loops (2)] [runs (1)] */
+ * The symmetric solver's route: "auto" (kin_quadrics_homotopy_sym: the
+ * equivariant start system where a cyclic subgroup permutes coordinates,
+ * as for the hexagonal sail, else the monodromy) or "monodromy" (always:
+ * the parameter trackers of homotopy_param*.c).
+ * usage: bench_homotopy_sym [n_sides (6)] [loops (2)] [runs (1)] [auto|monodromy (auto)] */
 #define _POSIX_C_SOURCE 199309L
 #include <math.h>
 #include <stdio.h>
@@ -14,6 +18,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "homotopy_sym.h"
 #include "libkin.h"
 #include "bench_common.h"
 #include "sail_states.h"
@@ -29,6 +34,11 @@ int main(int argc, char **argv)
 {
     int sides = argc > 1 ? atoi(argv[1]) : 6, loops = argc > 2 ? atoi(argv[2]) : 2;
     int runs = argc > 3 ? atoi(argv[3]) : 1;
+    int route = argc > 4 && !strcmp(argv[4], "monodromy") ? KIN__SYM_MONODROMY : KIN__SYM_AUTO;
+    if (argc > 4 && route == KIN__SYM_AUTO && strcmp(argv[4], "auto")) {
+        fprintf(stderr, "usage: bench_homotopy_sym [n_sides] [loops] [runs] [auto|monodromy]\n");
+        return 1;
+    }
     kin_assembly *a = test_sail(sides, loops);
     kin_analysis an = {.size = sizeof an};
     if (!a || kin_analyse(a, &an)) return 1;
@@ -42,7 +52,8 @@ int main(int argc, char **argv)
     }
     int N = 1 << s;
     double *b0 = malloc(sizeof(double) * m * N), *b1 = malloc(sizeof(double) * m * N);
-    printf("sail %d,%d flat: m = %d, s = %d, %d paths, %d symmetries found; load: ", sides, loops, m, s, N, ng);
+    printf("sail %d,%d flat: m = %d, s = %d, %d paths, %d symmetries found, route %s; load: ", sides, loops, m, s, N,
+           ng, route == KIN__SYM_MONODROMY ? "monodromy" : "auto");
     fflush(stdout);
     if (system("cat /proc/loadavg")) printf("\n");
     printf("%-6s %8s %8s %7s %7s %7s %6s %6s %6s %5s %4s %4s %6s\n", "solver", "wall[s]", "cpu[s]", "paths",
@@ -59,7 +70,8 @@ int main(int argc, char **argv)
         int rc0 = kin_quadrics_homotopy_ex(m, s, Q, &o, b0, N, &n0, NULL, &h0);
         double w0 = now() - t0, cp0 = cpu() - c0;
         t0 = now(), c0 = cpu();
-        int rc1 = kin_quadrics_homotopy_sym(m, s, Q, ng, R, &o, b1, N, &n1, NULL, &h1, &si, err, sizeof err);
+        int rc1 = kin__quadrics_homotopy_sym_route(route, m, s, Q, ng, R, &o, b1, N, &n1, NULL, &h1, &si, err,
+                                                   sizeof err);
         double w1 = now() - t0, cp1 = cpu() - c0;
         if (rc0 || rc1) {
             printf("plain: %s; sym: %s %s\n", kin_strerror(rc0), kin_strerror(rc1), err);
@@ -72,7 +84,8 @@ int main(int argc, char **argv)
                h1.nonreal, h1.singular, h1.failed, h1.duplicates, h1.unpaired);
         printf("steps per path: plain %.1f (+%.1f rejected); sym loops %.1f (+%.1f), to Q %.1f (+%.1f)\n",
                (double)h0.steps / h0.paths, (double)h0.rejected / h0.paths,
-               si.monodromy_steps / si.monodromy_paths, si.monodromy_rejected / si.monodromy_paths,
+               si.monodromy_paths ? si.monodromy_steps / si.monodromy_paths : 0.0,
+               si.monodromy_paths ? si.monodromy_rejected / si.monodromy_paths : 0.0,
                (double)h1.steps / si.final_paths, (double)h1.rejected / si.final_paths);
         printf("group %d, orbits %d, found %d; wall ratio %.2f, cpu ratio %.2f; real roots: %d of sym not in plain, "
                "%d of plain not in sym\n",

@@ -1,5 +1,7 @@
-/* The rational (Pade) predictor of the complete solver's trackers
- * (homotopy_track.c and, operation for operation, homotopy_batch.c).
+/* The rational (Pade) predictor of the complete solvers' trackers: the
+ * plain solver's (homotopy_track.c and, operation for operation,
+ * homotopy_batch.c) and the symmetric solver's (homotopy_param.c and
+ * homotopy_param_batch.c), whose series differ only in their order.
  *
  * Why: on clustered systems (the sails' flat states) the Taylor series of
  * a path has a small radius of convergence rho, set by the nearest complex
@@ -12,24 +14,29 @@
  * orders estimates it step by step; the estimate is calibrated along the
  * path like the Taylor model. Safety does not depend on it: the corrector's
  * test (the first correction a small fraction of the separation radius) is
- * the same whatever the predictor. See homotopy_control.h for the
+ * the same whatever the predictor. See homotopy_pade.h for the
  * formulas. */
 #include <math.h>
 
 #include "homotopy_control.h"
 
-/* h^(HOM_ORDER - 1) by multiplications (pow is costly, and this is exact
- * enough: a few roundings) */
-static double hpow(double h)
+/* h^(K - 1) by multiplications (pow is costly, and this is exact enough: a
+ * few roundings) */
+static double hpow(int K, double h)
 {
     double p = 1.0;
-    for (int k = 0; k < HOM_ORDER - 1; ++k) p *= h;
+    for (int k = 0; k < K - 1; ++k) p *= h;
     return p;
 }
 
 void kin__hom_pade_setup(int m, const double (*cr)[HOM_MAX_M], const double (*ci)[HOM_MAX_M], hom_pade *pd)
 {
-    const int K = HOM_ORDER;
+    kin__hom_pade_setup_order(HOM_ORDER, m, cr, ci, pd);
+}
+
+void kin__hom_pade_setup_order(int K, int m, const double (*cr)[HOM_MAX_M], const double (*ci)[HOM_MAX_M],
+                               hom_pade *pd)
+{
     const double *ar = cr[K - 2], *ai = ci[K - 2], *br = cr[K - 1], *bi = ci[K - 1], *dr = cr[K], *di = ci[K];
     double g1 = 0.0, g2 = 0.0, g12r = 0.0, g12i = 0.0, g1dr = 0.0, g1di = 0.0;
     for (int c = 0; c < m; ++c) {
@@ -40,7 +47,7 @@ void kin__hom_pade_setup(int m, const double (*cr)[HOM_MAX_M], const double (*ci
         g1dr += br[c] * dr[c] + bi[c] * di[c]; /* conj(c_{K-1}) c_K */
         g1di += br[c] * di[c] - bi[c] * dr[c];
     }
-    pd->g1 = g1, pd->g2 = g2, pd->g12r = g12r, pd->g12i = g12i;
+    pd->g1 = g1, pd->g2 = g2, pd->g12r = g12r, pd->g12i = g12i, pd->order = K;
     pd->ok = g1 > 0.0 && g2 > 0.0 && isfinite(g1) && isfinite(g2) && isfinite(g1dr + g1di) && isfinite(g12r + g12i);
     pd->qr = pd->ok ? g1dr / g1 : 0.0, pd->qi = pd->ok ? g1di / g1 : 0.0;
     pd->q2r = pd->ok ? g12r / g2 : 0.0, pd->q2i = pd->ok ? g12i / g2 : 0.0;
@@ -58,7 +65,7 @@ double kin__hom_pade_error(const hom_pade *pd, double h)
     /* |a c_{K-1} - b c_{K-2}|^2 = |a|^2 g1 + |b|^2 g2 - 2 Re(a conj(b) g12) */
     double abr = ar * br + ai * bi, abi = ai * br - ar * bi;
     double s = (ar * ar + ai * ai) * pd->g1 + (br * br + bi * bi) * pd->g2 - 2.0 * (abr * pd->g12r - abi * pd->g12i);
-    double e = hpow(h) * sqrt(fmax(s, 0.0));
+    double e = hpow(pd->order, h) * sqrt(fmax(s, 0.0));
     return isfinite(e) && d2 > 0.0 && e2 > 0.0 ? e : INFINITY;
 }
 
@@ -78,9 +85,9 @@ double kin__hom_pade_extend(const hom_pade *pd, double h, double lim, double sig
 void kin__hom_pade_predict(int m, const double (*cr)[HOM_MAX_M], const double (*ci)[HOM_MAX_M], const hom_pade *pd,
                            double h, double *xr, double *xi)
 {
-    const int K = HOM_ORDER;
+    const int K = pd->order;
     /* w = h^{K-1} / (1 - q h) */
-    double dr = 1.0 - pd->qr * h, di = -pd->qi * h, d2 = dr * dr + di * di, hp = hpow(h);
+    double dr = 1.0 - pd->qr * h, di = -pd->qi * h, d2 = dr * dr + di * di, hp = hpow(K, h);
     double wr = hp * dr / d2, wi = -hp * di / d2;
     for (int c = 0; c < m; ++c) {
         double vr = cr[K - 2][c], vi = ci[K - 2][c];

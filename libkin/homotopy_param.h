@@ -32,6 +32,8 @@ typedef struct hpar_end {
     int ok;       /* reached the end (and, sigma_end = 0, Newton at t = 1 converged) */
     int steps;    /* accepted steps */
     int rejected; /* rejected steps */
+    int pade;     /* accepted steps the rational predictor predicted */
+    int pade_rejected; /* rejected steps it predicted */
     double sigma; /* 1 - t where tracking stopped */
 } hpar_end;
 

@@ -4,8 +4,8 @@
  *
  * Each lane follows its path through exactly the operations of the
  * one-path tracker kin__hpar_track (homotopy_param.c, the reference: same
- * predictor, corrector, acceptance tests, charts and refinement, every sum
- * in the same order), so a path's endpoint and record are bit for bit the
+ * predictor (Taylor or rational, per lane), corrector, acceptance tests,
+ * charts and refinement, every sum in the same order), so a path's endpoint and record are bit for bit the
  * one-path tracker's, whatever other paths share its batch
  * (tests/test_homotopy_param_batch.c).
  *
@@ -38,6 +38,10 @@ typedef struct plane {
     int mode, id, it;
     hpar_end e;
     double t, t1, h, hcap, na, nx, sigma, prev;
+    /* the rational predictor's step control, as in kin__hpar_track */
+    double hser, target, calib, pest;
+    hom_pade pd;
+    int first, pade;
 } plane;
 
 struct hpar_bws {
@@ -47,6 +51,7 @@ struct hpar_bws {
     lanes dr[HOM_MAX_M], di[HOM_MAX_M];   /* Newton's correction */
     lanes car[HOM_MAX_M], cai[HOM_MAX_M]; /* each lane's chart */
     lanes cr[HPAR_ORDER + 1][HOM_MAX_M], ci[HPAR_ORDER + 1][HOM_MAX_M]; /* the series */
+    double pcr[BL][HPAR_ORDER + 1][HOM_MAX_M], pci[BL][HPAR_ORDER + 1][HOM_MAX_M]; /* each lane's, for the rational predictor */
     lanes tv;
     plane L[BL];
     hpar_lscratch W;
@@ -143,7 +148,7 @@ static int start_lane(const hpar_problem *P, hpar_bws *B, int l, int id, const d
             B->car[c][l] = B->xr[c][l] / (nx0 * nx0), B->cai[c][l] = -B->xi[c][l] / (nx0 * nx0);
         na = 1.0 / nx0;
     }
-    L->na = na, L->t = 0.0, L->hcap = INFINITY, L->it = 0, L->prev = INFINITY;
+    L->na = na, L->t = 0.0, L->hcap = INFINITY, L->it = 0, L->prev = INFINITY, L->calib = 1.0;
     copy_lane(m, l, B->xr, B->xi, B->pr, B->pi);
     return 1;
 }
@@ -189,12 +194,21 @@ static void attempt(const hpar_problem *P, hpar_bws *B, int l, const hpar_batch_
 {
     plane *L = &B->L[l];
     if (L->h >= L->sigma) L->h = L->sigma;
+    L->pade = kin__hpar_pade_attempt(&L->pd, L->first, L->hser, L->hcap, L->sigma, L->target, L->calib, &L->h,
+                                     &L->pest);
+    L->first = 0;
     if (L->h < HPAR_H_MIN) {
         lost(B, l, K);
         return;
     }
     double h = L->h;
     L->t1 = h == L->sigma ? 1.0 : L->t + h;
+    if (L->pade) {
+        double xr[HOM_MAX_M], xi[HOM_MAX_M];
+        kin__hom_pade_predict(P->m, (const double(*)[HOM_MAX_M])B->pcr[l], (const double(*)[HOM_MAX_M])B->pci[l],
+                              &L->pd, h, xr, xi);
+        for (int c = 0; c < P->m; ++c) B->pr[c][l] = xr[c], B->pi[c][l] = xi[c];
+    } else
     for (int c = 0; c < P->m; ++c) {
         double vr = B->cr[HPAR_ORDER][c][l], vi = B->ci[HPAR_ORDER][c][l];
         for (int k = HPAR_ORDER - 1; k >= 0; --k) vr = vr * h + B->cr[k][c][l], vi = vi * h + B->ci[k][c][l];
@@ -257,16 +271,19 @@ static void newton_round(const hpar_problem *P, const hpar_settings *S, hpar_bws
             L->mode = LANE_SERIES;
             break;
         case LANE_STEP:
+            if (L->it == 0 && L->pade) L->calib = kin__hpar_pade_calibrate(L->calib, L->pest, ok[l] ? nd[l] : 0.0);
             if ((r = corrector(S, B, l, ok[l], nd[l], nx[l])) < 0) break;
             if (r) {
                 copy_lane(m, l, B->pr, B->pi, B->xr, B->xi);
                 L->t = L->t1;
                 L->hcap = L->h * HPAR_ACCEPT_GROW;
                 L->e.steps++;
+                L->e.pade += L->pade;
                 keep_factors(m, B, l);
                 top(P, S, B, l, K);
             } else {
                 L->e.rejected++;
+                L->e.pade_rejected += L->pade;
                 L->h *= HPAR_REJECT_SHRINK;
                 L->hcap = L->h;
                 if (L->e.steps + L->e.rejected >= HPAR_MAX_STEPS) lost(B, l, K);
@@ -309,7 +326,14 @@ static void series_round(const hpar_problem *P, const hpar_settings *S, hpar_bws
         if (L->mode != LANE_SERIES) continue;
         double nl[HPAR_ORDER + 1];
         for (int k = 1; k <= HPAR_ORDER; ++k) nl[k] = n[k][l];
-        L->h = fmin(kin__hpar_series_step(nl, S->pred_rel * L->nx), L->hcap);
+        L->target = S->pred_rel * L->nx;
+        L->hser = kin__hpar_series_step(nl, L->target);
+        L->h = fmin(L->hser, L->hcap);
+        for (int k = 0; k <= HPAR_ORDER; ++k) /* the lane's series (the same every attempt until accepted) */
+            for (int c = 0; c < m; ++c) B->pcr[l][k][c] = B->cr[k][c][l], B->pci[l][k][c] = B->ci[k][c][l];
+        kin__hom_pade_setup_order(HPAR_ORDER, m, (const double(*)[HOM_MAX_M])B->pcr[l],
+                                  (const double(*)[HOM_MAX_M])B->pci[l], &L->pd);
+        L->first = 1;
         attempt(P, B, l, K);
     }
 }

@@ -7,7 +7,11 @@
  * several sizes, and to the hexagonal sail's flat state (clustered,
  * singular endpoints: rejected steps, chart changes, stalls), with the
  * solver's loop settings (refined at t = 1), its leg-to-Q settings (stop
- * short of t = 1) and tightened ones; a stop abandons the paths in flight. */
+ * short of t = 1) and tightened ones; a stop abandons the paths in flight.
+ * The records count the steps of the rational predictor (homotopy_pade.c)
+ * too, accepted and rejected: both predictors must take and lose steps
+ * here, so that the rational one's step logic (choice, extension,
+ * calibration) is compared lane by lane. */
 #include <string.h>
 
 #include "check.h"
@@ -52,7 +56,8 @@ static int same_double(double a, double b) { return a == b || (isnan(a) && isnan
 static int same_end(int m, const hpar_end *a, const hpar_end *b, const double *ar, const double *ai, const double *br,
                     const double *bi)
 {
-    int ok = a->ok == b->ok && a->steps == b->steps && a->rejected == b->rejected && same_double(a->sigma, b->sigma);
+    int ok = a->ok == b->ok && a->steps == b->steps && a->rejected == b->rejected && a->pade == b->pade &&
+             a->pade_rejected == b->pade_rejected && same_double(a->sigma, b->sigma);
     for (int c = 0; c < m; ++c) ok = ok && same_double(ar[c], br[c]) && same_double(ai[c], bi[c]);
     return ok;
 }
@@ -60,7 +65,7 @@ static int same_end(int m, const hpar_end *a, const hpar_end *b, const double *a
 static double uniform(unsigned long long *st) { return (double)(kin__splitmix(st) >> 11) * 0x1.0p-53 - 0.5; }
 
 typedef struct totals {
-    long paths, ok, steps, rejected;
+    long paths, ok, steps, rejected, pade, pade_rejected;
 } totals;
 
 /* paths[0..n-1] of the problem P from the start points x0: the reference
@@ -85,6 +90,7 @@ static void compare(const char *name, const hpar_problem *P, const hpar_settings
         kin__hpar_track(P, S, w, x0r + (size_t)p * m, x0i + (size_t)p * m, rxr + (size_t)p * m, rxi + (size_t)p * m,
                         &ref[p]);
         T->paths++, T->ok += ref[p].ok, T->steps += ref[p].steps, T->rejected += ref[p].rejected;
+        T->pade += ref[p].pade, T->pade_rejected += ref[p].pade_rejected;
     }
     for (int pass = 0; pass < 2; ++pass) {
         /* pass 1: a stride-7 permutation (n is prime to 7 here): other
@@ -220,7 +226,10 @@ int main(void)
         free(Q), free(Bs);
     }
     kin_assembly_free(a);
-    printf("%ld paths compared: %ld reached the end, %ld steps, %ld rejected\n", T.paths, T.ok, T.steps, T.rejected);
-    CHECK(T.ok > 0 && T.ok < T.paths && T.rejected > 0); /* covers failures and rejections */
+    printf("%ld paths compared: %ld reached the end, %ld steps (%ld rational), %ld rejected (%ld rational)\n", T.paths,
+           T.ok, T.steps, T.pade, T.rejected, T.pade_rejected);
+    /* covers failures, rejections, and steps of either predictor, accepted and rejected */
+    CHECK(T.ok > 0 && T.ok < T.paths && T.rejected > 0);
+    CHECK(T.pade > 0 && T.pade < T.steps && T.pade_rejected > 0 && T.pade_rejected < T.rejected);
     TEST_REPORT("homotopy_param_batch");
 }
