@@ -314,7 +314,7 @@ typedef struct kin_homotopy_sym_info {
  * (100 m + 160) bytes per root (2^s; 56 MB at s = 15), allocated per call.
  * Time: the equivariant route costs about 1/k of the plain solver's (k:
  * the subgroup's order; 2.6x faster on the hexagonal sail's flat state,
- * C3). The monodromy route costs ~5x the plain solver's on that state
+ * C3). The monodromy route costs ~4x the plain solver's CPU on that state
  * (about 4 monodromy paths per orbit besides the one to Q, and a step with
  * complex A + t D costs ~2.5x the plain tracker's): hence it is used for
  * groups of 12 or more projectively distinct elements only.
