@@ -85,3 +85,14 @@ def test_sharded_with_group():
     assert len(b1) == len(b0) and same_roots(b1, b0) and same_roots(b0, b1)
     assert "orbits" not in acc2 and acc2["real"] == acc0["real"] and same_roots(b2, b0)
     assert homotopy_shards.equivariant_form(Q, np.eye(Q.shape[1])[None]) is None
+
+
+def test_branches_with_group():
+    """Assembly.branches(group=...): the same solutions and paths as without it."""
+    a = libkin.Assembly.sail(6, 1)
+    R = mechanism_group(a, method="c")
+    b0 = a.branches(length=0.2)
+    b1 = a.branches(length=0.2, group=R)
+    assert b1.accounting["orbits"] == 176 and b1.accounting["monodromy_paths"] == 0
+    assert len(b1.betas) == len(b0.betas) and same_roots(np.asarray(b1.betas), np.asarray(b0.betas))
+    assert b1.distinct == b0.distinct

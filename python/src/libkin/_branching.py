@@ -265,7 +265,7 @@ class BranchingMixin(AssemblyBase):
 
     def branches(self, solver: str = "homotopy", starts: int = 1024, length: float = 1.0, seed: int = 1,
                  weighting: str = "exact", threads: int = 2, progress: Progress = None,
-                 max_paths: Optional[int] = None) -> Branches:
+                 max_paths: Optional[int] = None, group: Optional[npt.ArrayLike] = None) -> Branches:
         """Every path out of this bifurcation.
 
         Solves the second-order equations (`solve_quadrics`), then follows
@@ -290,6 +290,10 @@ class BranchingMixin(AssemblyBase):
             `solve_quadrics`).
         max_paths : int, optional
             See `solve_quadrics`.
+        group : array_like, shape (k, m, m), optional
+            The symmetry group acting on beta, e.g.
+            ``libkin.automorphisms.mechanism_group(self, method="c")``: see
+            `solve_quadrics` (one homotopy path per orbit where it can).
 
         Returns
         -------
@@ -304,7 +308,7 @@ class BranchingMixin(AssemblyBase):
             Not a bifurcation point, or m_internal != s + 1.
         """
         betas, accounting = solve_quadrics(self.second_order(weighting=weighting), solver, starts, seed, threads,
-                                           progress=progress, max_paths=max_paths)
+                                           progress=progress, max_paths=max_paths, group=group)
         return self.follow_branches(betas, length=length, accounting=accounting, progress=progress)
 
     def follow_branches(self, betas: npt.ArrayLike, length: float = 1.0,
