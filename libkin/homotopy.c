@@ -421,23 +421,33 @@ static int homotopy_impl(int m, int s, const double *Q, const kin_homotopy_optio
         return KIN_ELIMIT;
     }
     hom_solver H;
+    long tracked = 0;
     int rc = kin__hom_solver_init(&H, m, s, Q, o, m >= 2 && m <= HOM_MAX_M ? 1L << (m - 1) : 1);
-    int npaths = H.npaths;
-    hom_endset E = {NULL, NULL, NULL};
-    if (!rc) rc = kin__hom_endset_alloc(&E, npaths, m);
-    if (!rc) {
-        hom_report R = {o->progress, o->user, 0.0, (double)npaths, 0.0, 0};
-        report(&R, NULL, 1);
-        if (!R.cancelled) rc = kin__hom_run(&H, &kin__hom_base_settings, NULL, 0, npaths, 0, E.ends, E.zr, E.zi, &R);
-        if (!rc && R.cancelled) rc = KIN_ECANCELLED;
-        if (!rc) rc = kin__hom_merge(&H, E.ends, E.zr, E.zi, &R, betas, maxsol, nsol, multiplicity, info);
-    }
+    if (!rc) rc = kin__hom_solve(&H, NULL, H.npaths, o, betas, maxsol, nsol, multiplicity, info, &tracked);
     if (rc) {
         memset(info, 0, sizeof *info);
         *nsol = 0;
     }
-    kin__hom_endset_free(&E);
     kin__hom_solver_free(&H);
+    return rc;
+}
+
+void kin__hom_report_start(hom_report *R) { report(R, NULL, 1); }
+
+int kin__hom_solve(hom_solver *H, const int *list, int n, const kin_homotopy_options *o, double *betas, int maxsol,
+                   int *nsol, int *multiplicity, kin_homotopy_info *info, long *tracked)
+{
+    hom_endset E = {NULL, NULL, NULL};
+    hom_report R = {o->progress, o->user, 0.0, (double)n, 0.0, 0};
+    int rc = kin__hom_endset_alloc(&E, H->npaths, H->P.m);
+    if (!rc) {
+        report(&R, NULL, 1);
+        if (!R.cancelled) rc = kin__hom_run(H, &kin__hom_base_settings, list, 0, n, 0, E.ends, E.zr, E.zi, &R);
+        if (!rc && R.cancelled) rc = KIN_ECANCELLED;
+        if (!rc) rc = kin__hom_merge(H, E.ends, E.zr, E.zi, &R, betas, maxsol, nsol, multiplicity, info);
+    }
+    *tracked = (long)R.base;
+    kin__hom_endset_free(&E);
     return rc;
 }
 
@@ -461,7 +471,7 @@ int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_o
 }
 
 /* zero n records of a caller's array (stride: the checked element size) */
-static void zero_records(kin_homotopy_endpoint *ends, long n)
+void kin__hom_zero_records(kin_homotopy_endpoint *ends, long n)
 {
     for (long i = 0; i < n; ++i) {
         kin_homotopy_endpoint *r = &ends[i];
@@ -484,7 +494,7 @@ int kin_quadrics_homotopy_range(int m, int s, const double *Q, const kin_homotop
     if (m < 2 || s != m - 1 || o.nthreads < 0 || o.max_paths < 1) return KIN_EINVAL;
     if (m > HOM_MAX_M) return KIN_ERANGE;
     if (first_path < 0 || npaths < 1 || first_path > (1L << s) - npaths) return KIN_ERANGE;
-    zero_records(ends, npaths);
+    kin__hom_zero_records(ends, npaths);
     if (npaths > o.max_paths) {
         for (size_t i = 0; i < (size_t)m * m * s; ++i)
             if (!isfinite(Q[i])) return KIN_EINVAL;

@@ -352,6 +352,25 @@ void kin__equi_free(hom_equi *E)
     memset(E, 0, sizeof *E);
 }
 
+long kin__orbits_count(int m, int k, const int *perm)
+{
+    long total = 0;
+    int pj[HOM_MAX_M];
+    for (int i = 0; i < m; ++i) pj[i] = i;
+    for (int j = 0; j < k; ++j) { /* Burnside: the mean number of patterns fixed by perm^j */
+        unsigned char seen[HOM_MAX_M] = {0};
+        int cycles = 0;
+        for (int i = 1; i < m; ++i) {
+            if (seen[i]) continue;
+            cycles++;
+            for (int c = i; !seen[c]; c = pj[c]) seen[c] = 1;
+        }
+        total += 1L << cycles;
+        for (int i = 0; i < m; ++i) pj[i] = perm[pj[i]];
+    }
+    return total / k;
+}
+
 int kin__orbits_init(hom_orbits *O, int m, const int *perm)
 {
     memset(O, 0, sizeof *O);

@@ -49,6 +49,9 @@ struct hom_orbits {
 };
 /* KIN_OK or KIN_ENOMEM (O then empty) */
 int kin__orbits_init(hom_orbits *O, int m, const int *perm);
+/* the number of orbits without the table (Burnside's count; perm of
+ * order k) */
+long kin__orbits_count(int m, int k, const int *perm);
 void kin__orbits_free(hom_orbits *O);
 
 #endif /* KIN_HOMOTOPY_EQUI_H */

@@ -124,12 +124,37 @@ hom_checks kin__hom_check(int m, int npaths, const hom_end *ends, const double *
 
 /* the accounting of the checked endpoints (parent: kin__hom_check's
  * grouping; size: npaths ints of scratch) */
+void kin__hom_unit_beta(int m, double *b)
+{
+    double nb = kin__norm(m, b);
+    int big = 0;
+    for (int i = 0; i < m; ++i) {
+        b[i] /= nb;
+        if (fabs(b[i]) > fabs(b[big])) big = i;
+    }
+    if (b[big] < 0)
+        for (int i = 0; i < m; ++i) b[i] = -b[i];
+}
+
+double kin__hom_residual(int m, int s, const double *Qr, const double *b)
+{
+    size_t mm = (size_t)m * m;
+    double res = 0.0;
+    for (int j = 0; j < s; ++j) {
+        const double *q = Qr + (size_t)j * mm;
+        double v = 0.0;
+        for (int r = 0; r < m; ++r)
+            for (int c = 0; c < m; ++c) v += b[r] * q[(size_t)r * m + c] * b[c];
+        res = fmax(res, fabs(v));
+    }
+    return res;
+}
+
 static void tally(const hom_solver *H, const hom_end *ends, const double *zr, const double *zi, int *parent,
                   int *size, hom_checks ck, int retracked, double *betas, int maxsol, int *nsol, int *multiplicity,
                   kin_homotopy_info *info)
 {
     int m = H->P.m, s = H->P.s, npaths = H->npaths;
-    size_t mm = (size_t)m * m;
     const double *Qr = H->Qr;
     (void)zi;
     memset(info, 0, sizeof *info);
@@ -159,21 +184,8 @@ static void tally(const hom_solver *H, const hom_end *ends, const double *zr, co
         if (ends[p].kind != HOM_REAL || kin__hom_find(parent, p) != p) continue;
         double b[HOM_MAX_M];
         memcpy(b, zr + (size_t)p * m, sizeof(double) * (size_t)m);
-        double nb = kin__norm(m, b);
-        int big = 0;
-        for (int i = 0; i < m; ++i) {
-            b[i] /= nb;
-            if (fabs(b[i]) > fabs(b[big])) big = i;
-        }
-        if (b[big] < 0)
-            for (int i = 0; i < m; ++i) b[i] = -b[i];
-        for (int j = 0; j < s; ++j) { /* residual of the unit solution, Q_j / |Q_j|_F */
-            const double *q = Qr + (size_t)j * mm;
-            double v = 0.0;
-            for (int r = 0; r < m; ++r)
-                for (int c = 0; c < m; ++c) v += b[r] * q[(size_t)r * m + c] * b[c];
-            if (fabs(v) > info->max_residual) info->max_residual = fabs(v);
-        }
+        kin__hom_unit_beta(m, b);
+        info->max_residual = fmax(info->max_residual, kin__hom_residual(m, s, Qr, b));
         if (nd < maxsol) {
             memcpy(betas + (size_t)nd * m, b, sizeof(double) * (size_t)m);
             if (multiplicity) multiplicity[nd] = size[p];

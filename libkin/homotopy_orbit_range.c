@@ -15,27 +15,6 @@
 /* Qt is equivariant under perm within this (relative to its largest entry) */
 static const double EQUIVARIANCE_TOL = 1e-12;
 
-/* orbits of the 2^s sign patterns under <perm> (Burnside: the mean of
- * 2^(cycles of perm^j on 1..s) over one period) */
-static long count_orbits(int m, int k, const int *perm)
-{
-    long total = 0;
-    int pj[HOM_MAX_M];
-    for (int i = 0; i < m; ++i) pj[i] = i;
-    for (int j = 0; j < k; ++j) {
-        unsigned char seen[HOM_MAX_M] = {0};
-        int cycles = 0;
-        for (int i = 1; i < m; ++i) {
-            if (seen[i]) continue;
-            cycles++;
-            for (int c = i; !seen[c]; c = pj[c]) seen[c] = 1;
-        }
-        total += 1L << cycles;
-        for (int i = 0; i < m; ++i) pj[i] = perm[pj[i]];
-    }
-    return total / k;
-}
-
 int kin_quadrics_equivariant_form(int m, int s, const double *Q, int ngroup, const double *R, unsigned long seed,
                                   double *Qt, double *U, int *perm, int *order, long *norbits, char *err,
                                   size_t errlen)
@@ -65,7 +44,7 @@ int kin_quadrics_equivariant_form(int m, int s, const double *Q, int ngroup, con
         memcpy(U, E.U, sizeof(double) * (size_t)m * m);
         memcpy(perm, E.perm, sizeof(int) * (size_t)m);
         *order = E.k;
-        *norbits = count_orbits(m, E.k, E.perm);
+        *norbits = kin__orbits_count(m, E.k, E.perm);
     }
     if (rc && err && errlen > 0 && !err[0]) kin__failbuf(err, errlen, rc, "%s", kin_strerror(rc));
     kin__equi_free(&E);
@@ -137,10 +116,7 @@ int kin_quadrics_homotopy_orbit_range(int m, int s, const double *Qt, const int 
         kin__orbits_free(&O);
         return KIN_ERANGE;
     }
-    for (long i = 0; i < maxends && i < total; ++i) {
-        memset(&ends[i], 0, sizeof ends[i]);
-        ends[i].size = sizeof ends[i];
-    }
+    kin__hom_zero_records(ends, total);
     hom_solver H;
     hom_endset E = {NULL, NULL, NULL};
     int *path = malloc(sizeof(int) * (size_t)total);
@@ -157,7 +133,8 @@ int kin_quadrics_homotopy_orbit_range(int m, int s, const double *Qt, const int 
         }
         H.orb = &O;
         hom_report Rp = {o.progress, o.user, 0.0, (double)n, 0.0, 0};
-        if (Rp.fn && Rp.fn(Rp.user, 0.0, Rp.total)) rc = KIN_ECANCELLED;
+        kin__hom_report_start(&Rp);
+        if (Rp.cancelled) rc = KIN_ECANCELLED;
         if (!rc) rc = kin__hom_run(&H, &kin__hom_base_settings, O.reps + first, 0, n, 0, E.ends, E.zr, E.zi, &Rp);
         if (!rc && Rp.cancelled) rc = KIN_ECANCELLED;
         if (!rc) {
@@ -168,11 +145,7 @@ int kin_quadrics_homotopy_orbit_range(int m, int s, const double *Qt, const int 
             if (Rp.fn) Rp.fn(Rp.user, Rp.total, Rp.total); /* finished: its answer no longer matters */
         }
     }
-    if (rc)
-        for (long i = 0; i < total; ++i) {
-            memset(&ends[i], 0, sizeof ends[i]);
-            ends[i].size = sizeof ends[i];
-        }
+    if (rc) kin__hom_zero_records(ends, total);
     kin__hom_endset_free(&E);
     kin__hom_solver_free(&H);
     free(path);

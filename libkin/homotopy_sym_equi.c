@@ -28,7 +28,6 @@
  * ones in the caller's scaled system (Qr) */
 static double to_beta(int m, int s, const double *U, const double *Qr, double *betas, int n)
 {
-    size_t mm = (size_t)m * m;
     double res = 0.0;
     for (int i = 0; i < n; ++i) {
         double *b = betas + (size_t)i * m, y[HOM_MAX_M];
@@ -37,41 +36,11 @@ static double to_beta(int m, int s, const double *U, const double *Qr, double *b
             for (int c = 0; c < m; ++c) v += U[c * m + r] * b[c];
             y[r] = v;
         }
-        double ny = kin__norm(m, y);
-        int big = 0;
-        for (int r = 0; r < m; ++r) {
-            y[r] /= ny;
-            if (fabs(y[r]) > fabs(y[big])) big = r;
-        }
-        double sg = y[big] < 0.0 ? -1.0 : 1.0;
-        for (int r = 0; r < m; ++r) b[r] = sg * y[r];
-        for (int j = 0; j < s; ++j) {
-            const double *q = Qr + (size_t)j * mm;
-            double v = 0.0;
-            for (int r = 0; r < m; ++r)
-                for (int c = 0; c < m; ++c) v += b[r] * q[(size_t)r * m + c] * b[c];
-            res = fmax(res, fabs(v));
-        }
+        kin__hom_unit_beta(m, y);
+        memcpy(b, y, sizeof(double) * (size_t)m);
+        res = fmax(res, kin__hom_residual(m, s, Qr, b));
     }
     return res;
-}
-
-/* the first pass over list[0..n-1] (NULL: every path), then the checks,
- * re-tracks and accounting; *tracked: the paths tracked */
-static int track_and_merge(hom_solver *H, const int *list, int n, const kin_homotopy_options *o, double *betas,
-                           int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info, long *tracked)
-{
-    int m = H->P.m;
-    hom_endset X = {NULL, NULL, NULL};
-    int rc = kin__hom_endset_alloc(&X, H->npaths, m);
-    hom_report R = {o->progress, o->user, 0.0, (double)n, 0.0, 0};
-    if (!rc && R.fn && R.fn(R.user, 0.0, R.total)) rc = KIN_ECANCELLED;
-    if (!rc) rc = kin__hom_run(H, &kin__hom_base_settings, list, 0, n, 0, X.ends, X.zr, X.zi, &R);
-    if (!rc && R.cancelled) rc = KIN_ECANCELLED;
-    if (!rc) rc = kin__hom_merge(H, X.ends, X.zr, X.zi, &R, betas, maxsol, nsol, multiplicity, info);
-    *tracked = (long)R.base;
-    kin__hom_endset_free(&X);
-    return rc;
 }
 
 int kin__sym_equi_solve(const hom_solver *H0, const sym_group *G, const kin_homotopy_options *o, double *betas,
@@ -91,7 +60,7 @@ int kin__sym_equi_solve(const hom_solver *H0, const sym_group *G, const kin_homo
     if ((rc = kin__orbits_init(&O, m, E.perm))) goto done;
     if ((rc = kin__hom_solver_init(&H, m, s, E.Qt, o, O.nreps))) goto done;
     H.orb = &O;
-    rc = track_and_merge(&H, O.reps, O.nreps, o, betas, maxsol, nsol, multiplicity, info, &tracked);
+    rc = kin__hom_solve(&H, O.reps, O.nreps, o, betas, maxsol, nsol, multiplicity, info, &tracked);
     if (rc) goto done;
     info->max_residual = fmax(info->max_residual, to_beta(m, s, E.U, H0->Qr, betas, *nsol));
     si->group = G->n;
@@ -110,7 +79,7 @@ int kin__sym_plain_solve(hom_solver *H, const sym_group *G, const kin_homotopy_o
                          int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info, kin_homotopy_sym_info *si)
 {
     long tracked = 0;
-    int rc = track_and_merge(H, NULL, H->npaths, o, betas, maxsol, nsol, multiplicity, info, &tracked);
+    int rc = kin__hom_solve(H, NULL, H->npaths, o, betas, maxsol, nsol, multiplicity, info, &tracked);
     if (rc) return rc;
     si->group = G->n;
     si->orbits = H->npaths;

@@ -174,6 +174,23 @@ hom_ws *kin__hom_pool_ws(const hom_solver *H, int t);
 int kin__hom_run(hom_solver *H, const hom_settings *S, const int *list, int first, int n, int offset, hom_end *ends,
                  double *zr, double *zi, hom_report *R);
 
+/* a real solution b (m) made unit with its largest entry positive, as the
+ * solver returns them */
+void kin__hom_unit_beta(int m, double *b);
+/* max_j |b^T Q_j b| for unit b, Qr the scaled rows (hom_solver.Qr) */
+double kin__hom_residual(int m, int s, const double *Qr, const double *b);
+
+/* The first pass over list[0..n-1] (NULL: 0 .. n - 1; with H->orb, their
+ * orbits), then kin__hom_merge: the whole solve of H's system. Progress
+ * through opt (total n, then the re-tracks). *tracked: the paths tracked.
+ * KIN_OK, KIN_ECANCELLED, KIN_ENOMEM. */
+int kin__hom_solve(hom_solver *H, const int *list, int n, const kin_homotopy_options *o, double *betas, int maxsol,
+                   int *nsol, int *multiplicity, kin_homotopy_info *info, long *tracked);
+/* The first progress call of a solve (R->cancelled if the caller cancels). */
+void kin__hom_report_start(hom_report *R);
+/* n records zeroed, each size set */
+void kin__hom_zero_records(kin_homotopy_endpoint *ends, long n);
+
 /* The checks, re-tracks and accounting after every path has been tracked
  * once (ends, zr, zi: all 2^s, changed by the re-tracks). KIN_OK,
  * KIN_ECANCELLED (info zeroed, *nsol = 0), KIN_ENOMEM. */
