@@ -56,6 +56,7 @@
 #include "libkin.h"
 #include "bench_common.h"
 #include "lattice_model.h"
+#include "mast_model.h"
 
 #include <suitesparse/klu.h>
 
@@ -444,59 +445,6 @@ static void orders(FILE *csv, int quick, int full)
 
 /* ---- deployable masts: long, slender 3D trusses ---------------------------- */
 
-/* A mast of nbays bays on a regular `sides`-gon section (side 1, bay height
- * 1), the base ring fixed: each bay adds a ring of `sides` joints and
- * 3 * sides bars (longerons, battens round the new ring, one diagonal per
- * side face, handedness alternating from bay to bay), so each bay is rigid
- * and statically determinate on the one below (a triangulated prism on a
- * rigid base). The middle bay's first face diagonal is left out (a bay
- * halfway through deployment, its diagonal still slack): one internal
- * finite mechanism, the bay shearing and the mast above it swinging as one
- * body; no rigid mechanisms (one dense border row). The joints of the
- * removed diagonal go to *ends (may be NULL): their distance measures the
- * motion. Only the bars the structure needs are built. */
-static kin_assembly *mast(int sides, int nbays, int ends[2])
-{
-    int nj = sides * (nbays + 1), nb = 0, mid = nbays / 2;
-    double *xyz = malloc(sizeof(double) * 3 * (size_t)nj);
-    unsigned char *fixed = calloc((size_t)nj * 3, 1);
-    int *bars = malloc(sizeof(int) * 2 * 3 * (size_t)sides * (size_t)nbays);
-    kin_assembly *a = NULL;
-    if (!xyz || !fixed || !bars) goto done;
-    double pi = acos(-1.0), r = 0.5 / sin(pi / sides); /* circumradius of a unit-side polygon */
-    for (int l = 0; l <= nbays; ++l)
-        for (int i = 0; i < sides; ++i) {
-            double th = 2.0 * pi * i / sides;
-            int j = l * sides + i;
-            xyz[3 * j] = r * cos(th);
-            xyz[3 * j + 1] = r * sin(th);
-            xyz[3 * j + 2] = l;
-            if (l == 0) fixed[3 * j] = fixed[3 * j + 1] = fixed[3 * j + 2] = 1;
-        }
-    for (int l = 1; l <= nbays; ++l)
-        for (int i = 0; i < sides; ++i) {
-            int i1 = (i + 1) % sides, bot = (l - 1) * sides, top = l * sides;
-            int add[3][2] = {{bot + i, top + i}, /* longeron */
-                             {top + i, top + i1}, /* batten */
-                             {l % 2 ? bot + i : bot + i1, l % 2 ? top + i1 : top + i}}; /* face diagonal */
-            for (int k = 0; k < 3; ++k) {
-                if (k == 2 && l == mid && i == 0) {
-                    if (ends) memcpy(ends, add[k], sizeof add[k]);
-                    continue;
-                }
-                bars[2 * nb] = add[k][0];
-                bars[2 * nb + 1] = add[k][1];
-                ++nb;
-            }
-        }
-    int rc = kin_assembly_create(3, nj, xyz, fixed, nb, bars, NULL, &a, NULL, 0);
-    if (rc) printf("  (mast %d x %d: create returned %d)\n", sides, nbays, rc);
-done:
-    free(xyz);
-    free(fixed);
-    free(bars);
-    return a;
-}
 
 /* Factor entries of the mast's J under COLAMD with the KLU settings of
  * sparse.c, but with the dense border row replaced by a sparse one (random
@@ -583,7 +531,7 @@ static mast_run mast_follow(int sides, int nbays, int nd_allowed, int nsteps, in
 {
     mast_run m = {{0, NAN, NAN, NAN, NAN, {0.0, 0.0, 0, 0, 0, 0, 0}}, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, 0, 0, 0, 0};
     int ends[2];
-    kin_assembly *a = mast(sides, nbays, ends);
+    kin_assembly *a = test_mast(sides, nbays, ends);
     if (!a) return m;
     if (!nd_allowed) kin__set_fault(a, KIN__FAULT_SPARSE_NO_ND);
     m.gap0 = joint_distance(a, ends);
@@ -642,7 +590,7 @@ static void masts(FILE *csv, int quick)
             an.v_r = NAN;
             an.v_max = 1.0;
             if (nf <= 1700) {
-                kin_assembly *c = mast(sides, nb, NULL);
+                kin_assembly *c = test_mast(sides, nb, NULL);
                 if (!c || kin_analyse(c, &an) != KIN_OK) printf("  (analysis failed)\n");
                 kin_assembly_free(c);
             }

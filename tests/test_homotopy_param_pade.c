@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "pade_series.h"
 #include "homotopy_control.h"
 #include "homotopy_param_control.h"
 
@@ -20,35 +21,15 @@ enum { M = 4, K = HPAR_ORDER };
 
 static double cr[HOM_ORDER + 1][HOM_MAX_M], ci[HOM_ORDER + 1][HOM_MAX_M];
 
-/* the Taylor coefficients (to order HOM_ORDER) of x_c(h) = w_c + sum_p u_pc / (1 - z_p h) */
+/* the series and distances of pade_series.h for M coordinates */
 static void series(int np, const double complex *z, const double complex u[][M], const double complex *w)
 {
-    memset(cr, 0, sizeof cr), memset(ci, 0, sizeof ci);
-    for (int c = 0; c < M; ++c) {
-        double complex v = w[c];
-        for (int p = 0; p < np; ++p) v += u[p][c];
-        cr[0][c] = creal(v), ci[0][c] = cimag(v);
-        for (int k = 1; k <= HOM_ORDER; ++k) {
-            double complex s = 0.0;
-            for (int p = 0; p < np; ++p) s += u[p][c] * cpow(z[p], k);
-            cr[k][c] = creal(s), ci[k][c] = cimag(s);
-        }
-    }
+    pade_series(M, HOM_ORDER, np, z, u[0], w, cr, ci);
 }
-
-/* |x(h) - (xr, xi)| and |x(h)| */
 static double dist_to_sum(int np, const double complex *z, const double complex u[][M], const double complex *w,
                           double h, const double *xr, const double *xi, double *norm)
 {
-    double d = 0.0, n = 0.0;
-    for (int c = 0; c < M; ++c) {
-        double complex v = w[c];
-        for (int p = 0; p < np; ++p) v += u[p][c] / (1.0 - z[p] * h);
-        d += cabs(v - (xr[c] + I * xi[c])) * cabs(v - (xr[c] + I * xi[c]));
-        n += cabs(v) * cabs(v);
-    }
-    *norm = sqrt(n);
-    return sqrt(d);
+    return pade_dist(M, np, z, u[0], w, h, xr, xi, norm);
 }
 
 int main(void)

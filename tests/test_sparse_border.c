@@ -16,47 +16,15 @@
 #include "internal.h"
 #include "libkin.h"
 #include "sail_states.h"
+#include "mast_model.h"
 #include "step_compare.h"
 
-/* A deployable mast of nbays bays on a triangular section (side 1, bay
- * height 1), base ring fixed: each bay a ring of three joints with
- * longerons, battens and one diagonal per side face (handedness
- * alternating), the middle bay's first diagonal left out: one internal
- * mechanism (that bay shears, the mast above swings), no rigid mechanisms. */
+/* the triangular mast of mast_model.h (one internal mechanism, one dense
+ * border row) */
 static kin_assembly *mast(int nbays)
 {
-    const int sides = 3;
-    int nj = sides * (nbays + 1), nb = 0, mid = nbays / 2;
-    double *xyz = malloc(sizeof(double) * 3 * (size_t)nj);
-    unsigned char *fixed = calloc((size_t)nj * 3, 1);
-    int *bars = malloc(sizeof(int) * 2 * 3 * (size_t)sides * (size_t)nbays);
-    kin_assembly *a = NULL;
-    if (!xyz || !fixed || !bars) goto done;
-    double r = 0.5 / sin(PI / sides);
-    for (int l = 0; l <= nbays; ++l)
-        for (int i = 0; i < sides; ++i) {
-            int j = l * sides + i;
-            xyz[3 * j] = r * cos(2.0 * PI * i / sides);
-            xyz[3 * j + 1] = r * sin(2.0 * PI * i / sides);
-            xyz[3 * j + 2] = l;
-            if (l == 0) fixed[3 * j] = fixed[3 * j + 1] = fixed[3 * j + 2] = 1;
-        }
-    for (int l = 1; l <= nbays; ++l)
-        for (int i = 0; i < sides; ++i) {
-            int i1 = (i + 1) % sides, bot = (l - 1) * sides, top = l * sides;
-            int add[3][2] = {{bot + i, top + i}, {top + i, top + i1}, {l % 2 ? bot + i : bot + i1, l % 2 ? top + i1 : top + i}};
-            for (int k = 0; k < 3; ++k) {
-                if (k == 2 && l == mid && i == 0) continue;
-                bars[2 * nb] = add[k][0];
-                bars[2 * nb + 1] = add[k][1];
-                ++nb;
-            }
-        }
-    CHECK_RC(kin_assembly_create(3, nj, xyz, fixed, nb, bars, NULL, &a, NULL, 0), KIN_OK);
-done:
-    free(xyz);
-    free(fixed);
-    free(bars);
+    kin_assembly *a = test_mast(3, nbays, NULL);
+    CHECK(a != NULL);
     return a;
 }
 
