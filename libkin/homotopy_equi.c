@@ -322,19 +322,21 @@ int kin__equi_plan(hom_equi *E, int m, int s, const double *Qr, const sym_group 
             else
                 for (size_t x = 0; x < mm; ++x) q[x] /= nq;
         }
-    int rc = KIN_OK, best = -1, bestk = 0, bestsign = 1, perm[HOM_MAX_M];
+    int rc = KIN_OK, best = -1, bestk = 0, bestsign = 1, perm[HOM_MAX_M], bestperm[HOM_MAX_M];
     double h[HOM_MAX_M * HOM_MAX_M];
     for (int g = 0; g < G->n && ok; ++g)
         for (int sg = 1; sg >= -1; sg -= 2) {
             for (size_t x = 0; x < mm; ++x) h[x] = sg * G->R[g * mm + x];
             int k = 0;
-            if (qualifies(m, s, h, Qo, &k, perm, big) && k > bestk) best = g, bestk = k, bestsign = sg;
+            if (qualifies(m, s, h, Qo, &k, perm, big) && k > bestk) {
+                best = g, bestk = k, bestsign = sg;
+                memcpy(bestperm, perm, sizeof(int) * (size_t)m);
+            }
         }
     if (best >= 0) {
         for (size_t x = 0; x < mm; ++x) h[x] = bestsign * G->R[best * mm + x];
-        qualifies(m, s, h, Qo, &bestk, perm, big);
         unsigned long long st = seed * 0xD1B54A32D192ED03ull + 0x8BB84B93962EACC9ull;
-        rc = build(E, m, s, Qo, h, bestk, perm, &st, big);
+        rc = build(E, m, s, Qo, h, bestk, bestperm, &st, big);
         if (rc == KIN_ENOTCONVERGED) rc = KIN_OK, E->k = 0; /* numerically unfit: the monodromy instead */
     }
     free(Qo), free(big);

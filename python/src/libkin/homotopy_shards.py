@@ -57,12 +57,16 @@ def range_task(task: Dict[str, Any]) -> Dict[str, Any]:
     return {"first": first, "count": count, "ends": bytes(ffi.buffer(ends)), "z": z.tobytes()}
 
 
-def shard_ranges(s: int, shards: int) -> List[Tuple[int, int]]:
-    """[(first, count)] splitting the 2^s paths into `shards` nearly equal ranges."""
-    n = 1 << s
+def _split(n: int, shards: int) -> List[Tuple[int, int]]:
+    """[(first, count)] splitting 0 .. n - 1 into `shards` nearly equal ranges."""
     shards = max(1, min(int(shards), n))
     cuts = [n * k // shards for k in range(shards + 1)]
     return [(cuts[k], cuts[k + 1] - cuts[k]) for k in range(shards)]
+
+
+def shard_ranges(s: int, shards: int) -> List[Tuple[int, int]]:
+    """[(first, count)] splitting the 2^s paths into `shards` nearly equal ranges."""
+    return _split(1 << s, shards)
 
 
 def orbit_task(task: Dict[str, Any]) -> Dict[str, Any]:
@@ -168,9 +172,8 @@ def solve_sharded(Q: ArrayLike, executor: Optional[Any] = None, shards: int = 4,
             z[2 * m * p["first"]:2 * m * (p["first"] + p["count"])] = np.frombuffer(p["z"], dtype=np.float64)
         return _merge(Q, m, s, seed, threads, ends, z)
     Qt, U, perm, order, norbits = form
-    cuts = [norbits * k // max(1, min(int(shards), norbits)) for k in range(max(1, min(int(shards), norbits)) + 1)]
     items = [{"Qt": Qt.tolist(), "perm": perm.tolist(), "order": order, "seed": seed, "threads": threads,
-              "first": cuts[k], "count": cuts[k + 1] - cuts[k]} for k in range(len(cuts) - 1)]
+              "first": f, "count": c} for f, c in _split(norbits, shards)]
     parts = run_tasks(orbit_task, items, executor)
     # the records of scattered paths, each to its place (a record's path is
     # an int at a documented offset)
