@@ -296,6 +296,15 @@ void kin_homotopy_options_default(kin_homotopy_options *o)
     o->user = NULL;
 }
 
+int kin__hom_options(const kin_homotopy_options *opt, kin_homotopy_options *o)
+{
+    kin_homotopy_options_default(o); /* fields an older caller does not have keep their defaults */
+    if (!opt) return KIN_OK;
+    if (kin__abi_check(opt, KIN__V1_SIZE(kin_homotopy_options, user), sizeof *opt)) return KIN_EINVAL;
+    kin__abi_read(o, opt, sizeof *o);
+    return KIN_OK;
+}
+
 int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads, double *betas,
                           int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info)
 {
@@ -459,11 +468,7 @@ int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_o
     if (kin__abi_check(info, KIN__V1_SIZE(kin_homotopy_info, max_cond), sizeof *info)) return KIN_EINVAL;
     kin__abi_zero(info);
     kin_homotopy_options o;
-    kin_homotopy_options_default(&o); /* fields an older caller does not have keep their defaults */
-    if (opt) {
-        if (kin__abi_check(opt, KIN__V1_SIZE(kin_homotopy_options, user), sizeof *opt)) return KIN_EINVAL;
-        kin__abi_read(&o, opt, sizeof o);
-    }
+    if (kin__hom_options(opt, &o)) return KIN_EINVAL;
     kin_homotopy_info local = {.size = sizeof local};
     int rc = homotopy_impl(m, s, Q, &o, betas, maxsol, nsol, multiplicity, &local);
     kin__abi_write(info, &local, sizeof local);
@@ -486,11 +491,7 @@ int kin_quadrics_homotopy_range(int m, int s, const double *Q, const kin_homotop
     if (!Q || !ends || !z) return KIN_ENULL;
     if (ends[0].size != KIN_HOMOTOPY_ENDPOINT_SIZE || sizeof *ends != KIN_HOMOTOPY_ENDPOINT_SIZE) return KIN_EINVAL;
     kin_homotopy_options o;
-    kin_homotopy_options_default(&o);
-    if (opt) {
-        if (kin__abi_check(opt, KIN__V1_SIZE(kin_homotopy_options, user), sizeof *opt)) return KIN_EINVAL;
-        kin__abi_read(&o, opt, sizeof o);
-    }
+    if (kin__hom_options(opt, &o)) return KIN_EINVAL;
     if (m < 2 || s != m - 1 || o.nthreads < 0 || o.max_paths < 1) return KIN_EINVAL;
     if (m > HOM_MAX_M) return KIN_ERANGE;
     if (first_path < 0 || npaths < 1 || first_path > (1L << s) - npaths) return KIN_ERANGE;

@@ -345,11 +345,7 @@ int kin_quadrics_homotopy_merge(int m, int s, const double *Q, const kin_homotop
     if (kin__abi_check(info, KIN__V1_SIZE(kin_homotopy_info, max_cond), sizeof *info)) return KIN_EINVAL;
     kin__abi_zero(info);
     kin_homotopy_options o;
-    kin_homotopy_options_default(&o);
-    if (opt) {
-        if (kin__abi_check(opt, KIN__V1_SIZE(kin_homotopy_options, user), sizeof *opt)) return KIN_EINVAL;
-        kin__abi_read(&o, opt, sizeof o);
-    }
+    if (kin__hom_options(opt, &o)) return KIN_EINVAL;
     kin_homotopy_info local = {.size = sizeof local};
     int rc = merge_impl(m, s, Q, &o, ends, z, betas, maxsol, nsol, multiplicity, &local);
     if (rc) {

@@ -83,11 +83,7 @@ int kin_quadrics_homotopy_orbit_range(int m, int s, const double *Qt, const int 
     if (!Qt || !perm || !ends || !z || !nends) return KIN_ENULL;
     if (ends[0].size != KIN_HOMOTOPY_ENDPOINT_SIZE || sizeof *ends != KIN_HOMOTOPY_ENDPOINT_SIZE) return KIN_EINVAL;
     kin_homotopy_options o;
-    kin_homotopy_options_default(&o);
-    if (opt) {
-        if (kin__abi_check(opt, KIN__V1_SIZE(kin_homotopy_options, user), sizeof *opt)) return KIN_EINVAL;
-        kin__abi_read(&o, opt, sizeof o);
-    }
+    if (kin__hom_options(opt, &o)) return KIN_EINVAL;
     if (m < 2 || s != m - 1 || o.nthreads < 0 || o.max_paths < 1 || maxends < 1) return KIN_EINVAL;
     if (m > HOM_MAX_M) return KIN_ERANGE;
     for (size_t i = 0; i < (size_t)m * m * s; ++i)

@@ -65,12 +65,7 @@ int kin__quadrics_homotopy_sym_route(int route, int m, int s, const double *Q, i
         kin__abi_zero(sinfo);
     }
     kin_homotopy_options o;
-    kin_homotopy_options_default(&o);
-    if (opt) {
-        if (kin__abi_check(opt, KIN__V1_SIZE(kin_homotopy_options, user), sizeof *opt))
-            return kin__failbuf(err, errlen, KIN_EINVAL, "opt->size");
-        kin__abi_read(&o, opt, sizeof o);
-    }
+    if (kin__hom_options(opt, &o)) return kin__failbuf(err, errlen, KIN_EINVAL, "opt->size");
     kin_homotopy_info local = {.size = sizeof local};
     kin_homotopy_sym_info slocal = {.size = sizeof slocal};
     int rc = sym_impl(route, m, s, Q, ngroup, R, &o, betas, maxsol, nsol, multiplicity, &local, &slocal, err, errlen);

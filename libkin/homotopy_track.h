@@ -188,6 +188,9 @@ int kin__hom_solve(hom_solver *H, const int *list, int n, const kin_homotopy_opt
                    int *nsol, int *multiplicity, kin_homotopy_info *info, long *tracked);
 /* The first progress call of a solve (R->cancelled if the caller cancels). */
 void kin__hom_report_start(hom_report *R);
+/* o = the defaults, then the caller's opt (NULL: none) as far as its size
+ * goes: KIN_OK, or KIN_EINVAL for a bad opt->size */
+int kin__hom_options(const kin_homotopy_options *opt, kin_homotopy_options *o);
 /* n records zeroed, each size set */
 void kin__hom_zero_records(kin_homotopy_endpoint *ends, long n);
 
