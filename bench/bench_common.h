@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <time.h>
 
-#include "internal.h"
+#include "model/internal.h"
 
 /* wall-clock seconds, monotonic */
 static inline double now(void)

@@ -20,8 +20,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "homotopy_track.h"
-#include "internal.h"
+#include "homotopy/homotopy_track.h"
+#include "model/internal.h"
 #include "libkin.h"
 #include "bench_common.h"
 #include "sail_states.h"

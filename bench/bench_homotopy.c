@@ -23,7 +23,7 @@
 #include <stdlib.h>
 #include <time.h>
 
-#include "internal.h"
+#include "model/internal.h"
 #include "libkin.h"
 #include "bench_common.h"
 #include "sail_states.h"

@@ -27,8 +27,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "internal.h"
-#include "lapack.h"
+#include "model/internal.h"
+#include "model/lapack.h"
 #include "libkin.h"
 #include "bench_common.h"
 #include "sail_states.h"

@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "internal.h"
+#include "model/internal.h"
 #include "libkin.h"
 
 static int cmp_key(const void *p, const void *q)

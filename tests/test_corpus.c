@@ -35,8 +35,8 @@
 #include <string.h>
 
 #include "check.h"
-#include "internal.h"
-#include "lapack.h"
+#include "model/internal.h"
+#include "model/lapack.h"
 #include "libkin.h"
 
 enum { MAXJ = 9, MAXB = MAXJ * (MAXJ - 1) / 2, MAXC = MAXJ * 3 };

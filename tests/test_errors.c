@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "internal.h"
+#include "model/internal.h"
 #include "libkin.h"
 
 static const double tri_xyz[6] = {0, 0, 1, 0, 0, 1};

@@ -9,8 +9,8 @@
 #include <string.h>
 
 #include "check.h"
-#include "homotopy_control.h"
-#include "internal.h"
+#include "homotopy/homotopy_control.h"
+#include "model/internal.h"
 #include "libkin.h"
 #include "sail_states.h"
 

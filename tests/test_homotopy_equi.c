@@ -11,9 +11,9 @@
 #include <string.h>
 
 #include "check.h"
-#include "homotopy_equi.h"
-#include "homotopy_sym.h"
-#include "internal.h"
+#include "homotopy/homotopy_equi.h"
+#include "homotopy/homotopy_sym.h"
+#include "model/internal.h"
 #include "libkin.h"
 
 enum { MAXM = 10 };

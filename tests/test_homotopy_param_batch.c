@@ -15,8 +15,8 @@
 #include <string.h>
 
 #include "check.h"
-#include "homotopy_param.h"
-#include "internal.h"
+#include "homotopy/homotopy_param.h"
+#include "model/internal.h"
 #include "libkin.h"
 #include "sail_states.h"
 

@@ -10,7 +10,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "check.h"
-#include "internal.h"
+#include "model/internal.h"
 #include "libkin.h"
 
 /* every byte of an output struct zero (they are filled with 0xFF first) */

@@ -11,7 +11,7 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "internal.h" /* to plant a non-finite coordinate no public call allows */
+#include "model/internal.h" /* to plant a non-finite coordinate no public call allows */
 #include "libkin.h"
 
 #define MAX_FILES 256

@@ -18,7 +18,7 @@
 #include <time.h>
 
 #include "check.h"
-#include "internal.h" /* kin__splitmix */
+#include "model/internal.h" /* kin__splitmix */
 #include "libkin.h"
 
 typedef struct recorder {

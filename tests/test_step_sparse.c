@@ -12,7 +12,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "internal.h"
+#include "model/internal.h"
 #include "libkin.h"
 #include "sail_states.h"
 #include "lattice_model.h"

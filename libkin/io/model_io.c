@@ -1,0 +1,546 @@
+/* Model files: the JSON model format (docs/model_format.md) read into a new
+ * assembly and written from one, through jansson. The rules checked here
+ * are the Python loader's (python/src/libkin/model_json.py), in its order,
+ * so both report the same status for the same file; what only
+ * kin_assembly_create() checks (self and duplicate bars, zero-length bars,
+ * too few joints, no free coordinate) is left to it. */
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <jansson.h>
+
+#include "model/internal.h"
+
+/* ---- errors ------------------------------------------------------------ */
+
+/* Where messages go: the caller's buffer, prefixed with the file's path when
+ * the model came from a file. */
+typedef struct io_err {
+    char *buf;
+    size_t len;
+    const char *path; /* NULL for text in memory */
+} io_err;
+
+static int io_fail(const io_err *e, int code, const char *fmt, ...)
+{
+    char msg[KIN_ERRLEN];
+    va_list ap;
+    va_start(ap, fmt);
+    kin__failv(msg, sizeof msg, code, fmt, ap);
+    va_end(ap);
+    if (e->buf && e->len > 0) {
+        if (e->path)
+            snprintf(e->buf, e->len, "%s: %s", e->path, msg);
+        else
+            snprintf(e->buf, e->len, "%s", msg);
+    }
+    return code;
+}
+
+/* "got ..." part of a message: the JSON type found instead */
+static const char *json_kind(const json_t *v)
+{
+    if (!v) return "nothing (missing)";
+    switch (json_typeof(v)) {
+    case JSON_OBJECT: return "an object";
+    case JSON_ARRAY: return "a list";
+    case JSON_STRING: return "a string";
+    case JSON_INTEGER: return "an integer";
+    case JSON_REAL: return "a real number";
+    case JSON_TRUE: return "true";
+    case JSON_FALSE: return "false";
+    case JSON_NULL: return "null";
+    }
+    return "an unknown value";
+}
+
+/* ---- load: one document into arrays, then kin_assembly_create ------------ */
+
+/* The arrays kin_assembly_create takes, owned by the loader. */
+typedef struct model_arrays {
+    int dim, nj, nb;
+    double *xyz;          /* nj*dim */
+    unsigned char *fixed; /* nj*dim */
+    int *bars;            /* 2*nb */
+    double *lengths;      /* nb */
+    int have_lengths;     /* every bar gave a length */
+} model_arrays;
+
+static void arrays_free(model_arrays *m)
+{
+    free(m->xyz);
+    free(m->fixed);
+    free(m->bars);
+    free(m->lengths);
+}
+
+/* An optional "index" must equal the element's position. */
+static int check_index(const io_err *e, const json_t *obj, const char *list, size_t pos)
+{
+    const json_t *v = json_object_get(obj, "index");
+    if (!v || (json_is_integer(v) && json_integer_value(v) == (json_int_t)pos)) return KIN_OK;
+    if (json_is_integer(v))
+        return io_fail(e, KIN_EFORMAT, "%s[%zu].index: expected %zu, got %lld", list, pos, pos,
+                       (long long)json_integer_value(v));
+    return io_fail(e, KIN_EFORMAT, "%s[%zu].index: expected %zu, got %s", list, pos, pos,
+                   json_kind(v));
+}
+
+static int read_joint(const io_err *e, const json_t *j, size_t i, model_arrays *m)
+{
+    if (!json_is_object(j))
+        return io_fail(e, KIN_EFORMAT, "joints[%zu]: expected an object, got %s", i, json_kind(j));
+    int rc = check_index(e, j, "joints", i);
+    if (rc) return rc;
+    const size_t dim = (size_t)m->dim;
+    const json_t *xyz = json_object_get(j, "xyz");
+    if (!json_is_array(xyz) || json_array_size(xyz) != dim)
+        return io_fail(e, KIN_EFORMAT, "joints[%zu].xyz: expected a list of %zu numbers, got %s%s",
+                       i, dim, json_kind(xyz), json_is_array(xyz) ? " of another length" : "");
+    for (size_t c = 0; c < dim; ++c) {
+        const json_t *v = json_array_get(xyz, c);
+        /* jansson refuses non-finite literals and overflow, so a number here
+         * is finite; the check stays for the contract's sake */
+        if (!json_is_number(v) || !isfinite(json_number_value(v)))
+            return io_fail(e, KIN_EFORMAT, "joints[%zu].xyz[%zu]: expected a finite number, got %s",
+                           i, c, json_kind(v));
+        m->xyz[i * dim + c] = json_number_value(v);
+    }
+    const json_t *free_flags = json_object_get(j, "free");
+    if (free_flags) {
+        if (!json_is_array(free_flags) || json_array_size(free_flags) != dim)
+            return io_fail(e, KIN_EFORMAT, "joints[%zu].free: expected a list of %zu booleans, got %s%s",
+                           i, dim, json_kind(free_flags),
+                           json_is_array(free_flags) ? " of another length" : "");
+        for (size_t c = 0; c < dim; ++c) {
+            const json_t *v = json_array_get(free_flags, c);
+            if (!json_is_boolean(v))
+                return io_fail(e, KIN_EFORMAT, "joints[%zu].free[%zu]: expected true or false, got %s",
+                               i, c, json_kind(v));
+            m->fixed[i * dim + c] = json_is_false(v);
+        }
+    }
+    const json_t *label = json_object_get(j, "label");
+    if (label && !json_is_string(label))
+        return io_fail(e, KIN_EFORMAT, "joints[%zu].label: expected a string, got %s", i,
+                       json_kind(label));
+    return KIN_OK;
+}
+
+static int read_bar(const io_err *e, const json_t *b, size_t k, model_arrays *m, int *has_length)
+{
+    if (!json_is_object(b))
+        return io_fail(e, KIN_EFORMAT, "bars[%zu]: expected an object, got %s", k, json_kind(b));
+    int rc = check_index(e, b, "bars", k);
+    if (rc) return rc;
+    const json_t *ends = json_object_get(b, "joints");
+    if (!json_is_array(ends) || json_array_size(ends) != 2)
+        return io_fail(e, KIN_EFORMAT, "bars[%zu].joints: expected two joint indices, got %s%s", k,
+                       json_kind(ends), json_is_array(ends) ? " of another length" : "");
+    for (size_t s = 0; s < 2; ++s)
+        if (!json_is_integer(json_array_get(ends, s)))
+            return io_fail(e, KIN_EFORMAT, "bars[%zu].joints[%zu]: expected a joint index, got %s",
+                           k, s, json_kind(json_array_get(ends, s)));
+    for (size_t s = 0; s < 2; ++s) {
+        json_int_t v = json_integer_value(json_array_get(ends, s));
+        if (v < 0 || v >= m->nj)
+            return io_fail(e, KIN_EFORMAT, "bars[%zu].joints[%zu]: joint %lld out of range 0..%d",
+                           k, s, (long long)v, m->nj - 1);
+        m->bars[2 * k + s] = (int)v;
+    }
+    const json_t *len = json_object_get(b, "length");
+    *has_length = len != NULL;
+    if (len) {
+        if (!json_is_number(len) || !isfinite(json_number_value(len)))
+            return io_fail(e, KIN_EFORMAT, "bars[%zu].length: expected a finite number, got %s", k,
+                           json_kind(len));
+        double L = json_number_value(len);
+        if (!(L > 0.0))
+            return io_fail(e, KIN_EFORMAT, "bars[%zu].length: expected > 0, got %.17g", k, L);
+        m->lengths[k] = L;
+    }
+    return KIN_OK;
+}
+
+/* Check the document against the schema and fill m (m's arrays are
+ * allocated here and released by the caller). */
+static int read_model(const io_err *e, const json_t *doc, model_arrays *m)
+{
+    if (!json_is_object(doc))
+        return io_fail(e, KIN_EFORMAT, "model: expected a JSON object, got %s", json_kind(doc));
+    const json_t *dim = json_object_get(doc, "dimension");
+    if (json_is_integer(dim) && json_integer_value(dim) != 2 && json_integer_value(dim) != 3)
+        return io_fail(e, KIN_EFORMAT, "dimension: expected 2 or 3, got %lld",
+                       (long long)json_integer_value(dim));
+    if (!json_is_integer(dim))
+        return io_fail(e, KIN_EFORMAT, "dimension: expected 2 or 3, got %s", json_kind(dim));
+    m->dim = (int)json_integer_value(dim);
+
+    const json_t *joints = json_object_get(doc, "joints");
+    if (!json_is_array(joints) || json_array_size(joints) == 0)
+        return io_fail(e, KIN_EFORMAT, "joints: expected a non-empty list, got %s%s",
+                       json_kind(joints), json_is_array(joints) ? " (empty)" : "");
+    size_t nj = json_array_size(joints);
+    if (nj > INT_MAX / 3)
+        return io_fail(e, KIN_EFORMAT, "joints: %zu joints, at most %d supported", nj, INT_MAX / 3);
+    m->nj = (int)nj;
+    m->xyz = malloc(sizeof(double) * nj * (size_t)m->dim);
+    m->fixed = calloc(nj * (size_t)m->dim, 1); /* "free" defaults to all true */
+    if (!m->xyz || !m->fixed) return io_fail(e, KIN_ENOMEM, "joints: %zu joints", nj);
+    for (size_t i = 0; i < nj; ++i) {
+        int rc = read_joint(e, json_array_get(joints, i), i, m);
+        if (rc) return rc;
+    }
+
+    const json_t *bars = json_object_get(doc, "bars");
+    if (!json_is_array(bars) || json_array_size(bars) == 0)
+        return io_fail(e, KIN_EFORMAT, "bars: expected a non-empty list, got %s%s", json_kind(bars),
+                       json_is_array(bars) ? " (empty)" : "");
+    size_t nb = json_array_size(bars);
+    if (nb > INT_MAX / 2)
+        return io_fail(e, KIN_EFORMAT, "bars: %zu bars, at most %d supported", nb, INT_MAX / 2);
+    m->nb = (int)nb;
+    m->bars = malloc(sizeof(int) * 2 * nb);
+    m->lengths = malloc(sizeof(double) * nb);
+    if (!m->bars || !m->lengths) return io_fail(e, KIN_ENOMEM, "bars: %zu bars", nb);
+    size_t with_length = 0, first_with = 0, first_without = 0;
+    for (size_t k = 0; k < nb; ++k) {
+        int has_length = 0;
+        int rc = read_bar(e, json_array_get(bars, k), k, m, &has_length);
+        if (rc) return rc;
+        if (has_length && with_length == 0) first_with = k;
+        if (!has_length && with_length == k) first_without = k; /* every bar before k had one */
+        with_length += (size_t)has_length;
+    }
+    if (with_length != 0 && with_length != nb)
+        return io_fail(e, KIN_EFORMAT,
+                       "bars: give a length for every bar or for none (bar %zu has one, bar %zu has not)",
+                       first_with, first_without);
+    m->have_lengths = with_length == nb;
+
+    const json_t *name = json_object_get(doc, "name");
+    if (name && !json_is_string(name))
+        return io_fail(e, KIN_EFORMAT, "name: expected a string, got %s", json_kind(name));
+    return KIN_OK;
+}
+
+/* Lists and objects nest at most this deep (the document is depth 1); the
+ * Python loader has the same limit (model_json.MAX_DEPTH). */
+enum { MAX_DEPTH = 64 };
+
+/* 1 if v nests no deeper than MAX_DEPTH counting from `depth`; recursion
+ * stops at MAX_DEPTH + 1 levels */
+static int depth_ok(json_t *v, int depth)
+{
+    if (!json_is_object(v) && !json_is_array(v)) return 1;
+    if (depth > MAX_DEPTH) return 0;
+    if (json_is_array(v)) {
+        for (size_t i = 0; i < json_array_size(v); ++i)
+            if (!depth_ok(json_array_get(v, i), depth + 1)) return 0;
+        return 1;
+    }
+    const char *key;
+    json_t *val;
+    json_object_foreach(v, key, val) {
+        if (!depth_ok(val, depth + 1)) return 0;
+    }
+    return 1;
+}
+
+/* Parse text, check it, create the assembly. */
+static int load_text(const io_err *e, const char *text, size_t len, kin_assembly **out)
+{
+    json_error_t jerr;
+    /* JSON_ALLOW_NUL: a "\u0000" inside a label is valid JSON (Python reads it) */
+    json_t *doc = json_loadb(text, len, JSON_ALLOW_NUL, &jerr);
+    if (!doc)
+        return io_fail(e, KIN_EFORMAT, "JSON syntax: line %d, column %d: %s", jerr.line,
+                       jerr.column, jerr.text);
+    if (!depth_ok(doc, 1)) {
+        json_decref(doc);
+        return io_fail(e, KIN_EFORMAT, "JSON text: lists or objects nested deeper than %d", MAX_DEPTH);
+    }
+    model_arrays m = {0, 0, 0, NULL, NULL, NULL, NULL, 0};
+    int rc = read_model(e, doc, &m);
+    json_decref(doc);
+    if (rc == KIN_OK) {
+        char msg[KIN_ERRLEN];
+        rc = kin_assembly_create(m.dim, m.nj, m.xyz, m.fixed, m.nb, m.bars,
+                                 m.have_lengths ? m.lengths : NULL, out, msg, sizeof msg);
+        if (rc && e->buf && e->len > 0) {
+            if (e->path)
+                snprintf(e->buf, e->len, "%s: %s", e->path, msg);
+            else
+                snprintf(e->buf, e->len, "%s", msg);
+        }
+    }
+    arrays_free(&m);
+    return rc;
+}
+
+int kin_assembly_load_string(const char *text, size_t len, kin_assembly **out, char *errbuf,
+                             size_t errlen)
+{
+    io_err e = {errbuf, errlen, NULL};
+    if (errbuf && errlen > 0) errbuf[0] = '\0';
+    if (out) *out = NULL;
+    if (!out) return io_fail(&e, KIN_ENULL, "out is NULL");
+    if (!text) return io_fail(&e, KIN_ENULL, "text is NULL");
+    return load_text(&e, text, len, out);
+}
+
+/* The whole file into a malloc'd buffer (read in chunks: works for pipes
+ * and files whose size ftell cannot tell). */
+static int read_file(const io_err *e, const char *path, char **text, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return io_fail(e, KIN_EIO, "cannot open: %s", strerror(errno));
+    size_t n = 0, cap = 1 << 16;
+    char *buf = malloc(cap);
+    int rc = buf ? KIN_OK : io_fail(e, KIN_ENOMEM, "read buffer");
+    while (rc == KIN_OK) {
+        if (n == cap) {
+            char *bigger = cap <= ((size_t)-1) / 2 ? realloc(buf, cap * 2) : NULL;
+            if (!bigger) {
+                rc = io_fail(e, KIN_ENOMEM, "read buffer of %zu bytes", cap);
+                break;
+            }
+            buf = bigger;
+            cap *= 2;
+        }
+        size_t got = fread(buf + n, 1, cap - n, f);
+        n += got;
+        if (got == 0) {
+            if (ferror(f)) rc = io_fail(e, KIN_EIO, "cannot read: %s", strerror(errno));
+            break;
+        }
+    }
+    fclose(f);
+    if (rc) {
+        free(buf);
+        return rc;
+    }
+    *text = buf;
+    *len = n;
+    return KIN_OK;
+}
+
+int kin_assembly_load(const char *path, kin_assembly **out, char *errbuf, size_t errlen)
+{
+    io_err e = {errbuf, errlen, NULL};
+    if (errbuf && errlen > 0) errbuf[0] = '\0';
+    if (out) *out = NULL;
+    if (!out) return io_fail(&e, KIN_ENULL, "out is NULL");
+    if (!path) return io_fail(&e, KIN_ENULL, "path is NULL");
+    e.path = path;
+    char *text = NULL;
+    size_t len = 0;
+    int rc = read_file(&e, path, &text, &len);
+    if (rc) return rc;
+    rc = load_text(&e, text, len, out);
+    free(text);
+    return rc;
+}
+
+/* ---- save: the assembly as text ------------------------------------------ */
+
+/* A growing text buffer; `failed` latches the first allocation failure. */
+typedef struct text_buf {
+    char *p;
+    size_t n, cap;
+    int failed;
+} text_buf;
+
+static char *tb_reserve(text_buf *t, size_t extra)
+{
+    if (t->failed) return NULL;
+    if (t->n + extra + 1 > t->cap) {
+        size_t cap = t->cap ? t->cap : 4096;
+        while (cap < t->n + extra + 1) cap *= 2;
+        char *p = realloc(t->p, cap);
+        if (!p) {
+            t->failed = 1;
+            return NULL;
+        }
+        t->p = p;
+        t->cap = cap;
+    }
+    return t->p + t->n;
+}
+
+static void tb_puts(text_buf *t, const char *s)
+{
+    size_t k = strlen(s);
+    char *dst = tb_reserve(t, k);
+    if (!dst) return;
+    memcpy(dst, s, k + 1);
+    t->n += k;
+}
+
+/* Append v encoded by jansson on one line (", " and ": " separators); takes
+ * v's reference. Numbers get 17 significant digits, enough to read back the
+ * same double. */
+static void tb_json(text_buf *t, json_t *v)
+{
+    const size_t flags = JSON_ENCODE_ANY | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17);
+    size_t k = v ? json_dumpb(v, NULL, 0, flags) : 0;
+    char *dst = (v && k) ? tb_reserve(t, k) : NULL;
+    if (dst) {
+        json_dumpb(v, dst, k, flags);
+        t->n += k;
+        t->p[t->n] = '\0';
+    } else {
+        t->failed = 1;
+    }
+    json_decref(v);
+}
+
+/* The values of one joint / bar as a JSON object (NULL if out of memory). */
+static json_t *joint_object(int i, int dim, const double *xyz, const unsigned char *fixed)
+{
+    json_t *o = json_object(), *pos = json_array(), *free_flags = json_array();
+    int bad = !o || !pos || !free_flags;
+    for (int c = 0; c < dim && !bad; ++c) {
+        bad |= json_array_append_new(pos, json_real(xyz[i * dim + c])) != 0;
+        bad |= json_array_append_new(free_flags, json_boolean(!fixed[i * dim + c])) != 0;
+    }
+    if (!bad) {
+        bad |= json_object_set_new(o, "index", json_integer(i)) != 0;
+        bad |= json_object_set(o, "xyz", pos) != 0;
+        bad |= json_object_set(o, "free", free_flags) != 0;
+    }
+    json_decref(pos);
+    json_decref(free_flags);
+    if (bad) {
+        json_decref(o);
+        return NULL;
+    }
+    return o;
+}
+
+static json_t *bar_object(int k, const int *bars, const double *L0)
+{
+    json_t *o = json_object(), *ends = json_array();
+    int bad = !o || !ends;
+    if (!bad) {
+        bad |= json_array_append_new(ends, json_integer(bars[2 * k])) != 0;
+        bad |= json_array_append_new(ends, json_integer(bars[2 * k + 1])) != 0;
+        bad |= json_object_set_new(o, "index", json_integer(k)) != 0;
+        bad |= json_object_set(o, "joints", ends) != 0;
+        bad |= json_object_set_new(o, "length", json_real(L0[k])) != 0;
+    }
+    json_decref(ends);
+    if (bad) {
+        json_decref(o);
+        return NULL;
+    }
+    return o;
+}
+
+/* The model as text: one joint or bar per line. */
+static int render(const io_err *e, const kin_assembly *a, const char *name, text_buf *t)
+{
+    const int dim = kin_dim(a), nj = kin_njoints(a), nb = kin_nbars(a);
+    double *xyz = malloc(sizeof(double) * ((size_t)nj * dim + nb));
+    unsigned char *fixed = malloc((size_t)nj * dim);
+    int *bars = malloc(sizeof(int) * 2 * (size_t)nb);
+    if (!xyz || !fixed || !bars) {
+        free(xyz);
+        free(fixed);
+        free(bars);
+        return io_fail(e, KIN_ENOMEM, "save buffers");
+    }
+    double *L0 = xyz + (size_t)nj * dim;
+    kin_get_coords(a, xyz);
+    kin_get_fixed(a, fixed);
+    kin_get_bars(a, bars);
+    kin_get_rest_lengths(a, L0);
+    int rc = KIN_OK;
+    /* a valid handle holds finite numbers only; json_real refuses others */
+    for (size_t i = 0; i < (size_t)nj * dim + nb && rc == KIN_OK; ++i)
+        if (!isfinite(xyz[i]))
+            rc = io_fail(e, KIN_EGEOM, "%s %zu is not finite",
+                         i < (size_t)nj * dim ? "coordinate" : "rest length of bar",
+                         i < (size_t)nj * dim ? i : i - (size_t)nj * dim);
+    if (rc == KIN_OK) {
+        char line[64];
+        tb_puts(t, "{\n");
+        if (name) {
+            tb_puts(t, " \"name\": ");
+            tb_json(t, json_string_nocheck(name)); /* bytes as given; escaped by jansson */
+            tb_puts(t, ",\n");
+        }
+        snprintf(line, sizeof line, " \"dimension\": %d,\n \"joints\": [\n", dim);
+        tb_puts(t, line);
+        for (int i = 0; i < nj; ++i) {
+            tb_puts(t, "  ");
+            tb_json(t, joint_object(i, dim, xyz, fixed));
+            tb_puts(t, i + 1 < nj ? ",\n" : "\n");
+        }
+        tb_puts(t, " ],\n \"bars\": [\n");
+        for (int k = 0; k < nb; ++k) {
+            tb_puts(t, "  ");
+            tb_json(t, bar_object(k, bars, L0));
+            tb_puts(t, k + 1 < nb ? ",\n" : "\n");
+        }
+        tb_puts(t, " ]\n}\n");
+        if (t->failed) rc = io_fail(e, KIN_ENOMEM, "model text");
+    }
+    free(xyz);
+    free(fixed);
+    free(bars);
+    return rc;
+}
+
+int kin_assembly_save_string(const kin_assembly *a, const char *name, char **text, size_t *len,
+                             char *errbuf, size_t errlen)
+{
+    io_err e = {errbuf, errlen, NULL};
+    if (errbuf && errlen > 0) errbuf[0] = '\0';
+    if (text) *text = NULL;
+    if (len) *len = 0;
+    if (!a) return io_fail(&e, KIN_ENULL, "assembly is NULL");
+    if (!text) return io_fail(&e, KIN_ENULL, "text is NULL");
+    text_buf t = {NULL, 0, 0, 0};
+    int rc = render(&e, a, name, &t);
+    if (rc) {
+        free(t.p);
+        return rc;
+    }
+    *text = t.p;
+    if (len) *len = t.n;
+    return KIN_OK;
+}
+
+void kin_free_string(char *text) { free(text); }
+
+int kin_assembly_save(const kin_assembly *a, const char *name, const char *path, char *errbuf,
+                      size_t errlen)
+{
+    io_err e = {errbuf, errlen, NULL};
+    if (errbuf && errlen > 0) errbuf[0] = '\0';
+    if (!a) return io_fail(&e, KIN_ENULL, "assembly is NULL");
+    if (!path) return io_fail(&e, KIN_ENULL, "path is NULL");
+    e.path = path;
+    text_buf t = {NULL, 0, 0, 0};
+    int rc = render(&e, a, name, &t);
+    if (rc == KIN_OK) {
+        FILE *f = fopen(path, "wb");
+        if (!f) {
+            rc = io_fail(&e, KIN_EIO, "cannot open for writing: %s", strerror(errno));
+        } else {
+            int err = 0;
+            errno = 0;
+            if (fwrite(t.p, 1, t.n, f) != t.n) err = errno ? errno : EIO;
+            if (fclose(f) != 0 && !err) err = errno ? errno : EIO; /* a full disk may show only here */
+            if (err) rc = io_fail(&e, KIN_EIO, "cannot write: %s", strerror(err));
+        }
+    }
+    free(t.p);
+    return rc;
+}

@@ -1,0 +1,413 @@
+/* Detecting bifurcation points along a path (paper section 4) with a signed
+ * test function, and the helpers the three locators share; see kin_locate.h.
+ * The locators are locate_hermite.c, locate_illinois.c, locate_paper.c. */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "model/internal.h"
+#include "model/lapack.h"
+#include "locate/locate_internal.h"
+
+/* while locating, singular values count as zero only below this fraction of
+ * the target tolerance, so that the test function keeps its sign (and the
+ * analysis its single mechanism) until the target is met */
+static const double LOCATE_RANK_FRACTION = 1e-3;
+/* m and s at a located point are counted with rank tolerance at least this
+ * multiple of vr_tol: the point is only that exact */
+static const double LOCATED_RANK_MARGIN = 10.0;
+/* steps the fast method follows past a sign change of the test function at
+ * which v_r is still decreasing, looking for v_r to turn */
+enum { TAU_LOOK_AHEAD = 2 };
+
+void kin_locate_options_default(kin_locate_options *o)
+{
+    if (!o) return;
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o;
+    o->method = KIN_LOCATE_FAST;
+    o->vr_tol = 1e-10;
+    o->switch_eps = 1e-2;
+    o->delta = 0.0;
+    o->max_steps = 1000;
+    o->max_iter = 60;
+    o->use_switch_rule = 1;
+}
+
+int kin_test_function(kin_assembly *a, double *tau)
+{
+    if (!a || !tau) return KIN_ENULL;
+    if (!kin__cur(a)->valid) {
+        int rc = kin_analyse(a, NULL);
+        if (rc) return rc;
+    }
+    const kin_factor *f = kin__cur(a);
+    int nf = a->nf, nb = a->nb, mr = f->an.m_rigid;
+    if (f->an.m_internal == 0) return kin__fail(a, KIN_ENOMECH, "no internal mechanism");
+    if (f->an.m_internal >= 2) {
+        *tau = 0.0;
+        return KIN_OK;
+    }
+    double *t = a->chord;
+    if (kin_get_tangent(a, t, nf) != KIN_OK) memcpy(t, f->Uint, sizeof(double) * (size_t)nf);
+    /* rigid mechanisms, oriented continuously against the previous ones */
+    double *R = a->Rref;
+    for (int c = 0; c < mr; ++c) {
+        const double *r = f->Urig + (size_t)c * nf;
+        double sg = a->have_Rref && kin__dot(nf, r, R + (size_t)c * nf) < 0.0 ? -1.0 : 1.0;
+        for (int i = 0; i < nf; ++i) R[i + (size_t)c * nf] = sg * r[i];
+    }
+    a->have_Rref = 1;
+    if (nb + 1 + mr != nf) {
+        /* redundant bars on the path (s > 0): no square border, no sign */
+        *tau = f->an.v_r;
+        return KIN_OK;
+    }
+    double *B = a->mwork;
+    int *ipiv = a->iwork, info = 0;
+    kin__build_H(a, a->xyz, a->H, nf);
+    for (int k = 0; k < nb; ++k)
+        for (int i = 0; i < nf; ++i) B[k + (size_t)i * nf] = a->H[i + (size_t)k * nf];
+    for (int i = 0; i < nf; ++i) B[nb + (size_t)i * nf] = t[i];
+    for (int c = 0; c < mr; ++c)
+        for (int i = 0; i < nf; ++i) B[nb + 1 + c + (size_t)i * nf] = R[i + (size_t)c * nf];
+    a->nfact++;
+    dgetrf_(&nf, &nf, B, &nf, ipiv, &info);
+    if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrf info = %d", info);
+    double sg = 1.0;
+    for (int i = 0; i < nf; ++i) {
+        if (B[i + (size_t)i * nf] < 0.0) sg = -sg;
+        if (ipiv[i] != i + 1) sg = -sg;
+    }
+    *tau = info > 0 ? 0.0 : sg * f->an.v_r;
+    return KIN_OK;
+}
+
+double kin__loc_rel(const kin_assembly *a) { return kin__cur(a)->an.v_r / kin__cur(a)->an.v_max; }
+
+/* index of the singular value that vanishes at a bifurcation: a point on a
+ * path has rank nfree - 1 - m_rigid, so it is the last non-zero one there */
+int kin__loc_vanishing_index(const kin_assembly *a)
+{
+    int mn = a->nf < a->nb ? a->nf : a->nb, k = a->nf - 2 - kin__cur(a)->an.m_rigid;
+    return k >= 0 && k < mn ? k : -1;
+}
+
+static double vanishing_sv(const kin_assembly *a)
+{
+    int k = kin__loc_vanishing_index(a);
+    return k >= 0 ? kin__cur(a)->sv[k] : kin__cur(a)->an.v_r;
+}
+
+/* The largest of the singular values that vanish at the bifurcation being
+ * located. Several vanish together at most bifurcations of the sails (15 at
+ * the hexagonal sail's flat state), with different slopes: the lowest alone
+ * can meet the tolerance at a point still 1e-9 away, where m and s would
+ * come out wrong. The group: from the path's lowest singular value up to the
+ * largest ratio gap among those at most sqrt(tol) * v_max and the first one
+ * above. */
+double kin__loc_group_top(const kin_assembly *a, double tol)
+{
+    const kin_factor *f = kin__cur(a);
+    int k = kin__loc_vanishing_index(a);
+    if (k < 0) return f->an.v_r;
+    double cut = sqrt(tol) * f->an.v_max, top = f->sv[k], gap = 1.0;
+    for (int i = k - 1; i >= 0; --i) {
+        double r = f->sv[i + 1] > 0.0 ? f->sv[i] / f->sv[i + 1] : INFINITY;
+        if (r > gap) {
+            gap = r;
+            top = f->sv[i + 1];
+        }
+        if (f->sv[i] > cut) break;
+    }
+    return top;
+}
+
+int kin__loc_at_bifurcation(const kin_assembly *a, double tol)
+{
+    return kin__loc_group_top(a, tol) <= tol * kin__cur(a)->an.v_max;
+}
+
+/* forward calculation: work := base moved by delta along its tangent */
+int kin__loc_forward(loc_ctx *c, const kin_assembly *base, kin_assembly *dst, double delta, double *used)
+{
+    kin__copy_state(dst, base);
+    kin_step_info si = {.size = sizeof si};
+    c->info->forward++;
+    int rc = kin_step(dst, delta, &si);
+    if (used) *used = rc == KIN_OK ? si.delta : 0.0;
+    return rc;
+}
+
+/* Progress through the caller's callback (kin_set_progress): steps plus
+ * forward calculations, out of max_steps + max_iter. Called at the top of
+ * every following step and location iteration, so a cancel takes effect
+ * within one step. Returns 1 when the caller cancels. */
+int kin__loc_cancelled(const loc_ctx *c)
+{
+    double total = (double)c->o->max_steps + (double)c->o->max_iter;
+    return kin__progress(c->a, (double)c->info->steps + (double)c->info->forward, total);
+}
+
+double kin__loc_tangent_cos(const kin_assembly *x, const kin_assembly *y)
+{
+    return fabs(kin__dot(x->nf, x->t, y->t));
+}
+
+/* dv/dl of the vanishing singular value of the analysed state st along its
+ * direction of motion, dir * t (no factorization) */
+static double motion_slope(loc_ctx *c, const kin_assembly *st, double dir)
+{
+    int k = kin__loc_vanishing_index(st);
+    if (k < 0) return 0.0;
+    return dir * kin__sv_derivative(st, kin__cur(st), st->xyz, st->t, k, kin__hermite_scratch(c->hw));
+}
+
+/* v_r turned from decreasing to increasing over the last step (length len):
+ * where the tangent lines at its two ends meet, v_r is about (for a crossing
+ * exactly) zero. That value, to compare with the switch threshold. */
+static double turn_value(double v0, double sl0, double v1, double sl1, double len)
+{
+    double s = (v1 - v0 - sl1 * len) / (sl0 - sl1);
+    if (!(s >= 0.0)) s = 0.0;
+    if (s > len) s = len;
+    return v0 + sl0 * s;
+}
+
+static void free_ctx(loc_ctx *c)
+{
+    kin_assembly_free(c->prev);
+    kin_assembly_free(c->work);
+    kin_assembly_free(c->probe);
+    kin_assembly_free(c->tb0);
+    kin_assembly_free(c->tb1);
+    kin__hermite_free(c->hw);
+}
+
+static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,
+                       void *hook_user)
+{
+    kin_locate_options o = *opt;
+    if ((o.method != KIN_LOCATE_PAPER && o.method != KIN_LOCATE_FAST && o.method != KIN_LOCATE_ILLINOIS) ||
+        !(o.vr_tol > 0 && o.vr_tol < 1) || !(o.switch_eps > 0 && o.switch_eps < 1) || !isfinite(o.delta) ||
+        o.max_steps < 1 || o.max_iter < 1)
+        return kin__fail(a, KIN_EINVAL, "locate options out of range");
+    int rc = kin__cur(a)->valid ? KIN_OK : kin_analyse(a, NULL);
+    if (rc) return rc;
+    if (kin__cur(a)->an.m_internal >= 2)
+        return kin__fail(a, KIN_EBIFURCATION, "already at a bifurcation (m_internal = %d)",
+                         kin__cur(a)->an.m_internal);
+    if (kin__cur(a)->an.m_internal == 0) return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");
+    loc_ctx c = {a, NULL, NULL, NULL, NULL, NULL, &o, info, NULL, hook, hook_user};
+    kin_options user = a->opt;
+    double fine = fmin(user.rank_tol, LOCATE_RANK_FRACTION * o.vr_tol);
+    a->opt.rank_tol = fine;
+    /* the detectors and the nodes need every point's SVD */
+    a->opt.factorization = KIN_STEP_SVD;
+    c.hw = kin__hermite_alloc(a);
+    if (!c.hw || kin_assembly_clone(a, &c.prev) || kin_assembly_clone(a, &c.work) ||
+        kin_assembly_clone(a, &c.probe) ||
+        (o.method == KIN_LOCATE_FAST && (kin_assembly_clone(a, &c.tb0) || kin_assembly_clone(a, &c.tb1)))) {
+        a->opt = user;
+        free_ctx(&c);
+        return kin__fail(a, KIN_ENOMEM, "locator working copies");
+    }
+    if (!a->have_t) {
+        /* a regular start point: its own (deterministically oriented) mechanism */
+        memcpy(a->t, kin__cur(a)->Uint, sizeof(double) * (size_t)a->nf);
+        a->have_t = 1;
+    }
+    double dir = o.delta < 0.0 ? -1.0 : 1.0, tb_delta = 0.0, tb_tau0 = 0.0, tb_tau1 = 0.0;
+    int pending = 0, stopped = 0;
+    double tau0, tau1, hl[4], hv[4];
+    int nh = 0;
+    rc = kin_test_function(a, &tau0);
+    double v0 = vanishing_sv(a), sl0 = motion_slope(&c, a, dir);
+    hl[nh] = a->l;
+    hv[nh++] = kin__cur(a)->an.v_r;
+    kin_step_info si = {.size = sizeof si};
+    long fa = 0, fw = 0, fp = 0, fpv = 0;
+    while (rc == KIN_OK && info->steps < o.max_steps) {
+        if (kin__loc_cancelled(&c)) {
+            rc = KIN_ECANCELLED;
+            break;
+        }
+        kin__copy_state(c.prev, a);
+        rc = kin_step(a, o.delta, &si);
+        if (rc) break;
+        info->steps++;
+        if (c.hook && c.hook(c.hook_user, a)) {
+            stopped = 1;
+            break;
+        }
+        if (si.m_internal >= 2) {
+            info->event = KIN_EVENT_LANDED;
+            break;
+        }
+        rc = kin_test_function(a, &tau1);
+        if (rc) break;
+        double vr = kin__cur(a)->an.v_r, vmax = kin__cur(a)->an.v_max;
+        double v1 = vanishing_sv(a), sl1 = motion_slope(&c, a, dir);
+        TRACE(" step %d: l %.6f tau %+.3e v %.3e slope %+.3e\n", info->steps, a->l, tau1, v1 / vmax, sl1 / vmax);
+        if (tau0 != 0.0 && tau1 != 0.0 && (tau0 > 0) != (tau1 > 0)) {
+            if (o.method == KIN_LOCATE_FAST && sl1 < 0.0) {
+                /* tau flipped while v_r still falls: with several singular
+                 * values vanishing together the determinant can change sign
+                 * (even twice) just before the point. Keep the first such
+                 * bracket and look a step or two further for v_r to turn. */
+                if (!pending) {
+                    kin__copy_state(c.tb0, c.prev);
+                    kin__copy_state(c.tb1, a);
+                    tb_delta = si.delta;
+                    tb_tau0 = tau0;
+                    tb_tau1 = tau1;
+                }
+                pending = 1;
+            } else {
+                info->event = KIN_EVENT_SIGN_CHANGE;
+                break;
+            }
+        }
+        if (nh == 4) {
+            memmove(hl, hl + 1, 3 * sizeof *hl);
+            memmove(hv, hv + 1, 3 * sizeof *hv);
+            nh = 3;
+        }
+        hl[nh] = a->l;
+        hv[nh++] = vr;
+        if (o.method == KIN_LOCATE_PAPER && o.use_switch_rule && vr < o.switch_eps * vmax && vr < hv[nh - 2]) {
+            info->event = KIN_EVENT_SWITCH_RULE;
+            kin__copy_state(c.prev, a);
+            break;
+        }
+        if (o.method != KIN_LOCATE_PAPER && sl0 < 0.0 && sl1 > 0.0 &&
+            turn_value(v0, sl0, v1, sl1, fabs(a->l - c.prev->l)) < o.switch_eps * vmax) {
+            /* v_r turned over this step without tau changing sign: an even
+             * number of singular values crossed zero, a tangency, or a
+             * non-zero minimum */
+            info->event = KIN_EVENT_MINIMUM;
+            nh--; /* the paper's history ends at the point before */
+            break;
+        }
+        if (pending && ++pending > TAU_LOOK_AHEAD) {
+            /* v_r did not turn: locate on the test function's bracket */
+            kin__copy_state(c.prev, c.tb0);
+            kin__copy_state(a, c.tb1);
+            si.delta = tb_delta;
+            tau0 = tb_tau0;
+            tau1 = tb_tau1;
+            info->event = KIN_EVENT_SIGN_CHANGE;
+            break;
+        }
+        tau0 = tau1;
+        v0 = v1;
+        sl0 = sl1;
+    }
+    fa = a->nfact;
+    fw = c.work->nfact;
+    fp = c.probe->nfact;
+    fpv = c.prev->nfact;
+    if (rc == KIN_OK && info->event == KIN_EVENT_NONE)
+        rc = stopped ? kin__fail(a, KIN_ENOTFOUND, "following stopped by the caller after %d steps", info->steps)
+                     : kin__fail(a, KIN_ENOTFOUND, "no bifurcation within %d steps", o.max_steps);
+    if (rc == KIN_OK && info->event != KIN_EVENT_LANDED) {
+        double step = o.delta != 0.0 ? fabs(o.delta) : a->opt.step_fraction * a->rms_length;
+        int bracket = info->event == KIN_EVENT_SIGN_CHANGE || info->event == KIN_EVENT_MINIMUM;
+        if (o.method == KIN_LOCATE_FAST && bracket) {
+            rc = kin__locate_hermite(&c);
+            TRACE(" event %d: hermite returned %d\n", info->event, rc);
+            if (rc == KIN__HERMITE_NO_BRACKET) {
+                /* v_r does not turn within the step although tau changed
+                 * sign: the test function's bracket, then the paper's
+                 * quadratic from the point before */
+                rc = info->event == KIN_EVENT_SIGN_CHANGE ? kin__locate_illinois(&c, si.delta, tau0, tau1) : KIN_ENOTFOUND;
+                if (rc == KIN_ENOTFOUND) rc = nh >= 2 ? kin__locate_paper(&c, hl, hv, nh, step) : rc;
+                if (rc == KIN_ENOTFOUND && !kin_last_error(a)[0])
+                    rc = kin__fail(a, KIN_ENOTFOUND, "v_r does not turn within the step");
+            }
+        } else if (o.method == KIN_LOCATE_ILLINOIS && info->event == KIN_EVENT_SIGN_CHANGE) {
+            rc = kin__locate_illinois(&c, si.delta, tau0, tau1);
+        } else {
+            /* the paper's method; also the fallback when tau does not change sign */
+            /* the history ends at c.prev, the last point before the bifurcation */
+            rc = nh >= 2 ? kin__locate_paper(&c, hl, hv, nh, step) : kin__fail(a, KIN_ENOTFOUND, "too little history");
+        }
+        if (rc == KIN_OK) {
+            /* eq. 26: the move from the last regular point must continue its
+             * tangent, or the search slid onto a neighbouring path */
+            double *ch = c.probe->chord, *x1 = c.probe->x;
+            kin__gather(a, c.prev->xyz, ch);
+            kin__gather(a, c.work->xyz, x1);
+            for (int i = 0; i < a->nf; ++i) ch[i] = x1[i] - ch[i];
+            double n = kin__norm(a->nf, ch);
+            info->path_kept = n == 0.0 || fabs(kin__dot(a->nf, ch, c.prev->t)) >= KIN__PATH_KEPT_COS * n;
+            /* move the caller's assembly onto the located point */
+            double dist = 0.0;
+            for (int i = 0; i < a->nj * a->dim; ++i) dist += (c.work->xyz[i] - a->xyz[i]) * (c.work->xyz[i] - a->xyz[i]);
+            info->distance = sqrt(dist);
+            kin__copy_state(a, c.work);
+        } else if (rc == KIN_ENOTFOUND || rc == KIN_ECANCELLED) {
+            /* leave the assembly at the best regular point: the base of the search */
+            kin__copy_state(a, c.prev);
+        }
+    }
+    if (rc == KIN_OK && info->event == KIN_EVENT_LANDED)
+        info->path_kept = 1; /* an ordinary step landed there: its direction check applied */
+    /* count m and s at the final point from its factorization (no new one):
+     * at a located point with the rank tolerance the location supports (the
+     * vanishing singular values are only down to vr_tol there), elsewhere
+     * with the caller's */
+    a->opt = user;
+    if (rc == KIN_OK && info->event != KIN_EVENT_LANDED)
+        a->opt.rank_tol = fmax(user.rank_tol, LOCATED_RANK_MARGIN * o.vr_tol);
+    {
+        int rc2 = kin__cur(a)->valid ? kin__reclassify(a, a->xyz, a->cur) : kin_analyse(a, NULL);
+        if (rc == KIN_OK) rc = rc2;
+    }
+    a->opt = user;
+    info->factorizations = (int)((a->nfact - fa) + (c.work->nfact - fw) + (c.probe->nfact - fp) + (c.prev->nfact - fpv));
+    info->located = rc == KIN_OK;
+    info->v_r = kin__loc_group_top(a, o.vr_tol);
+    info->v_r_rel = kin__cur(a)->an.v_max > 0 ? info->v_r / kin__cur(a)->an.v_max : 0.0;
+    info->m_internal = kin__cur(a)->an.m_internal;
+    info->s = kin__cur(a)->an.s;
+    if (rc == KIN_ECANCELLED)
+        kin__fail(a, KIN_ECANCELLED, "cancelled by the progress callback after %d steps and %d forward calculations",
+                  info->steps, info->forward);
+    else if (rc == KIN_OK)
+        (void)kin__progress(a, (double)o.max_steps + (double)o.max_iter, (double)o.max_steps + (double)o.max_iter);
+    free_ctx(&c);
+    return rc;
+}
+
+int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info)
+{
+    return kin__locate_hooked(a, opt, info, NULL, NULL);
+}
+
+int kin__locate_hooked(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,
+                       void *hook_user)
+{
+    if (info) {
+        if (kin__abi_check(info, KIN__V1_SIZE(kin_locate_info, zero_order), sizeof *info))
+            return a ? kin__fail(a, KIN_EINVAL, "info->size = %zu: set it to sizeof(kin_locate_info)",
+                                 kin__abi_size(info))
+                     : KIN_EINVAL;
+        kin__abi_zero(info);
+    }
+    if (!a) return KIN_ENULL;
+    kin_locate_options o;
+    kin_locate_options_default(&o); /* fields an older caller does not have keep their defaults */
+    if (opt) {
+        if (kin__abi_check(opt, KIN__V1_SIZE(kin_locate_options, use_switch_rule), sizeof *opt))
+            return kin__fail(a, KIN_EINVAL,
+                             "options->size = %zu: not set by kin_locate_options_default() of this libkin",
+                             kin__abi_size(opt));
+        kin__abi_read(&o, opt, sizeof o);
+    }
+    kin_locate_info local = {.size = sizeof local};
+    int rc = locate_impl(a, &o, &local, hook, hook_user);
+    if (info) kin__abi_write(info, &local, sizeof local);
+    return rc;
+}

@@ -1,0 +1,484 @@
+/* The fast locator: Hermite interpolation of the path and of the signed
+ * vanishing singular value over the bracketing step (kin_locate.h,
+ * KIN_LOCATE_FAST; docs/locate.md). */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "model/internal.h"
+#include "locate/locate_internal.h"
+
+/* ---- the fast (Hermite) method ----
+ * Nodes: points of the path with their tangents and the vanishing singular
+ * value with its derivative. At most this many (the bracket's two ends plus
+ * forward calculations). */
+enum { HERMITE_MAX_NODES = 8 };
+/* A new node sits this fraction of the larger side of its sub-bracket away
+ * from the current estimate: near enough to sharpen the interpolant by about
+ * two orders, far enough from the bifurcation that the corrector there is
+ * well conditioned (its smallest singular values shrink like the distance). */
+static const double NODE_OFFSET_FRACTION = 0.1;
+/* ... but never nearer than this fraction of the first bracket's width */
+static const double NODE_OFFSET_MIN = 1e-3;
+/* A node is accurate enough when its estimated position error (the
+ * correction its own factorization would still make) is below this fraction
+ * of vr_tol x the RMS bar length: an error dx changes v_r by about
+ * v_max |dx| / L. */
+static const double NODE_ERROR_FRACTION = 1.0;
+/* ... and new nodes keep this multiple of the distance where that accuracy
+ * is just reached */
+static const double NODE_RHO_MARGIN = 1.5;
+/* chord iterations that polish a node to the strain floor (no factorization) */
+enum { NODE_POLISH_ITER = 3 };
+/* A node that lands farther than this times its distance from the estimate
+ * away from the interpolated prediction has left the path for a
+ * neighbouring branch. */
+static const double NODE_JUMP_FRACTION = 0.25;
+/* A check whose vanishing singular value does not fall below this fraction
+ * of the best so far makes no progress ... */
+static const double MIN_PROGRESS = 0.5;
+/* ... MAX_STALLS such checks in a row end the iteration */
+enum { MAX_STALLS = 2 };
+/* The order p of the zero (v_r ~ |l - l*|^p) estimated from the bracket is
+ * rounded to 1 or 2 (a tangency, Figure 7(b)); at most this order. */
+enum { MAX_ZERO_ORDER = 2 };
+/* The interpolated bifurcation is off the strain-free set by the
+ * interpolation error; chord corrections with its own factorization remove
+ * that along singular values above POLISH_CUT times the located tolerance
+ * (those below belong to the bifurcation: dividing by them would throw the
+ * point away), at most POLISH_MAX_ITER times. */
+static const double POLISH_CUT = 1e3;
+enum { POLISH_MAX_ITER = 5 };
+/* bisection steps for the root of the interpolated signed singular value */
+enum { ROOT_BISECTIONS = 100 };
+
+/* ---- the fast method: Hermite interpolation of the path -----------------
+ *
+ * Along the path, parametrised by z = t0.(x - x0) (t0, x0: tangent and point
+ * where following stopped), the configuration x(z) and the vanishing
+ * singular value are analytic through the bifurcation, v_r up to its sign:
+ * s(z) = sign(dv/dz) v^(1/p) (p = 1 for a transversal crossing, 2 for a
+ * tangency) is smooth with a simple zero. Every node carries x, dx/dz (the
+ * tangent, scaled), v and dv/dz (kin__sv_derivative, no factorization), so
+ * both are interpolated by Hermite polynomials. The zero z* of the
+ * interpolated s gives the bifurcation x(z*) by interpolation, never by a
+ * corrector there: near the point the strain constraint fixes a
+ * configuration only to about sqrt(tolerance) in the directions of the
+ * vanishing singular values (measured: 4e-7 at the hexagonal sail's R^B),
+ * while nodes a little away from it are computed to full accuracy. One SVD
+ * checks each estimate; if it is not yet within the tolerance a node is
+ * added next to the estimate (a forward calculation whose predictor is the
+ * interpolant, so it cannot slide onto a neighbouring branch). */
+struct hermite_ws {
+    int n, nf;
+    double z[HERMITE_MAX_NODES], v[HERMITE_MAX_NODES], dv[HERMITE_MAX_NODES];
+    double err[HERMITE_MAX_NODES]; /* estimated position error of the node */
+    double *x, *dx;   /* HERMITE_MAX_NODES * nf each: the nodes */
+    double *sx, *sdx; /* HERMITE_MAX_NODES * nf each: the nodes in use, packed */
+    double *coef;     /* 2 * HERMITE_MAX_NODES * nf: divided differences */
+    double *xs;       /* nf: an interpolated point */
+    double *xyz;      /* nj * dim */
+    double *e, *y, *d; /* nb, max(nf, nb), nf */
+    double *scratch;  /* 2 * nj * dim */
+};
+
+void kin__hermite_free(hermite_ws *h)
+{
+    if (!h) return;
+    free(h->x);
+    free(h);
+}
+
+double *kin__hermite_scratch(hermite_ws *h) { return h->scratch; }
+
+hermite_ws *kin__hermite_alloc(const kin_assembly *a)
+{
+    hermite_ws *h = calloc(1, sizeof *h);
+    if (!h) return NULL;
+    size_t nf = (size_t)a->nf, nb = (size_t)a->nb, K = HERMITE_MAX_NODES, nc = (size_t)a->nj * (size_t)a->dim;
+    size_t ny = nf > nb ? nf : nb;
+    h->nf = a->nf;
+    h->x = malloc(sizeof(double) * (K * nf * 6 + nf + nc + nb + ny + nf + 2 * nc));
+    if (!h->x) {
+        free(h);
+        return NULL;
+    }
+    h->dx = h->x + K * nf;
+    h->sx = h->dx + K * nf;
+    h->sdx = h->sx + K * nf;
+    h->coef = h->sdx + K * nf;
+    h->xs = h->coef + 2 * K * nf;
+    h->xyz = h->xs + nf;
+    h->e = h->xyz + nc;
+    h->y = h->e + nb;
+    h->d = h->y + ny;
+    h->scratch = h->d + nf;
+    return h;
+}
+
+/* Chord corrections x -= sum_{i<r} u_i (w_i^T e) / v_i with factorization
+ * f (made at or next to x), while the strain residual |e| decreases, at most
+ * maxit times. xyz: full coordinates (fixed ones already in place), kept in
+ * step with x. Returns the size (max-norm, length units) of the correction
+ * the final point would still take: with f exact there, the error of x in
+ * the directions the constraints see (near a bifurcation, |e| / v_min
+ * overstates it: the rounding of x itself makes residuals along the large
+ * singular values). No factorization. */
+static double chord_polish(const kin_assembly *a, const kin_factor *f, int r, double *x, double *xyz, double *e,
+                           double *y, double *d, int maxit)
+{
+    int nf = a->nf, nb = a->nb;
+    kin__scatter(a, x, xyz);
+    kin__extensions(a, xyz, e);
+    double res = kin__norm(nb, e), corr = 0.0;
+    for (int it = 0; it <= maxit; ++it) {
+        for (int i = 0; i < r; ++i) {
+            double sum = 0.0;
+            for (int k = 0; k < nb; ++k) sum += f->VT[i + (size_t)k * nb] * e[k];
+            y[i] = sum / f->sv[i];
+        }
+        corr = 0.0;
+        for (int j = 0; j < nf; ++j) {
+            double sum = 0.0;
+            for (int i = 0; i < r; ++i) sum += f->U[j + (size_t)i * nf] * y[i];
+            d[j] = x[j] - sum;
+            corr = fmax(corr, fabs(sum));
+        }
+        if (it == maxit || res == 0.0) break;
+        kin__scatter(a, d, xyz);
+        kin__extensions(a, xyz, e);
+        double rn = kin__norm(nb, e);
+        if (!(rn < res)) {
+            kin__scatter(a, x, xyz);
+            kin__extensions(a, xyz, e);
+            break;
+        }
+        memcpy(x, d, sizeof(double) * (size_t)nf);
+        res = rn;
+    }
+    return corr;
+}
+
+/* Record the analysed state st as a node, parametrised from base: its point
+ * polished to the strain floor with its own factorization, and its error
+ * estimated by the correction that factorization would still make (near a
+ * bifurcation the smallest singular value amplifies what is left of the
+ * residual: that is what limits a node's accuracy). */
+static int hermite_add(hermite_ws *h, const kin_assembly *st, const kin_assembly *base)
+{
+    int nf = h->nf, k = kin__loc_vanishing_index(st);
+    if (h->n >= HERMITE_MAX_NODES || k < 0) return 0;
+    const kin_factor *f = kin__cur(st);
+    double *x = h->x + (size_t)h->n * nf, *dx = h->dx + (size_t)h->n * nf;
+    kin__gather(st, st->xyz, x);
+    memcpy(h->xyz, st->xyz, sizeof(double) * (size_t)(st->nj * st->dim));
+    double corr = chord_polish(st, f, k + 1, x, h->xyz, h->e, h->y, h->d, NODE_POLISH_ITER);
+    double floor = DBL_EPSILON * st->rms_length;
+    kin__gather(base, base->xyz, h->xs);
+    double z = 0.0, tt = kin__dot(nf, st->t, base->t);
+    for (int i = 0; i < nf; ++i) z += base->t[i] * (x[i] - h->xs[i]);
+    if (!(fabs(tt) > 0.0)) return 0;
+    for (int i = 0; i < nf; ++i) dx[i] = st->t[i] / tt;
+    h->z[h->n] = z;
+    h->v[h->n] = f->sv[k];
+    h->dv[h->n] = kin__sv_derivative(st, f, st->xyz, dx, k, h->scratch);
+    h->err[h->n] = fmax(corr, floor);
+    h->n++;
+    return 1;
+}
+
+/* Hermite divided differences of `dim`-vectors f (values) and df
+ * (derivatives) at the n nodes z, each taken twice (zz = z0 z0 z1 z1 ...),
+ * into coef (2n x dim, row j = f[zz_0 .. zz_j]) */
+static void hermite_coef(int n, const double *z, int dim, const double *f, const double *df, double *coef)
+{
+    int K = 2 * n;
+    for (int i = 0; i < K; ++i) memcpy(coef + (size_t)i * dim, f + (size_t)(i / 2) * dim, sizeof(double) * dim);
+    for (int j = 1; j < K; ++j)
+        for (int i = K - 1; i >= j; --i) {
+            double *ci = coef + (size_t)i * dim;
+            const double *cm = coef + (size_t)(i - 1) * dim;
+            if (j == 1 && (i % 2) == 1) {
+                memcpy(ci, df + (size_t)(i / 2) * dim, sizeof(double) * dim); /* repeated node */
+            } else {
+                double dz = z[i / 2] - z[(i - j) / 2];
+                for (int r = 0; r < dim; ++r) ci[r] = (ci[r] - cm[r]) / dz;
+            }
+        }
+}
+
+static void hermite_eval(int n, const double *z, int dim, const double *coef, double at, double *out)
+{
+    int K = 2 * n;
+    memcpy(out, coef + (size_t)(K - 1) * dim, sizeof(double) * dim);
+    for (int j = K - 2; j >= 0; --j)
+        for (int r = 0; r < dim; ++r) out[r] = out[r] * (at - z[j / 2]) + coef[(size_t)j * dim + r];
+}
+
+/* signed, smooth form of the vanishing singular value at node i for order p:
+ * in z, s = sign(dv/dz) v^(1/p) increases through its zero whichever way
+ * the motion runs, and ds/dz = |d v^(1/p) / dz| */
+static void signed_sv(const hermite_ws *h, int i, int p, double *s, double *ds)
+{
+    double v = h->v[i], dv = h->dv[i], sg = dv < 0.0 ? -1.0 : 1.0;
+    if (p == 1) {
+        *s = sg * v;
+        *ds = fabs(dv);
+    } else {
+        double r = pow(v, 1.0 / p);
+        *s = sg * r;
+        *ds = v > 0.0 ? fabs(dv) * r / (p * v) : 0.0;
+    }
+}
+
+/* An estimate from the nodes with use[i] != 0: the adjacent pair (lo, hi)
+ * between which v turns from decreasing to increasing in z, the order p of
+ * the zero, z*, and (if want_x) x(z*) into h->xs with the x interpolant's
+ * coefficients kept in h->coef over the used nodes (their z in zu, count
+ * *nu). Returns 0 without such a pair. */
+typedef struct herm_est {
+    int lo, hi, p, nu;
+    double zs, zu[HERMITE_MAX_NODES];
+} herm_est;
+
+static int hermite_estimate(hermite_ws *h, const int *use, int want_x, herm_est *E)
+{
+    int n = h->n, ord[HERMITE_MAX_NODES], nu = 0;
+    for (int i = 0; i < n; ++i)
+        if (use[i]) ord[nu++] = i;
+    for (int i = 1; i < nu; ++i)
+        for (int j = i; j > 0 && h->z[ord[j]] < h->z[ord[j - 1]]; --j) {
+            int t = ord[j];
+            ord[j] = ord[j - 1];
+            ord[j - 1] = t;
+        }
+    int lo = -1, hi = -1;
+    for (int j = 0; j + 1 < nu && lo < 0; ++j)
+        if (h->dv[ord[j]] < 0.0 && h->dv[ord[j + 1]] > 0.0) {
+            lo = ord[j];
+            hi = ord[j + 1];
+        }
+    if (lo < 0) return 0;
+    /* order of the zero: v/v' = (z - z*)/p at both ends of the bracket */
+    double pe = (h->z[hi] - h->z[lo]) / (h->v[hi] / h->dv[hi] - h->v[lo] / h->dv[lo]);
+    int p = isfinite(pe) && pe > 1.5 ? 2 : 1;
+    if (p > MAX_ZERO_ORDER) p = MAX_ZERO_ORDER;
+    double s[HERMITE_MAX_NODES], ds[HERMITE_MAX_NODES], c1[2 * HERMITE_MAX_NODES];
+    for (int j = 0; j < nu; ++j) {
+        E->zu[j] = h->z[ord[j]];
+        signed_sv(h, ord[j], p, &s[j], &ds[j]);
+    }
+    hermite_coef(nu, E->zu, 1, s, ds, c1);
+    double a = h->z[lo], b = h->z[hi], fa;
+    hermite_eval(nu, E->zu, 1, c1, a, &fa);
+    for (int it = 0; it < ROOT_BISECTIONS; ++it) {
+        double mid = 0.5 * (a + b), fm;
+        if (!(mid > a && mid < b)) break;
+        hermite_eval(nu, E->zu, 1, c1, mid, &fm);
+        if ((fm < 0.0) == (fa < 0.0)) {
+            a = mid;
+            fa = fm;
+        } else {
+            b = mid;
+        }
+    }
+    E->zs = 0.5 * (a + b);
+    E->lo = lo;
+    E->hi = hi;
+    E->p = p;
+    E->nu = nu;
+    if (want_x) {
+        size_t nf = (size_t)h->nf;
+        for (int j = 0; j < nu; ++j) {
+            memcpy(h->sx + j * nf, h->x + (size_t)ord[j] * nf, sizeof(double) * nf);
+            memcpy(h->sdx + j * nf, h->dx + (size_t)ord[j] * nf, sizeof(double) * nf);
+        }
+        hermite_coef(nu, E->zu, h->nf, h->sx, h->sdx, h->coef);
+        hermite_eval(nu, E->zu, h->nf, h->coef, E->zs, h->xs);
+    }
+    return 1;
+}
+
+
+/* Where the next node goes. Nodes nearer the bifurcation than rho_min are
+ * not accurate enough (their error grows as v shrinks), so new nodes
+ * sit at z* +- rho, rho = max(1.5 rho_min, NODE_OFFSET_FRACTION x the
+ * bracket) and then further out, first on a side that has no accurate
+ * node, else on the side whose nearest accurate node is farther. */
+static double next_node(const hermite_ws *h, const int *good, const herm_est *E, double rho_min, double width0)
+{
+    double near[2] = {INFINITY, INFINITY}; /* nearest accurate node left / right of z* */
+    for (int i = 0; i < h->n; ++i)
+        if (good[i]) {
+            double dz = h->z[i] - E->zs;
+            int side = dz > 0.0;
+            if (fabs(dz) < near[side]) near[side] = fabs(dz);
+        }
+    double zl = fmin(h->z[E->lo], h->z[E->hi]), zh = fmax(h->z[E->lo], h->z[E->hi]);
+    double base = fmax(NODE_OFFSET_FRACTION * fmax(E->zs - zl, zh - E->zs), NODE_OFFSET_MIN * width0);
+    double rho = fmax(NODE_RHO_MARGIN * rho_min, base);
+    int side = near[1] > near[0]; /* the side with the farther (or no) accurate node */
+    double gap = near[side];
+    /* at z* +- rho, unless an accurate node is already within twice rho on
+     * that side: then one rho beyond it, to widen the interpolant's span */
+    double off = isfinite(gap) && gap <= 2.0 * rho ? gap + rho : rho;
+    return E->zs + (side ? off : -off);
+}
+
+/* Locate between c->prev and c->a (the bracketing step). On success c->work
+ * sits on the bifurcation, analysed. Returns KIN_OK, KIN__HERMITE_NO_BRACKET
+ * (the vanishing singular value does not turn within the step: the caller
+ * may fall back on the test function), KIN_ENOTFOUND, or a step/LAPACK
+ * code. */
+int kin__locate_hermite(loc_ctx *c)
+{
+    hermite_ws *h = c->hw;
+    kin_assembly *prev = c->prev, *w = c->work;
+    int nf = h->nf, all[HERMITE_MAX_NODES], good[HERMITE_MAX_NODES];
+    h->n = 0;
+    if (!hermite_add(h, prev, prev) || !hermite_add(h, c->a, prev)) return KIN__HERMITE_NO_BRACKET;
+    double width0 = fabs(h->z[1] - h->z[0]);
+    double err_ok = NODE_ERROR_FRACTION * c->o->vr_tol * prev->rms_length;
+    for (int i = 0; i < HERMITE_MAX_NODES; ++i) all[i] = 1;
+    herm_est E;
+    if (!hermite_estimate(h, all, 0, &E)) return KIN__HERMITE_NO_BRACKET;
+    int checked = 0, stalls = 0; /* accurate nodes at the last check; checks without progress */
+    double best = INFINITY;
+    for (int it = 0; it < c->o->max_iter && h->n <= HERMITE_MAX_NODES; ++it) {
+        if (kin__loc_cancelled(c)) return KIN_ECANCELLED;
+        int ngood = 0;
+        for (int i = 0; i < h->n; ++i) ngood += good[i] = h->err[i] <= err_ok;
+        /* the estimate: from the accurate nodes once they bracket the zero,
+         * else (roughly) from all */
+        int from_good = ngood >= 2 && hermite_estimate(h, good, 1, &E);
+        if (!from_good && !hermite_estimate(h, all, 0, &E)) break;
+        c->info->zero_order = E.p;
+        if (from_good && ngood > checked) {
+            checked = ngood;
+            /* check the estimate: one SVD at the interpolated point */
+            kin__copy_state(w, prev);
+            kin__scatter(w, h->xs, w->xyz);
+            int rc = kin__analyse_into(w, w->xyz, w->cur);
+            if (rc) return rc;
+            double vv = kin__loc_group_top(w, c->o->vr_tol), vmax = kin__cur(w)->an.v_max;
+            double strain = kin__lengths(w, w->xyz, NULL);
+            TRACE("  check %d nodes (%d accurate): z* = %.12g (order %d), v_r %.3g, strain %.2g\n", h->n, ngood,
+                  E.zs, E.p, vv / vmax, strain);
+            if (vv <= c->o->vr_tol * vmax && !(strain <= w->opt.corrector_tol)) {
+                /* the interpolant is off the strain-free set by its error,
+                 * along well-conditioned directions: remove that with the
+                 * point's own factorization, leaving the bifurcation's null
+                 * directions alone, then analyse the corrected point */
+                const kin_factor *f = kin__cur(w);
+                int mn = nf < w->nb ? nf : w->nb, r = 0;
+                double cut = POLISH_CUT * c->o->vr_tol * vmax;
+                while (r < mn && f->sv[r] > cut) ++r;
+                chord_polish(w, f, r, h->xs, w->xyz, h->e, h->y, h->d, POLISH_MAX_ITER);
+                rc = kin__analyse_into(w, w->xyz, w->cur);
+                if (rc) return rc;
+                vv = kin__loc_group_top(w, c->o->vr_tol);
+                vmax = kin__cur(w)->an.v_max;
+                strain = kin__lengths(w, w->xyz, NULL);
+            }
+            if (vv <= c->o->vr_tol * vmax && strain <= w->opt.corrector_tol) {
+                /* the path length: chords from the last regular point */
+                double *ch = w->chord;
+                kin__gather(w, prev->xyz, ch);
+                for (int i = 0; i < nf; ++i) ch[i] = h->xs[i] - ch[i];
+                w->l = prev->l + (E.zs < 0.0 ? -1.0 : 1.0) * kin__norm(nf, ch);
+                w->have_t = w->t_chosen = 0;
+                return KIN_OK;
+            }
+            double vr = vv / vmax;
+            stalls = vr > MIN_PROGRESS * best ? stalls + 1 : 0;
+            best = fmin(best, vr);
+            if (stalls >= MAX_STALLS) break;
+        }
+        if (h->n >= HERMITE_MAX_NODES) break;
+        /* the singular value a node needs to be accurate enough, and the
+         * distance from z* where v reaches it: v ~ cc |z - z*|^p, cc from
+         * the accurate node nearest z* on each side; the noise of a node is
+         * its error times its v */
+        double noise = 0.0, rho_min = 0.0, nearest[2] = {INFINITY, INFINITY};
+        int near_i[2] = {-1, -1};
+        for (int i = 0; i < h->n; ++i) {
+            if (!good[i]) {
+                /* nodes nearer than an inaccurate one will be no better */
+                rho_min = fmax(rho_min, fabs(h->z[i] - E.zs));
+                continue;
+            }
+            noise = fmax(noise, h->err[i] * h->v[i]);
+            double dz = h->z[i] - E.zs;
+            int side = dz > 0.0;
+            if (fabs(dz) < nearest[side]) {
+                nearest[side] = fabs(dz);
+                near_i[side] = i;
+            }
+        }
+        for (int side = 0; side < 2; ++side)
+            if (near_i[side] >= 0) {
+                double cc = h->v[near_i[side]] / pow(nearest[side], E.p);
+                double r = pow(noise / err_ok / cc, 1.0 / E.p);
+                if (isfinite(r) && r > rho_min) rho_min = r;
+            }
+        /* a new node, predicted by the cubic through the two accurate nodes
+         * nearest to it (a high-degree interpolant extrapolates badly) */
+        double zn = next_node(h, good, &E, rho_min, width0);
+        int i1 = -1, i2 = -1;
+        for (int i = 0; i < h->n; ++i) {
+            if (!good[i]) continue;
+            if (i1 < 0 || fabs(h->z[i] - zn) < fabs(h->z[i1] - zn)) {
+                i2 = i1;
+                i1 = i;
+            } else if (i2 < 0 || fabs(h->z[i] - zn) < fabs(h->z[i2] - zn)) {
+                i2 = i;
+            }
+        }
+        if (i2 < 0) {
+            i1 = 0;
+            i2 = 1;
+        }
+        double zp[2] = {h->z[i1], h->z[i2]};
+        memcpy(h->sx, h->x + (size_t)i1 * nf, sizeof(double) * (size_t)nf);
+        memcpy(h->sx + nf, h->x + (size_t)i2 * nf, sizeof(double) * (size_t)nf);
+        memcpy(h->sdx, h->dx + (size_t)i1 * nf, sizeof(double) * (size_t)nf);
+        memcpy(h->sdx + nf, h->dx + (size_t)i2 * nf, sizeof(double) * (size_t)nf);
+        hermite_coef(2, zp, nf, h->sx, h->sdx, h->coef);
+        hermite_eval(2, zp, nf, h->coef, zn, h->xs);
+        /* from the end of the first bracket on zn's side: the corrector keeps
+         * the correction orthogonal to that end's tangent */
+        double span = h->z[1] - h->z[0];
+        const kin_assembly *from = (zn - h->z[0]) * span > span * span ? c->a : prev;
+        double dz = 0.0, *x0 = w->chord;
+        kin__gather(from, from->xyz, x0);
+        for (int i = 0; i < nf; ++i) dz += from->t[i] * (h->xs[i] - x0[i]);
+        kin__copy_state(w, from);
+        c->info->forward++;
+        int rc = kin__step_predicted(w, dz, h->xs, NULL);
+        if (rc == KIN_ENOTCONVERGED || rc == KIN_EPATHJUMP || rc == KIN_ENOMECH) break;
+        if (rc) return rc;
+        double jump = 0.0;
+        kin__gather(w, w->xyz, x0);
+        for (int i = 0; i < nf; ++i) jump = fmax(jump, fabs(x0[i] - h->xs[i]));
+        if (jump > NODE_JUMP_FRACTION * fabs(zn - E.zs)) break; /* onto a neighbouring branch */
+        if (!hermite_add(h, w, prev)) break;
+        TRACE("  node %d at z = %.12g (estimate %.12g, rho_min %.3g): v %.3g, error %.3g\n", h->n - 1, h->z[h->n - 1],
+              E.zs, rho_min, h->v[h->n - 1], h->err[h->n - 1]);
+    }
+    /* no certified point. v_r brought below sqrt(vr_tol) means a
+     * bifurcation pinned only so far (a tangency, where v_r ~ |l - l*|^2 and
+     * the strain fixes a point less sharply) or a near miss of that size;
+     * above that, a non-zero minimum of v_r */
+    double vmax0 = kin__cur(prev)->an.v_max;
+    for (int i = 0; i < h->n; ++i) best = fmin(best, h->v[i] / vmax0); /* points of the path, too */
+    if (best <= sqrt(c->o->vr_tol))
+        return kin__fail(c->a, KIN_ENOTFOUND,
+                         "a bifurcation (v_r ~ |l - l*|^%d) was located only to v_r = %.2g relative, above "
+                         "vr_tol = %.2g: the attainable accuracy here, or a near miss of that size (a larger "
+                         "vr_tol accepts it)",
+                         E.p, best, c->o->vr_tol);
+    return kin__fail(c->a, KIN_ENOTFOUND,
+                     "v_r has a non-zero minimum (%.3g relative) here: a near-singular but regular configuration",
+                     best);
+}

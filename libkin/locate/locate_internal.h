@@ -1,0 +1,64 @@
+/* Private: what the bifurcation detector (locate.c) shares with its three
+ * locators, one file each: the fast Hermite method (locate_hermite.c),
+ * Illinois on the signed test function (locate_illinois.c) and the paper's
+ * quadratic (locate_paper.c). Not installed. */
+#ifndef KIN_LOCATE_INTERNAL_H
+#define KIN_LOCATE_INTERNAL_H
+
+#include "model/internal.h"
+
+/* Developer trace of the locators: build with -DKIN_LOCATE_TRACE. */
+#ifdef KIN_LOCATE_TRACE
+#include <stdio.h>
+#define TRACE(...) fprintf(stderr, __VA_ARGS__)
+#else
+#define TRACE(...) ((void)0)
+#endif
+
+typedef struct hermite_ws hermite_ws;
+
+typedef struct loc_ctx {
+    kin_assembly *a, *prev, *work, *probe;
+    kin_assembly *tb0, *tb1; /* fast method: a test-function bracket kept while looking ahead */
+    const kin_locate_options *o;
+    kin_locate_info *info;
+    hermite_ws *hw;
+    kin__step_hook hook; /* optional: may stop following after any accepted step */
+    void *hook_user;
+} loc_ctx;
+
+/* eq. 26: the path is kept if the new tangent agrees with the old one to this |cos| */
+#define KIN__PATH_KEPT_COS 0.9
+
+/* ---- shared helpers (locate.c) ---- */
+/* v_r / v_max at the analysed state a */
+double kin__loc_rel(const kin_assembly *a);
+/* index of the singular value that vanishes at a bifurcation, or -1 */
+int kin__loc_vanishing_index(const kin_assembly *a);
+/* the largest of the singular values that vanish together there */
+double kin__loc_group_top(const kin_assembly *a, double tol);
+/* every vanishing singular value is at most tol * v_max */
+int kin__loc_at_bifurcation(const kin_assembly *a, double tol);
+/* forward calculation: dst := base moved by delta along its tangent; *used the amplitude taken */
+int kin__loc_forward(loc_ctx *c, const kin_assembly *base, kin_assembly *dst, double delta, double *used);
+/* progress through the caller's callback; 1 when the caller cancels */
+int kin__loc_cancelled(const loc_ctx *c);
+/* |t_x . t_y| of the two states' tangents */
+double kin__loc_tangent_cos(const kin_assembly *x, const kin_assembly *y);
+
+/* ---- the locators ---- */
+/* kin__locate_hermite's answer when the vanishing singular value does not
+ * turn within the bracketing step (the caller may fall back on the test
+ * function) */
+enum { KIN__HERMITE_NO_BRACKET = -1 };
+hermite_ws *kin__hermite_alloc(const kin_assembly *a);
+void kin__hermite_free(hermite_ws *h);
+/* 2 * njoints * dim doubles of h the detector may use between locator calls */
+double *kin__hermite_scratch(hermite_ws *h);
+int kin__locate_hermite(loc_ctx *c);
+/* Illinois on tau(delta) over [0, hi] from c->prev (tau_lo there) */
+int kin__locate_illinois(loc_ctx *c, double hi, double tau_lo, double tau_hi);
+/* the paper's quadratic (eq. 23-26) from the history (hl, hv) of nh points */
+int kin__locate_paper(loc_ctx *c, double *hl, double *hv, int nh, double step);
+
+#endif /* KIN_LOCATE_INTERNAL_H */

@@ -1,0 +1,382 @@
+/* First-order analysis (paper 3.1): SVD of H, rank, mechanisms and
+ * self-stresses, and the split of the mechanisms into rigid-body and internal
+ * ones (Pellegrino & Calladine 1986). */
+#include <math.h>
+#include <string.h>
+
+#include "model/internal.h"
+#include "model/lapack.h"
+
+/* Rigid motions that move a support are not mechanisms; a rigid motion is
+ * "zero at the supports" when its singular value there is below this
+ * fraction of the largest. The motions are built from centred coordinates
+ * scaled by their RMS radius, so this is a relative, unit-free test. */
+static const double RIGID_SUPPORT_TOL = 1e-10;
+/* A rigid-motion candidate whose norm after orthogonalisation against the
+ * ones kept falls below this fraction of a rigid generator's size is
+ * dependent on them, or moves no joint (two Gram-Schmidt passes make the
+ * test reliable down to ~1e-15). */
+static const double GS_DROP_TOL = 1e-8;
+
+/* Orthonormalise column j of X (n rows, ld) against columns 0..k-1 (two
+ * passes of modified Gram-Schmidt) and normalise it; returns its norm after
+ * orthogonalisation relative to before. */
+double kin__gs_column(int n, const double *X, int ld, int k, double *v)
+{
+    double before = kin__norm(n, v);
+    if (before == 0.0) return 0.0;
+    for (int pass = 0; pass < 2; ++pass)
+        for (int c = 0; c < k; ++c) {
+            const double *q = X + (size_t)c * ld;
+            double p = kin__dot(n, q, v);
+            for (int i = 0; i < n; ++i) v[i] -= p * q[i];
+        }
+    double after = kin__norm(n, v);
+    if (after > 0.0)
+        for (int i = 0; i < n; ++i) v[i] /= after;
+    return after / before;
+}
+
+/* Make the largest-magnitude entry of v positive: a deterministic sign. */
+static void orient(int n, double *v)
+{
+    int im = 0;
+    for (int i = 1; i < n; ++i)
+        if (fabs(v[i]) > fabs(v[im]) * (1.0 + 1e-12)) im = i;
+    if (v[im] < 0.0)
+        for (int i = 0; i < n; ++i) v[i] = -v[i];
+}
+
+/* Rigid-body motion fields of the whole assembly, evaluated at every
+ * coordinate (nj*dim rows, ld nj*dim), into a->G. */
+static void rigid_fields(kin_assembly *a, const double *xyz)
+{
+    int d = a->dim, nj = a->nj, n = nj * d;
+    double c[3] = {0, 0, 0}, rho = 0.0;
+    for (int j = 0; j < nj; ++j)
+        for (int k = 0; k < d; ++k) c[k] += xyz[j * d + k] / nj;
+    for (int j = 0; j < nj; ++j)
+        for (int k = 0; k < d; ++k) rho += (xyz[j * d + k] - c[k]) * (xyz[j * d + k] - c[k]);
+    rho = sqrt(rho / nj);
+    if (!(rho > 0.0)) rho = 1.0;
+    memset(a->G, 0, sizeof(double) * (size_t)n * (size_t)a->nrig);
+    for (int j = 0; j < nj; ++j) {
+        double p[3] = {0, 0, 0};
+        for (int k = 0; k < d; ++k) p[k] = (xyz[j * d + k] - c[k]) / rho;
+        for (int k = 0; k < d; ++k) a->G[j * d + k + (size_t)k * n] = 1.0; /* translations */
+        double *rot = a->G + (size_t)d * n;
+        if (d == 2) {
+            rot[j * 2 + 0] = -p[1];
+            rot[j * 2 + 1] = p[0];
+        } else {
+            /* rotations about x, y, z: omega x p */
+            rot[j * 3 + 1] = -p[2]; rot[j * 3 + 2] = p[1];
+            rot += n;
+            rot[j * 3 + 0] = p[2]; rot[j * 3 + 2] = -p[0];
+            rot += n;
+            rot[j * 3 + 0] = -p[1]; rot[j * 3 + 1] = p[0];
+        }
+    }
+}
+
+/* Combinations alpha of the rigid motions in a->G that keep every fixed
+ * coordinate: the null space of G restricted to the fixed rows, as rows
+ * 0..*nnull-1 of the nr x nr matrix a->Gs (ld nr). */
+static int support_nullspace(kin_assembly *a, int *nnull_out)
+{
+    int nf = a->nf, nr = a->nrig, n = a->nj * a->dim;
+    double *Gfix = a->Gs + 6 * 6 + 6 + 6 * (size_t)nf; /* nfix x nr */
+    double *vt = a->Gs, *svg = a->Gs + 36;
+    int nnull = 0;
+    if (a->nfix == 0) {
+        memset(vt, 0, sizeof(double) * 36);
+        for (int i = 0; i < nr; ++i) vt[i + i * nr] = 1.0;
+        nnull = nr; /* rows 0..nr-1 of vt are all null */
+    } else {
+        int r = 0, mf = a->nfix, one = 1, info = 0;
+        for (int i = 0; i < n; ++i)
+            if (a->fixed[i]) {
+                for (int c = 0; c < nr; ++c) Gfix[r + (size_t)c * mf] = a->G[i + (size_t)c * n];
+                ++r;
+            }
+        double udum = 0.0;
+        dgesvd_("N", "A", &mf, &nr, Gfix, &mf, svg, &udum, &one, vt, &nr, a->work, &a->lwork, &info,
+                1, 1);
+        if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgesvd (supports) info = %d", info);
+        if (info > 0) return kin__fail(a, KIN_ELAPACK_CONV, "dgesvd (supports) info = %d", info);
+        int ns = mf < nr ? mf : nr, rk = 0;
+        for (int i = 0; i < ns; ++i)
+            if (svg[i] > RIGID_SUPPORT_TOL * svg[0]) ++rk;
+        /* null rows are rk..nr-1 of vt; move them to the front */
+        for (int i = rk; i < nr; ++i)
+            for (int c = 0; c < nr; ++c) vt[(i - rk) + (size_t)c * nr] = vt[i + (size_t)c * nr];
+        nnull = nr - rk;
+    }
+    *nnull_out = nnull;
+    return KIN_OK;
+}
+
+/* Rigid-body mechanisms of configuration xyz: the rigid motions G alpha
+ * that keep every fixed coordinate (alpha in the support null space),
+ * restricted to the free coordinates, projected on the columns of Um (nf x
+ * m, ld nf) when Um is not NULL, and reduced to an orthonormal basis R (nf x
+ * *mr, ld nf) by Gram-Schmidt with column pivoting (the largest remaining
+ * candidate first). A candidate counts only while what remains of it exceeds
+ * GS_DROP_TOL times the size of a rigid generator: sqrt(nj), how far a unit
+ * translation moves the joints in all (a unit rotation about the centroid
+ * moves them as far in RMS, coordinates being in units of the RMS radius).
+ * Relative to the candidate's own norm the test would depend on rounding
+ * luck: a rotation about a line through every joint moves nothing, and its
+ * candidate is rounding noise that normalises to any direction.
+ * Scratch: a->Gs (support null space, candidates) and, to project, m
+ * doubles of a->mwork. */
+static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um, int m, double *R,
+                            int *mr)
+{
+    int nf = a->nf, nr = a->nrig, n = a->nj * a->dim, nnull = 0, kept = 0;
+    *mr = 0;
+    rigid_fields(a, xyz);
+    int rc = support_nullspace(a, &nnull);
+    if (rc) return rc;
+    const double *vt = a->Gs;
+    double *C = a->Gs + 42; /* nf x nnull candidates */
+    for (int q = 0; q < nnull; ++q) {
+        double *c = C + (size_t)q * nf;
+        for (int i = 0; i < nf; ++i) {
+            double s = 0.0;
+            for (int k = 0; k < nr; ++k) s += a->G[a->free_coord[i] + (size_t)k * n] * vt[q + (size_t)k * nr];
+            c[i] = s;
+        }
+        if (Um) {
+            /* c := U_m (U_m^T c) */
+            double *p = a->mwork;
+            for (int k = 0; k < m; ++k) p[k] = kin__dot(nf, Um + (size_t)k * nf, c);
+            for (int i = 0; i < nf; ++i) {
+                double s = 0.0;
+                for (int k = 0; k < m; ++k) s += Um[i + (size_t)k * nf] * p[k];
+                c[i] = s;
+            }
+        }
+    }
+    double drop = GS_DROP_TOL * sqrt((double)a->nj);
+    int cap = Um ? m : nf, left = nnull;
+    while (kept < cap && left > 0) {
+        /* pivot: the candidate with the most left after the kept directions */
+        int best = 0;
+        double bestn = -1.0;
+        for (int q = 0; q < left; ++q) {
+            double nq = kin__norm(nf, C + (size_t)q * nf);
+            if (nq > bestn) {
+                bestn = nq;
+                best = q;
+            }
+        }
+        double *v = R + (size_t)kept * nf;
+        memcpy(v, C + (size_t)best * nf, sizeof(double) * (size_t)nf);
+        /* the pivot leaves the candidate list (the last one takes its place) */
+        --left;
+        if (best != left) memcpy(C + (size_t)best * nf, C + (size_t)left * nf, sizeof(double) * (size_t)nf);
+        /* a second pass against the kept directions (the candidates had
+         * one, below) makes the remaining norm accurate to rounding */
+        double ratio = kin__gs_column(nf, R, nf, kept, v);
+        if (!(ratio * bestn > drop)) break; /* nothing larger remains */
+        ++kept;
+        for (int q = 0; q < left; ++q) {
+            double *c = C + (size_t)q * nf, p = kin__dot(nf, v, c);
+            for (int i = 0; i < nf; ++i) c[i] -= p * v[i];
+        }
+    }
+    *mr = kept;
+    return KIN_OK;
+}
+
+int kin__rigid_basis(kin_assembly *a, const double *xyz, double *R, int *mr)
+{
+    return rigid_mechanisms(a, xyz, NULL, 0, R, mr);
+}
+
+/* Split U_m (the last m columns of f->U) into rigid and internal parts. */
+static int split_mechanisms(kin_assembly *a, const double *xyz, kin_factor *f)
+{
+    int nf = a->nf, m = f->an.m;
+    const double *Um = f->U + (size_t)f->an.rank * nf;
+    f->an.m_rigid = 0;
+    if (m == 0) {
+        f->an.m_internal = 0;
+        return KIN_OK;
+    }
+    /* rigid mechanisms: the rigid motions that keep the supports, projected
+     * on U_m (they lie in it up to rounding), orthonormalised */
+    int kept = 0;
+    int rc = rigid_mechanisms(a, xyz, Um, m, f->Urig, &kept);
+    if (rc) return rc;
+    f->an.m_rigid = kept;
+    f->an.m_internal = m - kept;
+    /* internal mechanisms: orthonormal complement of span(Urig) in span(U_m),
+     * found in the m-dimensional coefficient space: Z = complement of
+     * U_m^T Urig, chosen by pivoted Gram-Schmidt on the unit vectors */
+    double *Z = a->mwork;                    /* m x m: [Prig | complement] */
+    double *w = a->mwork + (size_t)m * m;    /* m scratch */
+    double *best = w + m;                    /* m scratch */
+    for (int c = 0; c < kept; ++c)
+        for (int r = 0; r < m; ++r) Z[r + (size_t)c * m] = kin__dot(nf, Um + (size_t)r * nf, f->Urig + (size_t)c * nf);
+    for (int c = 0; c < kept; ++c) kin__gs_column(m, Z, m, c, Z + (size_t)c * m);
+    int have = kept;
+    while (have < m) {
+        double bestn = -1.0;
+        for (int r = 0; r < m; ++r) {
+            memset(w, 0, sizeof(double) * (size_t)m);
+            w[r] = 1.0;
+            double nrm = kin__gs_column(m, Z, m, have, w);
+            if (nrm > bestn) {
+                bestn = nrm;
+                memcpy(best, w, sizeof(double) * (size_t)m);
+            }
+        }
+        memcpy(Z + (size_t)have * m, best, sizeof(double) * (size_t)m);
+        ++have;
+    }
+    /* Uint = U_m * Z[:, kept:] */
+    int mi = m - kept;
+    if (mi > 0) {
+        double one = 1.0, zero = 0.0;
+        dgemm_("N", "N", &nf, &mi, &m, &one, Um, &nf, Z + (size_t)kept * m, &m, &zero, f->Uint, &nf, 1, 1);
+        if (mi == 1) orient(nf, f->Uint);
+        else
+            for (int c = 0; c < mi; ++c) orient(nf, f->Uint + (size_t)c * nf);
+    }
+    for (int c = 0; c < kept; ++c) orient(nf, f->Urig + (size_t)c * nf);
+    return KIN_OK;
+}
+
+int kin__analyse_into(kin_assembly *a, const double *xyz, int idx)
+{
+    kin_factor *f = &a->fac[idx];
+    int nf = a->nf, nb = a->nb, info = 0;
+    f->valid = 0;
+    kin__build_H(a, xyz, a->H, nf);
+    memcpy(a->A, a->H, sizeof(double) * (size_t)nf * (size_t)nb);
+    a->nfact++;
+    dgesdd_("A", &nf, &nb, a->A, &nf, f->sv, f->U, &nf, f->VT, &nb, a->work, &a->lwork, a->iwork,
+            &info, 1);
+    if (a->fault == KIN__FAULT_SVD_ARG) info = -4;
+    if (a->fault == KIN__FAULT_SVD_CONV || a->fault == KIN__FAULT_SDD_CONV) info = 1;
+    if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgesdd info = %d", info);
+    if (info > 0) {
+        /* dgesdd's divide and conquer failed; the QR-iteration SVD may not */
+        memcpy(a->A, a->H, sizeof(double) * (size_t)nf * (size_t)nb);
+        a->nfact++;
+        dgesvd_("A", "A", &nf, &nb, a->A, &nf, f->sv, f->U, &nf, f->VT, &nb, a->work, &a->lwork,
+                &info, 1, 1);
+        if (a->fault == KIN__FAULT_SVD_CONV) info = 1;
+        if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgesvd info = %d", info);
+        if (info > 0)
+            return kin__fail(a, KIN_ELAPACK_CONV, "dgesdd and dgesvd failed (dgesvd info = %d)",
+                             info);
+    }
+    return kin__reclassify(a, xyz, idx);
+}
+
+int kin__reclassify(kin_assembly *a, const double *xyz, int idx)
+{
+    kin_factor *f = &a->fac[idx];
+    int nf = a->nf, nb = a->nb, mn = nf < nb ? nf : nb;
+    f->valid = 0;
+    kin_analysis *an = &f->an;
+    an->v_max = mn > 0 ? f->sv[0] : 0.0;
+    an->rank = 0;
+    for (int i = 0; i < mn; ++i)
+        if (f->sv[i] > a->opt.rank_tol * an->v_max) an->rank++;
+    an->m = nf - an->rank;
+    an->s = nb - an->rank;
+    an->v_r = an->rank > 0 ? f->sv[an->rank - 1] : 0.0;
+    int rc = split_mechanisms(a, xyz, f);
+    if (rc) return rc;
+    f->valid = 1;
+    return KIN_OK;
+}
+
+void kin__set_fault(kin_assembly *a, int fault) { a->fault = fault; }
+
+static int analysis_out_ok(const kin_analysis *out)
+{
+    return kin__abi_check(out, KIN__V1_SIZE(kin_analysis, v_r), sizeof *out);
+}
+
+int kin_analyse(kin_assembly *a, kin_analysis *out)
+{
+    if (out) {
+        if (analysis_out_ok(out)) return a ? kin__fail(a, KIN_EINVAL, "out->size = %zu: set it to sizeof(kin_analysis)",
+                                                          kin__abi_size(out))
+                                           : KIN_EINVAL;
+        kin__abi_zero(out);
+    }
+    if (!a) return KIN_ENULL;
+    int trial = 1 - a->cur;
+    int rc = kin__analyse_into(a, a->xyz, trial);
+    if (rc) return rc;
+    a->cur = trial;
+    /* a tangent chosen or inherited at this very point stays valid */
+    if (out) kin__abi_write(out, &a->fac[a->cur].an, sizeof *out);
+    return KIN_OK;
+}
+
+static int need_analysis(const kin_assembly *a)
+{
+    return !kin__cur(a)->valid ? KIN_ESTATE : KIN_OK;
+}
+
+int kin_get_analysis(const kin_assembly *a, kin_analysis *out)
+{
+    if (!a || !out) return KIN_ENULL;
+    if (analysis_out_ok(out)) return KIN_EINVAL;
+    kin__abi_zero(out);
+    if (need_analysis(a)) return KIN_ESTATE;
+    kin__abi_write(out, &kin__cur(a)->an, sizeof *out);
+    return KIN_OK;
+}
+
+int kin_get_singular_values(const kin_assembly *a, double *sv, int n)
+{
+    if (!a || !sv) return KIN_ENULL;
+    if (need_analysis(a)) return KIN_ESTATE;
+    int mn = a->nf < a->nb ? a->nf : a->nb;
+    if (n < mn) return KIN_ERANGE;
+    memcpy(sv, kin__cur(a)->sv, sizeof(double) * (size_t)mn);
+    return KIN_OK;
+}
+
+static int copy_cols(const double *src, int rows, int cols, double *dst, int ld, int dcols)
+{
+    if (ld < rows || dcols < cols) return KIN_ERANGE;
+    for (int c = 0; c < cols; ++c)
+        memcpy(dst + (size_t)c * ld, src + (size_t)c * rows, sizeof(double) * (size_t)rows);
+    return KIN_OK;
+}
+
+int kin_get_mechanisms(const kin_assembly *a, int kind, double *U, int ldu, int cols)
+{
+    if (!a || !U) return KIN_ENULL;
+    if (need_analysis(a)) return KIN_ESTATE;
+    const kin_factor *f = kin__cur(a);
+    switch (kind) {
+    case KIN_MECH_INTERNAL: return copy_cols(f->Uint, a->nf, f->an.m_internal, U, ldu, cols);
+    case KIN_MECH_RIGID: return copy_cols(f->Urig, a->nf, f->an.m_rigid, U, ldu, cols);
+    case KIN_MECH_ALL:
+        return copy_cols(f->U + (size_t)f->an.rank * a->nf, a->nf, f->an.m, U, ldu, cols);
+    default: return KIN_EINVAL;
+    }
+}
+
+int kin_get_self_stresses(const kin_assembly *a, double *W, int ldw, int cols)
+{
+    if (!a || !W) return KIN_ENULL;
+    if (need_analysis(a)) return KIN_ESTATE;
+    const kin_factor *f = kin__cur(a);
+    int nb = a->nb, s = f->an.s, r = f->an.rank;
+    if (ldw < nb || cols < s) return KIN_ERANGE;
+    /* W_s = rows r..nb-1 of VT, transposed */
+    for (int c = 0; c < s; ++c)
+        for (int k = 0; k < nb; ++k) W[k + (size_t)c * ldw] = f->VT[(r + c) + (size_t)k * nb];
+    return KIN_OK;
+}

@@ -1,0 +1,339 @@
+/* The LU modes of kin_step (KIN_STEP_LU, KIN_STEP_SPARSE): factorization of
+ * the bordered matrix J = [C; b^T; R^T] of a point (dense LU/LQ, or KLU via
+ * sparse.c), the chord and Newton corrections made with it, the tangent and
+ * the v_r / v_max estimates of a new point. path.c decides when they run. */
+#include <math.h>
+#include <string.h>
+
+#include "model/internal.h"
+#include "model/lapack.h"
+#include "path/step_lu.h"
+
+/* LU mode: a new point gets the full SVD analysis when its estimated
+ * v_r / v_max is below this multiple of rank_tol. The SVD calls a point a
+ * bifurcation at v_r <= rank_tol * v_max; the estimates bound v_r from
+ * above and v_max from below (Rayleigh quotients) and are usually within a
+ * few per cent, so a factor of 1000 keeps the SVD's verdict unless they are
+ * off by more than that. */
+static const double LU_SVD_MARGIN = 1e3;
+/* LU mode: inverse-iteration passes (each one solve with J^T and one with J)
+ * for the v_r estimate at a new point, warm-started from the previous
+ * point's vector: enough where v_r is well separated (near a bifurcation,
+ * where it matters); elsewhere the estimate is rougher but far above the
+ * threshold. */
+enum { LU_VR_PASSES = 2 };
+/* LU mode: weight of a fixed pseudo-random vector added to the warm start of
+ * that inverse iteration. The warm start can be orthogonal to the singular
+ * vector of v_r (exactly so, by symmetry, next to a bifurcation, where the
+ * vanishing vector was a mechanism); near a bifurcation, where the estimate
+ * matters, each pass multiplies this share by (v_(r-1) / v_r)^2. */
+static const double LU_VR_SEED_WEIGHT = 1e-3;
+/* seed of that pseudo-random vector (any fixed value: runs are repeatable) */
+static const unsigned long long LU_VR_SEED = 0x5eedULL;
+
+
+/* the sparse route applies to a point with mr rigid mechanisms */
+static int sparse_route(const kin_assembly *a, int mr)
+{
+    return a->opt.factorization == KIN_STEP_SPARSE && kin__sparse_usable(a, mr);
+}
+
+/* Solve with the bordered factors F of J = [C; b^T; R^T] (rows x nf):
+ * trans = 0: v (rows entries) := least-squares solution x of J x = v, in
+ *            v[0..nf-1] (the exact solution when J is square);
+ * trans = 1: v (first nf entries given, room for rows) := minimum-norm
+ *            solution w of J^T w = v (rows entries). */
+static int lu_solve(kin_assembly *a, const kin_lufactor *F, int trans, double *v)
+{
+    int nf = a->nf, rows = F->rows, one = 1, info = 0;
+    if (F->sparse) return kin__sparse_solve(a, (int)(F - a->lu), trans, v); /* KLU holds J itself */
+    if (rows == nf) {
+        /* J = (J^T)^T and F holds the LU of J^T */
+        dgetrs_(trans ? "N" : "T", &nf, &one, F->JT, &nf, F->ipiv, v, &nf, &info, 1);
+    } else if (!trans) {
+        /* J^T = L Q: J x ~ v  <=>  L^T x = (Q v)[0..nf-1] */
+        dormlq_("L", "N", &rows, &one, &nf, F->JT, &nf, F->tq, v, &rows, a->work, &a->lwork, &info, 1, 1);
+        if (info == 0) dtrtrs_("L", "T", "N", &nf, &one, F->JT, &nf, v, &rows, &info, 1, 1, 1);
+    } else {
+        /* L Q w = v, minimum norm: w = Q^T [L^-1 v; 0] */
+        dtrtrs_("L", "N", "N", &nf, &one, F->JT, &nf, v, &rows, &info, 1, 1, 1);
+        for (int i = nf; i < rows; ++i) v[i] = 0.0;
+        if (info == 0)
+            dormlq_("L", "T", &rows, &one, &nf, F->JT, &nf, F->tq, v, &rows, a->work, &a->lwork, &info, 1, 1);
+    }
+    if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "bordered solve: LAPACK info = %d", info);
+    if (info > 0) return kin__fail(a, KIN_ELAPACK_CONV, "bordered solve: singular factor (info = %d)", info);
+    return KIN_OK;
+}
+
+/* The LU mode's factors of the current point, if they are usable: made at
+ * this very configuration, judged regular, with the tangent known */
+int kin__lu_current(const kin_assembly *a)
+{
+    const kin_lufactor *L = &a->lu[a->lu_cur];
+    return L->valid && a->have_t && !a->t_chosen &&
+           memcmp(L->xyz, a->xyz, sizeof(double) * (size_t)(a->nj * a->dim)) == 0;
+}
+
+/* Chord correction with the current point's bordered factors: solve
+ * [C; b^T; R^T] d = [e; 0; 0] and remove the component along the tangent t.
+ * C d = e and d _|_ (t, R) = null(C): the minimum-norm correction of eq. 11. */
+int kin__lu_chord_correction(kin_assembly *a, const double *e, double *d)
+{
+    const kin_lufactor *F = &a->lu[a->lu_cur];
+    int nf = a->nf, nb = a->nb;
+    double *w = a->luw;
+    memcpy(w, e, sizeof(double) * (size_t)nb);
+    for (int i = nb; i < F->rows; ++i) w[i] = 0.0;
+    int rc = lu_solve(a, F, 0, w);
+    if (rc) return rc;
+    double p = kin__dot(nf, a->t, w);
+    for (int i = 0; i < nf; ++i) d[i] = w[i] - p * a->t[i];
+    return KIN_OK;
+}
+
+/* v := v - sum_c q_c (q_c . v) over the columns of Q (nf x k, ld nf) */
+static void remove_components(int nf, const double *Q, int k, double *v)
+{
+    for (int c = 0; c < k; ++c) {
+        const double *q = Q + (size_t)c * nf;
+        double p = kin__dot(nf, q, v);
+        for (int i = 0; i < nf; ++i) v[i] -= p * q[i];
+    }
+}
+
+/* Normalise v (nf); a zero or non-finite v becomes the unit vector
+ * (1, ..., 1)/sqrt(nf). */
+static void unit_or_ones(int nf, double *v)
+{
+    double n = kin__norm(nf, v);
+    if (!(n > 0.0 && isfinite(n))) {
+        for (int i = 0; i < nf; ++i) v[i] = 1.0;
+        n = sqrt((double)nf);
+    }
+    for (int i = 0; i < nf; ++i) v[i] /= n;
+}
+
+/* LU mode's Newton correction at xyz: the solution s of
+ * [C(xyz); t^T; R^T] s = [-e; 0; 0] by LU (dgetrf) of the square bordered
+ * matrix, in the trial slot's storage (lu_new_point overwrites it later).
+ * C s = -e, s _|_ (t, R): the same correction as kin__bordered_solve's
+ * minimum-norm solution of [C; t^T] s = [-e; 0] at a fraction of the cost
+ * of its QR. When the matrix is not square, or singular, it is
+ * kin__bordered_solve's. */
+int kin__lu_newton_solve(kin_assembly *a, const double *xyz, const double *e, double *s, int *reusable)
+{
+    int slot = 1 - a->lu_cur;
+    kin_lufactor *T = &a->lu[slot];
+    int nf = a->nf, nb = a->nb, mr = 0, info = 0, one = 1;
+    T->valid = 0;
+    T->sparse = 0;
+    *reusable = 0;
+    int rc = kin__rigid_basis(a, xyz, a->luR, &mr);
+    if (rc) return rc;
+    if (nb + 1 + mr != nf) return kin__bordered_solve(a, xyz, a->t, e, s);
+    if (sparse_route(a, mr)) {
+        int singular = 0;
+        rc = kin__sparse_factor(a, slot, xyz, a->t, a->luR, mr, &singular);
+        if (rc) return rc;
+        if (singular) return kin__bordered_solve(a, xyz, a->t, e, s);
+        T->sparse = 1;
+        for (int k = 0; k < nb; ++k) s[k] = -e[k];
+        for (int k = nb; k < nf; ++k) s[k] = 0.0;
+        rc = kin__sparse_solve(a, slot, 0, s);
+        if (rc) return rc;
+        *reusable = 1;
+        return KIN_OK;
+    }
+    double *JT = T->JT;
+    kin__build_H(a, xyz, JT, nf);
+    memcpy(JT + (size_t)nb * nf, a->t, sizeof(double) * (size_t)nf);
+    memcpy(JT + (size_t)(nb + 1) * nf, a->luR, sizeof(double) * (size_t)nf * (size_t)mr);
+    a->nfact++;
+    dgetrf_(&nf, &nf, JT, &nf, T->ipiv, &info);
+    if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrf info = %d", info);
+    if (info > 0) return kin__bordered_solve(a, xyz, a->t, e, s);
+    for (int k = 0; k < nb; ++k) s[k] = -e[k];
+    for (int k = nb; k < nf; ++k) s[k] = 0.0;
+    dgetrs_("T", &nf, &one, JT, &nf, T->ipiv, s, &nf, &info, 1);
+    if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrs info = %d", info);
+    *reusable = 1;
+    return KIN_OK;
+}
+
+/* The same correction with the factors the last lu_newton_solve left (a
+ * chord step with the Jacobian of a nearby iterate: no factorization). */
+int kin__lu_newton_reuse(kin_assembly *a, const double *e, double *s)
+{
+    const kin_lufactor *T = &a->lu[1 - a->lu_cur];
+    int nf = a->nf, nb = a->nb, info = 0, one = 1;
+    for (int k = 0; k < nb; ++k) s[k] = -e[k];
+    for (int k = nb; k < nf; ++k) s[k] = 0.0;
+    if (T->sparse) return kin__sparse_solve(a, 1 - a->lu_cur, 0, s);
+    dgetrs_("T", &nf, &one, T->JT, &nf, T->ipiv, s, &nf, &info, 1);
+    if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrs info = %d", info);
+    return KIN_OK;
+}
+
+/* Factorize J = [C(xyz); b^T; R^T] (b = border, nf entries; R the rigid
+ * mechanisms at xyz) into lu[slot], put the unit tangent (solution of
+ * J tau = e_nb, not yet oriented) in a->d, estimate v_max and v_r starting
+ * from the vectors wr and wm (NULL: a fixed start). *regular = 1 when the
+ * point needs no SVD; 0 when the caller must analyse by SVD (estimated
+ * v_r / v_max small, J singular, or J wide). */
+static int factor_point(kin_assembly *a, const double *xyz, const double *border, int slot, const double *wr,
+                        const double *wm, int *regular)
+{
+    kin_lufactor *T = &a->lu[slot];
+    int nf = a->nf, nb = a->nb, mr = 0, info = 0, inc = 1;
+    double done = 1.0, zero = 0.0;
+    *regular = 0;
+    T->valid = 0;
+    T->sparse = 0;
+    int rc = kin__rigid_basis(a, xyz, a->luR, &mr);
+    if (rc) return rc;
+    int rows = nb + 1 + mr;
+    if (rows < nf) return KIN_OK; /* at least two internal mechanisms: the SVD decides */
+    T->rows = rows;
+    if (wr) memcpy(T->vr_vec, wr, sizeof(double) * (size_t)nf);
+    else memset(T->vr_vec, 0, sizeof(double) * (size_t)nf);
+    if (wm) memcpy(T->vmax_vec, wm, sizeof(double) * (size_t)nf);
+    else memset(T->vmax_vec, 0, sizeof(double) * (size_t)nf);
+    double *x = T->vmax_vec, *y = a->y;
+    unit_or_ones(nf, x);
+    if (sparse_route(a, mr)) {
+        /* KLU of J in compressed columns; v_max by the same power-iteration
+         * pass, with C from the values just factorized */
+        int singular = 0;
+        rc = kin__sparse_factor(a, slot, xyz, border, a->luR, mr, &singular);
+        if (rc) return rc;
+        kin__sparse_C(a, x, y);
+        kin__sparse_CT(a, y, x);
+        T->v_max = sqrt(kin__norm(nf, x));
+        unit_or_ones(nf, x);
+        if (singular) return KIN_OK;
+        T->sparse = 1;
+    } else {
+        /* J^T = [H, b, R] (nf x rows, ld nf) */
+        double *JT = T->JT;
+        kin__build_H(a, xyz, JT, nf);
+        memcpy(JT + (size_t)nb * nf, border, sizeof(double) * (size_t)nf);
+        memcpy(JT + (size_t)(nb + 1) * nf, a->luR, sizeof(double) * (size_t)nf * (size_t)mr);
+        /* v_max: one power-iteration pass on H H^T (a lower bound) */
+        dgemv_("T", &nf, &nb, &done, JT, &nf, x, &inc, &zero, y, &inc, 1);
+        dgemv_("N", &nf, &nb, &done, JT, &nf, y, &inc, &zero, x, &inc, 1);
+        double nx = kin__norm(nf, x);
+        T->v_max = sqrt(nx);
+        unit_or_ones(nf, x);
+        a->nfact++;
+        if (rows == nf) {
+            dgetrf_(&nf, &nf, JT, &nf, T->ipiv, &info);
+            if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrf info = %d", info);
+            if (info > 0) return KIN_OK; /* exactly singular */
+        } else {
+            dgelqf_(&nf, &rows, JT, &nf, T->tq, a->work, &a->lwork, &info);
+            if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgelqf info = %d", info);
+            for (int i = 0; i < nf; ++i)
+                if (JT[i + (size_t)i * nf] == 0.0) return KIN_OK; /* exactly rank deficient */
+        }
+    }
+    /* tangent: C tau = 0, b . tau = 1, R^T tau = 0 */
+    double *w = a->luw, *t1 = a->d;
+    for (int i = 0; i < rows; ++i) w[i] = 0.0;
+    w[nb] = 1.0;
+    rc = lu_solve(a, T, 0, w);
+    if (rc) return rc;
+    double nt = kin__norm(nf, w);
+    if (!(nt > 0.0 && isfinite(nt))) return KIN_OK;
+    for (int i = 0; i < nf; ++i) t1[i] = w[i] / nt;
+    /* v_r: inverse iteration on pinv(C) pinv(C)^T, whose largest eigenvalue
+     * is 1/v_r^2, in the complement of null(C) = span(t1, R). For x there,
+     * the first nb entries of J^-T x are pinv(C)^T x, and J^-1 [y; 0; 0]
+     * minus its t1 component is pinv(C) y. */
+    x = T->vr_vec;
+    unit_or_ones(nf, x);
+    unsigned long long seed = LU_VR_SEED;
+    for (int i = 0; i < nf; ++i)
+        x[i] += LU_VR_SEED_WEIGHT * ((double)(kin__splitmix(&seed) >> 11) * 0x1.0p-53 - 0.5);
+    remove_components(nf, a->luR, mr, x);
+    remove_components(nf, t1, 1, x);
+    unit_or_ones(nf, x);
+    double vr = INFINITY;
+    for (int k = 0; k < LU_VR_PASSES; ++k) {
+        memcpy(w, x, sizeof(double) * (size_t)nf);
+        rc = lu_solve(a, T, 1, w);
+        if (rc) return rc;
+        double ny = kin__norm(nb, w);
+        vr = ny > 0.0 ? 1.0 / ny : INFINITY;
+        for (int i = nb; i < rows; ++i) w[i] = 0.0;
+        rc = lu_solve(a, T, 0, w);
+        if (rc) return rc;
+        remove_components(nf, t1, 1, w);
+        memcpy(x, w, sizeof(double) * (size_t)nf);
+        unit_or_ones(nf, x);
+    }
+    T->v_r = vr;
+    memcpy(T->xyz, xyz, sizeof(double) * (size_t)(a->nj * a->dim));
+    if (isfinite(vr) && vr > LU_SVD_MARGIN * a->opt.rank_tol * T->v_max) {
+        T->valid = 1;
+        *regular = 1;
+    }
+    return KIN_OK;
+}
+
+int kin__lu_new_point(kin_assembly *a, const double *xyz, int *regular)
+{
+    /* warm starts: the previous point's SVD vectors, or its estimates' */
+    const kin_lufactor *P = &a->lu[a->lu_cur];
+    const kin_factor *f0 = kin__cur(a);
+    const double *wr = P->vr_vec, *wm = P->vmax_vec;
+    if (f0->valid && f0->an.rank > 0) {
+        wr = f0->U + (size_t)(f0->an.rank - 1) * a->nf;
+        wm = f0->U;
+    }
+    return factor_point(a, xyz, a->t, 1 - a->lu_cur, wr, wm, regular);
+}
+
+/* Make the largest-magnitude entry of v positive: the SVD analysis's sign
+ * rule for a lone internal mechanism (analysis.c), so a sparse start
+ * follows the same direction as an SVD start. */
+static void orient_like_svd(int n, double *v)
+{
+    int im = 0;
+    for (int i = 1; i < n; ++i)
+        if (fabs(v[i]) > fabs(v[im]) * (1.0 + 1e-12)) im = i;
+    if (v[im] < 0.0)
+        for (int i = 0; i < n; ++i) v[i] = -v[i];
+}
+
+/* Seed of the border row of a start point without a tangent (any fixed
+ * value: runs are repeatable). A random row has a non-zero component along
+ * the internal mechanism with probability one. */
+static const unsigned long long START_BORDER_SEED = 0x5ba45eULL;
+
+int kin__lu_start(kin_assembly *a, int *started)
+{
+    int nf = a->nf;
+    *started = 0;
+    if (a->opt.factorization != KIN_STEP_SPARSE || !a->sp || a->t_chosen) return KIN_OK;
+    double *b = a->chord; /* scratch until the step computes its chord */
+    if (a->have_t) {
+        memcpy(b, a->t, sizeof(double) * (size_t)nf);
+    } else {
+        unsigned long long seed = START_BORDER_SEED;
+        for (int i = 0; i < nf; ++i) b[i] = (double)(kin__splitmix(&seed) >> 11) * 0x1.0p-53 - 0.5;
+    }
+    int regular = 0;
+    int rc = factor_point(a, a->xyz, b, a->lu_cur, NULL, NULL, &regular);
+    if (rc || !regular) return rc;
+    if (a->have_t) {
+        if (kin__dot(nf, a->d, a->t) < 0.0)
+            for (int i = 0; i < nf; ++i) a->d[i] = -a->d[i];
+    } else {
+        orient_like_svd(nf, a->d);
+    }
+    memcpy(a->t, a->d, sizeof(double) * (size_t)nf);
+    a->have_t = 1;
+    *started = 1;
+    return KIN_OK;
+}
