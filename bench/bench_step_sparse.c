@@ -52,6 +52,7 @@
 #include <time.h>
 
 #include "model/internal.h"
+#include "path/path.h"
 #include "model/lapack.h"
 #include "libkin.h"
 #include "bench_common.h"

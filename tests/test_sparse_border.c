@@ -14,6 +14,7 @@
 
 #include "check.h"
 #include "model/internal.h"
+#include "path/path.h"
 #include "libkin.h"
 #include "sail_states.h"
 #include "mast_model.h"

@@ -8,6 +8,7 @@
 
 #include "check.h"
 #include "model/internal.h"
+#include "path/path.h"
 #include "libkin.h"
 #include "sail_states.h"
 #include "step_compare.h"

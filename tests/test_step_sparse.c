@@ -13,6 +13,7 @@
 
 #include "check.h"
 #include "model/internal.h"
+#include "path/path.h"
 #include "libkin.h"
 #include "sail_states.h"
 #include "lattice_model.h"

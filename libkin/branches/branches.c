@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "model/internal.h"
+#include "branches/branches_internal.h"
 
 /* the first step is this fraction of the largest step: small enough that its
  * chord shows the direction the path leaves in */

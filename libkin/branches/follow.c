@@ -9,6 +9,9 @@
 #include <string.h>
 
 #include "model/internal.h"
+#include "path/path.h"
+#include "locate/locate.h"
+#include "branches/branches_internal.h"
 
 /* a return to the start counts only with the tangent parallel to the
  * start's to this |cos| (another path through a nearby point does not) */

@@ -1,6 +1,8 @@
-/* Detecting bifurcation points along a path (paper section 4) with a signed
- * test function, and the helpers the three locators share; see kin_locate.h.
- * The locators are locate_hermite.c, locate_illinois.c, locate_paper.c. */
+/* Following a path to the next bifurcation (paper Section 4): the detector
+ * loop of kin_locate_next, which steps, watches the test function and the
+ * vanishing singular value (detect.c), and hands the bracket to one of the
+ * three locators (locate_hermite.c, locate_illinois.c, locate_paper.c);
+ * see kin_locate.h. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -8,6 +10,7 @@
 
 #include "model/internal.h"
 #include "model/lapack.h"
+#include "locate/locate.h"
 #include "locate/locate_internal.h"
 
 /* while locating, singular values count as zero only below this fraction of
@@ -33,126 +36,6 @@ void kin_locate_options_default(kin_locate_options *o)
     o->max_steps = 1000;
     o->max_iter = 60;
     o->use_switch_rule = 1;
-}
-
-int kin_test_function(kin_assembly *a, double *tau)
-{
-    if (!a || !tau) return KIN_ENULL;
-    if (!kin__cur(a)->valid) {
-        int rc = kin_analyse(a, NULL);
-        if (rc) return rc;
-    }
-    const kin_factor *f = kin__cur(a);
-    int nf = a->nf, nb = a->nb, mr = f->an.m_rigid;
-    if (f->an.m_internal == 0) return kin__fail(a, KIN_ENOMECH, "no internal mechanism");
-    if (f->an.m_internal >= 2) {
-        *tau = 0.0;
-        return KIN_OK;
-    }
-    double *t = a->chord;
-    if (kin_get_tangent(a, t, nf) != KIN_OK) memcpy(t, f->Uint, sizeof(double) * (size_t)nf);
-    /* rigid mechanisms, oriented continuously against the previous ones */
-    double *R = a->Rref;
-    for (int c = 0; c < mr; ++c) {
-        const double *r = f->Urig + (size_t)c * nf;
-        double sg = a->have_Rref && kin__dot(nf, r, R + (size_t)c * nf) < 0.0 ? -1.0 : 1.0;
-        for (int i = 0; i < nf; ++i) R[i + (size_t)c * nf] = sg * r[i];
-    }
-    a->have_Rref = 1;
-    if (nb + 1 + mr != nf) {
-        /* redundant bars on the path (s > 0): no square border, no sign */
-        *tau = f->an.v_r;
-        return KIN_OK;
-    }
-    double *B = a->mwork;
-    int *ipiv = a->iwork, info = 0;
-    kin__build_H(a, a->xyz, a->H, nf);
-    for (int k = 0; k < nb; ++k)
-        for (int i = 0; i < nf; ++i) B[k + (size_t)i * nf] = a->H[i + (size_t)k * nf];
-    for (int i = 0; i < nf; ++i) B[nb + (size_t)i * nf] = t[i];
-    for (int c = 0; c < mr; ++c)
-        for (int i = 0; i < nf; ++i) B[nb + 1 + c + (size_t)i * nf] = R[i + (size_t)c * nf];
-    a->nfact++;
-    dgetrf_(&nf, &nf, B, &nf, ipiv, &info);
-    if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrf info = %d", info);
-    double sg = 1.0;
-    for (int i = 0; i < nf; ++i) {
-        if (B[i + (size_t)i * nf] < 0.0) sg = -sg;
-        if (ipiv[i] != i + 1) sg = -sg;
-    }
-    *tau = info > 0 ? 0.0 : sg * f->an.v_r;
-    return KIN_OK;
-}
-
-double kin__loc_rel(const kin_assembly *a) { return kin__cur(a)->an.v_r / kin__cur(a)->an.v_max; }
-
-/* index of the singular value that vanishes at a bifurcation: a point on a
- * path has rank nfree - 1 - m_rigid, so it is the last non-zero one there */
-int kin__loc_vanishing_index(const kin_assembly *a)
-{
-    int mn = a->nf < a->nb ? a->nf : a->nb, k = a->nf - 2 - kin__cur(a)->an.m_rigid;
-    return k >= 0 && k < mn ? k : -1;
-}
-
-static double vanishing_sv(const kin_assembly *a)
-{
-    int k = kin__loc_vanishing_index(a);
-    return k >= 0 ? kin__cur(a)->sv[k] : kin__cur(a)->an.v_r;
-}
-
-/* The largest of the singular values that vanish at the bifurcation being
- * located. Several vanish together at most bifurcations of the sails (15 at
- * the hexagonal sail's flat state), with different slopes: the lowest alone
- * can meet the tolerance at a point still 1e-9 away, where m and s would
- * come out wrong. The group: from the path's lowest singular value up to the
- * largest ratio gap among those at most sqrt(tol) * v_max and the first one
- * above. */
-double kin__loc_group_top(const kin_assembly *a, double tol)
-{
-    const kin_factor *f = kin__cur(a);
-    int k = kin__loc_vanishing_index(a);
-    if (k < 0) return f->an.v_r;
-    double cut = sqrt(tol) * f->an.v_max, top = f->sv[k], gap = 1.0;
-    for (int i = k - 1; i >= 0; --i) {
-        double r = f->sv[i + 1] > 0.0 ? f->sv[i] / f->sv[i + 1] : INFINITY;
-        if (r > gap) {
-            gap = r;
-            top = f->sv[i + 1];
-        }
-        if (f->sv[i] > cut) break;
-    }
-    return top;
-}
-
-int kin__loc_at_bifurcation(const kin_assembly *a, double tol)
-{
-    return kin__loc_group_top(a, tol) <= tol * kin__cur(a)->an.v_max;
-}
-
-/* forward calculation: work := base moved by delta along its tangent */
-int kin__loc_forward(loc_ctx *c, const kin_assembly *base, kin_assembly *dst, double delta, double *used)
-{
-    kin__copy_state(dst, base);
-    kin_step_info si = {.size = sizeof si};
-    c->info->forward++;
-    int rc = kin_step(dst, delta, &si);
-    if (used) *used = rc == KIN_OK ? si.delta : 0.0;
-    return rc;
-}
-
-/* Progress through the caller's callback (kin_set_progress): steps plus
- * forward calculations, out of max_steps + max_iter. Called at the top of
- * every following step and location iteration, so a cancel takes effect
- * within one step. Returns 1 when the caller cancels. */
-int kin__loc_cancelled(const loc_ctx *c)
-{
-    double total = (double)c->o->max_steps + (double)c->o->max_iter;
-    return kin__progress(c->a, (double)c->info->steps + (double)c->info->forward, total);
-}
-
-double kin__loc_tangent_cos(const kin_assembly *x, const kin_assembly *y)
-{
-    return fabs(kin__dot(x->nf, x->t, y->t));
 }
 
 /* dv/dl of the vanishing singular value of the analysed state st along its
@@ -223,7 +106,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
     double tau0, tau1, hl[4], hv[4];
     int nh = 0;
     rc = kin_test_function(a, &tau0);
-    double v0 = vanishing_sv(a), sl0 = motion_slope(&c, a, dir);
+    double v0 = kin__loc_vanishing_sv(a), sl0 = motion_slope(&c, a, dir);
     hl[nh] = a->l;
     hv[nh++] = kin__cur(a)->an.v_r;
     kin_step_info si = {.size = sizeof si};
@@ -248,7 +131,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         rc = kin_test_function(a, &tau1);
         if (rc) break;
         double vr = kin__cur(a)->an.v_r, vmax = kin__cur(a)->an.v_max;
-        double v1 = vanishing_sv(a), sl1 = motion_slope(&c, a, dir);
+        double v1 = kin__loc_vanishing_sv(a), sl1 = motion_slope(&c, a, dir);
         TRACE(" step %d: l %.6f tau %+.3e v %.3e slope %+.3e\n", info->steps, a->l, tau1, v1 / vmax, sl1 / vmax);
         if (tau0 != 0.0 && tau1 != 0.0 && (tau0 > 0) != (tau1 > 0)) {
             if (o.method == KIN_LOCATE_FAST && sl1 < 0.0) {

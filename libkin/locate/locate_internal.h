@@ -1,4 +1,4 @@
-/* Private: what the bifurcation detector (locate.c) shares with its three
+/* Private: what the bifurcation detector (detect.c, locate.c) shares with its three
  * locators, one file each: the fast Hermite method (locate_hermite.c),
  * Illinois on the signed test function (locate_illinois.c) and the paper's
  * quadratic (locate_paper.c). Not installed. */
@@ -6,6 +6,8 @@
 #define KIN_LOCATE_INTERNAL_H
 
 #include "model/internal.h"
+#include "path/path.h"
+#include "locate/locate.h"
 
 /* Developer trace of the locators: build with -DKIN_LOCATE_TRACE. */
 #ifdef KIN_LOCATE_TRACE
@@ -30,11 +32,13 @@ typedef struct loc_ctx {
 /* eq. 26: the path is kept if the new tangent agrees with the old one to this |cos| */
 #define KIN__PATH_KEPT_COS 0.9
 
-/* ---- shared helpers (locate.c) ---- */
+/* ---- shared helpers (detect.c) ---- */
 /* v_r / v_max at the analysed state a */
 double kin__loc_rel(const kin_assembly *a);
 /* index of the singular value that vanishes at a bifurcation, or -1 */
 int kin__loc_vanishing_index(const kin_assembly *a);
+/* that singular value (v_r where there is none) */
+double kin__loc_vanishing_sv(const kin_assembly *a);
 /* the largest of the singular values that vanish together there */
 double kin__loc_group_top(const kin_assembly *a, double tol);
 /* every vanishing singular value is at most tol * v_max */

@@ -367,7 +367,7 @@ static void release(kin_assembly *a)
     }
     free(a->luR);
     free(a->luw);
-    kin__sparse_free(a);
+    if (a->sp_free) a->sp_free(a);
     free(a);
 }
 
@@ -513,7 +513,7 @@ int kin_assembly_clone(const kin_assembly *src, kin_assembly **out)
     if (rc) return rc;
     kin__copy_state(a, src);
     a->opt = src->opt;
-    if (src->sp && (rc = kin__sparse_prepare(a)) != KIN_OK) {
+    if (src->sp && (rc = src->sp_prepare(a)) != KIN_OK) {
         kin_assembly_free(a);
         return rc;
     }

@@ -103,8 +103,13 @@ struct kin_assembly {
     double *luw;             /* max(nf, nb + 1 + nrig) solve vector */
 
     /* KIN_STEP_SPARSE: KLU pattern, symbolic analysis and one numeric
-     * factorization per lu[] slot (sparse.c); NULL until the mode is set */
+     * factorization per lu[] slot (path/sparse.c); NULL until the mode is
+     * set. The workspace belongs to the path layer: the handle keeps only
+     * the two calls that free it and make it again for a clone, set by
+     * path/sparse.c with it, so that model/ never calls up into path/. */
     struct kin_sparse *sp;
+    void (*sp_free)(kin_assembly *a);
+    int (*sp_prepare)(kin_assembly *a);
 
     /* progress callback of the long loops (kin_set_progress); not copied
      * by kin_assembly_clone nor kin__copy_state */
@@ -147,18 +152,14 @@ double kin__extensions(const kin_assembly *a, const double *xyz, double *e);
 /* equilibrium matrix of configuration xyz into H (ld ldh) */
 void kin__build_H(const kin_assembly *a, const double *xyz, double *H, int ldh);
 
+/* Check the caller's options (read as far as its size goes, defaults for
+ * the rest) into *o; KIN_OK or KIN_EINVAL with the handle's message
+ * (model/options.c; kin_set_options applies them, path/path.c) */
+int kin__options_read(kin_assembly *a, const kin_options *user, kin_options *o);
+
 /* factorize the configuration xyz into fac[idx] (SVD, rank, mechanisms) */
 int kin__analyse_into(kin_assembly *a, const double *xyz, int idx);
 
-/* min-norm least-squares solve of the bordered Newton system at xyz:
- * [C(xyz); t^T] d = [-e; 0]; d has nf entries */
-int kin__bordered_solve(kin_assembly *a, const double *xyz, const double *t, const double *e,
-                        double *d);
-
-/* kin_step with an explicit predictor: pred (nf free coordinates) must
- * satisfy t.(pred - x0) = delta for the current oriented tangent t; one
- * attempt, no clamping or halving (the locator's forward calculations) */
-int kin__step_predicted(kin_assembly *a, double delta, const double *pred, kin_step_info *info);
 
 /* dv_k = u_k^T (dH/dx . dx) w_k for singular triple k of factor f made at
  * xyz, along the free-coordinate motion dx; scratch: 2*nj*dim doubles */
@@ -179,44 +180,6 @@ int kin__rigid_basis(kin_assembly *a, const double *xyz, double *R, int *mr);
  * the rank tolerance changed) */
 static inline void kin__lu_invalidate(kin_assembly *a) { a->lu[0].valid = a->lu[1].valid = 0; }
 
-/* ---- sparse bordered factorization (sparse.c, KIN_STEP_SPARSE) ----
- * J = [C; b^T; R^T] (nf x nf, nb bar rows then nf - nb dense border rows)
- * in compressed-column form, solved through KLU's factors of J0 (the border
- * rows replaced by unit stand-in rows) and a bordering correction, per slot
- * 0 or 1 (the slots of a->lu[]); sparse.c's header has the details. */
-/* Build the pattern, the symbolic analysis and both slots' first numeric
- * factorization at the current configuration, once per handle (a no-op when
- * done, or when J can never be square: then a->sp stays NULL). KIN_OK or
- * KIN_ENOMEM. */
-int kin__sparse_prepare(kin_assembly *a);
-void kin__sparse_free(kin_assembly *a);
-/* 1 when the square sparse route is ready for a point with mr rigid mechanisms */
-int kin__sparse_usable(const kin_assembly *a, int mr);
-/* Factorize J(xyz) with border rows b (nf) and R (nf x mr, ld nf) into slot;
- * *singular = 1 when J is singular (exactly, to KLU). Counts in a->nfact.
- * KIN_OK, KIN_ENOMEM (a re-pivoting factorization could not allocate). */
-int kin__sparse_factor(kin_assembly *a, int slot, const double *xyz, const double *b, const double *R,
-                       int mr, int *singular);
-/* trans = 0: v := J^-1 v; trans = 1: v := J^-T v (nf entries) with slot's factors */
-int kin__sparse_solve(kin_assembly *a, int slot, int trans, double *v);
-/* y (nb) := C x and x (nf) := C^T y with the values of slot's last factorization */
-void kin__sparse_C(const kin_assembly *a, const double *x, double *y);
-void kin__sparse_CT(const kin_assembly *a, const double *y, double *x);
-/* The column order kept by kin__sparse_prepare (1: METIS nested dissection,
- * 0: COLAMD) and the factor entries (L + U) of each order tried at the
- * first factorization (INFINITY where not tried or failed). 0 without
- * sparse factors. */
-int kin__sparse_order(const kin_assembly *a, double *entries_colamd, double *entries_nd);
-/* The factor entries (L + U) of J0 (the stand-in rows, kept order) and of J
- * with its dense rows, both at set-up; the stand-in re-choices and the
- * factorizations made with the dense rows since (INFINITY, 0 without sparse
- * factors). */
-void kin__sparse_stats(const kin_assembly *a, double *entries, double *entries_dense, long *rechoices,
-                       long *dense_points);
-/* Test hook: make k (1 + m_rigid distinct free coordinates) the stand-in
- * coordinates; each slot re-analyses at its next factorization. KIN_OK,
- * KIN_ESTATE (no sparse factors), KIN_EINVAL. */
-int kin__sparse_set_standins(kin_assembly *a, const int *k);
 
 static inline const kin_factor *kin__cur(const kin_assembly *a) { return &a->fac[a->cur]; }
 
@@ -225,20 +188,7 @@ static inline const kin_factor *kin__cur(const kin_assembly *a) { return &a->fac
  * 0 otherwise. done is clamped to [0, total]. */
 int kin__progress(const kin_assembly *a, double done, double total);
 
-/* kin_locate_next with a hook called after every accepted following step
- * (before the detectors look at it): a nonzero return stops following there
- * as if max_steps were reached (KIN_ENOTFOUND, event NONE, the assembly at
- * that point). hook NULL: kin_locate_next itself. */
-typedef int (*kin__step_hook)(void *user, const kin_assembly *a);
-int kin__locate_hooked(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,
-                       void *hook_user);
 
-/* Leave a bifurcation along dir (nf entries): choose it
- * (kin_path_set_direction) and take one step of `fraction` x the largest
- * step; *cos receives the cosine between that step's chord and dir. Returns
- * the status of the two calls (a failed step leaves the point unchanged, the
- * direction chosen). */
-int kin__leave_bifurcation(kin_assembly *a, const double *dir, double fraction, kin_step_info *info, double *cos);
 
 /* copy the configuration, analysis and path state of src into dst (same
  * model; no allocation); dst keeps its own options */

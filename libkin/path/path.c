@@ -4,6 +4,7 @@
 
 #include "model/internal.h"
 #include "model/lapack.h"
+#include "path/path.h"
 #include "path/step_lu.h"
 
 /* The chord corrector (factorization of the start point) hands over to
@@ -44,23 +45,6 @@ static const double STEP_GROWTH = 1.5;
 static const double DIRECTION_MIN_PROJECTION = 1e-6;
 /* kin_relax halves a Gauss-Newton correction at most this many times. */
 enum { RELAX_MAX_BACKTRACK = 30 };
-void kin_options_default(kin_options *o)
-{
-    if (!o) return;
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o;
-    o->rank_tol = 1e-9;
-    o->corrector_tol = 1e-12;
-    o->corrector_max_iter = 60;
-    o->step_fraction = 0.1;
-    o->max_halvings = 12;
-    o->direction_tol = 0.9;
-    o->max_correction = 0.5;
-    o->factorization = KIN_STEP_SVD;
-    o->step_control = KIN_STEP_CONTROL_MODE;
-}
-
-static int unit_open(double v) { return isfinite(v) && v > 0.0 && v < 1.0; }
 
 /* the LU modes: dense or sparse bordered factors, the SVD only where needed */
 static int lu_mode(const kin_assembly *a)
@@ -72,38 +56,14 @@ int kin_set_options(kin_assembly *a, const kin_options *user)
 {
     if (!a) return KIN_ENULL;
     if (!user) return kin__fail(a, KIN_ENULL, "options pointer is NULL");
-    if (kin__abi_check(user, KIN__V1_SIZE(kin_options, factorization), sizeof *user))
-        return kin__fail(a, KIN_EINVAL, "options.size = %zu: not set by kin_options_default() of this libkin",
-                         kin__abi_size(user));
     kin_options opts;
-    kin_options_default(&opts); /* fields an older caller does not have keep their defaults */
-    kin__abi_read(&opts, user, sizeof opts);
+    int rc = kin__options_read(a, user, &opts);
+    if (rc) return rc;
     const kin_options *o = &opts;
-    if (!unit_open(o->rank_tol)) return kin__fail(a, KIN_EINVAL, "rank_tol = %g, need 0 < tol < 1", o->rank_tol);
-    if (!unit_open(o->corrector_tol))
-        return kin__fail(a, KIN_EINVAL, "corrector_tol = %g, need 0 < tol < 1", o->corrector_tol);
-    if (o->corrector_max_iter < 1 || o->corrector_max_iter > 100000)
-        return kin__fail(a, KIN_EINVAL, "corrector_max_iter = %d, need 1..100000", o->corrector_max_iter);
-    if (!(isfinite(o->step_fraction) && o->step_fraction > 0.0))
-        return kin__fail(a, KIN_EINVAL, "step_fraction = %g, need finite > 0", o->step_fraction);
-    if (o->max_halvings < 0 || o->max_halvings > 60)
-        return kin__fail(a, KIN_EINVAL, "max_halvings = %d, need 0..60", o->max_halvings);
-    if (!(isfinite(o->direction_tol) && o->direction_tol >= 0.0 && o->direction_tol < 1.0))
-        return kin__fail(a, KIN_EINVAL, "direction_tol = %g, need 0 <= tol < 1", o->direction_tol);
-    if (!(isfinite(o->max_correction) && o->max_correction > 0.0))
-        return kin__fail(a, KIN_EINVAL, "max_correction = %g, need finite > 0", o->max_correction);
-    if (o->factorization != KIN_STEP_SVD && o->factorization != KIN_STEP_LU &&
-        o->factorization != KIN_STEP_SPARSE)
-        return kin__fail(a, KIN_EINVAL,
-                         "factorization = %d, need KIN_STEP_SVD (0), KIN_STEP_LU (1) or KIN_STEP_SPARSE (2)",
-                         o->factorization);
-    if (o->step_control != KIN_STEP_CONTROL_MODE && o->step_control != KIN_STEP_CONTROL_SHARED)
-        return kin__fail(a, KIN_EINVAL, "step_control = %d, need KIN_STEP_CONTROL_MODE (0) or "
-                         "KIN_STEP_CONTROL_SHARED (1)", o->step_control);
     if (o->factorization == KIN_STEP_SPARSE) {
         /* the sparse pattern, its analysis and first factors: once, here,
          * not in the stepping loop */
-        int rc = kin__sparse_prepare(a);
+        rc = kin__sparse_prepare(a);
         if (rc) return rc;
     }
     if (o->rank_tol != a->opt.rank_tol) {
@@ -111,14 +71,6 @@ int kin_set_options(kin_assembly *a, const kin_options *user)
         kin__lu_invalidate(a);
     }
     a->opt = *o;
-    return KIN_OK;
-}
-
-int kin_get_options(const kin_assembly *a, kin_options *o)
-{
-    if (!a || !o) return KIN_ENULL;
-    if (kin__abi_check(o, KIN__V1_SIZE(kin_options, factorization), sizeof *o)) return KIN_EINVAL;
-    kin__abi_write(o, &a->opt, sizeof *o);
     return KIN_OK;
 }
 
@@ -206,45 +158,6 @@ int kin_get_tangent(const kin_assembly *a, double *t, int n)
         return KIN_OK;
     }
     return f->an.m_internal == 0 ? KIN_ENOMECH : f->an.s == 0 ? KIN_EMULTIDOF : KIN_EBIFURCATION;
-}
-
-int kin__bordered_solve(kin_assembly *a, const double *xyz, const double *t, const double *e,
-                        double *d)
-{
-    int nf = a->nf, nb = a->nb, m1 = t ? nb + 1 : nb, ldr = nb + 1 > nf ? nb + 1 : nf;
-    int one = 1, rank = 0, info = 0;
-    /* B = [C; t^T] (or just C when t is NULL), C = H^T built row by row (ld m1) */
-    kin__build_H(a, xyz, a->H, nf);
-    for (int k = 0; k < nb; ++k)
-        for (int i = 0; i < nf; ++i) a->B[k + (size_t)i * m1] = a->H[i + (size_t)k * nf];
-    if (t)
-        for (int i = 0; i < nf; ++i) a->B[nb + (size_t)i * m1] = t[i];
-    for (int k = 0; k < nb; ++k) a->rhs[k] = -e[k];
-    for (int k = nb; k < ldr; ++k) a->rhs[k] = 0.0;
-    double rcond = a->opt.rank_tol;
-    a->nfact++;
-    if (t) {
-        /* the bordered system is square (or wide, with rigid mechanisms) and
-         * of full rank off a bifurcation: a QR/LQ factorization (dgels) costs
-         * a fraction of an SVD. Exactly singular: fall through to dgelsd. */
-        dgels_("N", &m1, &nf, &one, a->B, &m1, a->rhs, &ldr, a->work, &a->lwork, &info, 1);
-        if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgels info = %d", info);
-        if (info == 0) {
-            memcpy(d, a->rhs, sizeof(double) * (size_t)nf);
-            return KIN_OK;
-        }
-        for (int k = 0; k < nb; ++k)
-            for (int i = 0; i < nf; ++i) a->B[k + (size_t)i * m1] = a->H[i + (size_t)k * nf];
-        for (int i = 0; i < nf; ++i) a->B[nb + (size_t)i * m1] = t[i];
-        for (int k = 0; k < nb; ++k) a->rhs[k] = -e[k];
-        for (int k = nb; k < ldr; ++k) a->rhs[k] = 0.0;
-    }
-    dgelsd_(&m1, &nf, &one, a->B, &m1, a->rhs, &ldr, a->svB, &rcond, &rank, a->work, &a->lwork,
-            a->iwork, &info);
-    if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgelsd info = %d", info);
-    if (info > 0) return kin__fail(a, KIN_ELAPACK_CONV, "dgelsd info = %d", info);
-    memcpy(d, a->rhs, sizeof(double) * (size_t)nf);
-    return KIN_OK;
 }
 
 /* Chord correction with the current factor: d = sum_{i<r} u_i (w_i^T e)/v_i */

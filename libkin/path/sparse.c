@@ -1,9 +1,9 @@
 /* KIN_STEP_SPARSE: the square bordered matrix J = [C; b^T; R^T] of a point
  * (C: nb x nf, at most 2 * dim entries per row; b^T, R^T: 1 + m_rigid DENSE
- * border rows), solved through SuiteSparse KLU. This file: J's pattern,
- * the set-up (first stand-ins, column order, first factorizations), the
- * products with C; sparse_border.c: the stand-ins' re-choice, the
- * factorizations and the solves.
+ * border rows), solved through SuiteSparse KLU. This file: J's pattern
+ * and the set-up (first stand-ins, column order, first factorizations);
+ * sparse_matrix.c: J's values and the products with C; sparse_border.c:
+ * the stand-ins' re-choice, the factorizations and the solves.
  *
  * Bordering: KLU factorizes J0 = [C; e_k1^T; ...], J with each dense border
  * row replaced by a unit row at a "stand-in" coordinate, and solves with the
@@ -92,32 +92,7 @@ void kin__sparse_free(kin_assembly *a)
     a->sp = NULL;
 }
 
-int kin__sparse_usable(const kin_assembly *a, int mr)
-{
-    return a->sp && a->sp->dsym && a->nb + 1 + mr == a->nf;
-}
 
-void kin__sparse_fill(const kin_assembly *a, const double *xyz, const double *b, const double *R)
-{
-    const struct kin_sparse *s = a->sp;
-    int d = a->dim, nf = a->nf;
-    for (int k = 0; k < a->nb; ++k) {
-        int ja = a->bars[2 * k], jb = a->bars[2 * k + 1];
-        double v[3] = {0.0, 0.0, 0.0};
-        for (int c = 0; c < d; ++c) v[c] = xyz[ja * d + c] - xyz[jb * d + c];
-        double L = kin__norm(d, v);
-        const int *p = s->pos + (size_t)k * 2 * d;
-        for (int c = 0; c < d; ++c) {
-            if (p[c] >= 0) s->Ax[p[c]] = v[c] / L;
-            if (p[d + c] >= 0) s->Ax[p[d + c]] = -v[c] / L;
-        }
-    }
-    for (int j = 0; j < nf; ++j) {
-        double *col = s->Ax + s->Ap[j + 1] - s->nbr;
-        col[0] = b[j];
-        for (int r = 1; r < s->nbr; ++r) col[r] = R[j + (size_t)(r - 1) * nf];
-    }
-}
 
 /* The nested-dissection order (METIS, through CHOLMOD) of the columns of J
  * for the pattern of C^T C (coordinates linked by a bar; the dense border
@@ -180,6 +155,8 @@ int kin__sparse_prepare(kin_assembly *a)
     struct kin_sparse *s = calloc(1, sizeof *s);
     if (!s) return kin__fail(a, KIN_ENOMEM, "sparse mode: handle");
     a->sp = s;
+    a->sp_free = kin__sparse_free;
+    a->sp_prepare = kin__sparse_prepare;
     s->n = nf;
     s->nb = nb;
     s->nbr = nbr;
@@ -350,20 +327,4 @@ void kin__sparse_stats(const kin_assembly *a, double *entries, double *entries_d
     *dense_points = s ? s->dense_points : 0;
 }
 
-void kin__sparse_C(const kin_assembly *a, const double *x, double *y)
-{
-    const struct kin_sparse *s = a->sp;
-    for (int k = 0; k < a->nb; ++k) y[k] = 0.0;
-    for (int j = 0; j < s->n; ++j)
-        for (int p = s->Ap[j]; p < s->Ap[j + 1] - s->nbr; ++p) y[s->Ai[p]] += s->Ax[p] * x[j];
-}
 
-void kin__sparse_CT(const kin_assembly *a, const double *y, double *x)
-{
-    const struct kin_sparse *s = a->sp;
-    for (int j = 0; j < s->n; ++j) {
-        double v = 0.0;
-        for (int p = s->Ap[j]; p < s->Ap[j + 1] - s->nbr; ++p) v += s->Ax[p] * y[s->Ai[p]];
-        x[j] = v;
-    }
-}

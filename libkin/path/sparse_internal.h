@@ -1,12 +1,12 @@
-/* Private to the sparse mode: sparse.c (J's pattern, set-up, column order,
- * products with C) and sparse_border.c (the stand-in rows, factorization
- * and solves with the bordering correction). */
+/* Private to the sparse mode: sparse_matrix.c (J's values, products with
+ * C), sparse_border.c (the stand-in rows, factorization and solves with the
+ * bordering correction) and sparse.c (J's pattern, set-up, column order). */
 #ifndef KIN_SPARSE_INTERNAL_H
 #define KIN_SPARSE_INTERNAL_H
 
 #include <klu.h>
 
-#include "model/internal.h"
+#include "path/path.h"
 
 /* one lu[] slot's factors */
 struct kin_slot {
@@ -47,7 +47,7 @@ struct kin_sparse {
     long dense_points;     /* factorizations made with the dense rows since set-up */
 };
 
-/* sparse.c: the values of J(xyz) with its dense border rows b and R
+/* sparse_matrix.c: the values of J(xyz) with its dense border rows b and R
  * (nbr - 1 columns, ld nf) into s->Ax */
 void kin__sparse_fill(const kin_assembly *a, const double *xyz, const double *b, const double *R);
 

@@ -7,6 +7,7 @@
 
 #include "model/internal.h"
 #include "model/lapack.h"
+#include "path/path.h"
 #include "path/step_lu.h"
 
 /* LU mode: a new point gets the full SVD analysis when its estimated

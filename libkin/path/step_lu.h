@@ -3,7 +3,7 @@
 #ifndef KIN_STEP_LU_H
 #define KIN_STEP_LU_H
 
-#include "model/internal.h"
+#include "path/path.h"
 
 /* the current point's bordered factors are usable: made at this very
  * configuration, judged regular, with the tangent known */

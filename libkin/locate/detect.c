@@ -1,0 +1,133 @@
+/* Detection (paper Section 4.1): the signed test function tau (the sign of
+ * det of the bordered matrix times v_r), and the helpers the detector loop
+ * (locate.c) and the three locators share: where the vanishing singular
+ * values are, when a point counts as the bifurcation, a forward
+ * calculation, progress and cancel. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "model/internal.h"
+#include "model/lapack.h"
+#include "locate/locate_internal.h"
+
+int kin_test_function(kin_assembly *a, double *tau)
+{
+    if (!a || !tau) return KIN_ENULL;
+    if (!kin__cur(a)->valid) {
+        int rc = kin_analyse(a, NULL);
+        if (rc) return rc;
+    }
+    const kin_factor *f = kin__cur(a);
+    int nf = a->nf, nb = a->nb, mr = f->an.m_rigid;
+    if (f->an.m_internal == 0) return kin__fail(a, KIN_ENOMECH, "no internal mechanism");
+    if (f->an.m_internal >= 2) {
+        *tau = 0.0;
+        return KIN_OK;
+    }
+    double *t = a->chord;
+    if (kin_get_tangent(a, t, nf) != KIN_OK) memcpy(t, f->Uint, sizeof(double) * (size_t)nf);
+    /* rigid mechanisms, oriented continuously against the previous ones */
+    double *R = a->Rref;
+    for (int c = 0; c < mr; ++c) {
+        const double *r = f->Urig + (size_t)c * nf;
+        double sg = a->have_Rref && kin__dot(nf, r, R + (size_t)c * nf) < 0.0 ? -1.0 : 1.0;
+        for (int i = 0; i < nf; ++i) R[i + (size_t)c * nf] = sg * r[i];
+    }
+    a->have_Rref = 1;
+    if (nb + 1 + mr != nf) {
+        /* redundant bars on the path (s > 0): no square border, no sign */
+        *tau = f->an.v_r;
+        return KIN_OK;
+    }
+    double *B = a->mwork;
+    int *ipiv = a->iwork, info = 0;
+    kin__build_H(a, a->xyz, a->H, nf);
+    for (int k = 0; k < nb; ++k)
+        for (int i = 0; i < nf; ++i) B[k + (size_t)i * nf] = a->H[i + (size_t)k * nf];
+    for (int i = 0; i < nf; ++i) B[nb + (size_t)i * nf] = t[i];
+    for (int c = 0; c < mr; ++c)
+        for (int i = 0; i < nf; ++i) B[nb + 1 + c + (size_t)i * nf] = R[i + (size_t)c * nf];
+    a->nfact++;
+    dgetrf_(&nf, &nf, B, &nf, ipiv, &info);
+    if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrf info = %d", info);
+    double sg = 1.0;
+    for (int i = 0; i < nf; ++i) {
+        if (B[i + (size_t)i * nf] < 0.0) sg = -sg;
+        if (ipiv[i] != i + 1) sg = -sg;
+    }
+    *tau = info > 0 ? 0.0 : sg * f->an.v_r;
+    return KIN_OK;
+}
+
+double kin__loc_rel(const kin_assembly *a) { return kin__cur(a)->an.v_r / kin__cur(a)->an.v_max; }
+
+/* index of the singular value that vanishes at a bifurcation: a point on a
+ * path has rank nfree - 1 - m_rigid, so it is the last non-zero one there */
+int kin__loc_vanishing_index(const kin_assembly *a)
+{
+    int mn = a->nf < a->nb ? a->nf : a->nb, k = a->nf - 2 - kin__cur(a)->an.m_rigid;
+    return k >= 0 && k < mn ? k : -1;
+}
+
+double kin__loc_vanishing_sv(const kin_assembly *a)
+{
+    int k = kin__loc_vanishing_index(a);
+    return k >= 0 ? kin__cur(a)->sv[k] : kin__cur(a)->an.v_r;
+}
+
+/* The largest of the singular values that vanish at the bifurcation being
+ * located. Several vanish together at most bifurcations of the sails (15 at
+ * the hexagonal sail's flat state), with different slopes: the lowest alone
+ * can meet the tolerance at a point still 1e-9 away, where m and s would
+ * come out wrong. The group: from the path's lowest singular value up to the
+ * largest ratio gap among those at most sqrt(tol) * v_max and the first one
+ * above. */
+double kin__loc_group_top(const kin_assembly *a, double tol)
+{
+    const kin_factor *f = kin__cur(a);
+    int k = kin__loc_vanishing_index(a);
+    if (k < 0) return f->an.v_r;
+    double cut = sqrt(tol) * f->an.v_max, top = f->sv[k], gap = 1.0;
+    for (int i = k - 1; i >= 0; --i) {
+        double r = f->sv[i + 1] > 0.0 ? f->sv[i] / f->sv[i + 1] : INFINITY;
+        if (r > gap) {
+            gap = r;
+            top = f->sv[i + 1];
+        }
+        if (f->sv[i] > cut) break;
+    }
+    return top;
+}
+
+int kin__loc_at_bifurcation(const kin_assembly *a, double tol)
+{
+    return kin__loc_group_top(a, tol) <= tol * kin__cur(a)->an.v_max;
+}
+
+/* forward calculation: work := base moved by delta along its tangent */
+int kin__loc_forward(loc_ctx *c, const kin_assembly *base, kin_assembly *dst, double delta, double *used)
+{
+    kin__copy_state(dst, base);
+    kin_step_info si = {.size = sizeof si};
+    c->info->forward++;
+    int rc = kin_step(dst, delta, &si);
+    if (used) *used = rc == KIN_OK ? si.delta : 0.0;
+    return rc;
+}
+
+/* Progress through the caller's callback (kin_set_progress): steps plus
+ * forward calculations, out of max_steps + max_iter. Called at the top of
+ * every following step and location iteration, so a cancel takes effect
+ * within one step. Returns 1 when the caller cancels. */
+int kin__loc_cancelled(const loc_ctx *c)
+{
+    double total = (double)c->o->max_steps + (double)c->o->max_iter;
+    return kin__progress(c->a, (double)c->info->steps + (double)c->info->forward, total);
+}
+
+double kin__loc_tangent_cos(const kin_assembly *x, const kin_assembly *y)
+{
+    return fabs(kin__dot(x->nf, x->t, y->t));
+}
+

@@ -1,0 +1,66 @@
+/* The options of a handle (kin_options, kin_path.h): defaults, the
+ * caller's struct read as far as its size goes (docs/abi.md), and the range
+ * checks. Applying them (kin_set_options) belongs to the path layer, which
+ * also prepares the sparse workspace a mode needs (path/path.c). */
+#include <math.h>
+#include <string.h>
+
+#include "model/internal.h"
+
+void kin_options_default(kin_options *o)
+{
+    if (!o) return;
+    memset(o, 0, sizeof *o);
+    o->size = sizeof *o;
+    o->rank_tol = 1e-9;
+    o->corrector_tol = 1e-12;
+    o->corrector_max_iter = 60;
+    o->step_fraction = 0.1;
+    o->max_halvings = 12;
+    o->direction_tol = 0.9;
+    o->max_correction = 0.5;
+    o->factorization = KIN_STEP_SVD;
+    o->step_control = KIN_STEP_CONTROL_MODE;
+}
+
+static int unit_open(double v) { return isfinite(v) && v > 0.0 && v < 1.0; }
+
+int kin__options_read(kin_assembly *a, const kin_options *user, kin_options *o)
+{
+    if (kin__abi_check(user, KIN__V1_SIZE(kin_options, factorization), sizeof *user))
+        return kin__fail(a, KIN_EINVAL, "options.size = %zu: not set by kin_options_default() of this libkin",
+                         kin__abi_size(user));
+    kin_options_default(o); /* fields an older caller does not have keep their defaults */
+    kin__abi_read(o, user, sizeof *o);
+    if (!unit_open(o->rank_tol)) return kin__fail(a, KIN_EINVAL, "rank_tol = %g, need 0 < tol < 1", o->rank_tol);
+    if (!unit_open(o->corrector_tol))
+        return kin__fail(a, KIN_EINVAL, "corrector_tol = %g, need 0 < tol < 1", o->corrector_tol);
+    if (o->corrector_max_iter < 1 || o->corrector_max_iter > 100000)
+        return kin__fail(a, KIN_EINVAL, "corrector_max_iter = %d, need 1..100000", o->corrector_max_iter);
+    if (!(isfinite(o->step_fraction) && o->step_fraction > 0.0))
+        return kin__fail(a, KIN_EINVAL, "step_fraction = %g, need finite > 0", o->step_fraction);
+    if (o->max_halvings < 0 || o->max_halvings > 60)
+        return kin__fail(a, KIN_EINVAL, "max_halvings = %d, need 0..60", o->max_halvings);
+    if (!(isfinite(o->direction_tol) && o->direction_tol >= 0.0 && o->direction_tol < 1.0))
+        return kin__fail(a, KIN_EINVAL, "direction_tol = %g, need 0 <= tol < 1", o->direction_tol);
+    if (!(isfinite(o->max_correction) && o->max_correction > 0.0))
+        return kin__fail(a, KIN_EINVAL, "max_correction = %g, need finite > 0", o->max_correction);
+    if (o->factorization != KIN_STEP_SVD && o->factorization != KIN_STEP_LU &&
+        o->factorization != KIN_STEP_SPARSE)
+        return kin__fail(a, KIN_EINVAL,
+                         "factorization = %d, need KIN_STEP_SVD (0), KIN_STEP_LU (1) or KIN_STEP_SPARSE (2)",
+                         o->factorization);
+    if (o->step_control != KIN_STEP_CONTROL_MODE && o->step_control != KIN_STEP_CONTROL_SHARED)
+        return kin__fail(a, KIN_EINVAL, "step_control = %d, need KIN_STEP_CONTROL_MODE (0) or "
+                         "KIN_STEP_CONTROL_SHARED (1)", o->step_control);
+    return KIN_OK;
+}
+
+int kin_get_options(const kin_assembly *a, kin_options *o)
+{
+    if (!a || !o) return KIN_ENULL;
+    if (kin__abi_check(o, KIN__V1_SIZE(kin_options, factorization), sizeof *o)) return KIN_EINVAL;
+    kin__abi_write(o, &a->opt, sizeof *o);
+    return KIN_OK;
+}
+

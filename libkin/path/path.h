@@ -1,0 +1,58 @@
+/* Private: what the path layer (paper Section 3.2: predictor-corrector
+ * following, its LU and sparse step modes) offers the layers above it
+ * (locate/, branches/) and the tests. Not installed. */
+#ifndef KIN__LAYER_PATH_H
+#define KIN__LAYER_PATH_H
+
+#include "model/internal.h"
+
+/* min-norm least-squares solve of the bordered Newton system at xyz:
+ * [C(xyz); t^T] d = [-e; 0]; d has nf entries */
+int kin__bordered_solve(kin_assembly *a, const double *xyz, const double *t, const double *e,
+                        double *d);
+
+/* kin_step with an explicit predictor: pred (nf free coordinates) must
+ * satisfy t.(pred - x0) = delta for the current oriented tangent t; one
+ * attempt, no clamping or halving (the locator's forward calculations) */
+int kin__step_predicted(kin_assembly *a, double delta, const double *pred, kin_step_info *info);
+
+/* ---- sparse bordered factorization (path/sparse*.c, KIN_STEP_SPARSE) ----
+ * J = [C; b^T; R^T] (nf x nf, nb bar rows then nf - nb dense border rows)
+ * in compressed-column form, solved through KLU's factors of J0 (the border
+ * rows replaced by unit stand-in rows) and a bordering correction, per slot
+ * 0 or 1 (the slots of a->lu[]); sparse.c's header has the details. */
+/* Build the pattern, the symbolic analysis and both slots' first numeric
+ * factorization at the current configuration, once per handle (a no-op when
+ * done, or when J can never be square: then a->sp stays NULL). KIN_OK or
+ * KIN_ENOMEM. */
+int kin__sparse_prepare(kin_assembly *a);
+void kin__sparse_free(kin_assembly *a);
+/* 1 when the square sparse route is ready for a point with mr rigid mechanisms */
+int kin__sparse_usable(const kin_assembly *a, int mr);
+/* Factorize J(xyz) with border rows b (nf) and R (nf x mr, ld nf) into slot;
+ * *singular = 1 when J is singular (exactly, to KLU). Counts in a->nfact.
+ * KIN_OK, KIN_ENOMEM (a re-pivoting factorization could not allocate). */
+int kin__sparse_factor(kin_assembly *a, int slot, const double *xyz, const double *b, const double *R,
+                       int mr, int *singular);
+/* trans = 0: v := J^-1 v; trans = 1: v := J^-T v (nf entries) with slot's factors */
+int kin__sparse_solve(kin_assembly *a, int slot, int trans, double *v);
+/* y (nb) := C x and x (nf) := C^T y with the values of slot's last factorization */
+void kin__sparse_C(const kin_assembly *a, const double *x, double *y);
+void kin__sparse_CT(const kin_assembly *a, const double *y, double *x);
+/* The column order kept by kin__sparse_prepare (1: METIS nested dissection,
+ * 0: COLAMD) and the factor entries (L + U) of each order tried at the
+ * first factorization (INFINITY where not tried or failed). 0 without
+ * sparse factors. */
+int kin__sparse_order(const kin_assembly *a, double *entries_colamd, double *entries_nd);
+/* The factor entries (L + U) of J0 (the stand-in rows, kept order) and of J
+ * with its dense rows, both at set-up; the stand-in re-choices and the
+ * factorizations made with the dense rows since (INFINITY, 0 without sparse
+ * factors). */
+void kin__sparse_stats(const kin_assembly *a, double *entries, double *entries_dense, long *rechoices,
+                       long *dense_points);
+/* Test hook: make k (1 + m_rigid distinct free coordinates) the stand-in
+ * coordinates; each slot re-analyses at its next factorization. KIN_OK,
+ * KIN_ESTATE (no sparse factors), KIN_EINVAL. */
+int kin__sparse_set_standins(kin_assembly *a, const int *k);
+
+#endif /* KIN__LAYER_PATH_H */
