@@ -1,4 +1,4 @@
-/* The sparse mode's bordering (libkin/sparse.c): KLU factorizes J0, J with
+/* The sparse mode's bordering (libkin/path/sparse.c): KLU factorizes J0, J with
  * its dense border rows replaced by unit stand-in rows, and the true J is
  * applied by a Sherman-Morrison-Woodbury correction. Checked: on a slender
  * mast the factors of J0 have far fewer entries than J's with the dense row

@@ -1,0 +1,386 @@
+#!/usr/bin/env python3
+"""The layers of libkin, checked against the code (docs/architecture.md).
+
+  architecture.py check [--build DIR]   fail on a circle between files or a
+                                        dependency that goes up a layer
+  architecture.py stats [--build DIR]   folders, largest files, depth, circles
+  architecture.py picture OUT.png       the layer picture of docs/architecture.md
+
+C: a file depends on another when it includes one of its folder's headers
+(from the sources) or calls a function the other defines (from the symbols
+of the built objects, `nm`, when --build is given: an include alone misses a
+call declared in a shared header). Python: a module depends on every module
+it imports, at the top or inside a function (a lazy import that closes a
+circle is still a circle). Standard library only, but for the picture
+(matplotlib).
+"""
+import argparse
+import ast
+import collections
+import os
+import re
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+# The C layers, lowest first: a folder may use only folders of a lower layer
+# (and itself). The one place this order is written; docs/architecture.md
+# explains it.
+C_LAYERS = [
+    ["model"],                                # the handle, options, status, the SVD analysis (paper 2-3.1)
+    ["path", "io", "symmetry", "homotopy"],   # following (3.2), files, symmetry, complete solver (3.4)
+    ["locate"],                               # detection and location (4)
+    ["branches"],                             # second order, branch paths, follow to event (3.3-3.4, 5)
+]
+# The Python layers, lowest first, by subpackage (or top-level module) of
+# the libkin package; the package's __init__ re-exports from any of them.
+PY_LAYERS = [
+    ["_native", "errors", "_compat"],
+    ["assembly"],
+    ["io", "homotopy", "symmetry", "plot"],
+    ["atlas"],
+    ["studies"],
+    ["cli", "__main__"],
+]
+
+
+def layer_of(layers, group):
+    for i, names in enumerate(layers):
+        if group in names:
+            return i
+    return None
+
+
+# ---------------------------------------------------------------- C ----
+
+def c_files():
+    base = os.path.join(ROOT, "libkin")
+    out = []
+    for folder in sorted(os.listdir(base)):
+        d = os.path.join(base, folder)
+        if os.path.isdir(d):
+            out += [f"{folder}/{f}" for f in sorted(os.listdir(d)) if f.endswith((".c", ".h"))]
+    return out
+
+
+def c_graph(build):
+    """nodes: the files of libkin/ ("path/step_lu.c", "path/path.h"); edges:
+    a file to each private header it includes, and (from --build's objects)
+    a .c to each .c that defines a function it calls"""
+    files = c_files()
+    edges = collections.defaultdict(set)
+    why = collections.defaultdict(set)
+    inc = re.compile(r'#\s*include\s+"([a-z_]+/[A-Za-z0-9_]+\.h)"')
+    for f in files:
+        with open(os.path.join(ROOT, "libkin", f), encoding="utf-8") as fh:
+            for m in inc.finditer(fh.read()):
+                to = m.group(1)
+                if to != f and to in files:
+                    edges[f].add(to)
+                    why[(f, to)].add("#include")
+    if build:
+        objdir = os.path.join(build, "CMakeFiles", "kin_static.dir", "libkin")
+        defs, undef = {}, {}
+        for f in files:
+            obj = os.path.join(objdir, f + ".o")
+            if not f.endswith(".c") or not os.path.exists(obj):
+                continue
+            out = subprocess.run(["nm", obj], capture_output=True, text=True, check=True).stdout
+            undef[f] = set()
+            for line in out.splitlines():
+                p = line.split()
+                if len(p) == 3 and p[1] in "TDBRCVW":
+                    defs[p[2]] = f
+                elif len(p) == 2 and p[0] == "U":
+                    undef[f].add(p[1])
+        if not undef:
+            sys.exit(f"architecture: no objects under {objdir}: build first")
+        for f, syms in undef.items():
+            for sym in syms:
+                d = defs.get(sym)
+                if d and d != f:
+                    edges[f].add(d)
+                    why[(f, d)].add(sym)
+    return files, edges, why
+
+
+# ----------------------------------------------------------- Python ----
+
+PKG = os.path.join(ROOT, "python", "src", "libkin")
+
+
+def py_modules():
+    mods = {}
+    for dirpath, _, names in os.walk(PKG):
+        for n in names:
+            if n.endswith(".py"):
+                rel = os.path.relpath(os.path.join(dirpath, n), PKG)
+                parts = rel[:-3].split(os.sep)
+                is_pkg = parts[-1] == "__init__"
+                if is_pkg:
+                    parts = parts[:-1]
+                mods[".".join(["libkin"] + parts)] = (os.path.join(dirpath, n), is_pkg)
+    return mods
+
+
+def py_graph():
+    mods = py_modules()
+    edges = collections.defaultdict(set)
+    for name, (path, is_pkg) in mods.items():
+        with open(path, encoding="utf-8") as fh:
+            tree = ast.parse(fh.read())
+        pkg = name if is_pkg else name.rpartition(".")[0]
+        for node in ast.walk(tree):
+            targets = []
+            if isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                if node.level:
+                    base = pkg.split(".")
+                    base = base[:len(base) - node.level + 1]
+                    mod = ".".join(base + ([node.module] if node.module else []))
+                else:
+                    mod = node.module or ""
+                targets = [mod] + [f"{mod}.{a.name}" for a in node.names]
+            for t in targets:
+                while t and t not in mods:
+                    t = t.rpartition(".")[0]
+                if t and t != name and t.startswith("libkin"):
+                    # a package importing its own submodules is its
+                    # interface, not a dependency of the submodule
+                    edges[name].add(t)
+    return sorted(mods), edges, mods
+
+
+def py_group(mod):
+    parts = mod.split(".")
+    return parts[1] if len(parts) > 1 else "__init__"
+
+
+# ----------------------------------------------------------- graphs ----
+
+def cycles(nodes, edges):
+    """strongly connected components with more than one node (Tarjan)"""
+    index, low, stack, on, out = {}, {}, [], set(), []
+    counter = [0]
+
+    def visit(v):
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        for w in sorted(edges.get(v, ())):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    sys.setrecursionlimit(10000)
+    for v in nodes:
+        if v not in index:
+            visit(v)
+    return out
+
+
+def depth(nodes, edges):
+    """longest chain of dependencies (levels), on the graph with circles collapsed"""
+    memo, busy = {}, set()
+
+    def d(v):
+        if v in memo:
+            return memo[v]
+        if v in busy:
+            return 0
+        busy.add(v)
+        r = 1 + max((d(w) for w in edges.get(v, ())), default=0)
+        busy.discard(v)
+        memo[v] = r
+        return r
+
+    return max((d(v) for v in nodes), default=0)
+
+
+def py_edges_without_package_exports(mods, edges):
+    """drop package -> own submodule edges (an __init__ re-exporting its parts)"""
+    out = collections.defaultdict(set)
+    for a, bs in edges.items():
+        for b in bs:
+            if mods[a][1] and b.startswith(a + "."):
+                continue
+            out[a].add(b)
+    return out
+
+
+# ------------------------------------------------------------ check ----
+
+def check(build):
+    problems = []
+    units, edges, why = c_graph(build)
+    if not build:
+        print("architecture: no --build: includes only (calls between files not checked)")
+    for comp in cycles(units, edges):
+        problems.append("C circle: " + " <-> ".join(comp))
+    for u in units:
+        folder = u.split("/")[0]
+        lu = layer_of(C_LAYERS, folder)
+        if lu is None:
+            problems.append(f"C folder libkin/{folder}/ is in no layer (tools/architecture.py C_LAYERS)")
+            continue
+        for v in edges.get(u, ()):
+            fv = v.split("/")[0]
+            lv = layer_of(C_LAYERS, fv)
+            if fv != folder and (lv is None or lv >= lu):
+                problems.append(f"C {u} (layer {lu}) uses {v} (layer {lv}): {sorted(why[(u, v)])[:4]}")
+    if os.path.isdir(PKG):
+        names, pedges, mods = py_graph()
+        pedges = py_edges_without_package_exports(mods, pedges)
+        for comp in cycles(names, pedges):
+            problems.append("Python circle: " + " <-> ".join(comp))
+        for a in names:
+            ga = py_group(a)
+            if ga == "__init__":
+                continue
+            la = layer_of(PY_LAYERS, ga)
+            if la is None:
+                problems.append(f"Python {a}: {ga} is in no layer (tools/architecture.py PY_LAYERS)")
+                continue
+            for b in pedges.get(a, ()):
+                gb = py_group(b)
+                lb = layer_of(PY_LAYERS, gb)
+                if gb == "__init__":
+                    problems.append(f"Python {a} imports the package root (import from the subpackage instead)")
+                elif gb != ga and (lb is None or lb >= la):
+                    problems.append(f"Python {a} (layer {la}) imports {b} (layer {lb})")
+    for p in problems:
+        print(p)
+    print(f"architecture: {len(problems)} problem(s)")
+    return 1 if problems else 0
+
+
+def file_lines(path):
+    with open(path, encoding="utf-8", errors="replace") as fh:
+        return sum(1 for _ in fh)
+
+
+def stats(build):
+    units, edges, _ = c_graph(build)
+    cfiles = c_files()
+    folders = sorted({f.split("/")[0] for f in cfiles})
+    lines = {f: file_lines(os.path.join(ROOT, "libkin", f)) for f in cfiles}
+    print(f"C: {len(cfiles)} files in {len(folders)} folders ({', '.join(folders)}), "
+          f"{sum(lines.values())} lines; largest: " +
+          ", ".join(f"{f} {n}" for f, n in sorted(lines.items(), key=lambda x: -x[1])[:3]))
+    print(f"C: dependency depth {depth(units, edges)} files; circles: {cycles(units, edges) or 'none'}")
+    names, pedges, mods = py_graph()
+    pedges = py_edges_without_package_exports(mods, pedges)
+    plines = {m: file_lines(p) for m, (p, _) in mods.items() if not m.endswith("_cdef")}
+    pk = sorted({py_group(m) for m in names if mods[m][1] and m != "libkin"})
+    print(f"Python: {len(names)} modules, {len(pk)} subpackages ({', '.join(pk)}), {sum(plines.values())} lines "
+          "(without the generated _cdef); largest: " +
+          ", ".join(f"{m} {n}" for m, n in sorted(plines.items(), key=lambda x: -x[1])[:3]))
+    print(f"Python: import depth {depth(names, pedges)} modules; circles: {cycles(names, pedges) or 'none'}")
+    return 0
+
+
+# ---------------------------------------------------------- picture ----
+
+def picture(out, build):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import FancyBboxPatch
+
+    units, edges, _ = c_graph(build)
+    names, pedges, mods = py_graph()
+    pedges = py_edges_without_package_exports(mods, pedges)
+    cfold = collections.defaultdict(set)
+    for u, vs in edges.items():
+        for v in vs:
+            if u.split("/")[0] != v.split("/")[0]:
+                cfold[u.split("/")[0]].add(v.split("/")[0])
+    pfold = collections.defaultdict(set)
+    for a, bs in pedges.items():
+        for b in bs:
+            ga, gb = py_group(a), py_group(b)
+            if ga != gb and "__init__" not in (ga, gb):
+                pfold[ga].add(gb)
+    count = collections.Counter(u.split("/")[0] for u in units if u.endswith(".c"))
+    pcount = collections.Counter(py_group(m) for m in names)
+
+    fig, ax = plt.subplots(figsize=(13, 8.6))
+    ax.set_xlim(0, 13)
+    ax.set_ylim(-0.3, 8.6)
+    ax.axis("off")
+    pos = {}
+
+    def row(layers, y0, dy, x0, x1, prefix, counts, colour):
+        for i, group in enumerate(layers):
+            y = y0 + i * dy
+            w = (x1 - x0) / len(group)
+            for j, g in enumerate(group):
+                cx = x0 + w * (j + 0.5)
+                bw = min(w - 0.25, 2.6)
+                box = FancyBboxPatch((cx - bw / 2, y - 0.27), bw, 0.54, boxstyle="round,pad=0.02",
+                                     fc=colour, ec="#333333", lw=1)
+                ax.add_patch(box)
+                ax.text(cx, y + 0.06, f"{prefix}{g}", ha="center", va="center", fontsize=9.5, weight="bold")
+                ax.text(cx, y - 0.15, f"{counts.get(g, 0)} {'.c files' if prefix == 'libkin/' else 'modules'}",
+                        ha="center", va="center", fontsize=7.5, color="#444444")
+                pos[(prefix, g)] = (cx, y)
+
+    row(C_LAYERS, 0.5, 1.05, 0.2, 6.3, "libkin/", count, "#dbe9f6")
+    row([[g for g in grp if pcount.get(g)] for grp in PY_LAYERS if any(pcount.get(g) for g in grp)],
+        0.5, 1.05, 6.8, 12.8, "libkin.", pcount, "#fde9d0")
+
+    def arrows(fold, prefix):
+        for a, bs in fold.items():
+            for b in bs:
+                if (prefix, a) in pos and (prefix, b) in pos:
+                    (x0, y0), (x1, y1) = pos[(prefix, a)], pos[(prefix, b)]
+                    ax.annotate("", xy=(x1, y1 + 0.28), xytext=(x0, y0 - 0.28),
+                                arrowprops=dict(arrowstyle="->", color="#777777", lw=0.8,
+                                                connectionstyle="arc3,rad=0.08"))
+
+    arrows(cfold, "libkin/")
+    arrows(pfold, "libkin.")
+    ax.text(3.25, 8.35, "C library (libkin/): a folder uses only folders below it", ha="center", fontsize=11)
+    ax.text(9.8, 8.35, "Python package (python/src/libkin): cffi over the C library", ha="center", fontsize=11)
+    ax.annotate("", xy=(6.85, 0.5), xytext=(6.3, 0.5),
+                arrowprops=dict(arrowstyle="<-", color="#aa5500", lw=1.5))
+    ax.text(6.55, 0.05, "cffi\n(include/libkin)", ha="center", fontsize=7.5, color="#aa5500")
+    ax.text(0.2, -0.2, "Arrows: 'uses' (calls, includes, imports), measured from the code by tools/architecture.py",
+            fontsize=8, color="#555555")
+    fig.savefig(out, dpi=110, bbox_inches="tight")
+    print(f"architecture: wrote {out}")
+    return 0
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("command", choices=["check", "stats", "picture"])
+    ap.add_argument("out", nargs="?", help="picture: the PNG to write")
+    ap.add_argument("--build", help="the CMake build folder (symbols of the built objects)")
+    a = ap.parse_args(argv)
+    if a.command == "check":
+        return check(a.build)
+    if a.command == "stats":
+        return stats(a.build)
+    if not a.out:
+        ap.error("picture needs OUT.png")
+    return picture(a.out, a.build)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
