@@ -19,21 +19,26 @@ static const double LOOP_TANGENT_COS = 0.9;
 /* each relaxation of the location tolerance multiplies it by this */
 static const double RELAX_FACTOR = 10.0;
 
+/* the defaults, in one table (fields not named are zero) */
+static const kin_follow_options DEFAULTS = {
+    .size = sizeof(kin_follow_options),
+    .vr_tol = 1e-10,
+    .vr_floor = 1e-6,
+    .switch_eps = 1e-2,
+    .delta = 0.0,
+    .max_steps = 1000,
+    .max_iter = 60,
+    .max_length = 0.0,
+    .loop_tol = 1e-2,
+    .first_step = 1e-3,
+    .branch_cos = 0.99,
+};
+
 void kin_follow_options_default(kin_follow_options *o)
 {
     if (!o) return;
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o;
-    o->vr_tol = 1e-10;
-    o->vr_floor = 1e-6;
-    o->switch_eps = 1e-2;
-    o->delta = 0.0;
-    o->max_steps = 1000;
-    o->max_iter = 60;
-    o->max_length = 0.0;
-    o->loop_tol = 1e-2;
-    o->first_step = 1e-3;
-    o->branch_cos = 0.99;
+    memset(o, 0, sizeof *o); /* padding too: the struct is compared and copied bytewise */
+    *o = DEFAULTS;
 }
 
 typedef struct follow_ctx {
@@ -319,25 +324,14 @@ out:
 
 int kin_follow_event(kin_assembly *a, const double *dir, const kin_follow_options *opt, kin_follow_info *info)
 {
-    if (info) {
-        if (kin__abi_check(info, KIN__V1_SIZE(kin_follow_info, tangent_cos), sizeof *info))
-            return a ? kin__fail(a, KIN_EINVAL, "info->size = %zu: set it to sizeof(kin_follow_info)",
-                                 kin__abi_size(info))
-                     : KIN_EINVAL;
-        kin__abi_zero(info);
-    }
-    if (!a) return KIN_ENULL;
     kin_follow_options o;
-    kin_follow_options_default(&o);
-    if (opt) {
-        if (kin__abi_check(opt, KIN__V1_SIZE(kin_follow_options, branch_cos), sizeof *opt))
-            return kin__fail(a, KIN_EINVAL,
-                             "options->size = %zu: not set by kin_follow_options_default() of this libkin",
-                             kin__abi_size(opt));
-        kin__abi_read(&o, opt, sizeof o);
-    }
+    kin_follow_options_default(&o); /* fields an older caller does not have keep their defaults */
+    int rc = kin__abi_entry(a, info, KIN__V1_SIZE(kin_follow_info, tangent_cos), sizeof *info, "kin_follow_info",
+                            opt, KIN__V1_SIZE(kin_follow_options, branch_cos), &o, sizeof o,
+                            "kin_follow_options_default");
+    if (rc) return rc;
     kin_follow_info local = {.size = sizeof local};
-    int rc = follow_impl(a, dir, &o, &local);
+    rc = follow_impl(a, dir, &o, &local);
     if (info) {
         if (local.event == KIN_FOLLOW_NONE && rc != KIN_OK) {
             kin__abi_zero(info);

@@ -24,18 +24,23 @@ static const double LOCATED_RANK_MARGIN = 10.0;
  * which v_r is still decreasing, looking for v_r to turn */
 enum { TAU_LOOK_AHEAD = 2 };
 
+/* the defaults, in one table (fields not named are zero) */
+static const kin_locate_options DEFAULTS = {
+    .size = sizeof(kin_locate_options),
+    .method = KIN_LOCATE_FAST,
+    .vr_tol = 1e-10,
+    .switch_eps = 1e-2,
+    .delta = 0.0,
+    .max_steps = 1000,
+    .max_iter = 60,
+    .use_switch_rule = 1,
+};
+
 void kin_locate_options_default(kin_locate_options *o)
 {
     if (!o) return;
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o;
-    o->method = KIN_LOCATE_FAST;
-    o->vr_tol = 1e-10;
-    o->switch_eps = 1e-2;
-    o->delta = 0.0;
-    o->max_steps = 1000;
-    o->max_iter = 60;
-    o->use_switch_rule = 1;
+    memset(o, 0, sizeof *o); /* padding too: the struct is compared and copied bytewise */
+    *o = DEFAULTS;
 }
 
 /* dv/dl of the vanishing singular value of the analysed state st along its
@@ -272,25 +277,14 @@ int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_i
 int kin__locate_hooked(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,
                        void *hook_user)
 {
-    if (info) {
-        if (kin__abi_check(info, KIN__V1_SIZE(kin_locate_info, zero_order), sizeof *info))
-            return a ? kin__fail(a, KIN_EINVAL, "info->size = %zu: set it to sizeof(kin_locate_info)",
-                                 kin__abi_size(info))
-                     : KIN_EINVAL;
-        kin__abi_zero(info);
-    }
-    if (!a) return KIN_ENULL;
     kin_locate_options o;
     kin_locate_options_default(&o); /* fields an older caller does not have keep their defaults */
-    if (opt) {
-        if (kin__abi_check(opt, KIN__V1_SIZE(kin_locate_options, use_switch_rule), sizeof *opt))
-            return kin__fail(a, KIN_EINVAL,
-                             "options->size = %zu: not set by kin_locate_options_default() of this libkin",
-                             kin__abi_size(opt));
-        kin__abi_read(&o, opt, sizeof o);
-    }
+    int rc = kin__abi_entry(a, info, KIN__V1_SIZE(kin_locate_info, zero_order), sizeof *info, "kin_locate_info",
+                            opt, KIN__V1_SIZE(kin_locate_options, use_switch_rule), &o, sizeof o,
+                            "kin_locate_options_default");
+    if (rc) return rc;
     kin_locate_info local = {.size = sizeof local};
-    int rc = locate_impl(a, &o, &local, hook, hook_user);
+    rc = locate_impl(a, &o, &local, hook, hook_user);
     if (info) kin__abi_write(info, &local, sizeof local);
     return rc;
 }

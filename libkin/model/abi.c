@@ -38,3 +38,23 @@ void kin__abi_zero(void *user)
     size_t s = kin__abi_size(user);
     if (s > sizeof s) memset((char *)user + sizeof s, 0, s - sizeof s);
 }
+
+int kin__abi_entry(kin_assembly *a, void *info, size_t info_min, size_t info_cur, const char *info_type,
+                   const void *opt, size_t opt_min, void *local, size_t opt_cur, const char *opt_default)
+{
+    if (info) {
+        if (kin__abi_check(info, info_min, info_cur))
+            return a ? kin__fail(a, KIN_EINVAL, "info->size = %zu: set it to sizeof(%s)", kin__abi_size(info),
+                                 info_type)
+                     : KIN_EINVAL;
+        kin__abi_zero(info);
+    }
+    if (!a) return KIN_ENULL;
+    if (opt) {
+        if (kin__abi_check(opt, opt_min, opt_cur))
+            return kin__fail(a, KIN_EINVAL, "options->size = %zu: not set by %s() of this libkin",
+                             kin__abi_size(opt), opt_default);
+        kin__abi_read(local, opt, opt_cur);
+    }
+    return KIN_OK;
+}

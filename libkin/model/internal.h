@@ -245,5 +245,12 @@ void kin__abi_read(void *local, const void *user, size_t cur_size);
 void kin__abi_write(void *user, const void *local, size_t cur_size);
 /* zero every byte of a caller's (already checked) struct after its size */
 void kin__abi_zero(void *user);
+/* The first checks of an entry point with an info struct and options: info
+ * (NULL: none) checked against [info_min, info_cur] and zeroed after its
+ * size; then a (NULL: KIN_ENULL); then opt (NULL: keep the defaults the
+ * caller put in *local) checked and read over *local. KIN_OK, or KIN_EINVAL
+ * with a message naming info_type or the defaults function opt_default. */
+int kin__abi_entry(kin_assembly *a, void *info, size_t info_min, size_t info_cur, const char *info_type,
+                   const void *opt, size_t opt_min, void *local, size_t opt_cur, const char *opt_default);
 
 #endif /* KIN_INTERNAL_H */

@@ -7,20 +7,25 @@
 
 #include "model/internal.h"
 
+/* the defaults, in one table (fields not named are zero) */
+static const kin_options DEFAULTS = {
+    .size = sizeof(kin_options),
+    .rank_tol = 1e-9,
+    .corrector_tol = 1e-12,
+    .corrector_max_iter = 60,
+    .step_fraction = 0.1,
+    .max_halvings = 12,
+    .direction_tol = 0.9,
+    .max_correction = 0.5,
+    .factorization = KIN_STEP_SVD,
+    .step_control = KIN_STEP_CONTROL_MODE,
+};
+
 void kin_options_default(kin_options *o)
 {
     if (!o) return;
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o;
-    o->rank_tol = 1e-9;
-    o->corrector_tol = 1e-12;
-    o->corrector_max_iter = 60;
-    o->step_fraction = 0.1;
-    o->max_halvings = 12;
-    o->direction_tol = 0.9;
-    o->max_correction = 0.5;
-    o->factorization = KIN_STEP_SVD;
-    o->step_control = KIN_STEP_CONTROL_MODE;
+    memset(o, 0, sizeof *o); /* padding too: the struct is compared and copied bytewise */
+    *o = DEFAULTS;
 }
 
 static int unit_open(double v) { return isfinite(v) && v > 0.0 && v < 1.0; }
