@@ -41,16 +41,7 @@ void kin_sail_params_default(kin_sail_params *p, int n_sides, int n_loops)
     p->diagonal = KIN_SAIL_DIAG_FORWARD;
 }
 
-static int model_fail(char *eb, size_t el, int code, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    kin__failv(eb, el, code, fmt, ap);
-    va_end(ap);
-    return code;
-}
-
-#define sail_fail(eb, el, ...) model_fail(eb, el, KIN_EINVAL, __VA_ARGS__)
+#define sail_fail(eb, el, ...) kin__failbuf(eb, el, KIN_EINVAL, __VA_ARGS__)
 
 /* the caller's parameters into *p (fields it lacks keep their defaults) */
 static int sail_read(const kin_sail_params *user, kin_sail_params *p, char *eb, size_t el)
@@ -112,9 +103,9 @@ int kin_sail_size(const kin_sail_params *user, int *njoints, int *nbars)
 int kin_model_sail(const kin_sail_params *user, kin_assembly **out, char *eb, size_t el)
 {
     if (eb && el) eb[0] = '\0';
-    if (!out) return model_fail(eb, el, KIN_ENULL, "out is NULL");
+    if (!out) return kin__failbuf(eb, el, KIN_ENULL, "out is NULL");
     *out = NULL;
-    if (!user) return model_fail(eb, el, KIN_ENULL, "p is NULL");
+    if (!user) return kin__failbuf(eb, el, KIN_ENULL, "p is NULL");
     int support, nj, nb;
     kin_sail_params params, *p = &params;
     int rc = sail_read(user, p, eb, el);
@@ -127,7 +118,7 @@ int kin_model_sail(const kin_sail_params *user, kin_assembly **out, char *eb, si
     int *bars = malloc(sizeof(int) * 2 * (size_t)nb);
     if (!xyz || !fixed || !bars) {
         free(xyz); free(fixed); free(bars);
-        return model_fail(eb, el, KIN_ENOMEM, "sail of %d joints", nj);
+        return kin__failbuf(eb, el, KIN_ENOMEM, "sail of %d joints", nj);
     }
     double a = p->side, R = a / (2.0 * sin(KIN_PI / n));
     /* joint index of hub vertex k (mod n) and of loop-q node k */

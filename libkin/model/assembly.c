@@ -145,15 +145,6 @@ static int cmp_pair(const void *p, const void *q)
     return 0;
 }
 
-static int failbuf(char *buf, size_t len, int code, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    kin__failv(buf, len, code, fmt, ap);
-    va_end(ap);
-    return code;
-}
-
 /* Geometry the library can square without overflow or underflow: eq. 12,
  * the extensions (L^2 - L0^2) / (L + L0) and the RMS length all square
  * lengths, so coordinates, rest lengths and bar lengths are kept where their
@@ -167,10 +158,10 @@ static const double LENGTH_MIN = 1e-150; /* shortest bar (initial or rest length
 static int check_counts(int dim, int nj, int nb, char *eb, size_t el)
 {
     if (nj > INT_MAX / dim)
-        return failbuf(eb, el, KIN_ERANGE, "njoints = %d: %d x %d coordinates exceed INT_MAX", nj, nj,
+        return kin__failbuf(eb, el, KIN_ERANGE, "njoints = %d: %d x %d coordinates exceed INT_MAX", nj, nj,
                        dim);
     if (nb > INT_MAX / 2)
-        return failbuf(eb, el, KIN_ERANGE, "nbars = %d: 2 x %d joint indices exceed INT_MAX", nb, nb);
+        return kin__failbuf(eb, el, KIN_ERANGE, "nbars = %d: 2 x %d joint indices exceed INT_MAX", nb, nb);
     return KIN_OK;
 }
 
@@ -188,7 +179,7 @@ static int check_matrix_sizes(int dim, int nf, int nb, char *eb, size_t el)
 {
     size_t nfs = (size_t)nf, nbs = (size_t)nb, cols = nbs + 1 + (dim == 2 ? 3 : 6);
     if (!(product_fits_int(nfs, nfs) && product_fits_int(nbs, nbs) && product_fits_int(nfs, cols)))
-        return failbuf(eb, el, KIN_ENOMEM,
+        return kin__failbuf(eb, el, KIN_ENOMEM,
                        "workspace for %d free coordinates x %d bars: a dense matrix of the analysis would "
                        "have more than INT_MAX entries",
                        nf, nb);
@@ -200,9 +191,9 @@ static int check_coords(int n, int dim, const double *xyz, char *eb, size_t el)
 {
     for (int i = 0; i < n; ++i) {
         if (!isfinite(xyz[i]))
-            return failbuf(eb, el, KIN_EGEOM, "coordinate %d of joint %d is not finite", i % dim, i / dim);
+            return kin__failbuf(eb, el, KIN_EGEOM, "coordinate %d of joint %d is not finite", i % dim, i / dim);
         if (!(fabs(xyz[i]) <= COORD_MAX))
-            return failbuf(eb, el, KIN_EGEOM, "coordinate %d of joint %d is %g; |coordinate| must be <= %g",
+            return kin__failbuf(eb, el, KIN_EGEOM, "coordinate %d of joint %d is %g; |coordinate| must be <= %g",
                            i % dim, i / dim, xyz[i], COORD_MAX);
     }
     return KIN_OK;
@@ -219,38 +210,38 @@ static double segment_length(int dim, const double *p, const double *q)
 static int validate(int dim, int nj, const double *xyz, const unsigned char *fixed, int nb,
                     const int *bars, const double *rest, char *eb, size_t el)
 {
-    if (!xyz) return failbuf(eb, el, KIN_ENULL, "xyz is NULL");
-    if (!bars) return failbuf(eb, el, KIN_ENULL, "bars is NULL");
-    if (dim != 2 && dim != 3) return failbuf(eb, el, KIN_EDIM, "dim = %d", dim);
-    if (nj < 2) return failbuf(eb, el, KIN_EINVAL, "njoints = %d, need at least 2", nj);
-    if (nb < 1) return failbuf(eb, el, KIN_EINVAL, "nbars = %d, need at least 1", nb);
+    if (!xyz) return kin__failbuf(eb, el, KIN_ENULL, "xyz is NULL");
+    if (!bars) return kin__failbuf(eb, el, KIN_ENULL, "bars is NULL");
+    if (dim != 2 && dim != 3) return kin__failbuf(eb, el, KIN_EDIM, "dim = %d", dim);
+    if (nj < 2) return kin__failbuf(eb, el, KIN_EINVAL, "njoints = %d, need at least 2", nj);
+    if (nb < 1) return kin__failbuf(eb, el, KIN_EINVAL, "nbars = %d, need at least 1", nb);
     int rc = check_counts(dim, nj, nb, eb, el);
     if (rc) return rc;
     if ((rc = check_coords(nj * dim, dim, xyz, eb, el))) return rc;
     for (int k = 0; k < nb; ++k) {
         int p = bars[2 * k], q = bars[2 * k + 1];
         if (p < 0 || p >= nj || q < 0 || q >= nj)
-            return failbuf(eb, el, KIN_EJOINT, "bar %d joins joints %d and %d; valid are 0..%d", k,
+            return kin__failbuf(eb, el, KIN_EJOINT, "bar %d joins joints %d and %d; valid are 0..%d", k,
                            p, q, nj - 1);
-        if (p == q) return failbuf(eb, el, KIN_ESELFBAR, "bar %d joins joint %d to itself", k, p);
+        if (p == q) return kin__failbuf(eb, el, KIN_ESELFBAR, "bar %d joins joint %d to itself", k, p);
         double L = segment_length(dim, xyz + (size_t)p * dim, xyz + (size_t)q * dim);
         if (!(L > 0.0))
-            return failbuf(eb, el, KIN_EGEOM, "bar %d (joints %d-%d) has zero length", k, p, q);
+            return kin__failbuf(eb, el, KIN_EGEOM, "bar %d (joints %d-%d) has zero length", k, p, q);
         if (!(L >= LENGTH_MIN))
-            return failbuf(eb, el, KIN_EGEOM, "bar %d (joints %d-%d) has length %g, below %g", k, p, q, L,
+            return kin__failbuf(eb, el, KIN_EGEOM, "bar %d (joints %d-%d) has length %g, below %g", k, p, q, L,
                            LENGTH_MIN);
         if (rest && !(isfinite(rest[k]) && rest[k] >= LENGTH_MIN && rest[k] <= LENGTH_MAX))
-            return failbuf(eb, el, KIN_EGEOM, "rest length of bar %d is %g; need finite, %g..%g", k,
+            return kin__failbuf(eb, el, KIN_EGEOM, "rest length of bar %d is %g; need finite, %g..%g", k,
                            rest[k], LENGTH_MIN, LENGTH_MAX);
     }
     int nf = 0;
     for (int i = 0; i < nj * dim; ++i) nf += !(fixed && fixed[i]);
-    if (nf == 0) return failbuf(eb, el, KIN_ENOFREE, "every coordinate is fixed");
+    if (nf == 0) return kin__failbuf(eb, el, KIN_ENOFREE, "every coordinate is fixed");
     if ((rc = check_matrix_sizes(dim, nf, nb, eb, el))) return rc;
     /* duplicates: sort normalised pairs */
     size_t npair;
     int *pairs = kin__mul_size3(3, (size_t)nb, sizeof(int), &npair) ? malloc(npair) : NULL;
-    if (!pairs) return failbuf(eb, el, KIN_ENOMEM, "bar check");
+    if (!pairs) return kin__failbuf(eb, el, KIN_ENOMEM, "bar check");
     for (int k = 0; k < nb; ++k) {
         int p = bars[2 * k], q = bars[2 * k + 1];
         pairs[3 * (size_t)k] = p < q ? p : q;
@@ -262,7 +253,7 @@ static int validate(int dim, int nj, const double *xyz, const unsigned char *fix
         if (pairs[3 * k] == pairs[3 * k - 3] && pairs[3 * k + 1] == pairs[3 * k - 2]) {
             int b1 = pairs[3 * k - 1] < pairs[3 * k + 2] ? pairs[3 * k - 1] : pairs[3 * k + 2];
             int b2 = pairs[3 * k - 1] < pairs[3 * k + 2] ? pairs[3 * k + 2] : pairs[3 * k - 1];
-            rc = failbuf(eb, el, KIN_EDUPBAR, "bars %d and %d both join joints %d and %d", b1, b2,
+            rc = kin__failbuf(eb, el, KIN_EDUPBAR, "bars %d and %d both join joints %d and %d", b1, b2,
                          pairs[3 * k], pairs[3 * k + 1]);
             break;
         }
@@ -412,12 +403,12 @@ int kin_assembly_create(int dim, int nj, const double *xyz, const unsigned char 
                         size_t el)
 {
     if (eb && el) eb[0] = '\0';
-    if (!out) return failbuf(eb, el, KIN_ENULL, "out is NULL");
+    if (!out) return kin__failbuf(eb, el, KIN_ENULL, "out is NULL");
     *out = NULL;
     int rc = validate(dim, nj, xyz, fixed, nb, bars, rest, eb, el);
     if (rc) return rc;
     kin_assembly *a = calloc(1, sizeof *a);
-    if (!a) return failbuf(eb, el, KIN_ENOMEM, "handle");
+    if (!a) return kin__failbuf(eb, el, KIN_ENOMEM, "handle");
     a->dim = dim;
     a->nj = nj;
     a->nb = nb;
@@ -429,7 +420,7 @@ int kin_assembly_create(int dim, int nj, const double *xyz, const unsigned char 
     if (allocate(a) != KIN_OK) {
         int nf = a->nf; /* a is gone after release() */
         release(a);
-        return failbuf(eb, el, KIN_ENOMEM, "workspace for %d free coordinates x %d bars", nf, nb);
+        return kin__failbuf(eb, el, KIN_ENOMEM, "workspace for %d free coordinates x %d bars", nf, nb);
     }
     memcpy(a->xyz, xyz, sizeof(double) * (size_t)(nj * dim));
     memcpy(a->bars, bars, sizeof(int) * 2 * (size_t)nb);
@@ -449,7 +440,7 @@ int kin_assembly_create(int dim, int nj, const double *xyz, const unsigned char 
     if (rc == KIN_OK && (ALLOC_(a->work, a->lwork) | ALLOC_(a->iwork, a->lwork_i))) rc = KIN_ENOMEM;
     if (rc != KIN_OK) {
         release(a);
-        return failbuf(eb, el, rc, "LAPACK workspace query");
+        return kin__failbuf(eb, el, rc, "LAPACK workspace query");
     }
     *out = a;
     return KIN_OK;
