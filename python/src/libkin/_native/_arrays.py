@@ -7,7 +7,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ._lib import ffi
-from .errors import ArgumentTypeError, InvalidArgumentError
+from ..errors import ArgumentTypeError, InvalidArgumentError
 
 
 def as_c_array(value: Any, dtype: npt.DTypeLike, shape: Sequence[Optional[int]], name: str) -> np.ndarray:

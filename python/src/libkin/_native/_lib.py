@@ -22,7 +22,8 @@ from ._cdef import CDEF, VERSION_NUMBER
 ffi: Any = cffi.FFI()
 ffi.cdef(CDEF)
 
-_HERE = pathlib.Path(__file__).resolve().parent
+# the package folder (libkin/), where an installed wheel keeps its copy in _lib/
+_HERE = pathlib.Path(__file__).resolve().parents[1]
 _SYSTEM = "system loader (find_library('kin'))"
 
 

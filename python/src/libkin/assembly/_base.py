@@ -18,9 +18,9 @@ from typing import Any, List, Optional, Type, TypeVar
 import numpy as np
 import numpy.typing as npt
 
-from ._arrays import as_c_array, read_ptr, write_ptr
-from ._lib import ffi, lib, new_struct
-from .errors import StateError, check
+from .._native._arrays import as_c_array, read_ptr, write_ptr
+from .._native._lib import ffi, lib, new_struct
+from ..errors import StateError, check
 
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int32]

@@ -12,11 +12,11 @@ from typing import Any, Dict, List, Optional, Tuple
 import numpy as np
 import numpy.typing as npt
 
-from ._arrays import read_ptr, write_ptr
+from .._native._arrays import read_ptr, write_ptr
 from ._base import AssemblyBase, FloatArray
-from ._lib import ffi, lib, new_struct
-from ._progress import Progress, reporting
-from .errors import InvalidArgumentError, StateError, check
+from .._native._lib import ffi, lib, new_struct
+from .._native._progress import Progress, reporting
+from ..errors import InvalidArgumentError, StateError, check
 
 _WEIGHTINGS = {"exact": "KIN_Q_EXACT", "paper": "KIN_Q_PAPER_EQ17"}
 _SOLVERS = ("homotopy", "scan")

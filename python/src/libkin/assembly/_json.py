@@ -4,21 +4,24 @@
  "joints": [{"index": i, "label": str, "xyz": [x, y(, z)], "free": [bool, ...]}, ...],
  "bars":   [{"index": k, "joints": [i, j], "length": L (optional), "kind": str (optional)}, ...]}
 Extra keys are kept out of the way (ignored). Indices are 0-based; joint
-"index" values must be 0..n-1 in order, as must bar "index" values if given."""
+"index" values must be 0..n-1 in order, as must bar "index" values if given.
+
+This is the Assembly's own form (`Assembly.from_json`, `Assembly.to_json`):
+it reads and writes plain data and knows the class only through
+`AssemblyBase`. The public module of the format, with the loaders that build
+an Assembly (`load_json`, `load_model`), is `libkin.io.model_json`."""
 from __future__ import annotations
 
 import json
 import math
 import os
-from typing import TYPE_CHECKING, Any, Dict, List, NoReturn, Optional, Tuple, Union
+from typing import Any, Dict, List, NoReturn, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
 
-from .errors import ArgumentTypeError, InvalidArgumentError, ModelFormatError
-
-if TYPE_CHECKING:
-    from .assembly import Assembly
+from ..errors import ModelFormatError
+from ._base import AssemblyBase
 
 #: What `parse` returns: name, coords, bars, fixed, lengths (or None), labels.
 ParsedModel = Tuple[str, npt.NDArray[np.float64], npt.NDArray[np.int32], npt.NDArray[np.bool_],
@@ -149,8 +152,9 @@ def parse(doc: Any) -> ParsedModel:
     return name, coords, bars, fixed, (lengths if all(have_len) else None), labels
 
 
-def load_json(source: ModelSource) -> "Assembly":
-    """Build an Assembly from a JSON model, read by the Python loader.
+def read_json(source: ModelSource) -> ParsedModel:
+    """Read and check a JSON model with the Python loader (`Assembly.from_json`
+    and `libkin.load_json` build the Assembly from it).
 
     Parameters
     ----------
@@ -159,8 +163,8 @@ def load_json(source: ModelSource) -> "Assembly":
 
     Returns
     -------
-    Assembly
-        The model, with its labels and name.
+    ParsedModel
+        name, coords, bars, fixed, lengths (or None), labels (see `parse`).
 
     Raises
     ------
@@ -170,7 +174,6 @@ def load_json(source: ModelSource) -> "Assembly":
     OSError
         The file cannot be read.
     """
-    from .assembly import Assembly
     doc: Any
     if isinstance(source, dict):
         doc = source
@@ -189,11 +192,10 @@ def load_json(source: ModelSource) -> "Assembly":
         except RecursionError:
             _fail("JSON text", f"lists or objects nested deeper than {MAX_DEPTH}")
         _check_text(doc)
-    name, coords, bars, fixed, lengths, labels = parse(doc)
-    return Assembly(coords, bars, fixed=fixed, lengths=lengths, labels=labels, name=name)
+    return parse(doc)
 
 
-def to_json(self: "Assembly", path: Union[str, "os.PathLike[str]", None] = None) -> Dict[str, Any]:
+def to_json(self: AssemblyBase, path: Union[str, "os.PathLike[str]", None] = None) -> Dict[str, Any]:
     """The assembly's current state as a model dict.
 
     Parameters
@@ -222,52 +224,3 @@ def to_json(self: "Assembly", path: Union[str, "os.PathLike[str]", None] = None)
         with open(path, "w") as f:
             json.dump(doc, f, indent=1)
     return doc
-
-
-def load_model(source: ModelSource, engine: str = "python") -> "Assembly":
-    """Build an Assembly from a JSON model with either loader.
-
-    Parameters
-    ----------
-    source : str, path-like or dict
-        A file path or a JSON text (starting with ``{``); a dict only with
-        engine="python".
-    engine : {'python', 'c'}, optional
-        'python': `load_json`; 'c': the C library's kin_assembly_load (the
-        same rules and verdicts, docs/model_format.md; the name and joint
-        labels are not kept).
-
-    Returns
-    -------
-    Assembly
-        The model.
-
-    Raises
-    ------
-    ModelFormatError
-        A malformed model (KIN_EFORMAT; a ValueError).
-    InvalidArgumentError
-        An unknown `engine`.
-    KinError
-        The class of the C status otherwise (e.g. `FileAccessError`, an
-        OSError, for an unreadable file with engine="c"; with
-        engine="python" an unreadable file raises the built-in OSError).
-    """
-    if engine == "python":
-        return load_json(source)
-    if engine != "c":
-        raise InvalidArgumentError(f"engine: expected 'python' or 'c', got {engine!r}")
-    from ._lib import c_string, ffi, lib
-    from .assembly import Assembly
-    from .errors import error_class
-    if isinstance(source, dict):
-        raise ArgumentTypeError("source: engine='c' reads a file path or a JSON text, not a dict")
-    out, err = ffi.new("kin_assembly **"), ffi.new("char[512]")
-    if isinstance(source, str) and source.lstrip().startswith("{"):
-        data = source.encode("utf-8", "surrogatepass")
-        rc = lib.kin_assembly_load_string(data, len(data), out, err, 512)
-    else:
-        rc = lib.kin_assembly_load(os.fsencode(source), out, err, 512)
-    if rc:
-        raise error_class(rc)(c_string(err), rc)
-    return Assembly._from_handle(out[0])

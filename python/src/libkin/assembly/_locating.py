@@ -10,11 +10,11 @@ from typing import Optional
 import numpy as np
 import numpy.typing as npt
 
-from ._arrays import as_c_array, read_ptr
+from .._native._arrays import as_c_array, read_ptr
 from ._base import AssemblyBase
-from ._lib import c_string, ffi, lib, new_struct
-from ._progress import Progress, reporting
-from .errors import InvalidArgumentError
+from .._native._lib import c_string, ffi, lib, new_struct
+from .._native._progress import Progress, reporting
+from ..errors import InvalidArgumentError
 
 _METHODS = {"fast": "KIN_LOCATE_FAST", "paper": "KIN_LOCATE_PAPER", "illinois": "KIN_LOCATE_ILLINOIS"}
 

@@ -13,10 +13,10 @@ from typing import Any, Iterator, Optional
 import numpy as np
 import numpy.typing as npt
 
-from ._arrays import as_c_array, read_ptr, write_ptr
+from .._native._arrays import as_c_array, read_ptr, write_ptr
 from ._base import AssemblyBase, FloatArray
-from ._lib import ffi, lib, new_struct
-from .errors import ArgumentTypeError, InvalidArgumentError
+from .._native._lib import ffi, lib, new_struct
+from ..errors import ArgumentTypeError, InvalidArgumentError
 
 
 @dataclasses.dataclass(frozen=True)

@@ -4,7 +4,8 @@
 module: the handle, model and first-order analysis (`_base.AssemblyBase`),
 path following (`_path.PathMixin`), the paths out of a bifurcation
 (`_branching.BranchingMixin`) and locating bifurcations
-(`_locating.LocatingMixin`). This module adds the constructors.
+(`_locating.LocatingMixin`). This module adds the constructors, and the
+JSON form (`_json.py`) through `from_json` and `to_json`.
 
 Units: coordinates and lengths are in the caller's length unit; singular
 values and mechanisms are dimensionless (H holds direction cosines);
@@ -19,13 +20,14 @@ from typing import Any, Dict, Optional, Sequence, Union
 import numpy as np
 import numpy.typing as npt
 
-from ._arrays import as_c_array, read_ptr
+from .._native._arrays import as_c_array, read_ptr
 from ._base import Analysis, AssemblyBase
 from ._branching import BranchPath, Branches, BranchingMixin, solve_quadrics
-from ._lib import c_string, ffi, lib, new_struct
+from ._json import read_json, to_json
+from .._native._lib import c_string, ffi, lib, new_struct
 from ._locating import FollowEvent, LocateInfo, LocatingMixin
 from ._path import Options, PathMixin, StepInfo
-from .errors import DimensionError, InvalidArgumentError, check, error_class
+from ..errors import DimensionError, InvalidArgumentError, check, error_class
 
 __all__ = ["Assembly", "Analysis", "StepInfo", "Options", "BranchPath", "Branches", "LocateInfo", "FollowEvent",
            "solve_quadrics"]
@@ -199,9 +201,8 @@ class Assembly(PathMixin, BranchingMixin, LocatingMixin, AssemblyBase):
         OSError
             The file cannot be read.
         """
-        from .model_json import load_json
-
-        return load_json(source)
+        name, coords, bars, fixed, lengths, labels = read_json(source)
+        return Assembly(coords, bars, fixed=fixed, lengths=lengths, labels=labels, name=name)
 
     def to_json(self, path: Union[str, "os.PathLike[str]", None] = None) -> Dict[str, Any]:
         """The assembly's current state as a JSON model.
@@ -216,8 +217,6 @@ class Assembly(PathMixin, BranchingMixin, LocatingMixin, AssemblyBase):
         dict
             The model (schema in ``python/README.md``), with the rest lengths.
         """
-        from .model_json import to_json
-
         return to_json(self, path)
 
     def clone(self) -> "Assembly":

@@ -17,7 +17,7 @@ from typing import Dict, List, Tuple
 
 import numpy as np
 
-from . import atlas as _atlas
+from . import model as _atlas
 
 
 def condense(atlas: _atlas.Atlas, max_nodes: int = 40) -> Tuple[_atlas.Atlas, Dict[int, str]]:

@@ -5,11 +5,11 @@ enumerates the directed branches there (both senses of the path at a regular
 point; at a bifurcation the real solutions beta of the second-order
 equations, from the complete solver or, in symmetric mode, from the system
 restricted to the motions that keep the configuration's symmetry), follows
-each to its next event (atlas_tasks.follow_branch: a located bifurcation, a
+each to its next event (tasks.follow_branch: a located bifurcation, a
 near-miss, a closed loop, the length budget, a failure), identifies end
 points that are the same configuration (up to the rigid motions the supports
 allow) or images of each other under the structure's symmetries
-(automorphisms.py), and recurses from the new bifurcations, level by level,
+(libkin.symmetry.automorphisms), and recurses from the new bifurcations, level by level,
 bounded by depth, node count, path length and time.
 
 Determinism: the branches of a level are tasks whose results are merged in
@@ -19,250 +19,34 @@ pool or on a Dask cluster (time_limit aside: it is checked between nodes).
 """
 from __future__ import annotations
 
-import asyncio
-import concurrent.futures
-import dataclasses
 import json
 import math
 import os
 import sys
 import time
-from typing import TYPE_CHECKING, Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
-    from .assembly import Assembly
-    from .automorphisms import Symmetry
+    from ..assembly import Assembly
+    from ..symmetry.automorphisms import Symmetry
 
-Progress = Union[None, bool, Callable[[int, int, str], Any]]
 Branch = Tuple[int, int, NDArray[np.float64], NDArray[np.float64]]
 
-from . import atlas_tasks as tasks
-from .atlas_index import GroupedIndex
-from .atlas_orbits import branch_orbits, mapped_result
-from .automorphisms import graph_automorphisms, invariant_subspace, same_symmetry, symmetries_at
-from .errors import InvalidArgumentError, KinError
+from ..errors import InvalidArgumentError, KinError
+from ..parallel import Progress, run_tasks
+from ..symmetry.automorphisms import graph_automorphisms, invariant_subspace, same_symmetry, symmetries_at
+from . import tasks
+from .index import GroupedIndex
+from .model import BIFURCATION, LOCATION_FACTOR, SAME_TOL, Atlas, Edge, Node, node_kind
+from .orbits import branch_orbits, mapped_result
+from .solving import OVERDETERMINED_TOL, complete_solve, solve_system
 
-# node kinds: what a node of the map is
-BIFURCATION = "bifurcation"  # m_internal >= 2 and s >= 1 (branches can be enumerated)
-REGULAR = "regular"          # on a single path (m_internal = 1): the start, or a budget end
-NEAR_MISS = "near_miss"      # a v_r dip the follower stopped at, but regular here
-MULTI_DOF = "multi_dof"      # m_internal >= 2 with s = 0: a mechanism of several freedoms
-RIGID = "rigid"              # m_internal = 0
-FAILURE = "failure"          # where following failed
-NODE_KINDS = (BIFURCATION, REGULAR, NEAR_MISS, MULTI_DOF, RIGID, FAILURE)
-
-# two configurations are one node when they agree to this times the model size
-SAME_TOL = 1e-6
-# points located to v_r <= tau v_max are one node within LOCATION_FACTOR
-# sqrt(tau) times the model size (see _Explorer.pair_tol)
-LOCATION_FACTOR = 10.0
-# with an executor, the complete solver is split into shards of about this
-# many homotopy paths (at most 64 shards)
-SHARD_PATHS = 256
-# an overdetermined system's candidate solves every equation to this
-# (relative residual |beta^T Q_j beta| / |Q_j|_F, unit beta)
-OVERDETERMINED_TOL = 1e-8
 # symmetric="auto" uses the symmetric subspace when the complete solver would
 # track more than 2^AUTO_MAX_S paths
 AUTO_MAX_S = 12
-
-
-@dataclasses.dataclass
-class Node:
-    id: int
-    kind: str
-    coords: NDArray[np.float64]
-    m: int
-    m_rigid: int
-    s: int
-    v_r_rel: float
-    depth: int
-    located_v_r: float = 0.0      # v_r / v_max of the vanishing singular value where located
-    located_tol: float = 0.0      # the tolerance it was located to (vr_tol, or up to vr_floor)
-    orbit: int = -1               # smallest node id of its symmetry orbit
-    image_of: Optional[Dict[str, int]] = None        # {"node": k, "symmetry": j}: this is g_j . node k
-    expanded: bool = False
-    status: str = ""              # why not expanded, or what enumeration found
-    branches: Optional[Dict[str, Any]] = None        # how its branches were enumerated
-
-    def to_dict(self) -> Dict[str, Any]:
-        d = dataclasses.asdict(self)
-        d["coords"] = self.coords.tolist()
-        return d
-
-
-@dataclasses.dataclass
-class Edge:
-    id: int
-    source: int
-    target: int
-    solution: int        # index of beta among the node's solutions (0 at a regular point)
-    sign: int            # +1 / -1: which sense of U_m beta
-    beta: List[float]
-    event: str           # tasks.EVENT_KINDS
-    length: float
-    accuracy: float
-    samples: List[Any]
-    message: str = ""
-    steps: int = 0
-    vr_tol: float = 0.0  # BIFURCATION: the tolerance it was located to
-
-    def to_dict(self) -> Dict[str, Any]:
-        return dataclasses.asdict(self)
-
-
-class Atlas:
-    """The result of explore(): nodes, directed edges, the symmetries used,
-    the settings and statistics. to_dict()/to_json()/to_graphml() write it;
-    Atlas.from_dict() reads to_dict() back."""
-
-    def __init__(self, model: Dict[str, Any], nodes: List[Node], edges: List[Edge], symmetries: List[Symmetry],
-                 settings: Dict[str, Any], stats: Dict[str, Any]) -> None:
-        self.model, self.nodes, self.edges = model, nodes, edges
-        self.symmetries, self.settings, self.stats = symmetries, settings, stats
-
-    def node_name(self, i: int) -> str:
-        return f"N{i}"
-
-    def to_dict(self) -> Dict[str, Any]:
-        return {"format": "libkin-atlas", "version": 1, "model": self.model, "settings": self.settings,
-                "symmetries": [g.to_dict() for g in self.symmetries],
-                "nodes": [n.to_dict() for n in self.nodes], "edges": [e.to_dict() for e in self.edges],
-                "stats": self.stats}
-
-    def to_json(self, path: Union[None, str, os.PathLike[str]] = None) -> str:
-        text = json.dumps(self.to_dict(), indent=1, default=_jsonable, allow_nan=True) + "\n"
-        if path is not None:
-            with open(path, "w") as f:
-                f.write(text)
-        return text
-
-    @classmethod
-    def from_dict(cls, d: Dict[str, Any]) -> Atlas:
-        from .automorphisms import Symmetry
-        nodes = [Node(**dict(n, coords=np.asarray(n["coords"]))) for n in d["nodes"]]
-        edges = [Edge(**e) for e in d["edges"]]
-        syms = [Symmetry(tuple(g["perm"]), np.asarray(g["Q"]), np.asarray(g["t"])) for g in d["symmetries"]]
-        return cls(d["model"], nodes, edges, syms, d["settings"], d["stats"])
-
-    def to_networkx(self) -> Any:
-        """A networkx MultiDiGraph with scalar attributes (lists as JSON text)."""
-        import networkx as nx
-        G = nx.MultiDiGraph(name=str(self.model.get("name", "model")))
-        for n in self.nodes:
-            G.add_node(self.node_name(n.id), kind=n.kind, m=n.m, m_rigid=n.m_rigid, s=n.s, v_r_rel=n.v_r_rel,
-                       depth=n.depth, orbit=self.node_name(n.orbit), expanded=n.expanded, status=n.status,
-                       coords=json.dumps(n.coords.tolist()))
-        for e in self.edges:
-            G.add_edge(self.node_name(e.source), self.node_name(e.target), key=e.id, solution=e.solution,
-                       sign=e.sign, event=e.event, length=e.length,
-                       accuracy=e.accuracy if math.isfinite(e.accuracy) else -1.0,
-                       beta=json.dumps(e.beta), samples=json.dumps(e.samples), message=e.message)
-        return G
-
-    def to_graphml(self, path: Union[str, os.PathLike[str]]) -> None:
-        import networkx as nx
-        nx.write_graphml(self.to_networkx(), path)
-
-    def summary(self) -> Dict[str, Any]:
-        """Counts by node kind and by edge event."""
-        nk: Dict[str, int] = {}
-        ek: Dict[str, int] = {}
-        for n in self.nodes:
-            nk[n.kind] = nk.get(n.kind, 0) + 1
-        for e in self.edges:
-            ek[e.event] = ek.get(e.event, 0) + 1
-        return {"nodes": len(self.nodes), "edges": len(self.edges), "node_kinds": nk, "edge_events": ek}
-
-    def same_as(self, other: Atlas, tol: float = 1e-9) -> bool:
-        """True if other has the same nodes (kind, m, s, orbit, coordinates to
-        tol times the model size) and edges (endpoints, solution, sign, event,
-        length to tol)."""
-        if len(self.nodes) != len(other.nodes) or len(self.edges) != len(other.edges):
-            return False
-        for a, b in zip(self.nodes, other.nodes):
-            if (a.kind, a.m, a.s, a.orbit, a.expanded) != (b.kind, b.m, b.s, b.orbit, b.expanded):
-                return False
-            if np.abs(a.coords - b.coords).max() > tol * max(1.0, np.abs(a.coords).max()):
-                return False
-        for e, f in zip(self.edges, other.edges):
-            if (e.source, e.target, e.solution, e.sign, e.event) != (f.source, f.target, f.solution, f.sign, f.event):
-                return False
-            if abs(e.length - f.length) > tol * max(1.0, e.length):
-                return False
-        return True
-
-
-def _jsonable(v: Any) -> Any:
-    if isinstance(v, np.integer):
-        return int(v)
-    if isinstance(v, np.floating):
-        return float(v)
-    if isinstance(v, np.ndarray):
-        return v.tolist()
-    if isinstance(v, np.bool_):
-        return bool(v)
-    return str(v)
-
-
-# ---- running tasks ---------------------------------------------------------
-
-def _is_dask_client(ex: Any) -> bool:
-    try:
-        from distributed import Client
-    except ImportError:
-        return False
-    return isinstance(ex, Client)
-
-
-def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = None, progress: Progress = None,
-              what: str = "tasks", deadline: Optional[float] = None) -> List[Any]:
-    """fn(item) for every item, serially (executor None) or on a
-    concurrent.futures.Executor or a dask.distributed.Client; the results in
-    the order of items. progress(done, total, what) after each. deadline (a
-    time.perf_counter() value): tasks not started by then are not run (or
-    are cancelled) and give None; tasks already running complete."""
-    n = len(items)
-    out: List[Any] = []
-    if executor is None:
-        for k, it in enumerate(items):
-            out.append(None if deadline is not None and time.perf_counter() > deadline else fn(it))
-            _tick(progress, k + 1, n, what)
-        return out
-    if _is_dask_client(executor):
-        futures = executor.map(fn, items, pure=False)
-    else:
-        futures = [executor.submit(fn, it) for it in items]
-    for k, f in enumerate(futures):
-        if deadline is not None and not f.done():
-            wait = deadline - time.perf_counter()
-            try:
-                out.append(f.result(timeout=max(wait, 0.0)) if wait > 0 else _cancel_or_wait(f))
-            except (TimeoutError, concurrent.futures.TimeoutError, asyncio.TimeoutError):
-                out.append(_cancel_or_wait(f))
-        else:
-            out.append(f.result())
-        _tick(progress, k + 1, n, what)
-    return out
-
-
-def _cancel_or_wait(f: Any) -> Any:
-    """Cancel a future that has not started (None); wait for a running one."""
-    if f.cancel():
-        return None
-    return f.result()
-
-
-def _tick(progress: Progress, done: int, total: int, what: str) -> None:
-    if progress is None or progress is False:
-        return
-    if callable(progress):
-        progress(done, total, what)
-    elif done == total or done % max(1, total // 4) == 0:
-        print(f"[explore] {what}: {done}/{total}", file=sys.stderr, flush=True)
 
 
 def _say(progress: Progress, msg: str) -> None:
@@ -276,7 +60,7 @@ class _Explorer:
     def __init__(self, a: Assembly, symmetric: Union[bool, str], executor: Any, progress: Progress,
                  max_length: float, seed: int, threads: int, symmetries: Optional[Sequence[Symmetry]],
                  max_steps: int, samples: int, shards: Optional[int]) -> None:
-        from .model_json import to_json
+        from ..io.model_json import to_json
         self.a = a.clone()
         self.doc = to_json(a)
         self.text = json.dumps(self.doc)
@@ -431,7 +215,7 @@ class _Explorer:
         rec: Dict[str, Any] = {"m": m, "s": s}
         Q = a.second_order()
         if use_sym:
-            from .symmetry import restricted_quadrics
+            from ..symmetry.cyclic import restricted_quadrics
             stab = [self.P[j] for j, g in enumerate(self.syms)
                     if g.proper and not g.is_identity
                     and np.abs(g.apply(node.coords) - node.coords).max() <= self.pair_tol(node.located_tol, 0.0)]
@@ -476,18 +260,8 @@ class _Explorer:
         return solve_system(Q, k, self.solve, self.seed)
 
     def solve(self, Q: NDArray[np.float64]) -> Dict[str, Any]:
-        """The complete solver on Q (s, m, m): in shards on the executor when
-        there are enough paths for it (homotopy_shards), else as one task."""
-        from . import homotopy_shards
-        s = Q.shape[0]
-        shards = self.shards
-        if shards is None:
-            shards = 1 if self.executor is None else max(1, min(64, (1 << s) // SHARD_PATHS))
-        if shards > 1 and homotopy_shards.available():
-            betas, acc = homotopy_shards.solve_sharded(Q, self.executor, shards, self.seed, self.threads)
-            return {"betas": betas.tolist(), "accounting": dict(acc, shards=int(shards))}
-        return run_tasks(tasks.solve_task, [{"Q": Q.tolist(), "seed": self.seed, "threads": self.threads}],
-                         self.executor)[0]
+        """The complete solver on Q (s, m, m) (solving.complete_solve)."""
+        return complete_solve(Q, self.executor, self.shards, self.seed, self.threads)
 
     def follow_all(self, work: List[Tuple[int, int, int, NDArray[np.float64], NDArray[np.float64]]]) -> List[Any]:
         """work: [(node, solution, sign, beta, direction)] -> results in order."""
@@ -503,55 +277,11 @@ class _Explorer:
         self.follow_cpu += float(res.get("cpu_seconds", 0.0))
         X = np.asarray(res["coords"])
         found = nid if ev == tasks.LOOP else self.find(X, float(res.get("vr_tol", 0.0)))
-        target = found if found is not None else self.add_node(X, _node_kind(ev, res), res, depth)
+        target = found if found is not None else self.add_node(X, node_kind(ev, res), res, depth)
         self.edges.append(Edge(len(self.edges), nid, target, int(sol), int(sign), [float(v) for v in beta], ev,
                                float(res["length"]), float(res["accuracy"]), res["samples"], res["message"],
                                int(res.get("steps", 0)), float(res.get("vr_tol", 0.0))))
         return target
-
-
-def solve_system(Q: NDArray[np.float64], k: int, solve: Callable[[NDArray[np.float64]], Dict[str, Any]],
-                 seed: int = 1) -> Tuple[Optional[NDArray[np.float64]], Dict[str, Any]]:
-    """Unit solutions (n, k) of beta^T Q_j beta = 0 for the s independent
-    Q_j (s, k, k), and a record. s = k - 1: the complete solver. s > k - 1
-    (more equations than the solvers take): the complete solver on k - 1
-    random combinations of them (seeded: deterministic), whose solutions
-    include every common one, keeping those that solve all equations.
-    solve(Q) runs the complete solver ({"betas", "accounting"}).
-    s < k - 1: the solutions form a continuum; none are returned."""
-    s = Q.shape[0]
-    if s < k - 1:
-        return None, {"solutions": 0, "reason": f"{s} independent second-order equation(s) in {k} unknowns: "
-                                               "the solutions form a continuum, not isolated branches"}
-    if s == k - 1:
-        res = solve(Q)
-        betas = np.asarray(res["betas"]).reshape(-1, k)
-        return betas, {"solutions": len(betas), "accounting": res["accounting"]}
-    rng = np.random.default_rng(seed)
-    A, _ = np.linalg.qr(rng.standard_normal((s, k - 1)))
-    Qc = np.einsum("ja,jxy->axy", A, Q)
-    res = solve(Qc)
-    cand = np.asarray(res["betas"]).reshape(-1, k)
-    norms = np.linalg.norm(Q.reshape(s, -1), axis=1)
-    resid = (np.abs(np.einsum("nx,jxy,ny->nj", cand, Q, cand)) / norms).max(axis=1) if len(cand) else cand[:, 0]
-    betas = cand[resid <= OVERDETERMINED_TOL]
-    rec = {"solutions": len(betas), "accounting": res["accounting"],
-           "combined": f"{k - 1} random combinations of {s} equations", "candidates": len(cand)}
-    if not len(betas):
-        rec["reason"] = f"none of the {len(cand)} candidate(s) solves all {s} second-order equations"
-    return betas, rec
-
-
-def _node_kind(event: str, res: Dict[str, Any]) -> str:
-    if event == tasks.FAILURE:
-        return FAILURE
-    m, s = res["m"], res["s"]
-    if m == 0:
-        return RIGID
-    if m >= 2:
-        return BIFURCATION if s >= 1 else MULTI_DOF
-    # m = 1: regular here, whatever the follower reported
-    return NEAR_MISS if event in (tasks.NEAR_MISS, tasks.BIFURCATION) else REGULAR
 
 
 def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start: Optional[ArrayLike] = None,
@@ -622,7 +352,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     InvalidArgumentError
         An argument out of range (symmetric, depth, a budget, start's shape).
     """
-    from .assembly import Assembly
+    from ..assembly import Assembly
     t0 = time.perf_counter()
     a = _as_assembly(model)
     if start is not None:
@@ -651,7 +381,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     an = a.analyse()
     rec0 = {"m": an.m_internal, "m_rigid": an.m_rigid, "s": an.s,
             "v_r_rel": float(an.v_r / an.v_max) if an.v_max > 0 else 0.0}
-    kind0 = _node_kind(tasks.BUDGET, rec0)
+    kind0 = node_kind(tasks.BUDGET, rec0)
     ex.add_node(a.coords, kind0, rec0, 0)
     _say(progress, f"start: {kind0}, m = {an.m_internal}, s = {an.s}; {len(ex.syms)} symmetries")
     frontier = [0]
@@ -737,7 +467,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
 
 
 def _as_assembly(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]]) -> Assembly:
-    from .assembly import Assembly
+    from ..assembly import Assembly
     if isinstance(model, Assembly):
         return model
     if isinstance(model, str):
@@ -746,5 +476,5 @@ def _as_assembly(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]]) 
         if model.startswith("sail:"):
             parts = model.split(":")
             return Assembly.sail(int(parts[1]), int(parts[2]) if len(parts) > 2 else 1)
-    from .model_json import load_json
+    from ..io.model_json import load_json
     return load_json(model)

@@ -20,7 +20,7 @@ from typing import Any, Dict, List, Sequence, Tuple
 import numpy as np
 from numpy.typing import NDArray
 
-from .atlas_index import ConfigIndex
+from .index import ConfigIndex
 
 # two unit directions are the same branch when they agree to this (max-norm);
 # the complete solver's roots are certified far below it, and distinct

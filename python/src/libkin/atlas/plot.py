@@ -16,7 +16,7 @@ from typing import Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
-from . import atlas as _atlas
+from . import model as _atlas
 
 STYLE = {  # kind: (marker, face colour, size, legend text)
     _atlas.BIFURCATION: ("D", "#d62728", 110, "bifurcation (m, s)"),
@@ -69,7 +69,7 @@ def draw_map(atlas: _atlas.Atlas, path: Union[None, str, os.PathLike[str]] = Non
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
 
-    from .atlas_condense import condense
+    from .condense import condense
     summ = atlas.summary()
     atlas, merged = condense(atlas, max_nodes)
 

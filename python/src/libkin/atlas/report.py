@@ -9,7 +9,7 @@ from typing import Any, Dict, List, Tuple, Union
 
 import numpy as np
 
-from . import atlas as _atlas
+from . import model as _atlas
 
 
 def _f(v: Any, fmt: str = ".4g") -> str:
@@ -23,7 +23,7 @@ def write(atlas: _atlas.Atlas, out: Union[str, os.PathLike[str]], map_png: str =
           json_name: str = "atlas.json") -> pathlib.Path:
     """Write json_name, graphml, the PNGs and report.md into the folder out.
     Returns the path of report.md."""
-    from . import atlas_plot
+    from . import plot as atlas_plot
     out = pathlib.Path(out)
     out.mkdir(parents=True, exist_ok=True)
     atlas.to_json(out / json_name)
@@ -71,7 +71,7 @@ def text(atlas: _atlas.Atlas, map_png: str = "atlas_map.png", nodes_png: str = "
     nin = collections.Counter(e.target for e in atlas.edges)
     listed = atlas.nodes
     if len(atlas.nodes) > max_listed:
-        from .atlas_condense import condense
+        from .condense import condense
         view, _ = condense(atlas, max_listed)
         keep = {n.id for n in view.nodes}
         listed = [n for n in atlas.nodes if n.id in keep]

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, Dict, Optional
 import numpy as np
 
 if TYPE_CHECKING:
-    from .assembly import Assembly
+    from ..assembly import Assembly
 
 Task = Dict[str, Any]
 
@@ -30,7 +30,7 @@ EVENT_KINDS = (BIFURCATION, NEAR_MISS, LOOP, BUDGET, FAILURE)
 
 def rebuild(task: Task) -> Assembly:
     """The Assembly of a task at its configuration, with its rank tolerance."""
-    from .model_json import load_json
+    from ..io.model_json import load_json
     a = load_json(task["model"])
     if task.get("rank_tol"):
         o = a.options
@@ -62,7 +62,7 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     "cpu_seconds" (this task's CPU time in its process)}.
     The samples are taken by following again from the start with the length
     budget set to k/(n+1) of the event's length (the path is deterministic)."""
-    from .errors import KinError
+    from ..errors import KinError
     cpu0 = time.process_time()
     a = rebuild(task)
     start = a.clone()
@@ -111,7 +111,7 @@ def _end_state(a: Assembly, kind: str, rank_tol: Optional[float] = None) -> Dict
 def solve_task(task: Task) -> Dict[str, Any]:
     """The complete solver on one system: task {"Q": (s, m, m) list, "seed"}
     -> {"betas": (nsol, m) list, "accounting": dict}."""
-    from .assembly import solve_quadrics
+    from ..assembly import solve_quadrics
     betas, acc = solve_quadrics(np.asarray(task["Q"], dtype=float), "homotopy", seed=int(task.get("seed", 1)),
                                 threads=int(task.get("threads", 1)))
     return {"betas": betas.tolist(), "accounting": {k: int(v) for k, v in acc.items()}}

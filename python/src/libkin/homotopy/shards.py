@@ -15,14 +15,14 @@ from typing import Any, Dict, List, Optional, Tuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import InvalidArgumentError, StateError, check
+from ..errors import InvalidArgumentError, StateError, check
 
 ACCOUNTING = ("paths", "real", "real_distinct", "nonreal", "singular", "failed", "duplicates", "unpaired",
               "retracked")
 
 
 def _options(seed: int, threads: int) -> Any:
-    from ._lib import lib, new_struct
+    from .._native._lib import lib, new_struct
     opt = new_struct("kin_homotopy_options")
     lib.kin_homotopy_options_default(opt)
     opt.seed = int(seed)
@@ -44,8 +44,8 @@ def range_task(task: Dict[str, Any]) -> Dict[str, Any]:
     """Track paths task["first"] .. task["first"] + task["count"] - 1 of the
     complete solver for task["Q"] (s, m, m) with task["seed"]. Returns
     {"first", "count", "ends": bytes, "z": bytes}."""
-    from ._arrays import read_ptr, write_ptr
-    from ._lib import ffi, lib
+    from .._native._arrays import read_ptr, write_ptr
+    from .._native._lib import ffi, lib
     Q, m, s = _system(task["Q"])
     first, count = int(task["first"]), int(task["count"])
     ends = ffi.new("kin_homotopy_endpoint[]", count)
@@ -76,8 +76,8 @@ def orbit_task(task: Dict[str, Any]) -> Dict[str, Any]:
     task["seed"], task["order"] the group's order. Returns {"count": records,
     "ends": bytes, "z": bytes} for every member of those orbits (each
     record says its path)."""
-    from ._arrays import read_ptr, write_ptr
-    from ._lib import ffi, lib
+    from .._native._arrays import read_ptr, write_ptr
+    from .._native._lib import ffi, lib
     Qt, m, s = _system(task["Qt"])
     perm = np.ascontiguousarray(np.asarray(task["perm"], dtype=np.intc))
     first, count = int(task["first"]), int(task["count"])
@@ -102,8 +102,8 @@ def equivariant_form(Q: ArrayLike, group: ArrayLike,
     system in coordinates x with beta = U x where a cyclic subgroup of
     `group` (k, m, m) permutes coordinates and equations alike; None if no
     subgroup qualifies."""
-    from ._arrays import read_ptr, write_ptr
-    from ._lib import ffi, lib
+    from .._native._arrays import read_ptr, write_ptr
+    from .._native._lib import ffi, lib
     Q, m, s = _system(Q)
     R = np.asarray(group, dtype=np.float64)
     if R.ndim != 3 or R.shape[1:] != (m, m):
@@ -127,8 +127,8 @@ def equivariant_form(Q: ArrayLike, group: ArrayLike,
 
 def _merge(Qm: NDArray[np.float64], m: int, s: int, seed: int, threads: int, ends: Any,
            z: NDArray[np.float64]) -> Tuple[NDArray[np.float64], Dict[str, int]]:
-    from ._arrays import read_ptr, write_ptr
-    from ._lib import ffi, lib, new_struct
+    from .._native._arrays import read_ptr, write_ptr
+    from .._native._lib import ffi, lib, new_struct
     maxsol = 1 << s  # every real solution (pages not written are never touched)
     betas = np.empty((maxsol, m))
     nsol = ffi.new("int *")
@@ -154,8 +154,8 @@ def solve_sharded(Q: ArrayLike, executor: Optional[Any] = None, shards: int = 4,
     kin_quadrics_homotopy_orbit_range), the merge runs on the form and the
     solutions come back as beta = U x; the accounting gains 'order' and
     'orbits'. Otherwise every path, as without a group."""
-    from ._lib import ffi
-    from .atlas import run_tasks
+    from .._native._lib import ffi
+    from ..parallel import run_tasks
     Q, m, s = _system(Q)
     n = 1 << s
     rec = ffi.sizeof("kin_homotopy_endpoint")
@@ -204,7 +204,7 @@ def solve_sharded(Q: ArrayLike, executor: Optional[Any] = None, shards: int = 4,
 
 def available() -> bool:
     """True if the library has the sharded solver."""
-    from ._lib import lib
+    from .._native._lib import lib
     try:
         lib.kin_quadrics_homotopy_range
         lib.kin_quadrics_homotopy_merge

@@ -6,7 +6,9 @@ import numpy as np
 _PLANES = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
 
 
-def _plt():
+def pyplot():
+    """matplotlib.pyplot on the Agg backend (ImportError naming the extra if
+    matplotlib is missing)."""
     try:
         import matplotlib
     except ImportError:
@@ -16,12 +18,15 @@ def _plt():
     return plt
 
 
+_plt = pyplot  # the name the package used before pyplot() was public
+
+
 def draw(assembly_or_coords, bars=None, ax=None, plane="xy", fixed=None, labels=None, color="C0",
          path=None, title=None):
     """Draw bars and joints; 3D structures are projected on `plane`
     ('xy', 'xz' or 'yz', like the paper's Figures 11 and 13). Supports are
     drawn as triangles."""
-    plt = _plt()
+    plt = pyplot()
     if bars is None:
         a = assembly_or_coords
         coords, bars, fixed = a.coords, a.bars, a.fixed.any(axis=1)
@@ -61,7 +66,7 @@ def draw(assembly_or_coords, bars=None, ax=None, plane="xy", fixed=None, labels=
 def singular_values(l, sv, path=None, count=None, title="singular values along the path"):
     """Lowest singular values against path length (cf. the paper's Figures 8
     and 14): l (n,), sv (n, k) descending per row; the `count` smallest are drawn."""
-    plt = _plt()
+    plt = pyplot()
     l = np.asarray(l)
     sv = np.asarray(sv)
     if count is not None:
@@ -83,7 +88,7 @@ def branch_directions(assembly, directions, path=None, plane="xy", scale=0.3):
     """Each candidate first-order motion (nfree vectors), one panel per
     direction: in-plane components as arrows, the out-of-plane component as
     discs (red = towards the viewer, blue = away, area ~ magnitude)."""
-    plt = _plt()
+    plt = pyplot()
     directions = [np.asarray(d) for d in directions]
     n = max(1, len(directions))
     cols = min(4, n)
@@ -119,7 +124,7 @@ def branch_directions(assembly, directions, path=None, plane="xy", scale=0.3):
 
 def animate(frames, bars, path, plane="xy", fps=10):
     """Write a GIF of a path: frames is a list of (njoints, dim) coordinates."""
-    plt = _plt()
+    plt = pyplot()
     from matplotlib.animation import FuncAnimation, PillowWriter
     frames = [np.asarray(f) for f in frames]
     allc = np.concatenate(frames)

@@ -3,7 +3,7 @@ every axis, bars coloured by kind, supports marked; small multiples and
 GIF animations built from them."""
 import numpy as np
 
-from .plot import _plt
+from .draw2d import pyplot
 
 # bar colours by kind (sailmeasure.BAR_KINDS); other kinds are drawn in C0
 KIND_STYLE = {
@@ -98,7 +98,7 @@ def small_multiples(panels, bars, kinds, fixed, path, suptitle, base, cols=8, si
     panel's largest joint movement is below show_move, movements are drawn
     magnified (the same factor for all, stated in the title) so that they
     can be seen; the colours stay true. Returns the factor."""
-    plt = _plt()
+    plt = pyplot()
     from matplotlib.collections import LineCollection
     n = len(panels)
     cols = min(cols, max(1, n))
@@ -158,7 +158,7 @@ def small_multiples(panels, bars, kinds, fixed, path, suptitle, base, cols=8, si
 def animate3d(frames, bars, kinds, fixed, path, titles, fps=10, view=(24, -62), size=(5.0, 4.2), dpi=100):
     """A GIF of configurations `frames` (list of (njoints, 3)) with a title
     per frame, at one fixed scale and camera."""
-    plt = _plt()
+    plt = pyplot()
     allp = np.concatenate(frames)
     fig = plt.figure(figsize=size, dpi=dpi)
     ax = fig.add_subplot(111, projection="3d")

@@ -1,4 +1,4 @@
-"""The sail study's path map, read from the explorer's atlas (atlas.py).
+"""The sail study's path map, read from the explorer's atlas (libkin.atlas).
 
 The study does not follow the map's paths itself: explore() in symmetric
 mode maps every path out of the flat state R^A that keeps the rotational
@@ -17,10 +17,10 @@ from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from . import atlas as _atlas
+from libkin.atlas import BIFURCATION, LOCATION_FACTOR, SAME_TOL, Atlas, Edge, Node, explore
 
 if TYPE_CHECKING:
-    from .assembly import Assembly
+    from libkin import Assembly
 
 # levels of the atlas: the flat state's branches, then every bifurcation they
 # reach (R^B and R^C are among them for the hexagonal sail)
@@ -30,9 +30,9 @@ RUN_VR_TOL = 1e-10
 
 
 def explore_symmetric(a: Assembly, depth: int = MAP_DEPTH, executor: Any = None, threads: int = 1,
-                      progress: bool = False) -> _atlas.Atlas:
+                      progress: bool = False) -> Atlas:
     """The atlas of the symmetric paths out of a's configuration."""
-    return _atlas.explore(a, depth=depth, symmetric=True, executor=executor, threads=threads,
+    return explore(a, depth=depth, symmetric=True, executor=executor, threads=threads,
                           progress=True if progress else None)
 
 
@@ -41,7 +41,7 @@ class SailMap:
     paths out of a node (also of a node the atlas did not expand because it
     is the image of another), and the summary the report prints."""
 
-    def __init__(self, atlas: _atlas.Atlas) -> None:
+    def __init__(self, atlas: Atlas) -> None:
         self.atlas = atlas
         self.nodes = atlas.nodes
         x0 = self.nodes[0].coords
@@ -50,8 +50,8 @@ class SailMap:
 
     # -- which node a configuration is
     def _tol(self, located_a: float, located_b: float) -> float:
-        # as the explorer identifies points (atlas.py: _Explorer.pair_tol)
-        return self.scale * max(_atlas.SAME_TOL, _atlas.LOCATION_FACTOR * math.sqrt(max(located_a, located_b, 0.0)))
+        # as the explorer identifies points (libkin.atlas.explorer: _Explorer.pair_tol)
+        return self.scale * max(SAME_TOL, LOCATION_FACTOR * math.sqrt(max(located_a, located_b, 0.0)))
 
     def node_at(self, X: ArrayLike, located: float = RUN_VR_TOL) -> Optional[int]:
         """The id of the node at configuration X (None if none is)."""
@@ -81,7 +81,7 @@ class SailMap:
         return None, False
 
     # -- paths out of a node
-    def paths_from(self, i: int) -> List[Tuple[_atlas.Edge, Optional[int]]]:
+    def paths_from(self, i: int) -> List[Tuple[Edge, Optional[int]]]:
         """[(edge, target id)] out of node i. A node the atlas did not
         expand because it is the image g . k of node k has k's paths mapped
         by g (target None where the image of k's target is not a node)."""
@@ -89,7 +89,7 @@ class SailMap:
         if n.expanded or n.image_of is None:
             return [(e, int(e.target)) for e in self.atlas.edges if e.source == i]
         k, g = n.image_of["node"], self.atlas.symmetries[n.image_of["symmetry"]]
-        out: List[Tuple[_atlas.Edge, Optional[int]]] = []
+        out: List[Tuple[Edge, Optional[int]]] = []
         for e in self.atlas.edges:
             if e.source == k:
                 t = self.nodes[e.target]
@@ -132,14 +132,14 @@ class SailMap:
         return out
 
     @staticmethod
-    def measures(n: _atlas.Node) -> Dict[str, float]:
+    def measures(n: Node) -> Dict[str, float]:
         x = n.coords
         return {"xy_extent": float(np.hypot(x[:, 0], x[:, 1]).max()), "height": float(np.ptp(x[:, 2]))}
 
-    def relaxed(self, n: _atlas.Node) -> bool:
+    def relaxed(self, n: Node) -> bool:
         """A bifurcation the follower located only to a coarser v_r than the
         run's points (its m, s counted at ten times that tolerance)."""
-        return n.kind == _atlas.BIFURCATION and n.located_tol > RUN_VR_TOL
+        return n.kind == BIFURCATION and n.located_tol > RUN_VR_TOL
 
     def summary(self, a: Optional[Assembly] = None) -> Dict[str, Any]:
         """{"nodes": [...], "edges": [...], "atlas": {...}} for summary.json:

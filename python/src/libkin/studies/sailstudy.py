@@ -14,40 +14,31 @@ state (Figure 11).
 
 Both return a plain dict of results (JSON-serialisable) and, given an output
 folder, write report.md, summary.json and the figures there
-(studyreport.py, studyfigures.py).
+(studyreport.py, studyfigures.py). The helpers both studies share are in
+common.py; like every module of libkin.studies, this one uses only the
+public API of libkin.
 """
 import json
 import pathlib
-import sys
 import time
 
 import numpy as np
 
-from .assembly import Assembly, solve_quadrics
-from .automorphisms import mechanism_group
-from .errors import KinError
-from .sailmeasure import measures
-from .sailmap import MAP_DEPTH, SailMap, explore_symmetric
-from .symmetry import sail_rotation
+from libkin import Assembly, solve_quadrics
+from libkin.symmetry import mechanism_group, sail_rotation
 
-# Bifurcations are located to v_r / v_max <= 1e-10 by the follower
-# (kin_follow_event: the fast method, relaxed towards 1e-6 only where 1e-10 is
-# out of reach, e.g. at a tangency) and m, s counted as the follower saw them.
-SAIL_VR_TOL = 1e-10
-# The paper's method is also run from the same point, at the paper's own
-# tolerance, to compare its cost with the paper's step counts.
-PAPER_VR_TOL = 1e-6
+# (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, paper_locate and record are
+# imported for the names this module has always had)
+from .common import (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, follow_to_bifurcation, jsonable, leave, paper_locate,
+                     record, say)
+from .sailmap import MAP_DEPTH, SailMap, explore_symmetric
+from .sailmeasure import measures
+from .squarestudy import square_study
+
 # number of lowest singular values recorded (Figure 14)
 N_SV = 15
-# two paths coincide when their end configurations agree to this (length unit)
-SAME_CONFIG_TOL = 1e-6
 # how far along each symmetric path out of R^A the report draws it
 SNAP_LENGTH = 1.0
-
-
-def _say(progress, msg):
-    if progress:
-        print(msg, file=sys.stderr, flush=True)
 
 
 def _free_vec(a, xyz):
@@ -84,75 +75,6 @@ class _Track:
             v.pop()
 
 
-def _paper_locate(prev, at):
-    """The paper's locator (tolerance PAPER_VR_TOL) from the regular point
-    `prev` before the bifurcation `at`: its cost, for the report's question
-    of how it compares with the follower's locator."""
-    p = prev.clone()
-    try:
-        lp = p.locate(method="paper", vr_tol=PAPER_VR_TOL, max_steps=30)
-    except KinError as exc:
-        return {"gave_up": str(exc)}
-    return {"factorizations": lp.factorizations, "forward": lp.forward, "v_r_rel": lp.v_r_rel,
-            "distance_to_point": float(np.abs(p.coords - at.coords).max())}
-
-
-def follow_to_bifurcation(start, direction, track=None, max_steps=600, vr_tol=SAIL_VR_TOL, compare=False):
-    """Follow the branch `direction` out of the bifurcation `start` to its
-    next event with the library's follower (kin_follow_event, the one the
-    explorer uses), which locates a bifurcation to vr_tol (or to the best
-    accuracy reachable, down to 1e-6) and classifies anything else.
-
-    With a track, the path is then stepped again up to about one step
-    before the event (the path is deterministic) to record the singular
-    values, strains and configurations along it for the figures; compare=True
-    also runs the paper's locator from the last point recorded.
-
-    Returns (assembly at the bifurcation, event dict, steps), or (None,
-    {"stopped": why}, steps) when the next event is not a bifurcation."""
-    at = start.clone()
-    fe = at.follow_event(direction, vr_tol=vr_tol, max_steps=max_steps)
-    if fe.event != "bifurcation":
-        return None, {"stopped": f"{fe.event} after l = {fe.length:.4f}" + (f": {fe.message}" if fe.message
-                                                                              else "")}, fe.steps
-    an = at.analyse()
-    sv = np.sort(an.singular_values)
-    ev = {"method": "fast", "follower": "kin_follow_event", "vr_tol": fe.vr_tol_used, "factorizations": fe.factorizations,
-          "forward": fe.forward, "attempts": fe.attempts, "v_r_rel": fe.v_r_rel, "path_kept": fe.path_kept,
-          "m": an.m_internal, "s": an.s, "zero_order": fe.zero_order, "tangent_cos": fe.tangent_cos,
-          "lowest_sv_rel": [float(v / an.v_max) for v in sv[: an.s + 2]], "detected_after_steps": fe.steps}
-    if track is not None or compare:
-        prev = _record(start, direction, fe.length, track)
-        if compare:
-            ev["paper_method"] = _paper_locate(prev, at)
-        if track is not None:
-            track.add(at, an.singular_values)
-            ev["l_total"] = track.l[-1]
-    return at, ev, fe.steps
-
-
-def _record(start, direction, length, track):
-    """Step from the bifurcation `start` along `direction` until within about
-    two full steps of path length `length` (where the follower found the
-    next event), recording each point in track; returns the last point."""
-    l0 = start.path_length
-    c = _leave(start, direction)
-    dmax = c.options.step_fraction * np.sqrt(np.mean(c.rest_lengths ** 2))
-    if track is not None:
-        track.add(c)
-    while length - abs(c.path_length - l0) > 2.0 * dmax:
-        prev = c.clone()
-        try:
-            c.step(0.0)
-        except KinError:
-            return prev
-        if abs(c.path_length - l0) > length:  # an automatic step went past the event
-            return prev
-        if track is not None:
-            track.add(c)
-    return c
-
-
 def _chord(a_from, a_to):
     d = _free_vec(a_to, a_to.coords) - _free_vec(a_from, a_from.coords)
     return d / np.linalg.norm(d)
@@ -177,13 +99,6 @@ def _wraps_loop1(x, labels, n):
     z = x[A, 2] - x[V, 2]
     alternating = all(z[k] * z[(k + 1) % n] < 0 for k in range(n))
     return xy, alternating
-
-
-def _leave(a, d):
-    c = a.clone()
-    c.set_direction(d)
-    c.step(0.0)
-    return c
 
 
 def _branch_report(a, threads, length, max_s=12):
@@ -220,9 +135,9 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     # per bifurcation, the configuration a short way along each path leaving
     # it (the report's small multiples)
     snaps = {}
-    _say(progress, f"[R^A] flat state: H is {a.nfree} x {a.nbars}, m = {an.m_internal}, s = {an.s}")
+    say(progress, f"[R^A] flat state: H is {a.nfree} x {a.nbars}, m = {an.m_internal}, s = {an.s}")
     if complete and an.s <= 16:
-        _say(progress, f"[R^A] complete solver: 2^{an.s} = {2 ** an.s} homotopy paths on {threads} threads, "
+        say(progress, f"[R^A] complete solver: 2^{an.s} = {2 ** an.s} homotopy paths on {threads} threads, "
              "one per orbit of the sail's rotations ...")
         t0 = time.perf_counter()
         # the sail's symmetry group acting on beta (found from C): the solver
@@ -231,16 +146,16 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
         _, acc = solve_quadrics(a.second_order(), "homotopy", threads=threads, progress=progress, group=group)
         acc["seconds"] = round(time.perf_counter() - t0, 1)
         res["flat"]["complete"] = acc
-        _say(progress, f"[R^A]   {acc}")
+        say(progress, f"[R^A]   {acc}")
     # the path map: the explorer's atlas of every symmetric path out of the
     # flat state and out of the bifurcations they reach (sailmap.py); the
     # folding branch is among the flat state's paths whose first bifurcation
     # has loop 1 wrapped (A_k over V_k, alternating): the shortest such path
-    _say(progress, f"[map] exploring the symmetric paths (depth {map_depth}) ...")
+    say(progress, f"[map] exploring the symmetric paths (depth {map_depth}) ...")
     smap = SailMap(explore_symmetric(a, map_depth, executor=executor, threads=threads, progress=progress))
     res["flat"]["symmetric"] = _symmetric_record(smap.branches_record(0))
     sym = res["flat"]["symmetric"]
-    _say(progress, f"[R^A] {n_sides // 2}-fold symmetric motions: {sym['k']} mechanisms, {sym['s']} equations, "
+    say(progress, f"[R^A] {n_sides // 2}-fold symmetric motions: {sym['k']} mechanisms, {sym['s']} equations, "
          f"{sym['accounting']['real_distinct']} real solutions of {sym['accounting']['paths']}")
     U = a.analyse().internal_mechanisms
     followed = []  # (solution, sign, direction, target node or None)
@@ -265,7 +180,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     wraps.sort(key=lambda c: (round(c["reached"], 6), c["centre_dz"] > 0))
     pick = wraps[0]
     res["flat"]["chosen"] = pick
-    _say(progress, f"[R^A] {len(wraps)} of {len(cands)} symmetric directed paths wrap loop 1; chosen: "
+    say(progress, f"[R^A] {len(wraps)} of {len(cands)} symmetric directed paths wrap loop 1; chosen: "
          f"solution {pick['beta']}, sign {pick['sign']:+d}, R^B at l = {pick['reached']:.4f}")
     d_A = next(d for i, sg, d, _ in followed if i == pick["beta"] and sg == pick["sign"])
     snaps["R^A"] = {"length": SNAP_LENGTH, "base": a.coords, "paths": [
@@ -286,12 +201,12 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     res["events"]["RB_fold"] = ev
     stages.append(("(b) R^A to R^B", _coords_at(track, a, d_A, 0.5 * ev["l"])))
     stages.append(("(c) R^B", rb.coords))
-    _say(progress, f"[R^B] located after {steps} steps at l = {ev['l']:.4f}: m = {ev['m']}, s = {ev['s']}, "
+    say(progress, f"[R^B] located after {steps} steps at l = {ev['l']:.4f}: m = {ev['m']}, s = {ev['s']}, "
          f"{ev['factorizations']} factorizations ({ev['method']}), v_r = {ev['v_r_rel']:.1e}")
     chord_AB = _chord(_last_before(a, d_A, ev["l"]), rb)
     br, rep = _branch_report(rb, threads, 0.5)
     res["RB"] = rep
-    _say(progress, f"[R^B] {rep}")
+    say(progress, f"[R^B] {rep}")
     smap.mark(rb.coords, "R^B")
     # onward: a symmetric candidate that is not the arrival path and folds
     # the sail (smallest xy extent after 0.5)
@@ -326,12 +241,12 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     res["events"]["RC_fold"] = ev
     stages.append(("(d) R^B to R^C", _coords_at(track, rb, d_B, 0.5 * ev["l"])))
     stages.append(("(e) R^C", rc.coords))
-    _say(progress, f"[R^C] located after {steps} steps at l = {ev['l']:.4f} beyond R^B: m = {ev['m']}, "
+    say(progress, f"[R^C] located after {steps} steps at l = {ev['l']:.4f} beyond R^B: m = {ev['m']}, "
          f"s = {ev['s']}, {ev['factorizations']} factorizations ({ev['method']}), v_r = {ev['v_r_rel']:.1e}")
     chord_BC = _chord(_last_before(rb, d_B, ev["l"]), rc)
     br_c, rep = _branch_report(rc, threads, 0.3)
     res["RC"] = rep
-    _say(progress, f"[R^C] {rep}")
+    say(progress, f"[R^C] {rep}")
     # onward from R^C: every symmetric path out of it in the atlas
     ib, _ = smap.mark(rb.coords, "R^B")
     ic, ic_is_rc = smap.mark(rc.coords, "R^C")
@@ -351,11 +266,11 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
                                for e, t in onward]
         res["RC"]["most_compact"] = all(o["xy_extent"] is not None and o["xy_extent"] > ext_c + 1e-9
                                         for o in res["RC"]["onward"])
-        _say(progress, f"[R^C] symmetric paths onward lead to "
+        say(progress, f"[R^C] symmetric paths onward lead to "
              f"{', '.join(str(o['to']) for o in res['RC']['onward'])}; R^C is "
              f"{'the most compact symmetric state' if res['RC']['most_compact'] else 'not the end of the fold'}")
     else:
-        _say(progress, f"[R^C] {res['RC'].get('map', 'an image of a node in the atlas')}")
+        say(progress, f"[R^C] {res['RC'].get('map', 'an image of a node in the atlas')}")
     # ---- back: R^C -> R^B along the same path
     if br_c is not None:
         dirs = [br_c.directions[p.beta] * p.sign for p in br_c.paths if p.exists and p.tangent_ok]
@@ -377,7 +292,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     _event(ev, steps, rc, rb2, hub, res)
     ev["distance_to_RB"] = float(np.abs(rb2.coords - rb.coords).max())
     res["events"]["RB_deploy"] = ev
-    _say(progress, f"[R^B] back after {steps} steps: m = {ev['m']}, s = {ev['s']}, {ev['factorizations']} "
+    say(progress, f"[R^B] back after {steps} steps: m = {ev['m']}, s = {ev['s']}, {ev['factorizations']} "
          f"factorizations ({ev['method']}), {ev['distance_to_RB']:.1e} from the first R^B")
     an2 = rb2.analyse()
     d_flat = -chord_AB
@@ -390,7 +305,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     _event(ev, steps, rb2, ra, hub, res)
     res["events"]["RA_deploy"] = ev
     res["closure"] = float(np.abs(ra.coords - flat).max())
-    _say(progress, f"[R^A] back after {steps} steps: m = {ev['m']}, s = {ev['s']}, {ev['factorizations']} "
+    say(progress, f"[R^A] back after {steps} steps: m = {ev['m']}, s = {ev['s']}, {ev['factorizations']} "
          f"factorizations ({ev['method']}), closure error {res['closure']:.2e}")
     return _finish_hex(res, track, out, t_start, progress, stages, smap, snaps)
 
@@ -423,7 +338,7 @@ def _branch_snaps(br, P, chord_in, chosen, back_name):
 def _last_before(start, direction, l_target, back=0.05):
     """The point of the path out of `start` along `direction` at l_target - back."""
     l0 = start.path_length
-    c = _leave(start, direction)
+    c = leave(start, direction)
     while True:
         rem = l_target - back - abs(c.path_length - l0)
         if rem <= 1e-12:
@@ -468,7 +383,7 @@ def _finish_hex(res, track, out, t_start, progress, stages=(), smap=None, snaps=
     if out is not None:
         out = pathlib.Path(out)
         out.mkdir(parents=True, exist_ok=True)
-        (out / "summary.json").write_text(json.dumps(res, indent=1, default=_jsonable) + "\n")
+        (out / "summary.json").write_text(json.dumps(res, indent=1, default=jsonable) + "\n")
         if smap is not None:
             smap.atlas.to_json(out / "atlas.json")
         if track is not None and track.l:
@@ -476,20 +391,6 @@ def _finish_hex(res, track, out, t_start, progress, stages=(), smap=None, snaps=
                      strain=np.array(track.strain), hub_z=np.array(track.hub_z))
             from . import studyreport
             studyreport.hexagonal(res, track, stages, out, smap, snaps or {})
-        _say(progress, f"wrote {out / 'report.md'}")
+        say(progress, f"wrote {out / 'report.md'}")
     return res
 
-
-def _jsonable(v):
-    if isinstance(v, (np.integer,)):
-        return int(v)
-    if isinstance(v, (np.floating,)):
-        return float(v)
-    if isinstance(v, np.bool_):
-        return bool(v)
-    return str(v)
-
-
-# the square sail's study (Section 6.1) lives in its own module; it is
-# reached from here as before (imported last: it uses the helpers above)
-from .squarestudy import square_study as square_study  # noqa: E402

@@ -7,8 +7,9 @@ import time
 
 import numpy as np
 
-from .assembly import Assembly
-from .sailstudy import SAME_CONFIG_TOL, _jsonable, _say, follow_to_bifurcation
+from libkin import Assembly
+
+from .common import SAME_CONFIG_TOL, follow_to_bifurcation, jsonable, say
 
 
 def square_study(length=1.75, threads=2, progress=True, out=None):
@@ -19,14 +20,14 @@ def square_study(length=1.75, threads=2, progress=True, out=None):
     a = Assembly.sail(4, 1)
     an = a.analyse()
     res = {"model": "sail 4-gon hub, 1 loop", "flat": {"m": an.m_internal, "m_rigid": an.m_rigid, "s": an.s}}
-    _say(progress, f"flat state: m = {an.m_internal} internal + {an.m_rigid} rigid, s = {an.s}")
+    say(progress, f"flat state: m = {an.m_internal} internal + {an.m_rigid} rigid, s = {an.s}")
     br = a.branches(solver="homotopy", length=length, threads=threads)
     res["accounting"] = br.accounting
     ok = [p for p in br.paths if p.exists and p.tangent_ok]
     res["real_solutions"] = len(br.betas)
     res["directed_paths_ok"] = len(ok)
     res["distinct_paths"] = br.distinct
-    _say(progress, f"complete solver {br.accounting}; {len(ok)} directed paths reach l = {length}, "
+    say(progress, f"complete solver {br.accounting}; {len(ok)} directed paths reach l = {length}, "
          f"{br.distinct} distinct")
     lab = a.labels
     V1, V3, O0, O2 = (lab.index(n) for n in ("V1", "V3", "A0", "A2"))
@@ -70,12 +71,12 @@ def square_study(length=1.75, threads=2, progress=True, out=None):
     res["symmetry_relations"] = relations
     res["fully_folded_paths"] = folded
     res["seconds"] = round(time.perf_counter() - t_start, 1)
-    _say(progress, f"fully folded candidates: {folded}")
+    say(progress, f"fully folded candidates: {folded}")
     if out is not None:
         out = pathlib.Path(out)
         out.mkdir(parents=True, exist_ok=True)
-        (out / "summary.json").write_text(json.dumps(res, indent=1, default=_jsonable) + "\n")
+        (out / "summary.json").write_text(json.dumps(res, indent=1, default=jsonable) + "\n")
         from . import studyreport
         studyreport.square(res, a, br, out)
-        _say(progress, f"wrote {out / 'report.md'}")
+        say(progress, f"wrote {out / 'report.md'}")
     return res

@@ -5,8 +5,8 @@ import re
 
 import numpy as np
 
-from . import draw3d
-from .plot import _plt, draw
+from libkin.plot import draw, draw3d, pyplot
+
 from .sailmeasure import BAR_KINDS, bar_kinds, fold_angles, fold_segments
 
 UNIT = "a"  # the model's length unit: the hub side (Assembly.sail(side=1))
@@ -31,7 +31,7 @@ class Model:
     """The sail's bars, their kinds and supports, shared by the figures."""
 
     def __init__(self, n_sides, n_loops):
-        from .assembly import Assembly
+        from libkin import Assembly
         a = Assembly.sail(n_sides, n_loops)
         self.a = a
         self.labels = a.labels
@@ -45,7 +45,7 @@ class Model:
 
 def model_figure(M, out):
     """The flat model, joints numbered, bars by kind, supports marked."""
-    plt = _plt()
+    plt = pyplot()
     x = M.flat
     fig, ax = plt.subplots(figsize=(8.0, 8.0))
     for (p, q), k in zip(M.bars.tolist(), M.kinds):
@@ -79,7 +79,7 @@ def model_figure(M, out):
 
 def stages_2d(M, stages, out):
     """Figure 13: x-y (top) and x-z (bottom) projections of the stages."""
-    plt = _plt()
+    plt = pyplot()
     fig, axs = plt.subplots(2, len(stages), figsize=(3.2 * len(stages), 7.0), squeeze=False)
     pinned = M.fixed.all(axis=1)
     for k, (title, x) in enumerate(stages):
@@ -103,7 +103,7 @@ def stages_2d(M, stages, out):
 
 def stages_3d(M, stages, out):
     """The same stages in 3D, one scale on every axis."""
-    plt = _plt()
+    plt = pyplot()
     n = len(stages)
     cols = min(n, 3)
     rows = (n + cols - 1) // cols
@@ -143,7 +143,7 @@ def _event_marks(ax, res, y_top=True):
 
 def singular_values(res, track, out):
     """Figure 14, the curves grouped by where they vanish."""
-    plt = _plt()
+    plt = pyplot()
     l = np.array(track.l)
     sv = np.array(track.sv)
     ev = [(k.split("_")[0].replace("R", "R^"), v) for k, v in res["events"].items() if v and "l_total" in v]
@@ -180,7 +180,7 @@ def singular_values(res, track, out):
 
 
 def strain_hub(res, track, out):
-    plt = _plt()
+    plt = pyplot()
     l = np.array(track.l)
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 5.2), sharex=True)
     a1.semilogy(l, np.maximum(track.strain, 1e-18), ".", ms=3, label="at an accepted step or a bifurcation")
@@ -203,7 +203,7 @@ def strain_hub(res, track, out):
 def fold_measures(M, res, track, out):
     """How far the sail has folded, against path length: fold-line angles
     to the hub plane, x-y radius and height."""
-    plt = _plt()
+    plt = pyplot()
     l = np.array(track.l)
     X = np.array(track.coords)
     ang = np.array([fold_angles(x, M.segments) for x in X])  # (n, loops, n_sides)
@@ -271,7 +271,7 @@ def path_map(smap, out):
     of directed paths; the fold route R^A - R^B - R^C in red. Labels are
     placed where they overlap no other label or node (leader lines when
     moved away)."""
-    plt = _plt()
+    plt = pyplot()
     from matplotlib.lines import Line2D
     nodes, names = smap.nodes, smap.names()
     # nodes of one kind at the same (x-y extent, m) share a marker; where
@@ -377,7 +377,7 @@ def path_map(smap, out):
 def branch_grid(M, name, snap, base, out, fname):
     """Small multiples: the configuration a short way along every directed
     path leaving the bifurcation `name`."""
-    _plt()  # the Agg backend, before pyplot is touched
+    pyplot()  # the Agg backend, before pyplot is touched
     from matplotlib.lines import Line2D
     colours = {"chosen": "C3", "straight on": "C2", "back to R^A": "C1", "back to R^B": "C1"}
     panels = []

@@ -1,7 +1,7 @@
 """Markdown reports and figures of the sail studies (see sailstudy.py)."""
 import numpy as np
 
-from .plot import _plt, draw
+from libkin.plot import draw, pyplot
 
 
 def _fmt(v, nd=3):
@@ -41,7 +41,7 @@ def hexagonal(res, track, stages, out, smap=None, snaps=None):
         figs["grids"].append((name, fname, snap, factor))
     figs["gif_frames"] = F.animation(M, res, track, out)
     # the run for origami software: every accepted step a FOLD frame
-    from .fold import write_fold
+    from libkin.io.fold import write_fold
     doc = write_fold(out / "fold_run.fold", M.a, path_coords=track.coords, faces="triangles",
                      title=f"libkin: {res['model']}, fold R^A-R^B-R^C and back",
                      description="Lengths in units of the hub side a. One frame per accepted path step.")
@@ -382,7 +382,7 @@ def _map_md(res, nfold):
 
 
 def square(res, a, br, out):
-    plt = _plt()
+    plt = pyplot()
     ok = [(i, p) for i, p in enumerate(br.paths) if p.exists and p.tangent_ok]
     cols = 8
     rows = max(1, (len(ok) + cols - 1) // cols)
@@ -405,7 +405,7 @@ def square(res, a, br, out):
     fig.suptitle("Figure 11-like: x-y projections at l = 1.75 a of every path out of the flat state "
                  "(red: to the fully folded state; black triangles: pinned V0, V2; lengths in hub sides a)")
     fig.tight_layout()
-    from .draw3d import save_small
+    from libkin.plot.draw3d import save_small
     save_small(fig, out / "fig11_paths.png", 80)
     plt.close(fig)
     acc = res["accounting"]

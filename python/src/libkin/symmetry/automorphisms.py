@@ -33,10 +33,10 @@ from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import InvalidArgumentError
+from ..errors import InvalidArgumentError
 
 if TYPE_CHECKING:
-    from .assembly import Assembly
+    from ..assembly import Assembly
 
 # coordinates agree when they differ by less than this times the model size
 _REL_TOL = 1e-9
@@ -210,7 +210,7 @@ def detect_symmetries(assembly: Assembly, coords: Optional[ArrayLike] = None,
 def _c_count(call: Any, assembly: "Assembly", what: str) -> int:
     """How many entries a kin_symmetries-like call has: asked with room for
     one (KIN_ERANGE reports the count)."""
-    from ._lib import ffi, lib
+    from .._native._lib import ffi, lib
     n = ffi.new("int *")
     rc = call(1, n)
     if rc == lib.KIN_ERANGE:
@@ -223,7 +223,7 @@ def c_symmetries(assembly: "Assembly") -> List[Symmetry]:
     """detect_symmetries(assembly, method="c"): the C library's
     kin_symmetries at the current configuration, in its order (the
     identity first, then by permutation)."""
-    from ._lib import ffi, lib
+    from .._native._lib import ffi, lib
     h, nj, d = assembly._h, assembly.njoints, assembly.dim
     count = _c_count(lambda k, n: lib.kin_symmetries(h, k, ffi.NULL, ffi.NULL, ffi.NULL, n), assembly, "symmetries")
     perm = np.zeros((count, nj), dtype=np.int32)
@@ -315,7 +315,7 @@ def mechanism_group(assembly: "Assembly", coords: Optional[ArrayLike] = None,
 def c_mechanism_group(assembly: "Assembly") -> NDArray[np.float64]:
     """mechanism_group(assembly, method="c"): the C library's
     kin_mechanism_group at the current configuration, shape (k, m, m)."""
-    from ._lib import ffi, lib, new_struct
+    from .._native._lib import ffi, lib, new_struct
     h = assembly._h
     an = new_struct("kin_analysis")
     if lib.kin_get_analysis(h, an) != 0:  # none current: make it (kin_mechanism_group would)

@@ -20,10 +20,10 @@ from typing import TYPE_CHECKING, Dict, Tuple
 import numpy as np
 import numpy.typing as npt
 
-from .errors import InvalidArgumentError, StateError
+from ..errors import InvalidArgumentError, StateError
 
 if TYPE_CHECKING:
-    from .assembly import Assembly
+    from ..assembly import Assembly
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -160,7 +160,7 @@ def symmetric_solutions(a: "Assembly", P: FloatArray, threads: int = 2,
         Fewer than 2 symmetric mechanisms, or a restricted system the
         solvers cannot take (they need k - 1 equations).
     """
-    from ._branching import solve_quadrics
+    from ..assembly import solve_quadrics
     an = a.analyse()
     G = symmetric_subspace(an.internal_mechanisms, P)
     k = G.shape[1]
