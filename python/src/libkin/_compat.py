@@ -57,13 +57,20 @@ _PACKAGE_INIT = os.path.join(os.path.dirname(__file__), "__init__.py")
 
 
 def _caller_stacklevel() -> int:
-    """The stacklevel of warnings.warn that names the first frame outside
-    this module and the import machinery (the importing code)."""
-    level, f = 1, sys._getframe(1)
-    while f is not None and (f.f_code.co_filename in (__file__, _PACKAGE_INIT) or "importlib" in f.f_code.co_filename
-                             or f.f_code.co_filename.startswith("<frozen")):
+    """The stacklevel of warnings.warn (called by our caller) that names the
+    first frame outside this module, libkin/__init__.py and the import
+    machinery: the importing code. warnings does not count the frames of
+    importlib._bootstrap, so neither does this."""
+    level, f = 1, sys._getframe(1).f_back
+    while f is not None:
+        name = f.f_code.co_filename
+        if "importlib" in name and "_bootstrap" in name:  # skipped by warnings itself
+            f = f.f_back
+            continue
         level += 1
-        f = f.f_back  # type: ignore[assignment]
+        if name not in (__file__, _PACKAGE_INIT) and "importlib" not in name:
+            return level
+        f = f.f_back
     return level
 
 

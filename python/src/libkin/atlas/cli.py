@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 import pathlib
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from ..cliargs import count, load_model_spec, positive
 from ..parallel import executor
@@ -15,7 +15,7 @@ if TYPE_CHECKING:
 __all__ = ["register", "add_arguments", "run", "executor"]
 
 
-def register(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None:
+def register(sub: Any) -> None:
     """Add the `explore` subcommand to the dispatcher's subparsers."""
     s = sub.add_parser("explore", help="the atlas: every path out of every bifurcation met (docs/atlas.md)")
     add_arguments(s)

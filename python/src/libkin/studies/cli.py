@@ -29,12 +29,12 @@ def register(sub):
 
 
 def cmd_study(args: argparse.Namespace) -> int:
-    from . import sailstudy
+    from . import sailstudy, squarestudy
     if args.hub == 4:
         if args.loops != 1:
             print("the square-hub study is the paper's one-loop sail (--loops 1)", file=sys.stderr)
             return EXIT_USAGE
-        res = sailstudy.square_study(threads=args.threads, progress=not args.quiet, out=args.out)
+        res = squarestudy.square_study(threads=args.threads, progress=not args.quiet, out=args.out)
     else:
         with executor(args.executor, args.workers) as ex:
             res = sailstudy.hexagonal_study(args.hub, args.loops, complete=not args.quick, threads=args.threads,

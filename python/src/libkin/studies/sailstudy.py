@@ -33,7 +33,7 @@ from .common import (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, follow_to_bifur
                      record, say)
 from .sailmap import MAP_DEPTH, SailMap, explore_symmetric
 from .sailmeasure import measures
-from .squarestudy import square_study
+from .squarestudy import square_study as square_study
 
 # number of lowest singular values recorded (Figure 14)
 N_SV = 15
