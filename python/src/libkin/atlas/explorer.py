@@ -152,7 +152,7 @@ class _Explorer:
     # -- enumeration at a node
     def learn_symmetries(self, node: Node) -> None:
         """Add the symmetries of the node's configuration to the group: each
-        is a symmetry of the structure (automorphisms.py), found at the
+        is a symmetry of the structure (symmetry/automorphisms.py), found at the
         configuration that has it."""
         grown = False
         for g in symmetries_at(self.a, self.perms, node.coords) if self.perms else []:
@@ -339,7 +339,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     follow_orbits : bool
         False: every directed branch is followed. True: one branch per orbit
         of the node's stabilizer (the symmetries that fix it) is followed
-        and the others are its images (atlas_orbits.py): the same atlas to
+        and the others are its images (orbits.py): the same atlas to
         the identification tolerance, up to |stabilizer| times less work.
 
     Returns

@@ -9,7 +9,7 @@ others are mapped, which divides the following by up to the order of the
 node's stabilizer (6 at the hexagonal sail's flat state, where the mirror
 z -> -z maps each branch onto its opposite sense).
 
-The branches are matched through atlas_index.ConfigIndex (a sorted scalar key
+The branches are matched through index.ConfigIndex (a sorted scalar key
 of the unit directions), so n branches cost O(n log n) rather than n^2
 comparisons.
 """

@@ -63,7 +63,7 @@ def draw_map(atlas: _atlas.Atlas, path: Union[None, str, os.PathLike[str]] = Non
              title: Optional[str] = None, max_nodes: int = 40) -> Any:
     """Draw the map; write a PNG to path (if given). Returns the figure.
     An atlas of more than max_nodes nodes is drawn condensed
-    (atlas_condense.py): its most-reached nodes, the others merged."""
+    (condense.py): its most-reached nodes, the others merged."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

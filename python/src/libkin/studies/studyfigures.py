@@ -243,7 +243,7 @@ def _short_label(names):
     return ", ".join(tex(n) for n in names)
 
 
-# how the path map draws a node of each kind (the atlas's kinds, atlas.py):
+# how the path map draws a node of each kind (the atlas's kinds, libkin.atlas.model):
 # only a bifurcation is a filled marker; a bifurcation the follower located
 # only to a coarser v_r is filled in another colour; every point that is not
 # a bifurcation is hollow
