@@ -142,7 +142,7 @@ def chart(args: argparse.Namespace) -> None:
     fig.savefig(args.png, dpi=110)
     print(f"wrote {args.png}")
     if args.map:
-        from libkin import atlas_plot
+        from libkin.atlas import plot as atlas_plot
         from libkin.atlas import Atlas
         atlas_plot.draw_map(Atlas.from_dict(d), args.map, max_nodes=30)
         print(f"wrote {args.map}")

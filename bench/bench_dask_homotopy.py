@@ -1,7 +1,7 @@
 """Benchmark: the complete solver sharded over a Dask LocalCluster.
 
 At a sail's flat state (default sail:8:2, s = 20, 2^20 = 1,048,576 paths)
-the 2^s homotopy paths are tracked as tasks (libkin.homotopy_shards:
+the 2^s homotopy paths are tracked as tasks (libkin.homotopy.shards:
 kin_quadrics_homotopy_range per shard, one kin_quadrics_homotopy_merge).
 
   python bench/bench_dask_homotopy.py scaling [--paths N] [--workers 1,2]
@@ -30,7 +30,7 @@ import time
 import numpy as np
 
 import libkin
-from libkin import homotopy_shards as hs
+from libkin.homotopy import shards as hs
 
 
 def flat_state_system(hub: int, loops: int) -> np.ndarray:
@@ -80,7 +80,7 @@ def scaling(Q: np.ndarray, paths: int, workers_list: list[int]) -> list[dict]:
 
 
 def group_of(a: libkin.Assembly | None) -> np.ndarray | None:
-    from libkin.automorphisms import mechanism_group
+    from libkin.symmetry import mechanism_group
     return None if a is None else mechanism_group(a, method="c")
 
 

@@ -10,9 +10,9 @@ import pytest
 
 import libkin
 from libkin import atlas as atlas_mod
-from libkin import homotopy_shards
-from libkin.atlas_tasks import EVENT_KINDS
-from libkin.automorphisms import detect_symmetries, invariant_subspace
+from libkin.homotopy import shards as homotopy_shards
+from libkin.atlas.tasks import EVENT_KINDS
+from libkin.symmetry.automorphisms import detect_symmetries, invariant_subspace
 from libkin.cli import main
 from libkin.symmetry import sail_rotation, symmetric_subspace
 
@@ -120,7 +120,7 @@ def test_json_model_and_outputs(tmp_path):
     libkin.Assembly.threebar("RC").to_json(path)
     at = libkin.explore(str(path), depth=1)
     assert len(at.edges) == 4
-    from libkin import atlas_report
+    from libkin.atlas import report as atlas_report
     rep = atlas_report.write(at, tmp_path / "out")
     for f in ("atlas.json", "atlas.graphml", "atlas_map.png", "atlas_nodes.png", "report.md"):
         assert (tmp_path / "out" / f).stat().st_size > 0
@@ -228,7 +228,7 @@ def test_follow_orbits_gives_the_same_atlas():
 
 
 def test_branch_orbits_match_images():
-    from libkin.atlas_orbits import branch_orbits
+    from libkin.atlas.orbits import branch_orbits
     rng = np.random.default_rng(5)
     # a group of order 4 acting on R^3 by signed permutations, and an orbit-closed set of directions
     P = [np.diag([1.0, 1.0, -1.0]), np.array([[0, 1, 0], [1, 0, 0], [0, 0, 1.0]]),

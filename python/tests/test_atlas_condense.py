@@ -5,9 +5,10 @@ import pathlib
 
 import numpy as np
 
-from libkin import atlas_plot, atlas_report
+from libkin.atlas import plot as atlas_plot
+from libkin.atlas import report as atlas_report
 from libkin.atlas import Atlas
-from libkin.atlas_condense import condense
+from libkin.atlas.condense import condense
 
 STORED = pathlib.Path(__file__).resolve().parents[2] / "examples" / "sail_study" / "hex_quick" / "atlas.json"
 

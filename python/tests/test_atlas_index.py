@@ -3,7 +3,7 @@ that a scan over every entry would find, and returns labels in order."""
 import numpy as np
 import pytest
 
-from libkin.atlas_index import ConfigIndex
+from libkin.atlas.index import ConfigIndex
 
 
 def _aligned_distance(X, Y):
@@ -53,7 +53,7 @@ def test_window_finds_every_neighbour(rigid, dim):
 def test_grouped_window_per_accuracy():
     """Each group is searched with its own tolerance: a coarse entry is
     found from far, and does not widen the search among the fine ones."""
-    from libkin.atlas_index import GroupedIndex
+    from libkin.atlas.index import GroupedIndex
     rng = np.random.default_rng(3)
     shape = (8, 3)
     idx = GroupedIndex(shape, rigid=False)

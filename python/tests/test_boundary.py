@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 import libkin
-from libkin import _lib, errors
+from libkin import errors
+from libkin._native import _cdef, _lib
 
 TRI = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
 TRI_BARS = np.array([[0, 1], [1, 2], [2, 0]])
@@ -107,7 +108,7 @@ def test_closed_assembly_raises_and_double_close_is_safe():
 
 
 def test_every_status_has_a_class():
-    for name in libkin._cdef.STATUS_NAMES[1:]:
+    for name in _cdef.STATUS_NAMES[1:]:
         cls = errors.error_class(getattr(libkin.lib, name))
         assert issubclass(cls, libkin.KinError) and cls.name == name
 
@@ -121,7 +122,7 @@ def test_library_lookup_failure_lists_every_place(monkeypatch):
 
 
 def test_version_mismatch_is_refused(monkeypatch):
-    assert libkin.lib.kin_version_number() == libkin._cdef.VERSION_NUMBER
+    assert libkin.lib.kin_version_number() == _cdef.VERSION_NUMBER
     monkeypatch.setattr(_lib, "VERSION_NUMBER", 99999)
     with pytest.raises(ImportError, match="version"):
         _lib._load()

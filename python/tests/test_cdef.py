@@ -4,7 +4,7 @@ import pathlib
 import re
 
 import libkin
-from libkin import _cdef
+from libkin._native import _cdef, _lib
 
 TOOLS = pathlib.Path(__file__).resolve().parents[1] / "tools" / "gen_cdef.py"
 INCLUDE = pathlib.Path(__file__).resolve().parents[2] / "include"
@@ -35,5 +35,5 @@ def test_every_public_function_is_declared_and_loadable():
 def test_status_enum_values_match_library_messages():
     for code, name in enumerate(_cdef.STATUS_NAMES):
         assert getattr(libkin.lib, name) == code
-        msg = libkin._lib.ffi.string(libkin.lib.kin_strerror(code)).decode()
+        msg = _lib.ffi.string(libkin.lib.kin_strerror(code)).decode()
         assert msg == _cdef.STATUS_MESSAGES[name]

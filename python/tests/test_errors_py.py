@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 import libkin
-from libkin import _cdef, errors
+from libkin import errors
+from libkin._native import _cdef, _lib
 
 
 def declared_status_classes():
@@ -90,7 +91,7 @@ def test_version_is_the_c_library_s_and_pyproject_s():
     import pathlib
     import re
 
-    assert libkin.__version__ == libkin._lib.c_string(libkin.lib.kin_version_string())
+    assert libkin.__version__ == _lib.c_string(libkin.lib.kin_version_string())
     assert libkin.__version__ == ".".join(map(str, _cdef.VERSION))
     pyproject = pathlib.Path(__file__).resolve().parents[1] / "pyproject.toml"
     m = re.search(r'^version\s*=\s*"([^"]+)"', pyproject.read_text(), re.M)

@@ -1,4 +1,4 @@
-"""FOLD import and export (libkin.fold): round trips, frames of a followed
+"""FOLD import and export (libkin.io.fold): round trips, frames of a followed
 path, supports, faces made rigid, and malformed files refused."""
 import json
 import pathlib
@@ -6,7 +6,8 @@ import pathlib
 import numpy as np
 import pytest
 
-from libkin import Assembly, fold
+from libkin import Assembly
+from libkin.io import fold
 from libkin.cli import main as cli_main
 from libkin.errors import ModelFormatError
 

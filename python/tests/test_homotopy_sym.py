@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 import libkin
-from libkin._branching import solve_quadrics
-from libkin.automorphisms import mechanism_group
+from libkin import solve_quadrics
+from libkin.symmetry.automorphisms import mechanism_group
 from libkin.errors import InvalidArgumentError
 
 
@@ -66,7 +66,7 @@ def test_sharded_with_group():
     of start roots, the merge on the equivariant form, beta = U x): the
     one-call answer; a group without a qualifying subgroup: every path."""
     from concurrent.futures import ProcessPoolExecutor
-    from libkin import homotopy_shards
+    from libkin.homotopy import shards as homotopy_shards
     a = libkin.Assembly.sail(6, 1)
     Q = a.second_order()
     R = mechanism_group(a, method="c")

@@ -10,7 +10,8 @@ point. Nothing is reported that is not a bifurcation."""
 import numpy as np
 import pytest
 
-from libkin import Assembly, sailstudy
+from libkin import Assembly
+from libkin.studies import common, sailstudy
 from libkin.errors import KinError
 from libkin.symmetry import sail_rotation, symmetric_solutions
 
@@ -24,7 +25,7 @@ def _tangency_start():
     U = an.internal_mechanisms
     for b in betas:
         for sg in (1, -1):
-            c = sailstudy._leave(a, sg * (U @ b))
+            c = common.leave(a, sg * (U @ b))
             probe = c.clone()
             try:
                 probe.locate(max_steps=300, vr_tol=1e-6)

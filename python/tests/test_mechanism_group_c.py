@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import libkin
-from libkin.automorphisms import detect_symmetries, mechanism_group
+from libkin.symmetry.automorphisms import detect_symmetries, mechanism_group
 from libkin.errors import InvalidArgumentError, LimitError, NoMechanismError
 
 

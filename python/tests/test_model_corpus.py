@@ -13,7 +13,7 @@ import pytest
 
 import libkin
 from libkin import KinError, ModelFormatError
-from libkin._lib import ffi, lib
+from libkin._native._lib import ffi, lib
 
 CORPUS = pathlib.Path(__file__).resolve().parents[2] / "tests" / "models"
 GOOD = sorted((CORPUS / "good").glob("*.json"))

@@ -1,4 +1,4 @@
-"""Progress reports, cancellation and Ctrl-C of the long calls (libkin._progress)."""
+"""Progress reports, cancellation and Ctrl-C of the long calls (libkin._native._progress)."""
 import os
 import signal
 import subprocess

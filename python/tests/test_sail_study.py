@@ -9,7 +9,7 @@ import pathlib
 import numpy as np
 import pytest
 
-from libkin import sailstudy
+from libkin.studies import sailstudy
 
 EXPECTED = pathlib.Path(__file__).resolve().parents[2] / "examples" / "sail_study"
 # bifurcations are located to v_r / v_max <= 1e-10, which places them to
@@ -139,7 +139,7 @@ def test_hex_report_is_readable_by_a_designer(hex_run):
         assert 40 <= im.n_frames <= 60
     assert (out / "fold_animation.gif").stat().st_size < 2_000_000
     # the run as FOLD frames: one per recorded point, valid, the sail's mesh
-    from libkin import fold
+    from libkin.io import fold
     doc = json.loads((out / "fold_run.fold").read_text())
     track = np.load(out / "track.npz")
     assert 1 + len(doc["file_frames"]) == len(track["l"]) and fold.check_fold(doc) == []

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import libkin
-from libkin._lib import lib
+from libkin._native._lib import lib
 
 
 def _in_mode(a, factorization, step_control=0):

@@ -3,7 +3,7 @@
 The headers are the one source of truth: this script reads them in the
 umbrella header's order, drops comments and preprocessor lines, expands the
 status X-macro list into an enum with explicit values, and writes
-src/libkin/_cdef.py. tests/test_cdef.py re-runs it and fails on any drift.
+src/libkin/_native/_cdef.py. tests/test_cdef.py re-runs it and fails on any drift.
 
 usage: python tools/gen_cdef.py [--check]
 """
@@ -14,7 +14,7 @@ import sys
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parent.parent
 INCLUDE = ROOT / "include"
-OUT = HERE.parent / "src" / "libkin" / "_cdef.py"
+OUT = HERE.parent / "src" / "libkin" / "_native" / "_cdef.py"
 
 
 def _strip_comments(text):

@@ -8,74 +8,26 @@ early; 130 interrupted (Ctrl-C).
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import pathlib
 import sys
-from typing import Any, Callable, List, NoReturn, Optional, Tuple
+from typing import Any, List, NoReturn, Optional, Tuple
 
 import numpy as np
 
 from . import __version__
-from ._base import Analysis
-from .assembly import Assembly, FollowEvent, solve_quadrics
+from .assembly import Analysis, Assembly, FollowEvent, solve_quadrics
+from .atlas import cli as atlas_cli
+from .cliargs import (EXIT_ERROR, EXIT_INTERRUPTED, EXIT_STUDY_FAILED, EXIT_USAGE, count, finite, load_model_spec,
+                      positive)
 from .errors import InvalidArgumentError, KinError, NotFoundError
+from .studies import cli as studies_cli
 
-EXIT_ERROR = 1
-EXIT_USAGE = 2
-EXIT_STUDY_FAILED = 3
-EXIT_INTERRUPTED = 130
-
-
-
-def _finite(text: str) -> float:
-    """argparse type: a finite number (inf and nan are refused as usage errors)."""
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not math.isfinite(v):
-        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
-    return v
-
-
-def _positive(text: str) -> float:
-    """argparse type: a finite number > 0."""
-    v = _finite(text)
-    if v <= 0:
-        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text!r}")
-    return v
-
-
-def _count(minimum: int) -> Callable[[str], int]:
-    """argparse type: an integer >= minimum."""
-    def parse(text: str) -> int:
-        try:
-            v = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
-        if v < minimum:
-            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {v}")
-        return v
-    return parse
-
-def _load(spec: str) -> Assembly:
-    """MODEL is a JSON file, or a built-in: threebar:RA|RB|RC, sail:N:LOOPS."""
-    if spec.startswith("threebar:"):
-        return Assembly.threebar(spec.split(":", 1)[1])
-    if spec.startswith("sail:"):
-        parts = spec.split(":")
-        if len(parts) not in (2, 3) or not all(p.isdigit() for p in parts[1:]):
-            raise InvalidArgumentError(f"MODEL {spec!r}: expected sail:N_SIDES or sail:N_SIDES:N_LOOPS")
-        return Assembly.sail(int(parts[1]), int(parts[2]) if len(parts) > 2 else 1)
-    if spec.endswith(".fold"):
-        from .fold import read_fold
-        return read_fold(spec)
-    return Assembly.from_json(spec)
+__all__ = ["main", "EXIT_ERROR", "EXIT_USAGE", "EXIT_STUDY_FAILED", "EXIT_INTERRUPTED"]
 
 
 def cmd_analyse(args: argparse.Namespace) -> int:
-    a = _load(args.model)
+    a = load_model_spec(args.model)
     an = a.analyse()
     print(f"{a.name}: dim {a.dim}, {a.njoints} joints, {a.nbars} bars, H is {a.nfree} x {a.nbars}")
     print(f"rank r = {an.rank}; mechanisms m = {an.m} (internal {an.m_internal}, rigid {an.m_rigid}); "
@@ -105,7 +57,7 @@ def _regular_start(args: argparse.Namespace) -> Tuple[Optional[Assembly], Option
     """The model (perturbed and relaxed if asked) and its analysis, or None
     with a message when it is not on a single path. At a bifurcation with
     --branch the chosen branch's direction is set (args.direction)."""
-    a = _load(args.model)
+    a = load_model_spec(args.model)
     if args.perturb:
         _generic_start(a, args)
     an = a.analyse()
@@ -203,7 +155,7 @@ def _print_event(a: Assembly, ev: FollowEvent, args: argparse.Namespace) -> int:
 
 def cmd_draw(args: argparse.Namespace) -> int:
     from . import plot
-    a = _load(args.model)
+    a = load_model_spec(args.model)
     plot.draw(a, plane=args.plane, path=args.png)
     print("wrote", args.png)
     return 0
@@ -214,41 +166,16 @@ def cmd_models(args: argparse.Namespace) -> int:
     out.mkdir(parents=True, exist_ok=True)
     for spec, name in [("threebar:RA", "threebar_RA"), ("threebar:RB", "threebar_RB"),
                        ("threebar:RC", "threebar_RC"), ("sail:4:1", "square_sail"), ("sail:6:2", "hex_sail")]:
-        a = _load(spec)
+        a = load_model_spec(spec)
         a.name = name
         a.to_json(out / f"{name}.json")
         print("wrote", out / f"{name}.json")
     return 0
 
 
-def cmd_study(args: argparse.Namespace) -> int:
-    from . import sailstudy
-    if args.hub == 4:
-        if args.loops != 1:
-            print("the square-hub study is the paper's one-loop sail (--loops 1)", file=sys.stderr)
-            return EXIT_USAGE
-        res = sailstudy.square_study(threads=args.threads, progress=not args.quiet, out=args.out)
-    else:
-        from .atlas_cli import executor
-        with executor(args.executor, args.workers) as ex:
-            res = sailstudy.hexagonal_study(args.hub, args.loops, complete=not args.quick, threads=args.threads,
-                                            progress=not args.quiet, out=args.out, executor=ex,
-                                            map_depth=args.map_depth)
-    if "failed" in res:
-        print(f"study stopped early: {res['failed']}", file=sys.stderr)
-        return EXIT_STUDY_FAILED
-    print(f"report: {pathlib.Path(args.out) / 'report.md'}")
-    return 0
-
-
-def cmd_explore(args: argparse.Namespace) -> int:
-    from .atlas_cli import run
-    return run(args, _load(args.model))
-
-
 def cmd_fold_export(args: argparse.Namespace) -> int:
-    from .fold import write_fold
-    a = _load(args.model)
+    from .io.fold import write_fold
+    a = load_model_spec(args.model)
     frames = [a.coords]
     if args.follow:
         an = a.analyse()
@@ -288,18 +215,18 @@ def _parser() -> argparse.ArgumentParser:
     s.set_defaults(fn=cmd_analyse)
     s = sub.add_parser("follow", help="follow the path from a regular configuration")
     s.add_argument("model")
-    s.add_argument("--steps", type=_count(1), default=50, help="number of steps (default 50)")
-    s.add_argument("--delta", type=_finite, default=0.0, help="step amplitude (0 = largest allowed)")
+    s.add_argument("--steps", type=count(1), default=50, help="number of steps (default 50)")
+    s.add_argument("--delta", type=finite, default=0.0, help="step amplitude (0 = largest allowed)")
     s.add_argument("--plot", help="write the singular values along the path to this PNG")
-    s.add_argument("--count", type=_count(1), default=15, help="how many of the lowest singular values to plot")
+    s.add_argument("--count", type=count(1), default=15, help="how many of the lowest singular values to plot")
     s.add_argument("--gif", help="write an animation of the path to this GIF")
     s.add_argument("--plane", default="xy", choices=["xy", "xz", "yz"], help="projection of 3D models")
     s.add_argument("--out", help="write the final configuration as a JSON model")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
-    s.add_argument("--perturb", type=_finite, default=0.0,
+    s.add_argument("--perturb", type=finite, default=0.0,
                    help="start from a generic point: lift free nodes by up to this amount and relax")
     s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
-    s.add_argument("--branch", type=_count(0), default=None, metavar="K",
+    s.add_argument("--branch", type=count(0), default=None, metavar="K",
                    help="at a bifurcation: leave along directed branch K (real second-order solution K // 2 of the "
                         "complete solver, sign + for even K, - for odd)")
     s.add_argument("--sign", type=int, default=None, choices=[1, -1], help="the sign of --branch's direction")
@@ -309,15 +236,15 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--method", default="fast", choices=["fast", "paper", "illinois"],
                    help="fast: Hermite interpolation (default); paper: the paper's quadratic (eq. 23-26); "
                         "illinois: regula falsi on the signed test function")
-    s.add_argument("--delta", type=_finite, default=0.0,
+    s.add_argument("--delta", type=finite, default=0.0,
                    help="step amplitude while following (0 = largest allowed, negative = backwards)")
-    s.add_argument("--vr-tol", type=_positive, default=1e-10, help="located when v_r / v_max <= this (default 1e-10)")
-    s.add_argument("--max-steps", type=_count(1), default=1000, help="steps to look for a bifurcation")
-    s.add_argument("--perturb", type=_finite, default=0.0,
+    s.add_argument("--vr-tol", type=positive, default=1e-10, help="located when v_r / v_max <= this (default 1e-10)")
+    s.add_argument("--max-steps", type=count(1), default=1000, help="steps to look for a bifurcation")
+    s.add_argument("--perturb", type=finite, default=0.0,
                    help="start from a generic point: lift free nodes by up to this amount and relax")
     s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
     s.add_argument("--out", help="write the located configuration as a JSON model")
-    s.add_argument("--branch", type=_count(0), default=None, metavar="K",
+    s.add_argument("--branch", type=count(0), default=None, metavar="K",
                    help="at a bifurcation: leave along directed branch K (real second-order solution K // 2 of the "
                         "complete solver, sign + for even K, - for odd)")
     s.add_argument("--sign", type=int, default=None, choices=[1, -1], help="the sign of --branch's direction")
@@ -327,32 +254,13 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("png")
     s.add_argument("--plane", default="xy", choices=["xy", "xz", "yz"])
     s.set_defaults(fn=cmd_draw)
-    s = sub.add_parser("study", help="the solar-sail folding study (paper Section 6) with a report")
-    s.add_argument("--hub", type=int, default=6,
-                   help="hub sides: 6 (default) = the hexagonal study R^A-R^B-R^C and back; 4 = the square "
-                        "sail's paths out of its flat state; other even n >= 6: that family member")
-    s.add_argument("--loops", type=_count(1), default=2, help="loops of triangles (default 2; 1 for --hub 4)")
-    s.add_argument("--out", default="study_out", help="output folder for report.md, summary.json, PNGs")
-    s.add_argument("--quick", action="store_true",
-                   help="skip the 2^s homotopy at the flat state (the symmetric sub-problem is still solved)")
-    s.add_argument("--threads", type=_count(1), default=2, help="threads of the homotopy solver")
-    s.add_argument("--map-depth", type=_count(1), default=2,
-                   help="levels of the path map's atlas (libkin explore's --depth; default 2)")
-    s.add_argument("--executor", default="serial", choices=["serial", "process", "dask"],
-                   help="where the path map's branches are followed (libkin explore's --executor)")
-    s.add_argument("--workers", type=_count(1), default=2, help="workers of --executor process|dask (default 2)")
-    s.add_argument("--quiet", action="store_true", help="no progress messages")
-    s.set_defaults(fn=cmd_study)
-    s = sub.add_parser("explore", help="the atlas: every path out of every bifurcation met (docs/atlas.md)")
-    from .atlas_cli import add_arguments
-    add_arguments(s)
-    s.set_defaults(fn=cmd_explore)
-
-
+    # the subcommands of the packages that own them
+    studies_cli.register(sub)
+    atlas_cli.register(sub)
     s = sub.add_parser("fold-export", help="write a model, or a path followed from it, as a FOLD file")
     s.add_argument("model", help="MODEL as above, or a .fold file")
-    s.add_argument("--follow", type=_count(0), default=0, help="steps to follow; each is a frame (default 0)")
-    s.add_argument("--delta", type=_finite, default=0.0, help="step amplitude (0 = largest allowed)")
+    s.add_argument("--follow", type=count(0), default=0, help="steps to follow; each is a frame (default 0)")
+    s.add_argument("--delta", type=finite, default=0.0, help="step amplitude (0 = largest allowed)")
     s.add_argument("--faces", choices=["file", "triangles"], default="file",
                    help="faces: the .fold file's (default) or the bar graph's triangles")
     s.add_argument("--out", required=True, help="the .fold file to write")

@@ -308,7 +308,7 @@ def check(rc: int, handle: object = None, what: str = "") -> None:
     """
     if rc == 0:
         return
-    from ._lib import c_string, ffi, lib
+    from ._native._lib import c_string, ffi, lib
 
     detail = ""
     if handle is not None and handle != ffi.NULL:

@@ -1,0 +1,250 @@
+"""Detecting and locating the next bifurcation along a path (``docs/locate.md``).
+
+`LocatingMixin` holds the locating methods of `libkin.Assembly`.
+"""
+from __future__ import annotations
+
+import dataclasses
+from typing import Optional
+
+import numpy as np
+import numpy.typing as npt
+
+from .._native._arrays import as_c_array, read_ptr
+from ._base import AssemblyBase
+from .._native._lib import c_string, ffi, lib, new_struct
+from .._native._progress import Progress, reporting
+from ..errors import InvalidArgumentError
+
+_METHODS = {"fast": "KIN_LOCATE_FAST", "paper": "KIN_LOCATE_PAPER", "illinois": "KIN_LOCATE_ILLINOIS"}
+
+
+@dataclasses.dataclass(frozen=True)
+class LocateInfo:
+    """How `LocatingMixin.locate` found a bifurcation (kin_locate_info).
+
+    Attributes
+    ----------
+    event : int
+        0 none, 1 sign change of the test function, 2 the paper's switch
+        rule, 3 a step landed on it, 4 v_r turned near zero without a sign change.
+    located : bool
+        Whether the bifurcation was located to the tolerance.
+    steps : int
+        Path steps before detection.
+    factorizations, forward : int
+        Factorizations and forward calculations after detection.
+    v_r, v_r_rel : float
+        The vanishing singular value, absolute and relative to v_max.
+    distance : float
+        Distance moved while locating.
+    path_kept : bool
+        Whether the located point continues the path it was approached on (eq. 26).
+    m_internal, s : int
+        Internal mechanisms and self-stresses at the final point.
+    zero_order : int
+        How many singular values vanish there.
+    """
+
+    event: int
+    located: bool
+    steps: int
+    factorizations: int
+    forward: int
+    v_r: float
+    v_r_rel: float
+    distance: float
+    path_kept: bool
+    m_internal: int
+    s: int
+    zero_order: int = 0
+
+
+#: kin_follow_event's events, by enum value
+FOLLOW_EVENTS = ("none", "bifurcation", "near-miss", "closed-loop", "length-limit", "step-limit", "failed")
+
+
+@dataclasses.dataclass(frozen=True)
+class FollowEvent:
+    """How `LocatingMixin.follow_event` ended (kin_follow_info, ``docs/follow.md``).
+
+    Attributes
+    ----------
+    event : str
+        'bifurcation' (located; the assembly is on it), 'near-miss' (v_r has a
+        non-zero minimum), 'closed-loop' (back at the start), 'length-limit',
+        'step-limit' or 'failed' (see `status` and `message`).
+    status : str
+        The C status name ('KIN_OK' unless failed).
+    message : str
+        The handle's last-error message when failed, else ''.
+    steps, forward, factorizations, attempts : int
+        Following steps, forward calculations, factorizations, location attempts.
+    length : float
+        Path length travelled.
+    vr_tol_used : float
+        The tolerance a bifurcation was located to (vr_tol up to vr_floor).
+    v_r_rel : float
+        v_r / v_max at the end point.
+    m_internal, s : int
+        Analysis at the end point.
+    zero_order : int
+        1 a crossing, 2 a tangency, 0 not estimated.
+    path_kept, at_start : bool
+        Location stayed on the path; the end point is the start configuration.
+    start_distance : float
+        |end - start| / RMS rest length.
+    tangent_cos : float
+        Cosine between the first chord and the branch direction (1 at a regular start).
+    """
+
+    event: str
+    status: str
+    message: str
+    steps: int
+    forward: int
+    factorizations: int
+    attempts: int
+    length: float
+    vr_tol_used: float
+    v_r_rel: float
+    m_internal: int
+    s: int
+    zero_order: int
+    path_kept: bool
+    at_start: bool
+    start_distance: float
+    tangent_cos: float
+
+
+class LocatingMixin(AssemblyBase):
+    """Locating methods of `libkin.Assembly`."""
+
+    def locate(self, method: str = "fast", delta: float = 0.0, vr_tol: float = 1e-10,
+               max_steps: int = 1000, progress: Progress = None) -> LocateInfo:
+        """Follow the path until a bifurcation is detected, and converge onto it.
+
+        Parameters
+        ----------
+        method : {'fast', 'paper', 'illinois'}, optional
+            'fast': Hermite interpolation of the path and of the signed
+            vanishing singular value (default); 'paper': the paper's quadratic
+            (eq. 23-26); 'illinois': Illinois on the signed test function.
+        delta : float, optional
+            Step amplitude while following: > 0 forwards, < 0 backwards,
+            0 = the largest allowed.
+        vr_tol : float, optional
+            Located when v_r / v_max is at most this.
+        max_steps : int, optional
+            Steps to look for a bifurcation.
+        progress : None, bool or callable, optional
+            Progress in steps and forward calculations (see
+            `libkin._progress`); Ctrl-C or a cancel leaves the assembly at the
+            last regular point reached on the path.
+
+        Returns
+        -------
+        LocateInfo
+            How the bifurcation was found and located; the assembly is on it.
+
+        Raises
+        ------
+        InvalidArgumentError
+            Unknown `method` (a ValueError).
+        NotFoundError
+            None found within `max_steps`, or location gave up; the assembly
+            stays on the path.
+        AtBifurcationError
+            The start is itself a bifurcation and no direction was chosen.
+        CancelledError
+            The `progress` callable asked to stop.
+        """
+        if method not in _METHODS:
+            raise InvalidArgumentError(f"method: expected one of {sorted(_METHODS)}, got {method!r}")
+        o = new_struct("kin_locate_options")
+        lib.kin_locate_options_default(o)
+        o.method = getattr(lib, _METHODS[method])
+        o.delta = float(delta)
+        o.vr_tol = float(vr_tol)
+        o.max_steps = int(max_steps)
+        info = new_struct("kin_locate_info")
+        with reporting(progress, "locate", "step", self._h):
+            rc = lib.kin_locate_next(self._h, o, info)
+        self._check(rc, "locate")
+        return LocateInfo(info.event, bool(info.located), info.steps, info.factorizations, info.forward,
+                          info.v_r, info.v_r_rel, info.distance, bool(info.path_kept), info.m_internal, info.s,
+                          info.zero_order)
+
+    def follow_event(self, direction: Optional[npt.ArrayLike] = None, vr_tol: float = 1e-10,
+                     vr_floor: float = 1e-6, delta: float = 0.0, max_steps: int = 1000,
+                     max_length: float = 0.0, loop_tol: float = 1e-2,
+                     progress: Progress = None) -> FollowEvent:
+        """Follow the path to its next event and say what it was (kin_follow_event).
+
+        Parameters
+        ----------
+        direction : array_like, shape (nfree,), optional
+            None at a regular point (the current orientation); at a
+            bifurcation the branch direction, e.g. ``U_m @ beta`` (times -1
+            for the other sign); at a regular point it orients the path.
+        vr_tol, vr_floor : float, optional
+            A bifurcation is located to vr_tol, or where that is out of reach
+            to the best accuracy up to vr_floor (reported as `vr_tol_used`).
+        delta : float, optional
+            Step amplitude (0 = automatic).
+        max_steps : int, optional
+            Step budget.
+        max_length : float, optional
+            Path-length budget (0 = none).
+        loop_tol : float, optional
+            Closed-loop tolerance, relative to the RMS rest length.
+        progress : None, bool or callable, optional
+            Progress in steps (see `libkin._progress`).
+
+        Returns
+        -------
+        FollowEvent
+            The event; a failure after following started is returned as
+            event 'failed' (the assembly at the last regular point reached).
+
+        Raises
+        ------
+        InvalidArgumentError
+            Options or `direction` invalid (a ValueError).
+        AtBifurcationError
+            At a bifurcation without a direction.
+        CancelledError
+            The `progress` callable asked to stop (or Ctrl-C).
+        """
+        o = new_struct("kin_follow_options")
+        lib.kin_follow_options_default(o)
+        o.vr_tol, o.vr_floor, o.delta = float(vr_tol), float(vr_floor), float(delta)
+        o.max_steps, o.max_length, o.loop_tol = int(max_steps), float(max_length), float(loop_tol)
+        d = ffi.NULL
+        if direction is not None:
+            arr = as_c_array(direction, np.float64, (self.nfree,), "direction")
+            d = read_ptr(arr, "double *")
+        info = new_struct("kin_follow_info")
+        with reporting(progress, "follow", "step", self._h):
+            rc = lib.kin_follow_event(self._h, d, o, info)
+        event = FOLLOW_EVENTS[info.event] if 0 <= info.event < len(FOLLOW_EVENTS) else str(info.event)
+        if rc != lib.KIN_OK and (info.event != lib.KIN_FOLLOW_FAILED or rc == lib.KIN_ECANCELLED):
+            self._check(rc, "follow_event")
+        message = c_string(lib.kin_last_error(self._h)) if rc != lib.KIN_OK else ""
+        return FollowEvent(event, c_string(lib.kin_status_name(rc)), message, info.steps, info.forward,
+                           info.factorizations, info.attempts, info.length, info.vr_tol_used, info.v_r_rel,
+                           info.m_internal, info.s, info.zero_order, bool(info.path_kept), bool(info.at_start),
+                           info.start_distance, info.tangent_cos)
+
+    def test_function(self) -> float:
+        """The signed test function here.
+
+        Returns
+        -------
+        float
+            tau = sign(det [C; t^T; R^T]) * v_r, which changes sign at a
+            bifurcation a step passes over.
+        """
+        tau = ffi.new("double *")
+        self._check(lib.kin_test_function(self._h, tau), "test function")
+        return float(tau[0])

@@ -1,0 +1,62 @@
+"""`libkin explore`: the command line of libkin.explore (register() adds it
+to the dispatcher, libkin.cli)."""
+from __future__ import annotations
+
+import argparse
+import pathlib
+from typing import TYPE_CHECKING, Any
+
+from ..cliargs import count, load_model_spec, positive
+from ..parallel import executor
+
+if TYPE_CHECKING:
+    from ..assembly import Assembly
+
+__all__ = ["register", "add_arguments", "run", "executor"]
+
+
+def register(sub: Any) -> None:
+    """Add the `explore` subcommand to the dispatcher's subparsers."""
+    s = sub.add_parser("explore", help="the atlas: every path out of every bifurcation met (docs/atlas.md)")
+    add_arguments(s)
+    s.set_defaults(fn=cmd_explore)
+
+
+def cmd_explore(args: argparse.Namespace) -> int:
+    return run(args, load_model_spec(args.model))
+
+
+def add_arguments(s: argparse.ArgumentParser) -> None:
+    s.add_argument("model")
+    s.add_argument("--depth", type=count(0), default=1, help="levels of bifurcations to expand (default 1)")
+    s.add_argument("--max-nodes", type=count(1), default=200,
+                   help="no node is expanded beyond this many (default 200)")
+    s.add_argument("--max-length", type=positive, default=None,
+                   help="path-length budget of one branch (default 10 x the model size)")
+    s.add_argument("--time-limit", type=positive, default=None,
+                   help="seconds; no node is expanded and no branch started after it")
+    s.add_argument("--symmetric", nargs="?", const="true", default="false", choices=["true", "false", "auto"],
+                   help="only the paths that keep each node's symmetry (auto: where s > 12)")
+    s.add_argument("--follow-orbits", action="store_true",
+                   help="follow one branch per orbit of each node's symmetries, map the others (faster)")
+    s.add_argument("--executor", default="serial", choices=["serial", "process", "dask"],
+                   help="where branches are followed: this process, a process pool, a local Dask cluster")
+    s.add_argument("--workers", type=count(1), default=2, help="workers of --executor process|dask (default 2)")
+    s.add_argument("--out", required=True, help="output folder: atlas.json, atlas.graphml, report.md, PNGs")
+    s.add_argument("--quiet", action="store_true", help="no progress messages")
+
+
+def run(args: argparse.Namespace, assembly: Assembly) -> int:
+    from . import report as atlas_report
+    from .explorer import explore
+    sym: bool | str = {"true": True, "false": False}.get(args.symmetric, "auto")
+    with executor(args.executor, args.workers) as ex:
+        at = explore(assembly, depth=args.depth, max_nodes=args.max_nodes, max_length=args.max_length,
+                     time_limit=args.time_limit, symmetric=sym, executor=ex,
+                     progress=None if args.quiet else True, follow_orbits=args.follow_orbits)
+    rep = atlas_report.write(at, args.out)
+    s = at.summary()
+    kinds = ", ".join(f"{v} {k}" for k, v in sorted(s["edge_events"].items())) or "none"
+    print(f"{s['nodes']} nodes, {s['edges']} directed paths ({kinds}); wrote {pathlib.Path(args.out) / 'atlas.json'}, "
+          f"atlas.graphml, atlas_map.png, {rep}")
+    return 0

@@ -1,0 +1,480 @@
+"""The atlas: every path out of every bifurcation met, for any structure.
+
+explore() starts from a configuration (a regular point or a bifurcation),
+enumerates the directed branches there (both senses of the path at a regular
+point; at a bifurcation the real solutions beta of the second-order
+equations, from the complete solver or, in symmetric mode, from the system
+restricted to the motions that keep the configuration's symmetry), follows
+each to its next event (tasks.follow_branch: a located bifurcation, a
+near-miss, a closed loop, the length budget, a failure), identifies end
+points that are the same configuration (up to the rigid motions the supports
+allow) or images of each other under the structure's symmetries
+(libkin.symmetry.automorphisms), and recurses from the new bifurcations, level by level,
+bounded by depth, node count, path length and time.
+
+Determinism: the branches of a level are tasks whose results are merged in
+the order of (node, solution index, sign), whatever order they complete in;
+node ids follow that order. So the atlas is the same serially, on a process
+pool or on a Dask cluster (time_limit aside: it is checked between nodes).
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import sys
+import time
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+if TYPE_CHECKING:
+    from ..assembly import Assembly
+    from ..symmetry.automorphisms import Symmetry
+
+Branch = Tuple[int, int, NDArray[np.float64], NDArray[np.float64]]
+
+from ..errors import InvalidArgumentError, KinError
+from ..parallel import Progress, run_tasks
+from ..symmetry.automorphisms import graph_automorphisms, invariant_subspace, same_symmetry, symmetries_at
+from . import tasks
+from .index import GroupedIndex
+from .model import BIFURCATION, LOCATION_FACTOR, SAME_TOL, Atlas, Edge, Node, node_kind
+from .orbits import branch_orbits, mapped_result
+from .solving import OVERDETERMINED_TOL, complete_solve, solve_system
+
+# symmetric="auto" uses the symmetric subspace when the complete solver would
+# track more than 2^AUTO_MAX_S paths
+AUTO_MAX_S = 12
+
+
+def _say(progress: Progress, msg: str) -> None:
+    if progress is True:
+        print(f"[explore] {msg}", file=sys.stderr, flush=True)
+
+
+# ---- the explorer ----------------------------------------------------------
+
+class _Explorer:
+    def __init__(self, a: Assembly, symmetric: Union[bool, str], executor: Any, progress: Progress,
+                 max_length: float, seed: int, threads: int, symmetries: Optional[Sequence[Symmetry]],
+                 max_steps: int, samples: int, shards: Optional[int]) -> None:
+        from ..io.model_json import to_json
+        self.a = a.clone()
+        self.doc = to_json(a)
+        self.text = json.dumps(self.doc)
+        self.free_map = a.free_map()
+        self.scale = max(1.0, float(np.abs(a.coords - a.coords.mean(axis=0)).max()))
+        self.tol = SAME_TOL * self.scale
+        self.symmetric, self.executor, self.progress = symmetric, executor, progress
+        self.max_length, self.seed, self.threads = max_length, seed, threads
+        self.max_steps, self.samples, self.shards = max_steps, samples, shards
+        self.deadline: Optional[float] = None
+        self.symmetry_note = ""
+        self.perms: List[Tuple[int, ...]] = []
+        if symmetries is not None:
+            self.syms = list(symmetries)
+        else:
+            try:
+                self.perms = graph_automorphisms(a)
+            except ImportError:  # networkx is an optional dependency (libkin[atlas])
+                self.symmetry_note = "not detected: networkx is not installed"
+            self.syms = symmetries_at(a, self.perms, a.coords) if self.perms else []
+        self.P = [g.free_matrix(self.free_map) for g in self.syms]
+        self.nodes: List[Node] = []
+        self.edges: List[Edge] = []
+        self.rigid = a.analyse().m_rigid > 0
+        # the nodes, and their images under each symmetry, by position
+        self.index = GroupedIndex(a.coords.shape, self.rigid)
+        self.images = GroupedIndex(a.coords.shape, self.rigid)
+        self.follow_cpu = 0.0   # CPU seconds the followers reported
+        self.followed = 0       # branches followed, and mapped from a followed one by symmetry
+        self.mapped = 0
+
+    # -- identification
+    def _distance(self, X: NDArray[np.float64], Y: NDArray[np.float64]) -> float:
+        if self.rigid:
+            # up to the rigid motions the supports allow: align X onto Y
+            cx, cy = X.mean(axis=0), Y.mean(axis=0)
+            U, _, Vt = np.linalg.svd((X - cx).T @ (Y - cy))
+            D = np.eye(X.shape[1])
+            D[-1, -1] = np.sign(np.linalg.det(Vt.T @ U.T)) or 1.0
+            R = Vt.T @ D @ U.T
+            X = (X - cx) @ R.T + cy
+        return float(np.abs(X - Y).max())
+
+    def pair_tol(self, located_a: float, located_b: float) -> float:
+        """How close two points must be to be one node: SAME_TOL times the
+        model size, or more for points located only to a coarse v_r: at a
+        tangency v_r ~ |l - l*|^2, so a point located to v_r <= tau v_max
+        is only within about sqrt(tau) (relative) of the true one."""
+        return self.scale * max(SAME_TOL, LOCATION_FACTOR * math.sqrt(max(located_a, located_b, 0.0)))
+
+    def find(self, X: NDArray[np.float64], located: float = 0.0) -> Optional[int]:
+        """The first node (in id order) that is the configuration X."""
+        for i in self.index.near(X, lambda worst: self.pair_tol(located, worst)):
+            n = self.nodes[i]
+            if self._distance(X, n.coords) <= self.pair_tol(located, n.located_tol):
+                return n.id
+        return None
+
+    def orbit_of(self, X: NDArray[np.float64], located: float = 0.0,
+                 before: Optional[int] = None) -> Optional[Tuple[int, int]]:
+        """(node id, symmetry index) with g.node = X, if X is an image of a
+        node (of one with id < before, if given): the first such pair in
+        the order (node, symmetry)."""
+        for i, j in self.images.near(X, lambda worst: self.pair_tol(located, worst)):
+            if before is not None and i >= before:
+                break
+            n = self.nodes[i]
+            if self._distance(self.syms[j].apply(n.coords), X) <= self.pair_tol(located, n.located_tol):
+                return n.id, j
+        return None
+
+    def _index_node(self, n: Node) -> None:
+        self.index.add(n.coords, n.id, n.located_tol)
+        for j, g in enumerate(self.syms):
+            self.images.add(g.apply(n.coords), (n.id, j), n.located_tol)
+
+    def add_node(self, X: ArrayLike, kind: str, an: Dict[str, Any], depth: int) -> int:
+        i = len(self.nodes)
+        n = Node(i, kind, np.asarray(X, dtype=float), an["m"], an["m_rigid"], an["s"], an["v_r_rel"], depth,
+                 located_v_r=float(an.get("accuracy", 0.0)), located_tol=float(an.get("vr_tol", 0.0)), orbit=i)
+        img = self.orbit_of(n.coords, n.located_tol) if len(self.syms) > 1 else None
+        if img is not None:
+            n.image_of = {"node": img[0], "symmetry": img[1]}
+            n.orbit = self.nodes[img[0]].orbit
+        self.nodes.append(n)
+        self._index_node(n)
+        return i
+
+    # -- enumeration at a node
+    def learn_symmetries(self, node: Node) -> None:
+        """Add the symmetries of the node's configuration to the group: each
+        is a symmetry of the structure (symmetry/automorphisms.py), found at the
+        configuration that has it."""
+        grown = False
+        for g in symmetries_at(self.a, self.perms, node.coords) if self.perms else []:
+            if not any(same_symmetry(g, h) for h in self.syms):
+                self.syms.append(g)
+                self.P.append(g.free_matrix(self.free_map))
+                grown = True
+        if grown:
+            self.images.clear()
+            for n in self.nodes:
+                for j, g in enumerate(self.syms):
+                    self.images.add(g.apply(n.coords), (n.id, j), n.located_tol)
+
+    def final_orbits(self) -> None:
+        """Orbits with the whole group found: node i joins the orbit of the
+        first node j < i that a symmetry maps onto it."""
+        for n in self.nodes:
+            n.orbit = n.id
+            img = self.orbit_of(n.coords, n.located_tol, before=n.id)
+            if img is not None:
+                m, j = self.nodes[img[0]], img[1]
+                n.orbit = m.orbit
+                if n.image_of is None and not n.expanded:
+                    n.image_of = {"node": m.id, "symmetry": j}
+
+    def stabilizer(self, node: Node) -> List[int]:
+        """Indices of the symmetries (not the identity) that fix the node."""
+        tol = self.pair_tol(node.located_tol, 0.0)
+        return [j for j, g in enumerate(self.syms)
+                if not g.is_identity and np.abs(g.apply(node.coords) - node.coords).max() <= tol]
+
+    def _assembly_at(self, node: Node) -> Assembly:
+        a = self.a.clone()
+        o = a.options
+        o.rank_tol = self._rank_tol(node)
+        a.options = o
+        a.coords = node.coords
+        return a
+
+    def _rank_tol(self, node: Node) -> float:
+        # a point located only to v_r ~ v_r_rel is counted as the follower saw it
+        # a point located only to a coarser tolerance is analysed as the follower saw it
+        return max(1e-9, 10.0 * node.located_tol) if node.kind == BIFURCATION else 1e-9
+
+    def branches(self, node: Node) -> Tuple[List[Branch], Dict[str, Any]]:
+        """[(solution index, sign, beta, direction)] at node, and a record."""
+        a = self._assembly_at(node)
+        an = a.analyse()
+        U = an.internal_mechanisms
+        m, s = an.m_internal, an.s
+        if m == 0:
+            return [], {"mode": "none", "reason": "no internal mechanism (rigid)"}
+        if m == 1:
+            b = np.array([1.0])
+            return [(0, sg, b, sg * U[:, 0]) for sg in (1, -1)], {"mode": "regular", "solutions": 1}
+        if s == 0:
+            return [], {"mode": "none", "reason": f"m = {m} internal mechanisms and no self-stress: "
+                                                  "a mechanism of several freedoms, not a bifurcation"}
+        use_sym = self.symmetric is True or (self.symmetric == "auto" and s > AUTO_MAX_S)
+        rec: Dict[str, Any] = {"m": m, "s": s}
+        Q = a.second_order()
+        if use_sym:
+            from ..symmetry.cyclic import restricted_quadrics
+            stab = [self.P[j] for j, g in enumerate(self.syms)
+                    if g.proper and not g.is_identity
+                    and np.abs(g.apply(node.coords) - node.coords).max() <= self.pair_tol(node.located_tol, 0.0)]
+            G = invariant_subspace(U, stab)
+            k = G.shape[1]
+            rec.update({"mode": "symmetric", "group_order": len(stab) + 1, "k": k})
+            if k == 0:
+                return [], dict(rec, solutions=0, reason="no first-order mechanism keeps the symmetry")
+            if k == 1:
+                # one symmetric mechanism g: a branch if it solves every
+                # second-order equation (the Q_j have unit norm, eq. 18)
+                g = G[:, 0]
+                resid = float(np.abs(np.einsum("x,jxy,y->j", g, Q, g)).max()) if len(Q) else 0.0
+                rec["residual"] = resid
+                if resid > OVERDETERMINED_TOL:
+                    return [], dict(rec, solutions=0, reason="the one symmetric mechanism does not extend to "
+                                                             "second order")
+                betas = G.T.copy()
+                rec["solutions"] = 1
+            else:
+                Qs = restricted_quadrics(Q, G)
+                rec["s_restricted"] = int(Qs.shape[0])
+                gam, more = self.solve_system(Qs, k)
+                rec.update(more)
+                if gam is None:
+                    return [], rec
+                betas = gam @ G.T
+        else:
+            rec["mode"] = "complete"
+            betas_or_none, more = self.solve_system(Q, m)
+            rec.update(more)
+            if betas_or_none is None:
+                return [], rec
+            betas = betas_or_none
+        out = []
+        for i, b in enumerate(betas):
+            for sg in (1, -1):
+                out.append((i, sg, b, sg * (U @ b)))
+        return out, rec
+
+    def solve_system(self, Q: NDArray[np.float64], k: int) -> Tuple[Optional[NDArray[np.float64]], Dict[str, Any]]:
+        return solve_system(Q, k, self.solve, self.seed)
+
+    def solve(self, Q: NDArray[np.float64]) -> Dict[str, Any]:
+        """The complete solver on Q (s, m, m) (solving.complete_solve)."""
+        return complete_solve(Q, self.executor, self.shards, self.seed, self.threads)
+
+    def follow_all(self, work: List[Tuple[int, int, int, NDArray[np.float64], NDArray[np.float64]]]) -> List[Any]:
+        """work: [(node, solution, sign, beta, direction)] -> results in order."""
+        items = [{"model": self.text, "coords": self.nodes[nid].coords.tolist(),
+                  "rank_tol": self._rank_tol(self.nodes[nid]), "direction": d.tolist(),
+                  "max_length": self.max_length, "max_steps": self.max_steps, "samples": self.samples}
+                 for nid, _, _, _, d in work]
+        return run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches", self.deadline)
+
+    def merge(self, nid: int, sol: int, sign: int, beta: NDArray[np.float64], res: Dict[str, Any],
+              depth: int) -> int:
+        ev = res["event"]
+        self.follow_cpu += float(res.get("cpu_seconds", 0.0))
+        X = np.asarray(res["coords"])
+        found = nid if ev == tasks.LOOP else self.find(X, float(res.get("vr_tol", 0.0)))
+        target = found if found is not None else self.add_node(X, node_kind(ev, res), res, depth)
+        self.edges.append(Edge(len(self.edges), nid, target, int(sol), int(sign), [float(v) for v in beta], ev,
+                               float(res["length"]), float(res["accuracy"]), res["samples"], res["message"],
+                               int(res.get("steps", 0)), float(res.get("vr_tol", 0.0))))
+        return target
+
+
+def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start: Optional[ArrayLike] = None,
+            depth: int = 1, max_nodes: int = 200, max_length: Optional[float] = None,
+            time_limit: Optional[float] = None, symmetric: Union[bool, str] = False, executor: Any = None,
+            progress: Progress = None, seed: int = 1, threads: int = 1,
+            symmetries: Optional[Sequence[Symmetry]] = None, max_steps: int = 2000, samples: int = 2,
+            shards: Optional[int] = None, follow_orbits: bool = False) -> Atlas:
+    """Map the paths out of `start` and out of every bifurcation they reach.
+
+    Parameters
+    ----------
+    model : Assembly, str, path or dict
+        An Assembly, a JSON model (file path, text or dict) or a built-in
+        spec ("sail:4:1", "threebar:RC").
+    start : array_like (njoints, dim), optional
+        The start configuration, a regular point or a bifurcation (default:
+        the model's current one).
+    depth : int
+        Levels of bifurcations to expand (1: only the start's branches).
+    max_nodes : int
+        No node is expanded once the atlas has this many.
+    max_length : float, optional
+        Path-length budget of one branch (default: 10 times the model size,
+        the largest distance of a joint from the centroid, at least 1).
+    time_limit : float, optional
+        Seconds; no node is expanded and no branch started after it
+        (branches being followed complete; the others are left out and
+        their nodes say so).
+    symmetric : bool or "auto"
+        False: the complete solver at every bifurcation. True: only the
+        branches that keep the node's symmetry (the proper rotations among
+        the structure's symmetries that fix the node). "auto": symmetric
+        where s > 12.
+    executor : None, concurrent.futures.Executor or dask.distributed.Client
+        Where the branches (and the complete solver's shards) run; None:
+        in this process.
+    progress : None, bool or callable
+        True: messages on stderr; a callable gets (done, total, what).
+    seed : int
+        Seed of the complete solver (and of the combinations of an
+        overdetermined system).
+    threads : int
+        Threads of each complete-solver task.
+    symmetries : sequence of automorphisms.Symmetry, optional
+        The group to use; default: detected (at the start and at every
+        expanded node).
+    max_steps : int
+        Step budget of one branch.
+    samples : int
+        Configurations recorded along each branch (besides its end).
+    shards : int, optional
+        The complete solver's paths are tracked in this many tasks (default:
+        about SHARD_PATHS paths a shard with an executor, one task without).
+    follow_orbits : bool
+        False: every directed branch is followed. True: one branch per orbit
+        of the node's stabilizer (the symmetries that fix it) is followed
+        and the others are its images (orbits.py): the same atlas to
+        the identification tolerance, up to |stabilizer| times less work.
+
+    Returns
+    -------
+    Atlas
+        Nodes, directed edges, the symmetries found, settings and stats.
+
+    Raises
+    ------
+    InvalidArgumentError
+        An argument out of range (symmetric, depth, a budget, start's shape).
+    """
+    from ..assembly import Assembly
+    t0 = time.perf_counter()
+    a = _as_assembly(model)
+    if start is not None:
+        a = a.clone()
+        a.coords = np.asarray(start, dtype=float)
+    if not isinstance(follow_orbits, bool):
+        raise InvalidArgumentError(f"follow_orbits: expected True or False, got {follow_orbits!r}")
+    if symmetric not in (False, True, "auto"):
+        raise InvalidArgumentError(f"symmetric: expected False, True or 'auto', got {symmetric!r}")
+    if not isinstance(depth, int) or depth < 0:
+        raise InvalidArgumentError(f"depth: expected an integer >= 0, got {depth!r}")
+    for name, v, least in (("max_nodes", max_nodes, 1), ("max_steps", max_steps, 1), ("samples", samples, 0),
+                           ("threads", threads, 1), ("shards", 1 if shards is None else shards, 1)):
+        if not isinstance(v, int) or v < least:
+            raise InvalidArgumentError(f"{name}: expected an integer >= {least}, got {v!r}")
+    for name, x in (("max_length", max_length), ("time_limit", time_limit)):
+        if x is not None and not (isinstance(x, (int, float)) and math.isfinite(x) and x >= 0
+                                  and (x > 0 or name == "time_limit")):
+            raise InvalidArgumentError(f"{name}: expected a finite number > 0, got {x!r}")
+    scale = max(1.0, float(np.abs(a.coords - a.coords.mean(axis=0)).max()))
+    if max_length is None:
+        max_length = 10.0 * scale
+    ex = _Explorer(a, symmetric, executor, progress, float(max_length), seed, threads, symmetries, int(max_steps),
+                   int(samples), shards)
+    ex.deadline = None if time_limit is None else t0 + float(time_limit)
+    an = a.analyse()
+    rec0 = {"m": an.m_internal, "m_rigid": an.m_rigid, "s": an.s,
+            "v_r_rel": float(an.v_r / an.v_max) if an.v_max > 0 else 0.0}
+    kind0 = node_kind(tasks.BUDGET, rec0)
+    ex.add_node(a.coords, kind0, rec0, 0)
+    _say(progress, f"start: {kind0}, m = {an.m_internal}, s = {an.s}; {len(ex.syms)} symmetries")
+    frontier = [0]
+    stopped = None
+    for level in range(depth):
+        work: List[Tuple[int, int, int, NDArray[np.float64], NDArray[np.float64]]] = []
+        images: List[Optional[Tuple[int, int]]] = []  # per work item: None (followed) or (work index, symmetry)
+        for nid in frontier:
+            node = ex.nodes[nid]
+            if node.image_of is not None:
+                node.status = f"not expanded: the image of N{node.image_of['node']} by symmetry {node.image_of['symmetry']}"
+                continue
+            if len(ex.nodes) >= max_nodes:
+                node.status = "not expanded: max_nodes reached"
+                stopped = stopped or "max_nodes"
+                continue
+            if time_limit is not None and time.perf_counter() - t0 > time_limit:
+                node.status = "not expanded: time limit reached"
+                stopped = stopped or "time_limit"
+                continue
+            ex.learn_symmetries(node)
+            try:
+                br, rec = ex.branches(node)
+            except KinError as exc:
+                node.status = f"branches not enumerated: {type(exc).__name__}: {exc}"
+                continue
+            node.branches = rec
+            node.expanded = True
+            node.status = rec.get("reason", f"{len(br)} directed branches")
+            if follow_orbits and br:
+                stab = ex.stabilizer(node)
+                orbits = branch_orbits([d for _, _, _, d in br], [ex.P[j] for j in stab])
+                images += [None if j < 0 else (len(work) + rep, stab[j]) for rep, j in orbits]
+            else:
+                images += [None] * len(br)
+            work += [(nid, i, sg, b, d) for i, sg, b, d in br]
+        todo = [k for k, im in enumerate(images) if im is None]
+        _say(progress, f"level {level + 1}: {len(work)} directed branches from {len(frontier)} node(s)"
+             + (f", {len(todo)} followed, the others their images by symmetry" if len(todo) < len(work) else ""))
+        results: List[Any] = [None] * len(work)
+        for k, res in zip(todo, ex.follow_all([work[k] for k in todo])):
+            results[k] = res
+        for k, im in enumerate(images):
+            if im is not None and results[im[0]] is not None:
+                results[k] = mapped_result(results[im[0]], ex.syms[im[1]])
+        ex.followed += len(todo)
+        ex.mapped += len(work) - len(todo)
+        n_before = len(ex.nodes)
+        for (nid, i, sg, b, _), res in zip(work, results):
+            if res is None:  # not followed: the time limit ran out first
+                node = ex.nodes[nid]
+                if "time limit" not in node.status:
+                    node.status += "; some branches not followed: time limit reached"
+                stopped = stopped or "time_limit"
+                continue
+            ex.merge(nid, i, sg, b, res, level + 1)
+        frontier = [n.id for n in ex.nodes[n_before:] if n.kind == BIFURCATION]
+        if not frontier:
+            break
+    ex.final_orbits()
+    arrived: Dict[int, set[str]] = {}
+    for e in ex.edges:
+        arrived.setdefault(e.target, set()).add(e.event)
+    why = {tasks.BUDGET: "the path-length budget ran out here", tasks.NEAR_MISS: "the follower stopped at a "
+           "dip of v_r here", tasks.FAILURE: "following failed here", tasks.BIFURCATION: "located as a "
+           "bifurcation, but regular at the rank tolerance"}
+    for n in ex.nodes:
+        if not n.expanded and not n.status:
+            if n.kind == BIFURCATION:
+                n.status = "not expanded: depth reached"
+            else:
+                n.status = "; ".join(why[ev] for ev in sorted(arrived.get(n.id, ())) if ev in why) or "end point"
+    settings = {"depth": depth, "max_nodes": max_nodes, "max_length": float(max_length), "time_limit": time_limit,
+                "symmetric": symmetric, "seed": seed, "same_tol": ex.tol, "max_steps": int(max_steps),
+                "samples": int(samples), "symmetries": ex.symmetry_note or f"{len(ex.syms)} detected",
+                "follow_orbits": follow_orbits,
+                "executor": None if executor is None else type(executor).__name__}
+    stats = {"seconds": round(time.perf_counter() - t0, 3), "follow_cpu_seconds": round(ex.follow_cpu, 3),
+             "branches_followed": ex.followed, "branches_mapped": ex.mapped, "stopped_by": stopped}
+    atlas = Atlas(ex.doc, ex.nodes, ex.edges, ex.syms, settings, stats)
+    stats.update(atlas.summary())
+    return atlas
+
+
+def _as_assembly(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]]) -> Assembly:
+    from ..assembly import Assembly
+    if isinstance(model, Assembly):
+        return model
+    if isinstance(model, str):
+        if model.startswith("threebar:"):
+            return Assembly.threebar(model.split(":", 1)[1])
+        if model.startswith("sail:"):
+            parts = model.split(":")
+            return Assembly.sail(int(parts[1]), int(parts[2]) if len(parts) > 2 else 1)
+    from ..io.model_json import load_json
+    return load_json(model)

@@ -1,0 +1,186 @@
+"""The atlas's data: its nodes, directed edges and the Atlas that holds them
+(written and read back as JSON, GraphML through networkx), the node kinds
+and the tolerances that make two configurations one node.
+"""
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import os
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Union
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import tasks
+
+if TYPE_CHECKING:
+    from ..symmetry.automorphisms import Symmetry
+
+# node kinds: what a node of the map is
+BIFURCATION = "bifurcation"  # m_internal >= 2 and s >= 1 (branches can be enumerated)
+REGULAR = "regular"          # on a single path (m_internal = 1): the start, or a budget end
+NEAR_MISS = "near_miss"      # a v_r dip the follower stopped at, but regular here
+MULTI_DOF = "multi_dof"      # m_internal >= 2 with s = 0: a mechanism of several freedoms
+RIGID = "rigid"              # m_internal = 0
+FAILURE = "failure"          # where following failed
+NODE_KINDS = (BIFURCATION, REGULAR, NEAR_MISS, MULTI_DOF, RIGID, FAILURE)
+
+# two configurations are one node when they agree to this times the model size
+SAME_TOL = 1e-6
+# points located to v_r <= tau v_max are one node within LOCATION_FACTOR
+# sqrt(tau) times the model size (see _Explorer.pair_tol)
+LOCATION_FACTOR = 10.0
+
+
+@dataclasses.dataclass
+class Node:
+    id: int
+    kind: str
+    coords: NDArray[np.float64]
+    m: int
+    m_rigid: int
+    s: int
+    v_r_rel: float
+    depth: int
+    located_v_r: float = 0.0      # v_r / v_max of the vanishing singular value where located
+    located_tol: float = 0.0      # the tolerance it was located to (vr_tol, or up to vr_floor)
+    orbit: int = -1               # smallest node id of its symmetry orbit
+    image_of: Optional[Dict[str, int]] = None        # {"node": k, "symmetry": j}: this is g_j . node k
+    expanded: bool = False
+    status: str = ""              # why not expanded, or what enumeration found
+    branches: Optional[Dict[str, Any]] = None        # how its branches were enumerated
+
+    def to_dict(self) -> Dict[str, Any]:
+        d = dataclasses.asdict(self)
+        d["coords"] = self.coords.tolist()
+        return d
+
+
+@dataclasses.dataclass
+class Edge:
+    id: int
+    source: int
+    target: int
+    solution: int        # index of beta among the node's solutions (0 at a regular point)
+    sign: int            # +1 / -1: which sense of U_m beta
+    beta: List[float]
+    event: str           # tasks.EVENT_KINDS
+    length: float
+    accuracy: float
+    samples: List[Any]
+    message: str = ""
+    steps: int = 0
+    vr_tol: float = 0.0  # BIFURCATION: the tolerance it was located to
+
+    def to_dict(self) -> Dict[str, Any]:
+        return dataclasses.asdict(self)
+
+
+class Atlas:
+    """The result of explore(): nodes, directed edges, the symmetries used,
+    the settings and statistics. to_dict()/to_json()/to_graphml() write it;
+    Atlas.from_dict() reads to_dict() back."""
+
+    def __init__(self, model: Dict[str, Any], nodes: List[Node], edges: List[Edge], symmetries: List[Symmetry],
+                 settings: Dict[str, Any], stats: Dict[str, Any]) -> None:
+        self.model, self.nodes, self.edges = model, nodes, edges
+        self.symmetries, self.settings, self.stats = symmetries, settings, stats
+
+    def node_name(self, i: int) -> str:
+        return f"N{i}"
+
+    def to_dict(self) -> Dict[str, Any]:
+        return {"format": "libkin-atlas", "version": 1, "model": self.model, "settings": self.settings,
+                "symmetries": [g.to_dict() for g in self.symmetries],
+                "nodes": [n.to_dict() for n in self.nodes], "edges": [e.to_dict() for e in self.edges],
+                "stats": self.stats}
+
+    def to_json(self, path: Union[None, str, os.PathLike[str]] = None) -> str:
+        text = json.dumps(self.to_dict(), indent=1, default=_jsonable, allow_nan=True) + "\n"
+        if path is not None:
+            with open(path, "w") as f:
+                f.write(text)
+        return text
+
+    @classmethod
+    def from_dict(cls, d: Dict[str, Any]) -> Atlas:
+        from ..symmetry.automorphisms import Symmetry
+        nodes = [Node(**dict(n, coords=np.asarray(n["coords"]))) for n in d["nodes"]]
+        edges = [Edge(**e) for e in d["edges"]]
+        syms = [Symmetry(tuple(g["perm"]), np.asarray(g["Q"]), np.asarray(g["t"])) for g in d["symmetries"]]
+        return cls(d["model"], nodes, edges, syms, d["settings"], d["stats"])
+
+    def to_networkx(self) -> Any:
+        """A networkx MultiDiGraph with scalar attributes (lists as JSON text)."""
+        import networkx as nx
+        G = nx.MultiDiGraph(name=str(self.model.get("name", "model")))
+        for n in self.nodes:
+            G.add_node(self.node_name(n.id), kind=n.kind, m=n.m, m_rigid=n.m_rigid, s=n.s, v_r_rel=n.v_r_rel,
+                       depth=n.depth, orbit=self.node_name(n.orbit), expanded=n.expanded, status=n.status,
+                       coords=json.dumps(n.coords.tolist()))
+        for e in self.edges:
+            G.add_edge(self.node_name(e.source), self.node_name(e.target), key=e.id, solution=e.solution,
+                       sign=e.sign, event=e.event, length=e.length,
+                       accuracy=e.accuracy if math.isfinite(e.accuracy) else -1.0,
+                       beta=json.dumps(e.beta), samples=json.dumps(e.samples), message=e.message)
+        return G
+
+    def to_graphml(self, path: Union[str, os.PathLike[str]]) -> None:
+        import networkx as nx
+        nx.write_graphml(self.to_networkx(), path)
+
+    def summary(self) -> Dict[str, Any]:
+        """Counts by node kind and by edge event."""
+        nk: Dict[str, int] = {}
+        ek: Dict[str, int] = {}
+        for n in self.nodes:
+            nk[n.kind] = nk.get(n.kind, 0) + 1
+        for e in self.edges:
+            ek[e.event] = ek.get(e.event, 0) + 1
+        return {"nodes": len(self.nodes), "edges": len(self.edges), "node_kinds": nk, "edge_events": ek}
+
+    def same_as(self, other: Atlas, tol: float = 1e-9) -> bool:
+        """True if other has the same nodes (kind, m, s, orbit, coordinates to
+        tol times the model size) and edges (endpoints, solution, sign, event,
+        length to tol)."""
+        if len(self.nodes) != len(other.nodes) or len(self.edges) != len(other.edges):
+            return False
+        for a, b in zip(self.nodes, other.nodes):
+            if (a.kind, a.m, a.s, a.orbit, a.expanded) != (b.kind, b.m, b.s, b.orbit, b.expanded):
+                return False
+            if np.abs(a.coords - b.coords).max() > tol * max(1.0, np.abs(a.coords).max()):
+                return False
+        for e, f in zip(self.edges, other.edges):
+            if (e.source, e.target, e.solution, e.sign, e.event) != (f.source, f.target, f.solution, f.sign, f.event):
+                return False
+            if abs(e.length - f.length) > tol * max(1.0, e.length):
+                return False
+        return True
+
+
+def _jsonable(v: Any) -> Any:
+    if isinstance(v, np.integer):
+        return int(v)
+    if isinstance(v, np.floating):
+        return float(v)
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, np.bool_):
+        return bool(v)
+    return str(v)
+
+
+def node_kind(event: str, res: Dict[str, Any]) -> str:
+    """The kind of the node a branch ends at, from its event and the analysis
+    there (m, s)."""
+    if event == tasks.FAILURE:
+        return FAILURE
+    m, s = res["m"], res["s"]
+    if m == 0:
+        return RIGID
+    if m >= 2:
+        return BIFURCATION if s >= 1 else MULTI_DOF
+    # m = 1: regular here, whatever the follower reported
+    return NEAR_MISS if event in (tasks.NEAR_MISS, tasks.BIFURCATION) else REGULAR

@@ -1,0 +1,152 @@
+"""report.md (and the files it shows) for an atlas of any structure."""
+from __future__ import annotations
+
+import collections
+import math
+import os
+import pathlib
+from typing import Any, Dict, List, Tuple, Union
+
+import numpy as np
+
+from . import model as _atlas
+
+
+def _f(v: Any, fmt: str = ".4g") -> str:
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return "-"
+    return format(v, fmt)
+
+
+def write(atlas: _atlas.Atlas, out: Union[str, os.PathLike[str]], map_png: str = "atlas_map.png",
+          nodes_png: str = "atlas_nodes.png", graphml: str = "atlas.graphml",
+          json_name: str = "atlas.json") -> pathlib.Path:
+    """Write json_name, graphml, the PNGs and report.md into the folder out.
+    Returns the path of report.md."""
+    from . import plot as atlas_plot
+    out = pathlib.Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    atlas.to_json(out / json_name)
+    atlas.to_graphml(out / graphml)
+    atlas_plot.draw_map(atlas, out / map_png)
+    atlas_plot.draw_nodes(atlas, out / nodes_png)
+    (out / "report.md").write_text(text(atlas, map_png, nodes_png, graphml, json_name))
+    return out / "report.md"
+
+
+def text(atlas: _atlas.Atlas, map_png: str = "atlas_map.png", nodes_png: str = "atlas_nodes.png",
+         graphml: str = "atlas.graphml", json_name: str = "atlas.json", max_listed: int = 40) -> str:
+    """report.md's text. Atlases of more than max_listed nodes (or path
+    groups) get counts of all of them and a table of the max_listed that
+    most paths reach."""
+    m = atlas.model
+    st, se = atlas.stats, atlas.settings
+    n0 = atlas.nodes[0]
+    nb = len(m["bars"])
+    nj = len(m["joints"])
+    L = []
+    L.append(f"# Atlas of {m.get('name', 'model')}\n")
+    L.append(f"{m['dimension']}D, {nj} joints, {nb} bars. Start: a {n0.kind.replace('_', '-')} point with "
+             f"m = {n0.m} internal mechanisms ({n0.m_rigid} rigid), s = {n0.s} self-stresses.\n")
+    L.append(f"Explored to depth {se['depth']} (max {se['max_nodes']} nodes, path length budget "
+             f"{_f(se['max_length'])} per branch, symmetric = {se['symmetric']}) in {_f(st['seconds'], '.3g')} s "
+             f"on {se['executor'] or 'one process'}"
+             + (f"; stopped by {st['stopped_by']}" if st.get("stopped_by") else "") + ".\n")
+    nk = ", ".join(f"{v} {k.replace('_', '-')}" for k, v in sorted(st["node_kinds"].items()))
+    ek = ", ".join(f"{v} {k.replace('_', '-')}" for k, v in sorted(st["edge_events"].items()))
+    L.append(f"**{st['nodes']} nodes** ({nk}); **{st['edges']} directed paths** ending in: {ek}.\n")
+    L.append("Files: " + ", ".join(f"`{x}`" for x in (json_name, graphml, map_png, nodes_png)) + ".\n")
+    L.append(f"![map]({map_png})\n")
+    L.append("## What the nodes are\n")
+    L.append("A node is a configuration where a path ended or started. Its kind comes from the analysis "
+             "there, not from how the path got there: *bifurcation* (m >= 2 internal mechanisms and s >= 1 "
+             "self-stress: paths cross), *regular* (m = 1: one path passes; the start, or where the length "
+             "budget ran out), *near-miss* (the follower stopped at a dip of v_r, but m = 1 here), "
+             "*multi-dof* (m >= 2 with s = 0), *rigid* (m = 0), *failure* (following failed). Two "
+             "end points are one node when their coordinates agree to "
+             f"{_f(se['same_tol'], '.1e')} (up to the rigid motions the supports allow); a node that is "
+             "the image of an earlier one under a symmetry of the structure is marked so and not "
+             "expanded again (its paths are the images of the earlier node's).\n")
+    nout = collections.Counter(e.source for e in atlas.edges)
+    nin = collections.Counter(e.target for e in atlas.edges)
+    listed = atlas.nodes
+    if len(atlas.nodes) > max_listed:
+        from .condense import condense
+        view, _ = condense(atlas, max_listed)
+        keep = {n.id for n in view.nodes}
+        listed = [n for n in atlas.nodes if n.id in keep]
+        L.append(f"The atlas has {len(atlas.nodes):,} nodes; by kind and counts (all of them):\n")
+        L.append("| kind | m | s | nodes | up to symmetry | paths arriving |")
+        L.append("|---|---|---|---|---|---|")
+        rows: Dict[Tuple[str, int, int], List[_atlas.Node]] = {}
+        for n in atlas.nodes:
+            rows.setdefault((n.kind, n.m, n.s), []).append(n)
+        for (k, m_, s_), ns in sorted(rows.items(), key=lambda kv: (-len(kv[1]), kv[0])):
+            L.append(f"| {k.replace('_', '-')} | {m_} | {s_} | {len(ns):,} | {len({n.orbit for n in ns}):,} | "
+                     f"{sum(nin.get(n.id, 0) for n in ns):,} |")
+        L.append("")
+        L.append(f"The {len(listed)} nodes listed below are the start, the expanded nodes and the orbits most "
+                 "paths arrive at (the map shows the same ones; the others are merged there); every node is in "
+                 f"`{json_name}`.\n")
+    L.append("| node | kind | m | s | v_r/v_max | located to | depth | orbit | paths in | paths out | status |")
+    L.append("|---|---|---|---|---|---|---|---|---|---|---|")
+    for n in listed:
+        L.append(f"| N{n.id} | {n.kind.replace('_', '-')} | {n.m} | {n.s} | {_f(n.v_r_rel, '.2e')} | {_f(n.located_v_r, '.1e') if n.depth and n.kind != 'regular' else '-'} | {n.depth} | "
+                 f"N{n.orbit} | {nin.get(n.id, 0)} | {nout.get(n.id, 0)} | {n.status} |")
+    L.append("")
+    L.append("v_r/v_max: the lowest non-zero singular value of the equilibrium matrix (relative to the largest) "
+             "at the node, at the rank tolerance; located to: the vanishing singular value (relative) where "
+             "the follower located the event.\n")
+    L.append("## Branch enumeration at the expanded nodes\n")
+    for n in atlas.nodes:
+        if not n.expanded or not n.branches:
+            continue
+        b = n.branches
+        acc = b.get("accounting")
+        extra = ""
+        if acc:
+            extra = (f"; homotopy: {acc.get('paths')} paths, {acc.get('real_distinct')} distinct real, "
+                     f"{acc.get('nonreal')} non-real, {acc.get('singular')} singular, {acc.get('failed')} failed")
+        if b.get("combined"):
+            extra += f"; more equations than unknowns: {b['combined']}, {b.get('candidates')} candidate(s) checked"
+        if b.get("mode") == "symmetric":
+            extra += f"; symmetric subspace k = {b.get('k')} (stabilizer of order {b.get('group_order')})"
+        L.append(f"- N{n.id}: {b.get('mode')}, {b.get('solutions', 0)} solution(s) beta -> "
+                 f"{2 * b.get('solutions', 0)} directed branches{extra}."
+                 + (f" {b['reason']}." if b.get("reason") else ""))
+    L.append("")
+    L.append("## Paths\n")
+    L.append("Grouped by end points and event; lengths are path lengths (sum of chords).\n")
+    L.append("| from | to | event | paths | (solution, sign) | length |")
+    L.append("|---|---|---|---|---|---|")
+    groups: Dict[Tuple[int, int, str], List[_atlas.Edge]] = {}
+    for e in atlas.edges:
+        groups.setdefault((e.source, e.target, e.event), []).append(e)
+    shown = sorted(groups.items())
+    if len(shown) > max_listed:
+        shown = sorted(sorted(groups.items(), key=lambda kv: (-len(kv[1]), kv[0]))[:max_listed])
+    for (s, t, ev), es in shown:
+        ls = [e.length for e in es]
+        lr = _f(min(ls)) if np.ptp(ls) < 1e-9 * max(1.0, max(ls)) else f"{_f(min(ls))} - {_f(max(ls))}"
+        who = ", ".join(f"({e.solution}, {'+' if e.sign > 0 else '-'})" for e in es[:8])
+        if len(es) > 8:
+            who += ", ..."
+        L.append(f"| N{s} | N{t} | {ev.replace('_', '-')} | {len(es)} | {who} | {lr} |")
+    if len(shown) < len(groups):
+        L.append(f"\n(The {len(shown)} groups with the most paths of {len(groups):,}; every path is in `{json_name}`.)")
+    L.append("")
+    if len(atlas.symmetries) > 1:
+        L.append("## Symmetries\n")
+        npr = sum(1 for g in atlas.symmetries if g.proper)
+        L.append(f"{len(atlas.symmetries)} symmetries of the structure ({npr} rotations, "
+                 f"{len(atlas.symmetries) - npr} reflections), found at the start and at the expanded nodes: "
+                 "permutations of the joints that keep bars, rest lengths and supports, each with an isometry "
+                 "that maps that configuration onto itself (automorphisms.py); each maps every configuration "
+                 "to another, so images of a node are marked and not explored twice.\n")
+        for j, g in enumerate(atlas.symmetries):
+            moved = sum(1 for i, p in enumerate(g.perm) if i != p)
+            L.append(f"- g{j}: {'rotation' if g.proper else 'reflection'}, moves {moved} joint(s), "
+                     f"det Q = {np.linalg.det(g.Q):+.0f}")
+        L.append("")
+    L.append(f"![configurations of the first nodes (xy projection)]({nodes_png})\n")
+    return "\n".join(L) + "\n"

@@ -1,0 +1,67 @@
+"""The second-order systems at a node: the complete solver, in shards on the
+executor when there are enough paths for it (libkin.homotopy) or as one task,
+and systems with more equations than the solvers take (solve_system).
+"""
+from __future__ import annotations
+
+from typing import Any, Callable, Dict, Optional, Tuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..homotopy import shards as homotopy_shards
+from ..parallel import run_tasks
+from . import tasks
+
+# with an executor, the complete solver is split into shards of about this
+# many homotopy paths (at most 64 shards)
+SHARD_PATHS = 256
+# an overdetermined system's candidate solves every equation to this
+# (relative residual |beta^T Q_j beta| / |Q_j|_F, unit beta)
+OVERDETERMINED_TOL = 1e-8
+
+
+def solve_system(Q: NDArray[np.float64], k: int, solve: Callable[[NDArray[np.float64]], Dict[str, Any]],
+                 seed: int = 1) -> Tuple[Optional[NDArray[np.float64]], Dict[str, Any]]:
+    """Unit solutions (n, k) of beta^T Q_j beta = 0 for the s independent
+    Q_j (s, k, k), and a record. s = k - 1: the complete solver. s > k - 1
+    (more equations than the solvers take): the complete solver on k - 1
+    random combinations of them (seeded: deterministic), whose solutions
+    include every common one, keeping those that solve all equations.
+    solve(Q) runs the complete solver ({"betas", "accounting"}).
+    s < k - 1: the solutions form a continuum; none are returned."""
+    s = Q.shape[0]
+    if s < k - 1:
+        return None, {"solutions": 0, "reason": f"{s} independent second-order equation(s) in {k} unknowns: "
+                                               "the solutions form a continuum, not isolated branches"}
+    if s == k - 1:
+        res = solve(Q)
+        betas = np.asarray(res["betas"]).reshape(-1, k)
+        return betas, {"solutions": len(betas), "accounting": res["accounting"]}
+    rng = np.random.default_rng(seed)
+    A, _ = np.linalg.qr(rng.standard_normal((s, k - 1)))
+    Qc = np.einsum("ja,jxy->axy", A, Q)
+    res = solve(Qc)
+    cand = np.asarray(res["betas"]).reshape(-1, k)
+    norms = np.linalg.norm(Q.reshape(s, -1), axis=1)
+    resid = (np.abs(np.einsum("nx,jxy,ny->nj", cand, Q, cand)) / norms).max(axis=1) if len(cand) else cand[:, 0]
+    betas = cand[resid <= OVERDETERMINED_TOL]
+    rec = {"solutions": len(betas), "accounting": res["accounting"],
+           "combined": f"{k - 1} random combinations of {s} equations", "candidates": len(cand)}
+    if not len(betas):
+        rec["reason"] = f"none of the {len(cand)} candidate(s) solves all {s} second-order equations"
+    return betas, rec
+
+
+def complete_solve(Q: NDArray[np.float64], executor: Any, shards: Optional[int], seed: int,
+                   threads: int) -> Dict[str, Any]:
+    """The complete solver on Q (s, m, m): in shards on the executor when
+    there are enough paths for it (homotopy_shards), else as one task."""
+    s = Q.shape[0]
+    if shards is None:
+        shards = 1 if executor is None else max(1, min(64, (1 << s) // SHARD_PATHS))
+    if shards > 1 and homotopy_shards.available():
+        betas, acc = homotopy_shards.solve_sharded(Q, executor, shards, seed, threads)
+        return {"betas": betas.tolist(), "accounting": dict(acc, shards=int(shards))}
+    return run_tasks(tasks.solve_task, [{"Q": Q.tolist(), "seed": seed, "threads": threads}],
+                     executor)[0]

@@ -1,0 +1,117 @@
+"""The units of work of libkin.explore, as plain functions of plain data.
+
+Each runs anywhere (this process, a process pool, a Dask worker): it takes
+a dict of JSON-able values (the model as JSON text, a configuration, a
+direction) and returns one, so it pickles and ships without any handle.
+The worker rebuilds the Assembly from the model text each time (a few
+milliseconds), so nothing is cached between tasks and the result depends on
+the task alone: the same whichever worker runs it, in whichever order.
+"""
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING, Any, Dict, Optional
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from ..assembly import Assembly
+
+Task = Dict[str, Any]
+
+# event kinds of a directed branch (edge of the atlas)
+BIFURCATION = "bifurcation"  # a bifurcation was located at the end
+NEAR_MISS = "near_miss"      # v_r dipped towards zero but the point is regular
+LOOP = "loop"                # the path came back to where it started
+BUDGET = "budget"            # the length (or step) budget ran out first
+FAILURE = "failure"          # following failed (corrector, path jump, ...)
+EVENT_KINDS = (BIFURCATION, NEAR_MISS, LOOP, BUDGET, FAILURE)
+
+
+def rebuild(task: Task) -> Assembly:
+    """The Assembly of a task at its configuration, with its rank tolerance."""
+    from ..io.model_json import load_json
+    a = load_json(task["model"])
+    if task.get("rank_tol"):
+        o = a.options
+        o.rank_tol = float(task["rank_tol"])
+        a.options = o
+    a.coords = np.asarray(task["coords"], dtype=float)
+    return a
+
+
+def _rms_rest(a: Assembly) -> float:
+    return float(np.sqrt(np.mean(a.rest_lengths ** 2)))
+
+
+_EVENTS = {"bifurcation": BIFURCATION, "near-miss": NEAR_MISS, "closed-loop": LOOP, "length-limit": BUDGET,
+           "step-limit": BUDGET}
+
+
+def follow_branch(task: Task) -> Dict[str, Any]:
+    """Follow one directed branch to its next event (kin_follow_event).
+
+    task: {"model": JSON text, "coords": (njoints, dim) list, "rank_tol",
+    "direction": (nfree,) list (U_m beta times the sign), "max_length",
+    "max_steps", "vr_tol", "samples": how many configurations to record along
+    the way}. Returns {"event": one of EVENT_KINDS, "coords": end
+    configuration, "length": path length travelled, "m", "m_rigid", "s",
+    "v_r_rel" at the end (analysis at the rank tolerance), "accuracy" (the
+    vanishing singular value / v_max where the event was located), "vr_tol"
+    (the tolerance it was located to), "steps", "samples", "message",
+    "cpu_seconds" (this task's CPU time in its process)}.
+    The samples are taken by following again from the start with the length
+    budget set to k/(n+1) of the event's length (the path is deterministic)."""
+    from ..errors import KinError
+    cpu0 = time.process_time()
+    a = rebuild(task)
+    start = a.clone()
+    d = np.asarray(task["direction"], dtype=float)
+    lim: Dict[str, Any] = {"max_steps": int(task.get("max_steps", 1000)), "vr_tol": float(task.get("vr_tol", 1e-10))}
+    samples: list[Any] = []
+    out: Dict[str, Any] = {"samples": samples, "message": ""}
+    try:
+        ev = a.follow_event(d, max_length=float(task["max_length"]), **lim)
+    except KinError as exc:
+        out.update(_end_state(a, FAILURE))
+        out.update({"message": f"{type(exc).__name__}: {exc}", "accuracy": float("nan"), "vr_tol": 0.0,
+                    "steps": 0, "cpu_seconds": time.process_time() - cpu0})
+        return out
+    kind = _EVENTS.get(ev.event, FAILURE)
+    if kind == FAILURE:
+        out["message"] = f"{ev.status}: {ev.message}"
+    rank_tol = max(float(task.get("rank_tol") or 1e-9), 10.0 * ev.vr_tol_used) if kind == BIFURCATION else None
+    out.update(_end_state(a, kind, rank_tol))
+    out.update({"accuracy": float(ev.v_r_rel), "vr_tol": float(ev.vr_tol_used), "steps": int(ev.steps),
+                "length": float(ev.length), "at_start": bool(ev.at_start)})
+    n = int(task.get("samples", 0))
+    for k in range(1, n + 1):
+        c = start.clone()
+        try:
+            c.follow_event(d, max_length=ev.length * k / (n + 1), **lim)
+            samples.append(c.coords.tolist())
+        except KinError:
+            break
+    out["cpu_seconds"] = time.process_time() - cpu0
+    return out
+
+
+def _end_state(a: Assembly, kind: str, rank_tol: Optional[float] = None) -> Dict[str, Any]:
+    if rank_tol is not None:
+        # a point located only to a coarser v_r is analysed as the follower saw it
+        o = a.options
+        o.rank_tol = min(0.5, rank_tol)
+        a.options = o
+    an = a.analyse()
+    return {"event": kind, "coords": a.coords.tolist(), "length": float(abs(a.path_length)),
+            "m": int(an.m_internal), "m_rigid": int(an.m_rigid), "s": int(an.s),
+            "v_r_rel": float(an.v_r / an.v_max) if an.v_max > 0 else 0.0}
+
+
+def solve_task(task: Task) -> Dict[str, Any]:
+    """The complete solver on one system: task {"Q": (s, m, m) list, "seed"}
+    -> {"betas": (nsol, m) list, "accounting": dict}."""
+    from ..assembly import solve_quadrics
+    betas, acc = solve_quadrics(np.asarray(task["Q"], dtype=float), "homotopy", seed=int(task.get("seed", 1)),
+                                threads=int(task.get("threads", 1)))
+    return {"betas": betas.tolist(), "accounting": {k: int(v) for k, v in acc.items()}}

@@ -1,0 +1,65 @@
+"""What the subcommands of the command line share: the exit statuses, the
+checked argparse types and the MODEL argument. libkin.cli (the dispatcher),
+libkin.atlas.cli (`libkin explore`) and libkin.studies.cli (`libkin study`)
+build on it; it imports none of them.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+from typing import Callable
+
+from .assembly import Assembly
+from .errors import InvalidArgumentError
+
+EXIT_ERROR = 1
+EXIT_USAGE = 2
+EXIT_STUDY_FAILED = 3
+EXIT_INTERRUPTED = 130
+
+
+def finite(text: str) -> float:
+    """argparse type: a finite number (inf and nan are refused as usage errors)."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(v):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return v
+
+
+def positive(text: str) -> float:
+    """argparse type: a finite number > 0."""
+    v = finite(text)
+    if v <= 0:
+        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text!r}")
+    return v
+
+
+def count(minimum: int) -> Callable[[str], int]:
+    """argparse type: an integer >= minimum."""
+    def parse(text: str) -> int:
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+        if v < minimum:
+            raise argparse.ArgumentTypeError(f"expected an integer >= {minimum}, got {v}")
+        return v
+    return parse
+
+
+def load_model_spec(spec: str) -> Assembly:
+    """MODEL is a JSON file, or a built-in: threebar:RA|RB|RC, sail:N:LOOPS."""
+    if spec.startswith("threebar:"):
+        return Assembly.threebar(spec.split(":", 1)[1])
+    if spec.startswith("sail:"):
+        parts = spec.split(":")
+        if len(parts) not in (2, 3) or not all(p.isdigit() for p in parts[1:]):
+            raise InvalidArgumentError(f"MODEL {spec!r}: expected sail:N_SIDES or sail:N_SIDES:N_LOOPS")
+        return Assembly.sail(int(parts[1]), int(parts[2]) if len(parts) > 2 else 1)
+    if spec.endswith(".fold"):
+        from .io.fold import read_fold
+        return read_fold(spec)
+    return Assembly.from_json(spec)

@@ -1,0 +1,214 @@
+"""FOLD files out: write_fold() writes an assembly, or a path followed from
+it, as a FOLD file; check_fold() checks a document against the spec's
+structural rules; graph_triangles() gives faces to models that have none.
+(What is written, frame by frame, is described in reader.py's docstring.)
+"""
+from __future__ import annotations
+
+import json
+import os
+from typing import Any, Dict, List, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+from ...assembly import Assembly
+from ...errors import ModelFormatError
+from .reader import FIXED_KEY, FOLD_SPEC, FoldAssembly, FoldDoc, FoldSource, resolve_frame
+
+
+def graph_triangles(bars: Any) -> List[List[int]]:
+    """The triangles of a bar graph (three joints pairwise barred).
+
+    Parameters
+    ----------
+    bars : (nbars, 2) int array
+        Joint indices of each bar.
+
+    Returns
+    -------
+    list of [i, j, k], i < j < k, sorted
+        Faces for models that have none (the sails' panels are bar triangles).
+    """
+    adj: Dict[int, set[int]] = {}
+    for p, q in np.asarray(bars).tolist():
+        adj.setdefault(p, set()).add(q)
+        adj.setdefault(q, set()).add(p)
+    out = []
+    for p in sorted(adj):
+        for q in sorted(adj[p]):
+            if q <= p:
+                continue
+            for r in sorted(adj[p] & adj[q]):
+                if r > q:
+                    out.append([p, q, r])
+    return out
+
+
+def _orient_ccw(tris: List[List[int]], x: npt.NDArray[np.float64]) -> List[List[int]]:
+    """Faces counter-clockwise seen from +z (the spec's orientation for a
+    flat pattern); a face lying in a vertical plane is left as it is."""
+    out = []
+    for t in tris:
+        p = x[t]
+        if p.shape[1] == 2:
+            p = np.hstack([p, np.zeros((len(t), 1))])
+        n = np.cross(p[1] - p[0], p[2] - p[0])
+        out.append(list(t) if n[2] >= 0 else [t[0], t[2], t[1]])
+    return out
+
+
+def write_fold(path: Union[None, str, "os.PathLike[str]"], assembly: Assembly,
+               path_coords: Optional[Sequence[Any]] = None, faces: Any = None, title: Optional[str] = None,
+               description: Optional[str] = None) -> FoldDoc:
+    """Write an assembly, or a path followed from it, as a FOLD file.
+
+    Parameters
+    ----------
+    path : path or None
+        Where to write; None = only return the dict.
+    assembly : Assembly
+        The model (a FoldAssembly writes back its file's vertices, edges,
+        assignment and faces; apexes and added diagonals are dropped).
+    path_coords : sequence of (njoints, dim) arrays, optional
+        A followed path: frame 0 (top level) is the first configuration, each
+        further one a frame in file_frames inheriting the mesh. Without it,
+        the single frame is the assembly's current configuration.
+    faces : None, "triangles" or a list of vertex lists
+        None = the faces read from a FOLD file (if any); "triangles" = the
+        bar graph's triangles.
+    title, description : str, optional
+        file_title and file_description.
+
+    Returns
+    -------
+    dict
+        The FOLD document (supports in "vertices_libkin:fixed", rest lengths
+        in edges_length).
+    """
+    src: Optional[FoldSource] = getattr(assembly, "fold", None)
+    nv = src.n_vertices if src is not None else assembly.njoints
+    ne = src.n_edges if src is not None and src.n_edges else assembly.nbars
+    bars = assembly.bars[:ne]
+    dim = assembly.dim
+    if path_coords is None:
+        configs = [assembly.coords]
+    else:
+        configs = [np.asarray(c, dtype=float) for c in path_coords]
+        if not configs:
+            raise ValueError("path_coords: expected at least one configuration")
+        for i, c in enumerate(configs):
+            if c.shape != (assembly.njoints, dim):
+                raise ValueError(f"path_coords[{i}]: expected shape {(assembly.njoints, dim)}, got {c.shape}")
+    face_list: Optional[List[List[int]]]
+    if faces is None and src is not None:
+        face_list = src.faces
+    elif isinstance(faces, str):
+        if faces != "triangles":
+            raise ValueError(f"faces: expected None, 'triangles' or a list, got {faces!r}")
+        face_list = _orient_ccw([t for t in graph_triangles(bars) if max(t) < nv], configs[0][:nv])
+    else:
+        face_list = [list(map(int, f)) for f in faces] if faces is not None else None
+
+    def coords_of(c: npt.NDArray[np.float64]) -> List[List[float]]:
+        return [[float(v) for v in row] for row in c[:nv]]
+
+    fixed = assembly.fixed[:nv]
+    doc: FoldDoc = {"file_spec": FOLD_SPEC, "file_creator": "libkin", "file_classes": ["singleModel"]}
+    if title or (src is None and assembly.name):
+        doc["file_title"] = title or assembly.name
+    if description:
+        doc["file_description"] = description
+    frame_classes = ["foldedForm"] if face_list else ["linkage"]
+    doc["frame_classes"] = frame_classes
+    doc["frame_attributes"] = ["3D" if dim == 3 else "2D"]
+    doc["vertices_coords"] = coords_of(configs[0])
+    doc["edges_vertices"] = [[int(p), int(q)] for p, q in bars]
+    if src is not None and src.assignment is not None:
+        doc["edges_assignment"] = list(src.assignment)
+    elif face_list:
+        # an edge on one face is border, else a fold whose sense the
+        # geometry does not fix here: unassigned
+        count: Dict[frozenset[int], int] = {}
+        for f in face_list:
+            for k in range(len(f)):
+                e = frozenset((f[k], f[(k + 1) % len(f)]))
+                count[e] = count.get(e, 0) + 1
+        doc["edges_assignment"] = ["B" if count.get(frozenset((int(p), int(q))), 0) == 1 else "U" for p, q in bars]
+    doc["edges_length"] = [float(v) for v in assembly.rest_lengths[:ne]]
+    if face_list:
+        doc["faces_vertices"] = [list(map(int, f)) for f in face_list]
+    if fixed.any():
+        doc[FIXED_KEY] = [bool(r[0]) if r.all() or not r.any() else [bool(b) for b in r] for r in fixed]
+    if len(configs) > 1:
+        doc["file_classes"] = ["animation"]
+        doc["file_frames"] = [{"frame_parent": 0, "frame_inherit": True, "frame_classes": frame_classes,
+                               "vertices_coords": coords_of(c)} for c in configs[1:]]
+    if path is not None:
+        with open(path, "w") as out:
+            json.dump(doc, out, separators=(",", ":"))
+            out.write("\n")
+    return doc
+
+
+def check_fold(doc: FoldDoc) -> List[str]:
+    """The spec's structural rules that a viewer relies on.
+
+    Parameters
+    ----------
+    doc : dict
+        A FOLD document.
+
+    Returns
+    -------
+    list of str
+        The problems found (empty = none): vertices_coords present; every
+        index in range; per-edge and per-vertex arrays as long as the lists
+        they describe; file_* keys only at the top level; frame_parent in
+        range; standard assignment letters; custom keys namespaced by a colon.
+    """
+    probs = []
+    std = {"file_spec", "file_creator", "file_author", "file_title", "file_description", "file_classes",
+           "file_frames", "frame_author", "frame_title", "frame_description", "frame_classes", "frame_attributes",
+           "frame_unit", "frame_parent", "frame_inherit", "vertices_coords", "vertices_vertices", "vertices_edges",
+           "vertices_faces", "edges_vertices", "edges_faces", "edges_assignment", "edges_foldAngle",
+           "edges_length", "faces_vertices", "faces_edges", "faces_faces", "faceOrders", "edgeOrders"}
+    for k in doc:
+        if k not in std and ":" not in k:
+            probs.append(f"non-standard key without a namespace: {k}")
+    frames = doc.get("file_frames", [])
+    for i in range(len(frames) + 1):
+        where = "key frame" if i == 0 else f"file_frames[{i - 1}]"
+        if i > 0:
+            raw = frames[i - 1]
+            if any(k.startswith("file_") for k in raw):
+                probs.append(f"{where}: file_ keys inside a frame")
+            par = raw.get("frame_parent")
+            if par is not None and not 0 <= par < len(frames) + 1:
+                probs.append(f"{where}: frame_parent {par} out of range")
+        try:
+            fr = resolve_frame(doc, i)
+        except ModelFormatError as exc:
+            probs.append(f"{where}: {exc}")
+            continue
+        vc = fr.get("vertices_coords")
+        if not isinstance(vc, list) or not vc:
+            probs.append(f"{where}: no vertices_coords")
+            continue
+        nv = len(vc)
+        for key in ("edges_vertices", "faces_vertices"):
+            for e in fr.get(key, []):
+                if not all(isinstance(j, int) and 0 <= j < nv for j in e):
+                    probs.append(f"{where}: {key} has an index out of range")
+                    break
+        ne = len(fr.get("edges_vertices", []))
+        for key in ("edges_assignment", "edges_foldAngle", "edges_length"):
+            if key in fr and len(fr[key]) != ne:
+                probs.append(f"{where}: {key} has {len(fr[key])} entries for {ne} edges")
+        for a in fr.get("edges_assignment", []):
+            if a not in ("B", "M", "V", "F", "U", "C", "J"):
+                probs.append(f"{where}: edges_assignment letter {a!r}")
+                break
+        if FIXED_KEY in fr and len(fr[FIXED_KEY]) != nv:
+            probs.append(f"{where}: {FIXED_KEY} has {len(fr[FIXED_KEY])} entries for {nv} vertices")
+    return probs

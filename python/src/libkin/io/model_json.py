@@ -1,0 +1,88 @@
+"""The JSON model format (schema in docs/model_format.md; C reads it too, kin_io.h).
+
+`load_json` builds an Assembly with the Python loader, `load_model` with
+either loader (Python or the C library's kin_assembly_load), `to_json`
+writes an assembly's current state. The document itself (`parse`,
+`read_json`, `to_json`) is the Assembly's own JSON form
+(libkin/assembly/_json.py), re-exported here.
+"""
+from __future__ import annotations
+
+import os
+
+from .._native._lib import c_string, ffi, lib
+from ..assembly import Assembly
+from ..assembly._json import MAX_DEPTH, ModelSource, ParsedModel, parse, read_json, to_json
+from ..errors import ArgumentTypeError, InvalidArgumentError, error_class
+
+__all__ = ["load_json", "load_model", "to_json", "parse", "read_json", "ModelSource", "ParsedModel", "MAX_DEPTH"]
+
+
+def load_json(source: ModelSource) -> Assembly:
+    """Build an Assembly from a JSON model, read by the Python loader.
+
+    Parameters
+    ----------
+    source : str, path-like or dict
+        A file path, a JSON text (starting with ``{``), or the parsed dict.
+
+    Returns
+    -------
+    Assembly
+        The model, with its labels and name.
+
+    Raises
+    ------
+    ModelFormatError
+        Malformed JSON or model (a ValueError); the message names the field
+        and position.
+    OSError
+        The file cannot be read.
+    """
+    return Assembly.from_json(source)
+
+
+def load_model(source: ModelSource, engine: str = "python") -> "Assembly":
+    """Build an Assembly from a JSON model with either loader.
+
+    Parameters
+    ----------
+    source : str, path-like or dict
+        A file path or a JSON text (starting with ``{``); a dict only with
+        engine="python".
+    engine : {'python', 'c'}, optional
+        'python': `load_json`; 'c': the C library's kin_assembly_load (the
+        same rules and verdicts, docs/model_format.md; the name and joint
+        labels are not kept).
+
+    Returns
+    -------
+    Assembly
+        The model.
+
+    Raises
+    ------
+    ModelFormatError
+        A malformed model (KIN_EFORMAT; a ValueError).
+    InvalidArgumentError
+        An unknown `engine`.
+    KinError
+        The class of the C status otherwise (e.g. `FileAccessError`, an
+        OSError, for an unreadable file with engine="c"; with
+        engine="python" an unreadable file raises the built-in OSError).
+    """
+    if engine == "python":
+        return load_json(source)
+    if engine != "c":
+        raise InvalidArgumentError(f"engine: expected 'python' or 'c', got {engine!r}")
+    if isinstance(source, dict):
+        raise ArgumentTypeError("source: engine='c' reads a file path or a JSON text, not a dict")
+    out, err = ffi.new("kin_assembly **"), ffi.new("char[512]")
+    if isinstance(source, str) and source.lstrip().startswith("{"):
+        data = source.encode("utf-8", "surrogatepass")
+        rc = lib.kin_assembly_load_string(data, len(data), out, err, 512)
+    else:
+        rc = lib.kin_assembly_load(os.fsencode(source), out, err, 512)
+    if rc:
+        raise error_class(rc)(c_string(err), rc)
+    return Assembly._from_handle(out[0])
