@@ -1,7 +1,6 @@
 /* Built-in structures: the paper's three-bar linkage and the wrapping-fold
  * solar-sail family (docs/models.md). */
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
