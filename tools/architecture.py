@@ -301,6 +301,32 @@ def stats(build):
 
 # ---------------------------------------------------------- picture ----
 
+# what each C folder holds, by the paper's sections (docs/architecture.md)
+C_SECTIONS = {
+    "model": "handle, H, SVD: §2-3.1",
+    "path": "steps: §3.2",
+    "io": "files, §5-6 models",
+    "symmetry": "the group (nauty)",
+    "homotopy": "all 2^s roots of eq. 18",
+    "locate": "detect, locate: §4",
+    "branches": "eq. 17, paths: §3.3-3.4",
+}
+
+
+def reduction(fold):
+    """transitive reduction of a small DAG of groups: the arrows a reader needs"""
+    def reach(a, seen):
+        for b in fold.get(a, ()):
+            if b not in seen:
+                seen.add(b)
+                reach(b, seen)
+        return seen
+    out = {}
+    for a, bs in fold.items():
+        out[a] = {b for b in bs if not any(b in reach(c, set()) for c in bs if c != b)}
+    return out
+
+
 def picture(out, build):
     import matplotlib
     matplotlib.use("Agg")
@@ -319,55 +345,68 @@ def picture(out, build):
     for a, bs in pedges.items():
         for b in bs:
             ga, gb = py_group(a), py_group(b)
-            if ga != gb and "__init__" not in (ga, gb):
+            if ga != gb:
                 pfold[ga].add(gb)
+    if not cycles(sorted(pfold), pfold):
+        pfold = reduction(pfold)
+    cfold = reduction(cfold)
     count = collections.Counter(u.split("/")[0] for u in units if u.endswith(".c"))
     pcount = collections.Counter(py_group(m) for m in names)
 
-    fig, ax = plt.subplots(figsize=(13, 8.6))
-    ax.set_xlim(0, 13)
-    ax.set_ylim(-0.3, 8.6)
+    fig, ax = plt.subplots(figsize=(16, 8.4))
+    ax.set_xlim(0, 16)
+    ax.set_ylim(-0.4, 8.7)
     ax.axis("off")
     pos = {}
 
-    def row(layers, y0, dy, x0, x1, prefix, counts, colour):
+    def row(layers, y0, dy, x0, x1, c_side, colour):
         for i, group in enumerate(layers):
             y = y0 + i * dy
             w = (x1 - x0) / len(group)
             for j, g in enumerate(group):
                 cx = x0 + w * (j + 0.5)
-                bw = min(w - 0.25, 2.6)
-                box = FancyBboxPatch((cx - bw / 2, y - 0.27), bw, 0.54, boxstyle="round,pad=0.02",
-                                     fc=colour, ec="#333333", lw=1)
-                ax.add_patch(box)
-                ax.text(cx, y + 0.06, f"{prefix}{g}", ha="center", va="center", fontsize=9.5, weight="bold")
-                ax.text(cx, y - 0.15, f"{counts.get(g, 0)} {'.c files' if prefix == 'libkin/' else 'modules'}",
-                        ha="center", va="center", fontsize=7.5, color="#444444")
-                pos[(prefix, g)] = (cx, y)
+                bw = min(w - 0.15, 2.8)
+                ax.add_patch(FancyBboxPatch((cx - bw / 2, y - 0.34), bw, 0.68, boxstyle="round,pad=0.02",
+                                            fc=colour, ec="#333333", lw=1))
+                fs = 9.5 if len(group) < 4 else 8.5
+                if c_side:
+                    title, sub = f"libkin/{g}/", f"{C_SECTIONS.get(g, '')} · {count.get(g, 0)} .c files"
+                else:
+                    title = "libkin (root)" if g == "__init__" else g
+                    sub = f"{pcount.get(g, 0)} module{'s' if pcount.get(g, 0) != 1 else ''}"
+                ax.text(cx, y + 0.12, title, ha="center", va="center", fontsize=fs, weight="bold")
+                for k, line in enumerate(sub.split(" · ")):
+                    ax.text(cx, y - 0.06 - 0.16 * k, line, ha="center", va="center", fontsize=7.3, color="#444444")
+                pos[(c_side, g)] = (cx, y)
 
-    row(C_LAYERS, 0.5, 1.05, 0.2, 6.3, "libkin/", count, "#dbe9f6")
+    row(C_LAYERS, 0.5, 2.2, 0.1, 7.3, True, "#dbe9f6")
     row([[g for g in grp if pcount.get(g)] for grp in PY_LAYERS if any(pcount.get(g) for g in grp)],
-        0.5, 1.05, 6.8, 12.8, "libkin.", pcount, "#fde9d0")
+        0.5, 1.0, 8.0, 15.9, False, "#fde9d0")
 
-    def arrows(fold, prefix):
+    def arrows(fold, c_side):
         for a, bs in fold.items():
             for b in bs:
-                if (prefix, a) in pos and (prefix, b) in pos:
-                    (x0, y0), (x1, y1) = pos[(prefix, a)], pos[(prefix, b)]
-                    ax.annotate("", xy=(x1, y1 + 0.28), xytext=(x0, y0 - 0.28),
-                                arrowprops=dict(arrowstyle="->", color="#777777", lw=0.8,
-                                                connectionstyle="arc3,rad=0.08"))
+                if (c_side, a) in pos and (c_side, b) in pos:
+                    (x0, y0), (x1, y1) = pos[(c_side, a)], pos[(c_side, b)]
+                    if abs(y0 - y1) < 1e-9:   # peers in one layer: side by side
+                        ax.annotate("", xy=(x1 + (0.6 if x1 < x0 else -0.6), y1),
+                                    xytext=(x0 + (-0.6 if x1 < x0 else 0.6), y0),
+                                    arrowprops=dict(arrowstyle="->", color="#777777", lw=0.8))
+                        continue
+                    ax.annotate("", xy=(x1, y1 + 0.31), xytext=(x0, y0 - 0.31),
+                                arrowprops=dict(arrowstyle="->", color="#777777", lw=0.8, alpha=0.6,
+                                                connectionstyle="arc3,rad=0.05"))
 
-    arrows(cfold, "libkin/")
-    arrows(pfold, "libkin.")
-    ax.text(3.25, 8.35, "C library (libkin/): a folder uses only folders below it", ha="center", fontsize=11)
-    ax.text(9.8, 8.35, "Python package (python/src/libkin): cffi over the C library", ha="center", fontsize=11)
-    ax.annotate("", xy=(6.85, 0.5), xytext=(6.3, 0.5),
-                arrowprops=dict(arrowstyle="<-", color="#aa5500", lw=1.5))
-    ax.text(6.55, 0.05, "cffi\n(include/libkin)", ha="center", fontsize=7.5, color="#aa5500")
-    ax.text(0.2, -0.2, "Arrows: 'uses' (calls, includes, imports), measured from the code by tools/architecture.py",
-            fontsize=8, color="#555555")
-    fig.savefig(out, dpi=110, bbox_inches="tight")
+    arrows(cfold, True)
+    arrows(pfold, False)
+    ax.text(3.7, 8.45, "C library, libkin/: a folder uses only folders below it", ha="center", fontsize=11.5)
+    ax.text(11.95, 8.45, "Python package libkin (python/src/libkin): never a layer above", ha="center",
+            fontsize=11.5)
+    ax.annotate("", xy=(7.35, 0.5), xytext=(7.95, 0.5), arrowprops=dict(arrowstyle="->", color="#aa5500", lw=1.6))
+    ax.text(7.65, 0.0, "cffi over\ninclude/libkin", ha="center", fontsize=7.5, color="#aa5500")
+    ax.text(0.1, -0.3, "An arrow: 'uses' (calls, includes, imports; the shortest arrows that imply the rest), "
+            "measured from the code by tools/architecture.py", fontsize=8, color="#555555")
+    fig.savefig(out, dpi=100, bbox_inches="tight")
     print(f"architecture: wrote {out}")
     return 0
 
