@@ -19,8 +19,10 @@ import ast
 import collections
 import os
 import re
+import pathlib
 import subprocess
 import sys
+from typing import Dict, List, Set, Tuple
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -58,12 +60,16 @@ def layer_of(layers, group):
 # ---------------------------------------------------------------- C ----
 
 def c_files():
+    """the library's sources, "folder/file" (a file directly in libkin/, as in
+    the flat layout before 0.3, is "./file")"""
     base = os.path.join(ROOT, "libkin")
     out = []
     for folder in sorted(os.listdir(base)):
         d = os.path.join(base, folder)
         if os.path.isdir(d):
             out += [f"{folder}/{f}" for f in sorted(os.listdir(d)) if f.endswith((".c", ".h"))]
+        elif folder.endswith((".c", ".h")):
+            out.append(f"./{folder}")
     return out
 
 
@@ -74,11 +80,11 @@ def c_graph(build):
     files = c_files()
     edges = collections.defaultdict(set)
     why = collections.defaultdict(set)
-    inc = re.compile(r'#\s*include\s+"([a-z_]+/[A-Za-z0-9_]+\.h)"')
+    inc = re.compile(r'#\s*include\s+"(?:([a-z_]+)/)?([A-Za-z0-9_]+\.h)"')
     for f in files:
         with open(os.path.join(ROOT, "libkin", f), encoding="utf-8") as fh:
             for m in inc.finditer(fh.read()):
-                to = m.group(1)
+                to = f"{m.group(1) or os.path.dirname(f)}/{m.group(2)}"
                 if to != f and to in files:
                     edges[f].add(to)
                     why[(f, to)].add("#include")
@@ -86,7 +92,7 @@ def c_graph(build):
         objdir = os.path.join(build, "CMakeFiles", "kin_static.dir", "libkin")
         defs, undef = {}, {}
         for f in files:
-            obj = os.path.join(objdir, f + ".o")
+            obj = os.path.normpath(os.path.join(objdir, f + ".o"))
             if not f.endswith(".c") or not os.path.exists(obj):
                 continue
             out = subprocess.run(["nm", obj], capture_output=True, text=True, check=True).stdout
@@ -109,71 +115,88 @@ def c_graph(build):
 
 
 # ----------------------------------------------------------- Python ----
+# The import graph of the package (python/tests/test_layout.py checks the
+# package with these same functions): every ``import`` and ``from ...
+# import`` anywhere in a module (module level, in a function, under
+# TYPE_CHECKING; relative or absolute) is an edge to the module it names
+# (``from P import x`` to the submodule P.x when there is one, else to P). A
+# package's __init__ importing its own submodules is fine; a submodule
+# importing its package (or a sibling) that imports it back is a circle.
 
-PKG = os.path.join(ROOT, "python", "src", "libkin")
-
-
-def py_modules():
-    mods = {}
-    for dirpath, _, names in os.walk(PKG):
-        for n in names:
-            if n.endswith(".py"):
-                rel = os.path.relpath(os.path.join(dirpath, n), PKG)
-                parts = rel[:-3].split(os.sep)
-                is_pkg = parts[-1] == "__init__"
-                if is_pkg:
-                    parts = parts[:-1]
-                mods[".".join(["libkin"] + parts)] = (os.path.join(dirpath, n), is_pkg)
-    return mods
+SRC = pathlib.Path(ROOT) / "python" / "src"
+MAX_LINES = 500
+GENERATED = {"libkin._native._cdef"}
 
 
-def py_graph():
-    mods = py_modules()
-    edges = collections.defaultdict(set)
-    for name, (path, is_pkg) in mods.items():
-        with open(path, encoding="utf-8") as fh:
-            tree = ast.parse(fh.read())
-        pkg = name if is_pkg else name.rpartition(".")[0]
-        for node in ast.walk(tree):
-            targets = []
-            if isinstance(node, ast.Import):
-                targets = [a.name for a in node.names]
-            elif isinstance(node, ast.ImportFrom):
-                if node.level:
-                    base = pkg.split(".")
-                    base = base[:len(base) - node.level + 1]
-                    mod = ".".join(base + ([node.module] if node.module else []))
-                else:
-                    mod = node.module or ""
-                targets = [mod] + [f"{mod}.{a.name}" for a in node.names]
-            for t in targets:
-                while t and t not in mods:
+def modules(src: pathlib.Path, package: str = "libkin") -> Dict[str, pathlib.Path]:
+    """Dotted module name -> file, for every .py of the package (a package is its __init__.py)."""
+    out = {}
+    for f in sorted((src / package).rglob("*.py")):
+        parts = list(f.relative_to(src).with_suffix("").parts)
+        if parts[-1] == "__init__":
+            parts.pop()
+        out[".".join(parts)] = f
+    return out
+
+
+def _is_package(name: str, mods: Dict[str, pathlib.Path]) -> bool:
+    return mods[name].name == "__init__.py"
+
+
+def imports(name: str, mods: Dict[str, pathlib.Path]) -> List[Tuple[str, List[str], int]]:
+    """(resolved module, imported names, line) of every import statement of module `name`."""
+    tree = ast.parse(mods[name].read_text(), str(mods[name]))
+    here = name if _is_package(name, mods) else name.rpartition(".")[0]
+    out = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out += [(a.name, [], node.lineno) for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = here.split(".")
+                base = base[:len(base) - (node.level - 1)]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            out.append((target, [a.name for a in node.names], node.lineno))
+    return out
+
+
+def import_graph(src: pathlib.Path, package: str = "libkin") -> Dict[str, Set[str]]:
+    """module -> the modules of the package it imports (see the module docstring)."""
+    mods = modules(src, package)
+    graph: Dict[str, Set[str]] = {m: set() for m in mods}
+    for m in mods:
+        for target, names, _ in imports(m, mods):
+            if target != package and not target.startswith(package + "."):
+                continue
+            subs = [f"{target}.{n}" for n in names if f"{target}.{n}" in mods]
+            if subs:
+                graph[m].update(subs)
+            if len(subs) < len(names) or not names:
+                # a name of the module itself (or `import a.b.c`: the deepest module named)
+                t = target
+                while t not in mods and "." in t:
                     t = t.rpartition(".")[0]
-                if t and t != name and t.startswith("libkin"):
-                    # a package importing its own submodules is its
-                    # interface, not a dependency of the submodule
-                    edges[name].add(t)
-    return sorted(mods), edges, mods
+                if t in mods:
+                    graph[m].add(t)
+        graph[m].discard(m)
+    return graph
 
 
-def py_group(mod):
-    parts = mod.split(".")
-    return parts[1] if len(parts) > 1 else "__init__"
+def circles(graph: Dict[str, Set[str]]) -> List[List[str]]:
+    """The strongly connected components of more than one module (Tarjan)."""
+    index: Dict[str, int] = {}
+    low: Dict[str, int] = {}
+    stack: List[str] = []
+    on: Set[str] = set()
+    out: List[List[str]] = []
 
-
-# ----------------------------------------------------------- graphs ----
-
-def cycles(nodes, edges):
-    """strongly connected components with more than one node (Tarjan)"""
-    index, low, stack, on, out = {}, {}, [], set(), []
-    counter = [0]
-
-    def visit(v):
-        index[v] = low[v] = counter[0]
-        counter[0] += 1
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
         stack.append(v)
         on.add(v)
-        for w in sorted(edges.get(v, ())):
+        for w in sorted(graph[v]):
             if w not in index:
                 visit(w)
                 low[v] = min(low[v], low[w])
@@ -190,12 +213,59 @@ def cycles(nodes, edges):
             if len(comp) > 1:
                 out.append(sorted(comp))
 
-    sys.setrecursionlimit(10000)
-    for v in nodes:
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), 10000))
+    for v in sorted(graph):
         if v not in index:
             visit(v)
     return out
 
+
+def long_modules(src: pathlib.Path, package: str = "libkin", limit: int = MAX_LINES) -> List[str]:
+    return [f"{m}: {len(f.read_text().splitlines())} lines" for m, f in modules(src, package).items()
+            if m not in GENERATED and len(f.read_text().splitlines()) > limit]
+
+
+def _private(part: str) -> bool:
+    return part.startswith("_") and not (part.startswith("__") and part.endswith("__"))
+
+
+def private_uses(src: pathlib.Path, package: str = "libkin", app: str = "studies") -> List[str]:
+    """Private modules or names the application package imports from the library (or reads off it)."""
+    mods = modules(src, package)
+    bad = []
+    for m in (m for m in mods if m == f"{package}.{app}" or m.startswith(f"{package}.{app}.")):
+        lib_names: Set[str] = set()
+        for target, names, line in imports(m, mods):
+            if target != package and not target.startswith(package + "."):
+                continue
+            if any(_private(p) for p in target.split(".")):
+                bad.append(f"{m}:{line}: imports the private module {target}")
+            for n in names:
+                if _private(n):
+                    bad.append(f"{m}:{line}: imports the private name {target}.{n}")
+        tree = ast.parse(mods[m].read_text())
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.Import, ast.ImportFrom)):
+                mod = node.module or "" if isinstance(node, ast.ImportFrom) else ""
+                if isinstance(node, ast.ImportFrom) and not node.level and not mod.startswith(package):
+                    continue
+                for a in node.names:
+                    if isinstance(node, ast.Import) and not a.name.startswith(package):
+                        continue
+                    lib_names.add((a.asname or a.name).split(".")[0])
+        for node in ast.walk(tree):
+            if (isinstance(node, ast.Attribute) and _private(node.attr) and isinstance(node.value, ast.Name)
+                    and node.value.id in lib_names):
+                bad.append(f"{m}:{node.lineno}: reads the private name {node.value.id}.{node.attr}")
+    return bad
+
+
+def py_group(mod):
+    parts = mod.split(".")
+    return parts[1] if len(parts) > 1 else "__init__"
+
+
+# ----------------------------------------------------------- graphs ----
 
 def depth(nodes, edges, weight=lambda v: 1):
     """longest chain of dependencies (levels, each node counting weight(v):
@@ -216,19 +286,6 @@ def depth(nodes, edges, weight=lambda v: 1):
     return max((d(v) for v in nodes), default=0)
 
 
-def py_edges_without_package_exports(mods, edges):
-    """drop the edges from a module to a package that contains it: Python
-    has that package in sys.modules already while its parts load (a package
-    importing its own parts is kept: whoever imports the package runs them)"""
-    out = collections.defaultdict(set)
-    for a, bs in edges.items():
-        for b in bs:
-            if mods[b][1] and a.startswith(b + "."):
-                continue
-            out[a].add(b)
-    return out
-
-
 # ------------------------------------------------------------ check ----
 
 def check(build):
@@ -236,7 +293,7 @@ def check(build):
     units, edges, why = c_graph(build)
     if not build:
         print("architecture: no --build: includes only (calls between files not checked)")
-    for comp in cycles(units, edges):
+    for comp in circles({u: edges.get(u, set()) for u in units}):
         problems.append("C circle: " + " <-> ".join(comp))
     for u in units:
         folder = u.split("/")[0]
@@ -249,10 +306,10 @@ def check(build):
             lv = layer_of(C_LAYERS, fv)
             if fv != folder and (lv is None or lv >= lu):
                 problems.append(f"C {u} (layer {lu}) uses {v} (layer {lv}): {sorted(why[(u, v)])[:4]}")
-    if os.path.isdir(PKG):
-        names, pedges, mods = py_graph()
-        pedges = py_edges_without_package_exports(mods, pedges)
-        for comp in cycles(names, pedges):
+    if SRC.is_dir():
+        pedges = import_graph(SRC)
+        names = sorted(pedges)
+        for comp in circles(pedges):
             problems.append("Python circle: " + " <-> ".join(comp))
         for a in names:
             ga = py_group(a)
@@ -286,16 +343,18 @@ def stats(build):
     print(f"C: {len(cfiles)} files in {len(folders)} folders ({', '.join(folders)}), "
           f"{sum(lines.values())} lines; largest: " +
           ", ".join(f"{f} {n}" for f, n in sorted(lines.items(), key=lambda x: -x[1])[:3]))
-    print(f"C: dependency depth {depth(units, edges)} files; circles: {cycles(units, edges) or 'none'}")
-    names, pedges, mods = py_graph()
-    pedges = py_edges_without_package_exports(mods, pedges)
-    plines = {m: file_lines(p) for m, (p, _) in mods.items() if not m.endswith("_cdef")}
-    pk = sorted({py_group(m) for m in names if mods[m][1] and m != "libkin"})
+    print(f"C: dependency depth {depth(units, edges)} files; "
+          f"circles: {circles({u: edges.get(u, set()) for u in units}) or 'none'}")
+    pedges = import_graph(SRC)
+    mods = modules(SRC)
+    names = sorted(pedges)
+    plines = {m: file_lines(p) for m, p in mods.items() if m not in GENERATED}
+    pk = sorted({py_group(m) for m in names if _is_package(m, mods) and m != "libkin" and m.count(".") == 1})
     print(f"Python: {len(names)} modules, {len(pk)} subpackages ({', '.join(pk)}), {sum(plines.values())} lines "
           "(without the generated _cdef); largest: " +
           ", ".join(f"{m} {n}" for m, n in sorted(plines.items(), key=lambda x: -x[1])[:3]))
-    print(f"Python: import depth {depth(names, pedges, lambda v: 0 if mods[v][1] else 1)} modules "
-          f"({depth(names, pedges)} counting packages' __init__); circles: {cycles(names, pedges) or 'none'}")
+    print(f"Python: import depth {depth(names, pedges, lambda v: 0 if _is_package(v, mods) else 1)} modules "
+          f"({depth(names, pedges)} counting packages' __init__); circles: {circles(pedges) or 'none'}")
     return 0
 
 
@@ -334,8 +393,8 @@ def picture(out, build):
     from matplotlib.patches import FancyBboxPatch
 
     units, edges, _ = c_graph(build)
-    names, pedges, mods = py_graph()
-    pedges = py_edges_without_package_exports(mods, pedges)
+    pedges = import_graph(SRC)
+    names = sorted(pedges)
     cfold = collections.defaultdict(set)
     for u, vs in edges.items():
         for v in vs:
@@ -347,7 +406,7 @@ def picture(out, build):
             ga, gb = py_group(a), py_group(b)
             if ga != gb:
                 pfold[ga].add(gb)
-    if not cycles(sorted(pfold), pfold):
+    if not circles({g: pfold.get(g, set()) for g in set(pfold) | {x for v in pfold.values() for x in v}}):
         pfold = reduction(pfold)
     cfold = reduction(cfold)
     count = collections.Counter(u.split("/")[0] for u in units if u.endswith(".c"))
@@ -416,7 +475,12 @@ def main(argv=None):
     ap.add_argument("command", choices=["check", "stats", "picture"])
     ap.add_argument("out", nargs="?", help="picture: the PNG to write")
     ap.add_argument("--build", help="the CMake build folder (symbols of the built objects)")
+    ap.add_argument("--root", help="stats of another checkout (default: this one)")
     a = ap.parse_args(argv)
+    if a.root:
+        global ROOT, SRC
+        ROOT = os.path.abspath(a.root)
+        SRC = pathlib.Path(ROOT) / "python" / "src"
     if a.command == "check":
         return check(a.build)
     if a.command == "stats":

@@ -14,156 +14,30 @@
     still imports, with a DeprecationWarning naming the importer, and is the
     new module itself.
 
-Each checker is a function of a source tree, so the tests at the end also
-show it failing on a small tree that breaks its rule.
+Each checker is a function of a source tree (tools/architecture.py), so the
+tests at the end also show it failing on a small tree that breaks its rule.
 """
-import ast
 import importlib
+import importlib.util
 import pathlib
 import sys
 import warnings
-from typing import Dict, List, Set, Tuple
 
 import pytest
 
 import libkin
 from libkin import _compat
 
-SRC = pathlib.Path(__file__).resolve().parents[1] / "src"
-MAX_LINES = 500
-GENERATED = {"libkin._native._cdef"}
-
-
-def modules(src: pathlib.Path, package: str = "libkin") -> Dict[str, pathlib.Path]:
-    """Dotted module name -> file, for every .py of the package (a package is its __init__.py)."""
-    out = {}
-    for f in sorted((src / package).rglob("*.py")):
-        parts = list(f.relative_to(src).with_suffix("").parts)
-        if parts[-1] == "__init__":
-            parts.pop()
-        out[".".join(parts)] = f
-    return out
-
-
-def _is_package(name: str, mods: Dict[str, pathlib.Path]) -> bool:
-    return mods[name].name == "__init__.py"
-
-
-def imports(name: str, mods: Dict[str, pathlib.Path]) -> List[Tuple[str, List[str], int]]:
-    """(resolved module, imported names, line) of every import statement of module `name`."""
-    tree = ast.parse(mods[name].read_text(), str(mods[name]))
-    here = name if _is_package(name, mods) else name.rpartition(".")[0]
-    out = []
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            out += [(a.name, [], node.lineno) for a in node.names]
-        elif isinstance(node, ast.ImportFrom):
-            if node.level:
-                base = here.split(".")
-                base = base[:len(base) - (node.level - 1)]
-                target = ".".join(base + ([node.module] if node.module else []))
-            else:
-                target = node.module or ""
-            out.append((target, [a.name for a in node.names], node.lineno))
-    return out
-
-
-def import_graph(src: pathlib.Path, package: str = "libkin") -> Dict[str, Set[str]]:
-    """module -> the modules of the package it imports (see the module docstring)."""
-    mods = modules(src, package)
-    graph: Dict[str, Set[str]] = {m: set() for m in mods}
-    for m in mods:
-        for target, names, _ in imports(m, mods):
-            if target != package and not target.startswith(package + "."):
-                continue
-            subs = [f"{target}.{n}" for n in names if f"{target}.{n}" in mods]
-            if subs:
-                graph[m].update(subs)
-            if len(subs) < len(names) or not names:
-                # a name of the module itself (or `import a.b.c`: the deepest module named)
-                t = target
-                while t not in mods and "." in t:
-                    t = t.rpartition(".")[0]
-                if t in mods:
-                    graph[m].add(t)
-        graph[m].discard(m)
-    return graph
-
-
-def circles(graph: Dict[str, Set[str]]) -> List[List[str]]:
-    """The strongly connected components of more than one module (Tarjan)."""
-    index: Dict[str, int] = {}
-    low: Dict[str, int] = {}
-    stack: List[str] = []
-    on: Set[str] = set()
-    out: List[List[str]] = []
-
-    def visit(v: str) -> None:
-        index[v] = low[v] = len(index)
-        stack.append(v)
-        on.add(v)
-        for w in sorted(graph[v]):
-            if w not in index:
-                visit(w)
-                low[v] = min(low[v], low[w])
-            elif w in on:
-                low[v] = min(low[v], index[w])
-        if low[v] == index[v]:
-            comp = []
-            while True:
-                w = stack.pop()
-                on.discard(w)
-                comp.append(w)
-                if w == v:
-                    break
-            if len(comp) > 1:
-                out.append(sorted(comp))
-
-    sys.setrecursionlimit(max(sys.getrecursionlimit(), 10000))
-    for v in sorted(graph):
-        if v not in index:
-            visit(v)
-    return out
-
-
-def long_modules(src: pathlib.Path, package: str = "libkin", limit: int = MAX_LINES) -> List[str]:
-    return [f"{m}: {len(f.read_text().splitlines())} lines" for m, f in modules(src, package).items()
-            if m not in GENERATED and len(f.read_text().splitlines()) > limit]
-
-
-def _private(part: str) -> bool:
-    return part.startswith("_") and not (part.startswith("__") and part.endswith("__"))
-
-
-def private_uses(src: pathlib.Path, package: str = "libkin", app: str = "studies") -> List[str]:
-    """Private modules or names the application package imports from the library (or reads off it)."""
-    mods = modules(src, package)
-    bad = []
-    for m in (m for m in mods if m == f"{package}.{app}" or m.startswith(f"{package}.{app}.")):
-        lib_names: Set[str] = set()
-        for target, names, line in imports(m, mods):
-            if target != package and not target.startswith(package + "."):
-                continue
-            if any(_private(p) for p in target.split(".")):
-                bad.append(f"{m}:{line}: imports the private module {target}")
-            for n in names:
-                if _private(n):
-                    bad.append(f"{m}:{line}: imports the private name {target}.{n}")
-        tree = ast.parse(mods[m].read_text())
-        for node in ast.walk(tree):
-            if isinstance(node, (ast.Import, ast.ImportFrom)):
-                mod = node.module or "" if isinstance(node, ast.ImportFrom) else ""
-                if isinstance(node, ast.ImportFrom) and not node.level and not mod.startswith(package):
-                    continue
-                for a in node.names:
-                    if isinstance(node, ast.Import) and not a.name.startswith(package):
-                        continue
-                    lib_names.add((a.asname or a.name).split(".")[0])
-        for node in ast.walk(tree):
-            if (isinstance(node, ast.Attribute) and _private(node.attr) and isinstance(node.value, ast.Name)
-                    and node.value.id in lib_names):
-                bad.append(f"{m}:{node.lineno}: reads the private name {node.value.id}.{node.attr}")
-    return bad
+# The checkers are tools/architecture.py's (it also checks the layers of the
+# C library and of these subpackages, ctest `architecture`): one import graph.
+_spec = importlib.util.spec_from_file_location(
+    "architecture", pathlib.Path(__file__).resolve().parents[2] / "tools" / "architecture.py")
+architecture = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(architecture)
+SRC = architecture.SRC
+MAX_LINES = architecture.MAX_LINES
+import_graph, circles = architecture.import_graph, architecture.circles
+long_modules, private_uses = architecture.long_modules, architecture.private_uses
 
 
 # ---- the package ------------------------------------------------------------
