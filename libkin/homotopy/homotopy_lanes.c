@@ -72,7 +72,13 @@ HOMB_KERNEL static void bdots(int m, int s, const lanes *restrict ur, const lane
     }
 }
 
-/* LU with partial pivoting (largest |re| + |im|, the first of equals), each
+/* The lockstep twin of the one complex LU (homotopy_lu.h, in
+ * homotopy_kernels.c), kept separate: bench_hom_kernel onepath shows 1.63x
+ * (hexflat paths 0..2047 on one thread: the one-path tracker 2.39-2.56 s,
+ * the lockstep tracker 1.51-1.52 s; the lanes' vector layout is what makes
+ * the difference). It serves both lockstep trackers (homotopy_batch.c and,
+ * through homotopy_param_lanes.c, homotopy_param_batch.c).
+ * LU with partial pivoting (largest |re| + |im|, the first of equals), each
  * lane its own pivots; F->ok[l] = 0 where a pivot is zero or not finite
  * (that lane's factors are then meaningless) */
 HOMB_KERNEL void kin__lanes_lu_factor(int n, hom_llu *F)
