@@ -310,6 +310,19 @@ int main(void)
             CHECK_RC(kin_quadrics_homotopy_sym(m, s, Q, 3, R, &o, b2, N, &n2, NULL, &h2, &s2, NULL, 0), KIN_OK);
             CHECK(n1 == n2 && n1 > 0 && memcmp(b1, b2, sizeof(double) * (size_t)m * n1) == 0);
             CHECK(s1.monodromy_paths == s2.monodromy_paths && h1.steps == h2.steps);
+            /* the monodromy route too (its loops and legs to Q run on the
+             * same thread pool) */
+            for (int nt = 1; nt <= 2; ++nt) {
+                o.nthreads = nt;
+                kin_homotopy_info *h = nt == 1 ? &h1 : &h2;
+                kin_homotopy_sym_info *si = nt == 1 ? &s1 : &s2;
+                CHECK_RC(kin__quadrics_homotopy_sym_route(KIN__SYM_MONODROMY, m, s, Q, 3, R, &o, nt == 1 ? b1 : b2, N,
+                                                          nt == 1 ? &n1 : &n2, NULL, h, si, NULL, 0),
+                         KIN_OK);
+            }
+            CHECK(n1 == n2 && n1 > 0 && memcmp(b1, b2, sizeof(double) * (size_t)m * n1) == 0);
+            CHECK(s1.monodromy_paths == s2.monodromy_paths && s1.monodromy_paths > 0);
+            CHECK(s1.monodromy_steps == s2.monodromy_steps && h1.steps == h2.steps);
         }
         /* the same group given with -I and the sign copies -R_g (6
          * matrices, 3 projectively distinct) */

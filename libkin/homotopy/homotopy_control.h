@@ -5,6 +5,7 @@
 #ifndef KIN_HOMOTOPY_CONTROL_H
 #define KIN_HOMOTOPY_CONTROL_H
 
+#include "homotopy/homotopy_lu.h"
 #include "homotopy/homotopy_pade.h"
 #include "homotopy/homotopy_track.h"
 
@@ -33,7 +34,6 @@
 enum { HOM_ORDER = 8 }; /* Taylor order of the predictor */
 enum {
     HOM_NY = HOM_ORDER / 2 + 1,   /* Q x_i needed for i <= HOM_ORDER / 2 */
-    HOM_MM = HOM_MAX_M * HOM_MAX_M,
     NEWTON_MAX = 3,               /* corrector iterations per step */
     HAGER_ITERS = 1,              /* iterations of the |J^-1|_1 estimator */
     REFINE_MAX = 12,              /* Newton iterations at t = 1 */

@@ -72,10 +72,16 @@ HOMB_KERNEL static void bdots(int m, int s, const lanes *restrict ur, const lane
     }
 }
 
-/* LU with partial pivoting (largest |re| + |im|, the first of equals), each
+/* The lockstep twin of the one complex LU (homotopy_lu.h, in
+ * homotopy_kernels.c), kept separate: bench_hom_kernel onepath shows 1.63x
+ * (hexflat paths 0..2047 on one thread: the one-path tracker 2.39-2.56 s,
+ * the lockstep tracker 1.51-1.52 s; the lanes' vector layout is what makes
+ * the difference). It serves both lockstep trackers (homotopy_batch.c and,
+ * through homotopy_param_lanes.c, homotopy_param_batch.c).
+ * LU with partial pivoting (largest |re| + |im|, the first of equals), each
  * lane its own pivots; F->ok[l] = 0 where a pivot is zero or not finite
  * (that lane's factors are then meaningless) */
-HOMB_KERNEL static void blu_factor(int n, hom_llu *F)
+HOMB_KERNEL void kin__lanes_lu_factor(int n, hom_llu *F)
 {
     for (int l = 0; l < BL; ++l) F->ok[l] = 1;
     for (int k = 0; k < n; ++k) {
@@ -150,7 +156,7 @@ HOMB_KERNEL static void bpermute(int n, const hom_llu *F, lanes *br, lanes *bi, 
 
 /* b <- A^-1 b, every lane: the updates of each entry in the order of the
  * one-path lu_solve (forward by increasing column, backward by decreasing) */
-HOMB_KERNEL static void blu_solve(int n, const hom_llu *F, lanes *restrict br, lanes *restrict bi)
+HOMB_KERNEL void kin__lanes_lu_solve(int n, const hom_llu *F, lanes *restrict br, lanes *restrict bi)
 {
     bpermute(n, F, br, bi, 0);
     /* L y = b (unit diagonal), two columns at a time: each entry below them
@@ -243,7 +249,7 @@ HOMB_KERNEL void kin__lanes_inv_norm1(int n, const hom_llu *F, double *est)
     lanes xr[HOM_MAX_M], xi[HOM_MAX_M];
     for (int k = 0; k < n; ++k)
         for (int l = 0; l < BL; ++l) xr[k][l] = 1.0 / n, xi[k][l] = 0.0;
-    blu_solve(n, F, xr, xi);
+    kin__lanes_lu_solve(n, F, xr, xi);
     bnorm1(n, xr, xi, est);
     int go[BL];
     for (int l = 0; l < BL; ++l) go[l] = 1;
@@ -265,7 +271,7 @@ HOMB_KERNEL void kin__lanes_inv_norm1(int n, const hom_llu *F, double *est)
             for (int k = 0; k < n; ++k) xr[k][l] = xi[k][l] = 0.0;
             xr[j][l] = 1.0;
         }
-        blu_solve(n, F, xr, xi);
+        kin__lanes_lu_solve(n, F, xr, xi);
         double e[BL];
         bnorm1(n, xr, xi, e);
         int any = 0;
@@ -319,10 +325,10 @@ HOMB_KERNEL void kin__lanes_newton(const hom_problem *P, const lanes *t, const l
 {
     int m = P->m;
     beval(P, t, car, cai, p);
-    blu_factor(m, &p->lu);
+    kin__lanes_lu_factor(m, &p->lu);
     memcpy(dr, p->hr, sizeof(lanes) * (size_t)m);
     memcpy(di, p->hi, sizeof(lanes) * (size_t)m);
-    blu_solve(m, &p->lu, dr, di);
+    kin__lanes_lu_solve(m, &p->lu, dr, di);
     double nd[BL];
     kin__lanes_norm2(m, dr, di, nd);
     for (int l = 0; l < BL; ++l) ok[l] = p->lu.ok[l] && isfinite(nd[l]);
@@ -404,7 +410,7 @@ HOMB_KERNEL void kin__lanes_taylor(const hom_problem *P, const lanes *t0p, const
         rr[s] = ri[s] = ALL(0.0);
         memcpy(rhr, rr, sizeof(lanes) * (size_t)s);
         memcpy(rhi, ri, sizeof(lanes) * (size_t)s);
-        blu_solve(m, &b->lu, rr, ri);
+        kin__lanes_lu_solve(m, &b->lu, rr, ri);
         if (k < HOM_NY) bqmul(P, rr, ri, B->ykr[k], B->yki[k]);
     }
 }

@@ -51,6 +51,13 @@ typedef struct hom_lseries {
     lanes ykr[HOM_NY][HOM_MAX_ROWS], yki[HOM_NY][HOM_MAX_ROWS];
 } hom_lseries;
 
+/* LU with partial pivoting of every lane's J (n x n, stride n), each lane
+ * its own pivots, exactly as kin__hom_lu_factor (homotopy_lu.h); F->ok[l] =
+ * 0 where a pivot is zero or not finite (that lane's factors are then
+ * meaningless) */
+void kin__lanes_lu_factor(int n, hom_llu *F);
+/* b <- A^-1 b, every lane, exactly as kin__hom_lu_solve */
+void kin__lanes_lu_solve(int n, const hom_llu *F, lanes *br, lanes *bi);
 /* |v| (2-norm) of every lane, out[BL] */
 void kin__lanes_norm2(int n, const lanes *xr, const lanes *xi, double *out);
 /* H and J at p->x, every lane at its t (*t) in its chart (car, cai), J

@@ -1,4 +1,4 @@
-/* The second half of the complete solver (homotopy.c tracks the paths):
+/* The second half of the complete solver (homotopy_solver.c tracks the paths):
  * the endpoints are checked against what total-degree homotopy guarantees,
  * the paths concerned are tracked again, and the result is counted.
  *
@@ -261,26 +261,6 @@ done:
     return rc;
 }
 
-void kin__hom_export(int m, int path, const hom_end *e, const double *zr, const double *zi, kin_homotopy_endpoint *r,
-                     double *z)
-{
-    memset(r, 0, sizeof *r);
-    r->size = sizeof *r;
-    r->path = path;
-    r->kind = e->kind;
-    r->chart = e->chart;
-    r->steps = e->steps;
-    r->rejected = e->rejected;
-    r->recharts = e->recharts;
-    r->converged = e->converged;
-    r->rminus = e->rminus;
-    r->rplus = e->rplus;
-    r->cond = e->cond;
-    r->sigma = e->sigma;
-    memcpy(z, zr, sizeof(double) * (size_t)m);
-    memcpy(z + m, zi, sizeof(double) * (size_t)m);
-}
-
 /* a record as range writes it: its path, a class, a chart, finite z (certified
  * roots) and radii */
 static int import_record(int m, int path, const kin_homotopy_endpoint *r, const double *z, hom_end *e, double *zr,
@@ -355,20 +335,4 @@ int kin_quadrics_homotopy_merge(int m, int s, const double *Q, const kin_homotop
     }
     kin__abi_write(info, &local, sizeof local);
     return rc;
-}
-
-int kin__hom_endset_alloc(hom_endset *E, int n, int m)
-{
-    E->ends = malloc(sizeof(hom_end) * (size_t)n);
-    E->zr = malloc(sizeof(double) * (size_t)n * (size_t)m);
-    E->zi = malloc(sizeof(double) * (size_t)n * (size_t)m);
-    if (E->ends && E->zr && E->zi) return KIN_OK;
-    kin__hom_endset_free(E);
-    return KIN_ENOMEM;
-}
-
-void kin__hom_endset_free(hom_endset *E)
-{
-    free(E->ends), free(E->zr), free(E->zi);
-    E->ends = NULL, E->zr = E->zi = NULL;
 }

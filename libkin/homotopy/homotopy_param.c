@@ -30,6 +30,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "homotopy/homotopy_lu.h"
 #include "homotopy/homotopy_param_control.h"
 
 /* the kernels are simple loops over contiguous arrays: let GCC vectorise
@@ -78,8 +79,7 @@ struct hpar_ws {
     double *zr[NZ], *zi[NZ];       /* D x_k */
     double *pyr, *pyi;             /* M(t1) x at a corrector iterate */
     double cr[ORDER + 1][HOM_MAX_M], ci[ORDER + 1][HOM_MAX_M];
-    double jr[HOM_MAX_M * HOM_MAX_M], ji[HOM_MAX_M * HOM_MAX_M]; /* J, then its LU factors */
-    int piv[HOM_MAX_M];
+    hom_lu lu;                     /* J, then its LU factors (the one-path tracker's kernel) */
 };
 
 hpar_ws *kin__hpar_ws_new(int m, int s)
@@ -154,78 +154,6 @@ static double vnorm(int n, const double *xr, const double *xi)
     return sqrt(s);
 }
 
-/* LU with partial pivoting of the m x m column-major complex w->j; 0 if singular */
-static int lu_factor(hpar_ws *w)
-{
-    int n = w->m;
-    double *Ar = w->jr, *Ai = w->ji;
-    for (int k = 0; k < n; ++k) {
-        int p = k;
-        double best = fabs(Ar[k * n + k]) + fabs(Ai[k * n + k]);
-        for (int i = k + 1; i < n; ++i) {
-            double v = fabs(Ar[k * n + i]) + fabs(Ai[k * n + i]);
-            if (v > best) best = v, p = i;
-        }
-        w->piv[k] = p;
-        if (!(best > 0.0) || !isfinite(best)) return 0;
-        if (p != k)
-            for (int j = 0; j < n; ++j) {
-                double t = Ar[j * n + k];
-                Ar[j * n + k] = Ar[j * n + p], Ar[j * n + p] = t;
-                t = Ai[j * n + k];
-                Ai[j * n + k] = Ai[j * n + p], Ai[j * n + p] = t;
-            }
-        double pr = Ar[k * n + k], pi = Ai[k * n + k], d = pr * pr + pi * pi;
-        double ir = pr / d, ii = -pi / d;
-        for (int i = k + 1; i < n; ++i) { /* multipliers */
-            double a = Ar[k * n + i], b = Ai[k * n + i];
-            Ar[k * n + i] = a * ir - b * ii, Ai[k * n + i] = a * ii + b * ir;
-        }
-        for (int j = k + 1; j < n; ++j) {
-            double ur = Ar[j * n + k], ui = Ai[j * n + k];
-            if (ur == 0.0 && ui == 0.0) continue;
-            double *cr = Ar + j * n, *ci = Ai + j * n;
-            const double *lr = Ar + k * n, *li = Ai + k * n;
-            for (int i = k + 1; i < n; ++i) {
-                cr[i] -= lr[i] * ur - li[i] * ui;
-                ci[i] -= lr[i] * ui + li[i] * ur;
-            }
-        }
-    }
-    return 1;
-}
-
-static void lu_solve(const hpar_ws *w, double *br, double *bi)
-{
-    int n = w->m;
-    const double *Ar = w->jr, *Ai = w->ji;
-    for (int k = 0; k < n; ++k) {
-        int p = w->piv[k];
-        if (p != k) {
-            double t = br[k];
-            br[k] = br[p], br[p] = t;
-            t = bi[k];
-            bi[k] = bi[p], bi[p] = t;
-        }
-    }
-    for (int j = 0; j < n; ++j) {
-        double vr = br[j], vi = bi[j];
-        for (int i = j + 1; i < n; ++i) {
-            br[i] -= Ar[j * n + i] * vr - Ai[j * n + i] * vi;
-            bi[i] -= Ar[j * n + i] * vi + Ai[j * n + i] * vr;
-        }
-    }
-    for (int j = n - 1; j >= 0; --j) {
-        double pr = Ar[j * n + j], pi = Ai[j * n + j], d = pr * pr + pi * pi;
-        double vr = (br[j] * pr + bi[j] * pi) / d, vi = (bi[j] * pr - br[j] * pi) / d;
-        br[j] = vr, bi[j] = vi;
-        for (int i = 0; i < j; ++i) {
-            br[i] -= Ar[j * n + i] * vr - Ai[j * n + i] * vi;
-            bi[i] -= Ar[j * n + i] * vi + Ai[j * n + i] * vr;
-        }
-    }
-}
-
 /* Newton's correction d = J^-1 H at x for the system M (stacked) in the
  * chart (car, cai); J's LU factors stay in w. y: scratch for M x. 0 if J is
  * singular. */
@@ -243,12 +171,15 @@ static int newton(const hpar_problem *P, hpar_ws *w, const double *Mr, const dou
         ci += car[c] * xi[c] + cai[c] * xr[c];
     }
     dr[s] = cr, di[s] = ci;
-    for (int c = 0; c < m; ++c) { /* J(j, c) = 2 (M_j x)_c (symmetric M_j); the chart row */
-        for (int j = 0; j < s; ++j) w->jr[c * m + j] = 2.0 * yr[c * s + j], w->ji[c * m + j] = 2.0 * yi[c * s + j];
-        w->jr[c * m + s] = car[c], w->ji[c * m + s] = cai[c];
+    int np = kin__hom_lanes_up(m);
+    for (int c = 0; c < m; ++c) { /* J(j, c) = 2 (M_j x)_c (symmetric M_j); the chart row; rows m..np-1 zero */
+        double *jr = w->lu.r + c * np, *ji = w->lu.i + c * np;
+        for (int j = 0; j < s; ++j) jr[j] = 2.0 * yr[c * s + j], ji[j] = 2.0 * yi[c * s + j];
+        jr[s] = car[c], ji[s] = cai[c];
+        for (int j = m; j < np; ++j) jr[j] = ji[j] = 0.0;
     }
-    if (!lu_factor(w)) return 0;
-    lu_solve(w, dr, di);
+    if (!kin__hom_lu_factor(m, &w->lu)) return 0;
+    kin__hom_lu_solve(m, &w->lu, dr, di);
     return isfinite(vnorm(m, dr, di));
 }
 
@@ -267,7 +198,7 @@ static void taylor(const hpar_problem *P, hpar_ws *w)
         for (int i = 0; 2 * i <= k - 1; ++i) /* sum_{i+l=k-1} D[x_i, x_l] */
             dots(m, s, 2 * i < k - 1 ? 2.0 : 1.0, w->cr[k - 1 - i], w->ci[k - 1 - i], w->zr[i], w->zi[i], rr, ri);
         for (int j = 0; j < s; ++j) rr[j] = -rr[j], ri[j] = -ri[j];
-        lu_solve(w, rr, ri);
+        kin__hom_lu_solve(m, &w->lu, rr, ri);
         if (k < NY) kin__hpar_matvec(sm, m, w->m0r, w->m0i, rr, ri, w->yr[k], w->yi[k]);
         if (k < NZ) kin__hpar_matvec(sm, m, P->Dr, P->Di, rr, ri, w->zr[k], w->zi[k]);
     }

@@ -45,7 +45,7 @@ typedef struct plane {
 } plane;
 
 struct hpar_bws {
-    hpar_llu work, ser;                   /* every Newton iteration's J; the series' J */
+    hom_llu work, ser;                   /* every Newton iteration's J; the series' J */
     lanes xr[HOM_MAX_M], xi[HOM_MAX_M];   /* each lane's current point (x in kin__hpar_track) */
     lanes pr[HOM_MAX_M], pi[HOM_MAX_M];   /* the Newton iterate */
     lanes dr[HOM_MAX_M], di[HOM_MAX_M];   /* Newton's correction */
@@ -220,8 +220,13 @@ static void attempt(const hpar_problem *P, hpar_bws *B, int l, const hpar_batch_
 /* keep lane l's J factors (the last Newton iteration's) for its series */
 static void keep_factors(int m, hpar_bws *B, int l)
 {
-    for (int k = 0; k < m * m; ++k) B->ser.r[k][l] = B->work.r[k][l], B->ser.i[k][l] = B->work.i[k][l];
-    for (int k = 0; k < m; ++k) B->ser.piv[k][l] = B->work.piv[k][l];
+    hom_llu *S = &B->ser;
+    const hom_llu *W = &B->work;
+    for (int k = 0; k < m * m; ++k) {
+        S->r[k][l] = W->r[k][l], S->i[k][l] = W->i[k][l];
+        S->lr[k][l] = W->lr[k][l], S->li[k][l] = W->li[k][l];
+    }
+    for (int k = 0; k < m; ++k) S->dr[k][l] = W->dr[k][l], S->di[k][l] = W->di[k][l], S->piv[k][l] = W->piv[k][l];
 }
 
 /* lane l's corrector iteration (as correct): 1 accepted, 0 rejected, -1 going on */

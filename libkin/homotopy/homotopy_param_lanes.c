@@ -87,105 +87,8 @@ HOM_INLINE void pdots(int m, int s, double wgt, const lanes *restrict ur, const 
     }
 }
 
-/* exchange rows k and piv[l] of the ncol columns (stride n) of every lane
- * l: whole vectors blended under the mask of the lanes that share a pivot
- * row (no lane-by-lane stores for the vector loads to trip over) */
-HOM_INLINE void swap_rows(int n, int k, const int *piv, lanes *restrict ar, lanes *restrict ai, int ncol)
-{
-    int done = 0; /* lanes swapped (bit l) */
-    for (int l = 0; l < BL; ++l) {
-        int p = piv[l];
-        if (p == k || (done >> l & 1)) continue;
-        lmask mask = (lmask){0};
-        for (int q = 0; q < BL; ++q) {
-            mask[q] = piv[q] == p ? -1 : 0;
-            if (piv[q] == p) done |= 1 << q;
-        }
-        for (int j = 0; j < ncol; ++j) {
-            lanes *xr = ar + (size_t)j * n, *xi = ai + (size_t)j * n;
-            lanes a = xr[k], b = xr[p], c = xi[k], d = xi[p];
-            xr[k] = select_lanes(mask, b, a), xr[p] = select_lanes(mask, a, b);
-            xi[k] = select_lanes(mask, d, c), xi[p] = select_lanes(mask, c, d);
-        }
-    }
-}
-
-/* LU with partial pivoting (the first largest |re| + |im|), each lane its
- * own pivots, as lu_factor; a lane whose U(k, j) is exactly zero keeps
- * column j as it is (lu_factor skips that update) */
-HOM_INLINE void plu_factor(int n, hpar_llu *F)
-{
-    const lmask nosign = (lmask){0} + 0x7fffffffffffffffLL;
-    for (int l = 0; l < BL; ++l) F->ok[l] = 1;
-    for (int k = 0; k < n; ++k) {
-        lanes *Ar = F->r, *Ai = F->i;
-        lanes best = (lanes)((lmask)Ar[k * n + k] & nosign) + (lanes)((lmask)Ai[k * n + k] & nosign);
-        lmask piv = (lmask){0} + k;
-        for (int i = k + 1; i < n; ++i) {
-            lanes v = (lanes)((lmask)Ar[k * n + i] & nosign) + (lanes)((lmask)Ai[k * n + i] & nosign);
-            lmask gt = v > best;
-            best = select_lanes(gt, v, best);
-            piv = (gt & ((lmask){0} + i)) | (~gt & piv);
-        }
-        for (int l = 0; l < BL; ++l) {
-            F->piv[k][l] = (int)piv[l];
-            if (!(best[l] > 0.0) || !isfinite(best[l])) F->ok[l] = 0;
-        }
-        swap_rows(n, k, F->piv[k], Ar, Ai, n);
-        lanes pr = Ar[k * n + k], pi = Ai[k * n + k], d = pr * pr + pi * pi;
-        lanes ir = pr / d, ii = -pi / d;
-        for (int i = k + 1; i < n; ++i) {
-            lanes a = Ar[k * n + i], b = Ai[k * n + i];
-            Ar[k * n + i] = a * ir - b * ii, Ai[k * n + i] = a * ii + b * ir;
-        }
-        const lanes *lr = Ar + k * n, *li = Ai + k * n;
-        for (int j = k + 1; j < n; ++j) {
-            lanes ur = Ar[j * n + k], ui = Ai[j * n + k];
-            lmask skip = (ur == 0.0) & (ui == 0.0);
-            int all = 1, any = 0;
-            for (int l = 0; l < BL; ++l) all &= skip[l] != 0, any |= skip[l] != 0;
-            if (all) continue;
-            lanes *cr = Ar + j * n, *ci = Ai + j * n;
-            if (!any) {
-                for (int i = k + 1; i < n; ++i) {
-                    cr[i] -= lr[i] * ur - li[i] * ui;
-                    ci[i] -= lr[i] * ui + li[i] * ur;
-                }
-            } else {
-                for (int i = k + 1; i < n; ++i) {
-                    lanes nr = cr[i] - (lr[i] * ur - li[i] * ui), ni = ci[i] - (lr[i] * ui + li[i] * ur);
-                    cr[i] = select_lanes(skip, cr[i], nr), ci[i] = select_lanes(skip, ci[i], ni);
-                }
-            }
-        }
-    }
-}
-
-/* b <- J^-1 b, every lane, as lu_solve */
-HOM_INLINE void plu_solve(int n, const hpar_llu *F, lanes *restrict br, lanes *restrict bi)
-{
-    const lanes *Ar = F->r, *Ai = F->i;
-    for (int k = 0; k < n; ++k) swap_rows(n, k, F->piv[k], br, bi, 1);
-    for (int j = 0; j < n; ++j) {
-        lanes vr = br[j], vi = bi[j];
-        for (int i = j + 1; i < n; ++i) {
-            br[i] -= Ar[j * n + i] * vr - Ai[j * n + i] * vi;
-            bi[i] -= Ar[j * n + i] * vi + Ai[j * n + i] * vr;
-        }
-    }
-    for (int j = n - 1; j >= 0; --j) {
-        lanes pr = Ar[j * n + j], pi = Ai[j * n + j], d = pr * pr + pi * pi;
-        lanes vr = (br[j] * pr + bi[j] * pi) / d, vi = (bi[j] * pr - br[j] * pi) / d;
-        br[j] = vr, bi[j] = vi;
-        for (int i = 0; i < j; ++i) {
-            br[i] -= Ar[j * n + i] * vr - Ai[j * n + i] * vi;
-            bi[i] -= Ar[j * n + i] * vi + Ai[j * n + i] * vr;
-        }
-    }
-}
-
 PLAN_KERNEL void kin__plan_newton(const hpar_problem *P, const lanes *t, const lanes *car, const lanes *cai,
-                                  const lanes *xr, const lanes *xi, const hpar_lscratch *W, hpar_llu *F,
+                                  const lanes *xr, const lanes *xi, const hpar_lscratch *W, hom_llu *F,
                                   lanes *dr, lanes *di, int *ok)
 {
     int m = P->m, s = P->s;
@@ -203,14 +106,14 @@ PLAN_KERNEL void kin__plan_newton(const hpar_problem *P, const lanes *t, const l
         for (int j = 0; j < s; ++j) F->r[c * m + j] = 2.0 * yr[c * s + j], F->i[c * m + j] = 2.0 * yi[c * s + j];
         F->r[c * m + s] = car[c], F->i[c * m + s] = cai[c];
     }
-    plu_factor(m, F);
-    plu_solve(m, F, dr, di);
+    kin__lanes_lu_factor(m, F);
+    kin__lanes_lu_solve(m, F, dr, di);
     lanes n2 = ALL(0.0);
     for (int k = 0; k < m; ++k) n2 += dr[k] * dr[k] + di[k] * di[k];
     for (int l = 0; l < BL; ++l) ok[l] = F->ok[l] && isfinite(sqrt(n2[l]));
 }
 
-PLAN_KERNEL void kin__plan_taylor(const hpar_problem *P, const lanes *t0, const hpar_llu *F, const hpar_lscratch *W,
+PLAN_KERNEL void kin__plan_taylor(const hpar_problem *P, const lanes *t0, const hom_llu *F, const hpar_lscratch *W,
                                   lanes (*cr)[HOM_MAX_M], lanes (*ci)[HOM_MAX_M])
 {
     int m = P->m, s = P->s;
@@ -229,7 +132,7 @@ PLAN_KERNEL void kin__plan_taylor(const hpar_problem *P, const lanes *t0, const 
         for (int i = 0; 2 * i <= k - 1; ++i) /* sum_{i+l=k-1} D[x_i, x_l] */
             pdots(m, s, 2 * i < k - 1 ? 2.0 : 1.0, cr[k - 1 - i], ci[k - 1 - i], W->zr[i], W->zi[i], rr, ri);
         for (int j = 0; j < s; ++j) rr[j] = -rr[j], ri[j] = -ri[j];
-        plu_solve(m, F, rr, ri);
+        kin__lanes_lu_solve(m, F, rr, ri);
         if (k < HPAR_NY) pmatvec(P, MAT_LANES, t0, W->mr, W->mi, rr, ri, W->yr[k], W->yi[k]);
         if (k < HPAR_NZ) pmatvec(P, MAT_D, t0, NULL, NULL, rr, ri, W->zr[k], W->zi[k]);
     }

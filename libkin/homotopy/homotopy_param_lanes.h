@@ -16,15 +16,6 @@
 
 #if defined(HOM_LANES_VECTOR)
 
-/* the LU factors of every lane's Jacobian, in place as the one-path
- * lu_factor (entry (row j, column c) at [c*m + j], unit L below the
- * diagonal, U on and above it) */
-typedef struct hpar_llu {
-    lanes r[HOM_MM], i[HOM_MM];
-    int piv[HOM_MAX_M][BL];
-    int ok[BL]; /* no zero or non-finite pivot */
-} hpar_llu;
-
 /* scratch of s*m rows per vector (allocated by the caller, 32-byte aligned) */
 typedef struct hpar_lscratch {
     lanes *yr[HPAR_NY], *yi[HPAR_NY]; /* M0 x_k */
@@ -37,11 +28,11 @@ typedef struct hpar_lscratch {
  * chart (car, cai); J factored in F; ok[l] = 0 where J is singular or d not
  * finite (as newton in homotopy_param.c) */
 void kin__plan_newton(const hpar_problem *P, const lanes *t, const lanes *car, const lanes *cai, const lanes *xr,
-                      const lanes *xi, const hpar_lscratch *W, hpar_llu *F, lanes *dr, lanes *di, int *ok);
+                      const lanes *xi, const hpar_lscratch *W, hom_llu *F, lanes *dr, lanes *di, int *ok);
 /* the Taylor coefficients c[1..HPAR_ORDER] (cr, ci: HPAR_ORDER + 1 vectors
  * of HOM_MAX_M) of every lane's path through c[0] at its t (*t0), J's
  * factors in F (as taylor) */
-void kin__plan_taylor(const hpar_problem *P, const lanes *t0, const hpar_llu *F, const hpar_lscratch *W,
+void kin__plan_taylor(const hpar_problem *P, const lanes *t0, const hom_llu *F, const hpar_lscratch *W,
                       lanes (*cr)[HOM_MAX_M], lanes (*ci)[HOM_MAX_M]);
 
 #endif /* HOM_LANES_VECTOR */

@@ -24,18 +24,16 @@
  * endpoints (failed, duplicate, unpaired) are tracked again with tighter
  * settings.
  *
- * The batches of paths are tracked by threads, each four paths at a time in
- * lockstep (homotopy_param_batch.c: every path bit for bit as the one-path
+ * The batches of paths are tracked on the solver's thread pool
+ * (homotopy_pool.c), each worker four paths at a time in lockstep (homotopy_param_batch.c: every path bit for bit as the one-path
  * tracker follows it); results are stored by index and processed in order,
  * so the result does not depend on the thread count or on which paths
  * share a batch. */
-#define _POSIX_C_SOURCE 200809L
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "homotopy/homotopy_pool.h"
 #include "homotopy/homotopy_sym.h"
 #include "model/internal.h"
 
@@ -46,7 +44,7 @@ enum { RETRACK_ROUNDS = 3, BUDGET_PER_ORBIT = 40, BUDGET_EXTRA = 1000 };
  * duplicate check sees and a re-track with tighter settings repairs. */
 static const hpar_settings LOOP_SETTINGS = {1e-3, 1e-2, 0.0};
 static const hpar_settings FINAL_SETTINGS = {1e-4, 3e-3, 1e-10};
-static const double TIGHTEN = 0.1, SIGMA_TIGHTEN = 0.01, REPORT_INTERVAL = 0.05;
+static const double TIGHTEN = 0.1, SIGMA_TIGHTEN = 0.01;
 
 enum { JOB_LOOP, JOB_FINAL, JOB_CERT };
 
@@ -62,22 +60,13 @@ typedef struct sym_batch {
     const double *inr, *ini;   /* JOB_CERT inputs, m per item */
     hpar_end *pe;
     hom_end *he;
-    pthread_mutex_t lock;
-    int next, finished, stop;
 } sym_batch;
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static void report(sym_ctx *C, long done, int force)
 {
     if (!C->fn || C->cancelled) return;
-    double t = now_seconds();
-    if (!force && t - C->last < REPORT_INTERVAL) return;
+    double t = kin__hom_seconds();
+    if (!force && t - C->last < HOM_POOL_REPORT) return;
     C->last = t;
     if (C->fn(C->user, (double)done, (double)(done + C->queued))) C->cancelled = 1;
 }
@@ -102,39 +91,21 @@ static void final_item(sym_batch *B, int t, int i)
     e->steps = B->pe[i].steps, e->rejected = B->pe[i].rejected, e->sigma = B->pe[i].sigma;
 }
 
-/* one item's end: counted, reported (by the calling thread), cancelled */
-static void item_done(sym_batch *B, int caller)
-{
-    pthread_mutex_lock(&B->lock);
-    int fin = ++B->finished;
-    pthread_mutex_unlock(&B->lock);
-    if (caller && B->kind != JOB_CERT) {
-        report(B->C, B->C->done + fin, 0);
-        if (B->C->cancelled) {
-            pthread_mutex_lock(&B->lock);
-            B->stop = 1;
-            pthread_mutex_unlock(&B->lock);
-        }
-    }
-}
-
 /* the paths of a batch go through the lockstep tracker
- * (homotopy_param_batch.c) of each thread: items handed out in order,
- * endpoints stored by index */
+ * (homotopy_param_batch.c) of each worker: items handed out in order by the
+ * pool, endpoints stored by index */
 typedef struct sym_sink {
     sym_batch *B;
-    int t, caller;
+    int t;
 } sym_sink;
 
 static int sink_next(void *ctx, double *x0r, double *x0i)
 {
     sym_sink *k = ctx;
     sym_batch *B = k->B;
-    pthread_mutex_lock(&B->lock);
-    int stop = B->stop, i = stop ? B->n : B->next++;
-    pthread_mutex_unlock(&B->lock);
-    if (stop) return HPAR_BATCH_STOP;
-    if (i >= B->n) return -1;
+    int i, got = kin__hom_pool_take(B->C->H.pool, 1, &i);
+    if (got < 0) return HPAR_BATCH_STOP;
+    if (got == 0) return -1;
     int m = B->C->m, p = B->items[i];
     const sym_set *S = &B->C->set[B->kind == JOB_LOOP ? B->from : 0];
     memcpy(x0r, S->xr + (size_t)p * m, sizeof(double) * (size_t)m);
@@ -151,63 +122,45 @@ static void sink_done(void *ctx, int i, const double *xr, const double *xi, cons
     memcpy(B->xi + (size_t)i * m, xi, sizeof(double) * (size_t)m);
     B->pe[i] = *e;
     if (B->kind == JOB_FINAL) final_item(B, k->t, i);
-    item_done(B, k->caller);
+    kin__hom_pool_done(B->C->H.pool, k->t);
 }
 
-static void batch_loop(sym_batch *B, int t, int caller)
+/* worker t's share of the batch */
+static void batch_work(void *ctx, int t)
 {
+    sym_batch *B = ctx;
     sym_ctx *C = B->C;
     if (B->kind != JOB_CERT) {
-        sym_sink k = {B, t, caller};
+        sym_sink k = {B, t};
         hpar_batch_sink K = {&k, sink_next, sink_done};
         kin__hpar_track_batch(B->P, B->S, C->pb[t], &K);
         return;
     }
-    int m = C->m;
-    for (;;) {
-        pthread_mutex_lock(&B->lock);
-        int i = B->stop ? B->n : B->next++;
-        pthread_mutex_unlock(&B->lock);
-        if (i >= B->n) break;
+    int m = C->m, i;
+    while (kin__hom_pool_take(C->H.pool, 1, &i) > 0) {
         memset(&B->he[i], 0, sizeof B->he[i]);
         kin__hom_certify(&C->H.P, kin__hom_pool_ws(&C->H, t), B->inr + (size_t)i * m, B->ini + (size_t)i * m,
                          B->xr + (size_t)i * m, B->xi + (size_t)i * m, &B->he[i]);
-        item_done(B, caller);
+        kin__hom_pool_done(C->H.pool, t);
     }
 }
 
-typedef struct sym_thread {
-    sym_batch *B;
-    int t;
-} sym_thread;
-
-static void *worker(void *arg)
+/* the calling thread's progress reports (the loops and the leg to Q; the
+ * certificates are not counted) */
+static int batch_progress(void *ctx, long done)
 {
-    sym_thread *T = arg;
-    batch_loop(T->B, T->t, 0);
-    return NULL;
+    sym_batch *B = ctx;
+    report(B->C, B->C->done + done, 0);
+    return B->C->cancelled;
 }
 
-/* run the batch on the solver's threads; KIN_OK or KIN_ECANCELLED */
+/* run the batch on the solver's thread pool; KIN_OK or KIN_ECANCELLED */
 static int run(sym_batch *B)
 {
     sym_ctx *C = B->C;
-    int nt = C->H.nthreads < B->n ? C->H.nthreads : B->n;
-    pthread_t th[64];
-    sym_thread arg[64];
-    int started[64] = {0};
-    if (nt > 64) nt = 64;
-    B->next = B->finished = B->stop = 0;
-    if (pthread_mutex_init(&B->lock, NULL) != 0) return KIN_ENOMEM;
-    for (int t = 1; t < nt; ++t) {
-        arg[t] = (sym_thread){B, t};
-        started[t] = pthread_create(&th[t], NULL, worker, &arg[t]) == 0;
-    }
-    batch_loop(B, 0, 1);
-    for (int t = 1; t < nt; ++t)
-        if (started[t]) pthread_join(th[t], NULL);
-    pthread_mutex_destroy(&B->lock);
-    if (B->kind != JOB_CERT) C->done += B->finished;
+    hom_pool_job J = {batch_work, B->kind != JOB_CERT && C->fn ? batch_progress : NULL, B};
+    long finished = kin__hom_pool_run(C->H.pool, B->n, &J);
+    if (B->kind != JOB_CERT) C->done += finished;
     return C->cancelled ? KIN_ECANCELLED : KIN_OK;
 }
 

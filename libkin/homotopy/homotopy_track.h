@@ -103,7 +103,7 @@ void kin__hom_bws_free(hom_bws *b);
 void kin__hom_track_batch(const hom_problem *P, const hom_settings *S, hom_bws *B, hom_ws *w,
                           const hom_batch_sink *K);
 
-/* ---- checks on the endpoints (homotopy.c) ---- */
+/* ---- checks on the endpoints (homotopy_merge.c) ---- */
 typedef struct hom_key {
     double key;
     int path;
@@ -123,8 +123,9 @@ hom_checks kin__hom_check(int m, int npaths, const hom_end *ends, const double *
                           hom_key *keys, int *parent, unsigned char *paired);
 int kin__hom_find(int *parent, int p);
 
-/* ---- the solver shared by homotopy.c (tracking on threads, the public
- * entry points) and homotopy_merge.c (checks, re-tracks, accounting) ---- */
+/* ---- the solver: set-up and runs of paths on the threads
+ * (homotopy_solver.c), below the checks, re-tracks and accounting
+ * (homotopy_merge.c) and the public entry points (homotopy.c) ---- */
 #include "libkin/kin_branch.h"
 
 /* the first pass's tracking tolerances (homotopy_merge.c) */
@@ -152,7 +153,9 @@ typedef struct hom_solver {
     double w[HOM_MAX_M]; /* unit vector of the duplicate checks' sort key */
     int npaths;          /* 2^s */
     int nthreads;
-    void *pool;          /* threads and workspaces (homotopy.c) */
+    struct hom_pool *pool; /* the worker threads (homotopy_pool.h) */
+    hom_ws **ws;         /* per thread: the one-path tracker's and certificate's workspace */
+    hom_bws **bws;       /* per thread: the lockstep tracker's workspace */
     hom_orbits *orb;     /* NULL, or the start roots' orbits: kin__hom_run then tracks one path
                             per orbit and stores every member's endpoint (the representative's
                             permuted, refined and certified) */
