@@ -42,8 +42,8 @@ Branch = Tuple[int, int, NDArray[np.float64], NDArray[np.float64]]
 from . import atlas_tasks as tasks
 from .atlas_index import GroupedIndex
 from .atlas_orbits import branch_orbits, mapped_result
-from .automorphisms import graph_automorphisms, invariant_subspace, same_symmetry, symmetries_at
-from .errors import InvalidArgumentError, KinError
+from .automorphisms import invariant_subspace, same_symmetry, symmetries_at
+from .errors import InvalidArgumentError, KinError, LimitError
 
 # node kinds: what a node of the map is
 BIFURCATION = "bifurcation"  # m_internal >= 2 and s >= 1 (branches can be enumerated)
@@ -288,15 +288,16 @@ class _Explorer:
         self.max_steps, self.samples, self.shards = max_steps, samples, shards
         self.deadline: Optional[float] = None
         self.symmetry_note = ""
-        self.perms: List[Tuple[int, ...]] = []
+        # detect the symmetries at every expanded node (the C search), unless given
+        self.detect = symmetries is None
         if symmetries is not None:
             self.syms = list(symmetries)
         else:
             try:
-                self.perms = graph_automorphisms(a)
-            except ImportError:  # networkx is an optional dependency (libkin[atlas])
-                self.symmetry_note = "not detected: networkx is not installed"
-            self.syms = symmetries_at(a, self.perms, a.coords) if self.perms else []
+                self.syms = symmetries_at(a, None, a.coords)
+            except LimitError as exc:  # more graph automorphisms than the search enumerates
+                self.detect, self.syms = False, []
+                self.symmetry_note = f"not detected: {exc}"
         self.P = [g.free_matrix(self.free_map) for g in self.syms]
         self.nodes: List[Node] = []
         self.edges: List[Edge] = []
@@ -371,7 +372,7 @@ class _Explorer:
         is a symmetry of the structure (automorphisms.py), found at the
         configuration that has it."""
         grown = False
-        for g in symmetries_at(self.a, self.perms, node.coords) if self.perms else []:
+        for g in symmetries_at(self.a, None, node.coords) if self.detect else []:
             if not any(same_symmetry(g, h) for h in self.syms):
                 self.syms.append(g)
                 self.P.append(g.free_matrix(self.free_map))
