@@ -40,6 +40,7 @@ Progress = Union[None, bool, Callable[[int, int, str], Any]]
 Branch = Tuple[int, int, NDArray[np.float64], NDArray[np.float64]]
 
 from . import atlas_tasks as tasks
+from ._procrustes import aligned_distance
 from .atlas_index import GroupedIndex
 from .atlas_orbits import branch_orbits, mapped_result
 from .automorphisms import invariant_subspace, same_symmetry, symmetries_at
@@ -311,14 +312,8 @@ class _Explorer:
 
     # -- identification
     def _distance(self, X: NDArray[np.float64], Y: NDArray[np.float64]) -> float:
-        if self.rigid:
-            # up to the rigid motions the supports allow: align X onto Y
-            cx, cy = X.mean(axis=0), Y.mean(axis=0)
-            U, _, Vt = np.linalg.svd((X - cx).T @ (Y - cy))
-            D = np.eye(X.shape[1])
-            D[-1, -1] = np.sign(np.linalg.det(Vt.T @ U.T)) or 1.0
-            R = Vt.T @ D @ U.T
-            X = (X - cx) @ R.T + cy
+        if self.rigid:  # up to the rigid motions the supports allow: align X onto Y
+            return aligned_distance(X, Y)
         return float(np.abs(X - Y).max())
 
     def pair_tol(self, located_a: float, located_b: float) -> float:
