@@ -22,6 +22,12 @@ Bentley and Saxe's logarithmic method: the newest entries (fewer than
 _BLOCK) are scanned directly, the others sit in trees of _BLOCK x 2^k
 entries, two trees of one size merged into one of twice the size: a query
 searches O(log n) trees, an entry is built into a tree O(log n) times.
+Measured (2 cores, load 2-4): merging 59,656 synthetic branch ends of the
+hexagonal sail (3,905 ends and their images under its 6 symmetries, each
+reached ~2.5 times) takes 28 s, against 52-58 s with the former index (one
+sorted scalar key w . f(X) per entry, random weights w, a window of
+candidates around the key); 26 s against 62 s for the square sail (4
+symmetries, rigid: up to rigid motions); the same nodes and orbits.
 """
 from __future__ import annotations
 
