@@ -3,15 +3,8 @@ that a scan over every entry would find, and returns labels in order."""
 import numpy as np
 import pytest
 
+from libkin.symmetry.procrustes import aligned_distance
 from libkin.atlas.index import ConfigIndex
-
-
-def _aligned_distance(X, Y):
-    cx, cy = X.mean(axis=0), Y.mean(axis=0)
-    U, _, Vt = np.linalg.svd((X - cx).T @ (Y - cy))
-    D = np.eye(X.shape[1])
-    D[-1, -1] = np.sign(np.linalg.det(Vt.T @ U.T)) or 1.0
-    return float(np.abs((X - cx) @ (Vt.T @ D @ U.T).T + cy - Y).max())
 
 
 def _random_rotation(rng, dim):
@@ -38,7 +31,7 @@ def test_window_finds_every_neighbour(rigid, dim):
     idx = ConfigIndex((njoints, dim), rigid)
     for i, X in enumerate(entries):
         idx.add(X, i)
-    dist = _aligned_distance if rigid else (lambda X, Y: float(np.abs(X - Y).max()))
+    dist = aligned_distance if rigid else (lambda X, Y: float(np.abs(X - Y).max()))
     found = 0
     for Y in entries[::5]:
         truth = [i for i, X in enumerate(entries) if dist(X, Y) <= tol]

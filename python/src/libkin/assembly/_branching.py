@@ -115,7 +115,7 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
         'homotopy' only: a symmetry group of the system acting on beta by
         orthogonal matrices (``q(R b) = S q(b)``; closed under products up to
         sign; the identity may be left out), e.g. from
-        `libkin.automorphisms.mechanism_group`. The solver then tracks one
+        `libkin.symmetry.automorphisms.mechanism_group`. The solver then tracks one
         path per orbit (kin_quadrics_homotopy_sym: the total-degree homotopy
         in coordinates where a cyclic subgroup permutes the mechanisms and
         the equations alike, one path per orbit of start roots, e.g. 10944
@@ -292,7 +292,7 @@ class BranchingMixin(AssemblyBase):
             See `solve_quadrics`.
         group : array_like, shape (k, m, m), optional
             The symmetry group acting on beta, e.g.
-            ``libkin.automorphisms.mechanism_group(self, method="c")``: see
+            ``libkin.symmetry.automorphisms.mechanism_group(self, method="c")``: see
             `solve_quadrics` (one homotopy path per orbit where it can).
 
         Returns

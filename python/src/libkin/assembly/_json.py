@@ -1,4 +1,6 @@
-"""The JSON model format (schema in docs/model_format.md; C reads it too, kin_io.h).
+"""The JSON model format (docs/model_format.md; its JSON Schema is
+model.schema.json beside this file, checked with jsonschema; C reads the
+format too, kin_io.h).
 
 {"name": str, "dimension": 2|3,
  "joints": [{"index": i, "label": str, "xyz": [x, y(, z)], "free": [bool, ...]}, ...],
@@ -12,9 +14,11 @@ it reads and writes plain data and knows the class only through
 an Assembly (`load_json`, `load_model`), is `libkin.io.model_json`."""
 from __future__ import annotations
 
+import functools
 import json
 import math
 import os
+from importlib import resources
 from typing import Any, Dict, List, NoReturn, Optional, Tuple, Union
 
 import numpy as np
@@ -32,14 +36,6 @@ ModelSource = Union[str, "os.PathLike[str]", Dict[str, Any]]
 
 def _fail(where: str, msg: str) -> NoReturn:
     raise ModelFormatError(f"{where}: {msg}")
-
-
-def _number(v: Any, where: str) -> float:
-    # integers beyond 64 bits are refused, as C (jansson) refuses them
-    if (isinstance(v, bool) or not isinstance(v, (int, float)) or
-            (isinstance(v, int) and not -2**63 <= v < 2**63) or not math.isfinite(v)):
-        _fail(where, f"expected a finite number, got {v!r}")
-    return float(v)
 
 
 #: Lists and objects nest at most this deep (the document is depth 1).
@@ -72,8 +68,122 @@ def _is_int(v: Any) -> bool:
     return isinstance(v, int) and not isinstance(v, bool)
 
 
+#: The format as a JSON Schema (draft 2020-12), shipped in the package:
+#: docs/model_format.md. The C loader (model_io.c) checks the same rules.
+SCHEMA_FILE = "model.schema.json"
+
+
+@functools.lru_cache(maxsize=None)
+def schema() -> Dict[str, Any]:
+    """The model format's JSON Schema (model.schema.json), as a dict."""
+    text = resources.files(__package__).joinpath(SCHEMA_FILE).read_text(encoding="utf-8")
+    out: Dict[str, Any] = json.loads(text)
+    return out
+
+
+@functools.lru_cache(maxsize=None)
+def _validator() -> Any:
+    """A jsonschema validator of schema(); "integer" means an integer literal
+    (2, not 2.0 or true), as jansson and Python's json read them."""
+    import jsonschema
+    cls = jsonschema.validators.validator_for(schema())
+    checker = cls.TYPE_CHECKER.redefine("integer", lambda _, v: _is_int(v))
+    return jsonschema.validators.extend(cls, type_checker=checker)(schema())
+
+
+# where each part of the model is checked, for the order of the messages:
+# the document's parts, then each joint's and bar's fields, in this order
+_TOP = {"dimension": 0, "joints": 1, "bars": 2, "name": 3}
+_FIELD = {"joints": {"index": 0, "xyz": 1, "free": 2, "label": 3}, "bars": {"index": 0, "joints": 1, "length": 2}}
+_Problem = Tuple[Tuple[float, ...], str, str]  # (order, where, message)
+
+
+def _bad_number(v: Any) -> bool:
+    # integers beyond 64 bits are refused, as C (jansson) refuses them
+    return (isinstance(v, bool) or not isinstance(v, (int, float)) or
+            (isinstance(v, int) and not -2**63 <= v < 2**63) or not math.isfinite(v))
+
+
+def _problem(doc: Any, path: List[Any]) -> _Problem:
+    """The message for a rule broken at `path` (a list of keys and indices)."""
+    if not path:
+        return (-1.0,), "model", f"expected a JSON object, got {type(doc).__name__}"
+    top = str(path[0])
+    v = doc.get(top)
+    if len(path) == 1:
+        if top == "dimension":
+            return (0.0,), top, f"expected 2 or 3, got {v!r}"
+        if top == "name":
+            return (3.0,), top, f"expected a string, got {v!r}"
+        return (float(_TOP[top]),), top, "expected a non-empty list"
+    i = int(path[1])
+    if len(path) == 2:
+        return (float(_TOP[top]), i), f"{top}[{i}]", "expected an object"
+    field = str(path[2])
+    item = v[i]
+    order, where, v = (float(_TOP[top]), i, _FIELD[top][field]), f"{top}[{i}].{field}", item.get(field)
+    dim = doc.get("dimension")
+    if field == "index":
+        return order, where, f"expected {i}, got {v!r}"
+    if field == "xyz":
+        if len(path) > 3:
+            c = int(path[3])
+            return order + (c,), f"{where}[{c}]", f"expected a finite number, got {v[c]!r}"
+        return order, where, f"expected {dim} numbers, got {v!r}"
+    if field == "free":
+        return order, where, f"expected {dim} booleans, got {v!r}"
+    if field == "label":
+        return order, where, f"expected a string, got {v!r}"
+    if field == "joints":
+        if isinstance(v, list) and len(v) == 2 and all(_is_int(e) for e in v):
+            n = len(doc["joints"]) if isinstance(doc.get("joints"), list) else 0
+            e = next(e for e in v if not 0 <= e < n)
+            return order, where, f"joint {e} out of range 0..{n - 1}"
+        return order, where, f"expected two joint indices, got {v!r}"
+    # the rest length
+    if _bad_number(v):
+        return order, where, f"expected a finite number, got {v!r}"
+    return order, where, f"expected > 0, got {float(v)}"
+
+
+def _problems(doc: Any) -> List[_Problem]:
+    """Every rule of the format that doc breaks: the schema's, and what a
+    schema cannot say (indices equal to positions, bar ends below the joint
+    count, numbers finite and integers within 64 bits)."""
+    out: List[_Problem] = []
+    for err in _validator().iter_errors(doc):
+        path = list(err.absolute_path)
+        if err.validator == "required":
+            out += [_problem(doc, path + [k]) for k in err.validator_value if k not in err.instance]
+        elif path == ["bars"] and err.validator == "anyOf":
+            out.append(((2.0, math.inf), "bars", "give a length for every bar or for none"))
+        else:
+            out.append(_problem(doc, path))
+    if not isinstance(doc, dict):
+        return out
+    joints, bars = doc.get("joints"), doc.get("bars")
+    n = len(joints) if isinstance(joints, list) else 0
+    for top, items in (("joints", joints), ("bars", bars)):
+        for i, item in enumerate(items if isinstance(items, list) else []):
+            if not isinstance(item, dict):
+                continue
+            if "index" in item and item["index"] != i:
+                out.append(_problem(doc, [top, i, "index"]))
+            xyz = item.get("xyz") if top == "joints" else None
+            for c, x in enumerate(xyz if isinstance(xyz, list) else []):
+                if isinstance(x, (int, float)) and not isinstance(x, bool) and _bad_number(x):
+                    out.append(_problem(doc, [top, i, "xyz", c]))
+            ends = item.get("joints") if top == "bars" else None
+            if isinstance(ends, list) and any(_is_int(e) and e >= n for e in ends):
+                out.append(_problem(doc, [top, i, "joints"]))
+            if top == "bars" and isinstance(item.get("length"), (int, float)) and _bad_number(item["length"]):
+                out.append(_problem(doc, [top, i, "length"]))
+    return out
+
+
 def parse(doc: Any) -> ParsedModel:
-    """Validate a model dict.
+    """Validate a model dict against the format (schema() and the rules a
+    schema cannot say, docs/model_format.md).
 
     Parameters
     ----------
@@ -89,67 +199,21 @@ def parse(doc: Any) -> ParsedModel:
     Raises
     ------
     ModelFormatError
-        The model is malformed; the message names the field and position.
+        The model is malformed; the message names the field and position
+        (of the first problem, in the order of the document's parts, the
+        joints and the bars, each field in turn).
     """
-    if not isinstance(doc, dict):
-        _fail("model", f"expected a JSON object, got {type(doc).__name__}")
-    dim = doc.get("dimension")
-    if dim not in (2, 3) or not _is_int(dim):
-        _fail("dimension", f"expected 2 or 3, got {dim!r}")
-    joints = doc.get("joints")
-    if not isinstance(joints, list) or not joints:
-        _fail("joints", "expected a non-empty list")
-    coords = np.empty((len(joints), dim))
-    fixed = np.zeros((len(joints), dim), dtype=bool)
-    labels: List[str] = []
-    for i, j in enumerate(joints):
-        w = f"joints[{i}]"
-        if not isinstance(j, dict):
-            _fail(w, "expected an object")
-        if "index" in j and not (_is_int(j["index"]) and j["index"] == i):
-            _fail(f"{w}.index", f"expected {i}, got {j['index']!r}")
-        xyz = j.get("xyz")
-        if not isinstance(xyz, list) or len(xyz) != dim:
-            _fail(f"{w}.xyz", f"expected {dim} numbers, got {xyz!r}")
-        coords[i] = [_number(v, f"{w}.xyz[{c}]") for c, v in enumerate(xyz)]
-        free = j.get("free", [True] * dim)
-        if not isinstance(free, list) or len(free) != dim or not all(isinstance(f, bool) for f in free):
-            _fail(f"{w}.free", f"expected {dim} booleans, got {free!r}")
-        fixed[i] = [not f for f in free]
-        label = j.get("label", f"J{i}")
-        if not isinstance(label, str):
-            _fail(f"{w}.label", f"expected a string, got {label!r}")
-        labels.append(label)
-    bars_doc = doc.get("bars")
-    if not isinstance(bars_doc, list) or not bars_doc:
-        _fail("bars", "expected a non-empty list")
-    bars = np.empty((len(bars_doc), 2), dtype=np.int32)
-    lengths = np.empty(len(bars_doc))
-    have_len = [("length" in b) if isinstance(b, dict) else False for b in bars_doc]
-    for k, b in enumerate(bars_doc):
-        w = f"bars[{k}]"
-        if not isinstance(b, dict):
-            _fail(w, "expected an object")
-        if "index" in b and not (_is_int(b["index"]) and b["index"] == k):
-            _fail(f"{w}.index", f"expected {k}, got {b['index']!r}")
-        ends = b.get("joints")
-        if (not isinstance(ends, list) or len(ends) != 2 or
-                not all(isinstance(e, int) and not isinstance(e, bool) for e in ends)):
-            _fail(f"{w}.joints", f"expected two joint indices, got {ends!r}")
-        for e in ends:
-            if not 0 <= e < len(joints):
-                _fail(f"{w}.joints", f"joint {e} out of range 0..{len(joints) - 1}")
-        bars[k] = ends
-        if have_len[k]:
-            lengths[k] = _number(b["length"], f"{w}.length")
-            if lengths[k] <= 0:
-                _fail(f"{w}.length", f"expected > 0, got {lengths[k]}")
-    if any(have_len) and not all(have_len):
-        _fail("bars", "give a length for every bar or for none")
-    name = doc.get("name", "model")
-    if not isinstance(name, str):
-        _fail("name", f"expected a string, got {name!r}")
-    return name, coords, bars, fixed, (lengths if all(have_len) else None), labels
+    problems = _problems(doc)
+    if problems:
+        _, where, msg = min(problems, key=lambda p: p[0])
+        _fail(where, msg)
+    dim, joints, bars_doc = doc["dimension"], doc["joints"], doc["bars"]
+    coords = np.array([j["xyz"] for j in joints], dtype=float).reshape(len(joints), dim)
+    fixed = np.array([[not f for f in j.get("free", [True] * dim)] for j in joints], dtype=bool).reshape(-1, dim)
+    labels = [j.get("label", f"J{i}") for i, j in enumerate(joints)]
+    bars = np.array([b["joints"] for b in bars_doc], dtype=np.int32).reshape(-1, 2)
+    lengths = np.array([float(b["length"]) for b in bars_doc]) if "length" in bars_doc[0] else None
+    return doc.get("name", "model"), coords, bars, fixed, lengths, labels
 
 
 def read_json(source: ModelSource) -> ParsedModel:
@@ -174,24 +238,31 @@ def read_json(source: ModelSource) -> ParsedModel:
     OSError
         The file cannot be read.
     """
-    doc: Any
     if isinstance(source, dict):
-        doc = source
-    else:
-        text: Any = source
-        if isinstance(source, (str, os.PathLike)) and not str(source).lstrip().startswith("{"):
-            try:
-                with open(source, encoding="utf-8") as f:
-                    text = f.read()
-            except UnicodeDecodeError as exc:
-                raise ModelFormatError(f"not UTF-8 text: byte {exc.start}: {exc.reason}") from None
+        return parse(source)
+    text: Any = source
+    if isinstance(source, (str, os.PathLike)) and not str(source).lstrip().startswith("{"):
         try:
-            doc = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise ModelFormatError(f"JSON syntax: line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
-        except RecursionError:
-            _fail("JSON text", f"lists or objects nested deeper than {MAX_DEPTH}")
-        _check_text(doc)
+            with open(source, encoding="utf-8") as f:
+                text = f.read()
+        except UnicodeDecodeError as exc:
+            raise ModelFormatError(f"not UTF-8 text: byte {exc.start}: {exc.reason}") from None
+    return _parse_text(text) if isinstance(text, (str, bytes)) else _parse_text.__wrapped__(text)
+
+
+@functools.lru_cache(maxsize=16)
+def _parse_text(text: Any) -> ParsedModel:
+    """parse() of a JSON text, remembered for the last few texts: the atlas
+    rebuilds its model from one text in every task, and the schema check
+    (jsonschema) costs milliseconds. The arrays are only read (Assembly
+    copies them into the C handle)."""
+    try:
+        doc = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ModelFormatError(f"JSON syntax: line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
+    except RecursionError:
+        _fail("JSON text", f"lists or objects nested deeper than {MAX_DEPTH}")
+    _check_text(doc)
     return parse(doc)
 
 

@@ -35,9 +35,10 @@ if TYPE_CHECKING:
 
 Branch = Tuple[int, int, NDArray[np.float64], NDArray[np.float64]]
 
-from ..errors import InvalidArgumentError, KinError
+from ..errors import InvalidArgumentError, KinError, LimitError
 from ..parallel import Progress, run_tasks
-from ..symmetry.automorphisms import graph_automorphisms, invariant_subspace, same_symmetry, symmetries_at
+from ..symmetry.automorphisms import invariant_subspace, same_symmetry, symmetries_at
+from ..symmetry.procrustes import aligned_distance
 from . import tasks
 from .index import GroupedIndex
 from .model import BIFURCATION, LOCATION_FACTOR, SAME_TOL, Atlas, Edge, Node, node_kind
@@ -72,15 +73,16 @@ class _Explorer:
         self.max_steps, self.samples, self.shards = max_steps, samples, shards
         self.deadline: Optional[float] = None
         self.symmetry_note = ""
-        self.perms: List[Tuple[int, ...]] = []
+        # detect the symmetries at every expanded node (the C search), unless given
+        self.detect = symmetries is None
         if symmetries is not None:
             self.syms = list(symmetries)
         else:
             try:
-                self.perms = graph_automorphisms(a)
-            except ImportError:  # networkx is an optional dependency (libkin[atlas])
-                self.symmetry_note = "not detected: networkx is not installed"
-            self.syms = symmetries_at(a, self.perms, a.coords) if self.perms else []
+                self.syms = symmetries_at(a, None, a.coords)
+            except LimitError as exc:  # more graph automorphisms than the search enumerates
+                self.detect, self.syms = False, []
+                self.symmetry_note = f"not detected: {exc}"
         self.P = [g.free_matrix(self.free_map) for g in self.syms]
         self.nodes: List[Node] = []
         self.edges: List[Edge] = []
@@ -94,14 +96,8 @@ class _Explorer:
 
     # -- identification
     def _distance(self, X: NDArray[np.float64], Y: NDArray[np.float64]) -> float:
-        if self.rigid:
-            # up to the rigid motions the supports allow: align X onto Y
-            cx, cy = X.mean(axis=0), Y.mean(axis=0)
-            U, _, Vt = np.linalg.svd((X - cx).T @ (Y - cy))
-            D = np.eye(X.shape[1])
-            D[-1, -1] = np.sign(np.linalg.det(Vt.T @ U.T)) or 1.0
-            R = Vt.T @ D @ U.T
-            X = (X - cx) @ R.T + cy
+        if self.rigid:  # up to the rigid motions the supports allow: align X onto Y
+            return aligned_distance(X, Y)
         return float(np.abs(X - Y).max())
 
     def pair_tol(self, located_a: float, located_b: float) -> float:
@@ -155,7 +151,7 @@ class _Explorer:
         is a symmetry of the structure (symmetry/automorphisms.py), found at the
         configuration that has it."""
         grown = False
-        for g in symmetries_at(self.a, self.perms, node.coords) if self.perms else []:
+        for g in symmetries_at(self.a, None, node.coords) if self.detect else []:
             if not any(same_symmetry(g, h) for h in self.syms):
                 self.syms.append(g)
                 self.P.append(g.free_matrix(self.free_map))

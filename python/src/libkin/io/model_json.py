@@ -12,10 +12,11 @@ import os
 
 from .._native._lib import c_string, ffi, lib
 from ..assembly import Assembly
-from ..assembly._json import MAX_DEPTH, ModelSource, ParsedModel, parse, read_json, to_json
+from ..assembly._json import MAX_DEPTH, ModelSource, ParsedModel, parse, read_json, schema, to_json
 from ..errors import ArgumentTypeError, InvalidArgumentError, error_class
 
-__all__ = ["load_json", "load_model", "to_json", "parse", "read_json", "ModelSource", "ParsedModel", "MAX_DEPTH"]
+__all__ = ["load_json", "load_model", "to_json", "parse", "read_json", "schema", "ModelSource", "ParsedModel",
+           "MAX_DEPTH"]
 
 
 def load_json(source: ModelSource) -> Assembly:

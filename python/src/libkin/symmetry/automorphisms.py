@@ -11,23 +11,21 @@ Such a g maps every configuration of the structure to another one,
 g.X'[perm[i]] = Q X'[i] + t, and paths to paths, so the paths out of g.X'
 are the images of those out of X'.
 
-Candidates come from the automorphisms of the bar graph with the supports
-and rest lengths as labels (networkx's VF2 GraphMatcher); each is kept if an
-orthogonal Procrustes fit (SVD, Kabsch without the det correction) matches
-the configurations with zero residual. When the joints span fewer
-dimensions than the space (a flat sail in 3D), the fit is not unique: the
-reflections through the missing directions are added (the mirror z -> -z of
-a flat sail is a symmetry with the identity permutation).
-
-The C library finds the same symmetries (kin_symmetries, kin_mechanism_group
-in include/libkin/kin_symmetry.h: nauty's Traces on the coloured bar graph
-instead of VF2, the same Procrustes test): ``method="c"`` in
-detect_symmetries and mechanism_group uses it.
+The search is the C library's (kin_symmetries, kin_mechanism_group in
+include/libkin/kin_symmetry.h; docs/branches.md): the candidates are the
+automorphisms of the bar graph coloured by supports and rest lengths, found
+by nauty's Traces, and each is kept if an orthogonal Procrustes fit matches
+the configurations with zero residual and maps fixed axes onto fixed axes.
+When the joints span fewer dimensions than the space (a flat sail in 3D),
+the fit is not unique: the reflections through the missing directions are
+tried too (the mirror z -> -z of a flat sail is a symmetry with the
+identity permutation). Every function here calls that search through cffi;
+a structure whose coloured bar graph has more than MAX_CANDIDATES
+automorphisms is refused with LimitError.
 """
 from __future__ import annotations
 
 import dataclasses
-import itertools
 from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 
 import numpy as np
@@ -38,10 +36,10 @@ from ..errors import InvalidArgumentError
 if TYPE_CHECKING:
     from ..assembly import Assembly
 
-# coordinates agree when they differ by less than this times the model size
+# a Q entry below this counts as zero in the action on free coordinates
 _REL_TOL = 1e-9
-# stop enumerating graph automorphisms after this many (a structure with more
-# is reported with the ones found; see detect_symmetries)
+# the C search's cap on graph automorphisms (KIN_SYMMETRY_MAX_CANDIDATES): a
+# structure with more is refused with LimitError
 MAX_CANDIDATES = 20000
 
 
@@ -92,110 +90,74 @@ class Symmetry:
                 "proper": self.proper}
 
 
-def _scale(X: NDArray[np.float64]) -> float:
-    return max(1.0, float(np.abs(X - X.mean(axis=0)).max()))
-
-
-def _bar_graph(bars: NDArray[Any], rest: NDArray[np.float64], fixed: NDArray[np.bool_], scale: float) -> Any:
-    import networkx as nx
-    G = nx.Graph()
-    for i in range(fixed.shape[0]):
-        G.add_node(i, nfixed=int(fixed[i].sum()))
-    for k, (i, j) in enumerate(bars):
-        # rest lengths as integers of the tolerance so equal lengths compare equal
-        G.add_edge(int(i), int(j), length=int(round(rest[k] / (1e-7 * scale))))
-    return G
-
-
-def _orthogonal_fits(Xc: NDArray[np.float64], Yc: NDArray[np.float64]) -> List[NDArray[np.float64]]:
-    """Orthogonal Q with Yc = Xc Q^T, if any: the Procrustes optimum, plus its
-    products with the reflections through the directions Xc does not span."""
-    H = Xc.T @ Yc
-    U, sv, Vt = np.linalg.svd(H)
-    Q = Vt.T @ U.T
-    scale = max(1.0, float(np.abs(Xc).max()))
-    if np.abs(Xc @ Q.T - Yc).max() > _REL_TOL * 100 * scale:
-        return []
-    # directions Xc does not span: null space of Xc (right singular vectors)
-    _, s2, v2 = np.linalg.svd(Xc, full_matrices=True)
-    s2 = np.concatenate([s2, np.zeros(Xc.shape[1] - s2.size)])
-    null = v2[s2 <= _REL_TOL * scale * max(1, Xc.shape[0])]
-    fits = [Q]
-    for r in range(1, len(null) + 1):
-        for combo in itertools.combinations(range(len(null)), r):
-            R = np.eye(Xc.shape[1])
-            for c in combo:
-                n = null[c]
-                R = R @ (np.eye(Xc.shape[1]) - 2.0 * np.outer(n, n))
-            fits.append(Q @ R)
-    # make entries that are zero to rounding exactly zero (cleaner P matrices)
-    return [np.where(np.abs(F) < 1e-12, 0.0, F) for F in fits]
-
-
-def _keeps_supports(Q: NDArray[np.float64], perm: Tuple[int, ...], fixed: NDArray[np.bool_]) -> bool:
-    for i, j in enumerate(perm):
-        # fixed axes of i must go into fixed axes of j (counts are equal)
-        for a in np.flatnonzero(fixed[i]):
-            img = Q[:, a]
-            if np.abs(img[~fixed[j]]).max(initial=0.0) > 1e-9:
-                return False
-    return True
-
-
-def graph_automorphisms(assembly: Assembly, max_candidates: int = MAX_CANDIDATES) -> List[Tuple[int, ...]]:
-    """The permutations of the joints that map bars to bars of the same rest
-    length and joints to joints with as many fixed coordinates (networkx's
-    VF2 matcher on the bar graph): the candidates for symmetries, whatever
-    the configuration. At most max_candidates, in the matcher's order."""
-    from networkx.algorithms.isomorphism import GraphMatcher
-    rest = assembly.rest_lengths
-    G = _bar_graph(assembly.bars, rest, assembly.fixed, max(1.0, float(rest.max())))
-    gm = GraphMatcher(G, G, node_match=lambda a, b: a["nfixed"] == b["nfixed"],
-                      edge_match=lambda a, b: a["length"] == b["length"])
-    perms = []
-    for n, iso in enumerate(gm.isomorphisms_iter()):
-        if n >= max_candidates:
-            break
-        perms.append(tuple(int(iso[i]) for i in range(assembly.njoints)))
-    return perms
-
-
-def symmetries_at(assembly: Assembly, perms: List[Tuple[int, ...]], coords: ArrayLike) -> List[Symmetry]:
-    """The candidates `perms` (graph_automorphisms) that are symmetries of
-    the configuration coords, each with every isometry that realises it;
-    identity first, then by perm and Q. Raises InvalidArgumentError if
-    coords has the wrong shape."""
+def _assembly_at(assembly: Assembly, coords: ArrayLike) -> Assembly:
+    """A copy of `assembly` in the configuration coords (a new assembly with
+    the same bars, supports and rest lengths if coords moves a support).
+    Raises InvalidArgumentError if coords has the wrong shape."""
     X = np.asarray(coords, dtype=float)
     if X.shape != (assembly.njoints, assembly.dim):
         raise InvalidArgumentError(f"coords: expected shape {(assembly.njoints, assembly.dim)}, got {X.shape}")
-    fixed = assembly.fixed
-    scale = _scale(X)
-    c = X.mean(axis=0)
-    Xc = X - c
-    found: List[Symmetry] = []
-    for perm in perms:
-        Yc = X[list(perm)] - c
-        for Q in _orthogonal_fits(Xc, Yc):
-            if not _keeps_supports(Q, perm, fixed):
-                continue
-            g = Symmetry(perm, Q, c - Q @ c)
-            if np.abs(g.apply(X) - X).max() <= 100 * _REL_TOL * scale:
-                found.append(g)
-    found.sort(key=lambda g: (not g.is_identity, g.perm, tuple(np.round(g.Q, 9).ravel())))
-    return found
+    b = assembly.clone()
+    try:
+        b.coords = X
+    except InvalidArgumentError:  # a support moved: kin_set_coords keeps supports
+        from ..assembly import Assembly
+        b.close()
+        b = Assembly(X, assembly.bars, assembly.fixed, assembly.rest_lengths)
+    return b
+
+
+def graph_automorphisms(assembly: Assembly, max_candidates: int = MAX_CANDIDATES) -> List[Tuple[int, ...]]:
+    """The joint permutations of the symmetries of `assembly` at its current
+    configuration (the C search, detect_symmetries), each once, in its order,
+    at most max_candidates. The search over the automorphisms of the bar
+    graph itself runs inside the C library (nauty's Traces, which colours
+    the graph by the configuration too); symmetries_at(assembly, None, X)
+    searches at another configuration X. Raises LimitError beyond
+    MAX_CANDIDATES graph automorphisms."""
+    perms: List[Tuple[int, ...]] = []
+    for g in c_symmetries(assembly):
+        if g.perm not in perms:
+            perms.append(g.perm)
+    return perms[:max_candidates]
+
+
+def symmetries_at(assembly: Assembly, perms: Optional[List[Tuple[int, ...]]], coords: ArrayLike) -> List[Symmetry]:
+    """The symmetries of the configuration coords (the C search at coords;
+    the assembly is not moved), each with every isometry that realises it,
+    only those whose permutation is in `perms` unless perms is None;
+    identity first, then by perm and Q. Raises InvalidArgumentError if
+    coords has the wrong shape, LimitError beyond MAX_CANDIDATES graph
+    automorphisms."""
+    b = _assembly_at(assembly, coords)
+    try:
+        found = c_symmetries(b)
+    finally:
+        b.close()
+    if perms is not None:
+        keep = set(perms)
+        found = [g for g in found if g.perm in keep]
+    return _in_order(found)
+
+
+def _in_order(found: List[Symmetry]) -> List[Symmetry]:
+    """Identity first, then by perm and Q (the C order, made explicit for
+    the isometries of one permutation)."""
+    return sorted(found, key=lambda g: (not g.is_identity, g.perm, tuple(np.round(g.Q, 9).ravel())))
 
 
 def detect_symmetries(assembly: Assembly, coords: Optional[ArrayLike] = None,
                       max_candidates: int = MAX_CANDIDATES, method: str = "python") -> List[Symmetry]:
     """Every symmetry of `assembly` in the configuration `coords` (default:
-    its current one): symmetries_at(graph_automorphisms(...)). A symmetry
-    of one configuration is one of the structure: it maps every
-    configuration to another.
+    its current one), found by the C library (kin_symmetries: nauty's
+    Traces; at most MAX_CANDIDATES graph automorphisms, beyond which it
+    raises LimitError; max_candidates is not used). A symmetry of one
+    configuration is one of the structure: it maps every configuration to
+    another.
 
-    method="c" asks the C library (kin_symmetries: nauty's Traces; at most
-    KIN_SYMMETRY_MAX_CANDIDATES graph automorphisms, beyond which it raises
-    LimitError; max_candidates is not used); the assembly is then moved to
-    `coords` if given (and left there). Raises InvalidArgumentError for
+    method="python" (default) leaves the assembly where it is
+    (symmetries_at); method="c" moves it to `coords` if given (and leaves it
+    there). Both run the same search. Raises InvalidArgumentError for
     another method."""
     if method == "c":
         if coords is not None:
@@ -203,8 +165,9 @@ def detect_symmetries(assembly: Assembly, coords: Optional[ArrayLike] = None,
         return c_symmetries(assembly)
     if method != "python":
         raise InvalidArgumentError(f"method: expected 'python' or 'c', got {method!r}")
-    X = assembly.coords if coords is None else coords
-    return symmetries_at(assembly, graph_automorphisms(assembly, max_candidates), X)
+    if coords is None:  # kin_symmetries does not move the assembly
+        return _in_order(c_symmetries(assembly))
+    return symmetries_at(assembly, None, coords)
 
 
 def _c_count(call: Any, assembly: "Assembly", what: str) -> int:
@@ -272,10 +235,12 @@ def mechanism_group(assembly: "Assembly", coords: Optional[ArrayLike] = None,
         Moved to `coords` if given (and left there).
     coords : array_like, shape (njoints, dim), optional
     max_candidates : int, optional
-        As for detect_symmetries.
+        As for detect_symmetries (not used).
     method : {'python', 'c'}, optional
-        'c': the C library's kin_mechanism_group (the same group, found with
-        nauty; the order of matrices of equal trace may differ).
+        'python': the R_g formed here from the C search's symmetries
+        (detect_symmetries), ordered by decreasing trace; 'c': the C
+        library's kin_mechanism_group (the same group; the order of
+        matrices of equal trace may differ).
 
     Returns
     -------
@@ -292,6 +257,8 @@ def mechanism_group(assembly: "Assembly", coords: Optional[ArrayLike] = None,
         method='c': as InvalidArgumentError above (KIN_ESTATE).
     NoMechanismError
         method='c': the assembly has no internal mechanism.
+    LimitError
+        More than MAX_CANDIDATES graph automorphisms.
     """
     if method not in ("python", "c"):
         raise InvalidArgumentError(f"method: expected 'python' or 'c', got {method!r}")
