@@ -81,14 +81,11 @@ int kin__hom_solve(hom_solver *H, const int *list, int n, const kin_homotopy_opt
 int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_options *opt, double *betas,
                              int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info)
 {
-    if (nsol) *nsol = 0;
-    if (!info) return KIN_ENULL;
-    if (kin__abi_check(info, KIN__V1_SIZE(kin_homotopy_info, max_cond), sizeof *info)) return KIN_EINVAL;
-    kin__abi_zero(info);
     kin_homotopy_options o;
-    if (kin__hom_options(opt, &o)) return KIN_EINVAL;
+    int rc = kin__hom_entry(opt, &o, info, nsol);
+    if (rc) return rc;
     kin_homotopy_info local = {.size = sizeof local};
-    int rc = homotopy_impl(m, s, Q, &o, betas, maxsol, nsol, multiplicity, &local);
+    rc = homotopy_impl(m, s, Q, &o, betas, maxsol, nsol, multiplicity, &local);
     kin__abi_write(info, &local, sizeof local);
     return rc;
 }

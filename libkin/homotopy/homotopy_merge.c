@@ -320,14 +320,11 @@ int kin_quadrics_homotopy_merge(int m, int s, const double *Q, const kin_homotop
                                 const kin_homotopy_endpoint *ends, const double *z, double *betas, int maxsol,
                                 int *nsol, int *multiplicity, kin_homotopy_info *info)
 {
-    if (nsol) *nsol = 0;
-    if (!info) return KIN_ENULL;
-    if (kin__abi_check(info, KIN__V1_SIZE(kin_homotopy_info, max_cond), sizeof *info)) return KIN_EINVAL;
-    kin__abi_zero(info);
     kin_homotopy_options o;
-    if (kin__hom_options(opt, &o)) return KIN_EINVAL;
+    int rc = kin__hom_entry(opt, &o, info, nsol);
+    if (rc) return rc;
     kin_homotopy_info local = {.size = sizeof local};
-    int rc = merge_impl(m, s, Q, &o, ends, z, betas, maxsol, nsol, multiplicity, &local);
+    rc = merge_impl(m, s, Q, &o, ends, z, betas, maxsol, nsol, multiplicity, &local);
     if (rc) {
         memset(&local, 0, sizeof local);
         local.size = sizeof local;

@@ -195,6 +195,15 @@ int kin__hom_options(const kin_homotopy_options *opt, kin_homotopy_options *o)
     return KIN_OK;
 }
 
+int kin__hom_entry(const kin_homotopy_options *opt, kin_homotopy_options *o, kin_homotopy_info *info, int *nsol)
+{
+    if (nsol) *nsol = 0;
+    if (!info) return KIN_ENULL;
+    if (kin__abi_check(info, KIN__V1_SIZE(kin_homotopy_info, max_cond), sizeof *info)) return KIN_EINVAL;
+    kin__abi_zero(info);
+    return kin__hom_options(opt, o);
+}
+
 int kin__hom_solver_init(hom_solver *H, int m, int s, const double *Q, const kin_homotopy_options *o, long work)
 {
     memset(H, 0, sizeof *H);

@@ -194,6 +194,10 @@ void kin__hom_report_start(hom_report *R);
 /* o = the defaults, then the caller's opt (NULL: none) as far as its size
  * goes: KIN_OK, or KIN_EINVAL for a bad opt->size */
 int kin__hom_options(const kin_homotopy_options *opt, kin_homotopy_options *o);
+/* The first checks of an entry point that fills a kin_homotopy_info: *nsol
+ * (if given) := 0; info checked (KIN_ENULL, KIN_EINVAL) and zeroed after its
+ * size; then kin__hom_options */
+int kin__hom_entry(const kin_homotopy_options *opt, kin_homotopy_options *o, kin_homotopy_info *info, int *nsol);
 /* n records zeroed, each size set */
 void kin__hom_zero_records(kin_homotopy_endpoint *ends, long n);
 

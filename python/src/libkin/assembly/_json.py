@@ -217,27 +217,13 @@ def parse(doc: Any) -> ParsedModel:
 
 
 def read_json(source: ModelSource) -> ParsedModel:
-    """Read and check a JSON model with the Python loader (`Assembly.from_json`
-    and `libkin.load_json` build the Assembly from it).
-
-    Parameters
-    ----------
-    source : str, path-like or dict
-        A file path, a JSON text (starting with ``{``), or the parsed dict.
-
-    Returns
-    -------
-    ParsedModel
-        name, coords, bars, fixed, lengths (or None), labels (see `parse`).
-
-    Raises
-    ------
-    ModelFormatError
-        Malformed JSON or model (a ValueError); the message names the field
-        and position.
-    OSError
-        The file cannot be read.
-    """
+    """Read and check a JSON model with the Python loader: what
+    `Assembly.from_json` (and `libkin.load_json`) build the Assembly from.
+    The source is a file path, a JSON text (starting with ``{``) or the
+    parsed dict, as there; the result is (name, coords, bars, fixed, lengths
+    or None, labels), see `parse`. Raises ModelFormatError for a malformed
+    model (a ValueError; the message names the field and position) and
+    OSError for an unreadable file."""
     if isinstance(source, dict):
         return parse(source)
     text: Any = source
