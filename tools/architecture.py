@@ -324,10 +324,47 @@ def check(build):
                 # modules is checked above); never a higher layer
                 if gb != ga and (lb is None or lb > la):
                     problems.append(f"Python {a} (layer {la}) imports {b} (layer {lb})")
+    problems += doc_problems()
     for p in problems:
         print(p)
     print(f"architecture: {len(problems)} problem(s)")
     return 1 if problems else 0
+
+
+def doc_problems():
+    """docs/architecture.md must match the tree: it names every C folder
+    and Python subpackage of the layers, and every source path it names
+    (`libkin/...`, `python/src/libkin/...`, `model/options.c`, ...) exists"""
+    doc_path = os.path.join(ROOT, "docs", "architecture.md")
+    if not os.path.exists(doc_path):
+        return ["docs/architecture.md is missing"]
+    with open(doc_path, encoding="utf-8") as fh:
+        doc = fh.read()
+    out = []
+    for folder in sorted({f.split("/")[0] for f in c_files()}):
+        if f"libkin/{folder}/" not in doc:
+            out.append(f"docs/architecture.md does not name the C folder libkin/{folder}/")
+    if SRC.is_dir():
+        for g in sorted({py_group(m) for m in modules(SRC)} - {"__init__"}):
+            if f"libkin.{g}" not in doc:
+                out.append(f"docs/architecture.md does not name the Python package libkin.{g}")
+    folders = {f.split("/")[0] for f in c_files()}
+    for ref in sorted(set(re.findall(r"[A-Za-z0-9_./]+\.(?:c|h|py)\b", doc))):
+        if ref.startswith(("python/", "include/", "tools/", "tests/", "bench/")):
+            cand = [ref]
+        elif ref.startswith("libkin/"):   # the C library, or the Python package's own path
+            cand = [ref, f"python/src/{ref}"]
+        elif ref.split("/")[0] in folders:
+            cand = [f"libkin/{ref}"]
+        elif "/" in ref:
+            cand = [f"python/src/libkin/{ref}", f"libkin/{ref}"]
+        else:   # a bare file name: somewhere in libkin/, the public headers or the package
+            cand = [f"libkin/{f}" for f in c_files() if f.endswith("/" + ref)] + [f"include/libkin/{ref}"]
+            if SRC.is_dir():
+                cand += [str(p.relative_to(ROOT)) for p in SRC.rglob(ref)]
+        if not any(os.path.exists(os.path.join(ROOT, c)) for c in cand):
+            out.append(f"docs/architecture.md names {ref}, which does not exist")
+    return out
 
 
 def file_lines(path):
