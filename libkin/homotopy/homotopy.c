@@ -83,13 +83,13 @@ int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_o
 {
     if (nsol) *nsol = 0;
     if (!info) return KIN_ENULL;
-    if (kin__abi_check(info, KIN__V1_SIZE(kin_homotopy_info, max_cond), sizeof *info)) return KIN_EINVAL;
+    if (kin__abi_check(info, KIN__ABI(kin_homotopy_info))) return KIN_EINVAL;
     kin__abi_zero(info);
     kin_homotopy_options o;
     if (kin__hom_options(opt, &o)) return KIN_EINVAL;
     kin_homotopy_info local = {.size = sizeof local};
     int rc = homotopy_impl(m, s, Q, &o, betas, maxsol, nsol, multiplicity, &local);
-    kin__abi_write(info, &local, sizeof local);
+    kin__abi_write(info, &local, KIN__ABI(kin_homotopy_info));
     return rc;
 }
 
