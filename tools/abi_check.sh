@@ -72,7 +72,7 @@ echo "$report"
 if (( rc & 1 )) || (( rc & 2 )); then echo "abi_check: abidiff failed (exit $rc)"; exit 2; fi
 tmp="$(mktemp -d)"; trap 'rm -rf "$tmp"' EXIT
 dump "$tmp/current.abi" || { echo "abi_check: abidw failed"; exit 2; }
-layouts="$(python3 "$root/tools/abi_layouts_diff.py" "$baseline" "$tmp/current.abi" "$supprfile")"
+layouts="$(python3 "$root/tools/abi_layouts_diff.py" "$baseline" "$tmp/current.abi" "$supprfile" "$(dirname "$headers")")"
 lrc=$?
 echo "$layouts"
 (( lrc > 1 )) && { echo "abi_check: tools/abi_layouts_diff.py failed (exit $lrc)"; exit 2; }

@@ -12,14 +12,22 @@ For every struct named kin_* of the baseline that the current dump still
 has: each baseline member must be at the same position with the same name,
 offset and type; members may be added only after the last one and only to
 the size-prefixed structs that the suppression file lists (generated from
-the headers by tools/gen_abi.py); the size may change only for those.
+the headers by tools/gen_abi.py); the size may change only for those. And where the headers (INCLUDE_DIR, the
+folder holding libkin.h; optional) say how a size-prefixed struct's layouts
+end (the `/* layout N` markers, tools/gen_abi.py), the baseline's last member
+must end one of them: members appended to a layout the baseline has would
+change that layout's size, and hosts compiled against it would be refused.
 
-usage: abi_layouts_diff.py BASELINE.abi CURRENT.abi SUPPRESSIONS
+usage: abi_layouts_diff.py BASELINE.abi CURRENT.abi SUPPRESSIONS [INCLUDE_DIR]
 exit 0 compatible, 1 a layout changed incompatibly (listed), 2 usage/parse error
 """
+import pathlib
 import re
 import sys
 import xml.etree.ElementTree as ET
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import gen_abi  # noqa: E402
 
 
 def layouts(path):
@@ -47,10 +55,14 @@ def extensible(suppr_path):
 
 
 def main(argv):
-    if len(argv) != 4:
+    if len(argv) not in (4, 5):
         print(__doc__, file=sys.stderr)
         return 2
     old, new, ext = layouts(argv[1]), layouts(argv[2]), extensible(argv[3])
+    ends = {}
+    if len(argv) == 5:
+        for _, name, lays in gen_abi.structs(argv[4]):
+            ends[name] = [fields[-1][1][-1] for fields in lays]
     problems = []
     for name in sorted(old):
         if name not in new:
@@ -73,6 +85,10 @@ def main(argv):
         if added and name not in ext:
             problems.append(f"{name}: members appended ({', '.join(m for _, m, _ in added)}), but {name} "
                             "carries no layout size (only the size-prefixed structs may grow)")
+        if added and name in ends and om and om[-1][1] not in ends[name]:
+            problems.append(f"{name}: members appended to a layout the baseline has (it ends at '{om[-1][1]}'; "
+                            f"layouts end at {', '.join(ends[name])}): start a new layout with a "
+                            "`/* layout N` comment line before them (docs/abi.md)")
         if nsize != osize and name not in ext:
             problems.append(f"{name}: size {osize} -> {nsize} bits")
         elif nsize < osize:

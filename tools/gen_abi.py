@@ -58,11 +58,15 @@ def _fields(segment):
     return out
 
 
-def structs():
-    """[(header, name, [layout fields: [(decl, names)]])] in umbrella order."""
-    umbrella = (INCLUDE / "libkin.h").read_text()
+def structs(include=INCLUDE):
+    """[(header, name, [layout fields: [(decl, names)]])] in the order of the
+    umbrella header include/libkin.h ([] if include has none)."""
+    include = pathlib.Path(include)
+    if not (include / "libkin.h").is_file():
+        return []
+    umbrella = (include / "libkin.h").read_text()
     headers = re.findall(r'#include "(libkin/[\w.]+)"', umbrella)
-    texts = {h: (INCLUDE / h).read_text() for h in headers}
+    texts = {h: (include / h).read_text() for h in headers}
     fixed = set()
     for raw in texts.values():
         fixed.update(m.lower() for m in re.findall(r"#define (KIN_\w+)_SIZE\b", raw))
