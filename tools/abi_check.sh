@@ -26,7 +26,8 @@
 # (default abi/), KIN_ABI_SUPPR the suppression file (default abi/libkin.suppr).
 #
 # Exit: 0 compatible, 1 incompatible (or no baseline for the soname), 2 tool
-# error, 77 skipped (abidiff/abidw missing: tools/deps.sh installs abigail-tools).
+# error, 77 skipped (abidiff/abidw missing: tools/deps.sh installs
+# abigail-tools; or a library without debug info: a Release build).
 set -uo pipefail  # (no grep -q after a pipe: an early exit would fail the pipeline)
 root="$(cd "$(dirname "$0")/.." && pwd)"
 update=0
@@ -42,7 +43,7 @@ if ! command -v abidiff >/dev/null || ! command -v abidw >/dev/null; then
 fi
 [ -e "$lib" ] || { echo "abi_check: $lib not built"; exit 2; }
 if ! readelf -S "$lib" | grep '\.debug_info' >/dev/null; then
-  echo "abi_check: $lib has no debug info: build with -g (RelWithDebInfo, tools/build.sh)"; exit 2
+  echo "abi_check: SKIPPED: $lib has no debug info: build with -g (RelWithDebInfo, tools/build.sh)"; exit 77
 fi
 soname="$(readelf -d "$lib" | sed -n 's/.*(SONAME).*\[\(.*\)\].*/\1/p')"
 [ -n "$soname" ] || { echo "abi_check: $lib has no soname"; exit 2; }
