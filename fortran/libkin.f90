@@ -40,7 +40,7 @@ module libkin
     integer(c_int) :: max_halvings = 0
     real(c_double) :: direction_tol = 0, max_correction = 0
     integer(c_int) :: factorization = 0
-    integer(c_int) :: step_control = 0
+    integer(c_int) :: step_control = 0, reserved = 0
   end type
 
   type, bind(C), public :: kin_step_info
@@ -145,18 +145,22 @@ module libkin
   public :: kin_get_lengths, kin_max_strain, kin_get_equilibrium_matrix
   public :: kin_analyse, kin_get_analysis, kin_get_singular_values, kin_get_mechanisms
   public :: kin_get_self_stresses
-  public :: kin_options_default, kin_set_options, kin_get_options, kin_step
+  public :: kin_options_default, kin_options_default_c, kin_options_init, kin_set_options, kin_get_options, kin_step
   public :: kin_path_set_direction, kin_get_tangent, kin_path_length, kin_path_reset, kin_relax
-  public :: kin_locate_options_default, kin_test_function, kin_locate_next
+  public :: kin_locate_options_default, kin_locate_options_default_c, kin_locate_options_init
+  public :: kin_test_function, kin_locate_next
   public :: kin_second_order, kin_quadrics_scan, kin_quadrics_homotopy, kin_branch_paths
-  public :: kin_homotopy_options_default, kin_quadrics_homotopy_ex
+  public :: kin_homotopy_options_default, kin_homotopy_options_default_c, kin_homotopy_options_init
+  public :: kin_quadrics_homotopy_ex
   public :: kin_quadrics_homotopy_range, kin_quadrics_homotopy_merge, kin_quadrics_homotopy_sym
   public :: kin_quadrics_equivariant_form, kin_quadrics_homotopy_orbit_range
-  public :: kin_follow_options_default, kin_follow_event
+  public :: kin_follow_options_default, kin_follow_options_default_c, kin_follow_options_init
+  public :: kin_follow_event
   public :: kin_set_progress, kin_progress_callback
   public :: kin_assembly_load, kin_assembly_load_string, kin_assembly_save
   public :: kin_assembly_save_string, kin_free_string
-  public :: kin_model_threebar, kin_sail_params_default, kin_sail_size, kin_model_sail
+  public :: kin_model_threebar, kin_sail_params_default, kin_sail_params_default_c, kin_sail_params_init
+  public :: kin_sail_size, kin_model_sail
   public :: kin_symmetries, kin_mechanism_group
   ! ---- Fortran strings and wrappers --------------------------------------
   public :: kin_version_string, kin_strerror, kin_status_name, kin_last_error
@@ -324,10 +328,18 @@ module libkin
     end function
 
     ! kin_path.h
-    subroutine kin_options_default(o) bind(C, name='kin_options_default')
+    ! the plain symbol fills only the first layout (docs/abi.md); the
+    ! module's kin_options_default calls kin_options_init with the whole size
+    subroutine kin_options_default_c(o) bind(C, name='kin_options_default')
       import :: kin_options
       type(kin_options), intent(out) :: o
     end subroutine
+    function kin_options_init(o, size) bind(C, name='kin_options_init')
+      import :: c_int, c_size_t, kin_options
+      type(kin_options), intent(out) :: o
+      integer(c_size_t), value :: size
+      integer(c_int) :: kin_options_init
+    end function
     function kin_set_options(a, o) bind(C, name='kin_set_options')
       import :: c_int, c_ptr, kin_options
       type(c_ptr), value :: a
@@ -380,10 +392,18 @@ module libkin
     end function
 
     ! kin_locate.h
-    subroutine kin_locate_options_default(o) bind(C, name='kin_locate_options_default')
+    ! the plain symbol fills only the first layout (docs/abi.md); the
+    ! module's kin_locate_options_default calls kin_locate_options_init with the whole size
+    subroutine kin_locate_options_default_c(o) bind(C, name='kin_locate_options_default')
       import :: kin_locate_options
       type(kin_locate_options), intent(out) :: o
     end subroutine
+    function kin_locate_options_init(o, size) bind(C, name='kin_locate_options_init')
+      import :: c_int, c_size_t, kin_locate_options
+      type(kin_locate_options), intent(out) :: o
+      integer(c_size_t), value :: size
+      integer(c_int) :: kin_locate_options_init
+    end function
     function kin_test_function(a, tau) bind(C, name='kin_test_function')
       import :: c_int, c_double, c_ptr
       type(c_ptr), value :: a
@@ -444,10 +464,18 @@ module libkin
       integer(c_int) :: kin_branch_paths
     end function
 
-    subroutine kin_homotopy_options_default(o) bind(C, name='kin_homotopy_options_default')
+    ! the plain symbol fills only the first layout (docs/abi.md); the
+    ! module's kin_homotopy_options_default calls kin_homotopy_options_init with the whole size
+    subroutine kin_homotopy_options_default_c(o) bind(C, name='kin_homotopy_options_default')
       import :: kin_homotopy_options
       type(kin_homotopy_options), intent(out) :: o
     end subroutine
+    function kin_homotopy_options_init(o, size) bind(C, name='kin_homotopy_options_init')
+      import :: c_int, c_size_t, kin_homotopy_options
+      type(kin_homotopy_options), intent(out) :: o
+      integer(c_size_t), value :: size
+      integer(c_int) :: kin_homotopy_options_init
+    end function
     function kin_quadrics_homotopy_ex(m, s, q, opt, betas, maxsol, nsol, multiplicity, info) &
         bind(C, name='kin_quadrics_homotopy_ex')
       import :: c_int, c_double, kin_homotopy_options, kin_homotopy_info
@@ -533,10 +561,18 @@ module libkin
     end function
 
     ! kin_follow.h. dir: c_loc of a real array of nfree, or c_null_ptr
-    subroutine kin_follow_options_default(o) bind(C, name='kin_follow_options_default')
+    ! the plain symbol fills only the first layout (docs/abi.md); the
+    ! module's kin_follow_options_default calls kin_follow_options_init with the whole size
+    subroutine kin_follow_options_default_c(o) bind(C, name='kin_follow_options_default')
       import :: kin_follow_options
       type(kin_follow_options), intent(out) :: o
     end subroutine
+    function kin_follow_options_init(o, size) bind(C, name='kin_follow_options_init')
+      import :: c_int, c_size_t, kin_follow_options
+      type(kin_follow_options), intent(out) :: o
+      integer(c_size_t), value :: size
+      integer(c_int) :: kin_follow_options_init
+    end function
     function kin_follow_event(a, dir, o, info) bind(C, name='kin_follow_event')
       import :: c_int, c_ptr, kin_follow_options, kin_follow_info
       type(c_ptr), value :: a, dir
@@ -629,11 +665,20 @@ module libkin
       type(c_ptr), intent(out) :: out
       integer(c_int) :: kin_model_threebar
     end function
-    subroutine kin_sail_params_default(p, n_sides, n_loops) bind(C, name='kin_sail_params_default')
+    ! the plain symbol fills only the first layout (docs/abi.md); the
+    ! module's kin_sail_params_default calls kin_sail_params_init
+    subroutine kin_sail_params_default_c(p, n_sides, n_loops) bind(C, name='kin_sail_params_default')
       import :: c_int, kin_sail_params
       type(kin_sail_params), intent(out) :: p
       integer(c_int), value :: n_sides, n_loops
     end subroutine
+    function kin_sail_params_init(p, size, n_sides, n_loops) bind(C, name='kin_sail_params_init')
+      import :: c_int, c_size_t, kin_sail_params
+      type(kin_sail_params), intent(out) :: p
+      integer(c_size_t), value :: size
+      integer(c_int), value :: n_sides, n_loops
+      integer(c_int) :: kin_sail_params_init
+    end function
     function kin_sail_size(p, njoints, nbars) bind(C, name='kin_sail_size')
       import :: c_int, kin_sail_params
       type(kin_sail_params), intent(in) :: p
@@ -673,6 +718,40 @@ module libkin
   integer, parameter :: errbuf_len = 1024
 
 contains
+
+  ! The defaults of every field of the struct this module declares: the
+  ! sized C form with the C sizeof of these headers (the plain C symbol,
+  ! bound as *_default_c, fills only the first layout; docs/abi.md).
+  subroutine kin_options_default(o)
+    type(kin_options), intent(out) :: o
+    integer(c_int) :: rc
+    rc = kin_options_init(o, KIN_SIZEOF_OPTIONS)
+  end subroutine
+
+  subroutine kin_locate_options_default(o)
+    type(kin_locate_options), intent(out) :: o
+    integer(c_int) :: rc
+    rc = kin_locate_options_init(o, KIN_SIZEOF_LOCATE_OPTIONS)
+  end subroutine
+
+  subroutine kin_homotopy_options_default(o)
+    type(kin_homotopy_options), intent(out) :: o
+    integer(c_int) :: rc
+    rc = kin_homotopy_options_init(o, KIN_SIZEOF_HOMOTOPY_OPTIONS)
+  end subroutine
+
+  subroutine kin_follow_options_default(o)
+    type(kin_follow_options), intent(out) :: o
+    integer(c_int) :: rc
+    rc = kin_follow_options_init(o, KIN_SIZEOF_FOLLOW_OPTIONS)
+  end subroutine
+
+  subroutine kin_sail_params_default(p, n_sides, n_loops)
+    type(kin_sail_params), intent(out) :: p
+    integer(c_int), value :: n_sides, n_loops
+    integer(c_int) :: rc
+    rc = kin_sail_params_init(p, KIN_SIZEOF_SAIL_PARAMS, n_sides, n_loops)
+  end subroutine
 
   ! A NUL-terminated C string as a Fortran string ('' for a null pointer).
   function fstring(p) result(s)

@@ -1,99 +1,94 @@
 #!/usr/bin/env bash
-# ABI check: compare the shared library in BUILD_DIR (default ./build) with
-# the last release's, and fail only when the ABI changed incompatibly while
-# the soname (libkin.so.KIN_ABI_VERSION) stayed the same. See docs/abi.md.
+# ABI check (docs/abi.md): compare the shared library in BUILD_DIR (default
+# ./build) with the stored baseline of its soname, abi/<soname>.abi (an
+# abidw dump of this tree's build: no git, no second build at test time),
+# and fail when the ABI changed incompatibly:
+#  - a function or variable removed or changed (abidiff's summary, after the
+#    suppressions of abi/libkin.suppr);
+#  - a member of a public struct removed, moved, retyped or renamed, or one
+#    appended to a struct that carries no layout size
+#    (tools/abi_layouts_diff.py on the baseline and a dump of the build:
+#    libabigail 2.2's abidiff misses layout changes against an XML dump, and
+#    its has_data_member_inserted_at = end suppression would accept a
+#    reordering). Members appended at the end of a size-prefixed struct (the
+#    list in abi/libkin.suppr, generated from the headers by
+#    tools/gen_abi.py) are the one accepted struct change.
+# Added functions are compatible. An incompatible change needs a new soname
+# (bump KIN_ABI_VERSION in include/libkin/kin_version.h) and a baseline for
+# it: a soname without a stored baseline fails until one is stored.
 #
-# The reference is the release named in abi/reference: its library is built
-# from git (`git archive`, with -g, cached in BUILD_DIR/abi-ref/) and the two
-# binaries are compared by abidiff with their DWARF. Without git history the
-# stored dump abi/libkin-<version>.abi is used instead; libabigail 2.2 sees
-# only symbol changes (removed/added functions) that way, not struct layout
-# changes, so the check says so.
+#   bash tools/abi_check.sh [BUILD_DIR]            check        (ctest abi_check)
+#   bash tools/abi_check.sh --update [BUILD_DIR]   store abi/<soname>.abi from the build
 #
-# Exit: 0 compatible (or soname bumped), 1 incompatible change under the same
-# soname, 2 tool error, 77 skipped (abidiff missing: tools/deps.sh installs
-# abigail-tools).
-set -uo pipefail
+# Environment (tests/abi_mutations.sh uses them on stand-in libraries):
+# KIN_ABI_LIB the library (default BUILD_DIR/libkin.so), KIN_ABI_HEADERS its
+# public headers (default include/libkin), KIN_ABI_DIR where baselines are
+# (default abi/), KIN_ABI_SUPPR the suppression file (default abi/libkin.suppr).
+#
+# Exit: 0 compatible, 1 incompatible (or no baseline for the soname), 2 tool
+# error, 77 skipped (abidiff/abidw missing: tools/deps.sh installs
+# abigail-tools; or a library without debug info: a Release build).
+set -uo pipefail  # (no grep -q after a pipe: an early exit would fail the pipeline)
 root="$(cd "$(dirname "$0")/.." && pwd)"
-build="$(cd "${1:-$root/build}" && pwd)"
+update=0
+if [ "${1:-}" = "--update" ]; then update=1; shift; fi
+build="${1:-$root/build}"
+lib="${KIN_ABI_LIB:-$build/libkin.so}"
+headers="${KIN_ABI_HEADERS:-$root/include/libkin}"
+abidir="${KIN_ABI_DIR:-$root/abi}"
+supprfile="${KIN_ABI_SUPPR:-$root/abi/libkin.suppr}"
 if ! command -v abidiff >/dev/null || ! command -v abidw >/dev/null; then
   echo "abi_check: SKIPPED: abidiff/abidw not found (Debian package abigail-tools, installed by tools/deps.sh)"
   exit 77
 fi
-# shellcheck source=/dev/null
-source "$root/abi/reference"   # ref_version, ref_commit
-cur="$build/libkin.so"
-[ -e "$cur" ] || { echo "abi_check: $cur not built"; exit 2; }
-suppr=()
-[ -f "$root/abi/libkin.suppr" ] && suppr=(--suppressions "$root/abi/libkin.suppr")
-if ! readelf -S "$cur" | grep -q '\.debug_info'; then
-  echo "abi_check: warning: $cur has no debug info (build with -g, e.g. RelWithDebInfo): only symbols are compared"
+[ -e "$lib" ] || { echo "abi_check: $lib not built"; exit 2; }
+if ! readelf -S "$lib" | grep '\.debug_info' >/dev/null; then
+  echo "abi_check: SKIPPED: $lib has no debug info: build with -g (RelWithDebInfo, tools/build.sh)"; exit 77
 fi
+soname="$(readelf -d "$lib" | sed -n 's/.*(SONAME).*\[\(.*\)\].*/\1/p')"
+[ -n "$soname" ] || { echo "abi_check: $lib has no soname"; exit 2; }
+baseline="$abidir/$soname.abi"
 
-soname() { readelf -d "$1" | sed -n 's/.*(SONAME).*\[\(.*\)\].*/\1/p'; }
-
-refdir="$build/abi-ref/$ref_commit"
-ref=""
-if [ -e "$refdir/build/libkin.so" ]; then
-  ref="$refdir/build/libkin.so"
-elif git -C "$root" cat-file -e "$ref_commit^{commit}" 2>/dev/null; then
-  echo "abi_check: building the $ref_version reference library ($ref_commit) in $refdir"
-  rm -rf "$refdir" && mkdir -p "$refdir/src"
-  if git -C "$root" archive "$ref_commit" | tar -x -C "$refdir/src" &&
-     cmake -S "$refdir/src" -B "$refdir/build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-       -DKIN_BUILD_TESTS=OFF -DKIN_BUILD_EXAMPLES=OFF -DKIN_BUILD_BENCH=OFF >"$refdir/build.log" 2>&1 &&
-     cmake --build "$refdir/build" --target kin -j2 >>"$refdir/build.log" 2>&1; then
-    ref="$refdir/build/libkin.so"
-  else
-    echo "abi_check: building the reference failed (see $refdir/build.log)"; exit 2
-  fi
-fi
-
-if [ -n "$ref" ]; then
-  old_soname="$(soname "$ref")"
-  report="$(abidiff "${suppr[@]}" --hd1 "$refdir/src/include/libkin" --hd2 "$root/include/libkin" "$ref" "$cur")"
-  rc=$?
-  how="binaries with debug info"
-else
-  dump="$root/abi/libkin-$ref_version.abi"
-  [ -f "$dump" ] || { echo "abi_check: neither git commit $ref_commit nor $dump available"; exit 2; }
-  echo "abi_check: warning: no git history: comparing with $dump (symbols only: struct layout changes are not seen)"
-  old_soname="$(sed -n "1s/.*soname='\([^']*\)'.*/\1/p" "$dump")"
-  report="$(abidiff "${suppr[@]}" --hd2 "$root/include/libkin" "$dump" "$cur")"
-  rc=$?
-  how="stored dump against binary"
-fi
-new_soname="$(soname "$cur")"
-echo "abi_check: libkin $ref_version ($old_soname) -> current build ($new_soname), $how"
-echo "$report"
-if (( rc & 1 )); then
-  echo "abi_check: abidiff failed (exit $rc)"; exit 2
-fi
-# abidiff sets bit 8 only for a few sure breaks (removed symbols, ...); bit 4
-# means "changed, maybe compatible". Added functions/variables are compatible;
-# a removed or changed one (a struct behind a pointer grew, a parameter type
-# changed) is not, unless abi/libkin.suppr declares the change safe (a struct
-# that carries its own size grew at its end).
-incompatible=0
-if (( rc & 8 )); then
-  incompatible=1
-elif (( rc & 4 )); then
-  if echo "$report" | grep -Eq 'changes summary: ([1-9][0-9]* Removed|[0-9]+ Removed, [1-9][0-9]* Changed)'; then
-    incompatible=1
-  fi
-fi
-if (( incompatible )); then
-  if [ "$old_soname" = "$new_soname" ]; then
-    echo "abi_check: FAIL: incompatible ABI change but the soname is still $new_soname:"
-    echo "  bump KIN_ABI_VERSION in include/libkin/kin_version.h (docs/abi.md), or keep the change compatible"
-    exit 1
-  fi
-  echo "abi_check: OK: incompatible ABI change with a new soname ($old_soname -> $new_soname)"
+dump() { # the abidw dump of $lib into $1: the baseline's options
+  abidw --headers-dir "$headers" --no-corpus-path --no-comp-dir-path --short-locs --drop-private-types \
+    --no-elf-needed --type-id-style hash "$lib" --out-file "$1"
+}
+if (( update )); then
+  dump "$baseline" || { echo "abi_check: abidw failed"; exit 2; }
+  echo "abi_check: stored $baseline"
   exit 0
 fi
-if [ "$old_soname" != "$new_soname" ]; then
-  echo "abi_check: OK: compatible with $ref_version, though the soname changed ($old_soname -> $new_soname)"
-else
-  echo "abi_check: OK: compatible with $ref_version (soname $new_soname)"
+if [ ! -f "$baseline" ]; then
+  echo "abi_check: FAIL: no stored baseline $baseline for soname $soname."
+  echo "  A new soname starts a new baseline: bash tools/abi_check.sh --update (docs/abi.md)"
+  exit 1
 fi
+
+suppr=()
+[ -f "$supprfile" ] && suppr=(--suppressions "$supprfile")
+report="$(abidiff "${suppr[@]}" --hd2 "$headers" "$baseline" "$lib")"
+rc=$?
+echo "abi_check: $lib ($soname) against $baseline"
+echo "$report"
+if (( rc & 1 )) || (( rc & 2 )); then echo "abi_check: abidiff failed (exit $rc)"; exit 2; fi
+tmp="$(mktemp -d)"; trap 'rm -rf "$tmp"' EXIT
+dump "$tmp/current.abi" || { echo "abi_check: abidw failed"; exit 2; }
+layouts="$(python3 "$root/tools/abi_layouts_diff.py" "$baseline" "$tmp/current.abi" "$supprfile" "$(dirname "$headers")")"
+lrc=$?
+echo "$layouts"
+(( lrc > 1 )) && { echo "abi_check: tools/abi_layouts_diff.py failed (exit $lrc)"; exit 2; }
+
+why=()
+(( rc & 8 )) && why+=("abidiff: incompatible change (exit $rc)")
+echo "$report" | grep -E 'changes summary: [1-9][0-9]* Removed' >/dev/null && why+=("a function or variable removed")
+echo "$report" | grep -E 'changes summary: [0-9]+ Removed, [1-9][0-9]* Changed' >/dev/null && why+=("a function or variable changed")
+(( lrc == 1 )) && why+=("a struct layout changed (only members appended to a size-prefixed struct are compatible)")
+if (( ${#why[@]} )); then
+  echo "abi_check: FAIL: incompatible ABI change under soname $soname:"
+  printf '  - %s\n' "${why[@]}"
+  echo "  keep the change compatible, or bump KIN_ABI_VERSION (include/libkin/kin_version.h) and store"
+  echo "  the new soname's baseline (bash tools/abi_check.sh --update); docs/abi.md"
+  exit 1
+fi
+echo "abi_check: OK: compatible with the $soname baseline"
 exit 0

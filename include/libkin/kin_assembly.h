@@ -17,12 +17,14 @@
  *
  *  - Options and info structs start with `size_t size`: the size of the
  *    struct the caller compiled against (docs/abi.md). Set it before a call,
- *    with the struct's *_default() function (options) or an initializer
- *    `kin_step_info info = {.size = sizeof info};` (outputs; for an array of
- *    kin_branch_path, element 0's size). The library reads and writes only
- *    that many bytes, so a host built against older headers keeps working
- *    when a struct grows at its end; a size it does not know (0, garbage,
- *    newer headers) gives KIN_EINVAL before anything is read or written.
+ *    with the struct's *_default() macro or *_init(p, sizeof *p) function
+ *    (options) or an initializer `kin_step_info info = {.size = sizeof info};`
+ *    (outputs; for an array of kin_branch_path, element 0's size). The size
+ *    names one of the struct's published layouts and the library reads and
+ *    writes only that layout's fields, so a host built against older
+ *    headers keeps working when a struct grows at its end; a size that is no
+ *    layout's (0, garbage, newer headers) gives KIN_EINVAL before anything
+ *    is read or written.
  *    On failure an output struct is zeroed (its size kept).
  *
  * OWNERSHIP: libkin copies every array passed in; it never keeps, frees or

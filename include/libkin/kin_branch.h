@@ -159,8 +159,20 @@ typedef struct kin_homotopy_options {
     void *user;          /* passed to progress */
 } kin_homotopy_options;
 
-/* Fill o with the defaults above. Does nothing if o is NULL. */
+/* Fill *o with the defaults above, for a struct of `size` bytes: pass
+ * sizeof(kin_homotopy_options) (the macro kin_homotopy_options_default below does). size must be the sizeof
+ * of one of kin_homotopy_options's published layouts (docs/abi.md); then exactly size bytes
+ * are written (o->size = size) and KIN_OK is returned; otherwise nothing is
+ * written and KIN_EINVAL is returned. KIN_ENULL if o is NULL. */
+KIN_API int kin_homotopy_options_init(kin_homotopy_options *o, size_t size);
+
+/* The same with size = sizeof(kin_homotopy_options): a C or C++ host compiled with this
+ * header calls kin_homotopy_options_init through the macro. The function itself is
+ * for programs built before the macro existed: it writes only the first
+ * layout (o->size = its sizeof, docs/abi.md), which is all an old program
+ * can have room for. Does nothing if o is NULL. */
 KIN_API void kin_homotopy_options_default(kin_homotopy_options *o);
+#define kin_homotopy_options_default(o) ((void)kin_homotopy_options_init((o), sizeof(kin_homotopy_options)))
 
 /* kin_quadrics_homotopy with settings (opt NULL: the defaults). The calling
  * thread tracks paths too and calls opt->progress; a nonzero return stops

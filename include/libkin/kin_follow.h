@@ -83,8 +83,20 @@ typedef struct kin_follow_info {
     double tangent_cos;  /* at a bifurcation: cos between the first chord and dir (else 1) */
 } kin_follow_info;
 
-/* Fill o with the defaults above. Does nothing if o is NULL. */
+/* Fill *o with the defaults above, for a struct of `size` bytes: pass
+ * sizeof(kin_follow_options) (the macro kin_follow_options_default below does). size must be the sizeof
+ * of one of kin_follow_options's published layouts (docs/abi.md); then exactly size bytes
+ * are written (o->size = size) and KIN_OK is returned; otherwise nothing is
+ * written and KIN_EINVAL is returned. KIN_ENULL if o is NULL. */
+KIN_API int kin_follow_options_init(kin_follow_options *o, size_t size);
+
+/* The same with size = sizeof(kin_follow_options): a C or C++ host compiled with this
+ * header calls kin_follow_options_init through the macro. The function itself is
+ * for programs built before the macro existed: it writes only the first
+ * layout (o->size = its sizeof, docs/abi.md), which is all an old program
+ * can have room for. Does nothing if o is NULL. */
 KIN_API void kin_follow_options_default(kin_follow_options *o);
+#define kin_follow_options_default(o) ((void)kin_follow_options_init((o), sizeof(kin_follow_options)))
 
 /* Follow the path from the current point to its next event (above).
  *  a     the assembly (SVD step mode is used while following; the handle's

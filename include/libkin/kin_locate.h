@@ -70,8 +70,20 @@ typedef struct kin_locate_info {
                              1 a crossing, 2 a tangency (Figure 7(b)); 0 not estimated */
 } kin_locate_info;
 
-/* Defaults as documented above. Does nothing if o is NULL. */
+/* Fill *o with the defaults above, for a struct of `size` bytes: pass
+ * sizeof(kin_locate_options) (the macro kin_locate_options_default below does). size must be the sizeof
+ * of one of kin_locate_options's published layouts (docs/abi.md); then exactly size bytes
+ * are written (o->size = size) and KIN_OK is returned; otherwise nothing is
+ * written and KIN_EINVAL is returned. KIN_ENULL if o is NULL. */
+KIN_API int kin_locate_options_init(kin_locate_options *o, size_t size);
+
+/* The same with size = sizeof(kin_locate_options): a C or C++ host compiled with this
+ * header calls kin_locate_options_init through the macro. The function itself is
+ * for programs built before the macro existed: it writes only the first
+ * layout (o->size = its sizeof, docs/abi.md), which is all an old program
+ * can have room for. Does nothing if o is NULL. */
 KIN_API void kin_locate_options_default(kin_locate_options *o);
+#define kin_locate_options_default(o) ((void)kin_locate_options_init((o), sizeof(kin_locate_options)))
 
 /* Signed test function at the current point (tau above; *tau = 0 at a
  * bifurcation). Runs the analysis if needed. Returns KIN_OK, KIN_ENULL,

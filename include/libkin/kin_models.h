@@ -55,9 +55,21 @@ typedef struct kin_sail_params {
 } kin_sail_params;
 
 /* Defaults: side 1, widths NULL, KIN_SAIL_SUPPORT_AUTO, forward diagonals.
- * (n, k) = (4, 1) is the paper's square-hub sail, (6, 2) the hexagonal one.
- * Does nothing if p is NULL. */
+ * (n, k) = (4, 1) is the paper's square-hub sail, (6, 2) the hexagonal one. */
+/* Fill *p with the defaults above and n_sides, n_loops, for a struct of `size` bytes: pass
+ * sizeof(kin_sail_params) (the macro kin_sail_params_default below does). size must be the sizeof
+ * of one of kin_sail_params's published layouts (docs/abi.md); then exactly size bytes
+ * are written (p->size = size) and KIN_OK is returned; otherwise nothing is
+ * written and KIN_EINVAL is returned. KIN_ENULL if p is NULL. */
+KIN_API int kin_sail_params_init(kin_sail_params *p, size_t size, int n_sides, int n_loops);
+
+/* The same with size = sizeof(kin_sail_params): a C or C++ host compiled with this
+ * header calls kin_sail_params_init through the macro. The function itself is
+ * for programs built before the macro existed: it writes only the first
+ * layout (p->size = its sizeof, docs/abi.md), which is all an old program
+ * can have room for. Does nothing if p is NULL. */
 KIN_API void kin_sail_params_default(kin_sail_params *p, int n_sides, int n_loops);
+#define kin_sail_params_default(p, n_sides, n_loops) ((void)kin_sail_params_init((p), sizeof(kin_sail_params), (n_sides), (n_loops)))
 
 /* Joint and bar counts of the sail that p describes (either pointer may be
  * NULL). Joint order: [C if CENTRE], V0..V(n-1), loop-1 nodes 0..n-1, loop-2

@@ -124,8 +124,10 @@ typedef struct kin_options {
     double direction_tol;   /* minimum |cos| between new mechanism and chord. Default 0.9 */
     double max_correction;  /* largest |correction| / |delta| accepted. Default 0.5 */
     int factorization;      /* enum kin_step_factorization. Default KIN_STEP_SVD */
-    /* appended after the V1 layout: callers compiled without it get the default */
+    /* layout 2 (docs/abi.md): a host compiled without these fields gets their defaults */
     int step_control;       /* enum kin_step_control. Default KIN_STEP_CONTROL_MODE */
+    int reserved;           /* 0. Makes sizeof differ from layout 1's, whose tail
+                               padding step_control would otherwise fill */
 } kin_options;
 
 /* How kin_step() factorizes at each new point (see the top of this file). */
@@ -145,8 +147,20 @@ enum kin_step_control {
                                    factorizations per step in the LU modes) */
 };
 
-/* Fill *o with the defaults above. Does nothing if o is NULL. */
+/* Fill *o with the defaults above, for a struct of `size` bytes: pass
+ * sizeof(kin_options) (the macro kin_options_default below does). size must be the sizeof
+ * of one of kin_options's published layouts (docs/abi.md); then exactly size bytes
+ * are written (o->size = size) and KIN_OK is returned; otherwise nothing is
+ * written and KIN_EINVAL is returned. KIN_ENULL if o is NULL. */
+KIN_API int kin_options_init(kin_options *o, size_t size);
+
+/* The same with size = sizeof(kin_options): a C or C++ host compiled with this
+ * header calls kin_options_init through the macro. The function itself is
+ * for programs built before the macro existed: it writes only the first
+ * layout (o->size = its sizeof, docs/abi.md), which is all an old program
+ * can have room for. Does nothing if o is NULL. */
 KIN_API void kin_options_default(kin_options *o);
+#define kin_options_default(o) ((void)kin_options_init((o), sizeof(kin_options)))
 
 /* Replace the handle's options. Validated first (tolerances finite and in
  * (0,1), counts >= 0 (iterations >= 1), step_fraction > 0, factorization one

@@ -227,7 +227,7 @@ int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, doub
                      kin_branch_path *paths, double *final_xyz, int *ndistinct)
 {
     if (!paths) return branch_paths_impl(a, betas, nbeta, l_target, NULL, final_xyz, ndistinct);
-    if (kin__abi_check(paths, KIN__V1_SIZE(kin_branch_path, tangent_cos), sizeof *paths)) {
+    if (kin__abi_check(paths, KIN__ABI(kin_branch_path))) {
         if (ndistinct) *ndistinct = 0;
         return KIN_EINVAL;
     }
@@ -243,7 +243,7 @@ int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, doub
     for (size_t i = 0; i < 2 * (size_t)nbeta; ++i) {
         kin_branch_path *dst = (kin_branch_path *)((char *)paths + i * stride);
         memcpy(dst, &stride, sizeof stride);
-        kin__abi_write(dst, &full[i], sizeof full[i]);
+        kin__abi_write(dst, &full[i], KIN__ABI(kin_branch_path));
     }
     free(full);
     return rc;

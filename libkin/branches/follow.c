@@ -34,11 +34,15 @@ static const kin_follow_options DEFAULTS = {
     .branch_cos = 0.99,
 };
 
-void kin_follow_options_default(kin_follow_options *o)
+int kin_follow_options_init(kin_follow_options *o, size_t size)
 {
-    if (!o) return;
-    memset(o, 0, sizeof *o); /* padding too: the struct is compared and copied bytewise */
-    *o = DEFAULTS;
+    return kin__abi_init(o, size, &DEFAULTS, KIN__ABI(kin_follow_options));
+}
+
+/* for binaries built before the macro: the first layout only (docs/abi.md) */
+void (kin_follow_options_default)(kin_follow_options *o)
+{
+    if (o) kin__abi_init(o, KIN__ABI(kin_follow_options)->size[0], &DEFAULTS, KIN__ABI(kin_follow_options));
 }
 
 typedef struct follow_ctx {
@@ -326,9 +330,7 @@ int kin_follow_event(kin_assembly *a, const double *dir, const kin_follow_option
 {
     kin_follow_options o;
     kin_follow_options_default(&o); /* fields an older caller does not have keep their defaults */
-    int rc = kin__abi_entry(a, info, KIN__V1_SIZE(kin_follow_info, tangent_cos), sizeof *info, "kin_follow_info",
-                            opt, KIN__V1_SIZE(kin_follow_options, branch_cos), &o, sizeof o,
-                            "kin_follow_options_default");
+    int rc = kin__abi_entry(a, info, KIN__ABI(kin_follow_info), opt, &o, KIN__ABI(kin_follow_options));
     if (rc) return rc;
     kin_follow_info local = {.size = sizeof local};
     rc = follow_impl(a, dir, &o, &local);
@@ -336,7 +338,7 @@ int kin_follow_event(kin_assembly *a, const double *dir, const kin_follow_option
         if (local.event == KIN_FOLLOW_NONE && rc != KIN_OK) {
             kin__abi_zero(info);
         } else {
-            kin__abi_write(info, &local, sizeof local);
+            kin__abi_write(info, &local, KIN__ABI(kin_follow_info));
         }
     }
     return rc;

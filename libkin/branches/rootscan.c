@@ -185,7 +185,7 @@ int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long s
                       int maxsol, int *nsol, kin_solve_info *info)
 {
     if (info) {
-        if (kin__abi_check(info, KIN__V1_SIZE(kin_solve_info, max_residual), sizeof *info)) {
+        if (kin__abi_check(info, KIN__ABI(kin_solve_info))) {
             if (nsol) *nsol = 0;
             return KIN_EINVAL;
         }
@@ -193,6 +193,6 @@ int kin_quadrics_scan(int m, int s, const double *Q, int starts, unsigned long s
     }
     kin_solve_info local = {.size = sizeof local};
     int rc = scan_impl(m, s, Q, starts, seed, betas, maxsol, nsol, &local);
-    if (info) kin__abi_write(info, &local, sizeof local);
+    if (info) kin__abi_write(info, &local, KIN__ABI(kin_solve_info));
     return rc;
 }

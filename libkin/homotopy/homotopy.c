@@ -86,7 +86,7 @@ int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_o
     if (rc) return rc;
     kin_homotopy_info local = {.size = sizeof local};
     rc = homotopy_impl(m, s, Q, &o, betas, maxsol, nsol, multiplicity, &local);
-    kin__abi_write(info, &local, sizeof local);
+    kin__abi_write(info, &local, KIN__ABI(kin_homotopy_info));
     return rc;
 }
 

@@ -330,6 +330,6 @@ int kin_quadrics_homotopy_merge(int m, int s, const double *Q, const kin_homotop
         local.size = sizeof local;
         if (nsol) *nsol = 0;
     }
-    kin__abi_write(info, &local, sizeof local);
+    kin__abi_write(info, &local, KIN__ABI(kin_homotopy_info));
     return rc;
 }

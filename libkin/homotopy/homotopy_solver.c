@@ -174,24 +174,32 @@ static int online_processors(void)
     return n < 1 ? 1 : n > INT_MAX ? INT_MAX : (int)n;
 }
 
-void kin_homotopy_options_default(kin_homotopy_options *o)
+static const kin_homotopy_options DEFAULTS = {
+    .size = sizeof(kin_homotopy_options),
+    .seed = 1,
+    .nthreads = 0,
+    .max_paths = KIN_HOMOTOPY_MAX_PATHS,
+    .progress = NULL,
+    .user = NULL,
+};
+
+int kin_homotopy_options_init(kin_homotopy_options *o, size_t size)
 {
-    if (!o) return;
-    memset(o, 0, sizeof *o);
-    o->size = sizeof *o;
-    o->seed = 1;
-    o->nthreads = 0;
-    o->max_paths = KIN_HOMOTOPY_MAX_PATHS;
-    o->progress = NULL;
-    o->user = NULL;
+    return kin__abi_init(o, size, &DEFAULTS, KIN__ABI(kin_homotopy_options));
+}
+
+/* for binaries built before the macro: the first layout only (docs/abi.md) */
+void (kin_homotopy_options_default)(kin_homotopy_options *o)
+{
+    if (o) kin__abi_init(o, KIN__ABI(kin_homotopy_options)->size[0], &DEFAULTS, KIN__ABI(kin_homotopy_options));
 }
 
 int kin__hom_options(const kin_homotopy_options *opt, kin_homotopy_options *o)
 {
     kin_homotopy_options_default(o); /* fields an older caller does not have keep their defaults */
     if (!opt) return KIN_OK;
-    if (kin__abi_check(opt, KIN__V1_SIZE(kin_homotopy_options, user), sizeof *opt)) return KIN_EINVAL;
-    kin__abi_read(o, opt, sizeof *o);
+    if (kin__abi_check(opt, KIN__ABI(kin_homotopy_options))) return KIN_EINVAL;
+    kin__abi_read(o, opt, KIN__ABI(kin_homotopy_options));
     return KIN_OK;
 }
 
@@ -199,7 +207,7 @@ int kin__hom_entry(const kin_homotopy_options *opt, kin_homotopy_options *o, kin
 {
     if (nsol) *nsol = 0;
     if (!info) return KIN_ENULL;
-    if (kin__abi_check(info, KIN__V1_SIZE(kin_homotopy_info, max_cond), sizeof *info)) return KIN_EINVAL;
+    if (kin__abi_check(info, KIN__ABI(kin_homotopy_info))) return KIN_EINVAL;
     kin__abi_zero(info);
     return kin__hom_options(opt, o);
 }

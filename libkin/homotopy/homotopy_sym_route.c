@@ -56,11 +56,11 @@ int kin__quadrics_homotopy_sym_route(int route, int m, int s, const double *Q, i
     if (err && errlen > 0) err[0] = '\0';
     if (nsol) *nsol = 0;
     if (!info) return kin__failbuf(err, errlen, KIN_ENULL, "info is NULL");
-    if (kin__abi_check(info, KIN__V1_SIZE(kin_homotopy_info, max_cond), sizeof *info))
+    if (kin__abi_check(info, KIN__ABI(kin_homotopy_info)))
         return kin__failbuf(err, errlen, KIN_EINVAL, "info->size");
     kin__abi_zero(info);
     if (sinfo) {
-        if (kin__abi_check(sinfo, KIN__V1_SIZE(kin_homotopy_sym_info, monodromy_rejected), sizeof *sinfo))
+        if (kin__abi_check(sinfo, KIN__ABI(kin_homotopy_sym_info)))
             return kin__failbuf(err, errlen, KIN_EINVAL, "sinfo->size");
         kin__abi_zero(sinfo);
     }
@@ -71,8 +71,8 @@ int kin__quadrics_homotopy_sym_route(int route, int m, int s, const double *Q, i
     int rc = sym_impl(route, m, s, Q, ngroup, R, &o, betas, maxsol, nsol, multiplicity, &local, &slocal, err, errlen);
     if (rc && rc != KIN_ENOTCONVERGED) memset(&slocal, 0, sizeof slocal), slocal.size = sizeof slocal;
     local.size = sizeof local;
-    kin__abi_write(info, &local, sizeof local);
-    if (sinfo) kin__abi_write(sinfo, &slocal, sizeof slocal);
+    kin__abi_write(info, &local, KIN__ABI(kin_homotopy_info));
+    if (sinfo) kin__abi_write(sinfo, &slocal, KIN__ABI(kin_homotopy_sym_info));
     return rc;
 }
 

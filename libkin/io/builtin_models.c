@@ -27,17 +27,29 @@ int kin_model_threebar(int state, kin_assembly **out)
     return kin_assembly_create(2, 4, xyz, fixed, 3, bars, L, out, NULL, 0);
 }
 
-void kin_sail_params_default(kin_sail_params *p, int n_sides, int n_loops)
+static int sail_init(kin_sail_params *p, size_t size, int n_sides, int n_loops)
 {
-    if (!p) return;
-    memset(p, 0, sizeof *p);
-    p->size = sizeof *p;
-    p->n_sides = n_sides;
-    p->n_loops = n_loops;
-    p->side = 1.0;
-    p->widths = NULL;
-    p->support = KIN_SAIL_SUPPORT_AUTO;
-    p->diagonal = KIN_SAIL_DIAG_FORWARD;
+    const kin_sail_params defaults = {
+        .size = sizeof(kin_sail_params),
+        .n_sides = n_sides,
+        .n_loops = n_loops,
+        .side = 1.0,
+        .widths = NULL,
+        .support = KIN_SAIL_SUPPORT_AUTO,
+        .diagonal = KIN_SAIL_DIAG_FORWARD,
+    };
+    return kin__abi_init(p, size, &defaults, KIN__ABI(kin_sail_params));
+}
+
+int kin_sail_params_init(kin_sail_params *p, size_t size, int n_sides, int n_loops)
+{
+    return sail_init(p, size, n_sides, n_loops);
+}
+
+/* for binaries built before the macro: the first layout only (docs/abi.md) */
+void (kin_sail_params_default)(kin_sail_params *p, int n_sides, int n_loops)
+{
+    if (p) sail_init(p, KIN__ABI(kin_sail_params)->size[0], n_sides, n_loops);
 }
 
 #define sail_fail(eb, el, ...) kin__failbuf(eb, el, KIN_EINVAL, __VA_ARGS__)
@@ -45,11 +57,11 @@ void kin_sail_params_default(kin_sail_params *p, int n_sides, int n_loops)
 /* the caller's parameters into *p (fields it lacks keep their defaults) */
 static int sail_read(const kin_sail_params *user, kin_sail_params *p, char *eb, size_t el)
 {
-    if (kin__abi_check(user, KIN__V1_SIZE(kin_sail_params, diagonal), sizeof *user))
+    if (kin__abi_check(user, KIN__ABI(kin_sail_params)))
         return sail_fail(eb, el, "params->size = %zu: not set by kin_sail_params_default() of this libkin",
                          kin__abi_size(user));
     kin_sail_params_default(p, 0, 0);
-    kin__abi_read(p, user, sizeof *p);
+    kin__abi_read(p, user, KIN__ABI(kin_sail_params));
     return KIN_OK;
 }
 

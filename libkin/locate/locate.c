@@ -36,11 +36,15 @@ static const kin_locate_options DEFAULTS = {
     .use_switch_rule = 1,
 };
 
-void kin_locate_options_default(kin_locate_options *o)
+int kin_locate_options_init(kin_locate_options *o, size_t size)
 {
-    if (!o) return;
-    memset(o, 0, sizeof *o); /* padding too: the struct is compared and copied bytewise */
-    *o = DEFAULTS;
+    return kin__abi_init(o, size, &DEFAULTS, KIN__ABI(kin_locate_options));
+}
+
+/* for binaries built before the macro: the first layout only (docs/abi.md) */
+void (kin_locate_options_default)(kin_locate_options *o)
+{
+    if (o) kin__abi_init(o, KIN__ABI(kin_locate_options)->size[0], &DEFAULTS, KIN__ABI(kin_locate_options));
 }
 
 /* dv/dl of the vanishing singular value of the analysed state st along its
@@ -279,12 +283,10 @@ int kin__locate_hooked(kin_assembly *a, const kin_locate_options *opt, kin_locat
 {
     kin_locate_options o;
     kin_locate_options_default(&o); /* fields an older caller does not have keep their defaults */
-    int rc = kin__abi_entry(a, info, KIN__V1_SIZE(kin_locate_info, zero_order), sizeof *info, "kin_locate_info",
-                            opt, KIN__V1_SIZE(kin_locate_options, use_switch_rule), &o, sizeof o,
-                            "kin_locate_options_default");
+    int rc = kin__abi_entry(a, info, KIN__ABI(kin_locate_info), opt, &o, KIN__ABI(kin_locate_options));
     if (rc) return rc;
     kin_locate_info local = {.size = sizeof local};
     rc = locate_impl(a, &o, &local, hook, hook_user);
-    if (info) kin__abi_write(info, &local, sizeof local);
+    if (info) kin__abi_write(info, &local, KIN__ABI(kin_locate_info));
     return rc;
 }

@@ -300,7 +300,7 @@ void kin__set_fault(kin_assembly *a, int fault) { a->fault = fault; }
 
 static int analysis_out_ok(const kin_analysis *out)
 {
-    return kin__abi_check(out, KIN__V1_SIZE(kin_analysis, v_r), sizeof *out);
+    return kin__abi_check(out, KIN__ABI(kin_analysis));
 }
 
 int kin_analyse(kin_assembly *a, kin_analysis *out)
@@ -317,7 +317,7 @@ int kin_analyse(kin_assembly *a, kin_analysis *out)
     if (rc) return rc;
     a->cur = trial;
     /* a tangent chosen or inherited at this very point stays valid */
-    if (out) kin__abi_write(out, &a->fac[a->cur].an, sizeof *out);
+    if (out) kin__abi_write(out, &a->fac[a->cur].an, KIN__ABI(kin_analysis));
     return KIN_OK;
 }
 
@@ -332,7 +332,7 @@ int kin_get_analysis(const kin_assembly *a, kin_analysis *out)
     if (analysis_out_ok(out)) return KIN_EINVAL;
     kin__abi_zero(out);
     if (need_analysis(a)) return KIN_ESTATE;
-    kin__abi_write(out, &kin__cur(a)->an, sizeof *out);
+    kin__abi_write(out, &kin__cur(a)->an, KIN__ABI(kin_analysis));
     return KIN_OK;
 }
 

@@ -7,6 +7,7 @@
 #include <stddef.h>
 
 #include "libkin.h"
+#include "model/abi_layouts.h"
 
 #define KIN_ERRLEN 512
 
@@ -232,25 +233,43 @@ double kin__norm(int n, const double *x);
 
 
 /* ---- size-prefixed public structs (abi.c, docs/abi.md) ----
- * KIN__V1_SIZE(T, last) is the size of T's first extensible layout, ending
- * at member `last`: the smallest `size` a caller may pass. It never changes
- * when T grows. */
-#define KIN__V1_SIZE(T, last) (offsetof(T, last) + sizeof(((T *)0)->last))
+ * Every published layout of each struct is in the table of
+ * model/abi_layouts.h (generated from the headers by tools/gen_abi.py):
+ * its sizeof (the `size` a host compiled against it passes) and where its
+ * fields end. A `size` that is not one of them is refused (KIN_EINVAL);
+ * the library reads and writes only the fields of the layout it names.
+ * KIN__ABI(T) is the table entry of struct T. */
+typedef struct kin__abi_type {
+    const char *name;
+    int nlayouts;
+    size_t size[KIN__ABI_MAX_LAYOUTS]; /* sizeof of each layout, increasing */
+    size_t end[KIN__ABI_MAX_LAYOUTS];  /* where its fields end (<= its sizeof) */
+} kin__abi_type;
+extern const kin__abi_type kin__abi_types[KIN__ABI_NTYPES];
+#define KIN__ABI(T) (&kin__abi_types[KIN__ABI_ID_##T])
 size_t kin__abi_size(const void *p);
-/* KIN_OK if p->size lies in [min_size, cur_size], else KIN_EINVAL */
-int kin__abi_check(const void *p, size_t min_size, size_t cur_size);
-/* copy the caller's bytes over `local` (already holding defaults); local->size = cur_size */
-void kin__abi_read(void *local, const void *user, size_t cur_size);
-/* copy `local` into the caller's struct, only as many bytes as it has; its size is kept */
-void kin__abi_write(void *user, const void *local, size_t cur_size);
+/* where the fields of t's layout of sizeof `size` end, 0 if no layout has that size */
+size_t kin__abi_end(const kin__abi_type *t, size_t size);
+/* KIN_OK if p->size is one of t's layout sizes, else KIN_EINVAL */
+int kin__abi_check(const void *p, const kin__abi_type *t);
+/* copy the caller's fields over `local` (a whole current struct already
+ * holding defaults); local->size = sizeof the current struct */
+void kin__abi_read(void *local, const void *user, const kin__abi_type *t);
+/* copy `local` (a current struct) into the caller's (checked) struct, only
+ * the fields its layout has; its size is kept */
+void kin__abi_write(void *user, const void *local, const kin__abi_type *t);
 /* zero every byte of a caller's (already checked) struct after its size */
 void kin__abi_zero(void *user);
+/* defaults into the caller's struct p of sizeof `size`: KIN_EINVAL (nothing
+ * written) unless `size` is one of t's layout sizes; else `size` bytes are
+ * written, the layout's fields from *defaults, the rest zero */
+int kin__abi_init(void *p, size_t size, const void *defaults, const kin__abi_type *t);
 /* The first checks of an entry point with an info struct and options: info
- * (NULL: none) checked against [info_min, info_cur] and zeroed after its
- * size; then a (NULL: KIN_ENULL); then opt (NULL: keep the defaults the
- * caller put in *local) checked and read over *local. KIN_OK, or KIN_EINVAL
- * with a message naming info_type or the defaults function opt_default. */
-int kin__abi_entry(kin_assembly *a, void *info, size_t info_min, size_t info_cur, const char *info_type,
-                   const void *opt, size_t opt_min, void *local, size_t opt_cur, const char *opt_default);
+ * (NULL: none) checked against its type it and zeroed after its size; then
+ * a (NULL: KIN_ENULL); then opt (NULL: keep the defaults the caller put in
+ * *local) checked against ot and read over *local. KIN_OK, or KIN_EINVAL
+ * with a message naming the struct. */
+int kin__abi_entry(kin_assembly *a, void *info, const kin__abi_type *it, const void *opt, void *local,
+                   const kin__abi_type *ot);
 
 #endif /* KIN_INTERNAL_H */

@@ -21,22 +21,26 @@ static const kin_options DEFAULTS = {
     .step_control = KIN_STEP_CONTROL_MODE,
 };
 
-void kin_options_default(kin_options *o)
+int kin_options_init(kin_options *o, size_t size)
 {
-    if (!o) return;
-    memset(o, 0, sizeof *o); /* padding too: the struct is compared and copied bytewise */
-    *o = DEFAULTS;
+    return kin__abi_init(o, size, &DEFAULTS, KIN__ABI(kin_options));
+}
+
+/* for binaries built before the macro: the first layout only (docs/abi.md) */
+void (kin_options_default)(kin_options *o)
+{
+    if (o) kin__abi_init(o, KIN__ABI(kin_options)->size[0], &DEFAULTS, KIN__ABI(kin_options));
 }
 
 static int unit_open(double v) { return isfinite(v) && v > 0.0 && v < 1.0; }
 
 int kin__options_read(kin_assembly *a, const kin_options *user, kin_options *o)
 {
-    if (kin__abi_check(user, KIN__V1_SIZE(kin_options, factorization), sizeof *user))
+    if (kin__abi_check(user, KIN__ABI(kin_options)))
         return kin__fail(a, KIN_EINVAL, "options.size = %zu: not set by kin_options_default() of this libkin",
                          kin__abi_size(user));
     kin_options_default(o); /* fields an older caller does not have keep their defaults */
-    kin__abi_read(o, user, sizeof *o);
+    kin__abi_read(o, user, KIN__ABI(kin_options));
     if (!unit_open(o->rank_tol)) return kin__fail(a, KIN_EINVAL, "rank_tol = %g, need 0 < tol < 1", o->rank_tol);
     if (!unit_open(o->corrector_tol))
         return kin__fail(a, KIN_EINVAL, "corrector_tol = %g, need 0 < tol < 1", o->corrector_tol);
@@ -64,8 +68,8 @@ int kin__options_read(kin_assembly *a, const kin_options *user, kin_options *o)
 int kin_get_options(const kin_assembly *a, kin_options *o)
 {
     if (!a || !o) return KIN_ENULL;
-    if (kin__abi_check(o, KIN__V1_SIZE(kin_options, factorization), sizeof *o)) return KIN_EINVAL;
-    kin__abi_write(o, &a->opt, sizeof *o);
+    if (kin__abi_check(o, KIN__ABI(kin_options))) return KIN_EINVAL;
+    kin__abi_write(o, &a->opt, KIN__ABI(kin_options));
     return KIN_OK;
 }
 

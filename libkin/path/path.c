@@ -508,13 +508,13 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
 int kin_step(kin_assembly *a, double delta, kin_step_info *info)
 {
     if (!info) return step_impl(a, delta, NULL, NULL);
-    if (kin__abi_check(info, KIN__V1_SIZE(kin_step_info, m_internal), sizeof *info)) {
+    if (kin__abi_check(info, KIN__ABI(kin_step_info))) {
         if (!a) return KIN_ENULL;
         return kin__fail(a, KIN_EINVAL, "info->size = %zu: set it to sizeof(kin_step_info)", kin__abi_size(info));
     }
     kin_step_info local = {.size = sizeof local};
     int rc = step_impl(a, delta, NULL, &local);
-    kin__abi_write(info, &local, sizeof local);
+    kin__abi_write(info, &local, KIN__ABI(kin_step_info));
     return rc;
 }
 

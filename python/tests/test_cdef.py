@@ -37,3 +37,20 @@ def test_status_enum_values_match_library_messages():
         assert getattr(libkin.lib, name) == code
         msg = _lib.ffi.string(libkin.lib.kin_strerror(code)).decode()
         assert msg == _cdef.STATUS_MESSAGES[name]
+
+
+def test_options_are_initialised_whole():
+    # the plain *_default symbols fill only a struct's first layout
+    # (docs/abi.md): the package fills its structs through the sized
+    # *_init forms, every field included
+    src = pathlib.Path(libkin.__file__).resolve().parent
+    for f in src.rglob("*.py"):
+        assert not re.search(r"lib\.kin_\w+_default\(", f.read_text()), f
+    for ctype in ("kin_locate_options", "kin_follow_options", "kin_homotopy_options"):
+        p = _lib.default_struct(ctype)
+        assert p.size == _lib.ffi.sizeof(ctype)
+    o = _lib.default_struct("kin_options")
+    assert o.size == _lib.ffi.sizeof("kin_options") and o.rank_tol == 1e-9
+    s = _lib.default_struct("kin_sail_params", 6, 2)
+    assert s.n_sides == 6 and s.side == 1.0
+    assert _lib.lib.kin_options_init(_lib.ffi.new("kin_options *"), 3) == _lib.lib.KIN_EINVAL

@@ -97,6 +97,7 @@ typedef struct kin_options {
     double max_correction;
     int factorization;
     int step_control;
+    int reserved;
 } kin_options;
 enum kin_step_factorization {
     KIN_STEP_SVD = 0,
@@ -107,6 +108,7 @@ enum kin_step_control {
     KIN_STEP_CONTROL_MODE = 0,
     KIN_STEP_CONTROL_SHARED = 1
 };
+int kin_options_init(kin_options *o, size_t size);
 void kin_options_default(kin_options *o);
 int kin_set_options(kin_assembly *a, const kin_options *o);
 int kin_get_options(const kin_assembly *a, kin_options *o);
@@ -153,6 +155,7 @@ typedef struct kin_sail_params {
     int support;
     int diagonal;
 } kin_sail_params;
+int kin_sail_params_init(kin_sail_params *p, size_t size, int n_sides, int n_loops);
 void kin_sail_params_default(kin_sail_params *p, int n_sides, int n_loops);
 int kin_sail_size(const kin_sail_params *p, int *njoints, int *nbars);
 int kin_model_sail(const kin_sail_params *p, kin_assembly **out, char *errbuf,
@@ -202,6 +205,7 @@ typedef struct kin_homotopy_options {
     kin_progress_fn progress;
     void *user;
 } kin_homotopy_options;
+int kin_homotopy_options_init(kin_homotopy_options *o, size_t size);
 void kin_homotopy_options_default(kin_homotopy_options *o);
 int kin_quadrics_homotopy_ex(int m, int s, const double *Q, const kin_homotopy_options *opt,
                                      double *betas, int maxsol, int *nsol, int *multiplicity,
@@ -301,6 +305,7 @@ typedef struct kin_locate_info {
     int m_internal, s;
     int zero_order;
 } kin_locate_info;
+int kin_locate_options_init(kin_locate_options *o, size_t size);
 void kin_locate_options_default(kin_locate_options *o);
 int kin_test_function(kin_assembly *a, double *tau);
 int kin_locate_next(kin_assembly *a, const kin_locate_options *o, kin_locate_info *info);
@@ -345,6 +350,7 @@ typedef struct kin_follow_info {
     double start_distance;
     double tangent_cos;
 } kin_follow_info;
+int kin_follow_options_init(kin_follow_options *o, size_t size);
 void kin_follow_options_default(kin_follow_options *o);
 int kin_follow_event(kin_assembly *a, const double *dir, const kin_follow_options *o,
                              kin_follow_info *info);

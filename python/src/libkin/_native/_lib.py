@@ -98,3 +98,30 @@ def new_struct(ctype: str, n: Optional[int] = None) -> Any:
         for i in range(n):
             p[i].size = ffi.sizeof(ctype)
     return p
+
+
+def default_struct(ctype: str, *args: Any) -> Any:
+    """An options struct holding the library's defaults for every field.
+
+    Calls the sized form ``<ctype>_init(p, sizeof, *args)`` with the size of
+    the struct these declarations describe: the plain ``<ctype>_default``
+    symbol fills only the struct's first layout (docs/abi.md).
+
+    Parameters
+    ----------
+    ctype : str
+        The struct's C type, e.g. ``"kin_locate_options"``.
+    *args
+        Further arguments of the init function (``kin_sail_params``: n_sides, n_loops).
+
+    Returns
+    -------
+    cffi pointer
+        Owned by Python.
+    """
+    p = ffi.new(ctype + " *")
+    rc = getattr(lib, ctype + "_init")(p, ffi.sizeof(ctype), *args)
+    if rc != 0:
+        raise RuntimeError(f"{ctype}_init refused sizeof({ctype}) = {ffi.sizeof(ctype)}: "
+                           "the library does not match these declarations")
+    return p

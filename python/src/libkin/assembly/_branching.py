@@ -14,7 +14,7 @@ import numpy.typing as npt
 
 from .._native._arrays import read_ptr, write_ptr
 from ._base import AssemblyBase, FloatArray
-from .._native._lib import ffi, lib, new_struct
+from .._native._lib import default_struct, ffi, lib, new_struct
 from .._native._progress import Progress, reporting
 from ..errors import InvalidArgumentError, StateError, check
 
@@ -179,8 +179,7 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
         accounting = {"starts": info.starts, "converged": info.converged, "distinct": info.distinct}
     else:
         info = new_struct("kin_homotopy_info")
-        opt = new_struct("kin_homotopy_options")
-        lib.kin_homotopy_options_default(opt)
+        opt = default_struct("kin_homotopy_options")
         opt.seed = int(seed)
         opt.nthreads = int(threads)
         if max_paths is not None:
@@ -203,8 +202,7 @@ def _solve_symmetric(Qc: FloatArray, R: FloatArray, seed: int, threads: int, pro
     Rc = np.ascontiguousarray(R.transpose(0, 2, 1))  # column-major matrices
     info: Any = new_struct("kin_homotopy_info")
     sinfo: Any = new_struct("kin_homotopy_sym_info")
-    opt: Any = new_struct("kin_homotopy_options")
-    lib.kin_homotopy_options_default(opt)
+    opt: Any = default_struct("kin_homotopy_options")
     opt.seed = int(seed)
     opt.nthreads = int(threads)
     if max_paths is not None:

@@ -12,7 +12,7 @@ import numpy.typing as npt
 
 from .._native._arrays import as_c_array, read_ptr
 from ._base import AssemblyBase
-from .._native._lib import c_string, ffi, lib, new_struct
+from .._native._lib import c_string, default_struct, ffi, lib, new_struct
 from .._native._progress import Progress, reporting
 from ..errors import InvalidArgumentError
 
@@ -161,8 +161,7 @@ class LocatingMixin(AssemblyBase):
         """
         if method not in _METHODS:
             raise InvalidArgumentError(f"method: expected one of {sorted(_METHODS)}, got {method!r}")
-        o = new_struct("kin_locate_options")
-        lib.kin_locate_options_default(o)
+        o = default_struct("kin_locate_options")
         o.method = getattr(lib, _METHODS[method])
         o.delta = float(delta)
         o.vr_tol = float(vr_tol)
@@ -216,8 +215,7 @@ class LocatingMixin(AssemblyBase):
         CancelledError
             The `progress` callable asked to stop (or Ctrl-C).
         """
-        o = new_struct("kin_follow_options")
-        lib.kin_follow_options_default(o)
+        o = default_struct("kin_follow_options")
         o.vr_tol, o.vr_floor, o.delta = float(vr_tol), float(vr_floor), float(delta)
         o.max_steps, o.max_length, o.loop_tol = int(max_steps), float(max_length), float(loop_tol)
         d = ffi.NULL

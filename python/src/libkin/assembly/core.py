@@ -24,7 +24,7 @@ from .._native._arrays import as_c_array, read_ptr
 from ._base import Analysis, AssemblyBase
 from ._branching import BranchPath, Branches, BranchingMixin, solve_quadrics
 from ._json import read_json, to_json
-from .._native._lib import c_string, ffi, lib, new_struct
+from .._native._lib import c_string, default_struct, ffi, lib, new_struct
 from ._locating import FollowEvent, LocateInfo, LocatingMixin
 from ._path import Options, PathMixin, StepInfo
 from ..errors import DimensionError, InvalidArgumentError, check, error_class
@@ -159,8 +159,7 @@ class Assembly(PathMixin, BranchingMixin, LocatingMixin, AssemblyBase):
             raise InvalidArgumentError(f"support: expected one of {sorted(_SAIL_SUPPORTS)}, got {support!r}")
         if diagonal not in _SAIL_DIAGONALS:
             raise InvalidArgumentError(f"diagonal: expected one of {sorted(_SAIL_DIAGONALS)}, got {diagonal!r}")
-        p = new_struct("kin_sail_params")
-        lib.kin_sail_params_default(p, int(n_sides), int(n_loops))
+        p = default_struct("kin_sail_params", int(n_sides), int(n_loops))
         p.side = float(side)
         p.support = getattr(lib, _SAIL_SUPPORTS[support])
         p.diagonal = getattr(lib, _SAIL_DIAGONALS[diagonal])

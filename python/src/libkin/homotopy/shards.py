@@ -22,9 +22,8 @@ ACCOUNTING = ("paths", "real", "real_distinct", "nonreal", "singular", "failed",
 
 
 def _options(seed: int, threads: int) -> Any:
-    from .._native._lib import lib, new_struct
-    opt = new_struct("kin_homotopy_options")
-    lib.kin_homotopy_options_default(opt)
+    from .._native._lib import default_struct
+    opt = default_struct("kin_homotopy_options")
     opt.seed = int(seed)
     opt.nthreads = int(threads)
     return opt
