@@ -1,6 +1,7 @@
 # test_install: cmake --install into a scratch prefix, then build and run the
 # consumers of tests/consumer against it:
 #   - every public header has extern "C" guards;
+#   - the installed libkin::kin links nothing but libkin.so (and libm);
 #   - C with find_package: the shared library alone as on a machine without
 #     the -dev packages the static library needs (their find modules
 #     disabled), then shared and static (COMPONENTS static);
@@ -36,6 +37,14 @@ foreach(h ${headers})
     message(FATAL_ERROR "${h}: no extern \"C\" guard (#ifdef __cplusplus / extern \"C\" { ... })")
   endif()
 endforeach()
+
+# the shared library's installed target names none of the static library's
+# dependencies, and no path of the machine libkin was built on
+file(GLOB shared_targets ${PREFIX}/lib*/cmake/libkin/libkinTargets.cmake)
+file(STRINGS ${shared_targets} link_lines REGEX "INTERFACE_LINK_LIBRARIES")
+if(link_lines MATCHES "LAPACK|GSL|Threads|JANSSON|NAUTY|kin_klu|/")
+  message(FATAL_ERROR "libkin::kin links more than libkin.so: ${link_lines}")
+endif()
 
 file(GLOB libdirs ${PREFIX}/lib*)
 string(REPLACE ";" ":" ldpath "${libdirs}")
