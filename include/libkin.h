@@ -18,4 +18,14 @@
 #include "libkin/kin_io.h"
 #include "libkin/kin_symmetry.h"
 
+/* C linkage for C++ callers: each header above has its own guard, and
+ * anything declared here goes between these lines. */
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#ifdef __cplusplus
+}
+#endif
+
 #endif /* LIBKIN_H */

@@ -2,7 +2,8 @@
 # Install what libkin needs on Debian 12 (idempotent): compiler, CMake,
 # LAPACK/BLAS (OpenBLAS and the reference libblas3 for tools/check_blas.sh),
 # GSL, jansson (JSON model files), SuiteSparse KLU (KIN_STEP_SPARSE), nauty (kin_symmetries), pkg-config, Python's venv module,
-# gfortran (the Fortran module) and abigail-tools (tools/abi_check.sh).
+# gfortran (the Fortran module), abigail-tools (tools/abi_check.sh) and clang
+# (the C suite built with clang, tools/build_clang.sh).
 # Nothing to do (and no root needed) when everything is installed. Otherwise
 # it installs with apt-get as root, or through sudo if that works without a
 # password; failing both it prints the exact command to run and exits 1.
@@ -11,7 +12,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source tools/stage.sh
 pkgs=(build-essential cmake pkg-config libopenblas-dev liblapack-dev libblas3 libgsl-dev libjansson-dev libsuitesparse-dev libnauty2-dev python3-venv python3-dev
-      gfortran abigail-tools)
+      gfortran abigail-tools clang)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

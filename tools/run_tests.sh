@@ -2,7 +2,9 @@
 # Every test, and a report of each suite:
 #   1. the C suite through `make check` (ctest),
 #   2. the Python suite (pytest in the virtual environment build/venv),
-#   3. the C suite again under every BLAS/LAPACK variant (tools/check_blas.sh).
+#   3. the C suite again under every BLAS/LAPACK variant (tools/check_blas.sh),
+#   4. the C suite built with clang in build-clang (tools/build_clang.sh; the
+#      ABI check runs once, in 1).
 # A suite that fails does not stop the others; the script fails if any did
 # and says which.
 set -uo pipefail
@@ -10,7 +12,7 @@ cd "$(dirname "$0")/.."
 bash tools/build.sh || { echo "run_tests: the build failed; no suite ran"; exit 1; }
 
 declare -A result
-order=(C Python BLAS-variants)
+order=(C Python BLAS-variants C-clang)
 
 echo "== C suite (make check) =="
 if cmake --build build --target check; then result[C]=passed; else result[C]=FAILED; fi
@@ -32,6 +34,14 @@ fi
 
 echo "== C suite under BLAS/LAPACK variants (tools/check_blas.sh) =="
 if bash tools/check_blas.sh build; then result[BLAS-variants]=passed; else result[BLAS-variants]=FAILED; fi
+
+echo "== C suite built with clang (build-clang) =="
+if bash tools/build_clang.sh; then
+  if (cd build-clang && ctest --output-on-failure -E '^abi_check$'); then result[C-clang]=passed
+  else result[C-clang]=FAILED; fi
+else
+  result[C-clang]="FAILED (the clang build failed)"
+fi
 
 echo
 echo "== Summary =="

@@ -37,6 +37,10 @@
 #include <stddef.h>
 #include "kin_export.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct kin_assembly kin_assembly;
 
 /* Create an assembly in its initial configuration.
@@ -187,5 +191,9 @@ KIN_API int kin_get_mechanisms(const kin_assembly *a, int kind, double *U, int l
 /* States of self-stress W_s of the last analysis into (W, ldw, nbars, cols),
  * cols >= s, orthonormal columns. KIN_OK, KIN_ENULL, KIN_ERANGE, KIN_ESTATE. */
 KIN_API int kin_get_self_stresses(const kin_assembly *a, double *W, int ldw, int cols);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* KIN_ASSEMBLY_H */

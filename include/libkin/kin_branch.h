@@ -17,6 +17,10 @@
 #include "kin_assembly.h"
 #include "kin_progress.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Which weighting of the second-order matrices. */
 enum kin_q_weighting {
     KIN_Q_EXACT = 0,     /* t_ij / L_i: from eq. 12 (default, correct) */
@@ -437,5 +441,9 @@ typedef struct kin_branch_path {
  * largest steps), KIN_ECANCELLED, KIN_ENOMEM. */
 KIN_API int kin_branch_paths(const kin_assembly *a, const double *betas, int nbeta, double l_target,
                              kin_branch_path *paths, double *final_xyz, int *ndistinct);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* KIN_BRANCH_H */

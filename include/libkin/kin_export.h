@@ -6,6 +6,10 @@
 #ifndef KIN_EXPORT_H
 #define KIN_EXPORT_H
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #if defined(_WIN32)
 #  if defined(KIN_STATIC)
 #    define KIN_API
@@ -18,6 +22,10 @@
 #  define KIN_API __attribute__((visibility("default")))
 #else
 #  define KIN_API
+#endif
+
+#ifdef __cplusplus
+}
 #endif
 
 #endif /* KIN_EXPORT_H */

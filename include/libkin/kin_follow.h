@@ -20,6 +20,10 @@
 #include "kin_assembly.h"
 #include "kin_progress.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* How a follow ended. */
 enum kin_follow_event {
     KIN_FOLLOW_NONE = 0,         /* nothing followed (argument errors: info zeroed) */
@@ -125,5 +129,9 @@ KIN_API void kin_follow_options_default(kin_follow_options *o);
  * KIN_ENOTCONVERGED, KIN_ECANCELLED, KIN_ENOMEM, LAPACK codes. */
 KIN_API int kin_follow_event(kin_assembly *a, const double *dir, const kin_follow_options *o,
                              kin_follow_info *info);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* KIN_FOLLOW_H */

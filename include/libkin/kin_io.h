@@ -19,6 +19,10 @@
 #include "kin_export.h"
 #include "kin_assembly.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Create an assembly from the JSON model file at `path` (UTF-8 text).
  *  path    file name, NUL-terminated.
  *  out     receives the new handle (free with kin_assembly_free); set to
@@ -65,5 +69,9 @@ KIN_API int kin_assembly_save_string(const kin_assembly *a, const char *name, ch
 /* Release a string returned by kin_assembly_save_string(). NULL does
  * nothing. */
 KIN_API void kin_free_string(char *text);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* KIN_IO_H */

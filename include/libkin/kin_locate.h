@@ -17,6 +17,10 @@
 #include "kin_assembly.h"
 #include "kin_progress.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Location methods. */
 enum kin_locate_method {
     KIN_LOCATE_PAPER = 0,   /* quadratic in l through the last three v_r (eq. 23-25),
@@ -115,5 +119,9 @@ KIN_API int kin_test_function(kin_assembly *a, double *tau);
  * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (options), KIN_EBIFURCATION (already
  * at one), KIN_ENOTFOUND, KIN_ECANCELLED, KIN_ENOMEM, step and LAPACK codes. */
 KIN_API int kin_locate_next(kin_assembly *a, const kin_locate_options *o, kin_locate_info *info);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* KIN_LOCATE_H */

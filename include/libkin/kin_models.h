@@ -8,6 +8,10 @@
 #include "kin_export.h"
 #include "kin_assembly.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Three-bar linkage states (paper Figure 1, Section 5). */
 enum kin_threebar_state {
     KIN_THREEBAR_RA = 0, /* J1 = (-1,0), J2 = (0,0) */
@@ -84,5 +88,9 @@ KIN_API int kin_sail_size(const kin_sail_params *p, int *njoints, int *nbars);
  * KIN_ENOMEM, or a creation error. */
 KIN_API int kin_model_sail(const kin_sail_params *p, kin_assembly **out, char *errbuf,
                            size_t errlen);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* KIN_MODELS_H */

@@ -113,6 +113,10 @@
 #include "kin_export.h"
 #include "kin_assembly.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Tunable tolerances. Get the defaults with kin_options_default(). */
 typedef struct kin_options {
     size_t size; /* sizeof(kin_options) as the caller compiled it (docs/abi.md) */
@@ -253,5 +257,9 @@ KIN_API int kin_path_reset(kin_assembly *a);
  * Returns KIN_OK; KIN_ENULL; KIN_EINVAL (max_iter < 1); KIN_ENOTCONVERGED
  * (assembly unchanged); LAPACK codes. */
 KIN_API int kin_relax(kin_assembly *a, int max_iter, double *residual);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* KIN_PATH_H */

@@ -24,6 +24,10 @@
 #include "kin_export.h"
 #include "kin_assembly.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Progress callback: nonzero return = cancel. user is the caller's pointer,
  * passed through unchanged. */
 typedef int (*kin_progress_fn)(void *user, double done, double total);
@@ -38,5 +42,9 @@ typedef int (*kin_progress_fn)(void *user, double done, double total);
  * state, and a clone may be used on another thread. Returns KIN_OK,
  * KIN_ENULL (a == NULL). */
 KIN_API int kin_set_progress(kin_assembly *a, kin_progress_fn fn, void *user);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* KIN_PROGRESS_H */

@@ -9,6 +9,10 @@
 
 #include "kin_export.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* X(name, value, message) */
 #define KIN_STATUS_LIST(X)                                                                     \
     X(KIN_OK, 0, "success")                                                                    \
@@ -47,5 +51,9 @@ KIN_API const char *kin_strerror(int status);
 
 /* Symbolic name of a status code ("KIN_EINVAL"), or "KIN_UNKNOWN". */
 KIN_API const char *kin_status_name(int status);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* KIN_STATUS_H */

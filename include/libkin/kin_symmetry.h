@@ -33,6 +33,10 @@
 #include "kin_export.h"
 #include "kin_assembly.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Graph automorphisms enumerated at most (the order of the group of the
  * coloured bar graph, before the geometric test); a structure with more is
  * refused with KIN_ELIMIT. */
@@ -77,5 +81,9 @@ KIN_API int kin_symmetries(kin_assembly *a, int max_sym, int *perm, double *Q, d
  * KIN_ELAPACK_ARG, KIN_ELAPACK_CONV (the analysis or the fits). On other
  * failures *ngroup = 0 and R is not written. */
 KIN_API int kin_mechanism_group(kin_assembly *a, int max_group, double *R, int *ngroup);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* KIN_SYMMETRY_H */

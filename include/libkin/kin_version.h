@@ -5,6 +5,10 @@
 
 #include "kin_export.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define KIN_VERSION_MAJOR 0
 #define KIN_VERSION_MINOR 3
 #define KIN_VERSION_PATCH 0
@@ -23,5 +27,9 @@ KIN_API int kin_version_number(void);
 /* Version of the library actually linked, as "MAJOR.MINOR.PATCH".
  * Returns a static string; never NULL. */
 KIN_API const char *kin_version_string(void);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* KIN_VERSION_H */

@@ -14,11 +14,31 @@
  * for AVX2 (4 doubles per vector register) and for the baseline, picked at
  * load time by the CPU. The AVX2 target has no FMA instructions, so no
  * product-sum is contracted whatever the -ffp-contract setting, and both
- * versions round identically (the results are bit-identical). */
+ * versions round identically (the results are bit-identical); the
+ * x86-64-v4 clones of the lockstep kernels have FMA, and CMakeLists.txt
+ * builds with -ffp-contract=off (GCC's default in ISO C mode, not Clang's).
+ *
+ * A cloned function is static, called only from the file that defines it;
+ * other files call a plain function there that calls it. The compilers
+ * name the dispatcher differently: GCC gives it the function's own name,
+ * Clang before 18 names it `name.ifunc` and calls it only where the
+ * declaration in view carries the same target_clones (and Clang 14 with the
+ * attribute on a declaration alone calls the resolver instead), so a call
+ * from another file through a plain prototype does not link with Clang. */
 #if defined(__x86_64__) && defined(__ELF__) && defined(__has_attribute) && !defined(KIN_NO_MULTIVERSION)
 #if __has_attribute(target_clones)
 #define HOM_KERNEL __attribute__((target_clones("avx2", "default")))
 #define HOM_MULTIVERSION 1
+/* The lockstep kernels (homotopy_lanes.c, homotopy_param_lanes.c) have an
+ * AVX-512 clone as well: x86-64-v4 with GCC. Clang (14) dispatches an
+ * `arch=` clone by CPU name (__builtin_cpu_is), knows no CPU "x86-64-v4"
+ * and so never picks that clone, on an AVX-512 machine either; with Clang
+ * the clone is named by its feature, avx512f, dispatched by CPUID. */
+#if defined(__clang__)
+#define HOM_KERNEL_WIDE __attribute__((target_clones("avx512f", "avx2", "default")))
+#else
+#define HOM_KERNEL_WIDE __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
+#endif
 #endif
 #endif
 #ifndef HOM_KERNEL

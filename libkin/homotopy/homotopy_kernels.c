@@ -97,7 +97,7 @@ HOM_INLINE void axpy_sub(int lo, int hi, const double *restrict lr, const double
 }
 
 /* LU with partial pivoting (largest |re| + |im|) in place; 0 if singular */
-HOM_KERNEL int kin__hom_lu_factor(int n, hom_lu *F)
+HOM_KERNEL static int lu_factor(int n, hom_lu *F)
 {
     int np = kin__hom_lanes_up(n);
     double *Ar = F->r, *Ai = F->i;
@@ -177,7 +177,7 @@ HOM_INLINE void axpy4_sub(int lo, int hi, const double *const *cr, const double 
  * beyond it updated by all four columns at once); every entry receives the
  * updates of the columns in the same order as one column at a time. b has
  * kin__hom_lanes_up(n) entries (the last ones scratch). */
-HOM_KERNEL void kin__hom_lu_solve(int n, const hom_lu *F, double *restrict br, double *restrict bi)
+HOM_KERNEL static void lu_solve(int n, const hom_lu *F, double *restrict br, double *restrict bi)
 {
     int np = kin__hom_lanes_up(n), j0 = 0;
     for (int k = 0; k < n; ++k) swap_entries(F->piv[k], k, br, bi);
@@ -269,7 +269,7 @@ double kin__hom_inv_norm1(int n, const hom_lu *F)
 {
     double xr[HOM_MAX_M], xi[HOM_MAX_M];
     for (int k = 0; k < n; ++k) xr[k] = 1.0 / n, xi[k] = 0.0;
-    kin__hom_lu_solve(n, F, xr, xi);
+    lu_solve(n, F, xr, xi);
     double est = norm1(n, xr, xi);
     for (int it = 0; it < HAGER_ITERS; ++it) {
         for (int k = 0; k < n; ++k) { /* sign(y) */
@@ -286,7 +286,7 @@ double kin__hom_inv_norm1(int n, const hom_lu *F)
         }
         for (int k = 0; k < n; ++k) xr[k] = xi[k] = 0.0;
         xr[j] = 1.0;
-        kin__hom_lu_solve(n, F, xr, xi);
+        lu_solve(n, F, xr, xi);
         double e = norm1(n, xr, xi);
         if (!(e > est)) break;
         est = e;
@@ -300,7 +300,7 @@ double kin__hom_inv_norm1(int n, const hom_lu *F)
  * from y = Q x in the interleaved rows): eight equations at a time (four
  * for the last group when sp is not a multiple of eight), each summed over c
  * in order; eight independent sums keep the adders busy */
-HOM_KERNEL void kin__hom_dots_raw(int m, int sp, const double *restrict ur, const double *restrict ui,
+HOM_KERNEL static void dots_raw(int m, int sp, const double *restrict ur, const double *restrict ui,
                                 const double *restrict yr, const double *restrict yi, double *restrict outr,
                                 double *restrict outi)
 {
@@ -350,7 +350,7 @@ void kin__hom_eval(const hom_problem *P, const double *car, const double *cai, d
     double alr = (1.0 - t) * P->gr, ali = (1.0 - t) * P->gi;
     double *Jr = p->lu.r, *Ji = p->lu.i;
     double fr[HOM_MAX_M], fi[HOM_MAX_M]; /* F_j(x) */
-    kin__hom_dots_raw(m, sp, xr, xi, p->yr, p->yi, fr, fi);
+    dots_raw(m, sp, xr, xi, p->yr, p->yi, fr, fi);
     int np = kin__hom_lanes_up(m);
     for (int c = 0; c < m; ++c) { /* J(j, c) = 2 t (Q_j x)_c + the G terms below */
         const double *yr = p->yr + c * sp, *yi = p->yi + c * sp;
@@ -385,10 +385,29 @@ int kin__hom_newton_step(const hom_problem *P, const double *car, const double *
 {
     int m = P->m;
     kin__hom_eval(P, car, cai, t, p);
-    if (!kin__hom_lu_factor(m, &p->lu)) return 0;
+    if (!lu_factor(m, &p->lu)) return 0;
     memcpy(dr, p->hr, sizeof(double) * (size_t)m);
     memcpy(di, p->hi, sizeof(double) * (size_t)m);
-    kin__hom_lu_solve(m, &p->lu, dr, di);
+    lu_solve(m, &p->lu, dr, di);
     return isfinite(kin__hom_vnorm(m, dr, di));
 }
 
+/* The entry points the other files call: plain functions that call the
+ * cloned kernels of this file (homotopy_control.h: a cloned function is
+ * called only from the file that defines it). */
+int kin__hom_lu_factor(int n, hom_lu *F)
+{
+    return lu_factor(n, F);
+}
+
+void kin__hom_lu_solve(int n, const hom_lu *F, double *restrict br, double *restrict bi)
+{
+    lu_solve(n, F, br, bi);
+}
+
+void kin__hom_dots_raw(int m, int sp, const double *restrict ur, const double *restrict ui,
+                       const double *restrict yr, const double *restrict yi, double *restrict outr,
+                       double *restrict outi)
+{
+    dots_raw(m, sp, ur, ui, yr, yi, outr, outi);
+}

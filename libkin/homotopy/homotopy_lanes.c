@@ -7,10 +7,10 @@
 
 #if defined(HOM_LANES_VECTOR)
 
-/* cloned as the one-path kernels are (homotopy_control.h), with the x86-64-v4
- * level (AVX-512) as well */
+/* cloned as the one-path kernels are (homotopy_control.h), with an AVX-512
+ * clone as well */
 #if defined(HOM_MULTIVERSION)
-#define HOMB_KERNEL __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
+#define HOMB_KERNEL HOM_KERNEL_WIDE
 #else
 #define HOMB_KERNEL
 #endif
@@ -81,7 +81,7 @@ HOMB_KERNEL static void bdots(int m, int s, const lanes *restrict ur, const lane
  * LU with partial pivoting (largest |re| + |im|, the first of equals), each
  * lane its own pivots; F->ok[l] = 0 where a pivot is zero or not finite
  * (that lane's factors are then meaningless) */
-HOMB_KERNEL void kin__lanes_lu_factor(int n, hom_llu *F)
+HOMB_KERNEL static void blu_factor(int n, hom_llu *F)
 {
     for (int l = 0; l < BL; ++l) F->ok[l] = 1;
     for (int k = 0; k < n; ++k) {
@@ -156,7 +156,7 @@ HOMB_KERNEL static void bpermute(int n, const hom_llu *F, lanes *br, lanes *bi, 
 
 /* b <- A^-1 b, every lane: the updates of each entry in the order of the
  * one-path lu_solve (forward by increasing column, backward by decreasing) */
-HOMB_KERNEL void kin__lanes_lu_solve(int n, const hom_llu *F, lanes *restrict br, lanes *restrict bi)
+HOMB_KERNEL static void blu_solve(int n, const hom_llu *F, lanes *restrict br, lanes *restrict bi)
 {
     bpermute(n, F, br, bi, 0);
     /* L y = b (unit diagonal), two columns at a time: each entry below them
@@ -229,7 +229,7 @@ HOMB_KERNEL static void blu_solve_adj(int n, const hom_llu *F, lanes *restrict b
 }
 
 /* |v| per lane (2-norm, summed in order) */
-HOMB_KERNEL void kin__lanes_norm2(int n, const lanes *xr, const lanes *xi, double *out)
+HOMB_KERNEL static void bnorm2(int n, const lanes *xr, const lanes *xi, double *out)
 {
     lanes s = ALL(0.0);
     for (int k = 0; k < n; ++k) s += xr[k] * xr[k] + xi[k] * xi[k];
@@ -244,12 +244,12 @@ HOMB_KERNEL static void bnorm1(int n, const lanes *xr, const lanes *xi, double *
 }
 
 /* the Hager-Higham estimate of |A^-1|_1 per lane, as inv_norm1 */
-HOMB_KERNEL void kin__lanes_inv_norm1(int n, const hom_llu *F, double *est)
+HOMB_KERNEL static void binv_norm1(int n, const hom_llu *F, double *est)
 {
     lanes xr[HOM_MAX_M], xi[HOM_MAX_M];
     for (int k = 0; k < n; ++k)
         for (int l = 0; l < BL; ++l) xr[k][l] = 1.0 / n, xi[k][l] = 0.0;
-    kin__lanes_lu_solve(n, F, xr, xi);
+    blu_solve(n, F, xr, xi);
     bnorm1(n, xr, xi, est);
     int go[BL];
     for (int l = 0; l < BL; ++l) go[l] = 1;
@@ -271,7 +271,7 @@ HOMB_KERNEL void kin__lanes_inv_norm1(int n, const hom_llu *F, double *est)
             for (int k = 0; k < n; ++k) xr[k][l] = xi[k][l] = 0.0;
             xr[j][l] = 1.0;
         }
-        kin__lanes_lu_solve(n, F, xr, xi);
+        blu_solve(n, F, xr, xi);
         double e[BL];
         bnorm1(n, xr, xi, e);
         int any = 0;
@@ -320,17 +320,17 @@ HOM_INLINE void beval(const hom_problem *P, const lanes *tp, const lanes *car, c
     p->hr[s] = cr, p->hi[s] = ci;
 }
 
-HOMB_KERNEL void kin__lanes_newton(const hom_problem *P, const lanes *t, const lanes *car, const lanes *cai,
-                                   hom_lpoint *p, lanes *dr, lanes *di, int *ok)
+HOMB_KERNEL static void bnewton(const hom_problem *P, const lanes *t, const lanes *car, const lanes *cai,
+                                hom_lpoint *p, lanes *dr, lanes *di, int *ok)
 {
     int m = P->m;
     beval(P, t, car, cai, p);
-    kin__lanes_lu_factor(m, &p->lu);
+    blu_factor(m, &p->lu);
     memcpy(dr, p->hr, sizeof(lanes) * (size_t)m);
     memcpy(di, p->hi, sizeof(lanes) * (size_t)m);
-    kin__lanes_lu_solve(m, &p->lu, dr, di);
+    blu_solve(m, &p->lu, dr, di);
     double nd[BL];
-    kin__lanes_norm2(m, dr, di, nd);
+    bnorm2(m, dr, di, nd);
     for (int l = 0; l < BL; ++l) ok[l] = p->lu.ok[l] && isfinite(nd[l]);
 }
 
@@ -365,7 +365,7 @@ HOMB_KERNEL static void bpair_sums(const hom_problem *P, const hom_lseries *B, c
 
 /* (the F[x_0, x_{k-1}] terms are recovered from J x_k in the lanes where
  * t >= T_RECOVER, computed directly in the others) */
-HOMB_KERNEL void kin__lanes_taylor(const hom_problem *P, const lanes *t0p, const hom_lpoint *b, hom_lseries *B)
+HOMB_KERNEL static void btaylor(const hom_problem *P, const lanes *t0p, const hom_lpoint *b, hom_lseries *B)
 {
     int m = P->m, s = P->s;
     lanes t0 = *t0p;
@@ -410,9 +410,43 @@ HOMB_KERNEL void kin__lanes_taylor(const hom_problem *P, const lanes *t0p, const
         rr[s] = ri[s] = ALL(0.0);
         memcpy(rhr, rr, sizeof(lanes) * (size_t)s);
         memcpy(rhi, ri, sizeof(lanes) * (size_t)s);
-        kin__lanes_lu_solve(m, &b->lu, rr, ri);
+        blu_solve(m, &b->lu, rr, ri);
         if (k < HOM_NY) bqmul(P, rr, ri, B->ykr[k], B->yki[k]);
     }
+}
+
+/* The entry points the other files call: plain functions that call the
+ * cloned kernels of this file (homotopy_control.h: a cloned function is
+ * called only from the file that defines it). */
+void kin__lanes_lu_factor(int n, hom_llu *F)
+{
+    blu_factor(n, F);
+}
+
+void kin__lanes_lu_solve(int n, const hom_llu *F, lanes *restrict br, lanes *restrict bi)
+{
+    blu_solve(n, F, br, bi);
+}
+
+void kin__lanes_norm2(int n, const lanes *xr, const lanes *xi, double *out)
+{
+    bnorm2(n, xr, xi, out);
+}
+
+void kin__lanes_inv_norm1(int n, const hom_llu *F, double *est)
+{
+    binv_norm1(n, F, est);
+}
+
+void kin__lanes_newton(const hom_problem *P, const lanes *t, const lanes *car, const lanes *cai,
+                       hom_lpoint *p, lanes *dr, lanes *di, int *ok)
+{
+    bnewton(P, t, car, cai, p, dr, di, ok);
+}
+
+void kin__lanes_taylor(const hom_problem *P, const lanes *t0p, const hom_lpoint *b, hom_lseries *B)
+{
+    btaylor(P, t0p, b, B);
 }
 
 #endif /* HOM_LANES_VECTOR */

@@ -110,9 +110,9 @@ void kin__hpar_ws_free(hpar_ws *w)
     free(w);
 }
 
-HPAR_KERNEL void kin__hpar_matvec(int sm, int m, const double *restrict Mr, const double *restrict Mi,
-                                  const double *restrict xr, const double *restrict xi, double *restrict yr,
-                                  double *restrict yi)
+HPAR_KERNEL static void matvec(int sm, int m, const double *restrict Mr, const double *restrict Mi,
+                               const double *restrict xr, const double *restrict xi, double *restrict yr,
+                               double *restrict yi)
 {
     for (int i = 0; i < sm; ++i) yr[i] = yi[i] = 0.0;
     for (int c = 0; c < m; ++c) {
@@ -162,7 +162,7 @@ static int newton(const hpar_problem *P, hpar_ws *w, const double *Mr, const dou
                   double *di)
 {
     int m = P->m, s = P->s;
-    kin__hpar_matvec(w->sm, m, Mr, Mi, xr, xi, yr, yi);
+    matvec(w->sm, m, Mr, Mi, xr, xi, yr, yi);
     for (int j = 0; j < s; ++j) dr[j] = di[j] = 0.0;
     dots(m, s, 1.0, xr, xi, yr, yi, dr, di);
     double cr = -1.0, ci = 0.0;
@@ -188,8 +188,8 @@ static int newton(const hpar_problem *P, hpar_ws *w, const double *Mr, const dou
 static void taylor(const hpar_problem *P, hpar_ws *w)
 {
     int m = P->m, s = P->s, sm = w->sm;
-    kin__hpar_matvec(sm, m, w->m0r, w->m0i, w->cr[0], w->ci[0], w->yr[0], w->yi[0]);
-    kin__hpar_matvec(sm, m, P->Dr, P->Di, w->cr[0], w->ci[0], w->zr[0], w->zi[0]);
+    matvec(sm, m, w->m0r, w->m0i, w->cr[0], w->ci[0], w->yr[0], w->yi[0]);
+    matvec(sm, m, P->Dr, P->Di, w->cr[0], w->ci[0], w->zr[0], w->zi[0]);
     for (int k = 1; k <= ORDER; ++k) {
         double *rr = w->cr[k], *ri = w->ci[k];
         for (int j = 0; j <= s; ++j) rr[j] = ri[j] = 0.0;
@@ -199,8 +199,8 @@ static void taylor(const hpar_problem *P, hpar_ws *w)
             dots(m, s, 2 * i < k - 1 ? 2.0 : 1.0, w->cr[k - 1 - i], w->ci[k - 1 - i], w->zr[i], w->zi[i], rr, ri);
         for (int j = 0; j < s; ++j) rr[j] = -rr[j], ri[j] = -ri[j];
         kin__hom_lu_solve(m, &w->lu, rr, ri);
-        if (k < NY) kin__hpar_matvec(sm, m, w->m0r, w->m0i, rr, ri, w->yr[k], w->yi[k]);
-        if (k < NZ) kin__hpar_matvec(sm, m, P->Dr, P->Di, rr, ri, w->zr[k], w->zi[k]);
+        if (k < NY) matvec(sm, m, w->m0r, w->m0i, rr, ri, w->yr[k], w->yi[k]);
+        if (k < NZ) matvec(sm, m, P->Dr, P->Di, rr, ri, w->zr[k], w->zi[k]);
     }
 }
 
@@ -364,4 +364,14 @@ void kin__hpar_track(const hpar_problem *P, const hpar_settings *S, hpar_ws *w, 
             return;
         }
     }
+}
+
+/* The entry points the other files call: plain functions that call the
+ * cloned kernels of this file (homotopy_control.h: a cloned function is
+ * called only from the file that defines it). */
+void kin__hpar_matvec(int sm, int m, const double *restrict Mr, const double *restrict Mi,
+                      const double *restrict xr, const double *restrict xi, double *restrict yr,
+                      double *restrict yi)
+{
+    matvec(sm, m, Mr, Mi, xr, xi, yr, yi);
 }

@@ -10,7 +10,7 @@
 
 /* cloned as the one-path kernels are (homotopy_control.h) */
 #if defined(HOM_MULTIVERSION)
-#define PLAN_KERNEL __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
+#define PLAN_KERNEL HOM_KERNEL_WIDE
 #else
 #define PLAN_KERNEL
 #endif
@@ -87,9 +87,9 @@ HOM_INLINE void pdots(int m, int s, double wgt, const lanes *restrict ur, const 
     }
 }
 
-PLAN_KERNEL void kin__plan_newton(const hpar_problem *P, const lanes *t, const lanes *car, const lanes *cai,
-                                  const lanes *xr, const lanes *xi, const hpar_lscratch *W, hom_llu *F,
-                                  lanes *dr, lanes *di, int *ok)
+PLAN_KERNEL static void pnewton(const hpar_problem *P, const lanes *t, const lanes *car, const lanes *cai,
+                                const lanes *xr, const lanes *xi, const hpar_lscratch *W, hom_llu *F,
+                                lanes *dr, lanes *di, int *ok)
 {
     int m = P->m, s = P->s;
     lanes *yr = W->pyr, *yi = W->pyi;
@@ -113,8 +113,8 @@ PLAN_KERNEL void kin__plan_newton(const hpar_problem *P, const lanes *t, const l
     for (int l = 0; l < BL; ++l) ok[l] = F->ok[l] && isfinite(sqrt(n2[l]));
 }
 
-PLAN_KERNEL void kin__plan_taylor(const hpar_problem *P, const lanes *t0, const hom_llu *F, const hpar_lscratch *W,
-                                  lanes (*cr)[HOM_MAX_M], lanes (*ci)[HOM_MAX_M])
+PLAN_KERNEL static void ptaylor(const hpar_problem *P, const lanes *t0, const hom_llu *F, const hpar_lscratch *W,
+                                lanes (*cr)[HOM_MAX_M], lanes (*ci)[HOM_MAX_M])
 {
     int m = P->m, s = P->s;
     { /* M(t0) of every lane, used HPAR_NY times */
@@ -136,6 +136,22 @@ PLAN_KERNEL void kin__plan_taylor(const hpar_problem *P, const lanes *t0, const 
         if (k < HPAR_NY) pmatvec(P, MAT_LANES, t0, W->mr, W->mi, rr, ri, W->yr[k], W->yi[k]);
         if (k < HPAR_NZ) pmatvec(P, MAT_D, t0, NULL, NULL, rr, ri, W->zr[k], W->zi[k]);
     }
+}
+
+/* The entry points the other files call: plain functions that call the
+ * cloned kernels of this file (homotopy_control.h: a cloned function is
+ * called only from the file that defines it). */
+void kin__plan_newton(const hpar_problem *P, const lanes *t, const lanes *car, const lanes *cai,
+                      const lanes *xr, const lanes *xi, const hpar_lscratch *W, hom_llu *F, lanes *dr,
+                      lanes *di, int *ok)
+{
+    pnewton(P, t, car, cai, xr, xi, W, F, dr, di, ok);
+}
+
+void kin__plan_taylor(const hpar_problem *P, const lanes *t0, const hom_llu *F, const hpar_lscratch *W,
+                      lanes (*cr)[HOM_MAX_M], lanes (*ci)[HOM_MAX_M])
+{
+    ptaylor(P, t0, F, W, cr, ci);
 }
 
 #endif /* HOM_LANES_VECTOR */

@@ -364,7 +364,10 @@ static void release(kin_assembly *a)
 
 void kin_assembly_free(kin_assembly *a) { release(a); }
 
-#define ALLOC_(p, n) (((p) = calloc((size_t)(n) > 0 ? (size_t)(n) : 1, sizeof *(p))) == NULL)
+/* 1 if the allocation failed, as an int: the results are combined with `|`
+ * on purpose (every allocation is attempted; release() frees what succeeded),
+ * which Clang's -Wbitwise-instead-of-logical flags for boolean operands */
+#define ALLOC_(p, n) ((int)(((p) = calloc((size_t)(n) > 0 ? (size_t)(n) : 1, sizeof *(p))) == NULL))
 
 /* allocate every array of a handle whose sizes (dim, nj, nb, nf, nfix) are set */
 static int allocate(kin_assembly *a)

@@ -1,9 +1,10 @@
 """Generate libkin's cffi declarations from the public C headers.
 
 The headers are the one source of truth: this script reads them in the
-umbrella header's order, drops comments and preprocessor lines, expands the
-status X-macro list into an enum with explicit values, and writes
-src/libkin/_native/_cdef.py. tests/test_cdef.py re-runs it and fails on any drift.
+umbrella header's order, drops comments, C++-only blocks (the extern "C"
+guards) and preprocessor lines, expands the status X-macro list into an
+enum with explicit values, and writes src/libkin/_native/_cdef.py.
+tests/test_cdef.py re-runs it and fails on any drift.
 
 usage: python tools/gen_cdef.py [--check]
 """
@@ -45,6 +46,8 @@ def generate():
             enum, status = _status_enum(raw)
             decls.append(enum)
         text = _strip_comments(raw)
+        # drop what only C++ sees (the extern "C" guards)
+        text = re.sub(r"^\s*#ifdef __cplusplus\n.*?^\s*#endif[^\n]*$", "", text, flags=re.M | re.S)
         # drop preprocessor lines (with continuations)
         text = re.sub(r"^\s*#(?:[^\n]*\\\n)*[^\n]*$", "", text, flags=re.M)
         text = text.replace("KIN_API ", "")
