@@ -9,7 +9,7 @@ import numpy as np
 
 from libkin import Assembly
 
-from .common import SAME_CONFIG_TOL, follow_to_bifurcation, jsonable, say
+from .common import SAME_CONFIG_TOL, accounting_words, follow_to_bifurcation, jsonable, say
 
 
 def square_study(length=1.75, threads=2, progress=True, out=None):
@@ -27,8 +27,8 @@ def square_study(length=1.75, threads=2, progress=True, out=None):
     res["real_solutions"] = len(br.betas)
     res["directed_paths_ok"] = len(ok)
     res["distinct_paths"] = br.distinct
-    say(progress, f"complete solver {br.accounting}; {len(ok)} directed paths reach l = {length}, "
-         f"{br.distinct} distinct")
+    say(progress, f"the complete solver accounts for all {accounting_words(br.accounting)}; {len(ok)} directed "
+         f"paths reach l = {length}, {br.distinct} distinct")
     lab = a.labels
     V1, V3, O0, O2 = (lab.index(n) for n in ("V1", "V3", "A0", "A2"))
     ends = [p.final_coords for p in br.paths]
