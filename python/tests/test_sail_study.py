@@ -26,6 +26,7 @@ TOL_SV = 1e-6
 # by its counts and as a set below, and against its own table)
 SKIP = {"seconds", "seconds_figures", "more_compact", "fast_gave_up", "stopped", "paper_method", "beta", "map",
         "onward"}
+RAW = re.compile(r"[{\[]'|array\(|\{\w+|\[\d")  # a Python dict, list or array printed as such
 
 
 def _compare(got, exp, where=""):
@@ -68,7 +69,7 @@ def test_hex_study_says_it_in_words(hex_run):
     and report.md's run time is the whole run's, figures included."""
     res, out = hex_run
     said = res["_said"]
-    assert "[R^C]" in said and not re.search(r"[{\[]'|array\(|\{\w+|\[\d", said), said
+    assert "[R^C]" in said and not RAW.search(said), said
     run_time = float(re.search(r"Run time ([\d.]+) s", (out / "report.md").read_text()).group(1))
     assert res["_wall"] - 1.0 <= run_time <= res["_wall"] + 0.2, (run_time, res["_wall"])
 
@@ -180,7 +181,10 @@ def test_hex_report_is_readable_by_a_designer(hex_run):
 
 
 def test_square_study_flat_state():
-    res = sailstudy.square_study(progress=False, out=None)
+    said = io.StringIO()
+    with contextlib.redirect_stderr(said):
+        res = sailstudy.square_study(progress=True, out=None)
+    assert "fully folded" in said.getvalue() and not RAW.search(said.getvalue()), said.getvalue()
     assert res["flat"] == {"m": 5, "m_rigid": 1, "s": 4}
     assert res["accounting"]["paths"] == 16 and res["accounting"]["real"] == 16
     assert res["directed_paths_ok"] == 32 and res["distinct_paths"] == 32

@@ -29,8 +29,8 @@ from libkin.symmetry import mechanism_group, sail_rotation
 
 # (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, paper_locate and record are
 # imported for the names this module has always had)
-from .common import (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, branch_words, follow_to_bifurcation, jsonable, leave,
-                     paper_locate, record, say)
+from .common import (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, accounting_words, branch_words, follow_to_bifurcation,
+                     jsonable, leave, paper_locate, record, say)
 from .sailmap import MAP_DEPTH, SailMap, explore_symmetric
 from .sailmeasure import measures
 from .squarestudy import square_study as square_study
@@ -146,7 +146,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
         _, acc = solve_quadrics(a.second_order(), "homotopy", threads=threads, progress=progress, group=group)
         acc["seconds"] = round(time.perf_counter() - t0, 1)
         res["flat"]["complete"] = acc
-        say(progress, f"[R^A]   {acc}")
+        say(progress, f"[R^A]   the complete solver accounts for all {accounting_words(acc)} ({acc['seconds']} s)")
     # the path map: the explorer's atlas of every symmetric path out of the
     # flat state and out of the bifurcations they reach (sailmap.py); the
     # folding branch is among the flat state's paths whose first bifurcation

@@ -71,7 +71,12 @@ def square_study(length=1.75, threads=2, progress=True, out=None):
     res["symmetry_relations"] = relations
     res["fully_folded_paths"] = folded
     res["seconds"] = round(time.perf_counter() - t_start, 1)
-    say(progress, f"fully folded candidates: {folded}")
+    say(progress, f"{len(folded)} fully folded candidate{'' if len(folded) == 1 else 's'}"
+         + (":" if folded else ""))
+    for f in folded:
+        say(progress, f"  path {f['path']}: {f['pattern']}; " + (
+            f"reaches a bifurcation at l = {f['ends_at_l']:.4f} (m = {f['m']}, s = {f['s']}), the hub folded "
+            f"{f['hub_fold_deg']:.1f} deg" if "m" in f else "reaches no bifurcation"))
     if out is not None:
         out = pathlib.Path(out)
         out.mkdir(parents=True, exist_ok=True)
