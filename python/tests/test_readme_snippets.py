@@ -46,8 +46,9 @@ def test_every_block_is_marked_run_slow_or_skip():
 
 
 # what .gitignore leaves out (and git's own folder, and tool caches): the
-# copy without git
-UNTRACKED = ("build", "build*", "__pycache__", "*.egg-info", ".venv", "out", "study_out", ".hypothesis", ".git",
+# copy without git; the first at the top folder only
+UNTRACKED_TOP = ("build*",)
+UNTRACKED = ("build", "__pycache__", "*.egg-info", ".venv", "out", "study_out", ".hypothesis", ".git",
              ".pytest_cache", ".mypy_cache")
 
 
@@ -60,7 +61,8 @@ def tracked_files():
     out = []
     for d, dirs, names in os.walk(ROOT):
         rel = pathlib.PurePath(d).relative_to(ROOT)
-        dirs[:] = [x for x in dirs if not any(pathlib.PurePath(x).match(p) for p in UNTRACKED)]
+        skip = UNTRACKED + (UNTRACKED_TOP if str(rel) == "." else ())
+        dirs[:] = [x for x in dirs if not any(pathlib.PurePath(x).match(p) for p in skip)]
         out += [str(rel / n) if str(rel) != "." else n for n in names if n != ".git"]
     return out
 
