@@ -129,6 +129,58 @@ static void collinear(void)
     check_counts("collinear 4-bar chain (2D)", 2, 5, xyz, NULL, 4, bars, (expect){4, 3, 3, 0});
 }
 
+/* Joints a tiny distance off a line that carries the supports (3D): the
+ * rotation about the line moves them by that distance. Where the rank counts
+ * the offset (the counts equal the clearly non-collinear ones), that rotation
+ * is a rigid mode, not an internal mechanism: one tolerance decides both. */
+static void near_line(void)
+{
+    const double o[3] = {0.3, -0.2, 0.5}, d[3] = {0.267, 0.534, 0.802};
+    /* two unit normals of d */
+    const double n1[3] = {0.894427190999916, -0.447213595499958, 0.0};
+    double n2[3] = {d[1] * n1[2] - d[2] * n1[1], d[2] * n1[0] - d[0] * n1[2], d[0] * n1[1] - d[1] * n1[0]};
+    double nn = sqrt(n2[0] * n2[0] + n2[1] * n2[1] + n2[2] * n2[2]);
+    for (int k = 0; k < 3; ++k) n2[k] /= nn;
+    const double u[5] = {0.0, 1.0, 2.1, 2.9, 4.0};
+    const double c1[5] = {0.0, 1.0, -0.6, 0.8, 0.0}, c2[5] = {0.0, 0.3, 0.9, -0.5, 0.0};
+    const int bars[14] = {0, 1, 1, 2, 2, 3, 3, 4, 0, 2, 1, 3, 2, 4};
+    unsigned char fixed[15] = {0};
+    for (int k = 0; k < 3; ++k) fixed[k] = fixed[12 + k] = 1;
+    /* relative offsets: clearly off the line, then inside the window where
+     * the rank counts the offset and the rigid test used to drop the
+     * rotation (4e-9 .. 1.5e-8 of the size); then far below what the rank
+     * resolves, where the joints are on the line and the rotation no motion */
+    const double eps[6] = {1e-3, 4e-9, 6e-9, 1e-8, 1.5e-8, 1e-14};
+    const double size = 4.0;
+    expect clear = {0, 0, 0, 0};
+    for (int e = 0; e < 6; ++e) {
+        double xyz[15];
+        for (int j = 0; j < 5; ++j)
+            for (int k = 0; k < 3; ++k)
+                xyz[j * 3 + k] = o[k] + u[j] * d[k] / 1.0 + eps[e] * size * (c1[j] * n1[k] + c2[j] * n2[k]);
+        char err[256];
+        kin_assembly *a = NULL;
+        CHECK_RC(kin_assembly_create(3, 5, xyz, fixed, 7, bars, NULL, &a, err, sizeof err), KIN_OK);
+        if (!a) return;
+        kin_analysis an = {.size = sizeof an};
+        CHECK_RC(kin_analyse(a, &an), KIN_OK);
+        if (e == 0) {
+            clear = (expect){an.rank, an.m_rigid, an.m_internal, an.s};
+            CHECK(an.m_rigid == 1); /* the rotation about the line */
+        } else if (an.rank == clear.rank) {
+            if (an.m_rigid != clear.m_rigid || an.m_internal != clear.m_internal)
+                fprintf(stderr, "near line, offset %.3g: rank %d m_rigid %d m_internal %d, want %d %d %d\n",
+                        eps[e], an.rank, an.m_rigid, an.m_internal, clear.rank, clear.m_rigid,
+                        clear.m_internal);
+            CHECK(an.m_rigid == clear.m_rigid && an.m_internal == clear.m_internal);
+        } else {
+            CHECK(e == 5); /* inside the window the rank counts the offset */
+            CHECK(an.m_rigid == 0);
+        }
+        kin_assembly_free(a);
+    }
+}
+
 /* x = origin + a*e1 + b*e2: points of the plane spanned by e1, e2 */
 static void coplanar_3d(void)
 {
@@ -252,6 +304,7 @@ int main(void)
 {
     under_braced();
     collinear();
+    near_line();
     coplanar_3d();
     over_braced();
     two_dof_chain(KIN_STEP_SVD);

@@ -21,18 +21,20 @@ if [ ${#missing[@]} -eq 0 ]; then
   echo "libkin: Debian packages: all ${#pkgs[@]} present"
   exit 0
 fi
+# one install command: the one run and the one printed for a non-root user
+apt_install=(apt-get install -y --no-install-recommends "${missing[@]}")
 if [ "$(id -u)" -eq 0 ]; then
   SUDO=()
 elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
   SUDO=(sudo -n)
 else
   echo "libkin: missing Debian packages: ${missing[*]}" >&2
-  echo "libkin: as root, run:  apt-get update && apt-get install -y ${missing[*]}" >&2
+  echo "libkin: as root, run:  apt-get update && DEBIAN_FRONTEND=noninteractive ${apt_install[*]}" >&2
   exit 1
 fi
 install_missing() {
   "${SUDO[@]}" apt-get update
-  DEBIAN_FRONTEND=noninteractive "${SUDO[@]}" apt-get install -y --no-install-recommends "${missing[@]}"
+  DEBIAN_FRONTEND=noninteractive "${SUDO[@]}" "${apt_install[@]}"
 }
 stage "installing Debian packages: ${missing[*]}" "about 1-3 min; log build/logs/apt.log" \
   build/logs/apt.log install_missing

@@ -158,10 +158,12 @@ typedef struct kin_analysis {
  * the whole assembly that keep every fixed coordinate fixed; Pellegrino &
  * Calladine 1986) and internal ones (the orthonormal complement of the rigid
  * ones within the null space). A rigid motion counts only if it moves the
- * free joints by more than 1e-8 times the size of a unit rigid motion of
- * the whole assembly (sqrt(njoints), coordinates measured from the centroid
- * in units of their RMS radius): a rotation about a line through every
- * joint moves nothing and is not a mechanism. out may be NULL. The results
+ * free joints by more than rank_tol (the rank's own tolerance) times the
+ * size of a unit rigid motion of the whole assembly (sqrt(njoints),
+ * coordinates measured from the centroid in units of their RMS radius): a
+ * rotation about a line through every joint moves nothing and is not a
+ * mechanism, and one about a line the joints are off by more than the rank
+ * resolves is rigid, not internal. out may be NULL. The results
  * stay readable through the getters below until the configuration changes.
  * Returns KIN_OK, KIN_ENULL, KIN_ELAPACK_ARG, KIN_ELAPACK_CONV. */
 KIN_API int kin_analyse(kin_assembly *a, kin_analysis *out);

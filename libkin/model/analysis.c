@@ -1,6 +1,7 @@
 /* First-order analysis (paper 3.1): SVD of H, rank, mechanisms and
  * self-stresses, and the split of the mechanisms into rigid-body and internal
  * ones (Pellegrino & Calladine 1986). */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -12,11 +13,10 @@
  * fraction of the largest. The motions are built from centred coordinates
  * scaled by their RMS radius, so this is a relative, unit-free test. */
 static const double RIGID_SUPPORT_TOL = 1e-10;
-/* A rigid-motion candidate whose norm after orthogonalisation against the
- * ones kept falls below this fraction of a rigid generator's size is
- * dependent on them, or moves no joint (two Gram-Schmidt passes make the
- * test reliable down to ~1e-15). */
-static const double GS_DROP_TOL = 1e-8;
+/* A rigid-motion candidate is never trusted below this many rounding units
+ * of the centred coordinates (two Gram-Schmidt passes make the remaining
+ * norm accurate to a few of them). */
+static const double GS_ROUNDING_UNITS = 64.0;
 
 /* Orthonormalise column j of X (n rows, ld) against columns 0..k-1 (two
  * passes of modified Gram-Schmidt) and normalise it; returns its norm after
@@ -48,8 +48,10 @@ static void orient(int n, double *v)
 }
 
 /* Rigid-body motion fields of the whole assembly, evaluated at every
- * coordinate (nj*dim rows, ld nj*dim), into a->G. */
-static void rigid_fields(kin_assembly *a, const double *xyz)
+ * coordinate (nj*dim rows, ld nj*dim), into a->G. Returns the rounding
+ * error of the fields, relative: DBL_EPSILON times the largest coordinate
+ * over the RMS radius (the centring loses that much). */
+static double rigid_fields(kin_assembly *a, const double *xyz)
 {
     int d = a->dim, nj = a->nj, n = nj * d;
     double c[3] = {0, 0, 0}, rho = 0.0;
@@ -59,6 +61,8 @@ static void rigid_fields(kin_assembly *a, const double *xyz)
         for (int k = 0; k < d; ++k) rho += (xyz[j * d + k] - c[k]) * (xyz[j * d + k] - c[k]);
     rho = sqrt(rho / nj);
     if (!(rho > 0.0)) rho = 1.0;
+    double big = 0.0;
+    for (int i = 0; i < n; ++i) big = fmax(big, fabs(xyz[i]));
     memset(a->G, 0, sizeof(double) * (size_t)n * (size_t)a->nrig);
     for (int j = 0; j < nj; ++j) {
         double p[3] = {0, 0, 0};
@@ -77,6 +81,7 @@ static void rigid_fields(kin_assembly *a, const double *xyz)
             rot[j * 3 + 0] = -p[1]; rot[j * 3 + 1] = p[0];
         }
     }
+    return DBL_EPSILON * (1.0 + big / rho);
 }
 
 /* Combinations alpha of the rigid motions in a->G that keep every fixed
@@ -122,12 +127,17 @@ static int support_nullspace(kin_assembly *a, int *nnull_out)
  * m, ld nf) when Um is not NULL, and reduced to an orthonormal basis R (nf x
  * *mr, ld nf) by Gram-Schmidt with column pivoting (the largest remaining
  * candidate first). A candidate counts only while what remains of it exceeds
- * GS_DROP_TOL times the size of a rigid generator: sqrt(nj), how far a unit
- * translation moves the joints in all (a unit rotation about the centroid
- * moves them as far in RMS, coordinates being in units of the RMS radius).
+ * rank_tol times the size of a rigid generator, sqrt(nj) (how far a unit
+ * translation moves the joints in all; a unit rotation about the centroid
+ * moves them as far in RMS, coordinates being in units of the RMS radius):
+ * the rank test's tolerance, so a rotation that moves joints by more than
+ * the rank resolves (e.g. about a line the supports are on, joints a little
+ * off it) is rigid wherever the rank counts those joints' offset, and one
+ * that moves them by less is no motion, as the rank sees them on the line.
  * Relative to the candidate's own norm the test would depend on rounding
  * luck: a rotation about a line through every joint moves nothing, and its
- * candidate is rounding noise that normalises to any direction.
+ * candidate is rounding noise that normalises to any direction; below
+ * GS_ROUNDING_UNITS rounding units no candidate counts.
  * Scratch: a->Gs (support null space, candidates) and, to project, m
  * doubles of a->mwork. */
 static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um, int m, double *R,
@@ -135,7 +145,7 @@ static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um
 {
     int nf = a->nf, nr = a->nrig, n = a->nj * a->dim, nnull = 0, kept = 0;
     *mr = 0;
-    rigid_fields(a, xyz);
+    double rounding = rigid_fields(a, xyz);
     int rc = support_nullspace(a, &nnull);
     if (rc) return rc;
     const double *vt = a->Gs;
@@ -158,7 +168,7 @@ static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um
             }
         }
     }
-    double drop = GS_DROP_TOL * sqrt((double)a->nj);
+    double drop = fmax(a->opt.rank_tol, GS_ROUNDING_UNITS * rounding) * sqrt((double)a->nj);
     int cap = Um ? m : nf, left = nnull;
     while (kept < cap && left > 0) {
         /* pivot: the candidate with the most left after the kept directions */

@@ -45,13 +45,45 @@ def test_every_block_is_marked_run_slow_or_skip():
     assert found >= 6
 
 
+# what .gitignore leaves out (and git's own folder, and tool caches): the
+# copy without git; the first at the top folder only
+UNTRACKED_TOP = ("build*",)
+UNTRACKED = ("build", "__pycache__", "*.egg-info", ".venv", "out", "study_out", ".hypothesis", ".git",
+             ".pytest_cache", ".mypy_cache")
+
+
+def tracked_files():
+    """The repository's files as git tracks them; without git (not installed,
+    or an unpacked archive) every file .gitignore does not leave out."""
+    if shutil.which("git") and (ROOT / ".git").exists():
+        files = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, capture_output=True, check=True).stdout
+        return [n for n in files.decode().split("\0") if n and (ROOT / n).is_file()]
+    out = []
+    for d, dirs, names in os.walk(ROOT):
+        rel = pathlib.PurePath(d).relative_to(ROOT)
+        skip = UNTRACKED + (UNTRACKED_TOP if str(rel) == "." else ())
+        dirs[:] = [x for x in dirs if not any(pathlib.PurePath(x).match(p) for p in skip)]
+        out += [str(rel / n) if str(rel) != "." else n for n in names if n != ".git"]
+    return out
+
+
 def fresh_copy(dest):
-    files = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, capture_output=True, check=True).stdout
-    for name in files.decode().split("\0"):
-        src = ROOT / name
-        if name and src.is_file():
-            (dest / name).parent.mkdir(parents=True, exist_ok=True)
-            shutil.copy2(src, dest / name)
+    for name in tracked_files():
+        (dest / name).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(ROOT / name, dest / name)
+
+
+def test_copy_needs_no_git(monkeypatch):
+    """Without git the copy holds the same files (the working tree less what
+    .gitignore leaves out)."""
+    with_git = set(tracked_files()) if shutil.which("git") else None
+    monkeypatch.setattr(shutil, "which", lambda cmd, *a, **k: None)
+    monkeypatch.setenv("PATH", "/nonexistent")
+    without = set(tracked_files())
+    assert "README.md" in without and "CMakeLists.txt" in without
+    assert not any(n.startswith(("build/", ".git/")) or "__pycache__" in n for n in without)
+    if with_git is not None:
+        assert with_git <= without
 
 
 def stand_in_install(clone, env, bin_dir):

@@ -2,9 +2,13 @@
 without the 2^15-path homotopy) against the run stored in
 examples/sail_study/hex_quick (its report, figures, summary.json and the
 Figure 14 data), and the square sail's flat state against the paper."""
+import contextlib
+import io
 import json
 import math
 import pathlib
+import re
+import time
 
 import numpy as np
 import pytest
@@ -18,8 +22,11 @@ TOL_L = 1e-6
 TOL_SV = 1e-6
 # not compared key by key: timings, the paper's method's counts (run for
 # comparison only), solution indices (their order is the solver's), and the
-# path map (the explorer's atlas: compared by its counts and as a set below)
-SKIP = {"seconds", "fast_gave_up", "stopped", "paper_method", "beta", "map", "onward"}
+# path map and the nodes more compact than R^C (the explorer's atlas: compared
+# by its counts and as a set below, and against its own table)
+SKIP = {"seconds", "seconds_figures", "more_compact", "fast_gave_up", "stopped", "paper_method", "beta", "map",
+        "onward"}
+RAW = re.compile(r"[{\[]'|array\(|\{\w+|\[\d")  # a Python dict, list or array printed as such
 
 
 def _compare(got, exp, where=""):
@@ -48,8 +55,33 @@ def _compare(got, exp, where=""):
 @pytest.fixture(scope="module")
 def hex_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("hex")
-    res = sailstudy.hexagonal_study(complete=False, progress=False, out=out)
+    said = io.StringIO()
+    t0 = time.perf_counter()
+    with contextlib.redirect_stderr(said):
+        res = sailstudy.hexagonal_study(complete=False, progress=True, out=out)
+    res["_wall"] = time.perf_counter() - t0
+    res["_said"] = said.getvalue()
     return res, out
+
+
+def test_hex_study_says_it_in_words(hex_run):
+    """Its terminal lines are sentences (no Python lists, dicts or arrays),
+    and report.md's run time is the whole run's, figures included."""
+    res, out = hex_run
+    said = res["_said"]
+    assert "[R^C]" in said and not RAW.search(said), said
+    run_time = float(re.search(r"Run time ([\d.]+) s", (out / "report.md").read_text()).group(1))
+    assert res["_wall"] - 1.0 <= run_time <= res["_wall"] + 0.2, (run_time, res["_wall"])
+
+
+def test_hex_summary_agrees_with_its_table(hex_run):
+    """What the report says about R^C's compactness is the node table's
+    numbers: 'most compact' only if no mapped node has a smaller x-y extent."""
+    res, out = hex_run
+    rc = [n for n in res["map"]["nodes"] if n["name"] == "R^C"][0]
+    smaller = sorted((n["xy_extent"], n["name"]) for n in res["map"]["nodes"] if n["xy_extent"] < rc["xy_extent"] - 1e-9)
+    assert [(m["xy_extent"], m["name"]) for m in res["RC"]["more_compact"]] == smaller
+    assert res["RC"]["most_compact"] == (not smaller)
 
 
 def test_hex_study_reaches_every_bifurcation_and_closes(hex_run):
@@ -63,8 +95,8 @@ def test_hex_study_reaches_every_bifurcation_and_closes(hex_run):
     assert res["closure"] < 1e-9
     for k in ("RB_fold", "RC_fold", "RB_deploy", "RA_deploy"):
         assert ev[k]["v_r_rel"] <= 1e-10 and ev[k]["method"] == "fast"
-    # nothing folds beyond R^C along symmetric paths
-    assert res["RC"]["most_compact"]
+    # every symmetric path onward from R^C ends less compact (a local end)
+    assert res["RC"]["onward_less_compact"]
     # the deployment retraces the fold: same lengths between the bifurcations
     # (path length is a sum of step chords: the two directions place their
     # steps differently, which changes the sum by O(step^2 curvature))
@@ -149,7 +181,10 @@ def test_hex_report_is_readable_by_a_designer(hex_run):
 
 
 def test_square_study_flat_state():
-    res = sailstudy.square_study(progress=False, out=None)
+    said = io.StringIO()
+    with contextlib.redirect_stderr(said):
+        res = sailstudy.square_study(progress=True, out=None)
+    assert "fully folded" in said.getvalue() and not RAW.search(said.getvalue()), said.getvalue()
     assert res["flat"] == {"m": 5, "m_rigid": 1, "s": 4}
     assert res["accounting"]["paths"] == 16 and res["accounting"]["real"] == 16
     assert res["directed_paths_ok"] == 32 and res["distinct_paths"] == 32

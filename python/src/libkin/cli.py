@@ -23,7 +23,7 @@ from .cliargs import (EXIT_ERROR, EXIT_INTERRUPTED, EXIT_STUDY_FAILED, EXIT_USAG
 from .errors import InvalidArgumentError, KinError, NotFoundError
 from .studies import cli as studies_cli
 
-__all__ = ["main", "EXIT_ERROR", "EXIT_USAGE", "EXIT_STUDY_FAILED", "EXIT_INTERRUPTED"]
+__all__ = ["main", "follow_path", "EXIT_ERROR", "EXIT_USAGE", "EXIT_STUDY_FAILED", "EXIT_INTERRUPTED"]
 
 
 def cmd_analyse(args: argparse.Namespace) -> int:
@@ -78,16 +78,17 @@ def cmd_follow(args: argparse.Namespace) -> int:
         return EXIT_USAGE
     if args.direction is not None:
         a.set_direction(args.direction)
-    ls, svs, frames = [0.0], [an.singular_values], [a.coords]
-    try:
-        for info in a.follow(steps=args.steps, delta=args.delta, progress=not args.quiet):
-            ls.append(info.l)
-            svs.append(a.analyse().singular_values)
-            frames.append(a.coords)
-    except KinError as exc:
-        print(f"stopped after {len(ls) - 1} steps: {exc}", file=sys.stderr)
+    ls, svs, frames, passed = follow_path(a, an, args.steps, args.delta, not args.quiet)
     print(f"{len(ls) - 1} steps, path length {ls[-1]:.6g}, max strain {a.max_strain:.3g}, "
           f"smallest v_r {min(s[s > 0].min() for s in svs):.3g}")
+    if passed:
+        print(f"passed {len(passed)} bifurcation{'s' if len(passed) > 1 else ''} (the test function changed sign, or "
+              "a step ended on one; `libkin locate` converges onto the next one):")
+        print(f"  {'step':>6}  {'path length from':>16}  {'to':>12}")
+        for k, l0, l1 in passed:
+            print(f"  {k:>6}  {l0:>16.6g}  {l1:>12.6g}")
+    else:
+        print("passed no bifurcation")
     if args.plot:
         from . import plot
         plot.singular_values(ls, np.array(svs), path=args.plot, count=args.count)
@@ -100,6 +101,31 @@ def cmd_follow(args: argparse.Namespace) -> int:
         a.to_json(args.out)
         print("wrote", args.out)
     return 0
+
+
+def follow_path(a: Assembly, an: Analysis, steps: int, delta: float = 0.0, progress: bool = False
+                ) -> Tuple[List[float], List[np.ndarray], List[np.ndarray], List[Tuple[int, float, float]]]:
+    """Follow up to `steps` steps from a regular point (analysis `an`): the
+    path lengths, singular values and configurations (start included), and
+    each bifurcation passed as (step, path length before, after): a step
+    over which the signed test function changed sign, or that ended at a
+    point with several internal mechanisms. A libkin error stops the path
+    with a line on stderr; what was reached stands."""
+    ls, svs, frames = [0.0], [an.singular_values], [a.coords]
+    passed: List[Tuple[int, float, float]] = []
+    tau: Optional[float] = a.test_function()
+    try:
+        for info in a.follow(steps=steps, delta=delta, progress=progress):
+            ls.append(info.l)
+            svs.append(a.analyse().singular_values)
+            frames.append(a.coords)
+            t = a.test_function() if info.m_internal == 1 else None
+            if t is None or (tau is not None and t * tau < 0.0):
+                passed.append((len(ls) - 1, ls[-2], ls[-1]))
+            tau = t
+    except KinError as exc:
+        print(f"stopped after {len(ls) - 1} steps: {exc}", file=sys.stderr)
+    return ls, svs, frames, passed
 
 
 def _generic_start(a: Assembly, args: argparse.Namespace) -> None:

@@ -49,6 +49,7 @@ def add_arguments(s: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace, assembly: Assembly) -> int:
     from . import report as atlas_report
     from .explorer import explore
+    atlas_report.require_output_modules()  # refuse before any work, not after it
     sym: bool | str = {"true": True, "false": False}.get(args.symmetric, "auto")
     with executor(args.executor, args.workers) as ex:
         at = explore(assembly, depth=args.depth, max_nodes=args.max_nodes, max_length=args.max_length,
@@ -59,4 +60,6 @@ def run(args: argparse.Namespace, assembly: Assembly) -> int:
     kinds = ", ".join(f"{v} {k}" for k, v in sorted(s["edge_events"].items())) or "none"
     print(f"{s['nodes']} nodes, {s['edges']} directed paths ({kinds}); wrote {pathlib.Path(args.out) / 'atlas.json'}, "
           f"atlas.graphml, atlas_map.png, {rep}")
+    if str(at.settings.get("symmetries", "")).startswith("not detected"):
+        print(f"symmetries {at.settings['symmetries']}: explored as if the structure had none")
     return 0

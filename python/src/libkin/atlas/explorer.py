@@ -83,6 +83,7 @@ class _Explorer:
             except LimitError as exc:  # more graph automorphisms than the search enumerates
                 self.detect, self.syms = False, []
                 self.symmetry_note = f"not detected: {exc}"
+                _say(progress, f"symmetries {self.symmetry_note}; exploring as if the structure had none")
         self.P = [g.free_matrix(self.free_map) for g in self.syms]
         self.nodes: List[Node] = []
         self.edges: List[Edge] = []

@@ -18,11 +18,32 @@ def _f(v: Any, fmt: str = ".4g") -> str:
     return format(v, fmt)
 
 
+# what the files need beyond the core package: module -> the extra that brings it
+OUTPUT_MODULES = {"networkx": "atlas", "matplotlib": "plot"}
+
+
+def require_output_modules() -> None:
+    """Check that write() can write every file (atlas.graphml needs networkx,
+    the PNGs matplotlib); ImportError naming the extras if not, before
+    anything is done."""
+    missing = {}
+    for mod, extra in OUTPUT_MODULES.items():
+        try:
+            __import__(mod)
+        except ImportError:
+            missing[mod] = extra
+    if missing:
+        raise ImportError(f"the atlas's files need {' and '.join(missing)}: pip install "
+                          f"'libkin[{','.join(sorted(set(missing.values())))}]' (or {' '.join(missing)})")
+
+
 def write(atlas: _atlas.Atlas, out: Union[str, os.PathLike[str]], map_png: str = "atlas_map.png",
           nodes_png: str = "atlas_nodes.png", graphml: str = "atlas.graphml",
           json_name: str = "atlas.json") -> pathlib.Path:
     """Write json_name, graphml, the PNGs and report.md into the folder out.
-    Returns the path of report.md."""
+    Returns the path of report.md. ImportError (nothing written) without
+    networkx or matplotlib."""
+    require_output_modules()
     from . import plot as atlas_plot
     out = pathlib.Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -55,6 +76,8 @@ def text(atlas: _atlas.Atlas, map_png: str = "atlas_map.png", nodes_png: str = "
     nk = ", ".join(f"{v} {k.replace('_', '-')}" for k, v in sorted(st["node_kinds"].items()))
     ek = ", ".join(f"{v} {k.replace('_', '-')}" for k, v in sorted(st["edge_events"].items()))
     L.append(f"**{st['nodes']} nodes** ({nk}); **{st['edges']} directed paths** ending in: {ek}.\n")
+    if str(se.get("symmetries", "")).startswith("not detected"):
+        L.append(f"**Symmetries {se['symmetries']}**: the atlas is explored as if the structure had none.\n")
     L.append("Files: " + ", ".join(f"`{x}`" for x in (json_name, graphml, map_png, nodes_png)) + ".\n")
     L.append(f"![map]({map_png})\n")
     L.append("## What the nodes are\n")

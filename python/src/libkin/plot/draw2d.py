@@ -24,12 +24,14 @@ _plt = pyplot  # the name the package used before pyplot() was public
 def draw(assembly_or_coords, bars=None, ax=None, plane="xy", fixed=None, labels=None, color="C0",
          path=None, title=None):
     """Draw bars and joints; 3D structures are projected on `plane`
-    ('xy', 'xz' or 'yz', like the paper's Figures 11 and 13). Supports are
-    drawn as triangles."""
+    ('xy', 'xz' or 'yz', like the paper's Figures 11 and 13). `fixed` is
+    per joint (pinned) or per coordinate, (njoints, dim): joints with every
+    coordinate fixed are drawn as black triangles, those with only some
+    (rollers) as open squares, with a legend."""
     plt = pyplot()
     if bars is None:
         a = assembly_or_coords
-        coords, bars, fixed = a.coords, a.bars, a.fixed.any(axis=1)
+        coords, bars, fixed = a.coords, a.bars, a.fixed
         labels = labels if labels is not None else a.labels
         title = title or a.name
     else:
@@ -48,7 +50,15 @@ def draw(assembly_or_coords, bars=None, ax=None, plane="xy", fixed=None, labels=
     ax.plot(coords[:, i], coords[:, j], "o", color=color, ms=3)
     if fixed is not None:
         f = np.asarray(fixed, dtype=bool)
-        ax.plot(coords[f, i], coords[f, j], "^", color="k", ms=7, label="support")
+        pinned = f if f.ndim == 1 else f.all(axis=1)
+        partial = np.zeros_like(pinned) if f.ndim == 1 else f.any(axis=1) & ~pinned
+        if pinned.any():
+            ax.plot(coords[pinned, i], coords[pinned, j], "^", color="k", ms=7, label="pinned (all coordinates fixed)")
+        if partial.any():
+            ax.plot(coords[partial, i], coords[partial, j], "s", mfc="none", mec="k", ms=8, mew=1.2,
+                    label="roller (some coordinates fixed)")
+        if pinned.any() or partial.any():
+            ax.legend(loc="best", fontsize=7)
     if labels:
         for k, lab in enumerate(labels):
             ax.annotate(lab, (coords[k, i], coords[k, j]), fontsize=7, xytext=(3, 3), textcoords="offset points")

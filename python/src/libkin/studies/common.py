@@ -23,6 +23,22 @@ def say(progress, msg):
         print(msg, file=sys.stderr, flush=True)
 
 
+def accounting_words(a):
+    """The complete solver's accounting (Branches.accounting) as words."""
+    return (f"{a['paths']} homotopy paths: {a['real']} real ({a['real_distinct']} distinct), {a['nonreal']} complex, "
+            f"{a['singular']} singular, {a['failed']} failed")
+
+
+def branch_words(rep):
+    """A bifurcation's branch report (m, s, the solver's accounting, the
+    directed paths) as one sentence."""
+    if "accounting" not in rep:
+        return f"m = {rep['m']}, s = {rep['s']} ({rep.get('skipped', 'not solved')})"
+    return (f"m = {rep['m']}, s = {rep['s']}; the complete solver accounts for all {accounting_words(rep['accounting'])}; "
+            f"{rep['directed_paths_ok']} directed paths exist with the right tangent, {rep['distinct_paths']} distinct"
+            + (f" ({rep['seconds']} s)" if "seconds" in rep else ""))
+
+
 def paper_locate(prev, at):
     """The paper's locator (tolerance PAPER_VR_TOL) from the regular point
     `prev` before the bifurcation `at`: its cost, for the report's question

@@ -136,6 +136,15 @@ class SailMap:
         x = n.coords
         return {"xy_extent": float(np.hypot(x[:, 0], x[:, 1]).max()), "height": float(np.ptp(x[:, 2]))}
 
+    def more_compact(self, i: int) -> List[Tuple[str, float]]:
+        """The mapped nodes more compact than node i (smaller x-y extent, by
+        more than 1e-9 a) as (name, x-y extent), most compact first: the
+        node table's own numbers."""
+        names = self.names()
+        ext = self.measures(self.nodes[i])["xy_extent"]
+        out = [(names[n.id], self.measures(n)["xy_extent"]) for n in self.nodes]
+        return sorted(((nm, e) for nm, e in out if e < ext - 1e-9), key=lambda t: (t[1], t[0]))
+
     def relaxed(self, n: Node) -> bool:
         """A bifurcation the follower located only to a coarser v_r than the
         run's points (its m, s counted at ten times that tolerance)."""

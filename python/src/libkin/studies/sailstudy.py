@@ -29,8 +29,8 @@ from libkin.symmetry import mechanism_group, sail_rotation
 
 # (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, paper_locate and record are
 # imported for the names this module has always had)
-from .common import (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, follow_to_bifurcation, jsonable, leave, paper_locate,
-                     record, say)
+from .common import (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, accounting_words, branch_words, follow_to_bifurcation,
+                     jsonable, leave, paper_locate, record, say)
 from .sailmap import MAP_DEPTH, SailMap, explore_symmetric
 from .sailmeasure import measures
 from .squarestudy import square_study as square_study
@@ -146,7 +146,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
         _, acc = solve_quadrics(a.second_order(), "homotopy", threads=threads, progress=progress, group=group)
         acc["seconds"] = round(time.perf_counter() - t0, 1)
         res["flat"]["complete"] = acc
-        say(progress, f"[R^A]   {acc}")
+        say(progress, f"[R^A]   the complete solver accounts for all {accounting_words(acc)} ({acc['seconds']} s)")
     # the path map: the explorer's atlas of every symmetric path out of the
     # flat state and out of the bifurcations they reach (sailmap.py); the
     # folding branch is among the flat state's paths whose first bifurcation
@@ -206,7 +206,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     chord_AB = _chord(_last_before(a, d_A, ev["l"]), rb)
     br, rep = _branch_report(rb, threads, 0.5)
     res["RB"] = rep
-    say(progress, f"[R^B] {rep}")
+    say(progress, f"[R^B] {branch_words(rep)}")
     smap.mark(rb.coords, "R^B")
     # onward: a symmetric candidate that is not the arrival path and folds
     # the sail (smallest xy extent after 0.5)
@@ -246,7 +246,7 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     chord_BC = _chord(_last_before(rb, d_B, ev["l"]), rc)
     br_c, rep = _branch_report(rc, threads, 0.3)
     res["RC"] = rep
-    say(progress, f"[R^C] {rep}")
+    say(progress, f"[R^C] {branch_words(rep)}")
     # onward from R^C: every symmetric path out of it in the atlas
     ib, _ = smap.mark(rb.coords, "R^B")
     ic, ic_is_rc = smap.mark(rc.coords, "R^C")
@@ -264,11 +264,19 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
         res["RC"]["onward"] = [{"to": names[t] if t is not None else None, "event": e.event, "l": e.length,
                                 "xy_extent": smap.measures(smap.nodes[t])["xy_extent"] if t is not None else None}
                                for e, t in onward]
-        res["RC"]["most_compact"] = all(o["xy_extent"] is not None and o["xy_extent"] > ext_c + 1e-9
-                                        for o in res["RC"]["onward"])
-        say(progress, f"[R^C] symmetric paths onward lead to "
-             f"{', '.join(str(o['to']) for o in res['RC']['onward'])}; R^C is "
-             f"{'the most compact symmetric state' if res['RC']['most_compact'] else 'not the end of the fold'}")
+        # a local end of the fold: every symmetric path onward ends less compact
+        res["RC"]["onward_less_compact"] = all(o["xy_extent"] is not None and o["xy_extent"] > ext_c + 1e-9
+                                               for o in res["RC"]["onward"])
+        # the most compact symmetric state only if no mapped node is more compact
+        more = smap.more_compact(ic)
+        res["RC"]["more_compact"] = [{"name": nm, "xy_extent": e} for nm, e in more]
+        res["RC"]["most_compact"] = not more
+        res["RC"]["xy_extent"] = ext_c
+        say(progress, f"[R^C] symmetric paths onward lead to {', '.join(str(o['to']) for o in res['RC']['onward'])}, "
+             + ("each less compact than R^C" if res["RC"]["onward_less_compact"] else "not all less compact")
+             + f" (x-y extent {ext_c:.3f} a); "
+             + (f"{len(more)} mapped symmetric states are more compact, the most {more[0][0]} ({more[0][1]:.3f} a)"
+                if more else "no mapped symmetric state is more compact"))
     else:
         say(progress, f"[R^C] {res['RC'].get('map', 'an image of a node in the atlas')}")
     # ---- back: R^C -> R^B along the same path
@@ -383,14 +391,16 @@ def _finish_hex(res, track, out, t_start, progress, stages=(), smap=None, snaps=
     if out is not None:
         out = pathlib.Path(out)
         out.mkdir(parents=True, exist_ok=True)
-        (out / "summary.json").write_text(json.dumps(res, indent=1, default=jsonable) + "\n")
-        if smap is not None:
-            smap.atlas.to_json(out / "atlas.json")
-        if track is not None and track.l:
-            np.savez(out / "track.npz", l=np.array(track.l), sv=np.array(track.sv),
-                     strain=np.array(track.strain), hub_z=np.array(track.hub_z))
-            from . import studyreport
-            studyreport.hexagonal(res, track, stages, out, smap, snaps or {})
+        try:
+            if smap is not None:
+                smap.atlas.to_json(out / "atlas.json")
+            if track is not None and track.l:
+                np.savez(out / "track.npz", l=np.array(track.l), sv=np.array(track.sv),
+                         strain=np.array(track.strain), hub_z=np.array(track.hub_z))
+                from . import studyreport
+                studyreport.hexagonal(res, track, stages, out, smap, snaps or {})
+        finally:  # with the figures' time when they were drawn
+            (out / "summary.json").write_text(json.dumps(res, indent=1, default=jsonable) + "\n")
         say(progress, f"wrote {out / 'report.md'}")
     return res
 

@@ -9,7 +9,7 @@ import numpy as np
 
 from libkin import Assembly
 
-from .common import SAME_CONFIG_TOL, follow_to_bifurcation, jsonable, say
+from .common import SAME_CONFIG_TOL, accounting_words, follow_to_bifurcation, jsonable, say
 
 
 def square_study(length=1.75, threads=2, progress=True, out=None):
@@ -27,8 +27,8 @@ def square_study(length=1.75, threads=2, progress=True, out=None):
     res["real_solutions"] = len(br.betas)
     res["directed_paths_ok"] = len(ok)
     res["distinct_paths"] = br.distinct
-    say(progress, f"complete solver {br.accounting}; {len(ok)} directed paths reach l = {length}, "
-         f"{br.distinct} distinct")
+    say(progress, f"the complete solver accounts for all {accounting_words(br.accounting)}; {len(ok)} directed "
+         f"paths reach l = {length}, {br.distinct} distinct")
     lab = a.labels
     V1, V3, O0, O2 = (lab.index(n) for n in ("V1", "V3", "A0", "A2"))
     ends = [p.final_coords for p in br.paths]
@@ -71,7 +71,12 @@ def square_study(length=1.75, threads=2, progress=True, out=None):
     res["symmetry_relations"] = relations
     res["fully_folded_paths"] = folded
     res["seconds"] = round(time.perf_counter() - t_start, 1)
-    say(progress, f"fully folded candidates: {folded}")
+    say(progress, f"{len(folded)} fully folded candidate{'' if len(folded) == 1 else 's'}"
+         + (":" if folded else ""))
+    for f in folded:
+        say(progress, f"  path {f['path']}: {f['pattern']}; " + (
+            f"reaches a bifurcation at l = {f['ends_at_l']:.4f} (m = {f['m']}, s = {f['s']}), the hub folded "
+            f"{f['hub_fold_deg']:.1f} deg" if "m" in f else "reaches no bifurcation"))
     if out is not None:
         out = pathlib.Path(out)
         out.mkdir(parents=True, exist_ok=True)

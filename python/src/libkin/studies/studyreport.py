@@ -3,6 +3,8 @@ import numpy as np
 
 from libkin.plot import draw, pyplot
 
+from .common import branch_words
+
 
 def _fmt(v, nd=3):
     return f"{v:.{nd}g}" if isinstance(v, float) else str(v)
@@ -22,7 +24,10 @@ def _event_row(name, ev, paper):
 
 
 def hexagonal(res, track, stages, out, smap=None, snaps=None):
-    """Every figure (studyfigures.py) and report.md."""
+    """Every figure (studyfigures.py) and report.md; res["seconds_figures"]
+    is the time the figures took (report.md's run time includes it)."""
+    import time
+    t0 = time.perf_counter()
     from . import studyfigures as F
     M = F.Model(res["n_sides"], res["n_loops"])
     figs = {}
@@ -46,6 +51,7 @@ def hexagonal(res, track, stages, out, smap=None, snaps=None):
                      title=f"libkin: {res['model']}, fold R^A-R^B-R^C and back",
                      description="Lengths in units of the hub side a. One frame per accepted path step.")
     figs["fold_frames"] = 1 + len(doc.get("file_frames", []))
+    res["seconds_figures"] = round(time.perf_counter() - t0, 1)
     _write_hex_md(res, out, M, figs)
 
 
@@ -197,15 +203,7 @@ def _write_hex_md(res, out, M, figs):
     for key, name in (("RB", "R^B"), ("RC", "R^C")):
         if key in res:
             r = res[key]
-            if "accounting" in r:
-                a = r["accounting"]
-                L.append(f"At {name}: m = {r['m']}, s = {r['s']}; the complete solver accounts for all "
-                         f"{a['paths']} homotopy paths: {a['real']} real ({a['real_distinct']} distinct), "
-                         f"{a['nonreal']} complex, {a['singular']} singular, {a['failed']} failed; "
-                         f"{r['directed_paths_ok']} directed paths exist with the right tangent, "
-                         f"{r['distinct_paths']} distinct.")
-            else:
-                L.append(f"At {name}: m = {r['m']}, s = {r['s']} ({r.get('skipped', '')}).")
+            L.append(f"At {name}: {branch_words({k: v for k, v in r.items() if k != 'seconds'})}.")
             if "chosen" in r:
                 ch = r["chosen"]
                 L.append(f" Onward folding path chosen: symmetric, not the arrival path, smallest x-y extent "
@@ -282,7 +280,9 @@ def _write_hex_md(res, out, M, figs):
     L.append("![strain and hub](strain_hub.png)\n")
     L.append(f"*Figure {fig_no + 3}. Top: the largest bar strain at every accepted step (the corrector "
              "stops at 1e-12). Bottom: how far the free hub vertices leave the hub plane, in a.*\n")
-    L.append(f"Run time {res['seconds']} s.\n")
+    figs_s = res.get("seconds_figures", 0.0)
+    L.append(f"Run time {res['seconds'] + figs_s:.1f} s: the study {res['seconds']} s, the figures and files "
+             f"{figs_s} s.\n")
     (out / "report.md").write_text("\n".join(L))
 
 
@@ -371,9 +371,16 @@ def _map_md(res, nfold):
     if "RC" in res and "onward" in res["RC"]:
         rc = res["RC"]
         ends = ", ".join(f"{o['to']} (l = {o['l']:.4f} a)" if o["to"] else "none" for o in rc["onward"])
-        verdict = ("every one of them ends at a less compact state, so R^C is as far as the structure "
-                   "folds from R^B along symmetric paths" if rc["most_compact"] else
-                   "at least one ends at a more compact state")
+        ext = f" (R^C's x-y extent: {rc['xy_extent']:.4f} a)" if "xy_extent" in rc else ""
+        verdict = ("every one of them ends at a less compact state" if rc.get("onward_less_compact") else
+                   "at least one ends at a state at least as compact") + ext
+        more = rc.get("more_compact", [])
+        if more:
+            least = [m["name"] for m in more if m["xy_extent"] <= more[0]["xy_extent"] + 1e-9]
+            verdict += (f". Yet R^C is not the most compact symmetric state mapped: {len(more)} nodes of the table "
+                        f"are more compact, the most compact {', '.join(least)} at {more[0]['xy_extent']:.4f} a")
+        elif "more_compact" in rc:
+            verdict += ", and no node of the table is more compact: R^C is the most compact symmetric state mapped"
         L.append(f"\n**Onward from R^C.** Its symmetric directed paths lead to {ends}: {verdict}.\n")
     elif "RC" in res and "map" in res["RC"]:
         L.append(f"\n**Onward from R^C.** R^C is {res['RC']['map']} (`libkin study --map-depth` "
