@@ -1,6 +1,8 @@
 /* The complete solver in shards: ranges of paths tracked separately and
  * merged give exactly the result of one call (kin_quadrics_homotopy_range,
  * kin_quadrics_homotopy_merge in kin_branch.h). */
+#include <limits.h>
+#include <math.h>
 #include <string.h>
 
 #include "check.h"
@@ -183,10 +185,71 @@ static void errors(void)
     CHECK(nsol == 0 && h.paths == 0);
 }
 
+/* Records are checked against the Q they are merged with: a range of
+ * another system's records (a shard from another job) is tracked again,
+ * never counted as certified roots of this one; a record with z = 0, or
+ * with counters no tracker makes, is refused; the 64-bit step totals are
+ * the records' sums and the int counters agree with them. */
+static void verified_records(void)
+{
+    enum { VM = 7, VS = 6, VN = 1 << VS };
+    double Q[VS * VM * VM], Q2[VS * VM * VM], b1[VN * VM], b2[VN * VM], z[2 * VM * VN];
+    kin_homotopy_endpoint ends[VN];
+    int n1 = 0, n2 = 0;
+    random_q(VM, VS, 11, Q);
+    random_q(VM, VS, 12, Q2);
+    kin_homotopy_options o;
+    kin_homotopy_options_default(&o);
+    o.nthreads = 1;
+    kin_homotopy_info h1 = {.size = sizeof h1}, h2 = {.size = sizeof h2};
+    CHECK_RC(kin_quadrics_homotopy_ex(VM, VS, Q, &o, b1, VN, &n1, NULL, &h1), KIN_OK);
+    /* the first half of the paths tracked for Q, the second for Q2 */
+    ends[0].size = ends[VN / 2].size = sizeof ends[0];
+    CHECK_RC(kin_quadrics_homotopy_range(VM, VS, Q, &o, 0, VN / 2, ends, z), KIN_OK);
+    CHECK_RC(kin_quadrics_homotopy_range(VM, VS, Q2, &o, VN / 2, VN / 2, ends + VN / 2, z + VM * VN), KIN_OK);
+    int foreign = 0;
+    for (int p = VN / 2; p < VN; ++p)
+        foreign += ends[p].kind == KIN_HOM_END_REAL || ends[p].kind == KIN_HOM_END_NONREAL;
+    CHECK_RC(kin_quadrics_homotopy_merge(VM, VS, Q, &o, ends, z, b2, VN, &n2, NULL, &h2), KIN_OK);
+    printf("a shard of another system: %d certified records of it, %d failed the check, %d paths re-tracked; "
+           "result == one call: %s\n", foreign, h2.rechecks_failed, h2.retracked,
+           n1 == n2 && h1.real == h2.real && h1.nonreal == h2.nonreal ? "yes" : "NO");
+    CHECK(foreign > 0 && h2.rechecks_failed == foreign && h2.retracked >= foreign);
+    CHECK(n1 == n2 && h1.real == h2.real && h1.real_distinct == h2.real_distinct && h1.nonreal == h2.nonreal &&
+          h1.singular == h2.singular && h1.failed == h2.failed);
+    double diff = 0.0;
+    for (int i = 0; i < n1 * VM && n1 == n2; ++i) diff = fmax(diff, fabs(b1[i] - b2[i]));
+    CHECK(diff <= 1e-10);
+    /* every record of Q: nothing fails the check; the totals are the sums */
+    CHECK_RC(kin_quadrics_homotopy_range(VM, VS, Q, &o, 0, VN, ends, z), KIN_OK);
+    long long st = 0, rj = 0;
+    for (int p = 0; p < VN; ++p) st += ends[p].steps, rj += ends[p].rejected;
+    CHECK_RC(kin_quadrics_homotopy_merge(VM, VS, Q, &o, ends, z, b2, VN, &n2, NULL, &h2), KIN_OK);
+    CHECK(h2.rechecks_failed == 0 && h2.retracked == 0 && h2.steps_total == st && h2.rejected_total == rj);
+    CHECK(h2.steps == (int)h2.steps_total && h2.rejected == (int)h2.rejected_total);
+    /* z = 0 on a certified record, and counters no tracker makes, are refused */
+    int c = 0;
+    while (c < VN && ends[c].kind != KIN_HOM_END_REAL) ++c;
+    CHECK(c < VN);
+    double keepz[2 * VM];
+    memcpy(keepz, z + 2 * VM * c, sizeof keepz);
+    memset(z + 2 * VM * c, 0, sizeof keepz);
+    CHECK_RC(kin_quadrics_homotopy_merge(VM, VS, Q, &o, ends, z, b2, VN, &n2, NULL, &h2), KIN_EINVAL);
+    memcpy(z + 2 * VM * c, keepz, sizeof keepz);
+    kin_homotopy_endpoint keep = ends[1];
+    ends[1].steps = INT_MAX;
+    CHECK_RC(kin_quadrics_homotopy_merge(VM, VS, Q, &o, ends, z, b2, VN, &n2, NULL, &h2), KIN_EINVAL);
+    ends[1].steps = keep.steps, ends[1].rejected = -1;
+    CHECK_RC(kin_quadrics_homotopy_merge(VM, VS, Q, &o, ends, z, b2, VN, &n2, NULL, &h2), KIN_EINVAL);
+    ends[1] = keep;
+    CHECK_RC(kin_quadrics_homotopy_merge(VM, VS, Q, &o, ends, z, b2, VN, &n2, NULL, &h2), KIN_OK);
+}
+
 int main(void)
 {
     errors();
     random_systems();
+    verified_records();
     hex_states();
     TEST_REPORT("test_homotopy_shard");
 }

@@ -15,10 +15,12 @@
  * The same code serves kin_quadrics_homotopy_ex (after tracking every path)
  * and kin_quadrics_homotopy_merge (after ranges tracked elsewhere), so the
  * two give the same result. */
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "homotopy/homotopy_control.h" /* MAX_STEPS */
 #include "homotopy/homotopy_track.h"
 #include "model/internal.h"
 
@@ -165,8 +167,8 @@ static void tally(const hom_solver *H, const hom_end *ends, const double *zr, co
     memset(size, 0, sizeof(int) * (size_t)npaths);
     for (int p = 0; p < npaths; ++p) {
         const hom_end *e = &ends[p];
-        info->steps += e->steps;
-        info->rejected += e->rejected;
+        info->steps_total += e->steps;
+        info->rejected_total += e->rejected;
         switch (e->kind) {
         case HOM_REAL: info->real++; break;
         case HOM_NONREAL: info->nonreal++; break;
@@ -193,6 +195,9 @@ static void tally(const hom_solver *H, const hom_end *ends, const double *zr, co
         ++nd;
     }
     info->real_distinct = nd;
+    /* the int counters of the first layout saturate; the 64-bit ones do not */
+    info->steps = info->steps_total > INT_MAX ? INT_MAX : (int)info->steps_total;
+    info->rejected = info->rejected_total > INT_MAX ? INT_MAX : (int)info->rejected_total;
     *nsol = nd < maxsol ? nd : maxsol;
 }
 
@@ -273,6 +278,15 @@ static int import_record(int m, int path, const kin_homotopy_endpoint *r, const 
     if ((r->kind == KIN_HOM_END_REAL || r->kind == KIN_HOM_END_NONREAL) && !(r->rplus > 0.0)) return KIN_EINVAL;
     for (int c = 0; c < 2 * m; ++c)
         if (!isfinite(z[c]) && r->kind != KIN_HOM_END_FAILED && r->kind != KIN_HOM_END_SINGULAR) return KIN_EINVAL;
+    /* counters a tracker can have made (a path stops at MAX_STEPS) */
+    if (r->steps < 0 || r->rejected < 0 || r->recharts < 0 || r->steps > MAX_STEPS - r->rejected)
+        return KIN_EINVAL;
+    /* z = 0 is no point of projective space: only a lost path may have it */
+    if (r->kind != KIN_HOM_END_FAILED) {
+        int nonzero = 0;
+        for (int c = 0; c < 2 * m; ++c) nonzero |= z[c] != 0.0;
+        if (!nonzero) return KIN_EINVAL;
+    }
     memset(e, 0, sizeof *e);
     e->kind = r->kind;
     e->chart = r->chart;
@@ -287,6 +301,29 @@ static int import_record(int m, int path, const kin_homotopy_endpoint *r, const 
     memcpy(zr, z, sizeof(double) * (size_t)m);
     memcpy(zi, z + m, sizeof(double) * (size_t)m);
     return KIN_OK;
+}
+
+/* A record from a shard claims a certified root of Q; it may come from
+ * another system, another seed or a damaged file. Its root is refined and
+ * certified again here: it must come out of the same kind (real or
+ * non-real), and the refined root must lie within the two existence radii
+ * of the record's (the same root). 1 if it does. */
+static int recheck(const hom_problem *P, hom_ws *w, const hom_end *e, const double *zr, const double *zi)
+{
+    int m = P->m, k = e->chart;
+    double r2[HOM_MAX_M], i2[HOM_MAX_M];
+    hom_end f;
+    memset(&f, 0, sizeof f);
+    kin__hom_certify(P, w, zr, zi, r2, i2, &f);
+    if (f.kind != e->kind) return 0;
+    /* both in the record's chart (z_k = 1): z2 / z2_k */
+    double ar = r2[k], ai = i2[k], a2 = ar * ar + ai * ai, d2 = 0.0;
+    if (!(a2 > 0.0)) return 0;
+    for (int c = 0; c < m; ++c) {
+        double ur = (r2[c] * ar + i2[c] * ai) / a2, ui = (i2[c] * ar - r2[c] * ai) / a2;
+        d2 += (ur - zr[c]) * (ur - zr[c]) + (ui - zi[c]) * (ui - zi[c]);
+    }
+    return sqrt(d2) <= e->rminus + f.rminus;
 }
 
 static int merge_impl(int m, int s, const double *Q, const kin_homotopy_options *o, const kin_homotopy_endpoint *recs,
@@ -306,10 +343,22 @@ static int merge_impl(int m, int s, const double *Q, const kin_homotopy_options 
     for (int p = 0; !rc && p < npaths; ++p)
         rc = import_record(m, p, &recs[p], z + (size_t)2 * m * p, &E.ends[p], E.zr + (size_t)p * m,
                            E.zi + (size_t)p * m);
+    /* every certified record checked against this Q; one that fails is
+     * treated as a lost path (the merge tracks it again) */
+    int failed_checks = 0;
+    for (int p = 0; !rc && p < npaths; ++p) {
+        hom_end *e = &E.ends[p];
+        if ((e->kind == HOM_REAL || e->kind == HOM_NONREAL) &&
+            !recheck(&H.P, kin__hom_pool_ws(&H, 0), e, E.zr + (size_t)p * m, E.zi + (size_t)p * m)) {
+            e->kind = HOM_FAILED;
+            failed_checks++;
+        }
+    }
     if (!rc) {
         hom_report R = {o->progress, o->user, 0.0, 0.0, 0.0, 0};
         if (R.fn && R.fn(R.user, 0.0, 0.0)) rc = KIN_ECANCELLED;
         if (!rc) rc = kin__hom_merge(&H, E.ends, E.zr, E.zi, &R, betas, maxsol, nsol, multiplicity, info);
+        if (!rc) info->rechecks_failed = failed_checks;
     }
     kin__hom_endset_free(&E);
     kin__hom_solver_free(&H);

@@ -193,6 +193,9 @@ typedef struct kin_homotopy_info {
     int rejected;
     double max_residual;
     double max_cond;
+    long long steps_total;
+    long long rejected_total;
+    int rechecks_failed;
 } kin_homotopy_info;
 int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads,
                                   double *betas, int maxsol, int *nsol, int *multiplicity,

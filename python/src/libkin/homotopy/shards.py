@@ -5,11 +5,16 @@ call (kin_quadrics_homotopy_range + kin_quadrics_homotopy_merge, kin_branch.h).
 A shard is a task of plain data: Q (as a list), the seed and its range of
 paths in; the endpoint records out as bytes (the records are a documented
 ABI, KIN_HOMOTOPY_ENDPOINT_SIZE bytes each) and the endpoint coordinates as
-bytes of float64. The merge (duplicate and conjugate checks, re-tracking of
-the paths concerned, accounting) runs in the calling process.
+bytes of float64, with the fingerprint of the system and seed they were
+tracked for. The merge (duplicate and conjugate checks, re-tracking of
+the paths concerned, accounting) runs in the calling process, after every
+shard's fingerprint is checked (a shard of another job is refused, named);
+the C merge then checks every certified record against Q itself
+(kin_quadrics_homotopy_merge).
 """
 from __future__ import annotations
 
+import hashlib
 from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
@@ -39,6 +44,30 @@ def _system(Q: ArrayLike) -> Tuple[NDArray[np.float64], int, int]:
     return Q, m, s
 
 
+def fingerprint(Q: ArrayLike, seed: int) -> str:
+    """What a shard's records belong to: the system Q (its float64 bytes and
+    shape) and the seed, hashed (SHA-256). solve_sharded refuses a shard
+    whose records carry another, naming it, before any merge."""
+    Q = np.ascontiguousarray(np.asarray(Q, dtype=np.float64))
+    h = hashlib.sha256(repr((Q.shape, int(seed))).encode())
+    h.update(Q.tobytes())
+    return h.hexdigest()
+
+
+def _check_parts(parts: List[Dict[str, Any]], items: List[Dict[str, Any]], expected: str) -> None:
+    """Every part must answer its own item and carry the system's fingerprint."""
+    for k, (p, it) in enumerate(zip(parts, items)):
+        what = f"shard {k} of {len(items)} (first {it['first']}, count {it['count']})"
+        if not isinstance(p, dict) or p.get("system") != expected:
+            err = StateError(f"{what} was tracked for another system or seed: refused")
+            err.shard = k  # type: ignore[attr-defined]
+            raise err
+        if p.get("first", it["first"]) != it["first"]:
+            err = StateError(f"{what} answered another range (first {p.get('first')}): refused")
+            err.shard = k  # type: ignore[attr-defined]
+            raise err
+
+
 def range_task(task: Dict[str, Any]) -> Dict[str, Any]:
     """Track paths task["first"] .. task["first"] + task["count"] - 1 of the
     complete solver for task["Q"] (s, m, m) with task["seed"]. Returns
@@ -53,7 +82,8 @@ def range_task(task: Dict[str, Any]) -> Dict[str, Any]:
     rc = lib.kin_quadrics_homotopy_range(m, s, read_ptr(Q, "double *"), _options(task.get("seed", 1),
                                          task.get("threads", 1)), first, count, ends, write_ptr(z, "double *"))
     check(rc, what="homotopy range")
-    return {"first": first, "count": count, "ends": bytes(ffi.buffer(ends)), "z": z.tobytes()}
+    return {"first": first, "count": count, "ends": bytes(ffi.buffer(ends)), "z": z.tobytes(),
+            "system": fingerprint(Q, task.get("seed", 1))}
 
 
 def _split(n: int, shards: int) -> List[Tuple[int, int]]:
@@ -91,7 +121,8 @@ def orbit_task(task: Dict[str, Any]) -> Dict[str, Any]:
     check(rc, what="homotopy orbit range")
     n = int(got[0])
     rec = ffi.sizeof("kin_homotopy_endpoint")
-    return {"count": n, "ends": bytes(ffi.buffer(ends, n * rec)), "z": z[: 2 * m * n].tobytes()}
+    return {"count": n, "ends": bytes(ffi.buffer(ends, n * rec)), "z": z[: 2 * m * n].tobytes(),
+            "system": fingerprint(Qt, task.get("seed", 1))}
 
 
 def equivariant_form(Q: ArrayLike, group: ArrayLike,
@@ -166,6 +197,7 @@ def solve_sharded(Q: ArrayLike, executor: Optional[Any] = None, shards: int = 4,
         items = [{"Q": Q.tolist(), "seed": seed, "threads": threads, "first": f, "count": c}
                  for f, c in shard_ranges(s, shards)]
         parts = run_tasks(range_task, items, executor)
+        _check_parts(parts, items, fingerprint(Q, seed))
         for p in sorted(parts, key=lambda p: p["first"]):
             buf[p["first"] * rec:(p["first"] + p["count"]) * rec] = p["ends"]
             z[2 * m * p["first"]:2 * m * (p["first"] + p["count"])] = np.frombuffer(p["z"], dtype=np.float64)
@@ -174,6 +206,7 @@ def solve_sharded(Q: ArrayLike, executor: Optional[Any] = None, shards: int = 4,
     items = [{"Qt": Qt.tolist(), "perm": perm.tolist(), "order": order, "seed": seed, "threads": threads,
               "first": f, "count": c} for f, c in _split(norbits, shards)]
     parts = run_tasks(orbit_task, items, executor)
+    _check_parts(parts, items, fingerprint(Qt, seed))
     # the records of scattered paths, each to its place (a record's path is
     # an int at a documented offset)
     off = ffi.offsetof("kin_homotopy_endpoint", "path")
