@@ -75,6 +75,9 @@ module libkin
     integer(c_int) :: failed = 0, uncertified = 0, retracked = 0, duplicates = 0, unpaired = 0
     integer(c_int) :: steps = 0, rejected = 0
     real(c_double) :: max_residual = 0, max_cond = 0
+    ! layout 2: 64-bit step totals, records that failed the merge's check
+    integer(c_long_long) :: steps_total = 0, rejected_total = 0
+    integer(c_int) :: rechecks_failed = 0
   end type
 
   type, bind(C), public :: kin_homotopy_sym_info

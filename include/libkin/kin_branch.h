@@ -99,7 +99,7 @@ typedef struct kin_homotopy_info {
     double max_residual; /* max_j |beta^T Q_j beta| / |Q_j|_F over the distinct real solutions
                             (unit beta) */
     double max_cond;     /* largest condition number |J|_F |J^-1|_F of a certified root */
-    /* appended in 0.3 (docs/abi.md): */
+    /* layout 2 (docs/abi.md): a host compiled without these fields does not get them */
     long long steps_total;    /* `steps` summed in 64 bits (`steps` saturates at INT_MAX) */
     long long rejected_total; /* `rejected` summed in 64 bits (`rejected` saturates at INT_MAX) */
     int rechecks_failed;      /* kin_quadrics_homotopy_merge: imported certified records whose root

@@ -19,6 +19,24 @@ struct kin__kin_options_1 {
     double max_correction;
     int factorization;
 };
+/* kin_homotopy_info as a host compiled against layout 1 has it */
+struct kin__kin_homotopy_info_1 {
+    size_t size;
+    int paths;
+    int real;
+    int real_distinct;
+    int nonreal;
+    int singular;
+    int failed;
+    int uncertified;
+    int retracked;
+    int duplicates;
+    int unpaired;
+    int steps;
+    int rejected;
+    double max_residual;
+    double max_cond;
+};
 
 /* each struct as a host compiled against its first layout has it */
 typedef kin_analysis kin__kin_analysis_layout1;
@@ -26,7 +44,7 @@ typedef struct kin__kin_options_1 kin__kin_options_layout1;
 typedef kin_step_info kin__kin_step_info_layout1;
 typedef kin_sail_params kin__kin_sail_params_layout1;
 typedef kin_solve_info kin__kin_solve_info_layout1;
-typedef kin_homotopy_info kin__kin_homotopy_info_layout1;
+typedef struct kin__kin_homotopy_info_1 kin__kin_homotopy_info_layout1;
 typedef kin_homotopy_options kin__kin_homotopy_options_layout1;
 typedef kin_homotopy_sym_info kin__kin_homotopy_sym_info_layout1;
 typedef kin_branch_path kin__kin_branch_path_layout1;
@@ -62,7 +80,7 @@ enum kin__abi_id {
     {"kin_step_info", 1, {sizeof(kin_step_info)}, {sizeof(kin_step_info)}}, \
     {"kin_sail_params", 1, {sizeof(kin_sail_params)}, {sizeof(kin_sail_params)}}, \
     {"kin_solve_info", 1, {sizeof(kin_solve_info)}, {sizeof(kin_solve_info)}}, \
-    {"kin_homotopy_info", 1, {sizeof(kin_homotopy_info)}, {sizeof(kin_homotopy_info)}}, \
+    {"kin_homotopy_info", 2, {sizeof(struct kin__kin_homotopy_info_1), sizeof(kin_homotopy_info)}, {offsetof(struct kin__kin_homotopy_info_1, max_cond) + sizeof(((struct kin__kin_homotopy_info_1 *)0)->max_cond), sizeof(kin_homotopy_info)}}, \
     {"kin_homotopy_options", 1, {sizeof(kin_homotopy_options)}, {sizeof(kin_homotopy_options)}}, \
     {"kin_homotopy_sym_info", 1, {sizeof(kin_homotopy_sym_info)}, {sizeof(kin_homotopy_sym_info)}}, \
     {"kin_branch_path", 1, {sizeof(kin_branch_path)}, {sizeof(kin_branch_path)}}, \
@@ -86,5 +104,21 @@ typedef char kin__abi_prefix_kin_options_1_max_halvings[offsetof(struct kin__kin
 typedef char kin__abi_prefix_kin_options_1_direction_tol[offsetof(struct kin__kin_options_1, direction_tol) == offsetof(kin_options, direction_tol) ? 1 : -1];
 typedef char kin__abi_prefix_kin_options_1_max_correction[offsetof(struct kin__kin_options_1, max_correction) == offsetof(kin_options, max_correction) ? 1 : -1];
 typedef char kin__abi_prefix_kin_options_1_factorization[offsetof(struct kin__kin_options_1, factorization) == offsetof(kin_options, factorization) ? 1 : -1];
+typedef char kin__abi_grows_kin_homotopy_info_1[sizeof(struct kin__kin_homotopy_info_1) < sizeof(kin_homotopy_info) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_size[offsetof(struct kin__kin_homotopy_info_1, size) == offsetof(kin_homotopy_info, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_paths[offsetof(struct kin__kin_homotopy_info_1, paths) == offsetof(kin_homotopy_info, paths) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_real[offsetof(struct kin__kin_homotopy_info_1, real) == offsetof(kin_homotopy_info, real) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_real_distinct[offsetof(struct kin__kin_homotopy_info_1, real_distinct) == offsetof(kin_homotopy_info, real_distinct) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_nonreal[offsetof(struct kin__kin_homotopy_info_1, nonreal) == offsetof(kin_homotopy_info, nonreal) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_singular[offsetof(struct kin__kin_homotopy_info_1, singular) == offsetof(kin_homotopy_info, singular) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_failed[offsetof(struct kin__kin_homotopy_info_1, failed) == offsetof(kin_homotopy_info, failed) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_uncertified[offsetof(struct kin__kin_homotopy_info_1, uncertified) == offsetof(kin_homotopy_info, uncertified) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_retracked[offsetof(struct kin__kin_homotopy_info_1, retracked) == offsetof(kin_homotopy_info, retracked) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_duplicates[offsetof(struct kin__kin_homotopy_info_1, duplicates) == offsetof(kin_homotopy_info, duplicates) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_unpaired[offsetof(struct kin__kin_homotopy_info_1, unpaired) == offsetof(kin_homotopy_info, unpaired) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_steps[offsetof(struct kin__kin_homotopy_info_1, steps) == offsetof(kin_homotopy_info, steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_rejected[offsetof(struct kin__kin_homotopy_info_1, rejected) == offsetof(kin_homotopy_info, rejected) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_max_residual[offsetof(struct kin__kin_homotopy_info_1, max_residual) == offsetof(kin_homotopy_info, max_residual) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_max_cond[offsetof(struct kin__kin_homotopy_info_1, max_cond) == offsetof(kin_homotopy_info, max_cond) ? 1 : -1];
 
 #endif /* KIN_MODEL_ABI_LAYOUTS_H */
