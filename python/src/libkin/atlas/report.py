@@ -165,7 +165,8 @@ def text(atlas: _atlas.Atlas, map_png: str = "atlas_map.png", nodes_png: str = "
                  f"{len(atlas.symmetries) - npr} reflections), found at the start and at the expanded nodes: "
                  "permutations of the joints that keep bars, rest lengths and supports, each with an isometry "
                  "that maps that configuration onto itself (the C library's kin_symmetries: nauty on the bar "
-                 "graph, libkin/symmetry/); each maps every configuration to another, so images of a node are marked and not explored twice.\n")
+                 "graph, libkin/symmetry/); each maps every configuration to another, so images of a node are "
+                 "marked and not explored twice.\n")
         for j, g in enumerate(atlas.symmetries):
             moved = sum(1 for i, p in enumerate(g.perm) if i != p)
             L.append(f"- g{j}: {'rotation' if g.proper else 'reflection'}, moves {moved} joint(s), "
