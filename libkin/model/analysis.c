@@ -285,8 +285,12 @@ int kin__reclassify(kin_assembly *a, const double *xyz, int idx)
     kin_analysis *an = &f->an;
     an->v_max = mn > 0 ? f->sv[0] : 0.0;
     an->rank = 0;
+    /* rounded input (coord_resolution): a singular value below what the
+     * rounding moves H by is zero to the input's accuracy (a self-stress
+     * that the rounding broke stays one) */
+    double tol = fmax(a->opt.rank_tol, kin__resolution_strain(a));
     for (int i = 0; i < mn; ++i)
-        if (f->sv[i] > a->opt.rank_tol * an->v_max) an->rank++;
+        if (f->sv[i] > tol * an->v_max) an->rank++;
     an->m = nf - an->rank;
     an->s = nb - an->rank;
     an->v_r = an->rank > 0 ? f->sv[an->rank - 1] : 0.0;
