@@ -259,11 +259,7 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
      * rounding floor */
     double dlast = INFINITY, dprev = INFINITY, postol = tol * a->rms_length;
     while (!(r <= tol && dlast <= postol)) {
-        /* (a predictor already within the strain tolerance gets one chord
-         * correction first: Newton is for a chord that stalls, and at the
-         * strain floor of rounded input it would chase the residual along
-         * the near-singular direction of the broken self-stress) */
-        if (r <= tol && dlast >= CORRECTION_STALL * dprev && !(chord && it == 0)) {
+        if (r <= tol && dlast >= CORRECTION_STALL * dprev) {
             /* corrections no longer shrink: a slow chord hands over to
              * Newton; Newton has reached the rounding floor */
             if (!chord) break;
