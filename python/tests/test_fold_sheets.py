@@ -89,12 +89,15 @@ def test_dimension_rule_and_its_override():
     assert a.fixed.tolist()[:2] == [[True] * 3, [True, True, False]]
 
 
-def test_cli_fold_dim_flag(tmp_path, capsys):
+def test_cli_fold_dim_flag(tmp_path):
     path = str(DATA / "single_fold.fold")
-    assert cli_main(["analyse", path]) == 0
-    assert "internal 1" in capsys.readouterr().out.replace(",", "")
-    assert cli_main(["analyse", path, "--fold-dim", "2"]) == 0
-    assert "internal 0" in capsys.readouterr().out.replace(",", "")
+    out = tmp_path / "out.fold"
+    assert cli_main(["fold-export", path, "--follow", "3", "--out", str(out), "--quiet"]) == 0
+    doc = json.loads(out.read_text())
+    assert len(doc["vertices_coords"][0]) == 3 and len(doc["file_frames"]) == 3
+    assert max(abs(p[2]) for p in doc["file_frames"][-1]["vertices_coords"]) > 0.01  # folded out of the plane
+    # read as a planar framework it cannot move: nothing to follow (a usage error)
+    assert cli_main(["fold-export", path, "--fold-dim", "2", "--follow", "3", "--out", str(out), "--quiet"]) == 2
 
 
 def test_resolution_detected_from_the_file():
@@ -157,16 +160,20 @@ def _folded_twist_file(tmp_path):
     return str(path)
 
 
-def test_resolution_on_the_command_line(tmp_path, capsys):
+def test_resolution_on_the_command_line(tmp_path):
+    from libkin.cli import EXIT_PARTIAL
     path = _folded_twist_file(tmp_path)
-    # detected (6 decimals) by default, overridden by --resolution
-    assert cli_main(["analyse", path]) == 0
-    assert "internal 1" in capsys.readouterr().out.replace(",", "")
     out = tmp_path / "t.fold"
-    rc = cli_main(["fold-export", path, "--follow", "20", "--out", str(out), "--quiet"])
-    assert rc == 0 and len(json.loads(out.read_text())["file_frames"]) == 20
-    rc = cli_main(["follow", path, "--steps", "5", "--quiet", "--resolution", "1e-5"])
-    assert rc == 0
+    # detected from the file's 6 decimals: followed
+    assert cli_main(["fold-export", path, "--follow", "30", "--out", str(out), "--quiet"]) == 0
+    assert len(json.loads(out.read_text())["file_frames"]) == 30
+    # --resolution 0 (exact): held to 1e-12, the rounded twist stops within a few
+    # degrees; fewer frames than asked, and the exit status says so
+    assert cli_main(["fold-export", path, "--follow", "30", "--resolution", "0", "--out", str(out),
+                     "--quiet"]) == EXIT_PARTIAL
+    assert len(json.loads(out.read_text())["file_frames"]) < 30
+    assert cli_main(["follow", path, "--steps", "30", "--quiet", "--resolution", "0"]) == EXIT_PARTIAL
+    assert cli_main(["follow", path, "--steps", "30", "--quiet"]) == 0
 
 
 def _stop_after(monkeypatch, k):
