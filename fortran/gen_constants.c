@@ -125,12 +125,11 @@ static void layout(void)
     BEGIN(kin_options) F(kin_options, size) F(kin_options, rank_tol) F(kin_options, corrector_tol)
         F(kin_options, corrector_max_iter) F(kin_options, step_fraction)
         F(kin_options, max_halvings) F(kin_options, direction_tol) F(kin_options, max_correction)
-        F(kin_options, factorization) F(kin_options, step_control)
-        F(kin_options, reserved) end();
+        F(kin_options, factorization) F(kin_options, step_control) F(kin_options, coord_resolution) end();
     BEGIN(kin_step_info) F(kin_step_info, size) F(kin_step_info, l) F(kin_step_info, delta)
         F(kin_step_info, v_r) F(kin_step_info, residual) F(kin_step_info, cos_turn)
         F(kin_step_info, iterations) F(kin_step_info, halvings) F(kin_step_info, factorizations)
-        F(kin_step_info, m_internal) end();
+        F(kin_step_info, m_internal) F(kin_step_info, strain_floor) F(kin_step_info, tol_used) end();
     BEGIN(kin_locate_options) F(kin_locate_options, size) F(kin_locate_options, method)
         F(kin_locate_options, vr_tol) F(kin_locate_options, switch_eps)
         F(kin_locate_options, delta) F(kin_locate_options, max_steps)

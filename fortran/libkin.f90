@@ -40,13 +40,15 @@ module libkin
     integer(c_int) :: max_halvings = 0
     real(c_double) :: direction_tol = 0, max_correction = 0
     integer(c_int) :: factorization = 0
-    integer(c_int) :: step_control = 0, reserved = 0
+    integer(c_int) :: step_control = 0
+    real(c_double) :: coord_resolution = 0
   end type
 
   type, bind(C), public :: kin_step_info
     integer(c_size_t) :: size = KIN_SIZEOF_STEP_INFO
     real(c_double) :: l = 0, delta = 0, v_r = 0, residual = 0, cos_turn = 0
     integer(c_int) :: iterations = 0, halvings = 0, factorizations = 0, m_internal = 0
+    real(c_double) :: strain_floor = 0, tol_used = 0
   end type
 
   type, bind(C), public :: kin_locate_options

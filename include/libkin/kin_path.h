@@ -3,7 +3,8 @@
  * A step moves the assembly along its single internal mechanism:
  *   predictor  R' = R + t*delta                      (eq. 9)
  *   corrector  d = -sum_{i<=r} (w_i^T e / v_i) u_i   (eq. 11), repeated
- * until max_k |L_k - L0_k| / L0_k <= corrector_tol. The corrector first
+ * until max_k |L_k - L0_k| / L0_k <= corrector_tol (or the strain floor of
+ * rounded input, STRAIN FLOOR below). The corrector first
  * iterates with the factorization of the start point (a chord method: no new
  * factorization); if that contracts too slowly (near a bifurcation) it
  * switches to Newton on the bordered system [C(R); t^T] d = [-e; 0], which
@@ -14,6 +15,23 @@
  *  - the corrector converged,
  *  - the correction stayed small next to the step (|d| <= max_correction*|delta|),
  *  - the new mechanism agrees with the chord: |t_new . chord|/|chord| >= direction_tol.
+ * STRAIN FLOOR: the strain the input allows. A file's coordinates are
+ * rounded (6 decimals, say), and rest lengths taken from them are off by up
+ * to sqrt(dim) * coord_resolution; where the structure is a mechanism only
+ * thanks to special geometry (an overconstrained one: a self-stress along
+ * the path, as in most rigid origami), the rounded structure has no
+ * strain-free motion at all, only one whose strain grows as it moves, up to
+ * that bound. So the corrector's tolerance in effect is
+ *   max(corrector_tol, strain_floor),
+ *   strain_floor = max(start strain, sqrt(dim) * coord_resolution / min L0),
+ * the start strain being max |L-L0|/L0 where the path started (measured at
+ * the first step after the handle was made, kin_set_coords(), kin_relax()
+ * or kin_path_reset()). kin_step_info reports both; kin_relax() uses the
+ * coordinate part only. The same rounding moves the entries of H (direction
+ * cosines) by up to sqrt(dim) * coord_resolution / min L0, so the rank test
+ * counts singular values up to max(rank_tol, that) * v_max as zero: the
+ * rounded structure keeps the self-stress (and the mechanism) it was given
+ * with, to the input's accuracy.
  * A failed attempt is retried with delta halved, up to max_halvings times;
  * if every attempt fails the call returns a status and the assembly,
  * its analysis and its path state are exactly as before the call.
@@ -130,8 +148,13 @@ typedef struct kin_options {
     int factorization;      /* enum kin_step_factorization. Default KIN_STEP_SVD */
     /* layout 2 (docs/abi.md): a host compiled without these fields gets their defaults */
     int step_control;       /* enum kin_step_control. Default KIN_STEP_CONTROL_MODE */
-    int reserved;           /* 0. Makes sizeof differ from layout 1's, whose tail
-                               padding step_control would otherwise fill */
+    double coord_resolution; /* how finely the input coordinates were given (length
+                                unit; e.g. 1e-6 for 6 decimals), 0 = exact. Rest
+                                lengths taken from rounded coordinates are each
+                                off by up to sqrt(dim)*coord_resolution, so the
+                                corrector does not ask for less strain than that,
+                                nor the rank test for smaller singular values
+                                (STRAIN FLOOR above). Default 0 */
 } kin_options;
 
 /* How kin_step() factorizes at each new point (see the top of this file). */
@@ -195,6 +218,10 @@ typedef struct kin_step_info {
     int factorizations; /* SVD/LU/least-squares factorizations in this call */
     int m_internal;     /* internal mechanisms at the new point (1 on a path;
                            in LU mode 1 unless the step fell back to an SVD) */
+    /* layout 2 (docs/abi.md): a host compiled without these fields does not get them */
+    double strain_floor; /* the strain the input allows (STRAIN FLOOR at the top) */
+    double tol_used;     /* the corrector's strain tolerance in effect:
+                            max(corrector_tol, strain_floor) */
 } kin_step_info;
 
 /* Take one predictor-corrector step of amplitude delta along the oriented
@@ -251,7 +278,8 @@ KIN_API int kin_path_reset(kin_assembly *a);
 
 /* Move the free coordinates to a nearby strain-free configuration
  * (Gauss-Newton with minimum-norm least-squares corrections, one
- * factorization per iteration) until max |L-L0|/L0 <= corrector_tol, e.g. to
+ * factorization per iteration) until max |L-L0|/L0 <= corrector_tol (or
+ * sqrt(dim) * coord_resolution / min L0 if larger), e.g. to
  * clean up coordinates typed in or imported with few digits. Resets the
  * path state. residual (may be NULL) receives the final max |L-L0|/L0.
  * Returns KIN_OK; KIN_ENULL; KIN_EINVAL (max_iter < 1); KIN_ENOTCONVERGED

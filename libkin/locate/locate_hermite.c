@@ -365,7 +365,7 @@ int kin__locate_hermite(loc_ctx *c)
             double strain = kin__lengths(w, w->xyz, NULL);
             TRACE("  check %d nodes (%d accurate): z* = %.12g (order %d), v_r %.3g, strain %.2g\n", h->n, ngood,
                   E.zs, E.p, vv / vmax, strain);
-            if (vv <= c->o->vr_tol * vmax && !(strain <= w->opt.corrector_tol)) {
+            if (vv <= c->o->vr_tol * vmax && !(strain <= kin__corrector_tol(w))) {
                 /* the interpolant is off the strain-free set by its error,
                  * along well-conditioned directions: remove that with the
                  * point's own factorization, leaving the bifurcation's null
@@ -381,7 +381,7 @@ int kin__locate_hermite(loc_ctx *c)
                 vmax = kin__cur(w)->an.v_max;
                 strain = kin__lengths(w, w->xyz, NULL);
             }
-            if (vv <= c->o->vr_tol * vmax && strain <= w->opt.corrector_tol) {
+            if (vv <= c->o->vr_tol * vmax && strain <= kin__corrector_tol(w)) {
                 /* the path length: chords from the last regular point */
                 double *ch = w->chord;
                 kin__gather(w, prev->xyz, ch);

@@ -19,6 +19,19 @@ struct kin__kin_options_1 {
     double max_correction;
     int factorization;
 };
+/* kin_step_info as a host compiled against layout 1 has it */
+struct kin__kin_step_info_1 {
+    size_t size;
+    double l;
+    double delta;
+    double v_r;
+    double residual;
+    double cos_turn;
+    int iterations;
+    int halvings;
+    int factorizations;
+    int m_internal;
+};
 /* kin_homotopy_info as a host compiled against layout 1 has it */
 struct kin__kin_homotopy_info_1 {
     size_t size;
@@ -41,7 +54,7 @@ struct kin__kin_homotopy_info_1 {
 /* each struct as a host compiled against its first layout has it */
 typedef kin_analysis kin__kin_analysis_layout1;
 typedef struct kin__kin_options_1 kin__kin_options_layout1;
-typedef kin_step_info kin__kin_step_info_layout1;
+typedef struct kin__kin_step_info_1 kin__kin_step_info_layout1;
 typedef kin_sail_params kin__kin_sail_params_layout1;
 typedef kin_solve_info kin__kin_solve_info_layout1;
 typedef struct kin__kin_homotopy_info_1 kin__kin_homotopy_info_layout1;
@@ -77,7 +90,7 @@ enum kin__abi_id {
 #define KIN__ABI_TABLE \
     {"kin_analysis", 1, {sizeof(kin_analysis)}, {sizeof(kin_analysis)}}, \
     {"kin_options", 2, {sizeof(struct kin__kin_options_1), sizeof(kin_options)}, {offsetof(struct kin__kin_options_1, factorization) + sizeof(((struct kin__kin_options_1 *)0)->factorization), sizeof(kin_options)}}, \
-    {"kin_step_info", 1, {sizeof(kin_step_info)}, {sizeof(kin_step_info)}}, \
+    {"kin_step_info", 2, {sizeof(struct kin__kin_step_info_1), sizeof(kin_step_info)}, {offsetof(struct kin__kin_step_info_1, m_internal) + sizeof(((struct kin__kin_step_info_1 *)0)->m_internal), sizeof(kin_step_info)}}, \
     {"kin_sail_params", 1, {sizeof(kin_sail_params)}, {sizeof(kin_sail_params)}}, \
     {"kin_solve_info", 1, {sizeof(kin_solve_info)}, {sizeof(kin_solve_info)}}, \
     {"kin_homotopy_info", 2, {sizeof(struct kin__kin_homotopy_info_1), sizeof(kin_homotopy_info)}, {offsetof(struct kin__kin_homotopy_info_1, max_cond) + sizeof(((struct kin__kin_homotopy_info_1 *)0)->max_cond), sizeof(kin_homotopy_info)}}, \
@@ -104,6 +117,17 @@ typedef char kin__abi_prefix_kin_options_1_max_halvings[offsetof(struct kin__kin
 typedef char kin__abi_prefix_kin_options_1_direction_tol[offsetof(struct kin__kin_options_1, direction_tol) == offsetof(kin_options, direction_tol) ? 1 : -1];
 typedef char kin__abi_prefix_kin_options_1_max_correction[offsetof(struct kin__kin_options_1, max_correction) == offsetof(kin_options, max_correction) ? 1 : -1];
 typedef char kin__abi_prefix_kin_options_1_factorization[offsetof(struct kin__kin_options_1, factorization) == offsetof(kin_options, factorization) ? 1 : -1];
+typedef char kin__abi_grows_kin_step_info_1[sizeof(struct kin__kin_step_info_1) < sizeof(kin_step_info) ? 1 : -1];
+typedef char kin__abi_prefix_kin_step_info_1_size[offsetof(struct kin__kin_step_info_1, size) == offsetof(kin_step_info, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_step_info_1_l[offsetof(struct kin__kin_step_info_1, l) == offsetof(kin_step_info, l) ? 1 : -1];
+typedef char kin__abi_prefix_kin_step_info_1_delta[offsetof(struct kin__kin_step_info_1, delta) == offsetof(kin_step_info, delta) ? 1 : -1];
+typedef char kin__abi_prefix_kin_step_info_1_v_r[offsetof(struct kin__kin_step_info_1, v_r) == offsetof(kin_step_info, v_r) ? 1 : -1];
+typedef char kin__abi_prefix_kin_step_info_1_residual[offsetof(struct kin__kin_step_info_1, residual) == offsetof(kin_step_info, residual) ? 1 : -1];
+typedef char kin__abi_prefix_kin_step_info_1_cos_turn[offsetof(struct kin__kin_step_info_1, cos_turn) == offsetof(kin_step_info, cos_turn) ? 1 : -1];
+typedef char kin__abi_prefix_kin_step_info_1_iterations[offsetof(struct kin__kin_step_info_1, iterations) == offsetof(kin_step_info, iterations) ? 1 : -1];
+typedef char kin__abi_prefix_kin_step_info_1_halvings[offsetof(struct kin__kin_step_info_1, halvings) == offsetof(kin_step_info, halvings) ? 1 : -1];
+typedef char kin__abi_prefix_kin_step_info_1_factorizations[offsetof(struct kin__kin_step_info_1, factorizations) == offsetof(kin_step_info, factorizations) ? 1 : -1];
+typedef char kin__abi_prefix_kin_step_info_1_m_internal[offsetof(struct kin__kin_step_info_1, m_internal) == offsetof(kin_step_info, m_internal) ? 1 : -1];
 typedef char kin__abi_grows_kin_homotopy_info_1[sizeof(struct kin__kin_homotopy_info_1) < sizeof(kin_homotopy_info) ? 1 : -1];
 typedef char kin__abi_prefix_kin_homotopy_info_1_size[offsetof(struct kin__kin_homotopy_info_1, size) == offsetof(kin_homotopy_info, size) ? 1 : -1];
 typedef char kin__abi_prefix_kin_homotopy_info_1_paths[offsetof(struct kin__kin_homotopy_info_1, paths) == offsetof(kin_homotopy_info, paths) ? 1 : -1];

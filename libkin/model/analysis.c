@@ -168,7 +168,7 @@ static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um
             }
         }
     }
-    double drop = fmax(a->opt.rank_tol, GS_ROUNDING_UNITS * rounding) * sqrt((double)a->nj);
+    double drop = fmax(kin__rank_tolerance(a), GS_ROUNDING_UNITS * rounding) * sqrt((double)a->nj);
     int cap = Um ? m : nf, left = nnull;
     while (kept < cap && left > 0) {
         /* pivot: the candidate with the most left after the kept directions */
@@ -295,8 +295,9 @@ int kin__reclassify(kin_assembly *a, const double *xyz, int idx)
     kin_analysis *an = &f->an;
     an->v_max = mn > 0 ? f->sv[0] : 0.0;
     an->rank = 0;
+    double tol = kin__rank_tolerance(a);
     for (int i = 0; i < mn; ++i)
-        if (f->sv[i] > a->opt.rank_tol * an->v_max) an->rank++;
+        if (f->sv[i] > tol * an->v_max) an->rank++;
     an->m = nf - an->rank;
     an->s = nb - an->rank;
     an->v_r = an->rank > 0 ? f->sv[an->rank - 1] : 0.0;

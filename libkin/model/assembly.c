@@ -493,6 +493,8 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
     a->t_chosen = src->t_chosen;
     a->l = src->l;
     a->step_hint = src->step_hint;
+    a->start_strain = src->start_strain;
+    a->have_start_strain = src->have_start_strain;
     a->chord_hopeless = src->chord_hopeless;
 }
 
@@ -589,6 +591,7 @@ int kin_set_coords(kin_assembly *a, const double *xyz)
     kin__lu_invalidate(a);
     a->have_t = a->t_chosen = 0;
     a->step_hint = 0.0;
+    a->have_start_strain = 0;
     a->chord_hopeless = 0;
     a->l = 0.0;
     return KIN_OK;

@@ -83,6 +83,9 @@ struct kin_assembly {
     int t_chosen;            /* t was set by kin_path_set_direction at a bifurcation */
     double l;                /* signed path length */
     double step_hint;        /* amplitude the next automatic step starts from (0: the largest) */
+    double start_strain;     /* max |L-L0|/L0 where the path started (STRAIN FLOOR, kin_path.h) */
+    int have_start_strain;   /* start_strain measured; 0 after creation, kin_set_coords, kin_relax,
+                                kin_path_reset: the next step measures it */
     int chord_hopeless;      /* LU modes: automatic steps left before the chord-only control is tried
                                 again (shorter steps did not let the chord converge) */
 
@@ -148,6 +151,15 @@ void kin__scatter(const kin_assembly *a, const double *x, double *xyz);
 
 /* bar lengths of configuration xyz; returns max |L-L0|/L0 */
 double kin__lengths(const kin_assembly *a, const double *xyz, double *len);
+/* sqrt(dim) * opt.coord_resolution / min L0: the strain (and relative
+ * singular value) that rounded input coordinates leave; 0 for exact input */
+double kin__resolution_strain(const kin_assembly *a);
+/* The one relative tolerance of the rank test and of the rigid-mode test
+ * (model/analysis.c): rank_tol, or what the input's rounding allows if that
+ * is more (coord_resolution: a singular value below what the rounding moves
+ * H by is zero to the input's accuracy, a self-stress the rounding broke
+ * stays one) */
+double kin__rank_tolerance(const kin_assembly *a);
 /* e = L - L0, computed as (L^2 - L0^2)/(L + L0) for accuracy; returns max relative */
 double kin__extensions(const kin_assembly *a, const double *xyz, double *e);
 /* equilibrium matrix of configuration xyz into H (ld ldh) */

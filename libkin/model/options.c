@@ -19,6 +19,7 @@ static const kin_options DEFAULTS = {
     .max_correction = 0.5,
     .factorization = KIN_STEP_SVD,
     .step_control = KIN_STEP_CONTROL_MODE,
+    .coord_resolution = 0.0,
 };
 
 int kin_options_init(kin_options *o, size_t size)
@@ -62,8 +63,28 @@ int kin__options_read(kin_assembly *a, const kin_options *user, kin_options *o)
     if (o->step_control != KIN_STEP_CONTROL_MODE && o->step_control != KIN_STEP_CONTROL_SHARED)
         return kin__fail(a, KIN_EINVAL, "step_control = %d, need KIN_STEP_CONTROL_MODE (0) or "
                          "KIN_STEP_CONTROL_SHARED (1)", o->step_control);
+    if (!(isfinite(o->coord_resolution) && o->coord_resolution >= 0.0))
+        return kin__fail(a, KIN_EINVAL, "coord_resolution = %g, need finite >= 0", o->coord_resolution);
     return KIN_OK;
 }
+
+/* The strain that coordinates rounded to coord_resolution leave in rest
+ * lengths taken from them: each endpoint is off by up to half the
+ * resolution per coordinate, so a length by up to sqrt(dim) * resolution;
+ * relative to the shortest bar. An exact mechanism's configurations, in a
+ * structure built from its rounded coordinates, have at most this strain
+ * (the corrector's floor, STRAIN FLOOR in kin_path.h), and the rounding
+ * moves the entries of H (direction cosines) by as much relative to v_max's
+ * scale: singular values below it are zero to the input's accuracy. */
+double kin__resolution_strain(const kin_assembly *a)
+{
+    if (!(a->opt.coord_resolution > 0.0) || a->nb == 0) return 0.0;
+    double lmin = INFINITY;
+    for (int k = 0; k < a->nb; ++k) lmin = fmin(lmin, a->L0[k]);
+    return sqrt((double)a->dim) * a->opt.coord_resolution / lmin;
+}
+
+double kin__rank_tolerance(const kin_assembly *a) { return fmax(a->opt.rank_tol, kin__resolution_strain(a)); }
 
 int kin_get_options(const kin_assembly *a, kin_options *o)
 {

@@ -46,6 +46,22 @@ static const double DIRECTION_MIN_PROJECTION = 1e-6;
 /* kin_relax halves a Gauss-Newton correction at most this many times. */
 enum { RELAX_MAX_BACKTRACK = 30 };
 
+double kin__strain_floor(kin_assembly *a)
+{
+    if (!a->have_start_strain) {
+        /* the start's own residual: measured once, where the path starts */
+        a->start_strain = kin__lengths(a, a->xyz, NULL);
+        if (!isfinite(a->start_strain)) a->start_strain = 0.0;
+        a->have_start_strain = 1;
+    }
+    return fmax(a->start_strain, kin__resolution_strain(a));
+}
+
+double kin__corrector_tol(kin_assembly *a)
+{
+    return fmax(a->opt.corrector_tol, kin__strain_floor(a));
+}
+
 /* the LU modes: dense or sparse bordered factors, the SVD only where needed */
 static int lu_mode(const kin_assembly *a)
 {
@@ -66,7 +82,7 @@ int kin_set_options(kin_assembly *a, const kin_options *user)
         rc = kin__sparse_prepare(a);
         if (rc) return rc;
     }
-    if (o->rank_tol != a->opt.rank_tol) {
+    if (o->rank_tol != a->opt.rank_tol || o->coord_resolution != a->opt.coord_resolution) {
         a->fac[0].valid = a->fac[1].valid = 0;
         kin__lu_invalidate(a);
     }
@@ -82,6 +98,7 @@ int kin_path_reset(kin_assembly *a)
     a->l = 0.0;
     a->have_t = a->t_chosen = 0;
     a->step_hint = 0.0;
+    a->have_start_strain = 0;
     a->chord_hopeless = 0;
     return KIN_OK;
 }
@@ -218,7 +235,7 @@ static int orient_tangent(kin_assembly *a, double cl, attempt_result *res)
 /* chord_only: a stalling chord corrector fails the attempt (the caller
  * halves the step) instead of handing over to Newton */
 static int attempt(kin_assembly *a, double delta, const double *pred, int use_chord, int use_lu,
-                   int start_mi, int chord_only, attempt_result *res)
+                   int start_mi, int chord_only, double tol, attempt_result *res)
 {
     int nf = a->nf, trial = 1 - a->cur;
     double *xyz = a->xyz_trial;
@@ -240,9 +257,9 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
      * length (near a bifurcation a small strain still allows a position
      * error of strain / v_r), or the corrections stopped shrinking: the
      * rounding floor */
-    double dlast = INFINITY, dprev = INFINITY, postol = a->opt.corrector_tol * a->rms_length;
-    while (!(r <= a->opt.corrector_tol && dlast <= postol)) {
-        if (r <= a->opt.corrector_tol && dlast >= CORRECTION_STALL * dprev) {
+    double dlast = INFINITY, dprev = INFINITY, postol = tol * a->rms_length;
+    while (!(r <= tol && dlast <= postol)) {
+        if (r <= tol && dlast >= CORRECTION_STALL * dprev) {
             /* corrections no longer shrink: a slow chord hands over to
              * Newton; Newton has reached the rounding floor */
             if (!chord) break;
@@ -292,8 +309,8 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
         kin__scatter(a, a->x, xyz);
         double rn = kin__extensions(a, xyz, a->e);
         ++it;
-        if (!chord) reuse = rn <= NEWTON_REUSE_CONTRACTION * r || rn <= a->opt.corrector_tol;
-        if (!(rn <= CORRECTOR_DIVERGENCE * fmax(r_start, a->opt.corrector_tol))) {
+        if (!chord) reuse = rn <= NEWTON_REUSE_CONTRACTION * r || rn <= tol;
+        if (!(rn <= CORRECTOR_DIVERGENCE * fmax(r_start, tol))) {
             /* diverging: this attempt will not converge; fail it now so the
              * step can be halved (not after corrector_max_iter iterations) */
             res->iterations = it;
@@ -301,7 +318,7 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
             return kin__fail(a, KIN_ENOTCONVERGED, "corrector diverges: residual %.3g from %.3g (delta = %.3g)",
                              rn, r_start, delta);
         }
-        if (chord && !(rn <= CHORD_MIN_CONTRACTION * r) && rn > a->opt.corrector_tol && chord_only) {
+        if (chord && !(rn <= CHORD_MIN_CONTRACTION * r) && rn > tol && chord_only) {
             /* LU modes' automatic step: a shorter step whose chord converges
              * costs one factorization; Newton here would cost one per
              * iteration */
@@ -310,7 +327,7 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
             return kin__fail(a, KIN_ENOTCONVERGED, "chord corrector stalls: residual %.3g from %.3g (delta = %.3g)",
                              rn, r, delta);
         }
-        if (chord && !(rn <= CHORD_MIN_CONTRACTION * r) && rn > a->opt.corrector_tol) {
+        if (chord && !(rn <= CHORD_MIN_CONTRACTION * r) && rn > tol) {
             /* chord stalls or diverges: restart Newton from the predictor */
             chord = 0;
             dlast = dprev = INFINITY;
@@ -433,13 +450,14 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
     int start_mi = lu_point ? 1 : f->an.m_internal;
     attempt_result res = {0};
     int h, tries = pred ? 0 : a->opt.max_halvings, chord_only_failed = 0;
+    double sfloor = kin__strain_floor(a), tol = fmax(a->opt.corrector_tol, sfloor);
     double delta_first = delta;
     for (h = 0; h <= tries; ++h, delta *= 0.5) {
         /* LU modes, automatic step: halve a stalling chord CHORD_ONLY_HALVINGS
          * times before paying for Newton (step control that knows its mode;
          * measured on sail:24:14: 1.1 factorizations per step instead of 2.7) */
         int chord_only = mode_control && use_chord && a->chord_hopeless == 0 && h < CHORD_ONLY_HALVINGS;
-        rc = attempt(a, delta, pred, use_chord, use_lu, start_mi, chord_only, &res);
+        rc = attempt(a, delta, pred, use_chord, use_lu, start_mi, chord_only, tol, &res);
         if (rc == KIN_OK) break;
         chord_only_failed += chord_only;
         if (rc == KIN_ELAPACK_ARG) return rc;
@@ -452,6 +470,8 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
             info->halvings = h;
             info->factorizations = (int)(a->nfact - f0);
             info->residual = res.residual;
+            info->strain_floor = sfloor;
+            info->tol_used = tol;
         }
         return rc;
     }
@@ -500,6 +520,8 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
         info->halvings = h;
         info->factorizations = (int)(a->nfact - f0);
         info->m_internal = res.m_internal;
+        info->strain_floor = sfloor;
+        info->tol_used = tol;
     }
     a->err[0] = '\0';
     return KIN_OK;
@@ -532,8 +554,10 @@ int kin_relax(kin_assembly *a, int max_iter, double *residual)
     memcpy(xyz, a->xyz, sizeof(double) * (size_t)(a->nj * a->dim));
     kin__gather(a, xyz, a->x);
     double r = kin__extensions(a, xyz, a->e), merit = kin__norm(a->nb, a->e);
+    /* the start strain is what relax removes: only the rounding floor counts */
+    double tol = fmax(a->opt.corrector_tol, kin__resolution_strain(a));
     int it = 0;
-    while (!(r <= a->opt.corrector_tol) && it < max_iter && isfinite(r)) {
+    while (!(r <= tol) && it < max_iter && isfinite(r)) {
         int rc = kin__bordered_solve(a, xyz, NULL, a->e, a->d);
         if (rc) return rc;
         /* damped Gauss-Newton: halve the correction until |e| decreases, so
@@ -551,13 +575,14 @@ int kin_relax(kin_assembly *a, int max_iter, double *residual)
         ++it;
     }
     if (residual) *residual = r;
-    if (!(r <= a->opt.corrector_tol))
+    if (!(r <= tol))
         return kin__fail(a, KIN_ENOTCONVERGED, "relax: residual %.3g after %d iterations", r, it);
     memcpy(a->xyz, xyz, sizeof(double) * (size_t)(a->nj * a->dim));
     a->fac[0].valid = a->fac[1].valid = 0;
     kin__lu_invalidate(a);
     a->have_t = a->t_chosen = 0;
     a->step_hint = 0.0;
+    a->have_start_strain = 0;
     a->l = 0.0;
     return KIN_OK;
 }

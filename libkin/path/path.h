@@ -11,6 +11,13 @@
 int kin__bordered_solve(kin_assembly *a, const double *xyz, const double *t, const double *e,
                         double *d);
 
+/* The strain the input allows (STRAIN FLOOR in kin_path.h): max(the
+ * start's own strain, measured here at the first call after the path state
+ * was reset, and sqrt(dim) * coord_resolution / min L0) */
+double kin__strain_floor(kin_assembly *a);
+/* The corrector's strain tolerance in effect: max(corrector_tol, the floor) */
+double kin__corrector_tol(kin_assembly *a);
+
 /* kin_step with an explicit predictor: pred (nf free coordinates) must
  * satisfy t.(pred - x0) = delta for the current oriented tangent t; one
  * attempt, no clamping or halving (the locator's forward calculations) */

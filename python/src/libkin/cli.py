@@ -3,7 +3,9 @@
 Exit status: 0 success; 1 a libkin error or a file that cannot be read or
 written (one line on stderr, no traceback); 2 a usage error (argparse, or a
 model that is not a valid start for the command); 3 a study that stopped
-early; 130 interrupted (Ctrl-C).
+early; 4 a path that stopped before the steps asked (`follow`,
+`fold-export`: what was reached is written, fewer frames than asked);
+130 interrupted (Ctrl-C).
 """
 from __future__ import annotations
 
@@ -18,16 +20,23 @@ import numpy as np
 from . import __version__
 from .assembly import Analysis, Assembly, FollowEvent, solve_quadrics
 from .atlas import cli as atlas_cli
-from .cliargs import (EXIT_ERROR, EXIT_INTERRUPTED, EXIT_STUDY_FAILED, EXIT_USAGE, count, finite, load_model_spec,
-                      positive)
+from .cliargs import (EXIT_ERROR, EXIT_INTERRUPTED, EXIT_PARTIAL, EXIT_STUDY_FAILED, EXIT_USAGE, add_input_arguments,
+                      count, finite, load_model_spec, positive)
 from .errors import InvalidArgumentError, KinError, NotFoundError
 from .studies import cli as studies_cli
 
-__all__ = ["main", "follow_path", "EXIT_ERROR", "EXIT_USAGE", "EXIT_STUDY_FAILED", "EXIT_INTERRUPTED"]
+__all__ = ["main", "follow_path", "EXIT_ERROR", "EXIT_USAGE", "EXIT_STUDY_FAILED", "EXIT_PARTIAL",
+           "EXIT_INTERRUPTED"]
+
+
+def _load(args: argparse.Namespace) -> Assembly:
+    """args.model read as --fold-dim and --resolution say (where the command has them)."""
+    return load_model_spec(args.model, fold_dim=getattr(args, "fold_dim", None),
+                           resolution=getattr(args, "resolution", None))
 
 
 def cmd_analyse(args: argparse.Namespace) -> int:
-    a = load_model_spec(args.model)
+    a = _load(args)
     an = a.analyse()
     print(f"{a.name}: dim {a.dim}, {a.njoints} joints, {a.nbars} bars, H is {a.nfree} x {a.nbars}")
     print(f"rank r = {an.rank}; mechanisms m = {an.m} (internal {an.m_internal}, rigid {an.m_rigid}); "
@@ -57,7 +66,7 @@ def _regular_start(args: argparse.Namespace) -> Tuple[Optional[Assembly], Option
     """The model (perturbed and relaxed if asked) and its analysis, or None
     with a message when it is not on a single path. At a bifurcation with
     --branch the chosen branch's direction is set (args.direction)."""
-    a = load_model_spec(args.model)
+    a = _load(args)
     if args.perturb:
         _generic_start(a, args)
     an = a.analyse()
@@ -79,6 +88,7 @@ def cmd_follow(args: argparse.Namespace) -> int:
     if args.direction is not None:
         a.set_direction(args.direction)
     ls, svs, frames, passed = follow_path(a, an, args.steps, args.delta, not args.quiet)
+    stopped = len(ls) - 1 < args.steps  # fewer frames than asked: the exit status says so
     print(f"{len(ls) - 1} steps, path length {ls[-1]:.6g}, max strain {a.max_strain:.3g}, "
           f"smallest v_r {min(s[s > 0].min() for s in svs):.3g}")
     if passed:
@@ -100,7 +110,7 @@ def cmd_follow(args: argparse.Namespace) -> int:
     if args.out:
         a.to_json(args.out)
         print("wrote", args.out)
-    return 0
+    return EXIT_PARTIAL if stopped else 0
 
 
 def follow_path(a: Assembly, an: Analysis, steps: int, delta: float = 0.0, progress: bool = False
@@ -124,7 +134,7 @@ def follow_path(a: Assembly, an: Analysis, steps: int, delta: float = 0.0, progr
                 passed.append((len(ls) - 1, ls[-2], ls[-1]))
             tau = t
     except KinError as exc:
-        print(f"stopped after {len(ls) - 1} steps: {exc}", file=sys.stderr)
+        print(f"stopped after {len(ls) - 1} of {steps} steps: {exc}", file=sys.stderr)
     return ls, svs, frames, passed
 
 
@@ -201,8 +211,9 @@ def cmd_models(args: argparse.Namespace) -> int:
 
 def cmd_fold_export(args: argparse.Namespace) -> int:
     from .io.fold import write_fold
-    a = load_model_spec(args.model)
+    a = _load(args)
     frames = [a.coords]
+    stopped = False
     if args.follow:
         an = a.analyse()
         if an.m_internal != 1:
@@ -213,11 +224,13 @@ def cmd_fold_export(args: argparse.Namespace) -> int:
             for _ in a.follow(steps=args.follow, delta=args.delta, progress=not args.quiet):
                 frames.append(a.coords)
         except KinError as exc:
-            print(f"stopped after {len(frames) - 1} steps: {exc}", file=sys.stderr)
+            stopped = True
+            print(f"stopped after {len(frames) - 1} of {args.follow} steps: {exc}", file=sys.stderr)
     faces = "triangles" if args.faces == "triangles" else None
     write_fold(args.out, a, path_coords=frames, faces=faces)
-    print(f"wrote {args.out} ({len(frames)} frame{'s' if len(frames) > 1 else ''})")
-    return 0
+    print(f"wrote {args.out} ({len(frames)} frame{'s' if len(frames) > 1 else ''}"
+          + (f" of {args.follow + 1} asked: the path stopped early)" if stopped else ")"))
+    return EXIT_PARTIAL if stopped else 0
 
 
 class _OneLineParser(argparse.ArgumentParser):
@@ -232,12 +245,13 @@ def _parser() -> argparse.ArgumentParser:
         "Kinematic analysis of pin-jointed bar assemblies. MODEL is a JSON model file "
         "(schema: python/README.md) or a built-in: threebar:RA|RB|RC, sail:N_SIDES:N_LOOPS."),
         epilog="exit status: 0 success, 1 libkin or file error, 2 usage error, 3 study stopped early, "
-               "130 interrupted")
+               "4 path stopped early (fewer frames than asked), 130 interrupted")
     p.add_argument("--version", action="version", version=f"libkin {__version__}")
     sub = p.add_subparsers(dest="cmd", required=True, parser_class=_OneLineParser)
     s = sub.add_parser("analyse", help="first-order analysis: rank, mechanisms, self-stresses")
     s.add_argument("model")
     s.add_argument("--singular-values", action="store_true", help="print all singular values")
+    add_input_arguments(s)
     s.set_defaults(fn=cmd_analyse)
     s = sub.add_parser("follow", help="follow the path from a regular configuration")
     s.add_argument("model")
@@ -256,6 +270,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="at a bifurcation: leave along directed branch K (real second-order solution K // 2 of the "
                         "complete solver, sign + for even K, - for odd)")
     s.add_argument("--sign", type=int, default=None, choices=[1, -1], help="the sign of --branch's direction")
+    add_input_arguments(s)
     s.set_defaults(fn=cmd_follow)
     s = sub.add_parser("locate", help="follow the path to the next bifurcation and converge onto it")
     s.add_argument("model")
@@ -274,6 +289,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="at a bifurcation: leave along directed branch K (real second-order solution K // 2 of the "
                         "complete solver, sign + for even K, - for odd)")
     s.add_argument("--sign", type=int, default=None, choices=[1, -1], help="the sign of --branch's direction")
+    add_input_arguments(s)
     s.set_defaults(fn=cmd_locate)
     s = sub.add_parser("draw", help="draw a model to a PNG")
     s.add_argument("model")
@@ -291,6 +307,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="faces: the .fold file's (default) or the bar graph's triangles")
     s.add_argument("--out", required=True, help="the .fold file to write")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_input_arguments(s)
     s.set_defaults(fn=cmd_fold_export)
     s = sub.add_parser("models", help="write the built-in models as JSON files")
     s.add_argument("dir")

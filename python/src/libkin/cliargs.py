@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import argparse
 import math
-from typing import Callable
+from typing import Callable, Optional
 
 from .assembly import Assembly
 from .errors import InvalidArgumentError
@@ -15,6 +15,7 @@ from .errors import InvalidArgumentError
 EXIT_ERROR = 1
 EXIT_USAGE = 2
 EXIT_STUDY_FAILED = 3
+EXIT_PARTIAL = 4  # a path stopped before the steps asked: fewer frames written than asked
 EXIT_INTERRUPTED = 130
 
 
@@ -37,6 +38,25 @@ def positive(text: str) -> float:
     return v
 
 
+def nonnegative(text: str) -> float:
+    """argparse type: a finite number >= 0."""
+    v = finite(text)
+    if v < 0:
+        raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}")
+    return v
+
+
+def add_input_arguments(s: argparse.ArgumentParser) -> None:
+    """--fold-dim and --resolution: how a MODEL file's geometry is read."""
+    s.add_argument("--fold-dim", type=int, choices=[2, 3], default=None,
+                   help="read a .fold file in 2 or 3 dimensions (default: 3 for a sheet with faces, else as its "
+                        "coordinates)")
+    s.add_argument("--resolution", type=nonnegative, default=None, metavar="R",
+                   help="how finely the model's coordinates were written (length unit, e.g. 1e-6 for 6 "
+                        "decimals; 0 = exact): the corrector asks for no less strain than that rounding leaves "
+                        "(default: a .fold file's decimals, exact for other models)")
+
+
 def count(minimum: int) -> Callable[[str], int]:
     """argparse type: an integer >= minimum."""
     def parse(text: str) -> int:
@@ -50,8 +70,12 @@ def count(minimum: int) -> Callable[[str], int]:
     return parse
 
 
-def load_model_spec(spec: str) -> Assembly:
-    """MODEL is a JSON file, or a built-in: threebar:RA|RB|RC, sail:N:LOOPS."""
+def load_model_spec(spec: str, fold_dim: Optional[int] = None, resolution: Optional[float] = None) -> Assembly:
+    """MODEL is a JSON file, or a built-in: threebar:RA|RB|RC, sail:N:LOOPS,
+    or a .fold file (read in `fold_dim` dimensions if given, else 3D for a
+    sheet with faces; `resolution` of its coordinates if given, else from
+    its decimals). `resolution` given sets `Options.coord_resolution` of any
+    model."""
     if spec.startswith("threebar:"):
         return Assembly.threebar(spec.split(":", 1)[1])
     if spec.startswith("sail:"):
@@ -61,5 +85,9 @@ def load_model_spec(spec: str) -> Assembly:
         return Assembly.sail(int(parts[1]), int(parts[2]) if len(parts) > 2 else 1)
     if spec.endswith(".fold"):
         from .io.fold import read_fold
-        return read_fold(spec)
-    return Assembly.from_json(spec)
+        return read_fold(spec, dim=fold_dim, resolution=resolution)
+    a = Assembly.from_json(spec)
+    if resolution is not None:
+        import dataclasses
+        a.options = dataclasses.replace(a.options, coord_resolution=resolution)
+    return a

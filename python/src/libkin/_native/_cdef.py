@@ -97,7 +97,7 @@ typedef struct kin_options {
     double max_correction;
     int factorization;
     int step_control;
-    int reserved;
+    double coord_resolution;
 } kin_options;
 enum kin_step_factorization {
     KIN_STEP_SVD = 0,
@@ -123,6 +123,8 @@ typedef struct kin_step_info {
     int halvings;
     int factorizations;
     int m_internal;
+    double strain_floor;
+    double tol_used;
 } kin_step_info;
 int kin_step(kin_assembly *a, double delta, kin_step_info *info);
 int kin_path_set_direction(kin_assembly *a, const double *dir, int n);

@@ -40,6 +40,13 @@ class StepInfo:
         Corrector iterations, step halvings and matrix factorizations used.
     m_internal : int
         Internal mechanisms at the new point.
+    strain_floor : float
+        The strain the input allows: the larger of the path start's own
+        strain and sqrt(dim) * `Options.coord_resolution` / shortest rest
+        length (rest lengths from rounded coordinates carry that much).
+    tol_used : float
+        The corrector's strain tolerance in effect:
+        max(`Options.corrector_tol`, `strain_floor`).
     """
 
     l: float
@@ -51,6 +58,8 @@ class StepInfo:
     halvings: int
     factorizations: int
     m_internal: int
+    strain_floor: float = 0.0
+    tol_used: float = 0.0
 
 
 @dataclasses.dataclass
@@ -84,6 +93,12 @@ class Options:
         0 = ``lib.KIN_STEP_CONTROL_MODE`` (default: automatic steps in the LU
         modes halve a stalling chord before paying for Newton); 1 =
         ``lib.KIN_STEP_CONTROL_SHARED`` (the SVD mode's amplitudes in every mode).
+    coord_resolution : float
+        How finely the input coordinates were given (length unit, e.g. 1e-6
+        for 6 decimals; 0 = exact, the default). The corrector does not ask
+        for less strain than rounding that fine leaves in rest lengths taken
+        from the coordinates (`StepInfo.strain_floor`). `read_fold` sets it
+        from the file's decimals.
     """
 
     rank_tol: float = 1e-9
@@ -95,6 +110,7 @@ class Options:
     max_correction: float = 0.5
     factorization: int = 0
     step_control: int = 0
+    coord_resolution: float = 0.0
 
 
 _OPTION_FIELDS = [f.name for f in dataclasses.fields(Options)]
@@ -154,7 +170,8 @@ class PathMixin(AssemblyBase):
         info = new_struct("kin_step_info")
         self._check(lib.kin_step(self._h, float(delta), info), "step")
         return StepInfo(info.l, info.delta, info.v_r, info.residual, info.cos_turn,
-                        info.iterations, info.halvings, info.factorizations, info.m_internal)
+                        info.iterations, info.halvings, info.factorizations, info.m_internal,
+                        info.strain_floor, info.tol_used)
 
     def follow(self, steps: Optional[int] = None, length: Optional[float] = None, delta: float = 0.0,
                progress: bool = False) -> Iterator[StepInfo]:

@@ -18,6 +18,20 @@ faces are handled by `faces=`:
   "ignore"           faces add nothing; edges only (a linkage)
 In 2D the fan diagonals alone make a face rigid, so no apex is added.
 
+Dimension (`dim=`): a frame with faces (not ignored) is a sheet and is
+read in 3D even when its coordinates have 2 numbers (the spec allows them
+for a flat crease pattern; z = 0 is added): a sheet folds out of its
+plane. A frame of edges only keeps the dimension of its coordinates (2
+numbers: a planar linkage). dim=2 or 3 overrides both.
+
+Rounding (`resolution=`): files carry rounded coordinates (6 decimals,
+say); rest lengths taken from them are off by that much, and an
+overconstrained sheet (most rigid origami: a self-stress along its motion)
+then has no exactly strain-free motion, only one whose strain stays below
+that bound. The resolution, from the file's decimals unless given, becomes
+the assembly's `Options.coord_resolution`, so following the path asks for
+no less strain than the input allows (kin_path.h, STRAIN FLOOR).
+
 Supports: FOLD has no standard field for them. A libkin-namespaced vertex
 property (the spec's custom-property rule: a colon in the key) gives them,
 in the frame read or inherited: "vertices_libkin:fixed", per vertex either
@@ -34,6 +48,7 @@ frame per configuration: the key frame is the first.
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
@@ -142,7 +157,10 @@ def resolve_frame(doc: FoldDoc, frame: int = 0) -> FoldDoc:
     return out
 
 
-def _coords(fr: FoldDoc) -> npt.NDArray[np.float64]:
+def _coords(fr: FoldDoc, sheet: bool, dim: Optional[int]) -> npt.NDArray[np.float64]:
+    """The frame's coordinates in `dim` dimensions: as given (2 numbers: a
+    plane, any 3: space), but a sheet (a frame with faces) in 3D; an
+    explicit dim (2 or 3) overrides both."""
     vc = fr.get("vertices_coords")
     if not isinstance(vc, list) or not vc:
         _fail("vertices_coords", "expected a non-empty list (abstract frames have no geometry to simulate)")
@@ -154,11 +172,61 @@ def _coords(fr: FoldDoc) -> npt.NDArray[np.float64]:
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
                 _fail(f"vertices_coords[{i}]", f"expected finite numbers, got {p!r}")
         dims.add(len(p))
-    dim = max(dims)
-    x = np.zeros((len(vc), dim))
+    given = max(dims)
+    if dim is None:
+        # a crease pattern with 2-number coordinates is a flat sheet, which
+        # still folds out of its plane: faces make it 3D
+        dim = 3 if sheet else given
+    x = np.zeros((len(vc), max(dim, given)))
     for i, p in enumerate(vc):
         x[i, :len(p)] = p  # missing coordinates are implicitly zero (spec)
+    if dim < x.shape[1]:
+        if np.any(x[:, dim:] != 0.0):
+            _fail("vertices_coords", f"dim={dim} asked, but a vertex has a non-zero z")
+        x = x[:, :dim]
     return x
+
+
+# A coordinate written with this many significant digits or more is a
+# full-precision double (exact as far as the file can say); with this many
+# or fewer it was typed by hand (0, 1, 2.5: exact by intent). Between, the
+# file was written rounded, and its decimals are its resolution.
+_EXACT_DIGITS = 13
+_TYPED_DIGITS = 3
+
+
+def _digits(v: float) -> Tuple[int, int]:
+    """Significant digits and decimals of v's shortest round-trip decimal."""
+    if v == 0.0:
+        return 0, 0
+    text = repr(abs(float(v)))
+    mant, _, exp = text.partition("e")
+    whole, _, frac = mant.partition(".")
+    frac = frac.rstrip("0")
+    sig = len((whole + frac).lstrip("0"))
+    return sig, max(0, len(frac) - (int(exp) if exp else 0))
+
+
+def detect_resolution(coords: Any) -> float:
+    """How finely a file's coordinates were written: 10^-d for d decimals
+    when they look rounded (between 4 and 12 significant digits somewhere,
+    none with more), else 0 (exact).
+
+    Parameters
+    ----------
+    coords : array_like of float
+        The coordinates as read (shortest round-trip decimals of the JSON text).
+
+    Returns
+    -------
+    float
+        The resolution (length unit), 0 for full-precision or hand-typed values.
+    """
+    digits = [_digits(v) for v in np.asarray(coords, dtype=float).ravel().tolist()]
+    sig = max((s for s, _ in digits), default=0)
+    if sig >= _EXACT_DIGITS or sig <= _TYPED_DIGITS:
+        return 0.0
+    return 10.0 ** -max(d for _, d in digits)
 
 
 def _index_lists(fr: FoldDoc, key: str, n: int, length: Optional[int] = None) -> Optional[List[List[int]]]:
@@ -185,8 +253,8 @@ def _fixed_from_field(fr: FoldDoc, nv: int, dim: int) -> npt.NDArray[np.bool_]:
     for i, v in enumerate(f):
         if isinstance(v, bool):
             out[i] = v
-        elif isinstance(v, list) and len(v) == dim and all(isinstance(b, bool) for b in v):
-            out[i] = v
+        elif isinstance(v, list) and 2 <= len(v) <= dim and all(isinstance(b, bool) for b in v):
+            out[i, :len(v)] = v  # a flat pattern's [x, y] flags read in 3D: z free
         else:
             _fail(f"{FIXED_KEY}[{i}]", f"expected true/false or {dim} booleans, got {v!r}")
     return out
@@ -194,8 +262,10 @@ def _fixed_from_field(fr: FoldDoc, nv: int, dim: int) -> npt.NDArray[np.bool_]:
 
 def _fixed_from_arg(fixed: Any, nv: int, dim: int) -> npt.NDArray[np.bool_]:
     arr = np.asarray(fixed)
-    if arr.dtype == bool and arr.shape == (nv, dim):
-        return arr.copy()
+    if arr.dtype == bool and arr.ndim == 2 and arr.shape[0] == nv and 2 <= arr.shape[1] <= dim:
+        out = np.zeros((nv, dim), dtype=bool)
+        out[:, :arr.shape[1]] = arr  # (nv, 2) flags of a flat pattern read in 3D: z free
+        return out
     if arr.dtype == bool and arr.shape == (nv,):
         return np.repeat(arr[:, None], dim, axis=1)
     out = np.zeros((nv, dim), dtype=bool)
@@ -207,7 +277,8 @@ def _fixed_from_arg(fixed: Any, nv: int, dim: int) -> npt.NDArray[np.bool_]:
     return out
 
 
-def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: str = "rigid") -> FoldAssembly:
+def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: str = "rigid",
+              dim: Optional[int] = None, resolution: Optional[float] = None) -> FoldAssembly:
     """An assembly from a FOLD file.
 
     Parameters
@@ -220,6 +291,19 @@ def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: s
         0 = the key frame (top level), i = file_frames[i - 1] (frame_inherit honoured).
     faces : {"rigid", "triangulate", "ignore"}
         How faces are kept rigid (module docstring).
+    dim : {None, 2, 3}
+        None: a frame with faces (not ignored) is a sheet, in 3D even when
+        its coordinates have 2 numbers (z = 0 added: a flat crease pattern
+        folds out of its plane); a frame of edges only has the dimension of
+        its coordinates (2 numbers: a planar linkage). 2 or 3 overrides
+        both (2 refuses a non-zero z).
+    resolution : float, optional
+        How finely the coordinates were written (length unit); None = from
+        the file's decimals (`detect_resolution`: 6 decimals give 1e-6;
+        full-precision or hand-typed values 0). Set as
+        `Options.coord_resolution`: the corrector and the rank test do not
+        ask for more than rounding that fine allows (kin_path.h, STRAIN
+        FLOOR); 0 = exact.
 
     Returns
     -------
@@ -232,9 +316,11 @@ def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: s
     """
     if faces not in _FACE_MODES:
         raise ModelFormatError(f"faces: expected one of {_FACE_MODES}, got {faces!r}")
+    if dim is not None and (isinstance(dim, bool) or dim not in (2, 3)):
+        raise ModelFormatError(f"dim: expected None, 2 or 3, got {dim!r}")
     doc = _load_doc(source)
     fr = resolve_frame(doc, frame)
-    x = _coords(fr)
+    x = _coords(fr, sheet=bool(fr.get("faces_vertices")) and faces != "ignore", dim=dim)
     nv, dim = x.shape
     edges = _index_lists(fr, "edges_vertices", nv, 2)
     face_list = _index_lists(fr, "faces_vertices", nv)
@@ -306,4 +392,9 @@ def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: s
     n_edges = len(edges) if edges else 0
     keep = {k: v for k, v in fr.items() if k.startswith("frame_") and k not in ("frame_parent", "frame_inherit")}
     a.fold = FoldSource(nv, n_edges, list(assignment) if assignment is not None else None, face_list, keep)
+    res = detect_resolution(x) if resolution is None else float(resolution)
+    if not (math.isfinite(res) and res >= 0.0):
+        raise ModelFormatError(f"resolution: expected a finite number >= 0, got {resolution!r}")
+    if res > 0.0:
+        a.options = dataclasses.replace(a.options, coord_resolution=res)
     return a
