@@ -293,6 +293,43 @@ def test_two_concurrent_explores(tmp_path):
         if rc == 1:
             assert len(err.decode().strip().splitlines()) == 1
     names = sorted(os.listdir(out))
-    assert names == ["atlas.graphml", "atlas.json", "atlas_map.png", "atlas_nodes.png", "report.md"]
+    assert names == [atomic.MANIFEST, "atlas.graphml", "atlas.json", "atlas_map.png", "atlas_nodes.png", "report.md"]
     assert json.loads((out / "atlas.json").read_text())["format"] == "libkin-atlas"
     assert sorted(os.listdir(tmp_path)) == [".atl.lock", "atl"]
+
+
+def test_a_run_replaces_the_previous_outputs_as_a_set(tmp_path):
+    """A run that writes fewer files (a study stopped early) leaves none of
+    the previous run's beside its own; the user's files stay; the MANIFEST
+    names, sizes and hashes what the run wrote."""
+    import hashlib
+    out = tmp_path / "out"
+    with atomic.staged_folder(out) as stage:
+        atomic.write_text(stage / "summary.json", "{}\n")
+        atomic.write_text(stage / "report.md", "old report\n")
+    (out / "notes.txt").write_text("mine\n")
+    with atomic.staged_folder(out) as stage:
+        atomic.write_text(stage / "summary.json", '{"failed": "early"}\n')
+    assert sorted(os.listdir(out)) == [atomic.MANIFEST, "notes.txt", "summary.json"]
+    files = json.loads((out / atomic.MANIFEST).read_text())["files"]
+    data = (out / "summary.json").read_bytes()
+    assert files == {"summary.json": {"size": len(data), "sha256": hashlib.sha256(data).hexdigest()}}
+
+
+def test_the_study_folder_is_committed_whole(tmp_path, monkeypatch):
+    from libkin.studies import squarestudy
+    out = tmp_path / "study"
+    with fail_nth(monkeypatch, "replace", 10 ** 6) as calls:  # counts the renames of a good run
+        assert main(["study", "--hub", "4", "--loops", "1", "--out", str(out), "--quiet"]) == 0
+    assert calls[0] >= 3
+    (out / "notes.txt").write_text("mine\n")
+    good = snapshot(tmp_path)
+    for n in (1, calls[0]):  # the first file, the MANIFEST (the last)
+        with fail_nth(monkeypatch, "replace", n), pytest.raises(OSError):
+            squarestudy.square_study(progress=False, out=out)
+        FAULTS["study folder: os.replace #n fails"] += 1
+        assert snapshot(tmp_path) == good, n
+    with file_size_limit(5000):  # the command: one line, exit 1, the folder kept
+        assert main(["study", "--hub", "4", "--loops", "1", "--out", str(out), "--quiet"]) == 1
+    FAULTS["study folder: disk full (RLIMIT_FSIZE)"] += 1
+    assert snapshot(tmp_path) == good

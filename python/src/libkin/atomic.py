@@ -9,8 +9,10 @@ a folder of outputs is committed whole, and an output folder has one writer.
   `.NAME.tmp-XXXX`, and the old file is intact).
 - staged_folder(out): the outputs are written into a staging folder next to
   out (`.NAME.staging-XXXX`) and, when all are written, take out's place in one
-  step (an atomic exchange of the two folders where the system has one). Files
-  of out that the run did not write are kept. On a failure out is untouched.
+  step (an atomic exchange of the two folders where the system has one). A
+  MANIFEST (`.libkin-manifest.json`: name, size, SHA-256 of each file) is
+  written last; the previous run's outputs (its MANIFEST) are replaced as a
+  set, out's other files (the user's) are kept. On a failure out is untouched.
 - folder_lock(out): an exclusive lock (flock on `.NAME.lock` next to out) held
   for a run; a second holder fails at once with FolderInUseError. The system
   releases it when the holder exits or dies; the new holder then clears what
@@ -23,13 +25,16 @@ import ctypes
 import ctypes.util
 import errno
 import glob
+import hashlib
+import json
 import os
 import pathlib
 import shutil
 import tempfile
-from typing import IO, Any, Iterator, Optional, Union
+from typing import IO, Any, Iterator, Optional, Set, Union
 
-__all__ = ["write_bytes", "write_text", "replacing", "staged_folder", "folder_lock", "recover", "FolderInUseError"]
+__all__ = ["write_bytes", "write_text", "replacing", "staged_folder", "folder_lock", "recover", "previous_outputs",
+           "MANIFEST", "FolderInUseError"]
 
 PathLike = Union[str, "os.PathLike[str]"]
 CHUNK = 1 << 16  # bytes per os.write: a full disk may refuse any of them
@@ -164,8 +169,37 @@ def _exchange(a: pathlib.Path, b: pathlib.Path) -> bool:
     raise OSError(e, os.strerror(e), str(b))
 
 
+MANIFEST = ".libkin-manifest.json"
+
+
+def _write_manifest(stage: pathlib.Path) -> None:
+    """MANIFEST in stage: the name, size and SHA-256 of each file the run wrote."""
+    files = {}
+    for entry in sorted(os.scandir(stage), key=lambda e: e.name):
+        if entry.is_file(follow_symlinks=False) and entry.name != MANIFEST:
+            h = hashlib.sha256()
+            with open(entry.path, "rb") as f:
+                for block in iter(lambda: f.read(1 << 20), b""):
+                    h.update(block)
+            files[entry.name] = {"size": entry.stat().st_size, "sha256": h.hexdigest()}
+    write_text(stage / MANIFEST, json.dumps({"format": "libkin-outputs", "version": 1, "files": files},
+                                            indent=1) + "\n")
+
+
+def previous_outputs(out: PathLike) -> Set[str]:
+    """The names of the files the last committed run wrote into out (its
+    MANIFEST), or an empty set."""
+    try:
+        doc = json.loads((pathlib.Path(out) / MANIFEST).read_text())
+        return set(doc["files"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return set()
+
+
 def _commit_folder(stage: pathlib.Path, out: pathlib.Path) -> None:
-    """Put the written folder stage in out's place, keeping out's other files."""
+    """Put the written folder stage in out's place, keeping out's files that
+    are not outputs of the previous run (its MANIFEST)."""
+    _write_manifest(stage)
     if not out.exists():
         os.rename(stage, out)
         _fsync_folder(out.parent)
@@ -173,8 +207,9 @@ def _commit_folder(stage: pathlib.Path, out: pathlib.Path) -> None:
     if not out.is_dir():
         raise NotADirectoryError(errno.ENOTDIR, os.strerror(errno.ENOTDIR), str(out))
     moved_later = []
-    for entry in os.scandir(out):  # files the run did not write stay in out
-        if (stage / entry.name).exists() or os.path.lexists(stage / entry.name):
+    stale = previous_outputs(out)  # the previous run's outputs go: no old report beside a new summary
+    for entry in os.scandir(out):  # other files (the user's) stay in out
+        if os.path.lexists(stage / entry.name) or entry.name in stale:
             continue
         if entry.is_file(follow_symlinks=False):
             try:
