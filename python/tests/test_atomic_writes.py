@@ -333,3 +333,24 @@ def test_the_study_folder_is_committed_whole(tmp_path, monkeypatch):
         assert main(["study", "--hub", "4", "--loops", "1", "--out", str(out), "--quiet"]) == 1
     FAULTS["study folder: disk full (RLIMIT_FSIZE)"] += 1
     assert snapshot(tmp_path) == good
+
+
+def test_out_is_the_working_folder_or_a_link(tmp_path, monkeypatch, atlases):
+    """`--out .` keeps the folder the shell stands in (files renamed in one
+    by one, the MANIFEST last); a link to a folder keeps pointing at it."""
+    here = tmp_path / "here"
+    here.mkdir()
+    (here / "notes.txt").write_text("mine\n")
+    monkeypatch.chdir(here)
+    inode = os.stat(".").st_ino
+    atlas_report.write(atlases[0], ".")
+    atlas_report.write(atlases[1], ".")
+    assert os.stat(".").st_ino == inode and os.path.samefile(".", here)
+    assert json.loads((here / "atlas.json").read_text()) == json.loads(atlases[1].to_json())
+    assert (here / "notes.txt").read_text() == "mine\n"
+    assert sorted(os.listdir(tmp_path)) == ["here"]
+    link = tmp_path / "link"
+    link.symlink_to(here)
+    atlas_report.write(atlases[0], link)
+    assert link.is_symlink()
+    assert json.loads((here / "atlas.json").read_text()) == json.loads(atlases[0].to_json())

@@ -200,6 +200,21 @@ def _commit_folder(stage: pathlib.Path, out: pathlib.Path) -> None:
     """Put the written folder stage in out's place, keeping out's files that
     are not outputs of the previous run (its MANIFEST)."""
     _write_manifest(stage)
+    cwd = pathlib.Path.cwd().resolve()
+    if out.exists() and (out == cwd or out in cwd.parents):
+        # the folder the caller (or its shell) stands in keeps its identity:
+        # the files are renamed in one by one, stale outputs removed, the MANIFEST last
+        stale = previous_outputs(out)
+        names = sorted(os.listdir(stage), key=lambda n: n == MANIFEST)
+        for name in names[:-1]:
+            os.replace(stage / name, out / name)
+        for name in stale - set(names):
+            with contextlib.suppress(OSError):
+                (out / name).unlink()
+        os.replace(stage / MANIFEST, out / MANIFEST)
+        _fsync_folder(out)
+        os.rmdir(stage)
+        return
     if not out.exists():
         os.rename(stage, out)
         _fsync_folder(out.parent)
@@ -236,7 +251,7 @@ def staged_folder(out: PathLike) -> Iterator[pathlib.Path]:
     """Yield a new staging folder next to out to write the outputs into; on a
     normal exit it is committed as out in one step, on an exception it is
     removed and out is untouched."""
-    out = pathlib.Path(out)
+    out = pathlib.Path(out).resolve()  # absolute, through links (a link to a folder keeps pointing at it)
     out.parent.mkdir(parents=True, exist_ok=True)
     stage = pathlib.Path(tempfile.mkdtemp(prefix=f".{out.name}.staging-", dir=out.parent))
     try:  # mkdtemp's folder is private: give it out's mode (or a new folder's)
@@ -258,7 +273,7 @@ def recover(out: PathLike) -> None:
     """After a run that was killed (call it holding out's lock): put back
     the previous outputs if the kill fell between the two renames of a
     commit, and remove the staging folders and temporary files it left."""
-    out = pathlib.Path(out).absolute()
+    out = pathlib.Path(out).resolve()
     parent, name = out.parent, out.name
     if not parent.is_dir():
         return
@@ -284,7 +299,7 @@ def folder_lock(out: PathLike) -> Iterator[None]:
     except ImportError:  # pragma: no cover - Windows
         yield
         return
-    out = pathlib.Path(out).absolute()
+    out = pathlib.Path(out).resolve()
     out.parent.mkdir(parents=True, exist_ok=True)
     lock = out.parent / f".{out.name}.lock"
     f: IO[bytes] = open(lock, "a+b")
