@@ -53,6 +53,11 @@ KIN_API int kin_assembly_load_string(const char *text, size_t len, kin_assembly 
  * written: options and path state (path length, orientation, step count);
  * the loaded assembly starts a fresh path at the saved configuration, as
  * after kin_set_coords(). The assembly is not changed.
+ * Written whole or not at all: into a temporary file <path>.tmp.XXXXXX in
+ * the same folder, fsynced, then renamed over path; on any failure (e.g. a
+ * full disk: KIN_EIO) the temporary file is removed and a file already at
+ * path is left as it was. (A path that is a device, e.g. /dev/stdout, is
+ * written in place.)
  * Returns KIN_OK, KIN_ENULL (a or path NULL), KIN_EIO, KIN_ENOMEM, KIN_EGEOM
  * (a non-finite coordinate or length, which a valid handle never holds). */
 KIN_API int kin_assembly_save(const kin_assembly *a, const char *name, const char *path,

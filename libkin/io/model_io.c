@@ -4,13 +4,17 @@
  * so both report the same status for the same file; what only
  * kin_assembly_create() checks (self and duplicate bars, zero-length bars,
  * too few joints, no free coordinate) is left to it. */
+#define _XOPEN_SOURCE 700 /* mkstemp, fsync, realpath */
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <jansson.h>
 
@@ -519,6 +523,144 @@ int kin_assembly_save_string(const kin_assembly *a, const char *name, char **tex
 
 void kin_free_string(char *text) { free(text); }
 
+/* ---- atomic file writes -------------------------------------------------- */
+
+/* Fault injection for the tests (internal.h): the nth call of one operation
+ * fails with errno err, once. */
+static int io_fault_op = KIN__IO_FAULT_NONE, io_fault_nth = 0, io_fault_err = 0, io_fault_seen = 0;
+
+void kin__set_io_fault(int op, int nth, int err)
+{
+    io_fault_op = op;
+    io_fault_nth = nth;
+    io_fault_err = err;
+    io_fault_seen = 0;
+}
+
+/* 0, or the injected errno of this call of op */
+static int io_fault(int op)
+{
+    if (op != io_fault_op || io_fault_op == KIN__IO_FAULT_NONE) return 0;
+    if (++io_fault_seen != io_fault_nth) return 0;
+    io_fault_op = KIN__IO_FAULT_NONE;
+    return io_fault_err;
+}
+
+/* write n bytes to fd in chunks (a full disk may refuse any of them):
+ * 0 or an errno */
+static int write_all(int fd, const char *p, size_t n)
+{
+    while (n > 0) {
+        size_t chunk = n < KIN__IO_CHUNK ? n : KIN__IO_CHUNK;
+        int inj = io_fault(KIN__IO_FAULT_WRITE);
+        if (inj) return inj;
+        ssize_t w = write(fd, p, chunk);
+        if (w < 0) {
+            if (errno == EINTR) continue;
+            return errno ? errno : EIO;
+        }
+        if (w == 0) return EIO;
+        p += w;
+        n -= (size_t)w;
+    }
+    return 0;
+}
+
+/* the folder of path (its text up to the last '/', or "."), into buf */
+static void folder_of(const char *path, char *buf, size_t len)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash)
+        snprintf(buf, len, ".");
+    else if (slash == path)
+        snprintf(buf, len, "/");
+    else
+        snprintf(buf, len, "%.*s", (int)(slash - path), path);
+}
+
+/* Write text to path so that a reader (or a crash) sees either the old file
+ * or the whole new one: into <path>.tmp.XXXXXX in the same folder, fsync,
+ * rename over path, fsync the folder. On failure the temporary file is
+ * removed and path is untouched. A path that exists and is not a regular
+ * file (a device such as /dev/stdout) is written in place. */
+static int write_atomic(const io_err *e, const char *path, const char *text, size_t n)
+{
+    struct stat st;
+    char *real = NULL;
+    int rc = KIN_OK, err = 0;
+    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode)) { /* replace the link's target, not the link */
+        real = realpath(path, NULL);
+        if (real) path = real;
+    }
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+        free(real);
+        return io_fail(e, KIN_EIO, "cannot write: %s", strerror(EISDIR));
+    }
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        int fd = open(path, O_WRONLY | O_TRUNC);
+        if (fd < 0) {
+            err = errno;
+            free(real);
+            return io_fail(e, KIN_EIO, "cannot open for writing: %s", strerror(err));
+        }
+        err = write_all(fd, text, n);
+        if (close(fd) != 0 && !err) err = errno ? errno : EIO;
+        free(real);
+        return err ? io_fail(e, KIN_EIO, "cannot write: %s", strerror(err)) : KIN_OK;
+    }
+    size_t plen = strlen(path);
+    char *tmp = malloc(plen + 12);
+    if (!tmp) {
+        free(real);
+        return io_fail(e, KIN_ENOMEM, "out of memory");
+    }
+    memcpy(tmp, path, plen);
+    memcpy(tmp + plen, ".tmp.XXXXXX", 12);
+    int fd = mkstemp(tmp);
+    if (fd < 0) {
+        err = errno;
+        rc = io_fail(e, KIN_EIO, "cannot open for writing: %s", strerror(err));
+        goto done;
+    }
+    /* mkstemp makes the file 0600; give it the mode a new file would get (or the old file's) */
+    {
+        mode_t um = umask(0);
+        umask(um);
+        struct stat old;
+        mode_t mode = stat(path, &old) == 0 ? (old.st_mode & 07777) : (0666 & ~um);
+        (void)fchmod(fd, mode);
+    }
+    err = write_all(fd, text, n);
+    if (!err) {
+        err = io_fault(KIN__IO_FAULT_FSYNC);
+        if (!err && fsync(fd) != 0) err = errno ? errno : EIO;
+    }
+    if (close(fd) != 0 && !err) err = errno ? errno : EIO; /* a full disk may show only here */
+    if (!err) {
+        err = io_fault(KIN__IO_FAULT_RENAME);
+        if (!err && rename(tmp, path) != 0) err = errno ? errno : EIO;
+    }
+    if (err) {
+        unlink(tmp);
+        rc = io_fail(e, KIN_EIO, "cannot write: %s", strerror(err));
+        goto done;
+    }
+    {   /* make the rename durable; a folder that cannot be opened or synced
+         * (some file systems) leaves the file written all the same */
+        char dir[PATH_MAX];
+        folder_of(path, dir, sizeof dir);
+        int dfd = open(dir, O_RDONLY);
+        if (dfd >= 0) {
+            (void)fsync(dfd);
+            close(dfd);
+        }
+    }
+done:
+    free(tmp);
+    free(real);
+    return rc;
+}
+
 int kin_assembly_save(const kin_assembly *a, const char *name, const char *path, char *errbuf,
                       size_t errlen)
 {
@@ -529,18 +671,7 @@ int kin_assembly_save(const kin_assembly *a, const char *name, const char *path,
     e.path = path;
     text_buf t = {NULL, 0, 0, 0};
     int rc = render(&e, a, name, &t);
-    if (rc == KIN_OK) {
-        FILE *f = fopen(path, "wb");
-        if (!f) {
-            rc = io_fail(&e, KIN_EIO, "cannot open for writing: %s", strerror(errno));
-        } else {
-            int err = 0;
-            errno = 0;
-            if (fwrite(t.p, 1, t.n, f) != t.n) err = errno ? errno : EIO;
-            if (fclose(f) != 0 && !err) err = errno ? errno : EIO; /* a full disk may show only here */
-            if (err) rc = io_fail(&e, KIN_EIO, "cannot write: %s", strerror(err));
-        }
-    }
+    if (rc == KIN_OK) rc = write_atomic(&e, path, t.p, t.n);
     free(t.p);
     return rc;
 }

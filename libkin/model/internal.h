@@ -139,6 +139,13 @@ enum kin__fault { KIN__FAULT_NONE = 0, KIN__FAULT_SVD_ARG, KIN__FAULT_SVD_CONV, 
                   KIN__FAULT_SPARSE_CAPACITANCE };
 void kin__set_fault(kin_assembly *a, int fault);
 
+/* Fault injection for the tests (io/model_io.c, not exported): the nth
+ * write (of KIN__IO_CHUNK bytes), fsync or rename of the next file saves
+ * fails once with errno err (ENOSPC: a full disk); op NONE clears it. */
+enum kin__io_fault { KIN__IO_FAULT_NONE = 0, KIN__IO_FAULT_WRITE, KIN__IO_FAULT_FSYNC, KIN__IO_FAULT_RENAME };
+#define KIN__IO_CHUNK 4096
+void kin__set_io_fault(int op, int nth, int err);
+
 /* error helpers: set the handle's message and return the code */
 int kin__fail(kin_assembly *a, int code, const char *fmt, ...);
 int kin__failv(char *buf, size_t len, int code, const char *fmt, va_list ap);

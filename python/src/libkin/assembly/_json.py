@@ -24,6 +24,7 @@ from typing import Any, Dict, List, NoReturn, Optional, Tuple, Union
 import numpy as np
 import numpy.typing as npt
 
+from ..atomic import write_text
 from ..errors import ModelFormatError
 from ._base import AssemblyBase
 
@@ -277,7 +278,6 @@ def to_json(self: AssemblyBase, path: Union[str, "os.PathLike[str]", None] = Non
         "bars": [{"index": k, "joints": [int(bars[k, 0]), int(bars[k, 1])], "length": float(L0[k])}
                  for k in range(self.nbars)],
     }
-    if path is not None:
-        with open(path, "w") as f:
-            json.dump(doc, f, indent=1)
+    if path is not None:  # whole or not at all: the file saved before stays on a failure
+        write_text(path, json.dumps(doc, indent=1))
     return doc

@@ -6,6 +6,7 @@ import argparse
 import pathlib
 from typing import TYPE_CHECKING, Any
 
+from ..atomic import folder_lock
 from ..cliargs import count, load_model_spec, positive
 from ..parallel import executor
 
@@ -47,6 +48,12 @@ def add_arguments(s: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace, assembly: Assembly) -> int:
+    # one run per --out at a time: a second fails at once (FolderInUseError)
+    with folder_lock(args.out):
+        return _run(args, assembly)
+
+
+def _run(args: argparse.Namespace, assembly: Assembly) -> int:
     from . import report as atlas_report
     from .explorer import explore
     atlas_report.require_output_modules()  # refuse before any work, not after it

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any, Dict, List, Optional, Union
 import numpy as np
 from numpy.typing import NDArray
 
+from ..atomic import replacing, write_text
 from . import tasks
 
 if TYPE_CHECKING:
@@ -99,9 +100,8 @@ class Atlas:
 
     def to_json(self, path: Union[None, str, os.PathLike[str]] = None) -> str:
         text = json.dumps(self.to_dict(), indent=1, default=_jsonable, allow_nan=True) + "\n"
-        if path is not None:
-            with open(path, "w") as f:
-                f.write(text)
+        if path is not None:  # whole or not at all
+            write_text(path, text)
         return text
 
     @classmethod
@@ -129,7 +129,8 @@ class Atlas:
 
     def to_graphml(self, path: Union[str, os.PathLike[str]]) -> None:
         import networkx as nx
-        nx.write_graphml(self.to_networkx(), path)
+        with replacing(path) as tmp:  # whole or not at all
+            nx.write_graphml(self.to_networkx(), tmp)
 
     def summary(self) -> Dict[str, Any]:
         """Counts by node kind and by edge event."""

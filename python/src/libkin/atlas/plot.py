@@ -16,6 +16,7 @@ from typing import Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
+from ..atomic import replacing
 from . import model as _atlas
 
 STYLE = {  # kind: (marker, face colour, size, legend text)
@@ -151,8 +152,11 @@ def draw_map(atlas: _atlas.Atlas, path: Union[None, str, os.PathLike[str]] = Non
                           + (f"\n({len(atlas.nodes) - len(merged)} shown: the start, the expanded nodes and "
                              "the most reached; the others merged by depth and kind)" if merged else ""), fontsize=10)
     if path is not None:
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
+        try:
+            with replacing(path) as tmp:  # whole or not at all
+                fig.savefig(tmp, dpi=110)
+        finally:
+            plt.close(fig)
     return fig
 
 
@@ -185,5 +189,8 @@ def draw_nodes(atlas: _atlas.Atlas, path: Union[str, os.PathLike[str]], limit: i
         ax.set_aspect("equal")
         ax.set_title(_label(atlas, n), fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+    try:
+        with replacing(path) as tmp:  # whole or not at all
+            fig.savefig(tmp, dpi=100)
+    finally:
+        plt.close(fig)

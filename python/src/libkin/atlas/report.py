@@ -9,6 +9,7 @@ from typing import Any, Dict, List, Tuple, Union
 
 import numpy as np
 
+from ..atomic import staged_folder, write_text
 from . import model as _atlas
 
 
@@ -40,18 +41,23 @@ def require_output_modules() -> None:
 def write(atlas: _atlas.Atlas, out: Union[str, os.PathLike[str]], map_png: str = "atlas_map.png",
           nodes_png: str = "atlas_nodes.png", graphml: str = "atlas.graphml",
           json_name: str = "atlas.json") -> pathlib.Path:
-    """Write json_name, graphml, the PNGs and report.md into the folder out.
-    Returns the path of report.md. ImportError (nothing written) without
+    """Write json_name, graphml, the PNGs and report.md into the folder out,
+    committed whole: written into a staging folder next to out that then
+    takes out's place in one step (out's other files are kept); on a failure
+    out is as it was (libkin.atomic.staged_folder). Returns the path of report.md. ImportError (nothing written) without
     networkx or matplotlib."""
     require_output_modules()
     from . import plot as atlas_plot
     out = pathlib.Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    atlas.to_json(out / json_name)
-    atlas.to_graphml(out / graphml)
-    atlas_plot.draw_map(atlas, out / map_png)
-    atlas_plot.draw_nodes(atlas, out / nodes_png)
-    (out / "report.md").write_text(text(atlas, map_png, nodes_png, graphml, json_name))
+    # the five files are written aside and take their place together: a
+    # reader never sees a new atlas.json next to an old report, and a
+    # failure leaves the folder as it was (libkin.atomic.staged_folder)
+    with staged_folder(out) as stage:
+        atlas.to_json(stage / json_name)
+        atlas.to_graphml(stage / graphml)
+        atlas_plot.draw_map(atlas, stage / map_png)
+        atlas_plot.draw_nodes(atlas, stage / nodes_png)
+        write_text(stage / "report.md", text(atlas, map_png, nodes_png, graphml, json_name))
     return out / "report.md"
 
 

@@ -3,6 +3,8 @@ and path animations. Each function returns the matplotlib Figure and, given
 a path, writes the image there."""
 import numpy as np
 
+from ..atomic import replacing
+
 _PLANES = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
 
 
@@ -69,7 +71,8 @@ def draw(assembly_or_coords, bars=None, ax=None, plane="xy", fixed=None, labels=
         ax.set_title(title)
     fig = fig or ax.figure
     if path:
-        fig.savefig(path, dpi=110)
+        with replacing(path) as tmp:  # whole or not at all
+            fig.savefig(tmp, dpi=110)
     return fig
 
 
@@ -90,7 +93,8 @@ def singular_values(l, sv, path=None, count=None, title="singular values along t
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     if path:
-        fig.savefig(path, dpi=110)
+        with replacing(path) as tmp:  # whole or not at all
+            fig.savefig(tmp, dpi=110)
     return fig
 
 
@@ -128,7 +132,8 @@ def branch_directions(assembly, directions, path=None, plane="xy", scale=0.3):
         axes[k // cols][k % cols].axis("off")
     fig.tight_layout()
     if path:
-        fig.savefig(path, dpi=110)
+        with replacing(path) as tmp:  # whole or not at all
+            fig.savefig(tmp, dpi=110)
     return fig
 
 
@@ -149,6 +154,7 @@ def animate(frames, bars, path, plane="xy", fps=10):
         ax.set_ylim(allc[:, j].min() - pad, allc[:, j].max() + pad)
 
     anim = FuncAnimation(fig, update, frames=len(frames))
-    anim.save(path, writer=PillowWriter(fps=fps))
+    with replacing(path) as tmp:  # whole or not at all
+        anim.save(tmp, writer=PillowWriter(fps=fps))
     plt.close(fig)
     return path

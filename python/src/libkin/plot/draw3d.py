@@ -3,6 +3,7 @@ every axis, bars coloured by kind, supports marked; small multiples and
 GIF animations built from them."""
 import numpy as np
 
+from ..atomic import replacing
 from .draw2d import pyplot
 
 # bar colours by kind (sailmeasure.BAR_KINDS); other kinds are drawn in C0
@@ -24,7 +25,8 @@ def save_small(fig, path, dpi):
     buf = io.BytesIO()
     fig.savefig(buf, dpi=dpi, format="png")
     buf.seek(0)
-    Image.open(buf).convert("RGB").quantize(256).save(path, optimize=True)
+    with replacing(path) as tmp:  # whole or not at all
+        Image.open(buf).convert("RGB").quantize(256).save(tmp, optimize=True)
 
 
 def support_kinds(fixed):
@@ -186,5 +188,6 @@ def animate3d(frames, bars, kinds, fixed, path, titles, fps=10, view=(24, -62), 
     plt.close(fig)
     palette = images[len(images) // 2].quantize(64)
     pal = [im.quantize(palette=palette, dither=Image.Dither.NONE) for im in images]
-    pal[0].save(path, save_all=True, append_images=pal[1:], duration=int(1000 / fps), loop=0, optimize=True)
+    with replacing(path) as tmp:  # whole or not at all
+        pal[0].save(tmp, save_all=True, append_images=pal[1:], duration=int(1000 / fps), loop=0, optimize=True)
     return path

@@ -4,6 +4,7 @@ import argparse
 import pathlib
 import sys
 
+from libkin.atomic import folder_lock
 from libkin.cliargs import EXIT_STUDY_FAILED, EXIT_USAGE, count
 from libkin.parallel import executor
 
@@ -29,6 +30,14 @@ def register(sub):
 
 
 def cmd_study(args: argparse.Namespace) -> int:
+    if args.hub == 4 and args.loops != 1:
+        print("the square-hub study is the paper's one-loop sail (--loops 1)", file=sys.stderr)
+        return EXIT_USAGE
+    with folder_lock(args.out):  # one run per --out at a time: a second fails at once (FolderInUseError)
+        return _study(args)
+
+
+def _study(args: argparse.Namespace) -> int:
     from . import sailstudy, squarestudy
     if args.hub == 4:
         if args.loops != 1:

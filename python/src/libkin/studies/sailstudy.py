@@ -25,6 +25,7 @@ import time
 import numpy as np
 
 from libkin import Assembly, solve_quadrics
+from libkin.atomic import replacing, staged_folder, write_text
 from libkin.symmetry import mechanism_group, sail_rotation
 
 # (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, paper_locate and record are
@@ -390,17 +391,20 @@ def _finish_hex(res, track, out, t_start, progress, stages=(), smap=None, snaps=
     res["seconds"] = round(time.perf_counter() - t_start, 1)
     if out is not None:
         out = pathlib.Path(out)
-        out.mkdir(parents=True, exist_ok=True)
-        try:
-            if smap is not None:
-                smap.atlas.to_json(out / "atlas.json")
-            if track is not None and track.l:
-                np.savez(out / "track.npz", l=np.array(track.l), sv=np.array(track.sv),
-                         strain=np.array(track.strain), hub_z=np.array(track.hub_z))
-                from . import studyreport
-                studyreport.hexagonal(res, track, stages, out, smap, snaps or {})
-        finally:  # with the figures' time when they were drawn
-            (out / "summary.json").write_text(json.dumps(res, indent=1, default=jsonable) + "\n")
+        # written aside and committed whole (libkin.atomic.staged_folder): a
+        # failure leaves the folder of the last good run as it was
+        with staged_folder(out) as stage:
+            try:
+                if smap is not None:
+                    smap.atlas.to_json(stage / "atlas.json")
+                if track is not None and track.l:
+                    with replacing(stage / "track.npz") as tmp, open(tmp, "wb") as f:
+                        np.savez(f, l=np.array(track.l), sv=np.array(track.sv),
+                                 strain=np.array(track.strain), hub_z=np.array(track.hub_z))
+                    from . import studyreport
+                    studyreport.hexagonal(res, track, stages, stage, smap, snaps or {})
+            finally:  # with the figures' time when they were drawn
+                write_text(stage / "summary.json", json.dumps(res, indent=1, default=jsonable) + "\n")
         say(progress, f"wrote {out / 'report.md'}")
     return res
 

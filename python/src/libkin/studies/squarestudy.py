@@ -8,6 +8,7 @@ import time
 import numpy as np
 
 from libkin import Assembly
+from libkin.atomic import staged_folder, write_text
 
 from .common import SAME_CONFIG_TOL, accounting_words, follow_to_bifurcation, jsonable, say
 
@@ -79,9 +80,9 @@ def square_study(length=1.75, threads=2, progress=True, out=None):
             f"{f['hub_fold_deg']:.1f} deg" if "m" in f else "reaches no bifurcation"))
     if out is not None:
         out = pathlib.Path(out)
-        out.mkdir(parents=True, exist_ok=True)
-        (out / "summary.json").write_text(json.dumps(res, indent=1, default=jsonable) + "\n")
         from . import studyreport
-        studyreport.square(res, a, br, out)
+        with staged_folder(out) as stage:  # committed whole (libkin.atomic.staged_folder)
+            write_text(stage / "summary.json", json.dumps(res, indent=1, default=jsonable) + "\n")
+            studyreport.square(res, a, br, stage)
         say(progress, f"wrote {out / 'report.md'}")
     return res

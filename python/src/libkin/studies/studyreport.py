@@ -1,6 +1,7 @@
 """Markdown reports and figures of the sail studies (see sailstudy.py)."""
 import numpy as np
 
+from libkin.atomic import write_text
 from libkin.plot import draw, pyplot
 
 from .common import branch_words
@@ -283,7 +284,7 @@ def _write_hex_md(res, out, M, figs):
     figs_s = res.get("seconds_figures", 0.0)
     L.append(f"Run time {res['seconds'] + figs_s:.1f} s: the study {res['seconds']} s, the figures and files "
              f"{figs_s} s.\n")
-    (out / "report.md").write_text("\n".join(L))
+    write_text(out / "report.md", "\n".join(L))
 
 
 _KIND_WORDS = {"bifurcation": "bifurcation", "near_miss": "near-miss (m = 1)", "regular": "regular point (m = 1)",
@@ -453,4 +454,4 @@ def square(res, a, br, out):
     L.append("*Every directed path out of the flat state, drawn from above at path length 1.75 a: 'path i "
              "(+bk)' is second-order solution k followed in the + sense; red: the paths that go on to the "
              "compact state with the hub folded 90 degrees.*\n")
-    (out / "report.md").write_text("\n".join(L))
+    write_text(out / "report.md", "\n".join(L))

@@ -13,6 +13,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ...assembly import Assembly
+from ...atomic import write_text
 from ...errors import ModelFormatError
 from .reader import FIXED_KEY, FOLD_SPEC, FoldAssembly, FoldDoc, FoldSource, resolve_frame
 
@@ -144,10 +145,8 @@ def write_fold(path: Union[None, str, "os.PathLike[str]"], assembly: Assembly,
         doc["file_classes"] = ["animation"]
         doc["file_frames"] = [{"frame_parent": 0, "frame_inherit": True, "frame_classes": frame_classes,
                                "vertices_coords": coords_of(c)} for c in configs[1:]]
-    if path is not None:
-        with open(path, "w") as out:
-            json.dump(doc, out, separators=(",", ":"))
-            out.write("\n")
+    if path is not None:  # whole or not at all: the file saved before stays on a failure
+        write_text(path, json.dumps(doc, separators=(",", ":")) + "\n")
     return doc
 
 
