@@ -165,7 +165,11 @@ typedef struct kin_analysis {
  * mechanism, and one about a line the joints are off by more than the rank
  * resolves is rigid, not internal. out may be NULL. The results
  * stay readable through the getters below until the configuration changes.
- * Returns KIN_OK, KIN_ENULL, KIN_ELAPACK_ARG, KIN_ELAPACK_CONV. */
+ * Progress (kin_set_progress): done = 0 of total = 2 before the SVD, 1 after
+ * it, 2 at the end; a callback that asks to cancel at 0 or 1 makes the call
+ * return KIN_ECANCELLED with the previous analysis kept.
+ * Returns KIN_OK, KIN_ENULL, KIN_ELAPACK_ARG, KIN_ELAPACK_CONV,
+ * KIN_ECANCELLED. */
 KIN_API int kin_analyse(kin_assembly *a, kin_analysis *out);
 
 /* Last analysis, if current. KIN_ESTATE if kin_analyse() has not been run
