@@ -39,7 +39,7 @@ C_LAYERS = [
 # the libkin package: a module may import from its own layer or below, never
 # above, and no two modules may import each other, even through others.
 PY_LAYERS = [
-    ["_native", "errors", "_compat", "parallel"],   # the cffi boundary, exceptions, executors
+    ["_native", "errors", "_compat", "parallel", "_bounded"],  # the cffi boundary, exceptions, executors, bounded reads
     ["assembly"],                                   # Assembly: analysis, paths, location, branches
     ["io", "homotopy", "symmetry", "plot", "cliargs"],
     ["atlas"],                                      # libkin.explore

@@ -42,6 +42,7 @@ from typing import Any, Dict, List, NoReturn, Optional, Sequence, Tuple, Union
 import numpy as np
 import numpy.typing as npt
 
+from ..._bounded import decode_utf8, documented_errors, read_bounded
 from ...assembly import Assembly
 from ...errors import ModelFormatError
 
@@ -81,13 +82,12 @@ def _fail(where: str, msg: str) -> NoReturn:
     raise ModelFormatError(f"FOLD {where}: {msg}")
 
 
-def _load_doc(source: FoldSourceArg) -> FoldDoc:
+def _load_doc(source: FoldSourceArg, max_bytes: Optional[int] = None) -> FoldDoc:
     if isinstance(source, dict):
         return source
     try:
         if isinstance(source, (str, os.PathLike)) and not str(source).lstrip().startswith("{"):
-            with open(source) as f:
-                doc = json.load(f)
+            doc = json.loads(decode_utf8(read_bounded(source, max_bytes)))
         else:
             doc = json.loads(str(source))
     except json.JSONDecodeError as exc:
@@ -207,7 +207,9 @@ def _fixed_from_arg(fixed: Any, nv: int, dim: int) -> npt.NDArray[np.bool_]:
     return out
 
 
-def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: str = "rigid") -> FoldAssembly:
+@documented_errors("FOLD file")
+def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: str = "rigid",
+              max_bytes: Optional[int] = None) -> FoldAssembly:
     """An assembly from a FOLD file.
 
     Parameters
@@ -220,6 +222,8 @@ def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: s
         0 = the key frame (top level), i = file_frames[i - 1] (frame_inherit honoured).
     faces : {"rigid", "triangulate", "ignore"}
         How faces are kept rigid (module docstring).
+    max_bytes : int, optional
+        Largest file read (default 64 MiB, libkin._bounded.MAX_BYTES).
 
     Returns
     -------
@@ -228,11 +232,15 @@ def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: s
         else the lengths in vertices_coords; its `fold` attribute lets
         write_fold() write back the file's own mesh.
 
-    Raises ModelFormatError on anything malformed.
+    Raises ModelFormatError on anything malformed (OutOfMemoryError if
+    parsing runs out of memory: only libkin's classes, whatever the input),
+    LimitError for a file above max_bytes, FileAccessError for one that is
+    not a regular file (a FIFO, a device: never read), OSError for one
+    that cannot be opened.
     """
     if faces not in _FACE_MODES:
         raise ModelFormatError(f"faces: expected one of {_FACE_MODES}, got {faces!r}")
-    doc = _load_doc(source)
+    doc = _load_doc(source, max_bytes)
     fr = resolve_frame(doc, frame)
     x = _coords(fr)
     nv, dim = x.shape
