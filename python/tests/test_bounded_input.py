@@ -21,6 +21,8 @@ from libkin.errors import FileAccessError, GeometryError, KinError, LimitError
 from libkin.io import fold
 from libkin.io.model_json import read_json
 
+# examples per Hypothesis harness: 150 in the suite, more for a long run (tests/fuzz/README.md)
+EXAMPLES_N = int(os.environ.get("LIBKIN_FUZZ_EXAMPLES", "150"))
 EXAMPLES = pathlib.Path(__file__).resolve().parents[2] / "examples" / "fold"
 SMALL = {"dimension": 2, "joints": [{"xyz": [0, 0], "free": [False, False]}, {"xyz": [1, 0]}, {"xyz": [1, 1]},
                                     {"xyz": [0, 1], "free": [False, False]}],
@@ -154,7 +156,7 @@ _json_values = st.recursive(
     max_leaves=30)
 
 
-@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=EXAMPLES_N, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(doc=_json_values, frame=st.integers(min_value=-1, max_value=3),
        faces=st.sampled_from(["rigid", "triangulate", "ignore"]))
 def test_fold_reader_fuzz_documents(doc, frame, faces):
@@ -168,7 +170,7 @@ def test_fold_reader_fuzz_documents(doc, frame, faces):
             pass
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=EXAMPLES_N, deadline=None)
 @given(data=st.binary(max_size=200))
 def test_fold_reader_fuzz_bytes(tmp_path_factory, data):
     p = tmp_path_factory.mktemp("fz") / "x.fold"
