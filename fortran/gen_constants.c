@@ -67,6 +67,9 @@ static void constants(void)
     P(KIN_FOLLOW_LENGTH_LIMIT) P(KIN_FOLLOW_STEP_LIMIT) P(KIN_FOLLOW_FAILED)
     printf("! kin_symmetry.h: graph automorphisms tested at most\n");
     P(KIN_SYMMETRY_MAX_CANDIDATES)
+    printf("! kin_io.h: largest model file kin_assembly_load reads\n");
+    printf("  integer(c_size_t), parameter, public :: KIN_LOAD_MAX_BYTES = %ld_c_size_t\n",
+           (long)KIN_LOAD_MAX_BYTES);
     printf("! kin_branch.h: default limit on the complete solver's paths\n");
     printf("  integer(c_long), parameter, public :: KIN_HOMOTOPY_MAX_PATHS = %ld_c_long\n",
            (long)KIN_HOMOTOPY_MAX_PATHS);

@@ -162,7 +162,7 @@ module libkin
   public :: kin_follow_options_default, kin_follow_options_default_c, kin_follow_options_init
   public :: kin_follow_event
   public :: kin_set_progress, kin_progress_callback
-  public :: kin_assembly_load, kin_assembly_load_string, kin_assembly_save
+  public :: kin_assembly_load, kin_assembly_load_limited, kin_assembly_load_string, kin_assembly_save
   public :: kin_assembly_save_string, kin_free_string
   public :: kin_model_threebar, kin_sail_params_default, kin_sail_params_default_c, kin_sail_params_init
   public :: kin_sail_size, kin_model_sail
@@ -607,6 +607,16 @@ module libkin
       type(c_ptr), value :: errbuf
       integer(c_size_t), value :: errlen
       integer(c_int) :: kin_assembly_load
+    end function
+    function kin_assembly_load_limited(path, max_bytes, out, errbuf, errlen) &
+        bind(C, name='kin_assembly_load_limited')
+      import :: c_int, c_char, c_ptr, c_size_t
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_size_t), value :: max_bytes
+      type(c_ptr), intent(out) :: out
+      type(c_ptr), value :: errbuf
+      integer(c_size_t), value :: errlen
+      integer(c_int) :: kin_assembly_load_limited
     end function
     function kin_assembly_load_string(text, len, out, errbuf, errlen) &
         bind(C, name='kin_assembly_load_string')

@@ -65,9 +65,13 @@ typedef struct kin_assembly kin_assembly;
  * Any such framework is accepted, whatever the counts: fewer or more bars
  * than free coordinates, several internal degrees of freedom, joints on one
  * line or (3D) in one plane (see docs/generality.md).
- * The counts are checked before any array is read. Allocates all workspace
- * (including the LAPACK work arrays, whose sizes are queried once here,
- * each only for the factorizations the sizes can need);
+ * The counts are checked before any array is read. Allocates the workspace
+ * every mode needs (O(njoints + nbars)); the dense workspace of the SVD
+ * analysis and the dense LU (O(nfree^2 + nbars^2), with LAPACK's work
+ * arrays, queried then) is made once, by the first call that needs it
+ * (kin_analyse, a step in the SVD or LU mode, a dense fallback of the
+ * sparse mode), which returns KIN_ENOMEM before allocating anything if it
+ * would exceed the machine's physical memory;
  * each dense matrix of the analysis (nfree^2, nbars^2, nfree*(nbars+7)
  * entries) must fit LAPACK's int sizes. Nothing is half-built: on failure
  * everything allocated is released.
@@ -165,7 +169,12 @@ typedef struct kin_analysis {
  * mechanism, and one about a line the joints are off by more than the rank
  * resolves is rigid, not internal. out may be NULL. The results
  * stay readable through the getters below until the configuration changes.
- * Returns KIN_OK, KIN_ENULL, KIN_ELAPACK_ARG, KIN_ELAPACK_CONV. */
+ * Progress (kin_set_progress): done = 0 of total = 2 before the SVD, 1 after
+ * it, 2 at the end; a callback that asks to cancel at 0 or 1 makes the call
+ * return KIN_ECANCELLED with the previous analysis kept.
+ * Returns KIN_OK, KIN_ENULL, KIN_ENOMEM (the dense workspace, made at the
+ * first analysis, cannot be had), KIN_ELAPACK_ARG, KIN_ELAPACK_CONV,
+ * KIN_ECANCELLED. */
 KIN_API int kin_analyse(kin_assembly *a, kin_analysis *out);
 
 /* Last analysis, if current. KIN_ESTATE if kin_analyse() has not been run

@@ -7,7 +7,9 @@
  * success). Messages name the field and its position as the Python loader does
  * ("bars[3].joints[1]: joint 7 out of range 0..5"), or the line and column of
  * a JSON syntax error; loads from a file start with the file's path.
- * Status codes: KIN_EIO (the file could not be opened, read or written),
+ * Status codes: KIN_EIO (the file could not be opened, read or written, or
+ * is not a regular file), KIN_ELIMIT (the file is larger than the load
+ * limit, KIN_LOAD_MAX_BYTES unless kin_assembly_load_limited() raises it),
  * KIN_EFORMAT (the text is not JSON, or breaks a rule of the schema), or
  * a code of kin_assembly_create() for a document that is well-formed but
  * describes an invalid assembly (KIN_EINVAL fewer than 2 joints, KIN_ESELFBAR,
@@ -23,23 +25,38 @@
 extern "C" {
 #endif
 
+/* Largest model file kin_assembly_load() reads: 64 MiB (a model of about
+ * 200 000 bars; kin_assembly_load_limited() sets another limit). */
+#define KIN_LOAD_MAX_BYTES 67108864u
+
 /* Create an assembly from the JSON model file at `path` (UTF-8 text).
  *  path    file name, NUL-terminated.
  *  out     receives the new handle (free with kin_assembly_free); set to
  *          NULL on failure.
+ * Only a regular file of at most KIN_LOAD_MAX_BYTES bytes is read: a FIFO,
+ * a device or a directory is refused (KIN_EIO) without blocking, a larger
+ * file with KIN_ELIMIT before it is read.
  * The joints' xyz become the initial configuration; "length" (given for
  * every bar or for none) the rest lengths, else the initial lengths. The
  * optional "name", joint "label"s and bar "kind"s are checked for type but
  * not kept: the handle has no place for them. Other keys are ignored.
  * Returns KIN_OK, KIN_ENULL (path or out NULL), KIN_EIO, KIN_EFORMAT,
- * KIN_ENOMEM, or a kin_assembly_create() code (see above). */
+ * KIN_ELIMIT, KIN_ENOMEM, or a kin_assembly_create() code (see above). */
 KIN_API int kin_assembly_load(const char *path, kin_assembly **out, char *errbuf,
                               size_t errlen);
+
+/* As kin_assembly_load(), with the size limit max_bytes in place of
+ * KIN_LOAD_MAX_BYTES (0 means KIN_LOAD_MAX_BYTES). A file larger than
+ * max_bytes, or one that grows past it while read, gives KIN_ELIMIT; at most
+ * max_bytes + 2 bytes of buffer are allocated for the text. */
+KIN_API int kin_assembly_load_limited(const char *path, size_t max_bytes, kin_assembly **out,
+                                      char *errbuf, size_t errlen);
 
 /* As kin_assembly_load(), from the first `len` bytes of `text` (need not be
  * NUL-terminated, so a Fortran CHARACTER buffer can be passed with its
  * length; C callers pass strlen(text)). The caller keeps `text`.
- * Returns as kin_assembly_load() except KIN_EIO. */
+ * No size limit: the caller already holds the text.
+ * Returns as kin_assembly_load() except KIN_EIO and KIN_ELIMIT. */
 KIN_API int kin_assembly_load_string(const char *text, size_t len, kin_assembly **out,
                                      char *errbuf, size_t errlen);
 

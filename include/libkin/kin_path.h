@@ -89,7 +89,12 @@
  *   tangent oriented like the SVD's (largest entry positive), so a large
  *   structure is followed without any dense factorization unless a point
  *   comes near a bifurcation. Everything else (estimates, fallback to the
- *   SVD, the analysis not being current) is as in KIN_STEP_LU.
+ *   SVD, the analysis not being current) is as in KIN_STEP_LU. The dense
+ *   workspace of the SVD and of the dense LU (O(nf^2 + nb^2) doubles) is
+ *   made only when such a fallback first needs it, so a sparse-mode handle
+ *   of 10^4 joints stays within O(nf + nb) memory besides its KLU factors;
+ *   a fallback whose dense workspace exceeds the machine's memory returns
+ *   KIN_ENOMEM before allocating it.
  *  STEP CONTROL in KIN_STEP_LU and KIN_STEP_SPARSE: an automatic step
  *   (delta == 0) whose chord corrector stalls is halved instead of being
  *   finished by Newton (each Newton iteration is a new factorization, a

@@ -1,7 +1,8 @@
 /* libkin: progress reports and cancellation of long calls.
  *
  * Calls that can run for seconds or hours (the complete solver
- * kin_quadrics_homotopy_ex, kin_locate_next, kin_branch_paths) report
+ * kin_quadrics_homotopy_ex, kin_locate_next, kin_branch_paths, the SVD of
+ * kin_analyse on a large model) report
  * progress through a callback of this type and stop when it asks them to:
  *   - it is called only from the thread that made the library call (worker
  *     threads of the complete solver never call it), so it may use that
@@ -37,7 +38,7 @@ typedef int (*kin_progress_fn)(void *user, double done, double total);
  * forward calculations while locating, total: max_steps + max_iter; a
  * successful call ends with done = total) and kin_branch_paths (done:
  * directed paths followed, fractions for the one under way; total: their
- * number). The handle stores fn and user and does not own user. A clone
+ * number) and kin_analyse (done: 0, 1, 2 of total 2 around its SVD). The handle stores fn and user and does not own user. A clone
  * (kin_assembly_clone) starts without a callback: user is often per-call
  * state, and a clone may be used on another thread. Returns KIN_OK,
  * KIN_ENULL (a == NULL). */

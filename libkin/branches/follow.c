@@ -158,7 +158,7 @@ static int max_attempts(const kin_follow_options *o)
 static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_options *o, kin_follow_info *info)
 {
     if (!options_ok(o)) return kin__fail(a, KIN_EINVAL, "follow options out of range");
-    int nf = a->nf, rc = kin__cur(a)->valid ? KIN_OK : kin_analyse(a, NULL);
+    int nf = a->nf, rc = kin__cur(a)->valid ? KIN_OK : kin__analyse(a, NULL);
     if (rc) return rc;
     int m = kin__cur(a)->an.m_internal, at_bif = m >= 2;
     if (m == 0) return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");

@@ -4,7 +4,7 @@
  * so both report the same status for the same file; what only
  * kin_assembly_create() checks (self and duplicate bars, zero-length bars,
  * too few joints, no free coordinate) is left to it. */
-#define _XOPEN_SOURCE 700 /* mkstemp, fsync, realpath */
+#define _XOPEN_SOURCE 700 /* mkstemp, fsync, realpath; open flags, fstat */
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
@@ -298,33 +298,71 @@ int kin_assembly_load_string(const char *text, size_t len, kin_assembly **out, c
     return load_text(&e, text, len, out);
 }
 
-/* The whole file into a malloc'd buffer (read in chunks: works for pipes
- * and files whose size ftell cannot tell). */
-static int read_file(const io_err *e, const char *path, char **text, size_t *len)
+/* The whole file into a malloc'd buffer, at most max_bytes of it. Only a
+ * regular file is read: it is opened without blocking (a FIFO with no writer
+ * would block the open) and a FIFO, a device (/dev/zero, a terminal) or a
+ * directory is refused before any read, so an endless stream cannot hang
+ * the call or fill memory. A file larger than max_bytes (by its size, or by
+ * what a read finds if it grows meanwhile) gives KIN_ELIMIT. */
+static int read_file(const io_err *e, const char *path, size_t max_bytes, char **text, size_t *len)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) return io_fail(e, KIN_EIO, "cannot open: %s", strerror(errno));
-    size_t n = 0, cap = 1 << 16;
-    char *buf = malloc(cap);
-    int rc = buf ? KIN_OK : io_fail(e, KIN_ENOMEM, "read buffer");
+#ifdef O_CLOEXEC
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+#else
+    int fd = open(path, O_RDONLY | O_NONBLOCK);
+#endif
+    if (fd < 0) return io_fail(e, KIN_EIO, "cannot open: %s", strerror(errno));
+    struct stat st;
+    if (fstat(fd, &st) != 0) {
+        int err = errno;
+        close(fd);
+        return io_fail(e, KIN_EIO, "cannot stat: %s", strerror(err));
+    }
+    if (!S_ISREG(st.st_mode)) {
+        close(fd);
+        return io_fail(e, KIN_EIO, "not a regular file (a FIFO, device or directory is not read)");
+    }
+    if (st.st_size < 0 || (unsigned long long)st.st_size > (unsigned long long)max_bytes) {
+        close(fd);
+        return io_fail(e, KIN_ELIMIT, "file of %lld bytes is larger than the limit of %zu bytes",
+                       (long long)st.st_size, max_bytes);
+    }
+    /* regular files never block; clear the flag all the same */
+    int fl = fcntl(fd, F_GETFL);
+    if (fl >= 0) (void)fcntl(fd, F_SETFL, fl & ~O_NONBLOCK);
+    /* one byte more than the limit tells a file that grew past it */
+    size_t cap = (size_t)st.st_size + 1, n = 0;
+    char *buf = malloc(cap + 1);
+    int rc = buf ? KIN_OK : io_fail(e, KIN_ENOMEM, "read buffer of %zu bytes", cap + 1);
     while (rc == KIN_OK) {
         if (n == cap) {
-            char *bigger = cap <= ((size_t)-1) / 2 ? realloc(buf, cap * 2) : NULL;
+            if (cap > max_bytes) {
+                rc = io_fail(e, KIN_ELIMIT, "file grew past the limit of %zu bytes while read", max_bytes);
+                break;
+            }
+            size_t want = cap <= max_bytes / 2 ? cap * 2 : max_bytes + 1;
+            char *bigger = realloc(buf, want + 1);
             if (!bigger) {
-                rc = io_fail(e, KIN_ENOMEM, "read buffer of %zu bytes", cap);
+                rc = io_fail(e, KIN_ENOMEM, "read buffer of %zu bytes", want + 1);
                 break;
             }
             buf = bigger;
-            cap *= 2;
+            cap = want;
         }
-        size_t got = fread(buf + n, 1, cap - n, f);
-        n += got;
-        if (got == 0) {
-            if (ferror(f)) rc = io_fail(e, KIN_EIO, "cannot read: %s", strerror(errno));
+        ssize_t got = read(fd, buf + n, cap - n);
+        if (got < 0) {
+            if (errno == EINTR) continue;
+            rc = io_fail(e, KIN_EIO, "cannot read: %s", strerror(errno));
+            break;
+        }
+        if (got == 0) break;
+        n += (size_t)got;
+        if (n > max_bytes) {
+            rc = io_fail(e, KIN_ELIMIT, "file grew past the limit of %zu bytes while read", max_bytes);
             break;
         }
     }
-    fclose(f);
+    close(fd);
     if (rc) {
         free(buf);
         return rc;
@@ -334,7 +372,8 @@ static int read_file(const io_err *e, const char *path, char **text, size_t *len
     return KIN_OK;
 }
 
-int kin_assembly_load(const char *path, kin_assembly **out, char *errbuf, size_t errlen)
+int kin_assembly_load_limited(const char *path, size_t max_bytes, kin_assembly **out, char *errbuf,
+                              size_t errlen)
 {
     io_err e = {errbuf, errlen, NULL};
     if (errbuf && errlen > 0) errbuf[0] = '\0';
@@ -342,13 +381,19 @@ int kin_assembly_load(const char *path, kin_assembly **out, char *errbuf, size_t
     if (!out) return io_fail(&e, KIN_ENULL, "out is NULL");
     if (!path) return io_fail(&e, KIN_ENULL, "path is NULL");
     e.path = path;
+    if (max_bytes == 0) max_bytes = KIN_LOAD_MAX_BYTES;
     char *text = NULL;
     size_t len = 0;
-    int rc = read_file(&e, path, &text, &len);
+    int rc = read_file(&e, path, max_bytes, &text, &len);
     if (rc) return rc;
     rc = load_text(&e, text, len, out);
     free(text);
     return rc;
+}
+
+int kin_assembly_load(const char *path, kin_assembly **out, char *errbuf, size_t errlen)
+{
+    return kin_assembly_load_limited(path, 0, out, errbuf, errlen);
 }
 
 /* ---- save: the assembly as text ------------------------------------------ */

@@ -15,7 +15,7 @@ int kin_test_function(kin_assembly *a, double *tau)
 {
     if (!a || !tau) return KIN_ENULL;
     if (!kin__cur(a)->valid) {
-        int rc = kin_analyse(a, NULL);
+        int rc = kin__analyse(a, NULL);
         if (rc) return rc;
     }
     const kin_factor *f = kin__cur(a);

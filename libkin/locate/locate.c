@@ -85,7 +85,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         !(o.vr_tol > 0 && o.vr_tol < 1) || !(o.switch_eps > 0 && o.switch_eps < 1) || !isfinite(o.delta) ||
         o.max_steps < 1 || o.max_iter < 1)
         return kin__fail(a, KIN_EINVAL, "locate options out of range");
-    int rc = kin__cur(a)->valid ? KIN_OK : kin_analyse(a, NULL);
+    int rc = kin__cur(a)->valid ? KIN_OK : kin__analyse(a, NULL);
     if (rc) return rc;
     if (kin__cur(a)->an.m_internal >= 2)
         return kin__fail(a, KIN_EBIFURCATION, "already at a bifurcation (m_internal = %d)",
@@ -254,7 +254,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
     if (rc == KIN_OK && info->event != KIN_EVENT_LANDED)
         a->opt.rank_tol = fmax(user.rank_tol, LOCATED_RANK_MARGIN * o.vr_tol);
     {
-        int rc2 = kin__cur(a)->valid ? kin__reclassify(a, a->xyz, a->cur) : kin_analyse(a, NULL);
+        int rc2 = kin__cur(a)->valid ? kin__reclassify(a, a->xyz, a->cur) : kin__analyse(a, NULL);
         if (rc == KIN_OK) rc = rc2;
     }
     a->opt = user;

@@ -259,8 +259,12 @@ static int split_mechanisms(kin_assembly *a, const double *xyz, kin_factor *f)
     return KIN_OK;
 }
 
-int kin__analyse_into(kin_assembly *a, const double *xyz, int idx)
+/* The SVD of H at xyz into fac[idx] (singular values and vectors only: not
+ * yet valid; kin__reclassify completes it) */
+static int factorize(kin_assembly *a, const double *xyz, int idx)
 {
+    int rc = kin__dense_ready(a);
+    if (rc) return rc;
     kin_factor *f = &a->fac[idx];
     int nf = a->nf, nb = a->nb, info = 0;
     f->valid = 0;
@@ -284,7 +288,13 @@ int kin__analyse_into(kin_assembly *a, const double *xyz, int idx)
             return kin__fail(a, KIN_ELAPACK_CONV, "dgesdd and dgesvd failed (dgesvd info = %d)",
                              info);
     }
-    return kin__reclassify(a, xyz, idx);
+    return KIN_OK;
+}
+
+int kin__analyse_into(kin_assembly *a, const double *xyz, int idx)
+{
+    int rc = factorize(a, xyz, idx);
+    return rc ? rc : kin__reclassify(a, xyz, idx);
 }
 
 int kin__reclassify(kin_assembly *a, const double *xyz, int idx)
@@ -314,7 +324,12 @@ static int analysis_out_ok(const kin_analysis *out)
     return kin__abi_check(out, KIN__ABI(kin_analysis));
 }
 
-int kin_analyse(kin_assembly *a, kin_analysis *out)
+/* kin_analyse with or without the progress reports: the public call
+ * reports (0, 2) before the SVD, (1, 2) after it, (2, 2) at the end, and
+ * stops with KIN_ECANCELLED (the current analysis untouched) where the
+ * callback asks; the library's own loops call it without reports (their
+ * own progress counts steps) */
+static int analyse(kin_assembly *a, kin_analysis *out, int report)
 {
     if (out) {
         if (analysis_out_ok(out)) return a ? kin__fail(a, KIN_EINVAL, "out->size = %zu: set it to sizeof(kin_analysis)",
@@ -323,14 +338,23 @@ int kin_analyse(kin_assembly *a, kin_analysis *out)
         kin__abi_zero(out);
     }
     if (!a) return KIN_ENULL;
+    if (report && kin__progress(a, 0.0, 2.0)) return kin__fail(a, KIN_ECANCELLED, "analysis cancelled before the SVD");
     int trial = 1 - a->cur;
-    int rc = kin__analyse_into(a, a->xyz, trial);
+    int rc = factorize(a, a->xyz, trial);
+    if (rc) return rc;
+    if (report && kin__progress(a, 1.0, 2.0)) return kin__fail(a, KIN_ECANCELLED, "analysis cancelled after the SVD");
+    rc = kin__reclassify(a, a->xyz, trial);
     if (rc) return rc;
     a->cur = trial;
+    if (report) (void)kin__progress(a, 2.0, 2.0);
     /* a tangent chosen or inherited at this very point stays valid */
     if (out) kin__abi_write(out, &a->fac[a->cur].an, KIN__ABI(kin_analysis));
     return KIN_OK;
 }
+
+int kin_analyse(kin_assembly *a, kin_analysis *out) { return analyse(a, out, 1); }
+
+int kin__analyse(kin_assembly *a, kin_analysis *out) { return analyse(a, out, 0); }
 
 static int need_analysis(const kin_assembly *a)
 {

@@ -1,8 +1,10 @@
 /* The assembly handle: validation, workspace, getters, geometry. */
+#define _POSIX_C_SOURCE 200809L /* sysconf */
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "model/internal.h"
 #include "model/lapack.h"
@@ -369,23 +371,106 @@ void kin_assembly_free(kin_assembly *a) { release(a); }
  * which Clang's -Wbitwise-instead-of-logical flags for boolean operands */
 #define ALLOC_(p, n) ((int)(((p) = calloc((size_t)(n) > 0 ? (size_t)(n) : 1, sizeof *(p))) == NULL))
 
-/* allocate every array of a handle whose sizes (dim, nj, nb, nf, nfix) are set */
+/* allocate the arrays of a handle whose sizes (dim, nj, nb, nf, nfix) are
+ * set that every mode needs: O(nj + nb) each, and a few of nf x 6. The dense
+ * analysis workspace comes later (kin__dense_ready). */
 static int allocate(kin_assembly *a)
 {
     size_t nj = (size_t)a->nj, d = (size_t)a->dim, nb = (size_t)a->nb, nf = (size_t)a->nf;
-    size_t mn = nf < nb ? nf : nb, m1 = nb + 1, ldb = m1 > nf ? m1 : nf;
+    size_t m1 = nb + 1, ldb = m1 > nf ? m1 : nf;
     int bad = ALLOC_(a->xyz, nj * d) | ALLOC_(a->fixed, nj * d) | ALLOC_(a->bars, 2 * nb) |
               ALLOC_(a->L0, nb) | ALLOC_(a->free_index, nj * d) | ALLOC_(a->free_coord, nf) |
-              ALLOC_(a->H, nf * nb) | ALLOC_(a->A, nf * nb) | ALLOC_(a->G, nj * d * 6) |
-              ALLOC_(a->Gs, 6 * 6 + 6 + 6 * nf + nj * d * 6) | ALLOC_(a->mwork, 3 * nf * nf + 8 * nf) |
-              ALLOC_(a->B, m1 * nf) | ALLOC_(a->rhs, ldb) | ALLOC_(a->svB, m1 < nf ? m1 : nf) |
-              ALLOC_(a->t, nf) | ALLOC_(a->x0, nf) | ALLOC_(a->x, nf) | ALLOC_(a->xp, nf) |
-              ALLOC_(a->d, nf) | ALLOC_(a->y, nf + nb) | ALLOC_(a->e, nb) | ALLOC_(a->len, nb) |
-              ALLOC_(a->chord, nf) | ALLOC_(a->xyz_trial, nj * d) | ALLOC_(a->Rref, nf * 6);
+              ALLOC_(a->G, nj * d * 6) | ALLOC_(a->Gs, 6 * 6 + 6 + 6 * nf + nj * d * 6) |
+              ALLOC_(a->rhs, ldb) | ALLOC_(a->t, nf) | ALLOC_(a->x0, nf) | ALLOC_(a->x, nf) |
+              ALLOC_(a->xp, nf) | ALLOC_(a->d, nf) | ALLOC_(a->y, nf + nb) | ALLOC_(a->e, nb) |
+              ALLOC_(a->len, nb) | ALLOC_(a->chord, nf) | ALLOC_(a->xyz_trial, nj * d) | ALLOC_(a->Rref, nf * 6);
+    for (int f = 0; f < 2; ++f) bad |= ALLOC_(a->fac[f].Urig, nf * 6);
+    size_t rows = nb + 1 + (size_t)a->nrig;
+    for (int f = 0; f < 2; ++f) {
+        kin_lufactor *L = &a->lu[f];
+        bad |= ALLOC_(L->xyz, nj * d) | ALLOC_(L->vr_vec, nf) | ALLOC_(L->vmax_vec, nf);
+    }
+    bad |= ALLOC_(a->luR, nf * 6) | ALLOC_(a->luw, rows > nf ? rows : nf);
+    return bad ? KIN_ENOMEM : KIN_OK;
+}
+
+/* Bytes of the dense analysis workspace (SVD of H: H, its copy, U, VT and
+ * the internal mechanisms of both factor slots, the mechanism split's
+ * scratch, the bordered system; the LU mode's dense factors), without the
+ * LAPACK workspace; 0 if the count overflows size_t. */
+static size_t dense_bytes(const kin_assembly *a)
+{
+    size_t nb = (size_t)a->nb, nf = (size_t)a->nf, mn = nf < nb ? nf : nb, m1 = nb + 1;
+    size_t rows = nb + 1 + (size_t)a->nrig, nfnf, nfnb, nbnb, nfm1, nfrows, total = 0, part;
+    if (!kin__mul_size(nf, nf, &nfnf) || !kin__mul_size(nf, nb, &nfnb) || !kin__mul_size(nb, nb, &nbnb) ||
+        !kin__mul_size(nf, m1, &nfm1) || !kin__mul_size(nf, rows, &nfrows))
+        return 0;
+    /* doubles: H, A; 2 x (sv, U, VT, Uint); mwork; B, svB; 2 x JT */
+    size_t terms[] = {nfnb, nfnb, mn, nfnf, nbnb, nfnf, mn, nfnf, nbnb, nfnf, nfnf, nfnf, nfnf, 8 * nf,
+                      nfm1, m1 < nf ? m1 : nf, nfrows, nfrows};
+    for (size_t i = 0; i < sizeof terms / sizeof terms[0]; ++i) {
+        if (total > (size_t)-1 - terms[i]) return 0;
+        total += terms[i];
+    }
+    if (!kin__mul_size(total, sizeof(double), &total)) return 0;
+    /* ints: 2 x (ipiv, tq as doubles) */
+    if (!kin__mul_size(4 * sizeof(double), nf, &part) || total > (size_t)-1 - part) return 0;
+    return total + part;
+}
+
+/* physical memory of this machine in bytes (0 if unknown) */
+static size_t physical_bytes(void)
+{
+#if defined(_SC_PHYS_PAGES) && defined(_SC_PAGESIZE)
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    size_t b;
+    if (pages > 0 && page > 0 && kin__mul_size((size_t)pages, (size_t)page, &b)) return b;
+#endif
+    return 0;
+}
+
+/* the dense workspace of a handle that could not have all of it (the small
+ * LAPACK workspace of create stays) */
+static void release_dense(kin_assembly *a)
+{
+    double **dp[] = {&a->H, &a->A, &a->mwork, &a->B, &a->svB};
+    for (size_t i = 0; i < sizeof dp / sizeof dp[0]; ++i) {
+        free(*dp[i]);
+        *dp[i] = NULL;
+    }
+    free(a->iwork);
+    a->iwork = NULL;
+    for (int f = 0; f < 2; ++f) {
+        kin_factor *F = &a->fac[f];
+        free(F->sv), free(F->U), free(F->VT), free(F->Uint);
+        F->sv = F->U = F->VT = F->Uint = NULL;
+        F->valid = 0;
+        kin_lufactor *L = &a->lu[f];
+        free(L->JT), free(L->ipiv), free(L->tq);
+        L->JT = L->tq = NULL;
+        L->ipiv = NULL;
+        if (!L->sparse) L->valid = 0;
+    }
+}
+
+int kin__dense_ready(kin_assembly *a)
+{
+    if (a->H) return KIN_OK;
+    size_t need = dense_bytes(a), phys = physical_bytes();
+    if (need == 0)
+        return kin__fail(a, KIN_ENOMEM, "dense workspace for %d free coordinates x %d bars: size overflows",
+                         a->nf, a->nb);
+    if (phys > 0 && need > phys)
+        return kin__fail(a, KIN_ENOMEM,
+                         "dense workspace for %d free coordinates x %d bars needs %.3g GB, more than the "
+                         "%.3g GB of memory (the sparse mode, KIN_STEP_SPARSE, steps without it)",
+                         a->nf, a->nb, (double)need / 1e9, (double)phys / 1e9);
+    size_t nb = (size_t)a->nb, nf = (size_t)a->nf, mn = nf < nb ? nf : nb, m1 = nb + 1;
+    int bad = ALLOC_(a->H, nf * nb) | ALLOC_(a->A, nf * nb) | ALLOC_(a->mwork, 3 * nf * nf + 8 * nf) |
+              ALLOC_(a->B, m1 * nf) | ALLOC_(a->svB, m1 < nf ? m1 : nf);
     for (int f = 0; f < 2; ++f)
-        bad |= ALLOC_(a->fac[f].sv, mn) | ALLOC_(a->fac[f].U, nf * nf) |
-               ALLOC_(a->fac[f].VT, nb * nb) | ALLOC_(a->fac[f].Uint, nf * nf) |
-               ALLOC_(a->fac[f].Urig, nf * 6);
+        bad |= ALLOC_(a->fac[f].sv, mn) | ALLOC_(a->fac[f].U, nf * nf) | ALLOC_(a->fac[f].VT, nb * nb) |
+               ALLOC_(a->fac[f].Uint, nf * nf);
     /* LU mode: J^T = [H, t, R] has at most nb + 1 + nrig columns; its
      * factors only exist where the LU or LQ route can apply (else NULL) */
     size_t rows = nb + 1 + (size_t)a->nrig;
@@ -395,10 +480,22 @@ static int allocate(kin_assembly *a)
         if (lu || lq) bad |= ALLOC_(L->JT, nf * rows);
         if (lu) bad |= ALLOC_(L->ipiv, nf);
         if (lq) bad |= ALLOC_(L->tq, nf);
-        bad |= ALLOC_(L->xyz, nj * d) | ALLOC_(L->vr_vec, nf) | ALLOC_(L->vmax_vec, nf);
     }
-    bad |= ALLOC_(a->luR, nf * 6) | ALLOC_(a->luw, rows > nf ? rows : nf);
-    return bad ? KIN_ENOMEM : KIN_OK;
+    int lwork = 0, rc = bad ? KIN_ENOMEM : query_lwork(a, &lwork, &a->lwork_i);
+    double *work = NULL;
+    if (rc == KIN_OK && (ALLOC_(work, lwork) | ALLOC_(a->iwork, a->lwork_i))) rc = KIN_ENOMEM;
+    if (rc == KIN_OK) {
+        /* the full workspace replaces the small one of the supports' SVD */
+        free(a->work);
+        a->work = work;
+        a->lwork = lwork;
+    } else {
+        free(work);
+        release_dense(a);
+        return kin__fail(a, rc, "dense workspace for %d free coordinates x %d bars (%.3g GB)", a->nf, a->nb,
+                         (double)need / 1e9);
+    }
+    return KIN_OK;
 }
 
 int kin_assembly_create(int dim, int nj, const double *xyz, const unsigned char *fixed, int nb,
@@ -439,11 +536,17 @@ int kin_assembly_create(int dim, int nj, const double *xyz, const unsigned char 
     }
     a->rms_length = sqrt(ss / nb);
     kin_options_default(&a->opt);
-    rc = query_lwork(a, &a->lwork, &a->lwork_i);
-    if (rc == KIN_OK && (ALLOC_(a->work, a->lwork) | ALLOC_(a->iwork, a->lwork_i))) rc = KIN_ENOMEM;
-    if (rc != KIN_OK) {
-        release(a);
-        return kin__failbuf(eb, el, rc, "LAPACK workspace query");
+    /* LAPACK workspace of what every mode does (the SVD of the supports'
+     * rigid motions, nfix x nrig); kin__dense_ready makes it larger */
+    {
+        int mf = a->nfix > 0 ? a->nfix : 1, nr = a->nrig, one = 1, q = -1, info = 0;
+        double w = 0.0, dummy = 0.0;
+        dgesvd_("N", "A", &mf, &nr, &dummy, &mf, &dummy, &dummy, &one, &dummy, &nr, &w, &q, &info, 1, 1);
+        a->lwork = info == 0 && w < (double)INT_MAX - 1.0 ? (int)w + 1 : 0;
+        if (a->lwork == 0 || ALLOC_(a->work, a->lwork)) {
+            release(a);
+            return kin__failbuf(eb, el, info ? KIN_ELAPACK_ARG : KIN_ENOMEM, "LAPACK workspace of the supports");
+        }
     }
     *out = a;
     return KIN_OK;
@@ -453,11 +556,15 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
 {
     size_t nf = (size_t)src->nf, nb = (size_t)src->nb, mn = nf < nb ? nf : nb;
     memcpy(a->xyz, src->xyz, sizeof(double) * (size_t)(src->nj * src->dim));
+    /* src's dense analysis needs dst's dense workspace (made once; if it
+     * cannot be had, dst keeps no analysis and makes its own when asked) */
+    int dense = src->H != NULL && kin__dense_ready(a) == KIN_OK;
     for (int f = 0; f < 2; ++f) {
         const kin_factor *s = &src->fac[f];
         kin_factor *t = &a->fac[f];
-        t->valid = s->valid;
+        t->valid = s->valid && dense;
         t->an = s->an;
+        if (!t->valid) continue;
         memcpy(t->sv, s->sv, sizeof(double) * mn);
         memcpy(t->U, s->U, sizeof(double) * nf * nf);
         memcpy(t->VT, s->VT, sizeof(double) * nb * nb);
@@ -472,7 +579,7 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
         kin_lufactor *t = &a->lu[f];
         /* sparse factors live in src's KLU objects: not copied (dst factorizes
          * its point again when it steps) */
-        t->valid = s->valid && !s->sparse;
+        t->valid = s->valid && !s->sparse && dense;
         t->sparse = 0;
         if (!t->valid) continue;
         t->rows = s->rows;

@@ -179,6 +179,9 @@ int kin__options_read(kin_assembly *a, const kin_options *user, kin_options *o);
 
 /* factorize the configuration xyz into fac[idx] (SVD, rank, mechanisms) */
 int kin__analyse_into(kin_assembly *a, const double *xyz, int idx);
+/* kin_analyse without progress reports, for the library's own loops (whose
+ * callbacks count steps, not phases of one analysis) */
+int kin__analyse(kin_assembly *a, kin_analysis *out);
 
 
 /* dv_k = u_k^T (dH/dx . dx) w_k for singular triple k of factor f made at
@@ -210,8 +213,18 @@ int kin__progress(const kin_assembly *a, double done, double total);
 
 
 
+/* The dense analysis workspace (H, the SVD factors of both slots, the
+ * bordered system, the LU mode's dense factors, LAPACK's workspace): made
+ * at the first call that needs it (an SVD analysis, a dense bordered solve
+ * or LU factorization), once; the sparse mode steps without it. Its bytes
+ * are counted first (overflow-checked): more than the machine's physical
+ * memory gives KIN_ENOMEM (with the handle's message) before anything is
+ * allocated. KIN_OK at once if it exists. */
+int kin__dense_ready(kin_assembly *a);
+
 /* copy the configuration, analysis and path state of src into dst (same
- * model; no allocation); dst keeps its own options */
+ * model; no allocation, except dst's dense workspace the first time src
+ * has one); dst keeps its own options */
 void kin__copy_state(kin_assembly *dst, const kin_assembly *src);
 
 /* Orthogonalise v (n entries) against columns 0..k-1 of X (ld) by two

@@ -13,7 +13,8 @@ int kin__bordered_solve(kin_assembly *a, const double *xyz, const double *t, con
                         double *d)
 {
     int nf = a->nf, nb = a->nb, m1 = t ? nb + 1 : nb, ldr = nb + 1 > nf ? nb + 1 : nf;
-    int one = 1, rank = 0, info = 0;
+    int one = 1, rank = 0, info = kin__dense_ready(a);
+    if (info) return info;
     /* B = [C; t^T] (or just C when t is NULL), C = H^T built row by row (ld m1) */
     kin__build_H(a, xyz, a->H, nf);
     for (int k = 0; k < nb; ++k)

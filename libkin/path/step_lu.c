@@ -216,6 +216,7 @@ static int factor_point(kin_assembly *a, const double *xyz, const double *border
         T->sparse = 1;
     } else {
         /* J^T = [H, b, R] (nf x rows, ld nf) */
+        if ((rc = kin__dense_ready(a)) != KIN_OK) return rc;
         double *JT = T->JT;
         kin__build_H(a, xyz, JT, nf);
         memcpy(JT + (size_t)nb * nf, border, sizeof(double) * (size_t)nf);

@@ -444,7 +444,7 @@ int kin_mechanism_group(kin_assembly *a, int max_group, double *R, int *ngroup)
     if (max_group < 1)
         return kin__fail(a, KIN_EINVAL, "kin_mechanism_group: max_group = %d, must be >= 1", max_group);
     int rc;
-    if (!kin__cur(a)->valid && (rc = kin_analyse(a, NULL))) return rc;
+    if (!kin__cur(a)->valid && (rc = kin__analyse(a, NULL))) return rc;
     const kin_factor *f = kin__cur(a);
     int m = f->an.m_internal, nf = a->nf;
     if (m == 0) return kin__fail(a, KIN_ENOMECH, "kin_mechanism_group: no internal mechanism");

@@ -362,6 +362,8 @@ int kin_follow_event(kin_assembly *a, const double *dir, const kin_follow_option
 
 int kin_assembly_load(const char *path, kin_assembly **out, char *errbuf,
                               size_t errlen);
+int kin_assembly_load_limited(const char *path, size_t max_bytes, kin_assembly **out,
+                                      char *errbuf, size_t errlen);
 int kin_assembly_load_string(const char *text, size_t len, kin_assembly **out,
                                      char *errbuf, size_t errlen);
 int kin_assembly_save(const kin_assembly *a, const char *name, const char *path,

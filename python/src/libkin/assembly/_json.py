@@ -25,6 +25,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..atomic import write_text
+from .._bounded import decode_utf8, read_bounded
 from ..errors import ModelFormatError
 from ._base import AssemblyBase
 
@@ -217,23 +218,22 @@ def parse(doc: Any) -> ParsedModel:
     return doc.get("name", "model"), coords, bars, fixed, lengths, labels
 
 
-def read_json(source: ModelSource) -> ParsedModel:
+def read_json(source: ModelSource, max_bytes: Optional[int] = None) -> ParsedModel:
     """Read and check a JSON model with the Python loader: what
     `Assembly.from_json` (and `libkin.load_json`) build the Assembly from.
     The source is a file path, a JSON text (starting with ``{``) or the
     parsed dict, as there; the result is (name, coords, bars, fixed, lengths
     or None, labels), see `parse`. Raises ModelFormatError for a malformed
     model (a ValueError; the message names the field and position) and
-    OSError for an unreadable file."""
+    OSError for an unreadable file. A file is read only if it is a regular
+    file of at most max_bytes bytes (default 64 MiB, the C loader's
+    KIN_LOAD_MAX_BYTES): LimitError for a larger one, FileAccessError (an
+    OSError) for a FIFO or a device, never read."""
     if isinstance(source, dict):
         return parse(source)
     text: Any = source
     if isinstance(source, (str, os.PathLike)) and not str(source).lstrip().startswith("{"):
-        try:
-            with open(source, encoding="utf-8") as f:
-                text = f.read()
-        except UnicodeDecodeError as exc:
-            raise ModelFormatError(f"not UTF-8 text: byte {exc.start}: {exc.reason}") from None
+        text = decode_utf8(read_bounded(source, max_bytes))
     return _parse_text(text) if isinstance(text, (str, bytes)) else _parse_text.__wrapped__(text)
 
 

@@ -179,13 +179,17 @@ class Assembly(PathMixin, BranchingMixin, LocatingMixin, AssemblyBase):
         return cls._from_handle(out[0], labels, f"sail_{n_sides}x{n_loops}")
 
     @classmethod
-    def from_json(cls, source: Union[str, "os.PathLike[str]", Dict[str, Any]]) -> "Assembly":
+    def from_json(cls, source: Union[str, "os.PathLike[str]", Dict[str, Any]],
+                  max_bytes: Optional[int] = None) -> "Assembly":
         """Build an assembly from a JSON model (schema in ``python/README.md``).
 
         Parameters
         ----------
         source : str, path-like or dict
             A file path, a JSON text (starting with ``{``), or the parsed dict.
+        max_bytes : int, optional
+            Largest file read (default 64 MiB, as the C loader's
+            KIN_LOAD_MAX_BYTES).
 
         Returns
         -------
@@ -197,10 +201,14 @@ class Assembly(PathMixin, BranchingMixin, LocatingMixin, AssemblyBase):
         ModelFormatError
             Malformed JSON or model; the message names the field and position
             (a ValueError).
+        LimitError
+            The file is larger than max_bytes (a ValueError).
+        FileAccessError
+            The file is a FIFO or a device, not read (an OSError).
         OSError
             The file cannot be read.
         """
-        name, coords, bars, fixed, lengths, labels = read_json(source)
+        name, coords, bars, fixed, lengths, labels = read_json(source, max_bytes)
         return Assembly(coords, bars, fixed=fixed, lengths=lengths, labels=labels, name=name)
 
     def to_json(self, path: Union[str, "os.PathLike[str]", None] = None) -> Dict[str, Any]:

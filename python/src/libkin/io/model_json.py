@@ -9,6 +9,7 @@ writes an assembly's current state. The document itself (`parse`,
 from __future__ import annotations
 
 import os
+from typing import Optional
 
 from .._native._lib import c_string, ffi, lib
 from ..assembly import Assembly
@@ -24,7 +25,7 @@ __all__ = ["load_json", "load_model", "to_json", "parse", "read_json", "schema",
 load_json = Assembly.from_json
 
 
-def load_model(source: ModelSource, engine: str = "python") -> "Assembly":
+def load_model(source: ModelSource, engine: str = "python", max_bytes: Optional[int] = None) -> "Assembly":
     """Build an Assembly from a JSON model with either loader.
 
     Parameters
@@ -36,6 +37,9 @@ def load_model(source: ModelSource, engine: str = "python") -> "Assembly":
         'python': `load_json`; 'c': the C library's kin_assembly_load (the
         same rules and verdicts, docs/model_format.md; the name and joint
         labels are not kept).
+    max_bytes : int, optional
+        Largest file read (default 64 MiB, KIN_LOAD_MAX_BYTES): a larger file
+        raises LimitError, a FIFO or a device FileAccessError (never read).
 
     Returns
     -------
@@ -53,8 +57,10 @@ def load_model(source: ModelSource, engine: str = "python") -> "Assembly":
         OSError, for an unreadable file with engine="c"; with
         engine="python" an unreadable file raises the built-in OSError).
     """
+    if max_bytes is not None and max_bytes <= 0:
+        raise InvalidArgumentError(f"max_bytes = {max_bytes}: must be > 0")
     if engine == "python":
-        return load_json(source)
+        return Assembly.from_json(source, max_bytes)
     if engine != "c":
         raise InvalidArgumentError(f"engine: expected 'python' or 'c', got {engine!r}")
     if isinstance(source, dict):
@@ -64,7 +70,7 @@ def load_model(source: ModelSource, engine: str = "python") -> "Assembly":
         data = source.encode("utf-8", "surrogatepass")
         rc = lib.kin_assembly_load_string(data, len(data), out, err, 512)
     else:
-        rc = lib.kin_assembly_load(os.fsencode(source), out, err, 512)
+        rc = lib.kin_assembly_load_limited(os.fsencode(source), max_bytes or 0, out, err, 512)
     if rc:
         raise error_class(rc)(c_string(err), rc)
     return Assembly._from_handle(out[0])

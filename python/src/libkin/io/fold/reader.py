@@ -57,6 +57,7 @@ from typing import Any, Dict, List, NoReturn, Optional, Sequence, Tuple, Union
 import numpy as np
 import numpy.typing as npt
 
+from ..._bounded import decode_utf8, documented_errors, read_bounded
 from ...assembly import Assembly
 from ...errors import ModelFormatError
 
@@ -96,13 +97,12 @@ def _fail(where: str, msg: str) -> NoReturn:
     raise ModelFormatError(f"FOLD {where}: {msg}")
 
 
-def _load_doc(source: FoldSourceArg) -> FoldDoc:
+def _load_doc(source: FoldSourceArg, max_bytes: Optional[int] = None) -> FoldDoc:
     if isinstance(source, dict):
         return source
     try:
         if isinstance(source, (str, os.PathLike)) and not str(source).lstrip().startswith("{"):
-            with open(source) as f:
-                doc = json.load(f)
+            doc = json.loads(decode_utf8(read_bounded(source, max_bytes)))
         else:
             doc = json.loads(str(source))
     except json.JSONDecodeError as exc:
@@ -277,8 +277,10 @@ def _fixed_from_arg(fixed: Any, nv: int, dim: int) -> npt.NDArray[np.bool_]:
     return out
 
 
+@documented_errors("FOLD file")
 def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: str = "rigid",
-              dim: Optional[int] = None, resolution: Optional[float] = None) -> FoldAssembly:
+              dim: Optional[int] = None, resolution: Optional[float] = None,
+              max_bytes: Optional[int] = None) -> FoldAssembly:
     """An assembly from a FOLD file.
 
     Parameters
@@ -304,6 +306,8 @@ def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: s
         `Options.coord_resolution`: the corrector and the rank test do not
         ask for more than rounding that fine allows (kin_path.h, STRAIN
         FLOOR); 0 = exact.
+    max_bytes : int, optional
+        Largest file read (default 64 MiB, libkin._bounded.MAX_BYTES).
 
     Returns
     -------
@@ -312,13 +316,17 @@ def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: s
         else the lengths in vertices_coords; its `fold` attribute lets
         write_fold() write back the file's own mesh.
 
-    Raises ModelFormatError on anything malformed.
+    Raises ModelFormatError on anything malformed (OutOfMemoryError if
+    parsing runs out of memory: only libkin's classes, whatever the input),
+    LimitError for a file above max_bytes, FileAccessError for one that is
+    not a regular file (a FIFO, a device: never read), OSError for one
+    that cannot be opened.
     """
     if faces not in _FACE_MODES:
         raise ModelFormatError(f"faces: expected one of {_FACE_MODES}, got {faces!r}")
     if dim is not None and (isinstance(dim, bool) or dim not in (2, 3)):
         raise ModelFormatError(f"dim: expected None, 2 or 3, got {dim!r}")
-    doc = _load_doc(source)
+    doc = _load_doc(source, max_bytes)
     fr = resolve_frame(doc, frame)
     x = _coords(fr, sheet=bool(fr.get("faces_vertices")) and faces != "ignore", dim=dim)
     nv, dim = x.shape

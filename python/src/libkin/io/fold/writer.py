@@ -12,10 +12,14 @@ from typing import Any, Dict, List, Optional, Sequence, Union
 import numpy as np
 import numpy.typing as npt
 
+from ..._bounded import MAX_BYTES
 from ...assembly import Assembly
 from ...atomic import write_text
-from ...errors import ModelFormatError
-from .reader import FIXED_KEY, FOLD_SPEC, FoldAssembly, FoldDoc, FoldSource, resolve_frame
+from ...errors import GeometryError, KinError, LimitError, ModelFormatError
+from .reader import FIXED_KEY, FOLD_SPEC, FoldAssembly, FoldDoc, FoldSource, read_fold, resolve_frame
+
+# the largest |coordinate| an Assembly takes (the C library's COORD_MAX)
+_COORD_MAX = 1e150
 
 
 def graph_triangles(bars: Any) -> List[List[int]]:
@@ -86,6 +90,17 @@ def write_fold(path: Union[None, str, "os.PathLike[str]"], assembly: Assembly,
     dict
         The FOLD document (supports in "vertices_libkin:fixed", rest lengths
         in edges_length).
+
+    Raises
+    ------
+    GeometryError
+        A configuration holds a non-finite coordinate or one beyond 1e150.
+    LimitError
+        The text would be larger than read_fold reads by default (64 MiB).
+    ModelFormatError (or the class read_fold raises)
+        read_fold would reject the document (e.g. a face out of range or
+        degenerate). Nothing is written then: every file write_fold writes
+        reads back with read_fold (its key frame is read back before writing).
     """
     src: Optional[FoldSource] = getattr(assembly, "fold", None)
     nv = src.n_vertices if src is not None else assembly.njoints
@@ -101,6 +116,12 @@ def write_fold(path: Union[None, str, "os.PathLike[str]"], assembly: Assembly,
         for i, c in enumerate(configs):
             if c.shape != (assembly.njoints, dim):
                 raise ValueError(f"path_coords[{i}]: expected shape {(assembly.njoints, dim)}, got {c.shape}")
+    for i, c in enumerate(configs):
+        bad = ~np.isfinite(c) | (np.abs(np.nan_to_num(c, nan=0.0)) > _COORD_MAX)
+        if bad.any():
+            j, k = map(int, np.argwhere(bad)[0])
+            raise GeometryError(f"write_fold: configuration {i}, joint {j}, coordinate {k} is {c[j, k]!r}: "
+                                f"not finite or beyond {_COORD_MAX:g}; not written")
     face_list: Optional[List[List[int]]]
     if faces is None and src is not None:
         face_list = src.faces
@@ -146,8 +167,23 @@ def write_fold(path: Union[None, str, "os.PathLike[str]"], assembly: Assembly,
         doc["file_frames"] = [{"frame_parent": 0, "frame_inherit": True, "frame_classes": frame_classes,
                                "vertices_coords": coords_of(c)} for c in configs[1:]]
     if path is not None:  # whole or not at all: the file saved before stays on a failure
-        write_text(path, json.dumps(doc, separators=(",", ":")) + "\n")
+        text = json.dumps(doc, separators=(",", ":"), allow_nan=False) + "\n"
+        _check_reads_back(doc, text)
+        write_text(path, text)
     return doc
+
+
+def _check_reads_back(doc: FoldDoc, text: str) -> None:
+    """Raise what read_fold would raise on `text` (the serialised `doc`):
+    its size against the default limit, then the key frame read back."""
+    size = len(text.encode("utf-8"))
+    if size > MAX_BYTES:
+        raise LimitError(f"write_fold: {size} bytes, more than read_fold reads by default ({MAX_BYTES}); "
+                         "not written")
+    try:
+        read_fold(doc)
+    except KinError as exc:
+        raise type(exc)(f"write_fold: read_fold would reject the file ({exc}); not written", exc.code) from None
 
 
 def check_fold(doc: FoldDoc) -> List[str]:
