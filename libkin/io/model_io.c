@@ -287,15 +287,23 @@ static int load_text(const io_err *e, const char *text, size_t len, kin_assembly
     return rc;
 }
 
+/* The first checks of a load: the caller's message buffer emptied, *out
+ * NULL until a model is made, out and the source (`what`) not NULL */
+static int load_entry(io_err *e, kin_assembly **out, const void *source, const char *what)
+{
+    if (e->buf && e->len > 0) e->buf[0] = '\0';
+    if (out) *out = NULL;
+    if (!out) return io_fail(e, KIN_ENULL, "out is NULL");
+    if (!source) return io_fail(e, KIN_ENULL, "%s is NULL", what);
+    return KIN_OK;
+}
+
 int kin_assembly_load_string(const char *text, size_t len, kin_assembly **out, char *errbuf,
                              size_t errlen)
 {
     io_err e = {errbuf, errlen, NULL};
-    if (errbuf && errlen > 0) errbuf[0] = '\0';
-    if (out) *out = NULL;
-    if (!out) return io_fail(&e, KIN_ENULL, "out is NULL");
-    if (!text) return io_fail(&e, KIN_ENULL, "text is NULL");
-    return load_text(&e, text, len, out);
+    int rc = load_entry(&e, out, text, "text");
+    return rc ? rc : load_text(&e, text, len, out);
 }
 
 /* The whole file into a malloc'd buffer, at most max_bytes of it. Only a
@@ -376,15 +384,13 @@ int kin_assembly_load_limited(const char *path, size_t max_bytes, kin_assembly *
                               size_t errlen)
 {
     io_err e = {errbuf, errlen, NULL};
-    if (errbuf && errlen > 0) errbuf[0] = '\0';
-    if (out) *out = NULL;
-    if (!out) return io_fail(&e, KIN_ENULL, "out is NULL");
-    if (!path) return io_fail(&e, KIN_ENULL, "path is NULL");
+    int rc = load_entry(&e, out, path, "path");
+    if (rc) return rc;
     e.path = path;
     if (max_bytes == 0) max_bytes = KIN_LOAD_MAX_BYTES;
     char *text = NULL;
     size_t len = 0;
-    int rc = read_file(&e, path, max_bytes, &text, &len);
+    rc = read_file(&e, path, max_bytes, &text, &len);
     if (rc) return rc;
     rc = load_text(&e, text, len, out);
     free(text);

@@ -676,6 +676,18 @@ int kin_get_lengths(const kin_assembly *a, double *lengths)
 
 double kin_max_strain(const kin_assembly *a) { return a ? kin__lengths(a, a->xyz, NULL) : -1.0; }
 
+void kin__set_configuration(kin_assembly *a, const double *xyz)
+{
+    memcpy(a->xyz, xyz, sizeof(double) * (size_t)(a->nj * a->dim));
+    a->fac[0].valid = a->fac[1].valid = 0;
+    kin__lu_invalidate(a);
+    a->have_t = a->t_chosen = 0;
+    a->step_hint = 0.0;
+    a->have_start_strain = 0;
+    a->chord_hopeless = 0;
+    a->l = 0.0;
+}
+
 int kin_set_coords(kin_assembly *a, const double *xyz)
 {
     if (!a) return KIN_ENULL;
@@ -693,14 +705,7 @@ int kin_set_coords(kin_assembly *a, const double *xyz)
         if (!(L >= LENGTH_MIN))
             return kin__fail(a, KIN_EGEOM, "bar %d would have length %g, below %g", k, L, LENGTH_MIN);
     }
-    memcpy(a->xyz, xyz, sizeof(double) * (size_t)n);
-    a->fac[0].valid = a->fac[1].valid = 0;
-    kin__lu_invalidate(a);
-    a->have_t = a->t_chosen = 0;
-    a->step_hint = 0.0;
-    a->have_start_strain = 0;
-    a->chord_hopeless = 0;
-    a->l = 0.0;
+    kin__set_configuration(a, xyz);
     return KIN_OK;
 }
 

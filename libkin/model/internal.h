@@ -222,6 +222,11 @@ int kin__progress(const kin_assembly *a, double done, double total);
  * allocated. KIN_OK at once if it exists. */
 int kin__dense_ready(kin_assembly *a);
 
+/* A configuration set from outside a path (kin_set_coords, kin_relax):
+ * xyz (nj*dim) copied in, every analysis and factorization invalidated, the
+ * path forgotten (direction, length, step control, start strain) */
+void kin__set_configuration(kin_assembly *a, const double *xyz);
+
 /* copy the configuration, analysis and path state of src into dst (same
  * model; no allocation, except dst's dense workspace the first time src
  * has one); dst keeps its own options */

@@ -577,12 +577,6 @@ int kin_relax(kin_assembly *a, int max_iter, double *residual)
     if (residual) *residual = r;
     if (!(r <= tol))
         return kin__fail(a, KIN_ENOTCONVERGED, "relax: residual %.3g after %d iterations", r, it);
-    memcpy(a->xyz, xyz, sizeof(double) * (size_t)(a->nj * a->dim));
-    a->fac[0].valid = a->fac[1].valid = 0;
-    kin__lu_invalidate(a);
-    a->have_t = a->t_chosen = 0;
-    a->step_hint = 0.0;
-    a->have_start_strain = 0;
-    a->l = 0.0;
+    kin__set_configuration(a, xyz);
     return KIN_OK;
 }

@@ -47,6 +47,17 @@ class FolderInUseError(OSError):
         return f"{self.filename}: {self.strerror}"
 
 
+def _mode_of(path: pathlib.Path, new: int) -> int:
+    """The permission bits of `path`, or of a new file (new=0o666) or
+    folder (0o777) under the process's umask: what the replacement keeps."""
+    try:
+        return path.stat().st_mode & 0o7777
+    except OSError:
+        um = os.umask(0)
+        os.umask(um)
+        return new & ~um
+
+
 def _fsync_folder(folder: PathLike) -> None:
     """Make a rename in folder durable (where the system allows it)."""
     try:
@@ -82,13 +93,7 @@ def _commit_file(tmp: str, p: pathlib.Path) -> None:
         os.fsync(fd)
     finally:
         os.close(fd)
-    try:
-        mode = p.stat().st_mode & 0o7777
-    except OSError:
-        um = os.umask(0)
-        os.umask(um)
-        mode = 0o666 & ~um
-    os.chmod(tmp, mode)
+    os.chmod(tmp, _mode_of(p, 0o666))
     os.replace(tmp, p)
     _fsync_folder(p.parent)
 
@@ -254,13 +259,7 @@ def staged_folder(out: PathLike) -> Iterator[pathlib.Path]:
     out = pathlib.Path(out).resolve()  # absolute, through links (a link to a folder keeps pointing at it)
     out.parent.mkdir(parents=True, exist_ok=True)
     stage = pathlib.Path(tempfile.mkdtemp(prefix=f".{out.name}.staging-", dir=out.parent))
-    try:  # mkdtemp's folder is private: give it out's mode (or a new folder's)
-        mode = out.stat().st_mode & 0o7777
-    except OSError:
-        um = os.umask(0)
-        os.umask(um)
-        mode = 0o777 & ~um
-    os.chmod(stage, mode)
+    os.chmod(stage, _mode_of(out, 0o777))  # mkdtemp's folder is private: give it out's mode
     try:
         yield stage
         _commit_folder(stage, out)

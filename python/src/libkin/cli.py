@@ -149,6 +149,20 @@ def _generic_start(a: Assembly, args: argparse.Namespace) -> None:
     a.relax(max_iter=200)
 
 
+def _add_start_arguments(s: argparse.ArgumentParser) -> None:
+    """Where `follow` and `locate` start: a generic point (--perturb,
+    --seed) or a branch out of a bifurcation (--branch, --sign); the input
+    options (--fold-dim, --resolution)."""
+    s.add_argument("--perturb", type=finite, default=0.0,
+                   help="start from a generic point: lift free nodes by up to this amount and relax")
+    s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
+    s.add_argument("--branch", type=count(0), default=None, metavar="K",
+                   help="at a bifurcation: leave along directed branch K (real second-order solution K // 2 of the "
+                        "complete solver, sign + for even K, - for odd)")
+    s.add_argument("--sign", type=int, default=None, choices=[1, -1], help="the sign of --branch's direction")
+    add_input_arguments(s)
+
+
 def cmd_locate(args: argparse.Namespace) -> int:
     a, _ = _regular_start(args)
     if a is None:
@@ -263,14 +277,7 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--plane", default="xy", choices=["xy", "xz", "yz"], help="projection of 3D models")
     s.add_argument("--out", help="write the final configuration as a JSON model")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
-    s.add_argument("--perturb", type=finite, default=0.0,
-                   help="start from a generic point: lift free nodes by up to this amount and relax")
-    s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
-    s.add_argument("--branch", type=count(0), default=None, metavar="K",
-                   help="at a bifurcation: leave along directed branch K (real second-order solution K // 2 of the "
-                        "complete solver, sign + for even K, - for odd)")
-    s.add_argument("--sign", type=int, default=None, choices=[1, -1], help="the sign of --branch's direction")
-    add_input_arguments(s)
+    _add_start_arguments(s)
     s.set_defaults(fn=cmd_follow)
     s = sub.add_parser("locate", help="follow the path to the next bifurcation and converge onto it")
     s.add_argument("model")
@@ -281,15 +288,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="step amplitude while following (0 = largest allowed, negative = backwards)")
     s.add_argument("--vr-tol", type=positive, default=1e-10, help="located when v_r / v_max <= this (default 1e-10)")
     s.add_argument("--max-steps", type=count(1), default=1000, help="steps to look for a bifurcation")
-    s.add_argument("--perturb", type=finite, default=0.0,
-                   help="start from a generic point: lift free nodes by up to this amount and relax")
-    s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
     s.add_argument("--out", help="write the located configuration as a JSON model")
-    s.add_argument("--branch", type=count(0), default=None, metavar="K",
-                   help="at a bifurcation: leave along directed branch K (real second-order solution K // 2 of the "
-                        "complete solver, sign + for even K, - for odd)")
-    s.add_argument("--sign", type=int, default=None, choices=[1, -1], help="the sign of --branch's direction")
-    add_input_arguments(s)
+    _add_start_arguments(s)
     s.set_defaults(fn=cmd_locate)
     s = sub.add_parser("draw", help="draw a model to a PNG")
     s.add_argument("model")
