@@ -173,9 +173,15 @@ def test_a_signal_writes_the_atlas_so_far_and_exits_nonzero(tmp_path, reference,
     _same(reference, out)
 
 
-def test_default_store_is_next_to_out(tmp_path):
-    out = tmp_path / "atl"
-    assert main(["explore", "threebar:RC", "--depth", "1", "--out", str(out), "--quiet"]) == 0
-    assert (tmp_path / ".atl.explore.sqlite").exists()
-    assert _recorded(tmp_path / ".atl.explore.sqlite") >= 1
-    assert not any(p.name.endswith(".sqlite") for p in out.iterdir())
+def test_default_store_is_next_to_out(tmp_path, reference):
+    """Without --store the store is .OUT.explore.sqlite next to --out, kept
+    while the run is unfinished and removed once its atlas is complete."""
+    out, store = tmp_path / "atl", tmp_path / ".atl.explore.sqlite"
+    cmd = [sys.executable, "-m", "libkin", "explore", MODEL, "--depth", "1", "--out", str(out), "--quiet"]
+    r = subprocess.run(cmd, env=_env(LIBKIN_STORE_KILL_AFTER="3"), capture_output=True)
+    assert r.returncode == -signal.SIGKILL
+    assert _recorded(store) == 3
+    r = subprocess.run(cmd + ["--resume"], env=_env(), capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert _same(reference, out).stats["store"]["reused"] == 3
+    assert sorted(os.listdir(tmp_path)) == [".atl.lock", "atl"]

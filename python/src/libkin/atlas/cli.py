@@ -66,7 +66,7 @@ def _run(args: argparse.Namespace, assembly: Assembly) -> int:
     from . import report as atlas_report
     from .explorer import explore
     atlas_report.require_output_modules()  # refuse before any work, not after it
-    from .store import default_path
+    from .store import default_path, remove_store
     sym: bool | str = {"true": True, "false": False}.get(args.symmetric, "auto")
     store = args.store or default_path(args.out)
     with executor(args.executor, args.workers) as ex, _stop_on_signals() as signalled:
@@ -81,6 +81,8 @@ def _run(args: argparse.Namespace, assembly: Assembly) -> int:
           f"atlas.graphml, atlas_map.png, {rep}")
     if str(at.settings.get("symmetries", "")).startswith("not detected"):
         print(f"symmetries {at.settings['symmetries']}: explored as if the structure had none")
+    if not signalled and not at.stats.get("partial") and args.store is None:
+        remove_store(store)  # the default store of a complete run: nothing left to resume
     if signalled:
         print(f"interrupted by signal {signalled[0]}: the atlas so far is written (partial); "
               f"continue with --resume (store {store})", file=sys.stderr)

@@ -29,7 +29,7 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Union
 from ..errors import InvalidArgumentError
 from ..parallel import Progress, run_tasks
 
-__all__ = ["Store", "StoreMismatchError", "fingerprint", "default_path", "open_store"]
+__all__ = ["Store", "StoreMismatchError", "fingerprint", "default_path", "open_store", "remove_store"]
 
 _SCHEMA = ("CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL)",
            "CREATE TABLE IF NOT EXISTS results (key TEXT PRIMARY KEY, kind TEXT NOT NULL, "
@@ -63,6 +63,15 @@ def open_store(store: Union[None, str, "os.PathLike[str]", "Store"], resume: boo
     if store is None or isinstance(store, Store):
         return store
     return Store(store, fingerprint(model_text, settings), resume)
+
+
+def remove_store(path: Union[str, "os.PathLike[str]"]) -> None:
+    """Delete a store and its WAL files."""
+    for suffix in ("", "-wal", "-shm", "-journal"):
+        try:
+            os.unlink(f"{path}{suffix}")
+        except FileNotFoundError:
+            pass
 
 
 class Store:
