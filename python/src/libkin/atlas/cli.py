@@ -102,7 +102,7 @@ def _stop_on_signals() -> Iterator[List[int]]:
 
     def handler(signum: int, frame: Any) -> None:
         if got:
-            signal.signal(signum, old[signum])
+            signal.signal(signum, old[signal.Signals(signum)])
             signal.raise_signal(signum)
         got.append(signum)
     old = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}

@@ -262,7 +262,7 @@ class _Explorer:
         """The complete solver on Q (s, m, m) (solving.complete_solve)."""
         def run() -> Dict[str, Any]:
             return complete_solve(Q, self.executor, self.shards, self.seed, self.threads)
-        return run() if self.store is None else self.store.cached(  # type: ignore[no-any-return]
+        return run() if self.store is None else self.store.cached(
             "solve", [Q.tolist(), self.shards, self.seed, self.threads], run)
 
     def follow_all(self, work: List[Tuple[int, int, int, NDArray[np.float64], NDArray[np.float64]]]) -> List[Any]:
@@ -272,7 +272,7 @@ class _Explorer:
                   "max_length": self.max_length, "max_steps": self.max_steps, "samples": self.samples}
                  for nid, _, _, _, d in work]
         if self.store is not None:
-            return self.store.run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches",  # type: ignore
+            return self.store.run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches",
                                         self.deadline, self.stop)
         return run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches", self.deadline)
 
@@ -415,8 +415,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                 continue
             late = time_limit is not None and time.perf_counter() - t0 > time_limit
             if late or (stop is not None and stop()):
-                why = "time limit reached" if late else "interrupted"
-                node.status = f"not expanded: {why}"
+                cause = "time limit reached" if late else "interrupted"
+                node.status = f"not expanded: {cause}"
                 stopped = stopped or ("time_limit" if late else "interrupted")
                 continue
             ex.learn_symmetries(node)
@@ -449,10 +449,10 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         n_before = len(ex.nodes)
         for (nid, i, sg, b, _), res in zip(work, results):
             if res is None:  # not followed: the time limit ran out first, or the run was interrupted
-                node, why = ex.nodes[nid], "interrupted" if stop is not None and stop() else "time limit reached"
+                node, cause = ex.nodes[nid], "interrupted" if stop is not None and stop() else "time limit reached"
                 if "not followed" not in node.status:
-                    node.status += f"; some branches not followed: {why}"
-                stopped = stopped or ("time_limit" if why != "interrupted" else "interrupted")
+                    node.status += f"; some branches not followed: {cause}"
+                stopped = stopped or ("time_limit" if cause != "interrupted" else "interrupted")
                 continue
             ex.merge(nid, i, sg, b, res, level + 1)
         frontier = [n.id for n in ex.nodes[n_before:] if n.kind == BIFURCATION]
