@@ -185,3 +185,17 @@ def test_default_store_is_next_to_out(tmp_path, reference):
     assert r.returncode == 0, r.stderr
     assert _same(reference, out).stats["store"]["reused"] == 3
     assert sorted(os.listdir(tmp_path)) == [".atl.lock", "atl"]
+
+
+def test_a_dask_run_survives_the_loss_of_its_client(tmp_path, reference):
+    """--executor dask: the client process (which holds the local cluster)
+    killed after 5 results; a new client resumes from the store."""
+    pytest.importorskip("distributed")
+    out, store = tmp_path / "atl", tmp_path / "run.sqlite"
+    r = subprocess.run(_cmd(out, store, "--executor", "dask"), env=_env(LIBKIN_STORE_KILL_AFTER="5"),
+                       capture_output=True)
+    assert r.returncode == -signal.SIGKILL, r.stderr
+    assert _recorded(store) == 5
+    r = subprocess.run(_cmd(out, store, "--executor", "dask", "--resume"), env=_env(), capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert _same(reference, out).stats["store"]["reused"] == 5
