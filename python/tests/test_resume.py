@@ -20,7 +20,7 @@ from libkin.atlas import explorer, store as atlas_store
 from libkin.atlas.model import Atlas
 from libkin.cli import main
 
-MODEL = "sail:4:1"  # a bifurcation with 6 solutions: 1 solve and 12 branches, a few seconds
+MODEL = "sail:4:1"  # depth 1: 4 nodes, 32 directed paths (1 solve, 32 branches recorded), seconds
 
 
 def _env(**extra):
