@@ -3,8 +3,12 @@ to the dispatcher, libkin.cli)."""
 from __future__ import annotations
 
 import argparse
+import contextlib
 import pathlib
-from typing import TYPE_CHECKING, Any
+import signal
+import sys
+import threading
+from typing import TYPE_CHECKING, Any, Iterator, List
 
 from ..atomic import folder_lock
 from ..cliargs import count, load_model_spec, positive
@@ -44,6 +48,11 @@ def add_arguments(s: argparse.ArgumentParser) -> None:
                    help="where branches are followed: this process, a process pool, a local Dask cluster")
     s.add_argument("--workers", type=count(1), default=2, help="workers of --executor process|dask (default 2)")
     s.add_argument("--out", required=True, help="output folder: atlas.json, atlas.graphml, report.md, PNGs")
+    s.add_argument("--store", default=None,
+                   help="the run's store (SQLite): each solved node and followed branch recorded as it "
+                        "completes (default: .OUT.explore.sqlite next to --out)")
+    s.add_argument("--resume", action="store_true",
+                   help="continue the interrupted run recorded in the store (same model and options)")
     s.add_argument("--quiet", action="store_true", help="no progress messages")
 
 
@@ -57,11 +66,14 @@ def _run(args: argparse.Namespace, assembly: Assembly) -> int:
     from . import report as atlas_report
     from .explorer import explore
     atlas_report.require_output_modules()  # refuse before any work, not after it
+    from .store import default_path, remove_store
     sym: bool | str = {"true": True, "false": False}.get(args.symmetric, "auto")
-    with executor(args.executor, args.workers) as ex:
+    store = args.store or default_path(args.out)
+    with executor(args.executor, args.workers) as ex, _stop_on_signals() as signalled:
         at = explore(assembly, depth=args.depth, max_nodes=args.max_nodes, max_length=args.max_length,
                      time_limit=args.time_limit, symmetric=sym, executor=ex,
-                     progress=None if args.quiet else True, follow_orbits=args.follow_orbits)
+                     progress=None if args.quiet else True, follow_orbits=args.follow_orbits,
+                     store=store, resume=args.resume, stop=lambda: bool(signalled))
     rep = atlas_report.write(at, args.out)
     s = at.summary()
     kinds = ", ".join(f"{v} {k}" for k, v in sorted(s["edge_events"].items())) or "none"
@@ -69,4 +81,33 @@ def _run(args: argparse.Namespace, assembly: Assembly) -> int:
           f"atlas.graphml, atlas_map.png, {rep}")
     if str(at.settings.get("symmetries", "")).startswith("not detected"):
         print(f"symmetries {at.settings['symmetries']}: explored as if the structure had none")
+    if not signalled and not at.stats.get("partial") and args.store is None:
+        remove_store(store)  # the default store of a complete run: nothing left to resume
+    if signalled:
+        print(f"interrupted by signal {signalled[0]}: the atlas so far is written (partial); "
+              f"continue with --resume (store {store})", file=sys.stderr)
+        return 128 + signalled[0]
     return 0
+
+
+@contextlib.contextmanager
+def _stop_on_signals() -> Iterator[List[int]]:
+    """SIGINT and SIGTERM in the block append their number to the list
+    (the explorer then starts nothing more) instead of ending the process;
+    a second one ends it as before."""
+    got: List[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield got
+        return
+
+    def handler(signum: int, frame: Any) -> None:
+        if got:
+            signal.signal(signum, old[signal.Signals(signum)])
+            signal.raise_signal(signum)
+        got.append(signum)
+    old = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield got
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)

@@ -24,7 +24,7 @@ import math
 import os
 import sys
 import time
-from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, Tuple, Union
+from typing import TYPE_CHECKING, Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -94,6 +94,8 @@ class _Explorer:
         self.follow_cpu = 0.0   # CPU seconds the followers reported
         self.followed = 0       # branches followed, and mapped from a followed one by symmetry
         self.mapped = 0
+        self.store: Any = None  # store.Store: results recorded as they complete (reused on resume), and stop()
+        self.stop: Optional[Callable[[], bool]] = None
 
     # -- identification
     def _distance(self, X: NDArray[np.float64], Y: NDArray[np.float64]) -> float:
@@ -258,7 +260,10 @@ class _Explorer:
 
     def solve(self, Q: NDArray[np.float64]) -> Dict[str, Any]:
         """The complete solver on Q (s, m, m) (solving.complete_solve)."""
-        return complete_solve(Q, self.executor, self.shards, self.seed, self.threads)
+        def run() -> Dict[str, Any]:
+            return complete_solve(Q, self.executor, self.shards, self.seed, self.threads)
+        return run() if self.store is None else self.store.cached(
+            "solve", [Q.tolist(), self.shards, self.seed, self.threads], run)
 
     def follow_all(self, work: List[Tuple[int, int, int, NDArray[np.float64], NDArray[np.float64]]]) -> List[Any]:
         """work: [(node, solution, sign, beta, direction)] -> results in order."""
@@ -266,6 +271,9 @@ class _Explorer:
                   "rank_tol": self._rank_tol(self.nodes[nid]), "direction": d.tolist(),
                   "max_length": self.max_length, "max_steps": self.max_steps, "samples": self.samples}
                  for nid, _, _, _, d in work]
+        if self.store is not None:
+            return self.store.run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches",
+                                        self.deadline, self.stop)
         return run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches", self.deadline)
 
     def merge(self, nid: int, sol: int, sign: int, beta: NDArray[np.float64], res: Dict[str, Any],
@@ -286,7 +294,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
             time_limit: Optional[float] = None, symmetric: Union[bool, str] = False, executor: Any = None,
             progress: Progress = None, seed: int = 1, threads: int = 1,
             symmetries: Optional[Sequence[Symmetry]] = None, max_steps: int = 2000, samples: int = 2,
-            shards: Optional[int] = None, follow_orbits: bool = False) -> Atlas:
+            shards: Optional[int] = None, follow_orbits: bool = False, store: Any = None, resume: bool = False,
+            stop: Optional[Callable[[], bool]] = None) -> Atlas:
     """Map the paths out of `start` and out of every bifurcation they reach.
 
     Parameters
@@ -338,6 +347,11 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         of the node's stabilizer (the symmetries that fix it) is followed
         and the others are its images (orbits.py): the same atlas to
         the identification tolerance, up to |stabilizer| times less work.
+    store, resume : path or store.Store, bool
+        Record each solve and branch there as it completes; resume: reuse an
+        earlier run's (same model and settings: the same atlas) (store.py).
+    stop : callable, optional
+        Once true nothing more is started: the atlas so far (stats partial).
 
     Returns
     -------
@@ -375,6 +389,10 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     ex = _Explorer(a, symmetric, executor, progress, float(max_length), seed, threads, symmetries, int(max_steps),
                    int(samples), shards)
     ex.deadline = None if time_limit is None else t0 + float(time_limit)
+    from .store import open_store
+    ex.store, ex.stop = open_store(store, resume, ex.text, [depth, max_nodes, float(max_length), time_limit, symmetric,
+                                   seed, threads, symmetries is None and len(ex.syms), max_steps, samples, shards,
+                                   follow_orbits]), stop
     an = a.analyse()
     rec0 = {"m": an.m_internal, "m_rigid": an.m_rigid, "s": an.s,
             "v_r_rel": float(an.v_r / an.v_max) if an.v_max > 0 else 0.0}
@@ -395,9 +413,11 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                 node.status = "not expanded: max_nodes reached"
                 stopped = stopped or "max_nodes"
                 continue
-            if time_limit is not None and time.perf_counter() - t0 > time_limit:
-                node.status = "not expanded: time limit reached"
-                stopped = stopped or "time_limit"
+            late = time_limit is not None and time.perf_counter() - t0 > time_limit
+            if late or (stop is not None and stop()):
+                cause = "time limit reached" if late else "interrupted"
+                node.status = f"not expanded: {cause}"
+                stopped = stopped or ("time_limit" if late else "interrupted")
                 continue
             ex.learn_symmetries(node)
             try:
@@ -428,11 +448,11 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         ex.mapped += len(work) - len(todo)
         n_before = len(ex.nodes)
         for (nid, i, sg, b, _), res in zip(work, results):
-            if res is None:  # not followed: the time limit ran out first
-                node = ex.nodes[nid]
-                if "time limit" not in node.status:
-                    node.status += "; some branches not followed: time limit reached"
-                stopped = stopped or "time_limit"
+            if res is None:  # not followed: the time limit ran out first, or the run was interrupted
+                node, cause = ex.nodes[nid], "interrupted" if stop is not None and stop() else "time limit reached"
+                if "not followed" not in node.status:
+                    node.status += f"; some branches not followed: {cause}"
+                stopped = stopped or ("time_limit" if cause != "interrupted" else "interrupted")
                 continue
             ex.merge(nid, i, sg, b, res, level + 1)
         frontier = [n.id for n in ex.nodes[n_before:] if n.kind == BIFURCATION]
@@ -457,7 +477,10 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                 "follow_orbits": follow_orbits,
                 "executor": None if executor is None else type(executor).__name__}
     stats = {"seconds": round(time.perf_counter() - t0, 3), "follow_cpu_seconds": round(ex.follow_cpu, 3),
-             "branches_followed": ex.followed, "branches_mapped": ex.mapped, "stopped_by": stopped}
+             "branches_followed": ex.followed, "branches_mapped": ex.mapped, "stopped_by": stopped,
+             "partial": stopped == "interrupted"}
+    if ex.store is not None:
+        stats["store"] = ex.store.finish(store is not ex.store)
     atlas = Atlas(ex.doc, ex.nodes, ex.edges, ex.syms, settings, stats)
     stats.update(atlas.summary())
     return atlas

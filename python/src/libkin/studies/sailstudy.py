@@ -24,7 +24,7 @@ import time
 
 import numpy as np
 
-from libkin import Assembly, solve_quadrics
+from libkin import Assembly
 from libkin.atomic import replacing, staged_folder, write_text
 from libkin.symmetry import mechanism_group, sail_rotation
 
@@ -32,6 +32,7 @@ from libkin.symmetry import mechanism_group, sail_rotation
 # imported for the names this module has always had)
 from .common import (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, accounting_words, branch_words, follow_to_bifurcation,
                      jsonable, leave, paper_locate, record, say)
+from .flatcache import flat_solve
 from .sailmap import MAP_DEPTH, SailMap, explore_symmetric
 from .sailmeasure import measures
 from .squarestudy import square_study as square_study
@@ -140,14 +141,14 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     if complete and an.s <= 16:
         say(progress, f"[R^A] complete solver: 2^{an.s} = {2 ** an.s} homotopy paths on {threads} threads, "
              "one per orbit of the sail's rotations ...")
-        t0 = time.perf_counter()
         # the sail's symmetry group acting on beta (found from C): the solver
-        # tracks one path per orbit of start roots and certifies all 2^s
+        # tracks one path per orbit of start roots and certifies all 2^s;
+        # kept next to out for the next run with the same model (flatcache.py)
         group = mechanism_group(a, method="c")
-        _, acc = solve_quadrics(a.second_order(), "homotopy", threads=threads, progress=progress, group=group)
-        acc["seconds"] = round(time.perf_counter() - t0, 1)
+        _, acc, cached = flat_solve(a, group, threads, progress, out)
         res["flat"]["complete"] = acc
-        say(progress, f"[R^A]   the complete solver accounts for all {accounting_words(acc)} ({acc['seconds']} s)")
+        say(progress, f"[R^A]   the complete solver accounts for all {accounting_words(acc)} ({acc['seconds']} s"
+            + (", solved by an earlier run: taken from its cache)" if cached else ")"))
     # the path map: the explorer's atlas of every symmetric path out of the
     # flat state and out of the bifurcations they reach (sailmap.py); the
     # folding branch is among the flat state's paths whose first bifurcation

@@ -1,0 +1,198 @@
+"""The run store of libkin.explore: every solved node and every followed
+branch recorded as it completes, so an interrupted run resumes.
+
+An SQLite file (the standard library's sqlite3, WAL mode, one transaction
+per recorded result) holds the run's fingerprint (a hash of the model and
+of the settings that shape the atlas) and the results, each keyed by a hash
+of its task (the plain data a task takes: tasks.follow_branch's dict, the
+complete solver's system). The explorer is deterministic, so a resumed run
+asks for the same tasks in the same order: those in the store are taken
+from it, the others computed and recorded, and the atlas is the one an
+uninterrupted run gives. A store of another model or other settings is
+refused (StoreMismatchError). Results are JSON (floats round-trip exactly).
+
+LIBKIN_STORE_KILL_AFTER=k (a test hook): the process kills itself with
+SIGKILL right after the k-th result it records.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import pathlib
+import signal
+import sqlite3
+import sys
+import time
+from typing import Any, Callable, Dict, List, Optional, Sequence, Union
+
+from ..errors import InvalidArgumentError
+from ..parallel import Progress, run_tasks
+
+__all__ = ["Store", "StoreMismatchError", "fingerprint", "default_path", "open_store", "remove_store"]
+
+_SCHEMA = ("CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL)",
+           "CREATE TABLE IF NOT EXISTS results (key TEXT PRIMARY KEY, kind TEXT NOT NULL, "
+           "seq INTEGER NOT NULL, value TEXT NOT NULL)")
+
+
+class StoreMismatchError(InvalidArgumentError):
+    """The store was written by a run of another model or other settings."""
+
+
+def _hash(data: Any) -> str:
+    return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()
+
+
+def fingerprint(model_text: str, settings: Any) -> str:
+    """The run's identity: the model (JSON text, the start configuration
+    included) and the settings that shape the atlas."""
+    return _hash({"model": model_text, "settings": settings})
+
+
+def default_path(out: Union[str, "os.PathLike[str]"]) -> pathlib.Path:
+    """The store of the output folder out: `.NAME.explore.sqlite` next to it
+    (outside it: the folder is replaced whole when the atlas is written)."""
+    p = pathlib.Path(out).resolve()
+    return p.parent / f".{p.name}.explore.sqlite"
+
+
+def open_store(store: Union[None, str, "os.PathLike[str]", "Store"], resume: bool, model_text: str,
+               settings: Any) -> Optional["Store"]:
+    """explore()'s store argument as a Store (None: no store)."""
+    if store is None or isinstance(store, Store):
+        return store
+    return Store(store, fingerprint(model_text, settings), resume)
+
+
+def remove_store(path: Union[str, "os.PathLike[str]"]) -> None:
+    """Delete a store and its WAL files."""
+    for suffix in ("", "-wal", "-shm", "-journal"):
+        try:
+            os.unlink(f"{path}{suffix}")
+        except FileNotFoundError:
+            pass
+
+
+class Store:
+    """The results of one run. resume=False starts afresh (a store of the
+    same run is emptied); resume=True keeps what is recorded. Either way a
+    store of another run is refused."""
+
+    def __init__(self, path: Union[str, "os.PathLike[str]"], fingerprint: str, resume: bool = False) -> None:
+        self.path = pathlib.Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.db = sqlite3.connect(str(self.path), isolation_level=None)
+        try:
+            self.db.execute("PRAGMA journal_mode=WAL")
+            self.db.execute("PRAGMA synchronous=NORMAL")
+            for s in _SCHEMA:
+                self.db.execute(s)
+            row = self.db.execute("SELECT value FROM meta WHERE key = 'fingerprint'").fetchone()
+            if row is not None and row[0] != fingerprint:
+                raise StoreMismatchError(f"the store {self.path} belongs to another run (another model or "
+                                         "other settings); give another --store or the same model and settings")
+            with self.db:
+                self.db.execute("BEGIN IMMEDIATE")
+                if not resume:
+                    self.db.execute("DELETE FROM results")
+                self.db.execute("INSERT OR REPLACE INTO meta VALUES ('fingerprint', ?)", (fingerprint,))
+        except BaseException:
+            self.db.close()
+            raise
+        self.seq = int(self.db.execute("SELECT COUNT(*) FROM results").fetchone()[0])
+        self.reused = 0      # results taken from the store in this run
+        self.recorded = 0    # results computed and recorded in this run
+        kill = os.environ.get("LIBKIN_STORE_KILL_AFTER")
+        self.kill_after = int(kill) if kill else None
+
+    def close(self) -> None:
+        self.db.close()
+
+    def finish(self, close: bool) -> Dict[str, Any]:
+        """What this run took from the store and recorded (closed if close)."""
+        rec = {"path": str(self.path), "reused": self.reused, "recorded": self.recorded}
+        if close:
+            self.close()
+        return rec
+
+    def __enter__(self) -> Store:
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+    def __len__(self) -> int:
+        return int(self.db.execute("SELECT COUNT(*) FROM results").fetchone()[0])
+
+    def get(self, key: str) -> Any:
+        row = self.db.execute("SELECT value FROM results WHERE key = ?", (key,)).fetchone()
+        if row is None:
+            return None
+        self.reused += 1
+        return json.loads(row[0])
+
+    def put(self, kind: str, key: str, value: Any) -> None:
+        """Record one result (one committed transaction)."""
+        with self.db:
+            self.db.execute("BEGIN IMMEDIATE")
+            self.db.execute("INSERT OR REPLACE INTO results VALUES (?, ?, ?, ?)",
+                            (key, kind, self.seq, json.dumps(value)))
+        self.seq += 1
+        self.recorded += 1
+        if self.kill_after is not None and self.recorded >= self.kill_after:
+            os.kill(os.getpid(), signal.SIGKILL)
+
+    def cached(self, kind: str, task: Any, compute: Callable[[], Any]) -> Any:
+        """The recorded result of task, or compute() recorded."""
+        key = kind + ":" + _hash(task)
+        got = self.get(key)
+        if got is None:
+            got = json.loads(json.dumps(compute()))  # as a reader of the store will see it
+            self.put(kind, key, got)
+        return got
+
+    def run_tasks(self, fn: Callable[[Any], Any], items: Sequence[Any], executor: Any, progress: Progress,
+                  what: str, deadline: Optional[float], stop: Optional[Callable[[], bool]] = None) -> List[Any]:
+        """parallel.run_tasks(fn, items, ...) with each result recorded as it
+        completes (tasks in batches of the executor's width, so a kill loses
+        at most one batch) and recorded results taken from the store. stop():
+        no batch is started once it is true (those tasks give None)."""
+        kind = getattr(fn, "__name__", "task")
+        keys = [kind + ":" + _hash(it) for it in items]
+        out: List[Any] = [self.get(k) for k in keys]
+        todo = [i for i, r in enumerate(out) if r is None]
+        width = _width(executor)
+        done = len(items) - len(todo)
+        for b in range(0, len(todo), width):
+            if (stop is not None and stop()) or (deadline is not None and time.perf_counter() > deadline):
+                break
+            batch = todo[b:b + width]
+            for i, res in zip(batch, run_tasks(fn, [items[i] for i in batch], executor, None, what, deadline)):
+                if res is not None:
+                    res = json.loads(json.dumps(res))
+                    self.put(kind, keys[i], res)
+                out[i] = res
+                done += 1
+                _tick(progress, done, len(items), what)
+        return out
+
+
+def _tick(progress: Progress, done: int, total: int, what: str) -> None:
+    if callable(progress):
+        progress(done, total, what)
+    elif progress is True and (done == total or done % max(1, total // 4) == 0):
+        print(f"[explore] {what}: {done}/{total}", file=sys.stderr, flush=True)
+
+
+def _width(executor: Any) -> int:
+    """How many tasks the executor runs at once (1 in this process)."""
+    if executor is None:
+        return 1
+    n = getattr(executor, "_max_workers", None)
+    if n is None:
+        try:
+            n = sum(executor.nthreads().values())  # dask.distributed.Client
+        except Exception:  # noqa: BLE001 - any other executor: a guess
+            n = 4
+    return max(1, int(n))
