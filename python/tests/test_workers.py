@@ -100,14 +100,18 @@ def follow_branch_killing(item):
     os.kill(os.getpid(), signal.SIGKILL)
 
 
-def _children(pid):
-    kids = set()
-    for t in pathlib.Path(f"/proc/{pid}/task").glob("*/children"):
-        try:
-            kids.update(int(c) for c in t.read_text().split())
-        except OSError:
-            pass
-    return kids
+def _descendants(pid):
+    """The processes below pid (children, theirs, ...), read from /proc."""
+    found, todo = set(), [pid]
+    while todo:
+        for t in pathlib.Path(f"/proc/{todo.pop()}/task").glob("*/children"):
+            try:
+                kids = {int(c) for c in t.read_text().split()}
+            except OSError:
+                continue
+            todo.extend(kids - found)
+            found |= kids
+    return found
 
 
 def _alive(pid):
@@ -119,19 +123,25 @@ def _alive(pid):
 
 
 @pytest.mark.skipif(not pathlib.Path("/proc/self/task").is_dir(), reason="reads /proc")
-def test_sigterm_stops_explore_and_leaves_no_worker(tmp_path):
+@pytest.mark.parametrize("kind", ["process", "dask"])
+def test_sigterm_stops_explore_and_leaves_no_worker(tmp_path, kind):
+    if kind == "dask":
+        pytest.importorskip("distributed")
     errf = open(tmp_path / "stderr", "w+")
     p = subprocess.Popen([sys.executable, "-m", "libkin", "explore", "sail:6:2", "--depth", "3",
-                          "--executor", "process", "--workers", "2", "--quiet", "--out", str(tmp_path / "out")],
+                          "--executor", kind, "--workers", "2", "--quiet", "--out", str(tmp_path / "out")],
                          stdout=subprocess.DEVNULL, stderr=errf, text=True)
     try:
         workers = set()
         end = time.monotonic() + 60
         while len(workers) < 2 and time.monotonic() < end and p.poll() is None:
-            workers |= _children(p.pid)
+            workers |= _descendants(p.pid)
             time.sleep(0.05)
         assert len(workers) >= 2 and p.poll() is None, ("no workers started", workers, p.poll())
-        time.sleep(0.5)  # the workers busy on branches
+        end = time.monotonic() + (4.0 if kind == "dask" else 0.5)  # the cluster up, the workers busy on branches
+        while time.monotonic() < end:
+            workers |= _descendants(p.pid)
+            time.sleep(0.1)
         t0 = time.monotonic()
         p.send_signal(signal.SIGTERM)
         p.wait(timeout=20)

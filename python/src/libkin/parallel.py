@@ -231,4 +231,21 @@ def executor(kind: str, workers: int) -> Iterator[Any]:
             raise ImportError("--executor dask needs dask[distributed] (pip install 'libkin[dask]')") from None
         with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                           dashboard_address=None) as cluster, Client(cluster) as client:
-            yield client
+            try:
+                yield client
+            except BaseException:
+                _quiet_dask(client)  # stopped: no pages of shutdown warnings from the workers
+                raise
+
+
+def _quiet_dask(client: Any) -> None:
+    """Silence the logs of distributed here, in the workers and nannies."""
+    _quiet_logs()
+    for nanny in (False, True):
+        with contextlib.suppress(Exception):
+            client.run(_quiet_logs, nanny=nanny)
+
+
+def _quiet_logs() -> None:
+    import logging
+    logging.getLogger("distributed").setLevel(logging.CRITICAL + 1)
