@@ -5,7 +5,7 @@ written (one line on stderr, no traceback); 2 a usage error (argparse, or a
 model that is not a valid start for the command); 3 a study that stopped
 early; 4 a path that stopped before the steps asked (`follow`,
 `fold-export`: what was reached is written, fewer frames than asked);
-130 interrupted (Ctrl-C).
+130 interrupted (Ctrl-C or SIGTERM: workers ended, one line on stderr).
 """
 from __future__ import annotations
 
@@ -23,6 +23,7 @@ from .atlas import cli as atlas_cli
 from .cliargs import (EXIT_ERROR, EXIT_INTERRUPTED, EXIT_PARTIAL, EXIT_STUDY_FAILED, EXIT_USAGE, add_input_arguments,
                       count, finite, load_model_spec, positive)
 from .errors import InvalidArgumentError, KinError, NotFoundError
+from .parallel import Terminated, terminate_on_sigterm
 from .studies import cli as studies_cli
 
 __all__ = ["main", "follow_path", "EXIT_ERROR", "EXIT_USAGE", "EXIT_STUDY_FAILED", "EXIT_PARTIAL",
@@ -336,10 +337,11 @@ def main(argv: Optional[List[str]] = None) -> int:
     """
     args = _parser().parse_args(argv)
     try:
-        rc: Any = args.fn(args)
+        with terminate_on_sigterm():  # SIGTERM: the orderly stop of Ctrl-C
+            rc: Any = args.fn(args)
         return int(rc)
-    except KeyboardInterrupt:
-        print("libkin: interrupted", file=sys.stderr)
+    except KeyboardInterrupt as exc:
+        print("libkin: terminated" if isinstance(exc, Terminated) else "libkin: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     except BrokenPipeError:
         # the reader of stdout went away (e.g. `| head`): stop quietly, and keep

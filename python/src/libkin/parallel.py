@@ -1,16 +1,127 @@
 """Running plain-data tasks: serially, on a concurrent.futures executor or on
 a Dask cluster (run_tasks), and the executor a command line names
 (executor). Used by the explorer (libkin.atlas) and the sharded complete
-solver (libkin.homotopy); it imports no other part of libkin.
+solver (libkin.homotopy); of libkin it imports only libkin.errors.
+
+Workers come and go: the process pool of executor() (ProcessPool) is
+renewed when a worker dies (a task killed by the OOM killer, a SIGKILL) and
+run_tasks resubmits the tasks not yet completed, up to RETRIES times, then
+raises WorkersLostError (one line). terminate_on_sigterm() turns SIGTERM
+into the orderly stop of Ctrl-C (Terminated, a KeyboardInterrupt), and
+leaving executor() by an exception terminates and joins the pool's workers.
 """
 from __future__ import annotations
 
 import asyncio
 import concurrent.futures
 import contextlib
+import signal
 import sys
+import threading
 import time
+from concurrent.futures.process import BrokenProcessPool
 from typing import Any, Callable, Iterator, List, Optional, Sequence, Union
+
+from .errors import KinError
+
+#: times run_tasks renews a ProcessPool whose workers died before giving up
+RETRIES = 3
+
+
+class WorkersLostError(KinError, concurrent.futures.BrokenExecutor):
+    """Worker processes died (killed) more often than run_tasks retries
+    (also a concurrent.futures.BrokenExecutor, as BrokenProcessPool is).
+
+    Attributes
+    ----------
+    partial : list
+        The results of run_tasks received before, in the order of the items
+        (None for the tasks not completed).
+    """
+
+    def __init__(self, message: str, partial: Optional[List[Any]] = None) -> None:
+        super().__init__(message)
+        self.partial = partial if partial is not None else []
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM received while terminate_on_sigterm() was in force: the
+    orderly stop of Ctrl-C."""
+
+
+@contextlib.contextmanager
+def terminate_on_sigterm() -> Iterator[None]:
+    """Within: SIGTERM raises Terminated in the main thread, once (a second
+    SIGTERM during the stop ends the process at once, as without this); the
+    old handler is restored after. Does nothing outside the main thread."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum: int, frame: Any) -> None:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        raise Terminated()
+
+    old = signal.signal(signal.SIGTERM, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, old)
+
+
+def _worker_init() -> None:
+    """In each pool worker: SIGTERM kills it (not the parent's handler,
+    inherited by fork) and Ctrl-C is the parent's to handle."""
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+class ProcessPool(concurrent.futures.Executor):
+    """A concurrent.futures process pool of `workers` processes that
+    run_tasks can renew when a worker dies, and whose workers terminate()
+    ends (SIGTERM, then SIGKILL) and joins."""
+
+    def __init__(self, workers: int) -> None:
+        self.workers = workers
+        self._pool = self._new()
+
+    def _new(self) -> concurrent.futures.ProcessPoolExecutor:
+        return concurrent.futures.ProcessPoolExecutor(max_workers=self.workers, initializer=_worker_init)
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> "concurrent.futures.Future[Any]":
+        try:
+            return self._pool.submit(fn, *args, **kwargs)
+        except BrokenProcessPool:  # broken in an earlier run: a new pool
+            self.renew()
+            return self._pool.submit(fn, *args, **kwargs)
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        self._pool.shutdown(wait=wait, cancel_futures=cancel_futures)
+
+    def pids(self) -> List[int]:
+        """The process ids of the current workers."""
+        return list(getattr(self._pool, "_processes", None) or {})
+
+    def renew(self) -> None:
+        """Replace the pool (broken by a dead worker) by a new one of the
+        same size; the old one's workers are ended."""
+        self.terminate()
+        self._pool = self._new()
+
+    def terminate(self, grace: float = 2.0) -> None:
+        """Cancel the pending tasks and end the workers, running tasks too."""
+        procs = list((getattr(self._pool, "_processes", None) or {}).values())
+        self._pool.shutdown(wait=False, cancel_futures=True)
+        for p in procs:
+            with contextlib.suppress(Exception):
+                p.terminate()
+        end = time.monotonic() + grace
+        for p in procs:
+            with contextlib.suppress(Exception):
+                p.join(max(0.0, end - time.monotonic()))
+                if p.is_alive():
+                    p.kill()
+                    p.join(grace)
 
 #: progress of run_tasks and libkin.explore: None/False (quiet), True
 #: (messages on stderr) or a callable getting (done, total, what)
@@ -40,20 +151,45 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
             _tick(progress, k + 1, n, what)
         return out
     if _is_dask_client(executor):
-        futures = executor.map(fn, items, pure=False)
+        futures = list(executor.map(fn, items, pure=False))
     else:
         futures = [executor.submit(fn, it) for it in items]
-    for k, f in enumerate(futures):
-        if deadline is not None and not f.done():
-            wait = deadline - time.perf_counter()
-            try:
-                out.append(f.result(timeout=max(wait, 0.0)) if wait > 0 else _cancel_or_wait(f))
-            except (TimeoutError, concurrent.futures.TimeoutError, asyncio.TimeoutError):
-                out.append(_cancel_or_wait(f))
-        else:
-            out.append(f.result())
-        _tick(progress, k + 1, n, what)
+    deaths = 0
+    k = 0
+    while k < n:
+        try:
+            out.append(_result(futures[k], deadline))
+        except BrokenProcessPool:
+            deaths += 1
+            if not isinstance(executor, ProcessPool) or deaths > RETRIES:
+                raise WorkersLostError(f"worker processes died {deaths} time{'s' if deaths > 1 else ''}; "
+                                       f"{k} of {n} {what} completed", out + [None] * (n - k)) from None
+            executor.renew()
+            futures[k:] = [f if _succeeded(f) else executor.submit(fn, it) for f, it in zip(futures[k:], items[k:])]
+            continue
+        except Exception as exc:
+            if type(exc).__name__ != "KilledWorker":  # Dask: a task's workers died too often
+                raise
+            raise WorkersLostError(f"Dask workers died running one task; {k} of {n} {what} completed",
+                                   out + [None] * (n - k)) from None
+        k += 1
+        _tick(progress, k, n, what)
     return out
+
+
+def _result(f: Any, deadline: Optional[float]) -> Any:
+    """The result of a future; past the deadline, None if not started."""
+    if deadline is not None and not f.done():
+        wait = deadline - time.perf_counter()
+        try:
+            return f.result(timeout=max(wait, 0.0)) if wait > 0 else _cancel_or_wait(f)
+        except (TimeoutError, concurrent.futures.TimeoutError, asyncio.TimeoutError):
+            return _cancel_or_wait(f)
+    return f.result()
+
+
+def _succeeded(f: "concurrent.futures.Future[Any]") -> bool:
+    return f.done() and not f.cancelled() and f.exception() is None
 
 
 def _cancel_or_wait(f: Any) -> Any:
@@ -75,13 +211,19 @@ def _tick(progress: Progress, done: int, total: int, what: str) -> None:
 
 @contextlib.contextmanager
 def executor(kind: str, workers: int) -> Iterator[Any]:
-    """The executor named on the command line (None for serial)."""
+    """The executor named on the command line (None for serial). A
+    process pool is a ProcessPool (renewed when a worker dies); leaving by
+    an exception (Ctrl-C, Terminated) ends its workers at once."""
     if kind == "serial":
         yield None
     elif kind == "process":
-        from concurrent.futures import ProcessPoolExecutor
-        with ProcessPoolExecutor(max_workers=workers) as ex:
-            yield ex
+        pool = ProcessPool(workers)
+        try:
+            yield pool
+        except BaseException:
+            pool.terminate()  # an error, Ctrl-C or SIGTERM: no worker left behind
+            raise
+        pool.shutdown(wait=True)
     else:
         try:
             from distributed import Client, LocalCluster
@@ -89,4 +231,21 @@ def executor(kind: str, workers: int) -> Iterator[Any]:
             raise ImportError("--executor dask needs dask[distributed] (pip install 'libkin[dask]')") from None
         with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                           dashboard_address=None) as cluster, Client(cluster) as client:
-            yield client
+            try:
+                yield client
+            except BaseException:
+                _quiet_dask(client)  # stopped: no pages of shutdown warnings from the workers
+                raise
+
+
+def _quiet_dask(client: Any) -> None:
+    """Silence the logs of distributed here, in the workers and nannies."""
+    _quiet_logs()
+    for nanny in (False, True):
+        with contextlib.suppress(Exception):
+            client.run(_quiet_logs, nanny=nanny)
+
+
+def _quiet_logs() -> None:
+    import logging
+    logging.getLogger("distributed").setLevel(logging.CRITICAL + 1)
