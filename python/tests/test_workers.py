@@ -5,6 +5,7 @@ a killed worker."""
 import os
 import pathlib
 import signal
+import sqlite3
 import subprocess
 import sys
 import time
@@ -122,6 +123,17 @@ def _alive(pid):
     return stat.rsplit(")", 1)[1].split()[0] != "Z"
 
 
+def _branches_recorded(store):
+    """followed branches the run's store holds (0 before it exists)"""
+    if not store.exists():
+        return 0
+    try:
+        with sqlite3.connect(f"file:{store}?mode=ro", uri=True, timeout=1) as db:
+            return db.execute("SELECT COUNT(*) FROM results WHERE kind = 'follow_branch'").fetchone()[0]
+    except sqlite3.Error:
+        return 0
+
+
 @pytest.mark.skipif(not pathlib.Path("/proc/self/task").is_dir(), reason="reads /proc")
 @pytest.mark.parametrize("kind", ["process", "dask"])
 def test_sigterm_stops_explore_and_leaves_no_worker(tmp_path, kind):
@@ -138,10 +150,15 @@ def test_sigterm_stops_explore_and_leaves_no_worker(tmp_path, kind):
             workers |= _descendants(p.pid)
             time.sleep(0.05)
         assert len(workers) >= 2 and p.poll() is None, ("no workers started", workers, p.poll())
-        end = time.monotonic() + (4.0 if kind == "dask" else 0.5)  # the cluster up, the workers busy on branches
-        while time.monotonic() < end:
+        # the workers busy on branches: the store (atlas/store.py) has recorded
+        # a followed branch (a signal during a node's complete solve takes
+        # effect when that solve returns: docs/atlas.md)
+        store = tmp_path / ".out.explore.sqlite"
+        end = time.monotonic() + 120
+        while time.monotonic() < end and p.poll() is None and _branches_recorded(store) < 1:
             workers |= _descendants(p.pid)
             time.sleep(0.1)
+        workers |= _descendants(p.pid)
         t0 = time.monotonic()
         p.send_signal(signal.SIGTERM)
         p.wait(timeout=20)

@@ -84,7 +84,7 @@ def _run(args: argparse.Namespace, assembly: Assembly) -> int:
     if not signalled and not at.stats.get("partial") and args.store is None:
         remove_store(store)  # the default store of a complete run: nothing left to resume
     if signalled:
-        print(f"interrupted by signal {signalled[0]}: the atlas so far is written (partial); "
+        print(f"libkin: interrupted by signal {signalled[0]}: the atlas so far is written (partial); "
               f"continue with --resume (store {store})", file=sys.stderr)
         return 128 + signalled[0]
     return 0
