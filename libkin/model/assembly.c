@@ -530,9 +530,11 @@ int kin_assembly_create(int dim, int nj, const double *xyz, const unsigned char 
         if (!a->fixed[i]) a->free_coord[r++] = i;
     }
     double ss = 0.0;
+    a->min_length = INFINITY;
     for (int k = 0; k < nb; ++k) {
         a->L0[k] = rest ? rest[k] : bar_length(a, xyz, k);
         ss += a->L0[k] * a->L0[k];
+        a->min_length = fmin(a->min_length, a->L0[k]);
     }
     a->rms_length = sqrt(ss / nb);
     kin_options_default(&a->opt);

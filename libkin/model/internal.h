@@ -53,6 +53,8 @@ struct kin_assembly {
     int *free_index;         /* nj*dim -> row of H or -1 */
     int *free_coord;         /* nf -> j*dim + k */
     double rms_length;       /* RMS of rest lengths: the step scale */
+    double min_length;       /* shortest rest length: the strain that coordinate rounding allows
+                                (kin__resolution_strain) divides by it; rest lengths never change */
     kin_options opt;
     char err[KIN_ERRLEN];
 

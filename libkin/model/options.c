@@ -79,9 +79,7 @@ int kin__options_read(kin_assembly *a, const kin_options *user, kin_options *o)
 double kin__resolution_strain(const kin_assembly *a)
 {
     if (!(a->opt.coord_resolution > 0.0) || a->nb == 0) return 0.0;
-    double lmin = INFINITY;
-    for (int k = 0; k < a->nb; ++k) lmin = fmin(lmin, a->L0[k]);
-    return sqrt((double)a->dim) * a->opt.coord_resolution / lmin;
+    return sqrt((double)a->dim) * a->opt.coord_resolution / a->min_length;
 }
 
 double kin__rank_tolerance(const kin_assembly *a) { return fmax(a->opt.rank_tol, kin__resolution_strain(a)); }
