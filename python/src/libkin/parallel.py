@@ -148,7 +148,7 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
     if executor is None:
         for k, it in enumerate(items):
             out.append(None if deadline is not None and time.perf_counter() > deadline else fn(it))
-            _tick(progress, k + 1, n, what)
+            tick(progress, k + 1, n, what)
         return out
     if _is_dask_client(executor):
         futures = list(executor.map(fn, items, pure=False))
@@ -173,7 +173,7 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
             raise WorkersLostError(f"Dask workers died running one task; {k} of {n} {what} completed",
                                    out + [None] * (n - k)) from None
         k += 1
-        _tick(progress, k, n, what)
+        tick(progress, k, n, what)
     return out
 
 
@@ -199,7 +199,8 @@ def _cancel_or_wait(f: Any) -> Any:
     return f.result()
 
 
-def _tick(progress: Progress, done: int, total: int, what: str) -> None:
+def tick(progress: Progress, done: int, total: int, what: str) -> None:
+    """progress(done, total, what), or a line on stderr at each quarter when progress is True."""
     if progress is None or progress is False:
         return
     if callable(progress):

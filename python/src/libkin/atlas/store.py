@@ -22,12 +22,11 @@ import os
 import pathlib
 import signal
 import sqlite3
-import sys
 import time
 from typing import Any, Callable, Dict, List, Optional, Sequence, Union
 
 from ..errors import InvalidArgumentError
-from ..parallel import Progress, run_tasks
+from ..parallel import Progress, run_tasks, tick
 
 __all__ = ["Store", "StoreMismatchError", "fingerprint", "default_path", "open_store", "remove_store"]
 
@@ -174,15 +173,8 @@ class Store:
                     self.put(kind, keys[i], res)
                 out[i] = res
                 done += 1
-                _tick(progress, done, len(items), what)
+                tick(progress, done, len(items), what)
         return out
-
-
-def _tick(progress: Progress, done: int, total: int, what: str) -> None:
-    if callable(progress):
-        progress(done, total, what)
-    elif progress is True and (done == total or done % max(1, total // 4) == 0):
-        print(f"[explore] {what}: {done}/{total}", file=sys.stderr, flush=True)
 
 
 def _width(executor: Any) -> int:
