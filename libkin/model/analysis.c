@@ -139,9 +139,9 @@ static int support_nullspace(kin_assembly *a, int *nnull_out)
  * candidate is rounding noise that normalises to any direction; below
  * GS_ROUNDING_UNITS rounding units no candidate counts.
  * Scratch: a->Gs (support null space, candidates) and, to project, m
- * doubles of a->mwork. */
+ * doubles of proj. */
 static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um, int m, double *R,
-                            int *mr)
+                            int *mr, double *proj)
 {
     int nf = a->nf, nr = a->nrig, n = a->nj * a->dim, nnull = 0, kept = 0;
     *mr = 0;
@@ -159,7 +159,7 @@ static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um
         }
         if (Um) {
             /* c := U_m (U_m^T c) */
-            double *p = a->mwork;
+            double *p = proj;
             for (int k = 0; k < m; ++k) p[k] = kin__dot(nf, Um + (size_t)k * nf, c);
             for (int i = 0; i < nf; ++i) {
                 double s = 0.0;
@@ -202,60 +202,56 @@ static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um
 
 int kin__rigid_basis(kin_assembly *a, const double *xyz, double *R, int *mr)
 {
-    return rigid_mechanisms(a, xyz, NULL, 0, R, mr);
+    return rigid_mechanisms(a, xyz, NULL, 0, R, mr, NULL);
+}
+
+/* The split (Pellegrino & Calladine 1986): the rigid mechanisms are the
+ * rigid motions that keep the supports, projected on U_m (they lie in it up
+ * to rounding) and orthonormalised (rigid_mechanisms); the internal ones
+ * are the orthonormal complement of span(Urig) in span(U_m), found in the
+ * m-dimensional coefficient space by one Householder QR of Z = U_m^T Urig
+ * (m x m_rigid, orthonormal columns): U_m Q's last m - m_rigid columns.
+ * Cost O(nf m m_rigid) after the rigid fields, where the pivoted
+ * Gram-Schmidt over every unit vector it replaces cost O(m^4) (issue 24,
+ * docs/performance.md "the rigid/internal split"). */
+int kin__split_basis(kin_assembly *a, const double *xyz, const double *Um, int m, double *Urig, double *Uint,
+                     int *mr, double *work)
+{
+    int nf = a->nf, kept = 0, info = 0;
+    *mr = 0;
+    if (m == 0) return KIN_OK;
+    int rc = rigid_mechanisms(a, xyz, Um, m, Urig, &kept, work);
+    if (rc) return rc;
+    *mr = kept;
+    int mi = m - kept;
+    if (mi > 0) {
+        memcpy(Uint, Um, sizeof(double) * (size_t)nf * (size_t)m);
+        if (kept > 0) {
+            double *Z = work, *tau = Z + (size_t)6 * m, *w = tau + 6; /* m x kept, kept, max(nf, kept) */
+            for (int c = 0; c < kept; ++c)
+                for (int r = 0; r < m; ++r)
+                    Z[r + (size_t)c * m] = kin__dot(nf, Um + (size_t)r * nf, Urig + (size_t)c * nf);
+            dgeqr2_(&m, &kept, Z, &m, tau, w, &info);
+            if (info == 0) dorm2r_("R", "N", &nf, &m, &kept, Z, &m, tau, Uint, &nf, w, &info, 1, 1);
+            if (info != 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgeqr2/dorm2r (mechanism split) info = %d", info);
+            memmove(Uint, Uint + (size_t)kept * nf, sizeof(double) * (size_t)nf * (size_t)mi);
+        }
+        for (int c = 0; c < mi; ++c) orient(nf, Uint + (size_t)c * nf);
+    }
+    for (int c = 0; c < kept; ++c) orient(nf, Urig + (size_t)c * nf);
+    return KIN_OK;
 }
 
 /* Split U_m (the last m columns of f->U) into rigid and internal parts. */
 static int split_mechanisms(kin_assembly *a, const double *xyz, kin_factor *f)
 {
-    int nf = a->nf, m = f->an.m;
-    const double *Um = f->U + (size_t)f->an.rank * nf;
+    int m = f->an.m, kept = 0;
     f->an.m_rigid = 0;
-    if (m == 0) {
-        f->an.m_internal = 0;
-        return KIN_OK;
-    }
-    /* rigid mechanisms: the rigid motions that keep the supports, projected
-     * on U_m (they lie in it up to rounding), orthonormalised */
-    int kept = 0;
-    int rc = rigid_mechanisms(a, xyz, Um, m, f->Urig, &kept);
+    f->an.m_internal = m;
+    int rc = kin__split_basis(a, xyz, f->U + (size_t)f->an.rank * a->nf, m, f->Urig, f->Uint, &kept, a->mwork);
     if (rc) return rc;
     f->an.m_rigid = kept;
     f->an.m_internal = m - kept;
-    /* internal mechanisms: orthonormal complement of span(Urig) in span(U_m),
-     * found in the m-dimensional coefficient space: Z = complement of
-     * U_m^T Urig, chosen by pivoted Gram-Schmidt on the unit vectors */
-    double *Z = a->mwork;                    /* m x m: [Prig | complement] */
-    double *w = a->mwork + (size_t)m * m;    /* m scratch */
-    double *best = w + m;                    /* m scratch */
-    for (int c = 0; c < kept; ++c)
-        for (int r = 0; r < m; ++r) Z[r + (size_t)c * m] = kin__dot(nf, Um + (size_t)r * nf, f->Urig + (size_t)c * nf);
-    for (int c = 0; c < kept; ++c) kin__gs_column(m, Z, m, c, Z + (size_t)c * m);
-    int have = kept;
-    while (have < m) {
-        double bestn = -1.0;
-        for (int r = 0; r < m; ++r) {
-            memset(w, 0, sizeof(double) * (size_t)m);
-            w[r] = 1.0;
-            double nrm = kin__gs_column(m, Z, m, have, w);
-            if (nrm > bestn) {
-                bestn = nrm;
-                memcpy(best, w, sizeof(double) * (size_t)m);
-            }
-        }
-        memcpy(Z + (size_t)have * m, best, sizeof(double) * (size_t)m);
-        ++have;
-    }
-    /* Uint = U_m * Z[:, kept:] */
-    int mi = m - kept;
-    if (mi > 0) {
-        double one = 1.0, zero = 0.0;
-        dgemm_("N", "N", &nf, &mi, &m, &one, Um, &nf, Z + (size_t)kept * m, &m, &zero, f->Uint, &nf, 1, 1);
-        if (mi == 1) orient(nf, f->Uint);
-        else
-            for (int c = 0; c < mi; ++c) orient(nf, f->Uint + (size_t)c * nf);
-    }
-    for (int c = 0; c < kept; ++c) orient(nf, f->Urig + (size_t)c * nf);
     return KIN_OK;
 }
 
@@ -338,6 +334,12 @@ static int analyse(kin_assembly *a, kin_analysis *out, int report)
         kin__abi_zero(out);
     }
     if (!a) return KIN_ENULL;
+    if (report && a->opt.factorization == KIN_STEP_SPARSE) {
+        /* the public call in the sparse mode: no dense SVD (analysis_sparse.c) */
+        int rc = kin__analyse_sparse(a, 1);
+        if (rc == KIN_OK && out) kin__abi_write(out, &a->san->an, KIN__ABI(kin_analysis));
+        return rc;
+    }
     if (report && kin__progress(a, 0.0, 2.0)) return kin__fail(a, KIN_ECANCELLED, "analysis cancelled before the SVD");
     int trial = 1 - a->cur;
     int rc = factorize(a, a->xyz, trial);
@@ -346,6 +348,7 @@ static int analyse(kin_assembly *a, kin_analysis *out, int report)
     rc = kin__reclassify(a, a->xyz, trial);
     if (rc) return rc;
     a->cur = trial;
+    if (a->san) a->san->valid = 0; /* the newer analysis of this point is the dense one */
     if (report) (void)kin__progress(a, 2.0, 2.0);
     /* a tangent chosen or inherited at this very point stays valid */
     if (out) kin__abi_write(out, &a->fac[a->cur].an, KIN__ABI(kin_analysis));
@@ -366,6 +369,11 @@ int kin_get_analysis(const kin_assembly *a, kin_analysis *out)
     if (!a || !out) return KIN_ENULL;
     if (analysis_out_ok(out)) return KIN_EINVAL;
     kin__abi_zero(out);
+    const kin_sparse_an *sa = kin__sparse_an_current(a);
+    if (sa) {
+        kin__abi_write(out, &sa->an, KIN__ABI(kin_analysis));
+        return KIN_OK;
+    }
     if (need_analysis(a)) return KIN_ESTATE;
     kin__abi_write(out, &kin__cur(a)->an, KIN__ABI(kin_analysis));
     return KIN_OK;
@@ -374,6 +382,10 @@ int kin_get_analysis(const kin_assembly *a, kin_analysis *out)
 int kin_get_singular_values(const kin_assembly *a, double *sv, int n)
 {
     if (!a || !sv) return KIN_ENULL;
+    if (kin__sparse_an_current(a))
+        return kin__fail((kin_assembly *)a, KIN_ESTATE,
+                         "the sparse analysis (KIN_STEP_SPARSE) computes v_max and the singular values at the rank "
+                         "decision only (kin_get_analysis); analyse in KIN_STEP_SVD mode for all of them");
     if (need_analysis(a)) return KIN_ESTATE;
     int mn = a->nf < a->nb ? a->nf : a->nb;
     if (n < mn) return KIN_ERANGE;
@@ -392,6 +404,13 @@ static int copy_cols(const double *src, int rows, int cols, double *dst, int ld,
 int kin_get_mechanisms(const kin_assembly *a, int kind, double *U, int ldu, int cols)
 {
     if (!a || !U) return KIN_ENULL;
+    const kin_sparse_an *sa = kin__sparse_an_current(a);
+    if (sa) switch (kind) {
+        case KIN_MECH_INTERNAL: return copy_cols(sa->Uint, a->nf, sa->an.m_internal, U, ldu, cols);
+        case KIN_MECH_RIGID: return copy_cols(sa->Urig, a->nf, sa->an.m_rigid, U, ldu, cols);
+        case KIN_MECH_ALL: return copy_cols(sa->Um, a->nf, sa->an.m, U, ldu, cols);
+        default: return KIN_EINVAL;
+        }
     if (need_analysis(a)) return KIN_ESTATE;
     const kin_factor *f = kin__cur(a);
     switch (kind) {
@@ -406,6 +425,8 @@ int kin_get_mechanisms(const kin_assembly *a, int kind, double *U, int ldu, int 
 int kin_get_self_stresses(const kin_assembly *a, double *W, int ldw, int cols)
 {
     if (!a || !W) return KIN_ENULL;
+    const kin_sparse_an *sa = kin__sparse_an_current(a);
+    if (sa) return copy_cols(sa->Ws, a->nb, sa->an.s, W, ldw, cols);
     if (need_analysis(a)) return KIN_ESTATE;
     const kin_factor *f = kin__cur(a);
     int nb = a->nb, s = f->an.s, r = f->an.rank;

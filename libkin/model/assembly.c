@@ -361,6 +361,7 @@ static void release(kin_assembly *a)
     free(a->luR);
     free(a->luw);
     if (a->sp_free) a->sp_free(a);
+    kin__sparse_an_free(a);
     free(a);
 }
 

@@ -24,6 +24,23 @@ typedef struct kin_factor {
     double *Urig;   /* nf x m_rigid rigid-body mechanisms (ld nf) */
 } kin_factor;
 
+/* The first-order analysis of the sparse mode (model/analysis_sparse.c):
+ * what kin_analyse finds in KIN_STEP_SPARSE mode without the dense SVD
+ * (the counts, v_max, v_r and orthonormal bases of the null spaces), kept
+ * beside fac[] and current while the configuration and the rank tolerance
+ * are those it was made with (kin__sparse_an_current). */
+typedef struct kin_sparse_an {
+    int valid;
+    kin_analysis an;
+    double tol;     /* the rank tolerance it counted with */
+    double *xyz;    /* nj*dim: the configuration it was made at */
+    double *Um;     /* nf x m: every mechanism (ld nf) */
+    double *Urig;   /* nf x m_rigid */
+    double *Uint;   /* nf x m_internal */
+    double *Ws;     /* nb x s: the self-stresses (ld nb) */
+    size_t cap_m, cap_s; /* columns allocated in Um/Uint (and Urig) and Ws */
+} kin_sparse_an;
+
 /* LU mode (kin_options.factorization == KIN_STEP_LU): one factorization of
  * the bordered matrix J = [C; b^T; R^T] of a configuration, where b is the
  * tangent of the step that reached it and R its rigid mechanisms. Stored as
@@ -117,6 +134,10 @@ struct kin_assembly {
     void (*sp_free)(kin_assembly *a);
     int (*sp_prepare)(kin_assembly *a);
 
+    /* the sparse mode's analysis (model/analysis_sparse.c); NULL until the
+     * first one, not copied by kin_assembly_clone */
+    kin_sparse_an *san;
+
     /* progress callback of the long loops (kin_set_progress); not copied
      * by kin_assembly_clone nor kin__copy_state */
     kin_progress_fn progress;
@@ -181,6 +202,23 @@ int kin__options_read(kin_assembly *a, const kin_options *user, kin_options *o);
 
 /* factorize the configuration xyz into fac[idx] (SVD, rank, mechanisms) */
 int kin__analyse_into(kin_assembly *a, const double *xyz, int idx);
+/* kin_analyse's route in KIN_STEP_SPARSE mode (model/analysis_sparse.c):
+ * the analysis of the current configuration from sparse factorizations
+ * into a->san, with the progress reports of kin_analyse when report is 1.
+ * Never allocates anything of size nf x nb. */
+int kin__analyse_sparse(kin_assembly *a, int report);
+/* a->san when it holds the analysis of the current configuration with the
+ * current rank tolerance, else NULL */
+const kin_sparse_an *kin__sparse_an_current(const kin_assembly *a);
+void kin__sparse_an_free(kin_assembly *a);
+/* Split the mechanisms Um (nf x m orthonormal, ld nf) of configuration xyz
+ * into rigid-body ones Urig (nf x *mr, ld nf, room for 6) and internal ones
+ * Uint (nf x (m - *mr), ld nf, room for m columns), both orthonormal and
+ * oriented (model/analysis.c). work: at least kin__split_work(nf, m)
+ * doubles. */
+int kin__split_basis(kin_assembly *a, const double *xyz, const double *Um, int m, double *Urig, double *Uint,
+                     int *mr, double *work);
+static inline size_t kin__split_work(int nf, int m) { return (size_t)m * 8 + (size_t)nf + 16; }
 /* kin_analyse without progress reports, for the library's own loops (whose
  * callbacks count steps, not phases of one analysis) */
 int kin__analyse(kin_assembly *a, kin_analysis *out);

@@ -53,4 +53,16 @@ void dgemm_(const char *transa, const char *transb, const int *m, const int *n, 
             const int *ldb, const double *beta, double *c, const int *ldc, kin_fstrlen ta_len,
             kin_fstrlen tb_len);
 
+void dgeqrf_(const int *m, const int *n, double *a, const int *lda, double *tau, double *work,
+             const int *lwork, int *info);
+
+void dorgqr_(const int *m, const int *n, const int *k, double *a, const int *lda, const double *tau,
+             double *work, const int *lwork, int *info);
+
+void dgeqr2_(const int *m, const int *n, double *a, const int *lda, double *tau, double *work, int *info);
+
+void dorm2r_(const char *side, const char *trans, const int *m, const int *n, const int *k,
+             const double *a, const int *lda, const double *tau, double *c, const int *ldc,
+             double *work, int *info, kin_fstrlen side_len, kin_fstrlen trans_len);
+
 #endif /* KIN_LAPACK_H */
