@@ -53,6 +53,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cholmod.h>
 #include <klu.h>
 
 #include "model/internal.h"
@@ -71,7 +72,7 @@ static const int MAX_BLOCK = 1024;
 static const int MAX_ITER = 60;
 /* Lanczos steps at most for v_max, and the relative residual bound that
  * stops them. */
-static const int GKL_MAX = 300;
+static const int GKL_MAX = 40;
 static const double GKL_TOL = 1e-12;
 /* v_r is steady when it moved by less than this (relative) in an
  * iteration, or by less than ROUNDING_UNITS eps v_max. */
@@ -79,6 +80,9 @@ static const double VR_STEADY = 1e-12;
 /* The products' rounding, in units of eps v_max: a Ritz value closer to tau
  * than this is undecidable. */
 static const double ROUNDING_UNITS = 16.0;
+/* The bisection of v_max stops when its bracket is this many rounding
+ * units wide (relative). */
+static const double BRACKET_UNITS = 16.0;
 /* Seed of the random starts (any fixed value: analyses repeat exactly). */
 static const unsigned long long START_SEED = 0x5a17ab1eULL;
 
@@ -209,7 +213,7 @@ static int aug_factor(kin_assembly *a, aug_t *g, double sigma)
     }
     free(next);
     klu_defaults(&g->common);
-    g->common.ordering = 0; /* AMD: M's pattern is symmetric */
+    g->common.ordering = 1; /* COLAMD: an order for any row pivoting (sigma ~ 0 on the diagonal: every pivot is off it) */
     g->common.btf = 0;
     g->common.tol = 1.0; /* strict partial pivoting: M's condition is v_max / sigma */
     g->common.halt_if_singular = 1;
@@ -240,10 +244,98 @@ static int orthonormalise(kin_assembly *a, int n, int b, double *X, double *work
     return KIN_OK;
 }
 
+/* v_max to rounding, from Lanczos's Ritz value theta (a lower bound) and
+ * its residual res: mu^2 I - H^T H is positive definite exactly when
+ * mu > v_max, which a CHOLMOD Cholesky factorization decides (it fails
+ * otherwise); the first mu = theta (1 + delta) with delta = res / theta,
+ * 8x that, ... (up to 1) that passes is an upper bound, and bisection on
+ * that bracket narrows it to BRACKET_UNITS rounding units (each step one
+ * numeric factorization on the one symbolic analysis). Forming H^T H is
+ * harmless at the top of the spectrum: its rounding moves the eigenvalues
+ * near v_max^2 by a few eps v_max^2, i.e. v_max by a few eps relative.
+ * *vmax := the bracket's middle, *delta := its relative width. KIN_OK,
+ * KIN_ENOMEM, or KIN_ENOTCONVERGED (no bound up to 2 theta). */
+static int vmax_bracket(kin_assembly *a, const aug_t *g, double theta, double res, double *vmax, double *delta)
+{
+    int nf = g->nf, nb = g->nb, d = g->d, rc = KIN_ENOMEM;
+    cholmod_common cc;
+    cholmod_start(&cc);
+    cc.print = 0;
+    cc.error_handler = NULL;
+    cc.supernodal = CHOLMOD_SUPERNODAL; /* LL' (which fails where not positive definite), not a simplicial LDL' */
+    cholmod_sparse *H = cholmod_allocate_sparse((size_t)nf, (size_t)nb, (size_t)nb * 2 * (size_t)d, 0, 1, 0,
+                                                CHOLMOD_REAL, &cc);
+    cholmod_sparse *HT = NULL, *C = NULL, *E = NULL;
+    cholmod_factor *L = NULL;
+    if (H) {
+        int *Hp = H->p, *Hi = H->i, nz = 0;
+        double *Hx = H->x;
+        for (int k = 0; k < nb; ++k) {
+            Hp[k] = nz;
+            for (int p = 0; p < 2 * d; ++p) {
+                int r = g->row[(size_t)k * 2 * d + p];
+                if (r < 0) continue;
+                Hi[nz] = r;
+                Hx[nz++] = p < d ? g->cs[(size_t)k * d + p] : -g->cs[(size_t)k * d + p - d];
+            }
+        }
+        Hp[nb] = nz;
+        HT = cholmod_transpose(H, 1, &cc); /* nb x nf, sorted */
+    }
+    if (HT) C = cholmod_ssmult(HT, H, 0, 1, 1, &cc); /* H^T H */
+    if (C) E = cholmod_speye((size_t)nb, (size_t)nb, CHOLMOD_REAL, &cc);
+    double lo = theta, hi = INFINITY;
+    int failed = !(C && E);
+    /* 1: mu > v_max; 0: not; -1: CHOLMOD failed */
+#define KIN_PD_TEST(mu, out)                                                                             \
+    do {                                                                                                 \
+        double al_[2] = {(mu) * (mu), 0.0}, be_[2] = {-1.0, 0.0};                                        \
+        cholmod_sparse *D_ = cholmod_add(E, C, al_, be_, 1, 1, &cc);                                     \
+        cholmod_sparse *S_ = D_ ? cholmod_copy(D_, 1, 1, &cc) : NULL;                                    \
+        if (S_ && !L) L = cholmod_analyze(S_, &cc);                                                      \
+        int ok_ = S_ && L && cholmod_factorize(S_, L, &cc) && cc.status != CHOLMOD_OUT_OF_MEMORY;        \
+        (out) = !ok_ ? -1 : (cc.status == CHOLMOD_OK && L->is_ll && L->minor == (size_t)nb);            \
+        cholmod_free_sparse(&D_, &cc);                                                                   \
+        cholmod_free_sparse(&S_, &cc);                                                                   \
+    } while (0)
+    for (double dl = fmax(res / theta, BRACKET_UNITS * DBL_EPSILON); !failed && dl <= 1.0; dl *= 8.0) {
+        int pd = 0;
+        KIN_PD_TEST(theta * (1.0 + dl), pd);
+        if (pd < 0) failed = 1;
+        else if (pd) {
+            hi = theta * (1.0 + dl);
+            break;
+        } else lo = theta * (1.0 + dl);
+    }
+    while (!failed && isfinite(hi) && hi - lo > BRACKET_UNITS * DBL_EPSILON * hi) {
+        double mid = 0.5 * (lo + hi);
+        int pd = 0;
+        KIN_PD_TEST(mid, pd);
+        if (pd < 0) failed = 1;
+        else if (pd) hi = mid;
+        else lo = mid;
+    }
+#undef KIN_PD_TEST
+    if (!failed && isfinite(hi)) {
+        rc = KIN_OK;
+        *vmax = 0.5 * (lo + hi);
+        *delta = (hi - lo) / lo;
+    } else if (!failed) rc = KIN_ENOTCONVERGED;
+    cholmod_free_factor(&L, &cc);
+    cholmod_free_sparse(&E, &cc);
+    cholmod_free_sparse(&C, &cc);
+    cholmod_free_sparse(&HT, &cc);
+    cholmod_free_sparse(&H, &cc);
+    cholmod_finish(&cc);
+    if (rc == KIN_ENOMEM) return kin__fail(a, KIN_ENOMEM, "sparse analysis: CHOLMOD bracket of v_max");
+    if (rc) return kin__fail(a, KIN_ENOTCONVERGED, "sparse analysis: no upper bound of v_max up to twice Lanczos's");
+    return KIN_OK;
+}
+
 /* v_max by Golub-Kahan-Lanczos bidiagonalisation of H with full
  * reorthogonalisation (work: (nf + nb) * (GKL_MAX + 1) doubles and the
  * small matrices). KIN_OK or KIN_ENOMEM / KIN_ENOTCONVERGED. */
-static int gkl_vmax(kin_assembly *a, const aug_t *g, double *vmax)
+static int gkl_vmax(kin_assembly *a, const aug_t *g, double *vmax, double *vres)
 {
     int nf = g->nf, nb = g->nb, kmax = GKL_MAX;
     if (kmax > nf) kmax = nf;
@@ -257,6 +349,7 @@ static int gkl_vmax(kin_assembly *a, const aug_t *g, double *vmax)
     double *w = malloc(sizeof(double) * (size_t)lw);
     int rc = KIN_OK;
     *vmax = 0.0;
+    *vres = 0.0;
     if (!P || !U || !al || !be || !B || !sv || !Ub || !w) {
         rc = kin__fail(a, KIN_ENOMEM, "sparse analysis: Lanczos vectors (%d steps)", kmax);
         goto out;
@@ -317,9 +410,10 @@ static int gkl_vmax(kin_assembly *a, const aug_t *g, double *vmax)
         }
         *vmax = sv[0];
         double res = stop ? 0.0 : be[k] * fabs(Ub[k - 1]);
+        *vres = res;
         converged = stop || res <= GKL_TOL * sv[0] || k == nf || k == nb;
+        if (stop || k == nf || k == nb) *vres = 0.0; /* the whole Krylov space: exact */
     }
-    if (!converged) rc = kin__fail(a, KIN_ENOTCONVERGED, "sparse analysis: Lanczos for v_max did not converge in %d steps", kmax);
 out:
     free(P), free(U), free(al), free(be), free(B), free(sv), free(Ub), free(w);
     return rc;
@@ -448,7 +542,7 @@ static int side_start(kin_assembly *a, side_t *S, int b, int keep, unsigned long
 }
 
 /* The subspace iteration of one side to a decided, converged count. */
-static int side_iterate(kin_assembly *a, aug_t *g, side_t *S, double tau, double vmax, scratch_t *w,
+static int side_iterate(kin_assembly *a, aug_t *g, side_t *S, double tau, double tau_hi, double vmax, scratch_t *w,
                         unsigned long long *seed, int *b_scratch)
 {
     double round = ROUNDING_UNITS * DBL_EPSILON * vmax;
@@ -480,7 +574,7 @@ static int side_iterate(kin_assembly *a, aug_t *g, side_t *S, double tau, double
         int steady = whole || (S->k0 == last_k0 &&
                                (S->k0 == S->b || fabs(S->vr - last_vr) <= VR_STEADY * S->vr + round));
         int decided = (S->k0 == 0 || S->theta[S->k0 - 1] <= tau - round) &&
-                      (S->k0 == S->b || S->vr - fmax(S->res, round) > tau);
+                      (S->k0 == S->b || S->vr - fmax(S->res, round) > tau_hi);
         if (steady && decided && it >= 1) return KIN_OK;
         if (whole && !decided) break;
         last_k0 = S->k0;
@@ -554,10 +648,12 @@ int kin__analyse_sparse(kin_assembly *a, int report)
     side_t L = {.side = 0, .dim = nf, .other = nb}, R = {.side = 1, .dim = nb, .other = nf};
     scratch_t w;
     memset(&w, 0, sizeof w);
-    double vmax = 0.0, tol = kin__rank_tolerance(a);
+    double vmax = 0.0, vres = 0.0, delta = 0.0, tol = kin__rank_tolerance(a);
     if ((rc = aug_bars(a, a->xyz, &g)) != KIN_OK) goto out;
-    if ((rc = gkl_vmax(a, &g, &vmax)) != KIN_OK) goto out;
-    double tau = tol * vmax;
+    if ((rc = gkl_vmax(a, &g, &vmax, &vres)) != KIN_OK) goto out;
+    /* v_max lies in [vmax, vmax (1 + delta)]: Lanczos's Ritz value is a lower bound, CHOLMOD certifies the upper */
+    if (vmax > 0.0 && vres > 0.0 && (rc = vmax_bracket(a, &g, vmax, vres, &vmax, &delta)) != KIN_OK) goto out;
+    double tau = tol * vmax, tau_hi = tau * (1.0 + delta);
     int m, s;
     if (!(vmax > 0.0)) {
         /* H = 0 (every bar between fixed joints): everything is null */
@@ -586,8 +682,8 @@ int kin__analyse_sparse(kin_assembly *a, int report)
         if ((rc = scratch_alloc(a, &w, nf, nb, bmax)) != KIN_OK) goto out;
         if ((rc = side_start(a, &L, bl, 0, &seed, w.w, w.lw)) != KIN_OK) goto out;
         if ((rc = side_start(a, &R, br, 0, &seed, w.w, w.lw)) != KIN_OK) goto out;
-        if ((rc = side_iterate(a, &g, &L, tau, vmax, &w, &seed, &bmax)) != KIN_OK) goto out;
-        if ((rc = side_iterate(a, &g, &R, tau, vmax, &w, &seed, &bmax)) != KIN_OK) goto out;
+        if ((rc = side_iterate(a, &g, &L, tau, tau_hi, vmax, &w, &seed, &bmax)) != KIN_OK) goto out;
+        if ((rc = side_iterate(a, &g, &R, tau, tau_hi, vmax, &w, &seed, &bmax)) != KIN_OK) goto out;
         m = L.k0;
         s = R.k0;
         if (nf - m != nb - s) {
