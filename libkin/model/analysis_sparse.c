@@ -616,14 +616,6 @@ static int san_reserve(kin_assembly *a, size_t m, size_t s)
     return KIN_OK;
 }
 
-void kin__sparse_an_free(kin_assembly *a)
-{
-    if (!a || !a->san) return;
-    free(a->san->xyz), free(a->san->Um), free(a->san->Urig), free(a->san->Uint), free(a->san->Ws);
-    free(a->san);
-    a->san = NULL;
-}
-
 const kin_sparse_an *kin__sparse_an_current(const kin_assembly *a)
 {
     const kin_sparse_an *r = a ? a->san : NULL;

@@ -361,7 +361,10 @@ static void release(kin_assembly *a)
     free(a->luR);
     free(a->luw);
     if (a->sp_free) a->sp_free(a);
-    kin__sparse_an_free(a);
+    if (a->san) { /* the sparse mode's analysis (analysis_sparse.c) */
+        free(a->san->xyz), free(a->san->Um), free(a->san->Urig), free(a->san->Uint), free(a->san->Ws);
+        free(a->san);
+    }
     free(a);
 }
 

@@ -210,11 +210,10 @@ int kin__analyse_sparse(kin_assembly *a, int report);
 /* a->san when it holds the analysis of the current configuration with the
  * current rank tolerance, else NULL */
 const kin_sparse_an *kin__sparse_an_current(const kin_assembly *a);
-void kin__sparse_an_free(kin_assembly *a);
 /* Split the mechanisms Um (nf x m orthonormal, ld nf) of configuration xyz
  * into rigid-body ones Urig (nf x *mr, ld nf, room for 6) and internal ones
  * Uint (nf x (m - *mr), ld nf, room for m columns), both orthonormal and
- * oriented (model/analysis.c). work: at least kin__split_work(nf, m)
+ * oriented (model/mechanism_split.c). work: at least kin__split_work(nf, m)
  * doubles. */
 int kin__split_basis(kin_assembly *a, const double *xyz, const double *Um, int m, double *Urig, double *Uint,
                      int *mr, double *work);

@@ -34,3 +34,20 @@ def test_invalid_mode_values(field, value):
     a = libkin.Assembly.threebar("RC")
     with pytest.raises(libkin.errors.error_class(lib.KIN_EINVAL)):
         a.options = dataclasses.replace(a.options, **{field: value})
+
+
+def test_sparse_mode_analysis_matches_the_svd_mode():
+    """kin_analyse in the sparse mode (no dense SVD): the same counts, v_max
+    and v_r to rounding, the same mechanism and self-stress subspaces; no
+    spectrum (an empty array) instead of made-up values."""
+    a = libkin.Assembly.sail(6, 2)
+    d, s = a.analyse(), _in_mode(a, lib.KIN_STEP_SPARSE).analyse()
+    assert (s.rank, s.m, s.m_rigid, s.m_internal, s.s) == (d.rank, d.m, d.m_rigid, d.m_internal, d.s)
+    eps = np.finfo(float).eps
+    assert abs(s.v_max - d.v_max) <= 128 * eps * d.v_max
+    assert abs(s.v_r - d.v_r) <= 128 * eps * d.v_max
+    assert s.singular_values.shape == (0,) and d.singular_values.shape == (min(a.nfree, a.nbars),)
+    tol = 128 * eps * d.v_max / d.v_r
+    for x, y in ((d.internal_mechanisms, s.internal_mechanisms), (d.self_stresses, s.self_stresses)):
+        # sine of the largest principal angle
+        assert np.linalg.norm(y - x @ (x.T @ y), 2) <= tol

@@ -46,8 +46,10 @@ class Analysis:
         Number of states of self-stress, nbars - r.
     v_max, v_r : float
         Largest and lowest non-zero singular value of H.
-    singular_values : ndarray, shape (min(nfree, nbars),)
-        Singular values of H, descending.
+    singular_values : ndarray, shape (min(nfree, nbars),) or (0,)
+        Singular values of H, descending; empty after an analysis in the
+        sparse mode (``factorization="sparse"``), which computes v_max and
+        v_r but not the whole spectrum.
     internal_mechanisms : ndarray, shape (nfree, m_internal)
         Orthonormal internal mechanisms U_m (Fortran-ordered).
     rigid_mechanisms : ndarray, shape (nfree, m_rigid)
@@ -257,7 +259,11 @@ class AssemblyBase:
         self._check(lib.kin_analyse(self._h, an), "analyse")
         nf, nb = self.nfree, self.nbars
         sv = np.empty(min(nf, nb))
-        self._check(lib.kin_get_singular_values(self._h, write_ptr(sv, "double *"), sv.size))
+        rc = lib.kin_get_singular_values(self._h, write_ptr(sv, "double *"), sv.size)
+        if rc == lib.KIN_ESTATE:  # a sparse-mode analysis: no spectrum (kin_assembly.h)
+            sv = np.empty(0)
+        else:
+            self._check(rc)
 
         def mech(kind: int, cols: int) -> FloatArray:
             out = np.empty((nf, cols), order="F")
