@@ -270,6 +270,18 @@ static void errors(void)
     CHECK(rc == KIN_ENOTCONVERGED);
     if (rc != KIN_ENOTCONVERGED) fprintf(stderr, "undecidable rank: %s\n", kin_status_name(rc));
     kin_assembly_free(a);
+    /* the same where the block is not the whole space: rank_tol at v_r / v_max of a mast */
+    kin_assembly *ma = test_mast(3, 100, NULL);
+    CHECK(ma != NULL);
+    if (ma) {
+        set_mode(ma, KIN_STEP_SVD, 1e-11);
+        CHECK_RC(kin_analyse(ma, &an), KIN_OK);
+        set_mode(ma, KIN_STEP_SPARSE, an.v_r / an.v_max);
+        rc = kin_analyse(ma, &an);
+        CHECK(rc == KIN_ENOTCONVERGED);
+        if (rc != KIN_ENOTCONVERGED) fprintf(stderr, "undecidable rank (mast): %s\n", kin_status_name(rc));
+    }
+    kin_assembly_free(ma);
     /* more self-stresses than the sparse analysis keeps: a clear limit */
     kin_assembly *c = complete_graph(50);
     CHECK(c != NULL);
