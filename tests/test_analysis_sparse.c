@@ -296,9 +296,38 @@ static void errors(void)
     free(xyz);
 }
 
+/* what consumes an analysis, after a sparse one: the second order refuses
+ * clearly (it needs the singular vectors), a direction is still set (the
+ * path layer makes its own dense analysis on a model this small) */
+static void consumers(void)
+{
+    kin_assembly *h = test_sail(6, 2);
+    CHECK(h && test_hex_to_RB(h) == KIN_OK);
+    if (!h) return;
+    set_mode(h, KIN_STEP_SPARSE, 0);
+    kin_analysis an = {.size = sizeof an};
+    CHECK_RC(kin_analyse(h, &an), KIN_OK);
+    CHECK(an.m_internal >= 2 && an.s >= 1);
+    int nf = kin_nfree(h), s = 0;
+    double *Q = malloc(sizeof(double) * (size_t)an.m_internal * an.m_internal * an.s);
+    double *U = malloc(sizeof(double) * (size_t)nf * an.m_internal);
+    CHECK_RC(kin_second_order(h, KIN_Q_EXACT, 1, Q, an.m_internal * an.m_internal * an.s, &s), KIN_ESTATE);
+    CHECK(strlen(kin_last_error(h)) > 0);
+    CHECK_RC(kin_get_mechanisms(h, KIN_MECH_INTERNAL, U, nf, an.m_internal), KIN_OK);
+    CHECK_RC(kin_path_set_direction(h, U, nf), KIN_OK);
+    set_mode(h, KIN_STEP_SVD, 0);
+    CHECK_RC(kin_analyse(h, &an), KIN_OK);
+    CHECK_RC(kin_second_order(h, KIN_Q_EXACT, 1, Q, an.m_internal * an.m_internal * an.s, &s), KIN_OK);
+    CHECK(s == an.s);
+    free(Q);
+    free(U);
+    kin_assembly_free(h);
+}
+
 int main(void)
 {
     models();
     errors();
+    consumers();
     TEST_REPORT("test_analysis_sparse");
 }

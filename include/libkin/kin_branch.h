@@ -35,7 +35,8 @@ enum kin_q_weighting {
  * independent matrices remain (< s if some Q_j are dependent). Without
  * normalisation *s_out = s. On failure *s_out = 0 (if s_out is not NULL) and
  * Q is not written.
- * Returns KIN_OK, KIN_ENULL, KIN_ESTATE (no current analysis), KIN_EINVAL
+ * Returns KIN_OK, KIN_ENULL, KIN_ESTATE (no current SVD analysis: none,
+ * or a sparse-mode one, which has no singular vectors), KIN_EINVAL
  * (weighting, or not a bifurcation: m_internal < 2 or s < 1), KIN_ERANGE
  * (nq < m*m*s, counted in size_t: m*m*s may exceed INT_MAX). */
 KIN_API int kin_second_order(const kin_assembly *a, int weighting, int normalise, double *Q, int nq,

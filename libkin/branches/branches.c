@@ -175,7 +175,10 @@ static int branch_paths_impl(const kin_assembly *a, const double *betas, int nbe
     const kin_factor *f = kin__cur(a);
     int m = f->an.m_internal, nf = a->nf, nc = a->nj * a->dim;
     size_t bytes;
-    if (!f->valid) rc = KIN_ESTATE;
+    if (!f->valid && kin__sparse_an_current(a))
+        rc = kin__fail((kin_assembly *)a, KIN_ESTATE,
+                       "the current analysis is the sparse mode's: the branches need the SVD analysis (KIN_STEP_SVD)");
+    else if (!f->valid) rc = KIN_ESTATE;
     else if (m < 2 || !(l_target > 0.0 && isfinite(l_target)) || !all_finite(betas, (size_t)m * (size_t)nbeta))
         rc = KIN_EINVAL;
     else if (!(l_target <= MAX_TARGET_STEPS * a->opt.step_fraction * a->rms_length))

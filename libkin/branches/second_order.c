@@ -26,6 +26,10 @@ int kin_second_order(const kin_assembly *a, int weighting, int normalise, double
     if (s_out) *s_out = 0;
     if (!a || !Q || !s_out) return KIN_ENULL;
     const kin_factor *f = kin__cur(a);
+    if (!f->valid && kin__sparse_an_current(a))
+        return kin__fail((kin_assembly *)a, KIN_ESTATE,
+                         "the current analysis is the sparse mode's (no singular vectors of H): the second order "
+                         "needs the SVD analysis (KIN_STEP_SVD, or kin_locate_next)");
     if (!f->valid) return KIN_ESTATE;
     if (weighting != KIN_Q_EXACT && weighting != KIN_Q_PAPER_EQ17) return KIN_EINVAL;
     int m = f->an.m_internal, s = f->an.s, nf = a->nf, nb = a->nb, d = a->dim, r = f->an.rank;
