@@ -244,6 +244,9 @@ static void errors(void)
         }
     CHECK_RC(kin_set_coords(a, xyz), KIN_OK);
     CHECK_RC(kin_get_analysis(a, &an), KIN_ESTATE);
+    CHECK_RC(kin_analyse(a, &an), KIN_OK);
+    CHECK_RC(kin_set_coords(a, xyz), KIN_OK); /* the same coordinates: still a new configuration (kin_set_coords) */
+    CHECK_RC(kin_get_analysis(a, &an), KIN_ESTATE);
     CHECK_RC(kin_get_self_stresses(a, U, nb, nb), KIN_ESTATE);
     /* cancel before and after the factorization: the previous analysis kept */
     CHECK_RC(kin_analyse(a, &an), KIN_OK);

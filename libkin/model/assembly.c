@@ -562,6 +562,7 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
 {
     size_t nf = (size_t)src->nf, nb = (size_t)src->nb, mn = nf < nb ? nf : nb;
     memcpy(a->xyz, src->xyz, sizeof(double) * (size_t)(src->nj * src->dim));
+    if (a->san) a->san->valid = 0; /* a sparse analysis is not copied */
     /* src's dense analysis needs dst's dense workspace (made once; if it
      * cannot be had, dst keeps no analysis and makes its own when asked) */
     int dense = src->H != NULL && kin__dense_ready(a) == KIN_OK;
@@ -686,6 +687,7 @@ void kin__set_configuration(kin_assembly *a, const double *xyz)
 {
     memcpy(a->xyz, xyz, sizeof(double) * (size_t)(a->nj * a->dim));
     a->fac[0].valid = a->fac[1].valid = 0;
+    if (a->san) a->san->valid = 0;
     kin__lu_invalidate(a);
     a->have_t = a->t_chosen = 0;
     a->step_hint = 0.0;
