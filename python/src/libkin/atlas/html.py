@@ -234,7 +234,8 @@ def page(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: Opt
     require_plotly()
     from plotly.offline import get_plotlyjs
     data, node_bytes, sample_bytes = payload(atlas, names, title, max_sample_values)
-    text = json.dumps(data, separators=(",", ":"), allow_nan=False)
+    # "<" written as its JSON escape: no text of the atlas can open or close a tag
+    text = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("<", "\\u003c")
     plotly_js = get_plotlyjs()
     if "</script" in plotly_js.lower():  # never so far; kept safe if it ever is
         plotly_js = plotly_js.replace("</script", "<\\/script").replace("</SCRIPT", "<\\/SCRIPT")
@@ -243,7 +244,7 @@ def page(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: Opt
         "<meta name=\"generator\" content=\"libkin atlas viewer\">\n",
         f"<title>{_html.escape(data['title'])}</title>\n<style>\n{_asset('viewer.css')}\n</style>\n</head>\n",
         _asset("viewer.html"),
-        f"<script type=\"application/json\" id=\"libkin-data\">{_script_safe(text)}</script>\n",
+        f"<script type=\"application/json\" id=\"libkin-data\">{text}</script>\n",
         "<script type=\"application/octet-stream\" id=\"libkin-configs\">",
         base64.b64encode(node_bytes).decode("ascii"), "</script>\n",
         "<script type=\"application/octet-stream\" id=\"libkin-samples\">",
