@@ -119,6 +119,9 @@
     });
   }
   resetRanges();
+  // markers on the paths: shown unless there are so many that they hide the map
+  const HANDLES = E <= 5000;
+  $("f-handles").checked = HANDLES;
   function numberOr(id, dflt) { const v = parseFloat($(id).value); return isFinite(v) ? v : dflt; }
   function filters() {
     const kinds = new Set(), events = new Set();
@@ -130,7 +133,7 @@
       s: [numberOr("f-s-lo", -Infinity), numberOr("f-s-hi", Infinity)],
       depth: [numberOr("f-d-lo", -Infinity), numberOr("f-d-hi", Infinity)],
       orbit: orbitText ? (orbitNode === undefined ? -2 : nd.orbit[orbitNode]) : -1, reps: $("f-reps").checked,
-      colour: $("f-colour").value };
+      colour: $("f-colour").value, handles: $("f-handles").checked };
   }
   function visible(f) {
     const vn = new Uint8Array(N), ve = new Uint8Array(E);
@@ -151,9 +154,12 @@
       "<br>depth " + nd.depth[i] + " \u00b7 orbit of " + nd.name[nd.orbit[i]] + " \u00b7 " +
       (OUT[0][i + 1] - OUT[0][i]) + " paths out, " + (IN[0][i + 1] - IN[0][i]) + " in";
   }
-  for (let e = 0; e < E; e++) {
-    edgeText[e] = "path " + ed.id[e] + ": " + nd.name[src[e]] + " \u2192 " + nd.name[tgt[e]] + " \u00b7 " +
-      word(D.events[ed.event[e]]) + " \u00b7 length " + fmt(ed.length[e]) + "<br>click: animate";
+  function edgeLabel(e) {  // built when its marker is drawn
+    if (edgeText[e] === undefined) {
+      edgeText[e] = "path " + ed.id[e] + ": " + nd.name[src[e]] + " \u2192 " + nd.name[tgt[e]] + " \u00b7 " +
+        word(D.events[ed.event[e]]) + " \u00b7 length " + fmt(ed.length[e]) + "<br>click: animate";
+    }
+    return edgeText[e];
   }
   const msize = N > 8000 ? 5 : N > 1000 ? 7 : N > 100 ? 9 : 13;
   const roles = [];  // per trace: ["node" | "handle" | "other", index array]
@@ -167,9 +173,9 @@
       roles.push(["other", null]);
     });
     const hi = [];
-    for (let e = 0; e < E; e++) if (ve[e]) hi.push(e);
+    if (f.handles) for (let e = 0; e < E; e++) if (ve[e]) hi.push(e);
     out.push({ type: "scattergl", mode: "markers", x: hi.map((e) => HX[e]), y: hi.map((e) => HY[e]),
-      text: hi.map((e) => edgeText[e]), hoverinfo: "text", showlegend: false, name: "paths",
+      text: hi.map(edgeLabel), hoverinfo: "text", showlegend: false, name: "paths",
       marker: { size: Math.max(4, msize - 4), color: hi.map((e) => EVENT_COLOUR[D.events[ed.event[e]]] || "#444"),
         opacity: 0.55, symbol: "circle" } });
     roles.push(["handle", hi]);
@@ -253,9 +259,10 @@
   }
 
   // ---- the paths: line segments in one WebGL draw under the map (plotly's
-  // line traces take seconds to draw tens of thousands of separate lines)
+  // line traces take seconds to draw tens of thousands of separate lines;
+  // without multisampling, which costs seconds more on a CPU renderer)
   const canvas = $("edges");
-  const gl = canvas.getContext("webgl", { premultipliedAlpha: true, antialias: true, preserveDrawingBuffer: true });
+  const gl = canvas.getContext("webgl", { premultipliedAlpha: true, antialias: false, preserveDrawingBuffer: true });
   const EG = { n: 0, key: "", dirty: true };
   function shader(type, text) {
     const sh = gl.createShader(type);
@@ -512,7 +519,7 @@
   $("f-goto").addEventListener("keydown", function (ev) { if (ev.key === "Enter") goTo(); });
   $("f-reset").addEventListener("click", function () {
     document.querySelectorAll("[data-kind],[data-event]").forEach((c) => { c.checked = true; });
-    resetRanges(); $("f-orbit").value = ""; $("f-reps").checked = false; draw(false);
+    resetRanges(); $("f-orbit").value = ""; $("f-reps").checked = false; $("f-handles").checked = HANDLES; draw(false);
   });
 
   $("title").textContent = D.title;
