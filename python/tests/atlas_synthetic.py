@@ -18,6 +18,9 @@ from libkin.atlas import Atlas
 
 
 def replicate(atlas: Atlas, n_nodes: int) -> Atlas:
+    """n_nodes nodes made from atlas (the atlas itself for its own size)."""
+    if n_nodes == len(atlas.nodes):
+        return atlas
     start = atlas.nodes[0]
     others = atlas.nodes[1:]
     if not others:

@@ -53,10 +53,11 @@
     }
     groups.forEach(function (es) {
       const e0 = es[0], s = src[e0], t = tgt[e0];
-      if (s === t) {  // loops: a column of markers just outside the node
-        let ux = X[s], uy = Y[s], r = Math.hypot(ux, uy);
-        if (r < 1e-9) { ux = 0; uy = 1; r = 1; }
-        es.forEach(function (e, k) { HX[e] = X[s] + (0.035 + 0.012 * k) * ux / r; HY[e] = Y[s] + (0.035 + 0.012 * k) * uy / r; });
+      if (s === t) {  // paths back to their node: markers on small rings around it
+        es.forEach(function (e, k) {
+          const a = 2 * Math.PI * ((k % 24) + 0.5) / Math.min(24, es.length), rho = 0.03 * (1 + Math.floor(k / 24));
+          HX[e] = X[s] + rho * Math.sin(a); HY[e] = Y[s] + rho * Math.cos(a);
+        });
         return;
       }
       const sameRing = nd.depth[s] === nd.depth[t];
