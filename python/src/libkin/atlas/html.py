@@ -151,7 +151,8 @@ def payload(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: 
     J, D = np.asarray(nodes[0].coords).shape
     keep = _samples_kept(edges, J * D, max_sample_values)
     samples: List[NDArray[np.float64]] = []
-    s_start, s_count = [], []
+    s_start: List[int] = []
+    s_count: List[int] = []
     for e in edges:
         ss = e.samples
         if len(ss) > keep:
@@ -181,7 +182,7 @@ def payload(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: 
 
     def num(v: float, digits: int = 4) -> Optional[float]:
         return float(f"{v:.{digits}g}") if v is not None and math.isfinite(v) else None
-    data = {
+    data: Dict[str, Any] = {
         "format": FORMAT, "version": 1,
         "title": title or f"Atlas of {m.get('name', 'model')}",
         "model": {"name": m.get("name", "model"), "dimension": D, "joints": J,
@@ -220,7 +221,7 @@ def payload(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: 
 
 
 def _asset(name: str) -> str:
-    return resources.files(__package__).joinpath(name).read_text(encoding="utf-8")
+    return resources.files(__name__.rpartition(".")[0]).joinpath(name).read_text(encoding="utf-8")
 
 
 def _script_safe(text: str) -> str:
