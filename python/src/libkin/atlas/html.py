@@ -127,6 +127,7 @@ def _quantise(arrays: Sequence[NDArray[np.float64]], centre: NDArray[np.float64]
     if not arrays:
         return b""
     q = np.rint((np.asarray(arrays, dtype=np.float64) - centre) / step)
+    q = np.nan_to_num(q, nan=0.0)  # a configuration that is not finite is drawn at the centre
     return np.clip(q, -32767, 32767).astype("<i2").tobytes()
 
 

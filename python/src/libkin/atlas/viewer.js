@@ -387,6 +387,10 @@
       title: { text: title, font: { size: 12 }, x: 0.02, y: 0.98 },
       scene: { xaxis: ax(rng[0], "x"), yaxis: ax(rng[1], "y"), zaxis: ax(rng[2], "z"), aspectmode: "manual",
         aspectratio: { x: span[0] / big, y: span[1] / big, z: span[2] / big } } };
+    if (DIM < 3) {  // a plane structure: seen from above, still rotatable
+      Object.assign(lay.scene.zaxis, { visible: false });
+      lay.scene.camera = { eye: { x: 0, y: -0.01, z: 1.9 }, up: { x: 0, y: 1, z: 0 } };
+    }
     return Plotly.react(v3, traces3, lay, { displaylogo: false, responsive: true });
   }
   function restyle3d(c) {
