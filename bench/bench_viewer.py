@@ -64,7 +64,10 @@ def open_page(page: pathlib.Path, shot: "pathlib.Path | None", edge: int = -1) -
         if shot is not None:
             if edge >= 0:  # the path's animation under way, its source's list of paths beside it
                 d.execute_script("libkinViewer.selectEdge(arguments[0])", edge)
-                time.sleep(1.9)
+                time.sleep(1.5)  # then halfway along it, paused (the slider)
+                d.execute_script("const p = document.getElementById('a-pos'); p.value = 500;"
+                                 "p.dispatchEvent(new Event('input'));")
+                time.sleep(0.5)
             shot.parent.mkdir(parents=True, exist_ok=True)
             d.save_screenshot(str(shot))
         return r

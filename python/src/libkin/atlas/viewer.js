@@ -384,6 +384,7 @@
         name: "joints", marker: { size: 3, color: M.fixed.map((f) => (f ? "#111" : "#ff7f0e")),
           symbol: M.fixed.map((f) => (f ? "square" : "circle")) } }];
     const lay = { margin: { l: 0, r: 0, t: 24, b: 0 }, showlegend: false, uirevision: "view3d",
+      modebar: { orientation: "v" },  // down the right side, clear of the title
       title: { text: title, font: { size: 12 }, x: 0.02, y: 0.98 },
       scene: { xaxis: ax(rng[0], "x"), yaxis: ax(rng[1], "y"), zaxis: ax(rng[2], "z"), aspectmode: "manual",
         aspectratio: { x: span[0] / big, y: span[1] / big, z: span[2] / big } } };
@@ -469,7 +470,7 @@
     const s = src[e], t = tgt[e], ns = ed.samples[e];
     $("info").innerHTML = "<h3>path " + ed.id[e] + ": " + esc(nd.name[s]) + " \u2192 " + esc(nd.name[t]) + "</h3><table>" +
       row("ends in", word(D.events[ed.event[e]])) + row("length", fmt(ed.length[e])) +
-      row("solution, sense", ed.solution[e] + ", " + (ed.sign[e] > 0 ? "+" : "\u2212")) +
+      row("solution", ed.solution[e] + ", sense " + (ed.sign[e] > 0 ? "+" : "\u2212")) +
       row("drawn from", ns ? ns + " sample" + (ns > 1 ? "s" : "") + " along the path (every 1/" + (ns + 1) +
         " of its length) and its two ends, smoothly interpolated in between" :
         "its two ends only (no samples stored): a straight interpolation, not the path") + "</table>";
