@@ -407,6 +407,9 @@ def _finish_hex(res, track, out, t_start, progress, stages=(), smap=None, snaps=
             try:
                 if smap is not None:
                     smap.atlas.to_json(stage / "atlas.json")
+                    res["map_html"] = smap.write_html(stage / "atlas.html", f"Path map of the {res['model']}")
+                    if not res["map_html"]:
+                        say(progress, "atlas.html not written: it needs plotly (pip install plotly)")
                 if track is not None and track.l:
                     with replacing(stage / "track.npz") as tmp, open(tmp, "wb") as f:
                         np.savez(f, l=np.array(track.l), sv=np.array(track.sv),

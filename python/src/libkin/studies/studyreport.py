@@ -326,7 +326,9 @@ def _map_md(res, nfold):
     events = ", ".join(f"{v} {_EVENT_WORDS.get(k, k)}" for k, v in sorted(at["edge_events"].items()))
     relaxed = sum(1 for n in mp["nodes"] if n["kind"] == "bifurcation" and n["located_tol"] > 1e-10)
     L = ["## Path map (symmetric paths)\n"]
-    L.append(f"The explorer's atlas (`libkin.explore`, docs/atlas.md; `atlas.json` here) in symmetric mode: "
+    L.append(f"The explorer's atlas (`libkin.explore`, docs/atlas.md; `atlas.json` here"
+             + ("; [atlas.html](atlas.html) to walk it in a browser, offline: a click on a node shows it in 3D, on a "
+                "path moves the sail along it" if res.get("map_html") else "") + ") in symmetric mode: "
              f"every directed path out of R^A that keeps the {nfold} symmetry, followed to its next event, and "
              f"(depth {at['depth']}) every such path out of each bifurcation reached, R^B and R^C among them. "
              f"{at['nodes']} nodes ({kinds}), {at['edges']} directed paths (ending at: {events}); "
