@@ -50,6 +50,55 @@ def interference_chart(study: Dict[str, Any], path: Any) -> None:
     plt.close(fig)
 
 
+def contact_figure(member: Dict[str, Any], path: Any) -> bool:
+    """3D views of the member at its first contact, bare and at the largest
+    thickness: the membrane's panels light, its bars grey, the two parts that
+    touch in red and orange, their closest points in black. False (nothing
+    written) when no thickness gave a contact."""
+    import numpy as np
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    from libkin import Assembly
+    from libkin.plot import draw3d
+
+    from .contactstudy import sail_panels
+    rows = [c for c in member["contacts"] if c["contact"]]
+    if not rows:
+        return False
+    rows = [rows[0]] if len(rows) == 1 else [rows[0], rows[-1]]
+    a = Assembly.sail(member["n_sides"], member["n_loops"])
+    panels, bars = sail_panels(a), np.asarray(a.bars)
+    plt = pyplot()
+    fig = plt.figure(figsize=(5.2 * len(rows), 4.6))
+    for k, c in enumerate(rows):
+        x = np.asarray(c["coords"])
+        ax = fig.add_subplot(1, len(rows), k + 1, projection="3d")
+        ax.add_collection3d(Poly3DCollection([x[p] for p in panels], facecolor=(0.75, 0.82, 0.92, 0.35),
+                                             edgecolor="none"))
+        for i, j in bars:
+            ax.plot(*x[[i, j]].T, color="0.55", lw=0.7)
+        for (kind, idx), colour in zip(c["part_ids"], ("tab:red", "tab:orange")):
+            if kind == "bar":
+                ax.plot(*x[bars[idx]].T, color=colour, lw=3.2)
+            else:
+                ax.add_collection3d(Poly3DCollection([x[panels[idx]]], facecolor=colour, alpha=0.75,
+                                                     edgecolor=colour))
+        pts = np.asarray(c["points"])
+        ax.scatter(*pts.T, color="k", s=18, depthshade=False)
+        draw3d.equal_limits(ax, x, pad=0.02)
+        ax.view_init(28, -58)
+        ax.tick_params(labelsize=6, pad=0)
+        t = "bare (t = 0)" if c["t"] == 0 else f"t = {c['t']:g} a"
+        ax.set_title(f"{t}: first contact at l = {c['l']:.3f}\n({100 * c['fold_fraction']:.1f} % of the fold)\n"
+                     f"red: {c['parts'][0]}; orange: {c['parts'][1]}", fontsize=8)
+    fig.suptitle(f"{_label(member)}: the two parts that touch first (hub sides a)", fontsize=10)
+    fig.subplots_adjust(left=0.0, right=1.0, bottom=0.02, top=0.82, wspace=0.05)
+    with replacing(path) as tmp:
+        fig.savefig(tmp, dpi=100, format="png")
+    plt.close(fig)
+    return True
+
+
 def _contact_cell(c: Dict[str, Any]) -> str:
     if not c["contact"]:
         return "none"
@@ -98,5 +147,11 @@ def write_interference(study: Dict[str, Any], out: Any) -> None:
     out = pathlib.Path(out)
     with staged_folder(out) as stage:
         interference_chart(study, stage / "interference.png")
-        write_text(stage / "report.md", "# libkin: sail interference study\n\n" + interference_md(study))
+        views = []
+        for m in study["members"]:
+            name = f"contact_{m['n_sides']}_{m['n_loops']}.png"
+            if contact_figure(m, stage / name):
+                views.append(f"![{_label(m)} at first contact]({name})\n")
+        write_text(stage / "report.md", "# libkin: sail interference study\n\n" + interference_md(study)
+                   + "\n### The first contacts in 3D\n\n" + "\n".join(views))
         write_text(stage / "summary.json", json.dumps(study, indent=1, default=jsonable) + "\n")

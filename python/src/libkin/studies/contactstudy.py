@@ -200,6 +200,8 @@ def member_study(n_sides: int, n_loops: int, thicknesses: Sequence[float] = THIC
             row.update({"contact": True, "l": hit["l"], "fold_fraction": hit["l"] / total if total else 0.0,
                         "leg": leg, "leg_fraction": frac, "clearance0": c.value,
                         "parts": [part_name(a, panels, kd, i) for kd, i in c.parts],
+                        "part_ids": [[kd, int(i)] for kd, i in c.parts],
+                        "coords": np.asarray(hit["coords"]).tolist(),
                         "points": np.asarray(c.points).tolist()})
         res["contacts"].append(row)
         say(progress, f"[contact {n_sides}/{n_loops}] t = {t:g}: " + (

@@ -282,10 +282,14 @@ def _write_hex_md(res, out, M, figs):
     L.append(f"*Figure {fig_no + 3}. Top: the largest bar strain at every accepted step (the corrector "
              "stops at 1e-12). Bottom: how far the free hub vertices leave the hub plane, in a.*\n")
     if "interference" in res:
-        from .contactreport import interference_chart, interference_md
+        from .contactreport import contact_figure, interference_chart, interference_md
         study = {"thicknesses": [c["t"] for c in res["interference"]["contacts"]], "members": [res["interference"]]}
         interference_chart(study, out / "interference.png")
         L.append(interference_md(study))
+        if contact_figure(res["interference"], out / "contact_first.png"):
+            L.append("![first contact](contact_first.png)\n")
+            L.append("*The configuration at the first contact, bare and at the largest thickness: the two parts "
+                     "that touch in red and orange, their closest points in black.*\n")
         L.append("All eight members (hexagonal and octagonal hubs, 1 to 4 loops): `libkin study --interference` "
                  "(stored run and findings: examples/interference/report.md, docs/contact.md).\n")
     figs_s = res.get("seconds_figures", 0.0)
