@@ -229,6 +229,15 @@ int kin__dense_ready(kin_assembly *a);
  * path forgotten (direction, length, step control, start strain) */
 void kin__set_configuration(kin_assembly *a, const double *xyz);
 
+/* BLAS threads (blas_threads.c): before the long loops on a handle whose
+ * matrices are small (nfree <= KIN__BLAS_SMALL), the linked OpenBLAS (found
+ * at run time; any other BLAS: nothing happens) is set to one thread; the
+ * token returned goes to kin__blas_threads_restore, which puts the caller's
+ * setting back when the last such call in the process ends. */
+#define KIN__BLAS_SMALL 600
+int kin__blas_threads_small(const kin_assembly *a);
+void kin__blas_threads_restore(int token);
+
 /* copy the configuration, analysis and path state of src into dst (same
  * model; no allocation, except dst's dense workspace the first time src
  * has one); dst keeps its own options */
