@@ -117,6 +117,7 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
     kin_follow_options o, oo;
     kin_follow_options_default(&o);
     kin_follow_options_default(&oo);
+    o.steps_mode = KIN_FOLLOW_STEPS_CHEAP;
     oo.steps_mode = KIN_FOLLOW_STEPS_SVD;
     int no_svd = getenv("BENCH_FOLLOW_CHEAP_ONLY") != NULL;
     for (int i = 0; i < n; ++i) {

@@ -55,7 +55,7 @@ static const kin_follow_options DEFAULTS = {
     .loop_tol = 1e-2,
     .first_step = 1e-3,
     .branch_cos = 0.99,
-    .steps_mode = KIN_FOLLOW_STEPS_CHEAP,
+    .steps_mode = KIN_FOLLOW_STEPS_SVD,
     .branch_margin = 0.05,
 };
 
