@@ -29,12 +29,6 @@ static const double CHEAP_NEAR_FACTOR = 0.1;
 /* the LU steps count singular values as zero (and fall back to the SVD)
  * below 1000 x this fraction of vr_tol, as the locator's steps do */
 static const double CHEAP_RANK_FRACTION = 1e-3;
-/* LU steps may be this many times the handle's largest step: the predictor
- * and corrector hold there on the sails' paths (automatic steps shrink where
- * they do not), and a detector's suspect stretch is stepped again by the SVD
- * locator at the handle's own steps. Measured on 60 branches of the
- * hexagonal sail's flat state: 32% fewer steps, the same events. */
-static const double CHEAP_STEP_FACTOR = 2.0;
 /* after a handover the SVD locator steps at least this many steps, and past
  * the point where the cheap stretch stopped, before LU steps resume */
 enum { RESUME_AFTER = 2 };
@@ -349,7 +343,10 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
     if ((rc = kin__border_det_sign(a, &sg0)) != KIN_OK) return rc;
     a->opt.factorization = KIN_STEP_LU;
     a->opt.rank_tol = fmin(user.rank_tol, CHEAP_RANK_FRACTION * o->vr_tol);
-    a->opt.step_fraction *= CHEAP_STEP_FACTOR;
+    /* the SVD mode's amplitudes: the LU steps reach the points the SVD
+     * steps would (to rounding), so that the SVD locator, started from any
+     * of them, continues exactly as the SVD follower would have */
+    a->opt.step_control = KIN_STEP_CONTROL_SHARED;
     c->nkept = 0;
     c->watch = 0;
     keep_point(c);
