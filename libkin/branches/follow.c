@@ -304,11 +304,11 @@ static void keep_point(follow_ctx *c)
     k->nsamples = c->nsamples;
 }
 
-/* back to the older kept point: the handle (no analysis), the length, the
- * samples beyond it dropped */
-static void back_to_kept(follow_ctx *c)
+/* back to a kept point (0 the older, 1 the newer if there are two): the
+ * handle (no analysis), the length, the samples beyond it dropped */
+static void back_to_kept(follow_ctx *c, int newer)
 {
-    const kept_point *k = &c->kept[0];
+    const kept_point *k = &c->kept[newer && c->nkept == 2 ? 1 : 0];
     int nf = c->a->nf;
     kin__path_restore(c->a, &k->p);
     c->length = c->len_pp = k->length;
@@ -329,10 +329,15 @@ static void back_to_kept(follow_ctx *c)
  * back to the SVD (estimated v_r / v_max below 1000 rank_tol), an estimate
  * below CHEAP_NEAR_FACTOR x switch_eps and falling, or a sampled minimum of
  * the estimate (a turn of v_r within a step shows as a smaller sample at one
- * of its ends, before a larger one), and puts the handle back two points
- * before the current one, so that the SVD locator steps over the suspect
- * stretch again. Returns a status; *stop = 1 when the hook stopped (loop,
- * length) or the step budget ran out (info->event set), else hand over. */
+ * of its ends, before a larger one), and puts the handle back one point
+ * before the current one (two after a sampled minimum), so that the SVD
+ * locator steps over the suspect stretch again. The LU steps take the SVD
+ * mode's amplitudes (KIN_STEP_CONTROL_SHARED) and the same rank tolerance
+ * as the locator's steps: they reach the SVD follower's points to rounding,
+ * and the locator, started at one of them, goes on exactly as the SVD
+ * follower would have from there. Returns a status; *stop = 1 when the
+ * hook stopped (loop, length) or the step budget ran out (info->event set),
+ * else hand over. */
 static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, int *stop)
 {
     kin_assembly *a = c->a;
@@ -386,14 +391,17 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
             kin__lu_det_sign(a, c->tprev, &sg);
         }
         double r1 = kin__lu_rel_estimate(a);
+        /* a turn of v_r may lie in either step next to the sampled minimum:
+         * back two points; everything else happened within the last step */
+        int turned = r0 < rm && r1 > r0;
         if (si.m_internal != 1 || (sg0 != 0 && sg != sg0) || !(r1 > 0.0) ||
-            (r1 < CHEAP_NEAR_FACTOR * o->switch_eps && r1 < r0) || (r0 < rm && r1 > r0)) {
+            (r1 < CHEAP_NEAR_FACTOR * o->switch_eps && r1 < r0) || turned) {
 #ifdef KIN_FOLLOW_TRACE
             fprintf(stderr, "handover at step %d: m %d sg %d/%d r %.3g %.3g %.3g len %.3f\n", info->steps,
                     si.m_internal, sg0, sg, rm, r0, r1, c->length / c->scale);
 #endif
             c->resume_len = c->length;
-            back_to_kept(c);
+            back_to_kept(c, !turned);
             c->watch = 1;
             c->svd_steps = 0;
             c->rho_prev = c->rho_cur = -INFINITY;
