@@ -8,6 +8,7 @@
 #ifdef KIN_FOLLOW_TRACE
 #include <stdio.h>
 #endif
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -49,7 +50,7 @@ static const kin_follow_options DEFAULTS = {
     .loop_tol = 1e-2,
     .first_step = 1e-3,
     .branch_cos = 0.99,
-    .steps_mode = KIN_FOLLOW_STEPS_SVD,
+    .steps_mode = KIN_FOLLOW_STEPS_CHEAP,
     .branch_margin = 0.05,
 };
 
@@ -70,13 +71,17 @@ typedef struct follow_extra {
     int nbranch;
     double *samples, *sample_length; /* capacity entries, or NULL */
     int capacity;
+    /* the record behind them: room for 2 capacity + 4 points, their path
+     * indices and lengths (SAMPLES below) */
+    double *rec, *rec_len;
+    int *rec_idx, rec_room;
 } follow_extra;
 
 /* a point the cheap stretch may go back to, with the follower's counters there */
 typedef struct kept_point {
     kin__path_point p;
     double length;
-    int left, nsamples;
+    int left, index;
 } kept_point;
 
 typedef struct follow_ctx {
@@ -95,8 +100,9 @@ typedef struct follow_ctx {
     int reason;       /* KIN_FOLLOW_CLOSED_LOOP / _LENGTH_LIMIT when the hook stopped */
     int at_bif;       /* the start is a bifurcation */
     int own;          /* index of dir's own branch among x->branches, or -1 */
-    /* samples: every `stride`-th step is kept, `countdown` steps to the next */
-    int nsamples, stride, countdown;
+    /* SAMPLES: the current point's index along the path (steps from the
+     * start), the points recorded, every stride-th index */
+    int p, nrec, stride;
     kept_point kept[2]; /* cheap stretch: the two points before the current one */
     int nkept;
     /* after a handover: SVD steps taken, the length to pass, and the exact
@@ -168,30 +174,56 @@ static int nearest_branch(const follow_ctx *c, const double *t, double *angle, d
     return best;
 }
 
-/* Keep the point just reached (length c->length) in the caller's sample
- * buffer: every stride-th step; a full buffer keeps every second sample and
- * doubles the stride. */
+/* SAMPLES. The points of the path's steps, by index p (the start 0): the
+ * record keeps those whose index is a multiple of `stride`, doubling the
+ * stride (and keeping every second point) when it is full. A point stepped
+ * over again (after a handover, or a location that gave up) replaces the
+ * record from its index on. At the end, with P the last step's index
+ * before the end, the caller gets the multiples of the smallest power of
+ * two S with at most `capacity` multiples in 1..P: a function of the path
+ * alone (the SVD follower gives the same, and so do mirror-image branches),
+ * not of where the LU steps handed over. The record's room (2 capacity + 4)
+ * keeps its stride at most S although steps may have gone a few past P. */
 static void record_sample(follow_ctx *c, const kin_assembly *a)
 {
-    const follow_extra *x = c->x;
-    if (x->capacity <= 0 || --c->countdown > 0) return;
-    c->countdown = c->stride;
+    follow_extra *x = (follow_extra *)c->x;
+    if (x->capacity <= 0) return;
     size_t nc = (size_t)(a->nj * a->dim);
-    if (c->nsamples > 0 && x->sample_length && x->sample_length[c->nsamples - 1] >= c->length) return;
-    if (c->nsamples == x->capacity) {
+    while (c->nrec > 0 && x->rec_idx[c->nrec - 1] >= c->p) c->nrec--;
+    if (c->p % c->stride) return;
+    if (c->nrec == x->rec_room) {
         int k = 0;
-        for (int i = 1; i < c->nsamples; i += 2, ++k) {
-            if (x->samples) memcpy(x->samples + (size_t)k * nc, x->samples + (size_t)i * nc, sizeof(double) * nc);
-            if (x->sample_length) x->sample_length[k] = x->sample_length[i];
-        }
-        c->nsamples = k;
+        for (int i = 0; i < c->nrec; ++i)
+            if (x->rec_idx[i] % (2 * c->stride) == 0) {
+                memmove(x->rec + (size_t)k * nc, x->rec + (size_t)i * nc, sizeof(double) * nc);
+                x->rec_len[k] = x->rec_len[i];
+                x->rec_idx[k++] = x->rec_idx[i];
+            }
+        c->nrec = k;
         c->stride *= 2;
-        c->countdown = c->stride;
-        if (c->nsamples == x->capacity) return; /* capacity 1: the first point only */
+        if (c->p % c->stride) return;
     }
-    if (x->samples) memcpy(x->samples + (size_t)c->nsamples * nc, a->xyz, sizeof(double) * nc);
-    if (x->sample_length) x->sample_length[c->nsamples] = c->length;
-    c->nsamples++;
+    memcpy(x->rec + (size_t)c->nrec * nc, a->xyz, sizeof(double) * nc);
+    x->rec_len[c->nrec] = c->length;
+    x->rec_idx[c->nrec++] = c->p;
+}
+
+/* the caller's samples from the record (SAMPLES above); returns their count */
+static int deliver_samples(const follow_ctx *c)
+{
+    const follow_extra *x = c->x;
+    if (x->capacity <= 0) return 0;
+    int P = c->p - 1, S = 1, n = 0;
+    while (P / S > x->capacity) S *= 2;
+    size_t nc = (size_t)(c->a->nj * c->a->dim);
+    for (int i = 0; i < c->nrec && n < x->capacity; ++i) {
+        int q = x->rec_idx[i];
+        if (q < 1 || q > P || q % S || !(x->rec_len[i] < c->length)) continue;
+        if (x->samples) memcpy(x->samples + (size_t)n * nc, x->rec + (size_t)i * nc, sizeof(double) * nc);
+        if (x->sample_length) x->sample_length[n] = x->rec_len[i];
+        ++n;
+    }
+    return n;
 }
 
 /* A return to the start (the last chord passes within loop_tol of it): is
@@ -233,6 +265,7 @@ static int after_step(void *user, const kin_assembly *a)
     c->len_pp = c->length;
     memcpy(c->xpp, c->xp, sizeof(double) * (size_t)nf);
     c->length += distance(nf, c->xp, c->xq);
+    c->p++;
     record_sample(c, a);
     double tol = c->o->loop_tol * c->scale, s = 0.0;
     int stop = 0, was_away = c->left; /* away from the start before this chord */
@@ -255,6 +288,9 @@ static int after_step(void *user, const kin_assembly *a)
         if (++c->svd_steps >= RESUME_AFTER && c->length > c->resume_len && r > 0.0 &&
             (r >= CHEAP_NEAR_FACTOR * c->o->switch_eps || r > c->rho_prev)) {
             c->reason = REASON_RESUME;
+#ifdef KIN_FOLLOW_TRACE
+            fprintf(stderr, "resume after %d svd steps r %.3g\n", c->svd_steps, r);
+#endif
             return KIN__HOOK_STOP_IDLE;
         }
     }
@@ -269,7 +305,9 @@ static void resync(follow_ctx *c)
 {
     int nf = c->a->nf;
     kin__gather(c->a, c->a->xyz, c->xq);
-    c->length = c->len_pp + distance(nf, c->xpp, c->xq);
+    double back = distance(nf, c->xpp, c->xq);
+    if (back == 0.0 && c->p > 0) c->p--; /* at the point before the last step */
+    c->length = c->len_pp + back;
     c->len_pp = c->length;
     memcpy(c->xp, c->xq, sizeof(double) * (size_t)nf);
     memcpy(c->xpp, c->xq, sizeof(double) * (size_t)nf);
@@ -301,7 +339,7 @@ static void keep_point(follow_ctx *c)
     kin__path_save(c->a, &k->p);
     k->length = c->length;
     k->left = c->left;
-    k->nsamples = c->nsamples;
+    k->index = c->p;
 }
 
 /* back to a kept point (0 the older, 1 the newer if there are two): the
@@ -313,7 +351,7 @@ static void back_to_kept(follow_ctx *c, int newer)
     kin__path_restore(c->a, &k->p);
     c->length = c->len_pp = k->length;
     c->left = k->left;
-    if (c->nsamples > k->nsamples) c->nsamples = k->nsamples;
+    c->p = k->index;
     kin__gather(c->a, c->a->xyz, c->xp);
     memcpy(c->xpp, c->xp, sizeof(double) * (size_t)nf);
     memcpy(c->xq, c->xp, sizeof(double) * (size_t)nf);
@@ -457,7 +495,7 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
     c.scale = a->rms_length;
     c.at_bif = at_bif;
     c.own = -1;
-    c.stride = c.countdown = 1;
+    c.stride = 1;
     c.user_fn = a->progress;
     c.user_data = a->progress_user;
     info->return_branch = -1;
@@ -655,7 +693,7 @@ out:
         info->at_start = info->event == KIN_FOLLOW_CLOSED_LOOP ||
                          (info->event == KIN_FOLLOW_BIFURCATION && at_bif && info->start_distance <= o->loop_tol);
     }
-    info->samples = c.nsamples;
+    info->samples = deliver_samples(&c);
     if (!kin__cur(a)->valid && info->event != KIN_FOLLOW_NONE) (void)kin__analyse(a, NULL); /* after LU steps */
     if (kin__cur(a)->valid && info->event != KIN_FOLLOW_BIFURCATION && info->event != KIN_FOLLOW_NEAR_MISS) {
         info->m_internal = kin__cur(a)->an.m_internal;
@@ -684,12 +722,29 @@ int kin_follow_event_ex(kin_assembly *a, const double *dir, const kin_follow_opt
             if (info) kin__abi_zero(info);
             return kin__fail(a, KIN_EINVAL, "branches[%ld] is not finite", i);
         }
-    follow_extra x = {branches, nbranch, samples, sample_length, capacity};
+    follow_extra x = {branches, nbranch, samples, sample_length, capacity, NULL, NULL, NULL, 0};
+    if (capacity > 0) {
+        size_t nc = (size_t)(a->nj * a->dim);
+        x.rec_room = capacity > (INT_MAX - 4) / 2 ? INT_MAX : 2 * capacity + 4;
+        x.rec = malloc(sizeof(double) * nc * (size_t)x.rec_room);
+        x.rec_len = malloc(sizeof(double) * (size_t)x.rec_room);
+        x.rec_idx = malloc(sizeof(int) * (size_t)x.rec_room);
+        if (!x.rec || !x.rec_len || !x.rec_idx) {
+            free(x.rec);
+            free(x.rec_len);
+            free(x.rec_idx);
+            if (info) kin__abi_zero(info);
+            return kin__fail(a, KIN_ENOMEM, "follow: the sample record");
+        }
+    }
     kin_follow_info local = {.size = sizeof local};
     /* small matrices: one BLAS thread (model/blas_threads.c), the caller's setting restored */
     int token = kin__blas_threads_small(a);
     rc = follow_impl(a, dir, &o, &x, &local);
     kin__blas_threads_restore(token);
+    free(x.rec);
+    free(x.rec_len);
+    free(x.rec_idx);
     if (nsamples) *nsamples = local.samples;
     if (info) {
         if (local.event == KIN_FOLLOW_NONE && rc != KIN_OK) {
