@@ -120,6 +120,20 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
     o.steps_mode = KIN_FOLLOW_STEPS_CHEAP;
     oo.steps_mode = KIN_FOLLOW_STEPS_SVD;
     int no_svd = getenv("BENCH_FOLLOW_CHEAP_ONLY") != NULL;
+    /* BENCH_FOLLOW_BRANCHES: returns to the start followed again with every
+     * real branch direction (kin_follow_event_ex) */
+    double *lines = NULL;
+    int loops_before = 0, loops_after = 0;
+    if (getenv("BENCH_FOLLOW_BRANCHES")) {
+        lines = malloc(sizeof(double) * (size_t)nf * (size_t)nsol);
+        if (!lines) return 1;
+        for (int q = 0; q < nsol; ++q)
+            for (int r = 0; r < nf; ++r) {
+                double v = 0.0;
+                for (int c = 0; c < m; ++c) v += U[r + (size_t)nf * c] * betas[(size_t)m * q + c];
+                lines[r + (size_t)nf * q] = v;
+            }
+    }
     for (int i = 0; i < n; ++i) {
         int k = only ? only[i] : (int)((long long)i * total / n);
         if (k >= total) continue;
@@ -184,6 +198,25 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
         if (fi.event == KIN_FOLLOW_FAILED || fi.event == KIN_FOLLOW_STEP_LIMIT || fi.event == KIN_FOLLOW_NONE)
             printf("  branch %d: %s (%s): %s\n", k, event_name(fi.event), kin_status_name(rc), kin_last_error(b));
         kin_assembly_free(b);
+        if (lines && (fi.event == KIN_FOLLOW_CLOSED_LOOP || (fi.event == KIN_FOLLOW_BIFURCATION && fi.at_start))) {
+            /* issue 24 item 2: the same branch with every real branch of the start given */
+            kin_assembly *e = NULL;
+            if (kin_assembly_clone(a, &e)) return 1;
+            kin_follow_info fx = {.size = sizeof fx};
+            (void)kin_follow_event_ex(e, dir, &o, lines, nsol, NULL, NULL, 0, NULL, &fx);
+            printf("  branch %d: %s%s without the branch directions, %s%s with them (returns along branch %d, "
+                   "its own %d; angle %.2g, next %.2g farther); v_r/v_max at the end %.2g -> %.2g\n",
+                   k, event_name(fi.event), fi.at_start ? " at the start" : "", event_name(fx.event),
+                   fx.at_start ? " at the start" : "", fx.return_branch, k / 2, fx.return_angle, fx.return_gap,
+                   fi.v_r_rel, fx.v_r_rel);
+            loops_before += fi.event == KIN_FOLLOW_CLOSED_LOOP;
+            loops_after += fx.event == KIN_FOLLOW_CLOSED_LOOP;
+            kin_assembly_free(e);
+        }
+    }
+    if (lines) {
+        printf("  closed loops: %d without the branch directions, %d with them\n", loops_before, loops_after);
+        free(lines);
     }
     {
         double mn = 0.0, mo = 0.0;
