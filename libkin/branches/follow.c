@@ -31,7 +31,19 @@ static const double RELAX_FACTOR = 10.0;
  * hexagonal sail's R^C: 3 of 64 near misses at v_r / v_max 0.0054 missed
  * with 0.1 here), so below the threshold, with a margin, every step is an
  * SVD step. */
-static const double CHEAP_NEAR_FACTOR = 1.5;
+static const double CHEAP_NEAR_FACTOR = 3.0;
+/* below it the slope of the vanishing singular value is computed as the SVD
+ * detector does (kin__sv_derivative), from the singular vectors by inverse
+ * iteration with the LU factors: at most this many passes, until the unit
+ * vector moves less than this (else the SVD takes over) */
+enum { SLOPE_PASSES = 40 };
+static const double SLOPE_VECTOR_TOL = 1e-9;
+/* a slope below this x v_max / RMS length is too flat to tell its sign:
+ * the SVD takes over */
+static const double SLOPE_ZERO = 1e-6;
+/* the turn rule's threshold, switch_eps x v_max, with this margin for the
+ * lower-bound estimate of v_max */
+static const double SLOPE_TURN_MARGIN = 1.5;
 /* the LU steps count singular values as zero (and fall back to the SVD)
  * below 1000 x this fraction of vr_tol, as the locator's steps do */
 static const double CHEAP_RANK_FRACTION = 1e-3;
@@ -98,6 +110,7 @@ typedef struct follow_ctx {
     double *xp, *xq;  /* the previous point and the new one */
     double *xpp;      /* the point before xp, where the path had length len_pp */
     double *tprev;    /* cheap stretch: the tangent before the step */
+    double *u, *w, *scr; /* cheap stretch: singular vectors (nf, nb), scratch (2 nj dim) */
     double scale;     /* RMS rest length */
     double length;    /* sum of chords */
     double len_pp;
@@ -381,6 +394,41 @@ static void back_to_kept(follow_ctx *c, int newer)
  * follower would have from there. Returns a status; *stop = 1 when the
  * hook stopped (loop, length) or the step budget ran out (info->event set),
  * else hand over. */
+/* v_r turned from decreasing to increasing over a step of length len:
+ * where the tangent lines at its two ends meet (locate.c's rule) */
+static double turn_value(double v0, double sl0, double v1, double sl1, double len)
+{
+    double s = (v1 - v0 - sl1 * len) / (sl0 - sl1);
+    if (!(s >= 0.0)) s = 0.0;
+    if (s > len) s = len;
+    return v0 + sl0 * s;
+}
+
+/* The vanishing singular value v of the current point, its slope along the
+ * motion and v_max, as the SVD detector sees them: from the SVD where the
+ * point has one, else from the LU factors (inverse iteration to
+ * convergence). Returns 0 when they cannot be had reliably (the two lowest
+ * singular values too close for the iteration). */
+static int vanishing_slope(follow_ctx *c, double *v, double *sl, double *vmax)
+{
+    kin_assembly *a = c->a;
+    const kin_factor *f = kin__cur(a);
+    double dir = c->o->delta < 0.0 ? -1.0 : 1.0;
+    if (f->valid) {
+        int k = a->nf - 2 - f->an.m_rigid, mn = a->nf < a->nb ? a->nf : a->nb;
+        if (k < 0 || k >= mn) return 0;
+        *v = f->sv[k];
+        *sl = dir * kin__sv_derivative(a, f, a->xyz, a->t, k, c->scr);
+        *vmax = f->an.v_max;
+        return 1;
+    }
+    int conv = 0;
+    if (kin__lu_vr_triple(a, SLOPE_PASSES, SLOPE_VECTOR_TOL, c->u, c->w, v, &conv) != KIN_OK || !conv) return 0;
+    *sl = dir * kin__sv_derivative_uw(a, a->xyz, a->t, c->u, c->w, c->scr);
+    *vmax = a->lu[a->lu_cur].v_max;
+    return *vmax > 0.0;
+}
+
 static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, int *stop)
 {
     kin_assembly *a = c->a;
@@ -399,6 +447,9 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
     c->watch = 0;
     keep_point(c);
     double r0 = kin__lu_rel_estimate(a), rm = r_before; /* this point's v_r / v_max and the one before */
+    /* the vanishing singular value and its slope at the start (an SVD point) */
+    double v0 = NAN, sl0 = NAN, vm = 0.0, l0 = a->l;
+    if (!vanishing_slope(c, &v0, &sl0, &vm)) v0 = sl0 = NAN;
     for (;;) {
         if (info->steps >= o->max_steps) {
             info->event = KIN_FOLLOW_STEP_LIMIT;
@@ -437,8 +488,19 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
         /* a turn of v_r may lie in either step next to the sampled minimum:
          * back two points; everything else happened within the last step */
         int turned = r0 < rm && r1 > r0;
-        if (si.m_internal != 1 || (sg0 != 0 && sg != sg0) || !(r1 > 0.0) ||
-            r1 < CHEAP_NEAR_FACTOR * o->switch_eps || turned) {
+        /* where v_r is small the SVD detector's own turn rule, on the slope
+         * of the vanishing singular value (exact vectors by inverse
+         * iteration with these factors) */
+        double v1 = NAN, sl1 = NAN, l1 = a->l;
+        int slope_turn = 0;
+        if (r1 > 0.0 && r1 < CHEAP_NEAR_FACTOR * o->switch_eps) {
+            if (!vanishing_slope(c, &v1, &sl1, &vm) || fabs(sl1) <= SLOPE_ZERO * vm / c->scale)
+                slope_turn = 1; /* not to be had reliably, or too flat to tell its sign */
+            else if (sl1 > 0.0 && (isnan(sl0) || sl0 < 0.0) &&
+                     (isnan(sl0) || turn_value(v0, sl0, v1, sl1, fabs(l1 - l0)) < SLOPE_TURN_MARGIN * o->switch_eps * vm))
+                slope_turn = 1;
+        }
+        if (si.m_internal != 1 || (sg0 != 0 && sg != sg0) || !(r1 > 0.0) || slope_turn || turned) {
 #ifdef KIN_FOLLOW_TRACE
             fprintf(stderr, "handover at step %d: m %d sg %d/%d r %.3g %.3g %.3g len %.3f\n", info->steps,
                     si.m_internal, sg0, sg, rm, r0, r1, c->length / c->scale);
@@ -455,6 +517,9 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
         rm = r0;
         r0 = r1;
         sg0 = sg;
+        v0 = v1;
+        sl0 = sl1;
+        l0 = l1;
     }
     a->opt = user;
     return rc;
@@ -508,7 +573,7 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
     fprintf(stderr, "follow start\n");
 #endif
     size_t nc = (size_t)(a->nj * a->dim);
-    c.xs = malloc(sizeof(double) * (6 * (size_t)nf + 2 * (nc + (size_t)nf)));
+    c.xs = malloc(sizeof(double) * (6 * (size_t)nf + 2 * (nc + (size_t)nf) + (size_t)nf + (size_t)a->nb + 2 * nc));
     if (!c.xs) return kin__fail(a, KIN_ENOMEM, "follow workspace");
     c.ts = c.xs + nf;
     c.xp = c.ts + nf;
@@ -519,6 +584,9 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
         c.kept[k].p.xyz = c.tprev + nf + (size_t)k * (nc + (size_t)nf);
         c.kept[k].p.t = c.kept[k].p.xyz + nc;
     }
+    c.u = c.kept[1].p.t + nf;
+    c.w = c.u + nf;
+    c.scr = c.w + a->nb;
     if (at_bif && x->nbranch > 0) {
         double ang = 0.0, gap = 0.0;
         c.own = nearest_branch(&c, dir, &ang, &gap);

@@ -190,6 +190,9 @@ int kin__analyse(kin_assembly *a, kin_analysis *out);
  * xyz, along the free-coordinate motion dx; scratch: 2*nj*dim doubles */
 double kin__sv_derivative(const kin_assembly *a, const kin_factor *f, const double *xyz, const double *dx,
                           int k, double *scratch);
+/* the same for a singular triple given by its vectors: u (nf), w (nb), H w = v u */
+double kin__sv_derivative_uw(const kin_assembly *a, const double *xyz, const double *dx, const double *u,
+                             const double *w, double *scratch);
 
 /* Recount rank, m, s and the rigid/internal split of fac[idx] (made at xyz)
  * with the handle's current rank_tol, without a new factorization */

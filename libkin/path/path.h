@@ -39,6 +39,14 @@ int kin__border_det_sign(kin_assembly *a, int *sign);
  * factors), or the SVD's (a current analysis), or -1 */
 double kin__lu_rel_estimate(const kin_assembly *a);
 
+/* The vanishing singular triple (H w = v u, the lowest non-zero singular
+ * value) of the current point from its LU-mode factors: inverse iteration
+ * on pinv(C) pinv(C)^T, from the LU mode's vector, until the unit vector
+ * moves by less than tol between passes (*converged = 1) or after
+ * max_passes. u: nf entries, w: nb, v > 0. KIN_ESTATE without square dense
+ * factors of this point. */
+int kin__lu_vr_triple(kin_assembly *a, int max_passes, double tol, double *u, double *w, double *v, int *converged);
+
 /* A point of a path, kept cheaply (no factors): what a step needs to resume
  * from it. kin__path_restore puts the handle back there with no analysis
  * (the next step or kin__analyse makes one). */

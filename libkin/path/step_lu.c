@@ -420,3 +420,50 @@ void kin__path_restore(kin_assembly *a, const kin__path_point *p)
     a->fac[0].valid = a->fac[1].valid = 0;
     a->lu[0].valid = a->lu[1].valid = 0;
 }
+
+int kin__lu_vr_triple(kin_assembly *a, int max_passes, double tol, double *u, double *w, double *v, int *converged)
+{
+    const kin_lufactor *F = &a->lu[a->lu_cur];
+    int nf = a->nf, nb = a->nb, rows = F->rows;
+    *converged = 0;
+    if (!kin__lu_current(a) || F->sparse || rows != nf) return KIN_ESTATE;
+    double *y = a->luw, *t = a->t;
+    memcpy(u, F->vr_vec, sizeof(double) * (size_t)nf);
+    remove_components(nf, t, 1, u);
+    unit_or_ones(nf, u);
+    for (int k = 0; k < max_passes; ++k) {
+        memcpy(y, u, sizeof(double) * (size_t)nf);
+        int rc = lu_solve(a, F, 1, y); /* y[0..nb-1] = pinv(C)^T u */
+        if (rc) return rc;
+        double ny = kin__norm(nb, y);
+        if (!(ny > 0.0 && isfinite(ny))) return KIN_OK;
+        *v = 1.0 / ny;
+        for (int i = 0; i < nb; ++i) w[i] = y[i] / ny;
+        for (int i = nb; i < rows; ++i) y[i] = 0.0;
+        rc = lu_solve(a, F, 0, y); /* pinv(C) pinv(C)^T u, up to the null direction t */
+        if (rc) return rc;
+        remove_components(nf, t, 1, y);
+        unit_or_ones(nf, y);
+        if (kin__dot(nf, y, u) < 0.0)
+            for (int i = 0; i < nf; ++i) y[i] = -y[i];
+        double moved = 0.0;
+        for (int i = 0; i < nf; ++i) moved += (y[i] - u[i]) * (y[i] - u[i]);
+        memcpy(u, y, sizeof(double) * (size_t)nf);
+        if (sqrt(moved) <= tol) {
+            *converged = 1;
+            break;
+        }
+    }
+    /* w and v for the final u */
+    memcpy(y, u, sizeof(double) * (size_t)nf);
+    int rc = lu_solve(a, F, 1, y);
+    if (rc) return rc;
+    double ny = kin__norm(nb, y);
+    if (!(ny > 0.0 && isfinite(ny))) {
+        *converged = 0;
+        return KIN_OK;
+    }
+    *v = 1.0 / ny;
+    for (int i = 0; i < nb; ++i) w[i] = y[i] / ny;
+    return KIN_OK;
+}
