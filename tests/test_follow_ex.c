@@ -43,8 +43,8 @@ int main(void)
     kin_follow_options svd, cheap;
     kin_follow_options_default(&svd);
     kin_follow_options_default(&cheap);
-    CHECK(svd.steps_mode == KIN_FOLLOW_STEPS_SVD && svd.branch_margin > 0.0);
-    cheap.steps_mode = KIN_FOLLOW_STEPS_CHEAP;
+    CHECK(cheap.steps_mode == KIN_FOLLOW_STEPS_CHEAP && cheap.branch_margin > 0.0);
+    svd.steps_mode = KIN_FOLLOW_STEPS_SVD;
     int loops = 0;
     for (int k = 0; k < n; ++k) {
         const double *dir = dirs + (size_t)k * nf;

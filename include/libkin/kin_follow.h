@@ -64,7 +64,7 @@ typedef struct kin_follow_options {
                            direction to this |cos|. Default 0.99 */
     /* layout 2 (docs/abi.md): a host compiled without these fields gets their defaults */
     int steps_mode;     /* enum kin_follow_steps: how regular stretches are stepped.
-                           Default KIN_FOLLOW_STEPS_SVD */
+                           Default KIN_FOLLOW_STEPS_CHEAP */
     double branch_margin; /* kin_follow_event_ex with the start's branch directions: a
                            return to the start is a closed loop only if its direction is
                            nearer its own departure branch than any other branch by this
@@ -74,15 +74,16 @@ typedef struct kin_follow_options {
 
 /* How kin_follow_event steps between events (kin_follow_options.steps_mode). */
 enum kin_follow_steps {
-    KIN_FOLLOW_STEPS_SVD = 0,   /* default: an SVD at every step */
-    KIN_FOLLOW_STEPS_CHEAP = 1  /* LU steps (KIN_STEP_LU, the SVD mode's amplitudes) on
-                                   regular stretches where v_r / v_max is above 1.5
-                                   switch_eps, watched by the sign of det [C; t^T; R^T]
-                                   from their factors and by the estimated v_r / v_max;
-                                   the SVD locator's steps from one or two points before
-                                   anything its detectors could fire on, and LU steps
-                                   again past it: the SVD follower's events and points,
-                                   1.2-2.8x faster (docs/follow.md) */
+    KIN_FOLLOW_STEPS_SVD = 0,   /* an SVD at every step (the follower of 0.3) */
+    KIN_FOLLOW_STEPS_CHEAP = 1  /* default: LU steps (KIN_STEP_LU, the SVD mode's amplitudes)
+                                   on regular stretches, watched by the sign of
+                                   det [C; t^T; R^T] from their factors, the estimated
+                                   v_r / v_max and, where that is small, the SVD detector's
+                                   own turn rule on the slope of the vanishing singular
+                                   value (vectors by inverse iteration); the SVD locator's
+                                   steps from one or two points before anything its
+                                   detectors could fire on, and LU steps again past it:
+                                   the SVD follower's events and points (docs/follow.md) */
 };
 
 /* What a follow did and where it ended. */
@@ -134,8 +135,8 @@ KIN_API void kin_follow_options_default(kin_follow_options *o);
 #define kin_follow_options_default(o) ((void)kin_follow_options_init((o), sizeof(kin_follow_options)))
 
 /* Follow the path from the current point to its next event (above).
- *  a     the assembly (SVD steps, or LU steps on regular stretches with
- *        o->steps_mode; the handle's options are kept and restored).
+ *  a     the assembly (LU steps on regular stretches and SVD steps near
+ *        events, o->steps_mode; the handle's options are kept and restored).
  *  dir   NULL at a regular point (follow the current orientation: forwards
  *        along the last tangent, or the mechanism's deterministic
  *        orientation after kin_set_coords), or nfree entries: at a regular

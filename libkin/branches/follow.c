@@ -50,6 +50,10 @@ static const double CHEAP_RANK_FRACTION = 1e-3;
 /* after a handover the SVD locator steps at least this many steps, and past
  * the point where the cheap stretch stopped, before LU steps resume */
 enum { RESUME_AFTER = 2 };
+/* ... and, where v_r / v_max is below CHEAP_NEAR_FACTOR x switch_eps, only
+ * once v_r is at most this fraction of the next singular value (the slope's
+ * vectors then converge in a few passes) */
+static const double RESUME_GAP = 0.5;
 /* follow_ctx.reason: the SVD locator handed back to LU steps */
 enum { REASON_RESUME = -1 };
 static const double HALF_PI = 1.5707963267948966;
@@ -67,7 +71,7 @@ static const kin_follow_options DEFAULTS = {
     .loop_tol = 1e-2,
     .first_step = 1e-3,
     .branch_cos = 0.99,
-    .steps_mode = KIN_FOLLOW_STEPS_SVD,
+    .steps_mode = KIN_FOLLOW_STEPS_CHEAP,
     .branch_margin = 0.05,
 };
 
@@ -273,6 +277,15 @@ static int is_loop(follow_ctx *c, const kin_assembly *a, double s)
     return j == c->own && gap >= c->o->branch_margin;
 }
 
+/* the vanishing singular value of an SVD point is well separated from the
+ * next (inverse iteration with LU factors converges fast there) */
+static int separated(const kin_assembly *a)
+{
+    const kin_factor *f = kin__cur(a);
+    int k = a->nf - 2 - f->an.m_rigid, mn = a->nf < a->nb ? a->nf : a->nb;
+    return f->valid && k >= 1 && k < mn && f->sv[k] <= RESUME_GAP * f->sv[k - 1];
+}
+
 /* after every accepted step: count the chord, keep a sample, stop on a
  * return to the start or at the length budget */
 static int after_step(void *user, const kin_assembly *a)
@@ -304,7 +317,7 @@ static int after_step(void *user, const kin_assembly *a)
         c->rho_prev = c->rho_cur;
         c->rho_cur = r;
         if (++c->svd_steps >= RESUME_AFTER && c->length > c->resume_len && r > 0.0 &&
-            r >= CHEAP_NEAR_FACTOR * c->o->switch_eps) {
+            (r >= CHEAP_NEAR_FACTOR * c->o->switch_eps || separated(a))) {
             c->reason = REASON_RESUME;
 #ifdef KIN_FOLLOW_TRACE
             fprintf(stderr, "resume after %d svd steps r %.3g\n", c->svd_steps, r);
@@ -502,8 +515,8 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
         }
         if (si.m_internal != 1 || (sg0 != 0 && sg != sg0) || !(r1 > 0.0) || slope_turn || turned) {
 #ifdef KIN_FOLLOW_TRACE
-            fprintf(stderr, "handover at step %d: m %d sg %d/%d r %.3g %.3g %.3g len %.3f\n", info->steps,
-                    si.m_internal, sg0, sg, rm, r0, r1, c->length / c->scale);
+            fprintf(stderr, "handover at step %d: m %d sg %d/%d r %.3g %.3g %.3g slope_turn %d turned %d v1 %.3g sl1 %.3g sl0 %.3g\n", info->steps,
+                    si.m_internal, sg0, sg, rm, r0, r1, slope_turn, turned, v1 / vm, sl1 * c->scale / vm, sl0 * c->scale / vm);
 #endif
             c->resume_len = c->length;
             back_to_kept(c, !turned);

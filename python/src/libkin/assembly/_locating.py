@@ -192,7 +192,7 @@ class LocatingMixin(AssemblyBase):
                      vr_floor: float = 1e-6, delta: float = 0.0, max_steps: int = 1000,
                      max_length: float = 0.0, loop_tol: float = 1e-2,
                      progress: Progress = None, branches: Optional[npt.ArrayLike] = None,
-                     samples: int = 0, steps_mode: str = "svd") -> FollowEvent:
+                     samples: int = 0, steps_mode: str = "cheap") -> FollowEvent:
         """Follow the path to its next event and say what it was (kin_follow_event).
 
         Parameters
@@ -222,10 +222,10 @@ class LocatingMixin(AssemblyBase):
         samples : int, optional
             Room for this many configurations recorded along the path
             (`FollowEvent.samples`).
-        steps_mode : {'svd', 'cheap'}, optional
-            An SVD at every step (default), or LU steps on regular stretches
-            and the SVD locator near events (the same events and points,
-            ``docs/follow.md``).
+        steps_mode : {'cheap', 'svd'}, optional
+            LU steps on regular stretches and the SVD locator near events
+            (default: the same events and points, ``docs/follow.md``), or an
+            SVD at every step.
 
         Returns
         -------
