@@ -1,7 +1,10 @@
 /* kin_follow_event_ex (kin_follow.h, docs/follow.md): the cheap steps
  * (KIN_FOLLOW_STEPS_CHEAP) against the SVD steps, the samples recorded along
  * the path, the start's branch directions deciding what a return to the
- * start is, and the errors. On the three-bar linkage from R^C. */
+ * start is, the BLAS threads (one while following, the caller's after), and
+ * the errors. On the three-bar linkage from R^C. */
+#define _GNU_SOURCE /* RTLD_DEFAULT */
+#include <dlfcn.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -31,6 +34,42 @@ static int branches(kin_assembly *a, double *dirs, double *lines, int *nlines)
     }
     *nlines = nsol;
     return 2 * nsol;
+}
+
+/* OpenBLAS's thread count, where the linked BLAS is OpenBLAS */
+typedef int (*get_fn)(void);
+typedef void (*set_fn)(int);
+static get_fn get_threads;
+
+static int threads_inside = -1;
+static int watch_threads(void *user, double done, double total)
+{
+    (void)user, (void)done, (void)total;
+    if (get_threads) threads_inside = get_threads();
+    return 0;
+}
+
+static void blas_threads(kin_assembly *a, const double *dir)
+{
+    void *g = dlsym(RTLD_DEFAULT, "openblas_get_num_threads"), *s = dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
+    if (!g || !s) {
+        printf("BLAS threads: not OpenBLAS, nothing to check\n");
+        return;
+    }
+    set_fn set_threads;
+    memcpy(&get_threads, &g, sizeof g);
+    memcpy(&set_threads, &s, sizeof s);
+    int before = get_threads();
+    set_threads(3);
+    kin_assembly *b = NULL;
+    CHECK_RC(kin_assembly_clone(a, &b), KIN_OK);
+    CHECK_RC(kin_set_progress(b, watch_threads, NULL), KIN_OK);
+    kin_follow_info fi = {.size = sizeof fi};
+    CHECK_RC(kin_follow_event(b, dir, NULL, &fi), KIN_OK);
+    printf("BLAS threads: 3 before, %d while following, %d after\n", threads_inside, get_threads());
+    CHECK(threads_inside == 1 && get_threads() == 3);
+    set_threads(before);
+    kin_assembly_free(b);
 }
 
 int main(void)
@@ -101,6 +140,7 @@ int main(void)
     /* (no start of this linkage returns to itself before another event: the
      * loop decision runs only where loops occur, e.g. the flat state of the
      * hexagonal sail, bench/bench_follow_atlas) */
+    blas_threads(a, dirs);
     /* errors: nothing moves, info zeroed */
     kin_follow_info fi = {.size = sizeof fi};
     int ns = 0;
