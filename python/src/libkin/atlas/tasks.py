@@ -10,7 +10,7 @@ the task alone: the same whichever worker runs it, in whichever order.
 from __future__ import annotations
 
 import time
-from typing import TYPE_CHECKING, Any, Dict, Optional
+from typing import TYPE_CHECKING, Any, Dict, List, Optional
 
 import numpy as np
 
@@ -54,7 +54,8 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     task: {"model": JSON text, "coords": (njoints, dim) list, "rank_tol",
     "direction": (nfree,) list (U_m beta times the sign), "max_length",
     "max_steps", "vr_tol", "samples": how many configurations to record along
-    the way}. Returns {"event": one of EVENT_KINDS, "coords": end
+    the way, "branches": optional, the start's branch directions (a return
+    along another branch is located, not a loop)}. Returns {"event": one of EVENT_KINDS, "coords": end
     configuration, "length": path length travelled, "m", "m_rigid", "s",
     "v_r_rel" at the end (analysis at the rank tolerance), "accuracy" (the
     vanishing singular value / v_max where the event was located), "vr_tol"
@@ -73,7 +74,8 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     samples: list[Any] = []
     out: Dict[str, Any] = {"samples": samples, "message": ""}
     try:
-        ev = a.follow_event(d, max_length=float(task["max_length"]), samples=SAMPLE_ROOM * n, **lim)
+        ev = a.follow_event(d, max_length=float(task["max_length"]), samples=SAMPLE_ROOM * n,
+                            branches=task.get("branches"), **lim)
     except KinError as exc:
         out.update(_end_state(a, FAILURE))
         out.update({"message": f"{type(exc).__name__}: {exc}", "accuracy": float("nan"), "vr_tol": 0.0,
@@ -89,6 +91,24 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     samples.extend(_pick_samples(ev.samples, ev.sample_lengths, ev.length, n))
     out["cpu_seconds"] = time.process_time() - cpu0
     return out
+
+
+# a bifurcation's branch directions go with each of its branch tasks up to
+# this many numbers (branches x nfree): beyond (the hexagonal sail's flat
+# state: 29,828 x 46) they would cost more to send than to follow
+BRANCH_DIRECTIONS_MAX = 20000
+
+
+def branch_lines(work: List[Any]) -> Dict[int, Any]:
+    """Per node of work [(node, solution, sign, beta, direction)], its
+    branch directions (sign +1 each) as lists, where there are at least two
+    and at most BRANCH_DIRECTIONS_MAX numbers of them."""
+    lines: Dict[int, List[Any]] = {}
+    for nid, _, sg, _, d in work:
+        if sg == 1:
+            lines.setdefault(nid, []).append(d)
+    return {nid: [list(map(float, d)) for d in L] for nid, L in lines.items()
+            if len(L) >= 2 and len(L) * len(L[0]) <= BRANCH_DIRECTIONS_MAX}
 
 
 # recorded points per sample asked for: the follower keeps them evenly spread
