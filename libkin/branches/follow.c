@@ -115,6 +115,7 @@ typedef struct follow_ctx {
     double *xpp;      /* the point before xp, where the path had length len_pp */
     double *tprev;    /* cheap stretch: the tangent before the step */
     double *u, *w, *scr; /* cheap stretch: singular vectors (nf, nb), scratch (2 nj dim) */
+    kin_assembly *probe; /* with branch directions: a copy to measure a return's direction on */
     double scale;     /* RMS rest length */
     double length;    /* sum of chords */
     double len_pp;
@@ -259,18 +260,17 @@ static int is_loop(follow_ctx *c, const kin_assembly *a, double s)
     if (!c->at_bif || c->x->nbranch <= 0 || c->own < 0)
         return fabs(kin__dot(nf, a->t, c->ts)) >= LOOP_TANGENT_COS;
     const double *t = a->t;
-    kin_assembly *b = NULL;
+    kin_assembly *b = c->probe; /* made at the start of the call */
     double back = (1.0 - s) * distance(nf, c->xp, c->xq);
-    if (back > 0.0 && kin_assembly_clone(a, &b) == KIN_OK) {
-        kin_options so = b->opt;
-        so.factorization = KIN_STEP_SVD;
-        b->opt = so;
+    if (back > 0.0 && b) {
+        kin__copy_state(b, a);
+        b->opt = a->opt;
+        b->opt.factorization = KIN_STEP_SVD;
         kin_step_info si = {.size = sizeof si};
         if (kin_step(b, -back, &si) == KIN_OK && si.m_internal == 1) t = b->t;
     }
     double ang = 0.0, gap = 0.0;
     int j = nearest_branch(c, t, &ang, &gap);
-    kin_assembly_free(b);
     c->info->return_branch = j;
     c->info->return_angle = ang;
     c->info->return_gap = gap;
@@ -603,6 +603,10 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
     if (at_bif && x->nbranch > 0) {
         double ang = 0.0, gap = 0.0;
         c.own = nearest_branch(&c, dir, &ang, &gap);
+        if (kin_assembly_clone(a, &c.probe)) {
+            free(c.xs);
+            return kin__fail(a, KIN_ENOMEM, "follow: a copy for the return direction");
+        }
     }
     kin__gather(a, a->xyz, c.xs);
     memcpy(c.xp, c.xs, sizeof(double) * (size_t)nf);
@@ -790,6 +794,7 @@ out:
         info->v_r_rel = kin__cur(a)->an.v_max > 0 ? kin__cur(a)->an.v_r / kin__cur(a)->an.v_max : 0.0;
     }
     free(c.xs);
+    kin_assembly_free(c.probe);
     return rc;
 }
 
