@@ -1,9 +1,14 @@
 /* Following a path to its next event (kin_follow.h, docs/follow.md): the
- * locator (kin_locate_next, fast method) does the following and the
- * location; this file adds the start off a bifurcation, the closed-loop and
- * path-length checks after every step (a hook of the locator), the
- * relaxation of the location tolerance where rounding puts it out of reach,
- * and the classification of how the path ended. */
+ * locator (kin_locate_next, fast method) does the location and the
+ * following near events; this file adds, in the order of a call: the start
+ * off a bifurcation (follow_impl); the cheap stretches of LU steps between
+ * events and the handovers to and from the locator (cheap_stretch, the
+ * hook's resume); the checks after every step, in both (after_step: path
+ * length, samples, the return to the start and whether it is a loop, with
+ * the start's branch directions if given: is_loop); the relaxation of the
+ * location tolerance where rounding puts it out of reach; and the
+ * classification of how the path ended. A new kind of event belongs in
+ * after_step (a stop with its own reason) and in that classification. */
 #include <math.h>
 #ifdef KIN_FOLLOW_TRACE
 #include <stdio.h>
