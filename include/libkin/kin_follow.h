@@ -108,7 +108,9 @@ typedef struct kin_follow_info {
     double start_distance; /* |end - start| (free coordinates) / RMS rest length */
     double tangent_cos;  /* at a bifurcation: cos between the first chord and dir (else 1) */
     /* layout 2 (docs/abi.md): a host compiled without these fields does not get them */
-    int cheap_steps;     /* of `steps`, those taken with LU factors only (no SVD) */
+    int cheap_steps;     /* of `steps`, those taken with LU factors only (no SVD); steps
+                            stepped again by the SVD locator after a handover count once,
+                            as SVD steps */
     int handovers;       /* times the cheap steps handed over to the SVD locator */
     int samples;         /* kin_follow_event_ex: configurations written to its buffer */
     int return_branch;   /* kin_follow_event_ex with branch directions, at a return to the

@@ -383,7 +383,10 @@ static void keep_point(follow_ctx *c)
 static void back_to_kept(follow_ctx *c, int newer)
 {
     const kept_point *k = &c->kept[newer && c->nkept == 2 ? 1 : 0];
-    int nf = c->a->nf;
+    int nf = c->a->nf, undone = c->p - k->index;
+    /* the steps stepped again count once: steps are the path's (as the SVD follower counts them) */
+    c->info->steps -= undone;
+    c->info->cheap_steps -= undone;
     kin__path_restore(c->a, &k->p);
     c->length = c->len_pp = k->length;
     c->left = k->left;
