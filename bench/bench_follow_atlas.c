@@ -102,7 +102,7 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
     printf("%s: m = %d, s = %d, %d real solutions (%.1f s): following %d of %d directed branches\n", name, m, s,
            nsol, now() - t0, n, total);
     int counts[7] = {0}, tols[8] = {0}, mhist[64] = {0}, back = 0, same_event = 0, same_end = 0, ends = 0;
-    int same_acc = 0, cheap = 0, steps = 0, hand = 0, nc = kin_njoints(a) * kin_dim(a);
+    int same_acc = 0, cheap = 0, steps = 0, hand = 0, same_steps = 0, nc = kin_njoints(a) * kin_dim(a);
     double nm_lo = INFINITY, nm_hi = 0.0, worst_rel = 0.0;
     double t1 = now(), worst = 0.0;
     double *cn = malloc(sizeof(double) * (size_t)n), *co = malloc(sizeof(double) * (size_t)n);
@@ -175,6 +175,7 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
         ends += bif;
         same_end += bif && end_ok;
         same_acc += acc_ok;
+        same_steps += fi.steps == fo.steps;
         if (bif) worst_rel = fmax(worst_rel, dist / tol);
         if (!ev || !end_ok || !acc_ok)
             printf("  branch %d differs: %s (v_r %.2g to %.0e, m %d, s %d) vs SVD steps %s (v_r %.2g to %.0e, m %d, s %d); "
@@ -230,8 +231,9 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
         printf("  same event %d / %d; same end node %d / %d bifurcations (worst distance %.2g of the tolerance); "
                "same located accuracy, m and s %d / %d\n",
                same_event, n, same_end, ends, worst_rel, same_acc, n);
-        printf("  steps %d, of them LU only %d (%.0f%%); handovers to the SVD locator %d (%.2f per branch)\n", steps,
-               cheap, 100.0 * cheap / (steps ? steps : 1), hand, (double)hand / n);
+        printf("  steps %d, of them LU only %d (%.0f%%); handovers to the SVD locator %d (%.2f per branch); "
+               "the same number of steps as the SVD follower on %d / %d\n", steps,
+               cheap, 100.0 * cheap / (steps ? steps : 1), hand, (double)hand / n, same_steps, n);
     }
     free(cn); free(co); free(xn); free(xo); free(x0);
     double t2 = now();
