@@ -15,7 +15,7 @@ comparisons.
 """
 from __future__ import annotations
 
-from typing import Any, Dict, List, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -62,4 +62,117 @@ def mapped_result(res: Dict[str, Any], g: Any) -> Dict[str, Any]:
     out["samples"] = [g.apply(np.asarray(X, dtype=float)).tolist() for X in res.get("samples", [])]
     out["cpu_seconds"] = 0.0
     out["mapped"] = True
+    return out
+
+
+# the strict location tolerance of tasks.follow_branch (vr_tol's default):
+# a bifurcation located to it is a certain end; one the follower could
+# locate only to a relaxed tolerance is not
+STRICT_VR_TOL = 1e-10
+# a mapped end keeps every bar length to this (relative to the model's rest lengths)
+LENGTH_TOL = 1e-9
+
+
+def certain(res: Dict[str, Any], g: Any, bars: NDArray[np.int_]) -> bool:
+    """Whether the image by g of a followed branch's result is what
+    following the image branch gives, to the identification tolerance.
+
+    The rule: the end is a closed loop (the path came back to the node,
+    which g fixes), or a bifurcation located to the strict tolerance
+    (STRICT_VR_TOL: located where v_r/v_max <= 1e-10, a point the follower
+    pins down whichever way the steps fall); and g maps the end onto a
+    configuration with the same bar lengths to LENGTH_TOL (g is an exact
+    symmetry of the structure there, so the analysis there, m, s and v_r,
+    is the same). Not certain, and so followed: a near-miss (it stops at the
+    regular point before a dip of v_r, which depends on where the steps
+    fall: today's mapped near-miss ends differed from followed ones by up to
+    0.008 on the hexagonal sail), a length or step budget (where the budget
+    runs out depends on the steps too), a bifurcation located only to a
+    relaxed tolerance (known to sqrt(tol) only), a failure."""
+    ev = res.get("event")
+    if ev == "bifurcation":
+        if not (float(res.get("vr_tol", 1.0)) <= STRICT_VR_TOL and float(res.get("accuracy", 1.0)) <= STRICT_VR_TOL):
+            return False
+    elif ev != "loop":
+        return False
+    X = np.asarray(res["coords"], dtype=float)
+    Y = g.apply(X)
+    L = np.linalg.norm(X[bars[:, 0]] - X[bars[:, 1]], axis=1)
+    M = np.linalg.norm(Y[bars[:, 0]] - Y[bars[:, 1]], axis=1)
+    return bool(np.abs(np.sort(L) - np.sort(M)).max() <= LENGTH_TOL * max(1.0, float(L.max())))
+
+
+def follow_level(work: List[Any], images: List[Optional[Tuple[int, int]]],
+                 follow: Callable[[List[Any]], List[Any]], syms: Sequence[Any],
+                 bars: NDArray[np.int_]) -> Tuple[List[Any], int, int]:
+    """The results of a level's directed branches: work[k] is followed when
+    images[k] is None, else it is the image by syms[j] of work[rep] for
+    images[k] = (rep, j), mapped where certain() and followed otherwise.
+    follow(list of work) -> results (None: not followed, the time limit or
+    a stop). Returns (results, followed, mapped)."""
+    results: List[Any] = [None] * len(work)
+    todo = [k for k, im in enumerate(images) if im is None]
+    for k, res in zip(todo, follow([work[k] for k in todo])):
+        results[k] = res
+    again = []
+    mapped = 0
+    for k, im in enumerate(images):
+        if im is None or results[im[0]] is None:
+            continue
+        if certain(results[im[0]], syms[im[1]], bars):
+            results[k] = mapped_result(results[im[0]], syms[im[1]])
+            mapped += 1
+        else:
+            again.append(k)
+    for k, res in zip(again, follow([work[k] for k in again]) if again else []):
+        results[k] = res
+    return results, len(todo) + len(again), mapped
+
+
+def differences(a: Any, b: Any, tol: float = 1e-6) -> List[str]:
+    """How atlas b differs from atlas a, whatever the order of their nodes,
+    solutions and edges (the symmetric solver returns the roots in another
+    order): nodes matched by configuration (tol times the model size, or 10
+    sqrt of the coarser location tolerance, as the explorer identifies
+    them) with the same kind, m and s; edges matched by source and
+    direction (sign times beta, in the node's mechanism basis, to
+    SAME_DIRECTION) with the same event and target and lengths within tol
+    (relative). [] when they are the same atlas."""
+    out: List[str] = []
+    scale = max(1.0, float(np.abs(a.nodes[0].coords - a.nodes[0].coords.mean(axis=0)).max())) if a.nodes else 1.0
+    index = ConfigIndex(a.nodes[0].coords.shape if a.nodes else (1, 1), rigid=False)
+    for n in a.nodes:
+        index.add(n.coords, n.id)
+    match: Dict[int, int] = {}
+    for n in b.nodes:
+        for i in index.near(n.coords, scale * max(tol, 10 * np.sqrt(max(n.located_tol, 1e-300)))):
+            m = a.nodes[i]
+            close = scale * max(tol, 10 * np.sqrt(max(n.located_tol, m.located_tol)))
+            if np.abs(m.coords - n.coords).max() <= close:
+                match[n.id] = i
+                break
+        if n.id not in match:
+            out.append(f"node {n.id} ({n.kind}, m {n.m}, s {n.s}) is not in the other atlas")
+        elif (a.nodes[match[n.id]].kind, a.nodes[match[n.id]].m, a.nodes[match[n.id]].s) != (n.kind, n.m, n.s):
+            m = a.nodes[match[n.id]]
+            out.append(f"node {n.id} is {n.kind} m {n.m} s {n.s}, there {m.kind} m {m.m} s {m.s}")
+    if len(set(match.values())) != len(a.nodes) or len(a.nodes) != len(b.nodes):
+        out.append(f"{len(a.nodes)} nodes against {len(b.nodes)} ({len(set(match.values()))} matched)")
+    edges: Dict[int, List[Any]] = {}
+    for e in a.edges:
+        edges.setdefault(e.source, []).append(e)
+    for f in b.edges:
+        d = f.sign * np.asarray(f.beta)
+        cands = [e for e in edges.get(match.get(f.source, -1), [])
+                 if len(e.beta) == len(d) and np.abs(e.sign * np.asarray(e.beta) - d).max() <= SAME_DIRECTION]
+        if not cands:
+            out.append(f"edge {f.id} (from node {f.source}, {f.event}) is not in the other atlas")
+            continue
+        e = cands[0]
+        if e.event != f.event or e.target != match.get(f.target, -1) or abs(e.length - f.length) > tol * max(
+                1.0, e.length):
+            out.append(f"edge {f.id}: {f.event} to node {f.target} (length {f.length:.9g}), there edge {e.id}: "
+                       f"{e.event} to node {e.target} (length {e.length:.9g})")
+    if len(a.edges) != len(b.edges):
+        out.append(f"{len(a.edges)} edges against {len(b.edges)}")
     return out
