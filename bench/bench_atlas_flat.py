@@ -89,8 +89,8 @@ def run(args: argparse.Namespace) -> None:
             print(f"  {what}: {done}/{total} after {now - t0:.0f} s ({rate:.2f}/s; load {load()})", flush=True)
 
     with concurrent.futures.ProcessPoolExecutor(args.workers) as ex:
-        atlas = libkin.explore(args.model, depth=1, symmetric=False, executor=ex, samples=0, progress=progress,
-                               threads=args.workers)
+        atlas = libkin.explore(args.model, depth=1, symmetric=False, symmetry=False, executor=ex, samples=0,
+                               progress=progress, threads=args.workers)
     wall = time.perf_counter() - t0
     d = atlas.to_dict()
     d["settings"]["model_name"] = args.model

@@ -129,26 +129,38 @@ def follow_level(work: List[Any], images: List[Optional[Tuple[int, int]]],
     return results, len(todo) + len(again), mapped
 
 
-def differences(a: Any, b: Any, tol: float = 1e-6) -> List[str]:
+def differences(a: Any, b: Any, tol: float = 1e-6, exclude: Optional[Callable[[Any], bool]] = None) -> List[str]:
     """How atlas b differs from atlas a, whatever the order of their nodes,
     solutions and edges (the symmetric solver returns the roots in another
     order): nodes matched by configuration (tol times the model size, or 10
     sqrt of the coarser location tolerance, as the explorer identifies
-    them) with the same kind, m and s; edges matched by source and
-    direction (sign times beta, in the node's mechanism basis, to
-    SAME_DIRECTION) with the same event and target and lengths within tol
-    (relative). [] when they are the same atlas."""
+    them; up to a rigid motion where the supports allow one) with the same
+    kind, m and s; the edges out of each orbit of nodes as the same
+    multiset of (event, target's orbit, length within tol relative): up to
+    the orbit mapping. exclude(edge): edges of either atlas left out, and
+    the nodes only they reach. [] when they are the same atlas."""
     out: List[str] = []
     scale = max(1.0, float(np.abs(a.nodes[0].coords - a.nodes[0].coords.mean(axis=0)).max())) if a.nodes else 1.0
-    index = ConfigIndex(a.nodes[0].coords.shape if a.nodes else (1, 1), rigid=False)
-    for n in a.nodes:
+    from ..symmetry.procrustes import aligned_distance
+    rigid = bool(a.nodes) and a.nodes[0].m_rigid > 0  # up to the rigid motions the supports allow
+
+    def dist(X: NDArray[np.float64], Y: NDArray[np.float64]) -> float:
+        return aligned_distance(X, Y) if rigid else float(np.abs(X - Y).max())
+    index = ConfigIndex(a.nodes[0].coords.shape if a.nodes else (1, 1), rigid=rigid)
+    def kept(x: Any) -> Tuple[List[Any], List[Any]]:
+        edges = [e for e in x.edges if exclude is None or not exclude(e)]
+        reached = {0} | {e.source for e in edges} | {e.target for e in edges}
+        return [n for n in x.nodes if n.id in reached], edges
+    (a_nodes, a_edges), (b_nodes, b_edges) = kept(a), kept(b)
+    for n in a_nodes:
         index.add(n.coords, n.id)
+    worst = max([n.located_tol for n in a.nodes] + [0.0])
     match: Dict[int, int] = {}
-    for n in b.nodes:
-        for i in index.near(n.coords, scale * max(tol, 10 * np.sqrt(max(n.located_tol, 1e-300)))):
+    for n in b_nodes:
+        for i in index.near(n.coords, scale * max(tol, 10 * np.sqrt(max(n.located_tol, worst)))):
             m = a.nodes[i]
             close = scale * max(tol, 10 * np.sqrt(max(n.located_tol, m.located_tol)))
-            if np.abs(m.coords - n.coords).max() <= close:
+            if dist(n.coords, m.coords) <= close:
                 match[n.id] = i
                 break
         if n.id not in match:
@@ -156,23 +168,34 @@ def differences(a: Any, b: Any, tol: float = 1e-6) -> List[str]:
         elif (a.nodes[match[n.id]].kind, a.nodes[match[n.id]].m, a.nodes[match[n.id]].s) != (n.kind, n.m, n.s):
             m = a.nodes[match[n.id]]
             out.append(f"node {n.id} is {n.kind} m {n.m} s {n.s}, there {m.kind} m {m.m} s {m.s}")
-    if len(set(match.values())) != len(a.nodes) or len(a.nodes) != len(b.nodes):
-        out.append(f"{len(a.nodes)} nodes against {len(b.nodes)} ({len(set(match.values()))} matched)")
-    edges: Dict[int, List[Any]] = {}
-    for e in a.edges:
-        edges.setdefault(e.source, []).append(e)
-    for f in b.edges:
-        d = f.sign * np.asarray(f.beta)
-        cands = [e for e in edges.get(match.get(f.source, -1), [])
-                 if len(e.beta) == len(d) and np.abs(e.sign * np.asarray(e.beta) - d).max() <= SAME_DIRECTION]
-        if not cands:
-            out.append(f"edge {f.id} (from node {f.source}, {f.event}) is not in the other atlas")
-            continue
-        e = cands[0]
-        if e.event != f.event or e.target != match.get(f.target, -1) or abs(e.length - f.length) > tol * max(
-                1.0, e.length):
-            out.append(f"edge {f.id}: {f.event} to node {f.target} (length {f.length:.9g}), there edge {e.id}: "
-                       f"{e.event} to node {e.target} (length {e.length:.9g})")
-    if len(a.edges) != len(b.edges):
-        out.append(f"{len(a.edges)} edges against {len(b.edges)}")
+    if len(set(match.values())) != len(a_nodes) or len(a_nodes) != len(b_nodes):
+        out.append(f"{len(a_nodes)} nodes against {len(b_nodes)} ({len(set(match.values()))} matched)")
+    # the edges out of an orbit as the multiset of (event, target's orbit,
+    # length): the same whatever the solution order (and the mechanism
+    # basis, which a rigid motion of the node turns) and whichever node of
+    # an orbit was expanded (the others are its images)
+    def orbit(i: int) -> int:
+        return a.nodes[i].orbit if 0 <= i < len(a.nodes) else -1
+    mine: Dict[int, List[Tuple[str, int, float]]] = {}
+    theirs: Dict[int, List[Tuple[str, int, float]]] = {}
+    for e in a_edges:
+        mine.setdefault(orbit(e.source), []).append((e.event, orbit(e.target), e.length))
+    for f in b_edges:
+        theirs.setdefault(orbit(match.get(f.source, -1)), []).append((f.event, orbit(match.get(f.target, -1)),
+                                                                       f.length))
+    for src in sorted(set(mine) | set(theirs)):
+        x, y = sorted(mine.get(src, [])), sorted(theirs.get(src, []))
+        bad = len(x) != len(y) or any(p[:2] != q[:2] or abs(p[2] - q[2]) > tol * max(1.0, p[2]) for p, q in zip(x, y))
+        if bad:
+            out.append(f"the edges out of the orbit of node {src} differ: {len(x)} against {len(y)}, events "
+                       f"{_count(x)} against {_count(y)}")
+    if len(a_edges) != len(b_edges):
+        out.append(f"{len(a_edges)} edges against {len(b_edges)}")
+    return out
+
+
+def _count(edges: List[Tuple[str, int, float]]) -> Dict[str, int]:
+    out: Dict[str, int] = {}
+    for ev, _, _ in edges:
+        out[ev] = out.get(ev, 0) + 1
     return out
