@@ -345,10 +345,25 @@ class BranchingMixin(AssemblyBase):
         return self.follow_branches(betas, length=length, accounting=accounting, progress=progress)
 
     def solver_group(self, Q: FloatArray, seed: int = 1) -> Optional[FloatArray]:
-        """The symmetry group at this configuration acting on beta
-        (kin_mechanism_group, shape (k, m, m)) if the symmetric solver pays
-        on Q (see `branches`), else None (also where the group cannot be
-        formed: no symmetry, or a mechanism space it does not keep)."""
+        """The symmetry group that `branches` gives the solver by default.
+
+        Parameters
+        ----------
+        Q : ndarray, shape (s, m, m)
+            The second-order matrices at this configuration (`second_order`).
+        seed : int, optional
+            Seed of the equivariant form (as the solver's).
+
+        Returns
+        -------
+        ndarray, shape (k, m, m), or None
+            The group at this configuration acting on beta
+            (kin_mechanism_group) if the symmetric solver pays on Q: s >=
+            SYMMETRIC_SOLVE_MIN_S and a cyclic subgroup permutes mechanisms
+            and equations alike (the equivariant route); else None (also
+            where the group cannot be formed: no symmetry, or a mechanism
+            space it does not keep).
+        """
         s, m = Q.shape[0], Q.shape[1]
         if s < SYMMETRIC_SOLVE_MIN_S or m != s + 1:
             return None

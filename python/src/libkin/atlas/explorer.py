@@ -417,18 +417,18 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                 node.status = "not expanded: max_nodes reached"
                 stopped = stopped or "max_nodes"
                 continue
-            why = halted()
-            if why:
-                node.status = f"not expanded: {causes[why]}"
-                stopped = stopped or why
+            cause = halted()
+            if cause:
+                node.status = f"not expanded: {causes[cause]}"
+                stopped = stopped or cause
                 continue
             ex.learn_symmetries(node)
             try:
                 br, rec = ex.branches(node)
             except _Late:
-                why = halted() or "interrupted"
-                node.status = f"not expanded: {causes[why]} during its solve"
-                stopped = stopped or why
+                cause = halted() or "interrupted"
+                node.status = f"not expanded: {causes[cause]} during its solve"
+                stopped = stopped or cause
                 continue
             except KinError as exc:
                 node.status = f"branches not enumerated: {type(exc).__name__}: {exc}"
@@ -452,10 +452,10 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         n_before = len(ex.nodes)
         for (nid, i, sg, b, _), res in zip(work, results):
             if res is None:  # not followed: the time limit ran out first, or the run was interrupted
-                why = "interrupted" if stop is not None and stop() else "time_limit"
+                cause = "interrupted" if stop is not None and stop() else "time_limit"
                 if "not followed" not in ex.nodes[nid].status:
-                    ex.nodes[nid].status += f"; some branches not followed: {causes[why]}"
-                stopped = stopped or why
+                    ex.nodes[nid].status += f"; some branches not followed: {causes[cause]}"
+                stopped = stopped or cause
                 continue
             ex.merge(nid, i, sg, b, res, level + 1)
         frontier = [n.id for n in ex.nodes[n_before:] if n.kind == BIFURCATION]

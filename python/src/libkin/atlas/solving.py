@@ -89,7 +89,6 @@ def complete_solve(Q: NDArray[np.float64], executor: Any, shards: Optional[int],
             return None
         return {"betas": betas.tolist(), "accounting": {k: int(v) for k, v in acc.items()}}
     if group is not None:
-        from .stabiliser import sym_solve_task
-        return run_tasks(sym_solve_task, [dict(task, group=np.asarray(group).tolist())], executor,
+        return run_tasks(homotopy_shards.symmetric_task, [dict(task, group=np.asarray(group).tolist())], executor,
                          deadline=deadline)[0]
     return run_tasks(tasks.solve_task, [task], executor, deadline=deadline)[0]

@@ -60,15 +60,6 @@ def useful_group(Q: NDArray[np.float64], R: Optional[NDArray[np.float64]], seed:
     return equivariant_order(Q, R, seed) >= 2
 
 
-def sym_solve_task(task: Dict[str, Any]) -> Dict[str, Any]:
-    """The symmetric complete solver on one system, as one task: {"Q",
-    "group", "seed", "threads"} -> {"betas", "accounting"}."""
-    from ..assembly import solve_quadrics
-    betas, acc = solve_quadrics(np.asarray(task["Q"], dtype=float), "homotopy", seed=int(task.get("seed", 1)),
-                                threads=int(task.get("threads", 1)), group=np.asarray(task["group"], dtype=float))
-    return {"betas": betas.tolist(), "accounting": {k: int(v) for k, v in acc.items()}}
-
-
 def subspace_branches(U: NDArray[np.float64], Q: NDArray[np.float64], P: Sequence[NDArray[np.float64]],
                       solve_system: Any) -> Tuple[Optional[NDArray[np.float64]], Dict[str, Any]]:
     """explore(symmetric=True): the betas (n, m) of the branches whose U beta

@@ -243,6 +243,16 @@ def solve_sharded(Q: ArrayLike, executor: Optional[Any] = None, shards: int = 4,
     return betas, acc
 
 
+def symmetric_task(task: Dict[str, Any]) -> Dict[str, Any]:
+    """The symmetric complete solver on one system, as one task (plain data
+    in and out): {"Q", "group", "seed", "threads"} -> {"betas",
+    "accounting"} (solve_quadrics(Q, group=group))."""
+    from ..assembly import solve_quadrics
+    betas, acc = solve_quadrics(np.asarray(task["Q"], dtype=float), "homotopy", seed=int(task.get("seed", 1)),
+                                threads=int(task.get("threads", 1)), group=np.asarray(task["group"], dtype=float))
+    return {"betas": betas.tolist(), "accounting": {k: int(v) for k, v in acc.items()}}
+
+
 def available() -> bool:
     """True if the library has the sharded solver."""
     from .._native._lib import lib
