@@ -160,3 +160,14 @@ def test_symmetry_argument_checked():
         libkin.explore("threebar:RC", symmetry="yes")
     with pytest.raises(libkin.errors.InvalidArgumentError):
         libkin.explore("threebar:RC", follow_orbits="yes")
+
+
+def test_cli_no_symmetry(tmp_path):
+    from libkin.cli import main
+    for flags, sym, orbits in (([], True, True), (["--no-symmetry"], False, False),
+                               (["--no-symmetry", "--follow-orbits"], False, True)):
+        out = tmp_path / f"atl{len(flags)}"
+        assert main(["explore", "sail:4:1", "--out", str(out), "--quiet", *flags]) == 0
+        d = json.loads((out / "atlas.json").read_text())
+        assert (d["settings"]["symmetry"], d["settings"]["follow_orbits"]) == (sym, orbits)
+        assert (d["stats"]["branches_mapped"] > 0) == orbits and len(d["edges"]) == 32

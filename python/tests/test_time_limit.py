@@ -95,3 +95,14 @@ def test_explore_stops_at_the_time_limit_and_resumes(kind, tmp_path, uninterrupt
                               resume=True)
     assert not full.stats["partial"] and full.stats["store"]["reused"] >= len(part.edges)
     assert full.same_as(uninterrupted, tol=1e-12)
+
+
+def test_cli_time_limit_writes_a_partial_atlas_and_keeps_the_store(tmp_path):
+    import json
+    from libkin.atlas.store import default_path
+    from libkin.cli import main
+    out = tmp_path / "atl"
+    assert main(["explore", "sail:6:1", "--no-symmetry", "--time-limit", "0.5", "--out", str(out), "--quiet"]) == 0
+    d = json.loads((out / "atlas.json").read_text())
+    assert d["stats"]["partial"] and d["stats"]["stopped_by"] == "time_limit"
+    assert default_path(out).exists()  # kept for --resume
