@@ -136,8 +136,9 @@ def differences(a: Any, b: Any, tol: float = 1e-6, exclude: Optional[Callable[[A
     sqrt of the coarser location tolerance, as the explorer identifies
     them; up to a rigid motion where the supports allow one) with the same
     kind, m and s; the edges out of each orbit of nodes as the same
-    multiset of (event, target's orbit, length within tol relative): up to
-    the orbit mapping. exclude(edge): edges of either atlas left out, and
+    multiset of (event, target, length within tol relative), the target's
+    orbit standing for the target where the atlases expanded different
+    nodes of the orbit: up to the orbit mapping. exclude(edge): edges of either atlas left out, and
     the nodes only they reach. [] when they are the same atlas."""
     out: List[str] = []
     scale = max(1.0, float(np.abs(a.nodes[0].coords - a.nodes[0].coords.mean(axis=0)).max())) if a.nodes else 1.0
@@ -170,19 +171,24 @@ def differences(a: Any, b: Any, tol: float = 1e-6, exclude: Optional[Callable[[A
             out.append(f"node {n.id} is {n.kind} m {n.m} s {n.s}, there {m.kind} m {m.m} s {m.s}")
     if len(set(match.values())) != len(a_nodes) or len(a_nodes) != len(b_nodes):
         out.append(f"{len(a_nodes)} nodes against {len(b_nodes)} ({len(set(match.values()))} matched)")
-    # the edges out of an orbit as the multiset of (event, target's orbit,
-    # length): the same whatever the solution order (and the mechanism
-    # basis, which a rigid motion of the node turns) and whichever node of
-    # an orbit was expanded (the others are its images)
+    # the edges out of an orbit as the multiset of (event, target, length):
+    # the same whatever the solution order (and the mechanism basis, which a
+    # rigid motion of the node turns); the target's orbit stands for the
+    # target where the two atlases expanded different nodes of an orbit
+    # (the others are its images)
     def orbit(i: int) -> int:
         return a.nodes[i].orbit if 0 <= i < len(a.nodes) else -1
+    sources = {(orbit(e.source), e.source) for e in a_edges}
+    same = {o for o, src in sources} & {orbit(match.get(f.source, -1)) for f in b_edges
+                                        if (orbit(match.get(f.source, -1)), match.get(f.source, -1)) in sources}
     mine: Dict[int, List[Tuple[str, int, float]]] = {}
     theirs: Dict[int, List[Tuple[str, int, float]]] = {}
     for e in a_edges:
-        mine.setdefault(orbit(e.source), []).append((e.event, orbit(e.target), e.length))
+        o = orbit(e.source)
+        mine.setdefault(o, []).append((e.event, e.target if o in same else orbit(e.target), e.length))
     for f in b_edges:
-        theirs.setdefault(orbit(match.get(f.source, -1)), []).append((f.event, orbit(match.get(f.target, -1)),
-                                                                       f.length))
+        o, t = orbit(match.get(f.source, -1)), match.get(f.target, -1)
+        theirs.setdefault(o, []).append((f.event, t if o in same else orbit(t), f.length))
     for src in sorted(set(mine) | set(theirs)):
         x, y = sorted(mine.get(src, [])), sorted(theirs.get(src, []))
         bad = len(x) != len(y) or any(p[:2] != q[:2] or abs(p[2] - q[2]) > tol * max(1.0, p[2]) for p, q in zip(x, y))
