@@ -3,11 +3,15 @@
 A symmetry g of the structure that fixes a node (g.apply(node) = node) maps
 every path out of it onto another: the branch along P_g d is the image under
 g of the branch along d (P_g: g acting on the free coordinates), so its next
-event is the same and its end is g applied to the other's end. With
-`explore(..., follow_orbits=True)` one branch per orbit is followed and the
-others are mapped, which divides the following by up to the order of the
-node's stabilizer (6 at the hexagonal sail's flat state, where the mirror
-z -> -z maps each branch onto its opposite sense).
+event is the same and its end is g applied to the other's end. explore()
+follows one branch per orbit (follow_orbits, the default with symmetry) and
+maps the others where the mapped end is certain (certain(): a closed loop
+or a bifurcation located to the strict tolerance, onto a configuration with
+the same bar lengths), following the rest (follow_level); that divides the
+following by up to the order of the node's stabilizer (6 at the hexagonal
+sail's flat state, where the mirror z -> -z maps each branch onto its
+opposite sense). differences() compares two atlases whatever the order of
+their nodes and edges, up to the orbit mapping.
 
 The branches are matched through index.ConfigIndex (a sorted scalar key
 of the unit directions), so n branches cost O(n log n) rather than n^2
