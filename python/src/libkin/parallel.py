@@ -20,7 +20,7 @@ import sys
 import threading
 import time
 from concurrent.futures.process import BrokenProcessPool
-from typing import Any, Callable, Iterator, List, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Union
 
 from .errors import KinError
 
@@ -166,11 +166,21 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
         futures = [executor.submit(fn, it) for it in items]
     deaths = 0
     expired = False
+    gathered: Dict[int, Any] = {}
     k = 0
     while k < n:
         if deadline is not None and not expired and not _wait(futures[k], deadline):
             expired = True
             _cancel_pending(executor, futures[k:], dask)
+            if dask:  # the finished ones in one call (a result() each is a scheduler round trip)
+                ready = [i for i in range(k, n) if futures[i].status == "finished"]
+                with contextlib.suppress(Exception):  # a task's error: raised by its own result() below
+                    gathered.update(zip(ready, executor.gather([futures[i] for i in ready])))
+        if k in gathered:
+            out.append(gathered.pop(k))
+            k += 1
+            tick(progress, k, n, what)
+            continue
         if futures[k].cancelled():
             out.append(None)
             k += 1
