@@ -121,6 +121,8 @@ module libkin
     real(c_double) :: vr_tol = 0, vr_floor = 0, switch_eps = 0, delta = 0
     integer(c_int) :: max_steps = 0, max_iter = 0
     real(c_double) :: max_length = 0, loop_tol = 0, first_step = 0, branch_cos = 0
+    integer(c_int) :: steps_mode = 0
+    real(c_double) :: branch_margin = 0
   end type
 
   type, bind(C), public :: kin_follow_info
@@ -130,6 +132,8 @@ module libkin
     real(c_double) :: length = 0, vr_tol_used = 0, v_r_rel = 0
     integer(c_int) :: m_internal = 0, s = 0, zero_order = 0, path_kept = 0, at_start = 0
     real(c_double) :: start_distance = 0, tangent_cos = 0
+    integer(c_int) :: cheap_steps = 0, handovers = 0, samples = 0, return_branch = 0
+    real(c_double) :: return_angle = 0, return_gap = 0
   end type
 
   ! widths: c_loc of a target array of n_loops reals, or c_null_ptr (the
@@ -160,7 +164,7 @@ module libkin
   public :: kin_quadrics_homotopy_range, kin_quadrics_homotopy_merge, kin_quadrics_homotopy_sym
   public :: kin_quadrics_equivariant_form, kin_quadrics_homotopy_orbit_range
   public :: kin_follow_options_default, kin_follow_options_default_c, kin_follow_options_init
-  public :: kin_follow_event
+  public :: kin_follow_event, kin_follow_event_ex
   public :: kin_set_progress, kin_progress_callback
   public :: kin_assembly_load, kin_assembly_load_limited, kin_assembly_load_string, kin_assembly_save
   public :: kin_assembly_save_string, kin_free_string
@@ -584,6 +588,18 @@ module libkin
       type(kin_follow_options), intent(in) :: o
       type(kin_follow_info), intent(out) :: info
       integer(c_int) :: kin_follow_event
+    end function
+
+    ! kin_follow.h. branches, samples, sample_length, nsamples: c_loc of
+    ! target arrays, or c_null_ptr
+    function kin_follow_event_ex(a, dir, o, branches, nbranch, samples, sample_length, capacity, nsamples, info) &
+        bind(C, name='kin_follow_event_ex')
+      import :: c_int, c_ptr, kin_follow_options, kin_follow_info
+      type(c_ptr), value :: a, dir, branches, samples, sample_length, nsamples
+      integer(c_int), value :: nbranch, capacity
+      type(kin_follow_options), intent(in) :: o
+      type(kin_follow_info), intent(out) :: info
+      integer(c_int) :: kin_follow_event_ex
     end function
 
     ! kin_progress.h. fn: c_funloc of a function with the interface

@@ -4,7 +4,9 @@
 # GSL, jansson (JSON model files), SuiteSparse KLU (KIN_STEP_SPARSE), nauty (kin_symmetries), pkg-config, Python's venv module,
 # gfortran (the Fortran module), abigail-tools (tools/abi_check.sh) and clang
 # (the C suite built with clang, tools/build_clang.sh) with its runtime libraries
-# libclang-rt-14-dev (libFuzzer and the sanitizers: the fuzz targets, tests/fuzz).
+# libclang-rt-14-dev (libFuzzer and the sanitizers: the fuzz targets, tests/fuzz),
+# chromium and chromium-driver (the atlas viewer's test in a real browser,
+# python/tests/test_viewer_browser.py, headless through selenium).
 # Nothing to do (and no root needed) when everything is installed. Otherwise
 # it installs with apt-get as root, or through sudo if that works without a
 # password; failing both it prints the exact command to run and exits 1.
@@ -13,7 +15,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source tools/stage.sh
 pkgs=(build-essential cmake pkg-config libopenblas-dev liblapack-dev libblas3 libgsl-dev libjansson-dev libsuitesparse-dev libnauty2-dev python3-venv python3-dev
-      gfortran abigail-tools clang libclang-rt-14-dev)
+      gfortran abigail-tools clang libclang-rt-14-dev chromium chromium-driver)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -62,7 +62,29 @@ typedef struct kin_follow_options {
                            reaches still counts as a bifurcation. Default 1e-3 */
     double branch_cos;  /* at a bifurcation: the first chord must be parallel to the branch
                            direction to this |cos|. Default 0.99 */
+    /* layout 2 (docs/abi.md): a host compiled without these fields gets their defaults */
+    int steps_mode;     /* enum kin_follow_steps: how regular stretches are stepped.
+                           Default KIN_FOLLOW_STEPS_CHEAP */
+    double branch_margin; /* kin_follow_event_ex with the start's branch directions: a
+                           return to the start is a closed loop only if its direction is
+                           nearer its own departure branch than any other branch by this
+                           angle (radians); else it is located like a bifurcation.
+                           Default 0.05 */
 } kin_follow_options;
+
+/* How kin_follow_event steps between events (kin_follow_options.steps_mode). */
+enum kin_follow_steps {
+    KIN_FOLLOW_STEPS_SVD = 0,   /* an SVD at every step (the follower of 0.3) */
+    KIN_FOLLOW_STEPS_CHEAP = 1  /* default: LU steps (KIN_STEP_LU, the SVD mode's amplitudes)
+                                   on regular stretches, watched by the sign of
+                                   det [C; t^T; R^T] from their factors, the estimated
+                                   v_r / v_max and, where that is small, the SVD detector's
+                                   own turn rule on the slope of the vanishing singular
+                                   value (vectors by inverse iteration); the SVD locator's
+                                   steps from one or two points before anything its
+                                   detectors could fire on, and LU steps again past it:
+                                   the SVD follower's events and points (docs/follow.md) */
+};
 
 /* What a follow did and where it ended. */
 typedef struct kin_follow_info {
@@ -85,6 +107,18 @@ typedef struct kin_follow_info {
                             BIFURCATION within loop_tol of a start that is a bifurcation */
     double start_distance; /* |end - start| (free coordinates) / RMS rest length */
     double tangent_cos;  /* at a bifurcation: cos between the first chord and dir (else 1) */
+    /* layout 2 (docs/abi.md): a host compiled without these fields does not get them */
+    int cheap_steps;     /* of `steps`, those taken with LU factors only (no SVD); steps
+                            stepped again by the SVD locator after a handover count once,
+                            as SVD steps */
+    int handovers;       /* times the cheap steps handed over to the SVD locator */
+    int samples;         /* kin_follow_event_ex: configurations written to its buffer */
+    int return_branch;   /* kin_follow_event_ex with branch directions, at a return to the
+                            start: the index of the branch it came back along (nearest),
+                            else -1 */
+    double return_angle; /* that return: angle (radians) between the return direction and
+                            that branch; the next nearest branch is return_gap farther */
+    double return_gap;
 } kin_follow_info;
 
 /* Fill *o with the defaults above, for a struct of `size` bytes: pass
@@ -103,8 +137,8 @@ KIN_API void kin_follow_options_default(kin_follow_options *o);
 #define kin_follow_options_default(o) ((void)kin_follow_options_init((o), sizeof(kin_follow_options)))
 
 /* Follow the path from the current point to its next event (above).
- *  a     the assembly (SVD step mode is used while following; the handle's
- *        options are otherwise kept and restored).
+ *  a     the assembly (LU steps on regular stretches and SVD steps near
+ *        events, o->steps_mode; the handle's options are kept and restored).
  *  dir   NULL at a regular point (follow the current orientation: forwards
  *        along the last tangent, or the mechanism's deterministic
  *        orientation after kin_set_coords), or nfree entries: at a regular
@@ -129,6 +163,31 @@ KIN_API void kin_follow_options_default(kin_follow_options *o);
  * KIN_ENOTCONVERGED, KIN_ECANCELLED, KIN_ENOMEM, LAPACK codes. */
 KIN_API int kin_follow_event(kin_assembly *a, const double *dir, const kin_follow_options *o,
                              kin_follow_info *info);
+
+/* kin_follow_event with two optional extras (NULL / 0 for none):
+ *  branches, nbranch  the start bifurcation's branch directions (nbranch x
+ *        nfree, column-major: branch j at branches + j*nfree), e.g. U_m beta
+ *        for every real second-order solution beta, any sign, dir among
+ *        them (up to sign and scale). A return to the start then counts as a
+ *        closed loop only when it comes back along dir's own branch (its
+ *        direction nearer that branch than any other by branch_margin);
+ *        along any other branch, or too close to call, following goes on and
+ *        the start is located like any bifurcation (info->at_start).
+ *        Without them a return with a tangent parallel to the start's
+ *        (|cos| >= 0.9) is a loop. Ignored at a regular start.
+ *  samples, sample_length, capacity, *nsamples  a buffer for up to
+ *        capacity configurations along the path (njoints*dim coordinates
+ *        each, samples + k*njoints*dim) and their path lengths: the points
+ *        the following steps reached, every step until the buffer fills, then
+ *        every second one of those kept and every second step, and so on, so
+ *        they stay evenly spread by steps over the whole path (the end point
+ *        and the start are not included). *nsamples receives the count (also
+ *        info->samples). Any of samples / sample_length may be NULL.
+ * Returns as kin_follow_event; KIN_EINVAL also for nbranch < 0, branches
+ * not finite, capacity < 0, or capacity > 0 without nsamples. */
+KIN_API int kin_follow_event_ex(kin_assembly *a, const double *dir, const kin_follow_options *o,
+                                const double *branches, int nbranch, double *samples, double *sample_length,
+                                int capacity, int *nsamples, kin_follow_info *info);
 
 #ifdef __cplusplus
 }

@@ -129,7 +129,8 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         rc = kin_step(a, o.delta, &si);
         if (rc) break;
         info->steps++;
-        if (c.hook && c.hook(c.hook_user, a)) {
+        int hook_says = c.hook ? c.hook(c.hook_user, a) : 0;
+        if (hook_says == KIN__HOOK_STOP) {
             stopped = 1;
             break;
         }
@@ -195,6 +196,11 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         tau0 = tau1;
         v0 = v1;
         sl0 = sl1;
+        if (hook_says == KIN__HOOK_STOP_IDLE && !pending) {
+            /* the detectors saw this step and hold nothing back */
+            stopped = 1;
+            break;
+        }
     }
     fa = a->nfact;
     fw = c.work->nfact;
@@ -275,7 +281,10 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
 
 int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info)
 {
-    return kin__locate_hooked(a, opt, info, NULL, NULL);
+    int token = kin__blas_threads_small(a); /* small matrices: one BLAS thread, restored after */
+    int rc = kin__locate_hooked(a, opt, info, NULL, NULL);
+    kin__blas_threads_restore(token);
+    return rc;
 }
 
 int kin__locate_hooked(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,

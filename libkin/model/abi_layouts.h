@@ -50,6 +50,39 @@ struct kin__kin_homotopy_info_1 {
     double max_residual;
     double max_cond;
 };
+/* kin_follow_options as a host compiled against layout 1 has it */
+struct kin__kin_follow_options_1 {
+    size_t size;
+    double vr_tol;
+    double vr_floor;
+    double switch_eps;
+    double delta;
+    int max_steps;
+    int max_iter;
+    double max_length;
+    double loop_tol;
+    double first_step;
+    double branch_cos;
+};
+/* kin_follow_info as a host compiled against layout 1 has it */
+struct kin__kin_follow_info_1 {
+    size_t size;
+    int event;
+    int status;
+    int steps;
+    int forward;
+    int factorizations;
+    int attempts;
+    double length;
+    double vr_tol_used;
+    double v_r_rel;
+    int m_internal, s;
+    int zero_order;
+    int path_kept;
+    int at_start;
+    double start_distance;
+    double tangent_cos;
+};
 
 /* each struct as a host compiled against its first layout has it */
 typedef kin_analysis kin__kin_analysis_layout1;
@@ -63,8 +96,8 @@ typedef kin_homotopy_sym_info kin__kin_homotopy_sym_info_layout1;
 typedef kin_branch_path kin__kin_branch_path_layout1;
 typedef kin_locate_options kin__kin_locate_options_layout1;
 typedef kin_locate_info kin__kin_locate_info_layout1;
-typedef kin_follow_options kin__kin_follow_options_layout1;
-typedef kin_follow_info kin__kin_follow_info_layout1;
+typedef struct kin__kin_follow_options_1 kin__kin_follow_options_layout1;
+typedef struct kin__kin_follow_info_1 kin__kin_follow_info_layout1;
 
 /* the structs, in header order */
 enum kin__abi_id {
@@ -99,8 +132,8 @@ enum kin__abi_id {
     {"kin_branch_path", 1, {sizeof(kin_branch_path)}, {sizeof(kin_branch_path)}}, \
     {"kin_locate_options", 1, {sizeof(kin_locate_options)}, {sizeof(kin_locate_options)}}, \
     {"kin_locate_info", 1, {sizeof(kin_locate_info)}, {sizeof(kin_locate_info)}}, \
-    {"kin_follow_options", 1, {sizeof(kin_follow_options)}, {sizeof(kin_follow_options)}}, \
-    {"kin_follow_info", 1, {sizeof(kin_follow_info)}, {sizeof(kin_follow_info)}}
+    {"kin_follow_options", 2, {sizeof(struct kin__kin_follow_options_1), sizeof(kin_follow_options)}, {offsetof(struct kin__kin_follow_options_1, branch_cos) + sizeof(((struct kin__kin_follow_options_1 *)0)->branch_cos), sizeof(kin_follow_options)}}, \
+    {"kin_follow_info", 2, {sizeof(struct kin__kin_follow_info_1), sizeof(kin_follow_info)}, {offsetof(struct kin__kin_follow_info_1, tangent_cos) + sizeof(((struct kin__kin_follow_info_1 *)0)->tangent_cos), sizeof(kin_follow_info)}}
 
 /* compile-time checks (C99: a negative array size is an error). Each older
  * layout is a prefix of the next, and each layout's sizeof is larger than
@@ -144,5 +177,35 @@ typedef char kin__abi_prefix_kin_homotopy_info_1_steps[offsetof(struct kin__kin_
 typedef char kin__abi_prefix_kin_homotopy_info_1_rejected[offsetof(struct kin__kin_homotopy_info_1, rejected) == offsetof(kin_homotopy_info, rejected) ? 1 : -1];
 typedef char kin__abi_prefix_kin_homotopy_info_1_max_residual[offsetof(struct kin__kin_homotopy_info_1, max_residual) == offsetof(kin_homotopy_info, max_residual) ? 1 : -1];
 typedef char kin__abi_prefix_kin_homotopy_info_1_max_cond[offsetof(struct kin__kin_homotopy_info_1, max_cond) == offsetof(kin_homotopy_info, max_cond) ? 1 : -1];
+typedef char kin__abi_grows_kin_follow_options_1[sizeof(struct kin__kin_follow_options_1) < sizeof(kin_follow_options) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_size[offsetof(struct kin__kin_follow_options_1, size) == offsetof(kin_follow_options, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_vr_tol[offsetof(struct kin__kin_follow_options_1, vr_tol) == offsetof(kin_follow_options, vr_tol) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_vr_floor[offsetof(struct kin__kin_follow_options_1, vr_floor) == offsetof(kin_follow_options, vr_floor) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_switch_eps[offsetof(struct kin__kin_follow_options_1, switch_eps) == offsetof(kin_follow_options, switch_eps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_delta[offsetof(struct kin__kin_follow_options_1, delta) == offsetof(kin_follow_options, delta) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_max_steps[offsetof(struct kin__kin_follow_options_1, max_steps) == offsetof(kin_follow_options, max_steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_max_iter[offsetof(struct kin__kin_follow_options_1, max_iter) == offsetof(kin_follow_options, max_iter) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_max_length[offsetof(struct kin__kin_follow_options_1, max_length) == offsetof(kin_follow_options, max_length) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_loop_tol[offsetof(struct kin__kin_follow_options_1, loop_tol) == offsetof(kin_follow_options, loop_tol) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_first_step[offsetof(struct kin__kin_follow_options_1, first_step) == offsetof(kin_follow_options, first_step) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_branch_cos[offsetof(struct kin__kin_follow_options_1, branch_cos) == offsetof(kin_follow_options, branch_cos) ? 1 : -1];
+typedef char kin__abi_grows_kin_follow_info_1[sizeof(struct kin__kin_follow_info_1) < sizeof(kin_follow_info) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_size[offsetof(struct kin__kin_follow_info_1, size) == offsetof(kin_follow_info, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_event[offsetof(struct kin__kin_follow_info_1, event) == offsetof(kin_follow_info, event) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_status[offsetof(struct kin__kin_follow_info_1, status) == offsetof(kin_follow_info, status) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_steps[offsetof(struct kin__kin_follow_info_1, steps) == offsetof(kin_follow_info, steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_forward[offsetof(struct kin__kin_follow_info_1, forward) == offsetof(kin_follow_info, forward) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_factorizations[offsetof(struct kin__kin_follow_info_1, factorizations) == offsetof(kin_follow_info, factorizations) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_attempts[offsetof(struct kin__kin_follow_info_1, attempts) == offsetof(kin_follow_info, attempts) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_length[offsetof(struct kin__kin_follow_info_1, length) == offsetof(kin_follow_info, length) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_vr_tol_used[offsetof(struct kin__kin_follow_info_1, vr_tol_used) == offsetof(kin_follow_info, vr_tol_used) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_v_r_rel[offsetof(struct kin__kin_follow_info_1, v_r_rel) == offsetof(kin_follow_info, v_r_rel) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_m_internal[offsetof(struct kin__kin_follow_info_1, m_internal) == offsetof(kin_follow_info, m_internal) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_s[offsetof(struct kin__kin_follow_info_1, s) == offsetof(kin_follow_info, s) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_zero_order[offsetof(struct kin__kin_follow_info_1, zero_order) == offsetof(kin_follow_info, zero_order) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_path_kept[offsetof(struct kin__kin_follow_info_1, path_kept) == offsetof(kin_follow_info, path_kept) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_at_start[offsetof(struct kin__kin_follow_info_1, at_start) == offsetof(kin_follow_info, at_start) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_start_distance[offsetof(struct kin__kin_follow_info_1, start_distance) == offsetof(kin_follow_info, start_distance) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_tangent_cos[offsetof(struct kin__kin_follow_info_1, tangent_cos) == offsetof(kin_follow_info, tangent_cos) ? 1 : -1];
 
 #endif /* KIN_MODEL_ABI_LAYOUTS_H */

@@ -190,6 +190,9 @@ int kin__analyse(kin_assembly *a, kin_analysis *out);
  * xyz, along the free-coordinate motion dx; scratch: 2*nj*dim doubles */
 double kin__sv_derivative(const kin_assembly *a, const kin_factor *f, const double *xyz, const double *dx,
                           int k, double *scratch);
+/* the same for a singular triple given by its vectors: u (nf), w (nb), H w = v u */
+double kin__sv_derivative_uw(const kin_assembly *a, const double *xyz, const double *dx, const double *u,
+                             const double *w, double *scratch);
 
 /* Recount rank, m, s and the rigid/internal split of fac[idx] (made at xyz)
  * with the handle's current rank_tol, without a new factorization */
@@ -228,6 +231,15 @@ int kin__dense_ready(kin_assembly *a);
  * xyz (nj*dim) copied in, every analysis and factorization invalidated, the
  * path forgotten (direction, length, step control, start strain) */
 void kin__set_configuration(kin_assembly *a, const double *xyz);
+
+/* BLAS threads (blas_threads.c): before the long loops on a handle whose
+ * matrices are small (nfree <= KIN__BLAS_SMALL), the linked OpenBLAS (found
+ * at run time; any other BLAS: nothing happens) is set to one thread; the
+ * token returned goes to kin__blas_threads_restore, which puts the caller's
+ * setting back when the last such call in the process ends. */
+#define KIN__BLAS_SMALL 600
+int kin__blas_threads_small(const kin_assembly *a);
+void kin__blas_threads_restore(int token);
 
 /* copy the configuration, analysis and path state of src into dst (same
  * model; no allocation, except dst's dense workspace the first time src

@@ -13,13 +13,13 @@
 
 #include "model/internal.h"
 
-double kin__sv_derivative(const kin_assembly *a, const kin_factor *f, const double *xyz, const double *dx,
-                          int k, double *scratch)
+/* dv = u^T dH w for u (nf), w (nb entries at stride ws) */
+static double derivative(const kin_assembly *a, const double *xyz, const double *dx, const double *uk,
+                         const double *wk, int ws, double *scratch)
 {
     int d = a->dim, n = a->nj * d, nf = a->nf, nb = a->nb;
     double *u = scratch, *dX = scratch + n;
     memset(scratch, 0, sizeof(double) * 2 * (size_t)n);
-    const double *uk = f->U + (size_t)k * nf;
     for (int i = 0; i < nf; ++i) {
         u[a->free_coord[i]] = uk[i];
         dX[a->free_coord[i]] = dx[i];
@@ -40,7 +40,19 @@ double kin__sv_derivative(const kin_assembly *a, const kin_factor *f, const doub
         }
         double s = 0.0;
         for (int c = 0; c < d; ++c) s += (u[A + c] - u[B + c]) * (dd[c] - nv[c] * nd) / L;
-        dv += f->VT[k + (size_t)j * nb] * s;
+        dv += wk[(size_t)j * ws] * s;
     }
     return dv;
+}
+
+double kin__sv_derivative(const kin_assembly *a, const kin_factor *f, const double *xyz, const double *dx,
+                          int k, double *scratch)
+{
+    return derivative(a, xyz, dx, f->U + (size_t)k * a->nf, f->VT + k, a->nb, scratch);
+}
+
+double kin__sv_derivative_uw(const kin_assembly *a, const double *xyz, const double *dx, const double *u,
+                             const double *w, double *scratch)
+{
+    return derivative(a, xyz, dx, u, w, 1, scratch);
 }

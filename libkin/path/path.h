@@ -23,6 +23,41 @@ double kin__corrector_tol(kin_assembly *a);
  * attempt, no clamping or halving (the locator's forward calculations) */
 int kin__step_predicted(kin_assembly *a, double delta, const double *pred, kin_step_info *info);
 
+/* ---- the cheap stretches of a follow (step_lu.c; branches/follow.c) ---- */
+/* The sign of det [C; t^T; R^T] at the current point (t its oriented
+ * tangent, R the rigid-body basis of kin__rigid_basis: continuous along a
+ * path, the same at every point), from the LU-mode factors the last step
+ * left: their border row was the step's tangent t_prev, and det is linear in
+ * the border's component along the null vector, so the sign is
+ * sign(det J) * sign(t_prev . t). *sign = 0 where there are no square dense
+ * factors of this point (or J is exactly singular). */
+void kin__lu_det_sign(const kin_assembly *a, const double *t_prev, int *sign);
+/* The same sign at the current point by one LU of [C; t^T; R^T] built here
+ * (a start point analysed by SVD). *sign = 0 where J is not square. */
+int kin__border_det_sign(kin_assembly *a, int *sign);
+/* v_r / v_max of the current point as the LU mode estimated it (valid
+ * factors), or the SVD's (a current analysis), or -1 */
+double kin__lu_rel_estimate(const kin_assembly *a);
+
+/* The vanishing singular triple (H w = v u, the lowest non-zero singular
+ * value) of the current point from its LU-mode factors: inverse iteration
+ * on pinv(C) pinv(C)^T, from the LU mode's vector, until the unit vector
+ * moves by less than tol between passes (*converged = 1) or after
+ * max_passes. u: nf entries, w: nb, v > 0. KIN_ESTATE without square dense
+ * factors of this point. */
+int kin__lu_vr_triple(kin_assembly *a, int max_passes, double tol, double *u, double *w, double *v, int *converged);
+
+/* A point of a path, kept cheaply (no factors): what a step needs to resume
+ * from it. kin__path_restore puts the handle back there with no analysis
+ * (the next step or kin__analyse makes one). */
+typedef struct kin__path_point {
+    double *xyz, *t; /* nj*dim and nf entries, the caller's storage */
+    double l, step_hint, start_strain;
+    int have_start_strain, chord_hopeless;
+} kin__path_point;
+void kin__path_save(const kin_assembly *a, kin__path_point *p);
+void kin__path_restore(kin_assembly *a, const kin__path_point *p);
+
 /* ---- sparse bordered factorization (path/sparse*.c, KIN_STEP_SPARSE) ----
  * J = [C; b^T; R^T] (nf x nf, nb bar rows then nf - nb dense border rows)
  * in compressed-column form, solved through KLU's factors of J0 (the border

@@ -339,3 +339,131 @@ int kin__lu_start(kin_assembly *a, int *started)
     *started = 1;
     return KIN_OK;
 }
+
+/* ---- the cheap stretches of a follow (path.h) ---- */
+
+/* sign of the determinant of an LU factorization (dgetrf: diagonal of U and
+ * row interchanges) */
+static int lu_sign(int n, const double *LU, const int *ipiv)
+{
+    int sg = 1;
+    for (int i = 0; i < n; ++i) {
+        double d = LU[i + (size_t)i * n];
+        if (d == 0.0) return 0;
+        if (d < 0.0) sg = -sg;
+        if (ipiv[i] != i + 1) sg = -sg;
+    }
+    return sg;
+}
+
+void kin__lu_det_sign(const kin_assembly *a, const double *t_prev, int *sign)
+{
+    const kin_lufactor *F = &a->lu[a->lu_cur];
+    *sign = 0;
+    if (!kin__lu_current(a) || F->sparse || F->rows != a->nf || !F->ipiv) return;
+    double c = kin__dot(a->nf, t_prev, a->t);
+    if (c == 0.0) return;
+    *sign = lu_sign(a->nf, F->JT, F->ipiv) * (c > 0.0 ? 1 : -1);
+}
+
+int kin__border_det_sign(kin_assembly *a, int *sign)
+{
+    int nf = a->nf, nb = a->nb, mr = 0, info = 0;
+    *sign = 0;
+    if (!a->have_t) return KIN_OK;
+    int rc = kin__dense_ready(a);
+    if (rc) return rc;
+    if ((rc = kin__rigid_basis(a, a->xyz, a->luR, &mr)) != KIN_OK) return rc;
+    if (nb + 1 + mr != nf) return KIN_OK;
+    double *JT = a->mwork; /* 2 nf^2 scratch */
+    kin__build_H(a, a->xyz, JT, nf);
+    memcpy(JT + (size_t)nb * nf, a->t, sizeof(double) * (size_t)nf);
+    memcpy(JT + (size_t)(nb + 1) * nf, a->luR, sizeof(double) * (size_t)nf * (size_t)mr);
+    a->nfact++;
+    dgetrf_(&nf, &nf, JT, &nf, a->iwork, &info);
+    if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrf info = %d", info);
+    if (info == 0) *sign = lu_sign(nf, JT, a->iwork);
+    return KIN_OK;
+}
+
+double kin__lu_rel_estimate(const kin_assembly *a)
+{
+    const kin_factor *f = kin__cur(a);
+    if (f->valid) return f->an.v_max > 0.0 ? f->an.v_r / f->an.v_max : -1.0;
+    const kin_lufactor *F = &a->lu[a->lu_cur];
+    if (kin__lu_current(a) && F->v_max > 0.0) return F->v_r / F->v_max;
+    return -1.0;
+}
+
+void kin__path_save(const kin_assembly *a, kin__path_point *p)
+{
+    memcpy(p->xyz, a->xyz, sizeof(double) * (size_t)(a->nj * a->dim));
+    memcpy(p->t, a->t, sizeof(double) * (size_t)a->nf);
+    p->l = a->l;
+    p->step_hint = a->step_hint;
+    p->start_strain = a->start_strain;
+    p->have_start_strain = a->have_start_strain;
+    p->chord_hopeless = a->chord_hopeless;
+}
+
+void kin__path_restore(kin_assembly *a, const kin__path_point *p)
+{
+    memcpy(a->xyz, p->xyz, sizeof(double) * (size_t)(a->nj * a->dim));
+    memcpy(a->t, p->t, sizeof(double) * (size_t)a->nf);
+    a->have_t = 1;
+    a->t_chosen = 0;
+    a->l = p->l;
+    a->step_hint = p->step_hint;
+    a->start_strain = p->start_strain;
+    a->have_start_strain = p->have_start_strain;
+    a->chord_hopeless = p->chord_hopeless;
+    a->fac[0].valid = a->fac[1].valid = 0;
+    a->lu[0].valid = a->lu[1].valid = 0;
+}
+
+int kin__lu_vr_triple(kin_assembly *a, int max_passes, double tol, double *u, double *w, double *v, int *converged)
+{
+    const kin_lufactor *F = &a->lu[a->lu_cur];
+    int nf = a->nf, nb = a->nb, rows = F->rows;
+    *converged = 0;
+    if (!kin__lu_current(a) || F->sparse || rows != nf) return KIN_ESTATE;
+    double *y = a->luw, *t = a->t;
+    memcpy(u, F->vr_vec, sizeof(double) * (size_t)nf);
+    remove_components(nf, t, 1, u);
+    unit_or_ones(nf, u);
+    for (int k = 0; k < max_passes; ++k) {
+        memcpy(y, u, sizeof(double) * (size_t)nf);
+        int rc = lu_solve(a, F, 1, y); /* y[0..nb-1] = pinv(C)^T u */
+        if (rc) return rc;
+        double ny = kin__norm(nb, y);
+        if (!(ny > 0.0 && isfinite(ny))) return KIN_OK;
+        *v = 1.0 / ny;
+        for (int i = 0; i < nb; ++i) w[i] = y[i] / ny;
+        for (int i = nb; i < rows; ++i) y[i] = 0.0;
+        rc = lu_solve(a, F, 0, y); /* pinv(C) pinv(C)^T u, up to the null direction t */
+        if (rc) return rc;
+        remove_components(nf, t, 1, y);
+        unit_or_ones(nf, y);
+        if (kin__dot(nf, y, u) < 0.0)
+            for (int i = 0; i < nf; ++i) y[i] = -y[i];
+        double moved = 0.0;
+        for (int i = 0; i < nf; ++i) moved += (y[i] - u[i]) * (y[i] - u[i]);
+        memcpy(u, y, sizeof(double) * (size_t)nf);
+        if (sqrt(moved) <= tol) {
+            *converged = 1;
+            break;
+        }
+    }
+    /* w and v for the final u */
+    memcpy(y, u, sizeof(double) * (size_t)nf);
+    int rc = lu_solve(a, F, 1, y);
+    if (rc) return rc;
+    double ny = kin__norm(nb, y);
+    if (!(ny > 0.0 && isfinite(ny))) {
+        *converged = 0;
+        return KIN_OK;
+    }
+    *v = 1.0 / ny;
+    for (int i = 0; i < nb; ++i) w[i] = y[i] / ny;
+    return KIN_OK;
+}

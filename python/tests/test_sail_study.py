@@ -152,6 +152,12 @@ def test_hex_path_map_is_the_explorers_atlas(hex_run):
     ch = res["flat"]["chosen"]
     assert any(e.source == 0 and abs(e.length - ch["reached"]) < 1e-9 for e in at.edges)
     assert res["RB"]["symmetric"]["k"] == 2 and res["RC"]["symmetric"]["k"] == 2
+    # and as the page to walk it in a browser (libkin.atlas.html), with the run's names
+    page = (out / "atlas.html").read_text(encoding="utf-8")
+    view = json.loads(page.split('id="libkin-data">', 1)[1].split("</script>", 1)[0])
+    assert len(view["nodes"]["id"]) == got["nodes"] and len(view["edges"]["id"]) == got["edges"]
+    assert {"R^A", "R^B", "R^C"} <= set(view["nodes"]["name"])
+    assert "(atlas.html)" in (out / "report.md").read_text()
 
 
 def test_hex_report_is_readable_by_a_designer(hex_run):

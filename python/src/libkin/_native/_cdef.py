@@ -336,7 +336,13 @@ typedef struct kin_follow_options {
     double loop_tol;
     double first_step;
     double branch_cos;
+    int steps_mode;
+    double branch_margin;
 } kin_follow_options;
+enum kin_follow_steps {
+    KIN_FOLLOW_STEPS_SVD = 0,
+    KIN_FOLLOW_STEPS_CHEAP = 1
+};
 typedef struct kin_follow_info {
     size_t size;
     int event;
@@ -354,11 +360,20 @@ typedef struct kin_follow_info {
     int at_start;
     double start_distance;
     double tangent_cos;
+    int cheap_steps;
+    int handovers;
+    int samples;
+    int return_branch;
+    double return_angle;
+    double return_gap;
 } kin_follow_info;
 int kin_follow_options_init(kin_follow_options *o, size_t size);
 void kin_follow_options_default(kin_follow_options *o);
 int kin_follow_event(kin_assembly *a, const double *dir, const kin_follow_options *o,
                              kin_follow_info *info);
+int kin_follow_event_ex(kin_assembly *a, const double *dir, const kin_follow_options *o,
+                                const double *branches, int nbranch, double *samples, double *sample_length,
+                                int capacity, int *nsamples, kin_follow_info *info);
 
 int kin_assembly_load(const char *path, kin_assembly **out, char *errbuf,
                               size_t errlen);

@@ -5,7 +5,7 @@
 from __future__ import annotations
 
 import dataclasses
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 import numpy.typing as npt
@@ -96,6 +96,15 @@ class FollowEvent:
         |end - start| / RMS rest length.
     tangent_cos : float
         Cosine between the first chord and the branch direction (1 at a regular start).
+    cheap_steps, handovers : int
+        Steps taken with LU factors only; handovers to the SVD locator.
+    return_branch : int
+        With `branches`: the branch a return to the start came back along, or -1.
+    samples : numpy.ndarray, shape (k, njoints, dim)
+        With ``samples > 0``: configurations the steps reached, evenly spread
+        by steps over the path (start and end excluded).
+    sample_lengths : numpy.ndarray, shape (k,)
+        Their path lengths.
     """
 
     event: str
@@ -115,6 +124,11 @@ class FollowEvent:
     at_start: bool
     start_distance: float
     tangent_cos: float
+    cheap_steps: int = 0
+    handovers: int = 0
+    return_branch: int = -1
+    samples: Any = None
+    sample_lengths: Any = None
 
 
 class LocatingMixin(AssemblyBase):
@@ -177,7 +191,8 @@ class LocatingMixin(AssemblyBase):
     def follow_event(self, direction: Optional[npt.ArrayLike] = None, vr_tol: float = 1e-10,
                      vr_floor: float = 1e-6, delta: float = 0.0, max_steps: int = 1000,
                      max_length: float = 0.0, loop_tol: float = 1e-2,
-                     progress: Progress = None) -> FollowEvent:
+                     progress: Progress = None, branches: Optional[npt.ArrayLike] = None,
+                     samples: int = 0, steps_mode: str = "cheap") -> FollowEvent:
         """Follow the path to its next event and say what it was (kin_follow_event).
 
         Parameters
@@ -199,6 +214,18 @@ class LocatingMixin(AssemblyBase):
             Closed-loop tolerance, relative to the RMS rest length.
         progress : None, bool or callable, optional
             Progress in steps (see `libkin._progress`).
+        branches : array_like, shape (nbranch, nfree), optional
+            At a bifurcation: every real branch direction of the start (e.g.
+            ``U_m @ beta`` for each solution); a return to the start is then a
+            closed loop only along `direction`'s own branch, and located as a
+            bifurcation along any other (kin_follow_event_ex).
+        samples : int, optional
+            Room for this many configurations recorded along the path
+            (`FollowEvent.samples`).
+        steps_mode : {'cheap', 'svd'}, optional
+            LU steps on regular stretches and the SVD locator near events
+            (default: the same events and points, ``docs/follow.md``), or an
+            SVD at every step.
 
         Returns
         -------
@@ -218,13 +245,31 @@ class LocatingMixin(AssemblyBase):
         o = default_struct("kin_follow_options")
         o.vr_tol, o.vr_floor, o.delta = float(vr_tol), float(vr_floor), float(delta)
         o.max_steps, o.max_length, o.loop_tol = int(max_steps), float(max_length), float(loop_tol)
+        if steps_mode not in ("cheap", "svd"):
+            raise InvalidArgumentError(f"steps_mode must be 'cheap' or 'svd', not {steps_mode!r}")
+        o.steps_mode = lib.KIN_FOLLOW_STEPS_CHEAP if steps_mode == "cheap" else lib.KIN_FOLLOW_STEPS_SVD
         d = ffi.NULL
         if direction is not None:
             arr = as_c_array(direction, np.float64, (self.nfree,), "direction")
             d = read_ptr(arr, "double *")
+        br, nbr = ffi.NULL, 0
+        if branches is not None:
+            barr = np.asarray(branches, dtype=np.float64)
+            if barr.ndim != 2 or barr.shape[1] != self.nfree:
+                raise InvalidArgumentError(f"branches must have shape (nbranch, {self.nfree}), not {barr.shape}")
+            barr = as_c_array(barr, np.float64, barr.shape, "branches")
+            br, nbr = read_ptr(barr, "double *"), int(barr.shape[0])
+        ns = int(samples)
+        if ns < 0:
+            raise InvalidArgumentError(f"samples must be >= 0, not {samples}")
+        nj, dim = self.njoints, self.dim
+        sbuf = np.zeros((max(ns, 1), nj, dim))
+        lbuf = np.zeros(max(ns, 1))
+        count = ffi.new("int *")
         info = new_struct("kin_follow_info")
         with reporting(progress, "follow", "step", self._h):
-            rc = lib.kin_follow_event(self._h, d, o, info)
+            rc = lib.kin_follow_event_ex(self._h, d, o, br, nbr, read_ptr(sbuf, "double *"),
+                                         read_ptr(lbuf, "double *"), ns, count, info)
         event = FOLLOW_EVENTS[info.event] if 0 <= info.event < len(FOLLOW_EVENTS) else str(info.event)
         if rc != lib.KIN_OK and (info.event != lib.KIN_FOLLOW_FAILED or rc == lib.KIN_ECANCELLED):
             self._check(rc, "follow_event")
@@ -232,7 +277,8 @@ class LocatingMixin(AssemblyBase):
         return FollowEvent(event, c_string(lib.kin_status_name(rc)), message, info.steps, info.forward,
                            info.factorizations, info.attempts, info.length, info.vr_tol_used, info.v_r_rel,
                            info.m_internal, info.s, info.zero_order, bool(info.path_kept), bool(info.at_start),
-                           info.start_distance, info.tangent_cos)
+                           info.start_distance, info.tangent_cos, info.cheap_steps, info.handovers,
+                           info.return_branch, sbuf[:count[0]].copy(), lbuf[:count[0]].copy())
 
     def test_function(self) -> float:
         """The signed test function here.

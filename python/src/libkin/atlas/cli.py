@@ -59,6 +59,8 @@ def add_arguments(s: argparse.ArgumentParser) -> None:
                         "completes (default: .OUT.explore.sqlite next to --out)")
     s.add_argument("--resume", action="store_true",
                    help="continue the interrupted run recorded in the store (same model and options)")
+    s.add_argument("--html", action="store_true",
+                   help="also write atlas.html: the atlas to walk in a browser, offline (needs plotly)")
     s.add_argument("--quiet", action="store_true", help="no progress messages")
 
 
@@ -72,6 +74,9 @@ def _run(args: argparse.Namespace, assembly: Assembly) -> int:
     from . import report as atlas_report
     from .explorer import explore
     atlas_report.require_output_modules()  # refuse before any work, not after it
+    if args.html:
+        from .html import require_plotly
+        require_plotly()
     from .store import default_path, remove_store
     sym: bool | str = {"true": True, "false": False}.get(args.symmetric, "auto")
     store = args.store or default_path(args.out)
@@ -80,11 +85,11 @@ def _run(args: argparse.Namespace, assembly: Assembly) -> int:
                      time_limit=args.time_limit, symmetric=sym, executor=ex,
                      progress=None if args.quiet else True, follow_orbits=True if args.follow_orbits else None,
                      store=store, resume=args.resume, stop=lambda: bool(signalled), symmetry=not args.no_symmetry)
-    rep = atlas_report.write(at, args.out)
+    rep = atlas_report.write(at, args.out, html="atlas.html" if args.html else None)
     s = at.summary()
     kinds = ", ".join(f"{v} {k}" for k, v in sorted(s["edge_events"].items())) or "none"
     print(f"{s['nodes']} nodes, {s['edges']} directed paths ({kinds}); wrote {pathlib.Path(args.out) / 'atlas.json'}, "
-          f"atlas.graphml, atlas_map.png, {rep}")
+          f"atlas.graphml, atlas_map.png, {'atlas.html, ' if args.html else ''}{rep}")
     if str(at.settings.get("symmetries", "")).startswith("not detected"):
         print(f"symmetries {at.settings['symmetries']}: explored as if the structure had none")
     if not signalled and not at.stats.get("partial") and args.store is None:

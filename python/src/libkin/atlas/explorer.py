@@ -249,11 +249,13 @@ class _Explorer:
         key = [Q.tolist(), self.shards, self.seed, self.threads] + ([] if group is None else [group.tolist()])
         return run() if self.store is None else self.store.cached("solve", key, run)
 
-    def follow_all(self, work: List[Work]) -> List[Any]:
-        """work: [(node, solution, sign, beta, direction)] -> results in order."""
+    def follow_all(self, work: List[Work], every: Optional[List[Work]] = None) -> List[Any]:
+        """work: [(node, solution, sign, beta, direction)] -> results in order; every: all their nodes' branches."""
+        shared = tasks.branch_lines(every if every is not None else work)
         items = [{"model": self.text, "coords": self.nodes[nid].coords.tolist(),
                   "rank_tol": self._rank_tol(self.nodes[nid]), "direction": d.tolist(),
-                  "max_length": self.max_length, "max_steps": self.max_steps, "samples": self.samples}
+                  "max_length": self.max_length, "max_steps": self.max_steps, "samples": self.samples,
+                  "branches": shared.get(nid)}
                  for nid, _, _, _, d in work]
         if self.store is not None:
             return self.store.run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches",
@@ -285,8 +287,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     Parameters
     ----------
     model : Assembly, str, path or dict
-        An Assembly, a JSON model (file path, text or dict) or a built-in
-        spec ("sail:4:1", "threebar:RC").
+        An Assembly, a JSON model (file path, text or dict) or a spec ("sail:4:1", "threebar:RC").
     start : array_like (njoints, dim), optional
         The start configuration, a regular point or a bifurcation (default:
         the model's current one).
@@ -315,8 +316,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     progress : None, bool or callable
         True: messages on stderr; a callable gets (done, total, what).
     seed : int
-        Seed of the complete solver (and of the combinations of an
-        overdetermined system).
+        Seed of the complete solver (and of an overdetermined system's combinations).
     threads : int
         Threads of each complete-solver task.
     symmetries : sequence of automorphisms.Symmetry, optional
@@ -325,7 +325,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     max_steps : int
         Step budget of one branch.
     samples : int
-        Configurations recorded along each branch (besides its end).
+        Configurations recorded along each branch (besides its end), from its one follow.
     shards : int, optional
         The complete solver's paths are tracked in this many tasks (default:
         about SHARD_PATHS paths a shard with an executor, one task without).
@@ -446,7 +446,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         todo = [k for k, im in enumerate(images) if im is None]
         _say(progress, f"level {level + 1}: {len(work)} directed branches from {len(frontier)} node(s)"
              + (f", {len(todo)} followed, the others their images by symmetry" if len(todo) < len(work) else ""))
-        results, followed, mapped = follow_level(work, images, ex.follow_all, ex.syms, ex.bars)
+        results, followed, mapped = follow_level(work, images, lambda w: ex.follow_all(w, work), ex.syms, ex.bars)
         ex.followed += followed
         ex.mapped += mapped
         n_before = len(ex.nodes)

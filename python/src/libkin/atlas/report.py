@@ -5,7 +5,7 @@ import collections
 import math
 import os
 import pathlib
-from typing import Any, Dict, List, Tuple, Union
+from typing import Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
@@ -40,13 +40,17 @@ def require_output_modules() -> None:
 
 def write(atlas: _atlas.Atlas, out: Union[str, os.PathLike[str]], map_png: str = "atlas_map.png",
           nodes_png: str = "atlas_nodes.png", graphml: str = "atlas.graphml",
-          json_name: str = "atlas.json") -> pathlib.Path:
-    """Write json_name, graphml, the PNGs and report.md into the folder out,
+          json_name: str = "atlas.json", html: Optional[str] = None) -> pathlib.Path:
+    """Write json_name, graphml, the PNGs, report.md and (if html names it)
+    the viewer page (atlas/html.py, needs plotly) into the folder out,
     committed whole: written into a staging folder next to out that then
     takes out's place in one step (out's other files are kept); on a failure
     out is as it was (libkin.atomic.staged_folder). Returns the path of report.md. ImportError (nothing written) without
     networkx or matplotlib."""
     require_output_modules()
+    if html:
+        from .html import require_plotly
+        require_plotly()
     from . import plot as atlas_plot
     out = pathlib.Path(out)
     # the five files are written aside and take their place together: a
@@ -57,12 +61,16 @@ def write(atlas: _atlas.Atlas, out: Union[str, os.PathLike[str]], map_png: str =
         atlas.to_graphml(stage / graphml)
         atlas_plot.draw_map(atlas, stage / map_png)
         atlas_plot.draw_nodes(atlas, stage / nodes_png)
-        write_text(stage / "report.md", text(atlas, map_png, nodes_png, graphml, json_name))
+        if html:
+            from . import html as atlas_html
+            atlas_html.write(atlas, stage / html)
+        write_text(stage / "report.md", text(atlas, map_png, nodes_png, graphml, json_name, html=html))
     return out / "report.md"
 
 
 def text(atlas: _atlas.Atlas, map_png: str = "atlas_map.png", nodes_png: str = "atlas_nodes.png",
-         graphml: str = "atlas.graphml", json_name: str = "atlas.json", max_listed: int = 40) -> str:
+         graphml: str = "atlas.graphml", json_name: str = "atlas.json", max_listed: int = 40,
+         html: Optional[str] = None) -> str:
     """report.md's text. Atlases of more than max_listed nodes (or path
     groups) get counts of all of them and a table of the max_listed that
     most paths reach."""
@@ -85,6 +93,10 @@ def text(atlas: _atlas.Atlas, map_png: str = "atlas_map.png", nodes_png: str = "
     if str(se.get("symmetries", "")).startswith("not detected"):
         L.append(f"**Symmetries {se['symmetries']}**: the atlas is explored as if the structure had none.\n")
     L.append("Files: " + ", ".join(f"`{x}`" for x in (json_name, graphml, map_png, nodes_png)) + ".\n")
+    if html:
+        L.append(f"**[{html}]({html})**: the atlas to walk in a browser (offline, one file): every node on a map "
+                 "that pans, zooms and filters by kind, event, m, s, depth and orbit; a click on a node shows its "
+                 "configuration in 3D, a click on a path moves the structure along it.\n")
     L.append(f"![map]({map_png})\n")
     L.append("## What the nodes are\n")
     L.append("A node is a configuration where a path ended or started. Its kind comes from the analysis "

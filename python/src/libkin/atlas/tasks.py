@@ -10,7 +10,7 @@ the task alone: the same whichever worker runs it, in whichever order.
 from __future__ import annotations
 
 import time
-from typing import TYPE_CHECKING, Any, Dict, Optional
+from typing import TYPE_CHECKING, Any, Dict, List, Optional
 
 import numpy as np
 
@@ -54,24 +54,28 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     task: {"model": JSON text, "coords": (njoints, dim) list, "rank_tol",
     "direction": (nfree,) list (U_m beta times the sign), "max_length",
     "max_steps", "vr_tol", "samples": how many configurations to record along
-    the way}. Returns {"event": one of EVENT_KINDS, "coords": end
+    the way, "branches": optional, the start's branch directions (a return
+    along another branch is located, not a loop)}. Returns {"event": one of EVENT_KINDS, "coords": end
     configuration, "length": path length travelled, "m", "m_rigid", "s",
     "v_r_rel" at the end (analysis at the rank tolerance), "accuracy" (the
     vanishing singular value / v_max where the event was located), "vr_tol"
     (the tolerance it was located to), "steps", "samples", "message",
     "cpu_seconds" (this task's CPU time in its process)}.
-    The samples are taken by following again from the start with the length
-    budget set to k/(n+1) of the event's length (the path is deterministic)."""
+    The samples come from the same follow (kin_follow_event_ex records the
+    points its steps reach, up to SAMPLE_ROOM per sample asked for): for
+    k = 1..n the recorded point whose path length is nearest k/(n+1) of the
+    event's length; the branch is followed once."""
     from ..errors import KinError
     cpu0 = time.process_time()
     a = rebuild(task)
-    start = a.clone()
+    n = int(task.get("samples", 0))
     d = np.asarray(task["direction"], dtype=float)
     lim: Dict[str, Any] = {"max_steps": int(task.get("max_steps", 1000)), "vr_tol": float(task.get("vr_tol", 1e-10))}
     samples: list[Any] = []
     out: Dict[str, Any] = {"samples": samples, "message": ""}
     try:
-        ev = a.follow_event(d, max_length=float(task["max_length"]), **lim)
+        ev = a.follow_event(d, max_length=float(task["max_length"]), samples=SAMPLE_ROOM * n,
+                            branches=task.get("branches"), **lim)
     except KinError as exc:
         out.update(_end_state(a, FAILURE))
         out.update({"message": f"{type(exc).__name__}: {exc}", "accuracy": float("nan"), "vr_tol": 0.0,
@@ -84,16 +88,49 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     out.update(_end_state(a, kind, rank_tol))
     out.update({"accuracy": float(ev.v_r_rel), "vr_tol": float(ev.vr_tol_used), "steps": int(ev.steps),
                 "length": float(ev.length), "at_start": bool(ev.at_start)})
-    n = int(task.get("samples", 0))
-    for k in range(1, n + 1):
-        c = start.clone()
-        try:
-            c.follow_event(d, max_length=ev.length * k / (n + 1), **lim)
-            samples.append(c.coords.tolist())
-        except KinError:
-            break
+    samples.extend(_pick_samples(ev.samples, ev.sample_lengths, ev.length, n))
     out["cpu_seconds"] = time.process_time() - cpu0
     return out
+
+
+# a bifurcation's branch directions go with each of its branch tasks up to
+# this many numbers (branches x nfree): beyond (the hexagonal sail's flat
+# state: 29,828 x 46) they would cost more to send than to follow
+BRANCH_DIRECTIONS_MAX = 20000
+
+
+def branch_lines(work: List[Any]) -> Dict[int, Any]:
+    """Per node of work [(node, solution, sign, beta, direction)], its
+    branch directions (sign +1 each) as lists, where there are at least two
+    and at most BRANCH_DIRECTIONS_MAX numbers of them."""
+    lines: Dict[int, List[Any]] = {}
+    for nid, _, sg, _, d in work:
+        if sg == 1:
+            lines.setdefault(nid, []).append(d)
+    return {nid: [list(map(float, d)) for d in L] for nid, L in lines.items()
+            if len(L) >= 2 and len(L) * len(L[0]) <= BRANCH_DIRECTIONS_MAX}
+
+
+# recorded points per sample asked for: the follower keeps them evenly spread
+# by steps, so the one nearest each wanted length is within about a step of it
+SAMPLE_ROOM = 8
+
+
+def _pick_samples(recorded: Any, lengths: Any, total: float, n: int) -> list[Any]:
+    """For k = 1..n the recorded configuration nearest k/(n+1) of the path
+    length (each used once; fewer when fewer were recorded)."""
+    if n <= 0 or recorded is None or len(recorded) == 0:
+        return []
+    lengths = np.asarray(lengths, dtype=float)
+    out, used = [], set()
+    for k in range(1, n + 1):
+        order = np.argsort(np.abs(lengths - total * k / (n + 1)))
+        i = next((int(j) for j in order if int(j) not in used), None)
+        if i is None:
+            break
+        used.add(i)
+        out.append((i, recorded[i].tolist()))
+    return [x for _, x in sorted(out, key=lambda p: p[0])]
 
 
 def _end_state(a: Assembly, kind: str, rank_tol: Optional[float] = None) -> Dict[str, Any]:

@@ -26,10 +26,61 @@ def register(sub):
                    help="where the path map's branches are followed (libkin explore's --executor)")
     s.add_argument("--workers", type=count(1), default=2, help="workers of --executor process|dask (default 2)")
     s.add_argument("--quiet", action="store_true", help="no progress messages")
+    s.add_argument("--interference", action="store_true",
+                   help="the interference study instead (paper Section 7's open question): fold each member of "
+                        "--members along its radially sequential path and report the first contact of its "
+                        "membrane at each --thickness (report.md, summary.json, interference.png in --out)")
+    s.add_argument("--members", default=None,
+                   help="with --interference: members as HUB/LOOPS, comma-separated "
+                        "(default 6/1,6/2,6/3,6/4,8/1,8/2,8/3,8/4)")
+    s.add_argument("--thickness", default=None,
+                   help="with --interference: panel thicknesses t/a, comma-separated (default 0,0.001,0.003,0.01,0.03)")
     s.set_defaults(fn=cmd_study)
 
 
+def _members(text: str) -> list:
+    out = []
+    for item in text.split(","):
+        try:
+            n, k = (int(v) for v in item.strip().split("/"))
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"--members: expected HUB/LOOPS items such as 6/2, got {item!r}")
+        if n < 6 or n % 2 or k < 1:
+            raise argparse.ArgumentTypeError(f"--members: {item!r}: the hub must be even and >= 6, loops >= 1")
+        out.append((n, k))
+    return out
+
+
+def _thicknesses(text: str) -> list:
+    try:
+        ts = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--thickness: expected numbers separated by commas, got {text!r}")
+    if not ts or any(not (0.0 <= t < 1.0) for t in ts):
+        raise argparse.ArgumentTypeError("--thickness: each t/a must be in [0, 1)")
+    return sorted(set(ts))
+
+
+def _interference(args: argparse.Namespace) -> int:
+    from .contactreport import write_interference
+    from .contactstudy import MEMBERS, THICKNESSES, interference_study
+    try:
+        members = _members(args.members) if args.members else list(MEMBERS)
+        ts = _thicknesses(args.thickness) if args.thickness else list(THICKNESSES)
+    except argparse.ArgumentTypeError as exc:
+        print(exc, file=sys.stderr)
+        return EXIT_USAGE
+    with executor(args.executor, args.workers) as ex:
+        study = interference_study(members, ts, threads=args.threads, progress=not args.quiet, executor=ex)
+    write_interference(study, args.out)
+    print(f"report: {pathlib.Path(args.out) / 'report.md'}")
+    return 0
+
+
 def cmd_study(args: argparse.Namespace) -> int:
+    if args.interference:
+        with folder_lock(args.out):
+            return _interference(args)
     if args.hub == 4 and args.loops != 1:
         print("the square-hub study is the paper's one-loop sail (--loops 1)", file=sys.stderr)
         return EXIT_USAGE

@@ -131,6 +131,18 @@ class SailMap:
                 primes += 0 if i in self.run else 1
         return out
 
+    def write_html(self, path: Any, title: Optional[str] = None) -> bool:
+        """The atlas as a page to walk in a browser (libkin.atlas.html), with
+        the run's names; False (nothing written) when plotly, whose plotly.js
+        the page carries, is not installed."""
+        from libkin.atlas import html
+        try:
+            html.require_plotly()
+        except ImportError:
+            return False
+        html.write(self.atlas, path, names=self.names(), title=title)
+        return True
+
     @staticmethod
     def measures(n: Node) -> Dict[str, float]:
         x = n.coords

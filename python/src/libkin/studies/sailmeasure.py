@@ -27,9 +27,10 @@ def _parse(label: str) -> Tuple[Optional[str], Optional[int]]:
 
 
 def loop_of(label: str) -> Optional[int]:
-    """0 for the hub (V), q for loop q (A = 1, B = 2, ...), -1 for the centre C."""
-    letter, _ = _parse(label)
-    if letter == "C":
+    """0 for the hub (V), q for loop q (A = 1, B = 2, C = 3, ...: with an
+    index), -1 for the centre node C (no index)."""
+    letter, index = _parse(label)
+    if letter == "C" and index is None:
         return -1
     if letter == "V":
         return 0

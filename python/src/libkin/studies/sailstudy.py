@@ -30,6 +30,7 @@ from libkin.symmetry import mechanism_group, sail_rotation
 
 # (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, paper_locate and record are
 # imported for the names this module has always had)
+from .contactstudy import member_study
 from .common import (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, accounting_words, branch_words, follow_to_bifurcation,
                      jsonable, leave, paper_locate, record, say)
 from .flatcache import flat_solve
@@ -117,9 +118,12 @@ def _branch_report(a, threads, length, max_s=12):
 
 
 def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=True, out=None, executor=None,
-                    map_depth=MAP_DEPTH):
+                    map_depth=MAP_DEPTH, interference=True):
     """The folding and deployment study of Section 6.2 on a CENTRE-supported
-    family member (the paper's: n_sides=6, n_loops=2). complete=False skips
+    family member (the paper's: n_sides=6, n_loops=2). interference: also
+    the first contact of the membrane along the member's radially
+    sequential fold at each thickness (contactstudy.member_study).
+    complete=False skips
     the 2^s homotopy at the flat state (the symmetric sub-problem is solved
     either way). The path map is the explorer's symmetric atlas to
     map_depth levels (sailmap.py), its branches followed on `executor`
@@ -317,6 +321,11 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     res["closure"] = float(np.abs(ra.coords - flat).max())
     say(progress, f"[R^A] back after {steps} steps: m = {ev['m']}, s = {ev['s']}, {ev['factorizations']} "
          f"factorizations ({ev['method']}), closure error {res['closure']:.2e}")
+    if interference:
+        # the paper's open question on this member: the first contact of its
+        # membrane along the radially sequential fold (contactstudy.py)
+        say(progress, "[interference] the membrane's first contact along the sequential fold ...")
+        res["interference"] = member_study(n_sides, n_loops, threads=threads, progress=progress)
     return _finish_hex(res, track, out, t_start, progress, stages, smap, snaps)
 
 
@@ -398,6 +407,9 @@ def _finish_hex(res, track, out, t_start, progress, stages=(), smap=None, snaps=
             try:
                 if smap is not None:
                     smap.atlas.to_json(stage / "atlas.json")
+                    res["map_html"] = smap.write_html(stage / "atlas.html", f"Path map of the {res['model']}")
+                    if not res["map_html"]:
+                        say(progress, "atlas.html not written: it needs plotly (pip install plotly)")
                 if track is not None and track.l:
                     with replacing(stage / "track.npz") as tmp, open(tmp, "wb") as f:
                         np.savez(f, l=np.array(track.l), sv=np.array(track.sv),

@@ -281,6 +281,17 @@ def _write_hex_md(res, out, M, figs):
     L.append("![strain and hub](strain_hub.png)\n")
     L.append(f"*Figure {fig_no + 3}. Top: the largest bar strain at every accepted step (the corrector "
              "stops at 1e-12). Bottom: how far the free hub vertices leave the hub plane, in a.*\n")
+    if "interference" in res:
+        from .contactreport import contact_figure, interference_chart, interference_md
+        study = {"thicknesses": [c["t"] for c in res["interference"]["contacts"]], "members": [res["interference"]]}
+        interference_chart(study, out / "interference.png")
+        L.append(interference_md(study))
+        if contact_figure(res["interference"], out / "contact_first.png"):
+            L.append("![first contact](contact_first.png)\n")
+            L.append("*The configuration at the first contact, bare and at the largest thickness: the two parts "
+                     "that touch in red and orange, their closest points in black.*\n")
+        L.append("All eight members (hexagonal and octagonal hubs, 1 to 4 loops): `libkin study --interference` "
+                 "(stored run and findings: examples/interference/report.md, docs/contact.md).\n")
     figs_s = res.get("seconds_figures", 0.0)
     L.append(f"Run time {res['seconds'] + figs_s:.1f} s: the study {res['seconds']} s, the figures and files "
              f"{figs_s} s.\n")
@@ -319,7 +330,9 @@ def _map_md(res, nfold):
     events = ", ".join(f"{v} {_EVENT_WORDS.get(k, k)}" for k, v in sorted(at["edge_events"].items()))
     relaxed = sum(1 for n in mp["nodes"] if n["kind"] == "bifurcation" and n["located_tol"] > 1e-10)
     L = ["## Path map (symmetric paths)\n"]
-    L.append(f"The explorer's atlas (`libkin.explore`, docs/atlas.md; `atlas.json` here) in symmetric mode: "
+    L.append(f"The explorer's atlas (`libkin.explore`, docs/atlas.md; `atlas.json` here"
+             + ("; [atlas.html](atlas.html) to walk it in a browser, offline: a click on a node shows it in 3D, on a "
+                "path moves the sail along it" if res.get("map_html") else "") + ") in symmetric mode: "
              f"every directed path out of R^A that keeps the {nfold} symmetry, followed to its next event, and "
              f"(depth {at['depth']}) every such path out of each bifurcation reached, R^B and R^C among them. "
              f"{at['nodes']} nodes ({kinds}), {at['edges']} directed paths (ending at: {events}); "
