@@ -89,8 +89,8 @@ def run(args: argparse.Namespace) -> None:
             print(f"  {what}: {done}/{total} after {now - t0:.0f} s ({rate:.2f}/s; load {load()})", flush=True)
 
     with concurrent.futures.ProcessPoolExecutor(args.workers) as ex:
-        atlas = libkin.explore(args.model, depth=1, symmetric=False, executor=ex, samples=0, progress=progress,
-                               threads=args.workers)
+        atlas = libkin.explore(args.model, depth=1, symmetric=False, symmetry=args.symmetry, executor=ex,
+                               samples=0, progress=progress, threads=args.workers)
     wall = time.perf_counter() - t0
     d = atlas.to_dict()
     d["settings"]["model_name"] = args.model
@@ -155,6 +155,9 @@ def main(argv: list[str] | None = None) -> None:
     r.add_argument("--model", default="sail:6:2")
     r.add_argument("--workers", type=int, default=2)
     r.add_argument("--out", required=True)
+    r.add_argument("--symmetry", action="store_true",
+                   help="explore's default: the stabiliser's group in the solve, one branch per orbit followed "
+                        "where its image is certain (without it every branch is followed)")
     c = sub.add_parser("chart")
     c.add_argument("dir")
     c.add_argument("--png", default="docs/atlas_flat.png")

@@ -214,8 +214,8 @@ def test_square_sail_matches_stored_example(square):
 def test_follow_orbits_gives_the_same_atlas():
     """One branch per orbit of the node's stabilizer followed, the others
     mapped by the symmetry: the same nodes and edges as following all."""
-    full = libkin.explore("sail:4:1", depth=1, samples=1)
-    fast = libkin.explore("sail:4:1", depth=1, samples=1, follow_orbits=True)
+    full = libkin.explore("sail:4:1", depth=1, samples=1, follow_orbits=False)
+    fast = libkin.explore("sail:4:1", depth=1, samples=1)  # follow_orbits: the default with symmetry
     assert full.same_as(fast, tol=1e-7)
     assert fast.stats["branches_followed"] < full.stats["branches_followed"] == len(full.edges)
     assert fast.stats["branches_followed"] + fast.stats["branches_mapped"] == len(fast.edges)

@@ -20,7 +20,7 @@ import sys
 import threading
 import time
 from concurrent.futures.process import BrokenProcessPool
-from typing import Any, Callable, Iterator, List, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Union
 
 from .errors import KinError
 
@@ -140,9 +140,18 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
               what: str = "tasks", deadline: Optional[float] = None) -> List[Any]:
     """fn(item) for every item, serially (executor None) or on a
     concurrent.futures.Executor or a dask.distributed.Client; the results in
-    the order of items. progress(done, total, what) after each. deadline (a
-    time.perf_counter() value): tasks not started by then are not run (or
-    are cancelled) and give None; tasks already running complete."""
+    the order of items. progress(done, total, what) after each.
+
+    deadline (a time.perf_counter() value): once it passes, nothing more is
+    started and every task not yet started is cancelled at once (all of
+    them, in one sweep, before waiting on any: cancelling one at a time
+    while waiting on the next let a pool's feeder start each in turn, so a
+    run went on to the end); those give None. The grace after the deadline
+    is the tasks in flight: serially the one running, on a
+    concurrent.futures pool those its workers run or hold queued (a process
+    pool queues one more than its width), each bounded by its own budget;
+    on Dask none (running tasks are cancelled too: their results are
+    dropped)."""
     n = len(items)
     out: List[Any] = []
     if executor is None:
@@ -150,22 +159,43 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
             out.append(None if deadline is not None and time.perf_counter() > deadline else fn(it))
             tick(progress, k + 1, n, what)
         return out
-    if _is_dask_client(executor):
+    dask = _is_dask_client(executor)
+    if dask:
         futures = list(executor.map(fn, items, pure=False))
     else:
         futures = [executor.submit(fn, it) for it in items]
     deaths = 0
+    expired = False
+    gathered: Dict[int, Any] = {}
     k = 0
     while k < n:
+        if deadline is not None and not expired and not _wait(futures[k], deadline):
+            expired = True
+            _cancel_pending(executor, futures[k:], dask)
+            if dask:  # the finished ones in one call (a result() each is a scheduler round trip)
+                ready = [i for i in range(k, n) if futures[i].status == "finished"]
+                with contextlib.suppress(Exception):  # a task's error: raised by its own result() below
+                    gathered.update(zip(ready, executor.gather([futures[i] for i in ready])))
+        if k in gathered:
+            out.append(gathered.pop(k))
+            k += 1
+            tick(progress, k, n, what)
+            continue
+        if futures[k].cancelled():
+            out.append(None)
+            k += 1
+            tick(progress, k, n, what)
+            continue
         try:
-            out.append(_result(futures[k], deadline))
+            out.append(futures[k].result())
         except BrokenProcessPool:
             deaths += 1
             if not isinstance(executor, ProcessPool) or deaths > RETRIES:
                 raise WorkersLostError(f"worker processes died {deaths} time{'s' if deaths > 1 else ''}; "
                                        f"{k} of {n} {what} completed", out + [None] * (n - k)) from None
             executor.renew()
-            futures[k:] = [f if _succeeded(f) else executor.submit(fn, it) for f, it in zip(futures[k:], items[k:])]
+            futures[k:] = [f if _succeeded(f) else (_cancelled() if expired else executor.submit(fn, it))
+                           for f, it in zip(futures[k:], items[k:])]
             continue
         except Exception as exc:
             if type(exc).__name__ != "KilledWorker":  # Dask: a task's workers died too often
@@ -177,26 +207,41 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
     return out
 
 
-def _result(f: Any, deadline: Optional[float]) -> Any:
-    """The result of a future; past the deadline, None if not started."""
-    if deadline is not None and not f.done():
-        wait = deadline - time.perf_counter()
+def _wait(f: Any, deadline: float) -> bool:
+    """Wait for the future until the deadline; True if it is done by then."""
+    left = deadline - time.perf_counter()
+    if not f.done() and left > 0:
         try:
-            return f.result(timeout=max(wait, 0.0)) if wait > 0 else _cancel_or_wait(f)
+            concurrent.futures.wait([f], timeout=left) if isinstance(f, concurrent.futures.Future) \
+                else f.result(timeout=left)
         except (TimeoutError, concurrent.futures.TimeoutError, asyncio.TimeoutError):
-            return _cancel_or_wait(f)
-    return f.result()
+            pass
+        except Exception:  # noqa: BLE001 - the task's own error: raised by the caller's result()
+            pass
+    return bool(f.done())
+
+
+def _cancel_pending(executor: Any, futures: Sequence[Any], dask: bool) -> None:
+    """Cancel every future not done, in one sweep, in order (a pool's
+    feeder takes the next from the front, so it finds them cancelled).
+    Dask cancels running tasks too."""
+    if dask:
+        pending = [f for f in futures if not f.done()]
+        if pending:
+            executor.cancel(pending)
+        return
+    for f in futures:
+        f.cancel()
+
+
+def _cancelled() -> "concurrent.futures.Future[Any]":
+    f: "concurrent.futures.Future[Any]" = concurrent.futures.Future()
+    f.cancel()
+    return f
 
 
 def _succeeded(f: "concurrent.futures.Future[Any]") -> bool:
     return f.done() and not f.cancelled() and f.exception() is None
-
-
-def _cancel_or_wait(f: Any) -> Any:
-    """Cancel a future that has not started (None); wait for a running one."""
-    if f.cancel():
-        return None
-    return f.result()
 
 
 def tick(progress: Progress, done: int, total: int, what: str) -> None:

@@ -83,6 +83,28 @@ class Branches:
 
 # KIN_HOMOTOPY_MAX_PATHS (kin_branch.h): the homotopy's default path limit
 _MAX_PATHS_DEFAULT = 1 << 20
+# the symmetry found at a configuration is given to the complete solver from
+# this many self-stresses on (2^8 = 256 paths take ~0.1 s plainly), where a
+# cyclic subgroup permutes mechanisms and equations alike (the equivariant
+# route: the plain solver's roots, one path per orbit of start roots)
+SYMMETRIC_SOLVE_MIN_S = 8
+
+
+def equivariant_order(Q: FloatArray, R: FloatArray, seed: int = 1) -> int:
+    """The order of the cyclic subgroup of R (k, m, m) that the symmetric
+    solver's equivariant route uses on Q (kin_quadrics_equivariant_form);
+    0 if none qualifies or the system is not one it takes."""
+    s, m = Q.shape[0], Q.shape[1]
+    if R.ndim != 3 or R.shape[1:] != (m, m) or m != s + 1:
+        return 0
+    Qc = np.ascontiguousarray(Q, dtype=np.float64)
+    Rc = np.ascontiguousarray(R.transpose(0, 2, 1))  # column-major matrices
+    Qt, U, perm = np.empty((s, m, m)), np.empty((m, m)), np.empty(m, dtype=np.intc)
+    order, norbits = ffi.new("int *"), ffi.new("long *")
+    rc = lib.kin_quadrics_equivariant_form(m, s, read_ptr(Qc, "double *"), R.shape[0], read_ptr(Rc, "double *"),
+                                           int(seed), write_ptr(Qt, "double *"), write_ptr(U, "double *"),
+                                           write_ptr(perm, "int *"), order, norbits, ffi.NULL, 0)
+    return int(order[0]) if rc == 0 else 0
 
 def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 1024, seed: int = 1,
                    threads: int = 2, progress: Progress = None,
@@ -263,7 +285,8 @@ class BranchingMixin(AssemblyBase):
 
     def branches(self, solver: str = "homotopy", starts: int = 1024, length: float = 1.0, seed: int = 1,
                  weighting: str = "exact", threads: int = 2, progress: Progress = None,
-                 max_paths: Optional[int] = None, group: Optional[npt.ArrayLike] = None) -> Branches:
+                 max_paths: Optional[int] = None, group: Optional[npt.ArrayLike] = None,
+                 symmetry: bool = True) -> Branches:
         """Every path out of this bifurcation.
 
         Solves the second-order equations (`solve_quadrics`), then follows
@@ -291,7 +314,16 @@ class BranchingMixin(AssemblyBase):
         group : array_like, shape (k, m, m), optional
             The symmetry group acting on beta, e.g.
             ``libkin.symmetry.automorphisms.mechanism_group(self, method="c")``: see
-            `solve_quadrics` (one homotopy path per orbit where it can).
+            `solve_quadrics` (one homotopy path per orbit where it can); used
+            as given. None (default): found here when `symmetry` is true.
+        symmetry : bool, optional
+            True (default) with group None: the structure's symmetries at
+            this configuration (kin_mechanism_group) are given to the
+            homotopy solver where that pays and gives the plain solver's
+            roots: s >= SYMMETRIC_SOLVE_MIN_S (8) and a cyclic subgroup
+            that permutes mechanisms and equations alike (the equivariant
+            route); the accounting then has 'group' and 'orbits'. False:
+            the plain solver (unless a group is given).
 
         Returns
         -------
@@ -305,9 +337,46 @@ class BranchingMixin(AssemblyBase):
         StateError
             Not a bifurcation point, or m_internal != s + 1.
         """
-        betas, accounting = solve_quadrics(self.second_order(weighting=weighting), solver, starts, seed, threads,
+        Q = self.second_order(weighting=weighting)
+        if group is None and symmetry and solver == "homotopy":
+            group = self.solver_group(Q, seed)
+        betas, accounting = solve_quadrics(Q, solver, starts, seed, threads,
                                            progress=progress, max_paths=max_paths, group=group)
         return self.follow_branches(betas, length=length, accounting=accounting, progress=progress)
+
+    def solver_group(self, Q: FloatArray, seed: int = 1) -> Optional[FloatArray]:
+        """The symmetry group that `branches` gives the solver by default.
+
+        Parameters
+        ----------
+        Q : ndarray, shape (s, m, m)
+            The second-order matrices at this configuration (`second_order`).
+        seed : int, optional
+            Seed of the equivariant form (as the solver's).
+
+        Returns
+        -------
+        ndarray, shape (k, m, m), or None
+            The group at this configuration acting on beta
+            (kin_mechanism_group) if the symmetric solver pays on Q: s >=
+            SYMMETRIC_SOLVE_MIN_S and a cyclic subgroup permutes mechanisms
+            and equations alike (the equivariant route); else None (also
+            where the group cannot be formed: no symmetry, or a mechanism
+            space it does not keep).
+        """
+        s, m = Q.shape[0], Q.shape[1]
+        if s < SYMMETRIC_SOLVE_MIN_S or m != s + 1:
+            return None
+        n = ffi.new("int *")
+        one = np.empty((1, m, m))
+        rc = lib.kin_mechanism_group(self._h, 1, write_ptr(one, "double *"), n)
+        if rc not in (0, lib.KIN_ERANGE) or n[0] < 2:
+            return None
+        R = np.empty((n[0], m, m))  # each block column-major: stored transposed
+        if lib.kin_mechanism_group(self._h, n[0], write_ptr(R, "double *"), n) != 0:
+            return None
+        R = np.ascontiguousarray(R[: n[0]].transpose(0, 2, 1))
+        return R if equivariant_order(Q, R, seed) >= 2 else None
 
     def follow_branches(self, betas: npt.ArrayLike, length: float = 1.0,
                         accounting: Optional[Dict[str, int]] = None, progress: Progress = None) -> Branches:

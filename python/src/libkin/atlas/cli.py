@@ -39,11 +39,17 @@ def add_arguments(s: argparse.ArgumentParser) -> None:
     s.add_argument("--max-length", type=positive, default=None,
                    help="path-length budget of one branch (default 10 x the model size)")
     s.add_argument("--time-limit", type=positive, default=None,
-                   help="seconds; no node is expanded and no branch started after it")
+                   help="seconds; then nothing more is started, the atlas so far is written (partial) and "
+                        "--resume continues it")
     s.add_argument("--symmetric", nargs="?", const="true", default="false", choices=["true", "false", "auto"],
                    help="only the paths that keep each node's symmetry (auto: where s > 12)")
+    s.add_argument("--no-symmetry", action="store_true",
+                   help="do not use the structure's symmetries to save work (by default the complete solve at "
+                        "a node uses its stabiliser and one branch per orbit is followed where the mapped end "
+                        "is certain); every branch followed, the plain solver")
     s.add_argument("--follow-orbits", action="store_true",
-                   help="follow one branch per orbit of each node's symmetries, map the others (faster)")
+                   help="follow one branch per orbit of each node's symmetries, map the others (the default "
+                        "unless --no-symmetry)")
     s.add_argument("--executor", default="serial", choices=["serial", "process", "dask"],
                    help="where branches are followed: this process, a process pool, a local Dask cluster")
     s.add_argument("--workers", type=count(1), default=2, help="workers of --executor process|dask (default 2)")
@@ -77,8 +83,8 @@ def _run(args: argparse.Namespace, assembly: Assembly) -> int:
     with executor(args.executor, args.workers) as ex, _stop_on_signals() as signalled:
         at = explore(assembly, depth=args.depth, max_nodes=args.max_nodes, max_length=args.max_length,
                      time_limit=args.time_limit, symmetric=sym, executor=ex,
-                     progress=None if args.quiet else True, follow_orbits=args.follow_orbits,
-                     store=store, resume=args.resume, stop=lambda: bool(signalled))
+                     progress=None if args.quiet else True, follow_orbits=True if args.follow_orbits else None,
+                     store=store, resume=args.resume, stop=lambda: bool(signalled), symmetry=not args.no_symmetry)
     rep = atlas_report.write(at, args.out, html="atlas.html" if args.html else None)
     s = at.summary()
     kinds = ", ".join(f"{v} {k}" for k, v in sorted(s["edge_events"].items())) or "none"
@@ -88,6 +94,9 @@ def _run(args: argparse.Namespace, assembly: Assembly) -> int:
         print(f"symmetries {at.settings['symmetries']}: explored as if the structure had none")
     if not signalled and not at.stats.get("partial") and args.store is None:
         remove_store(store)  # the default store of a complete run: nothing left to resume
+    if not signalled and at.stats.get("stopped_by") == "time_limit":
+        print(f"libkin: time limit reached: the atlas so far is written (partial); continue with --resume "
+              f"(store {store})", file=sys.stderr)
     if signalled:
         print(f"libkin: interrupted by signal {signalled[0]}: the atlas so far is written (partial); "
               f"continue with --resume (store {store})", file=sys.stderr)

@@ -15,7 +15,7 @@ bounded by depth, node count, path length and time.
 Determinism: the branches of a level are tasks whose results are merged in
 the order of (node, solution index, sign), whatever order they complete in;
 node ids follow that order. So the atlas is the same serially, on a process
-pool or on a Dask cluster (time_limit aside: it is checked between nodes).
+pool or on a Dask cluster (time_limit aside: a time-limited atlas is partial).
 """
 from __future__ import annotations
 
@@ -34,20 +34,26 @@ if TYPE_CHECKING:
     from ..symmetry.automorphisms import Symmetry
 
 Branch = Tuple[int, int, NDArray[np.float64], NDArray[np.float64]]
+Work = Tuple[int, int, int, NDArray[np.float64], NDArray[np.float64]]
 
 from ..errors import InvalidArgumentError, KinError, LimitError
 from ..parallel import Progress, run_tasks
-from ..symmetry.automorphisms import invariant_subspace, same_symmetry, symmetries_at
+from ..symmetry.automorphisms import same_symmetry, symmetries_at
 from ..symmetry.procrustes import aligned_distance
 from . import tasks
 from .index import GroupedIndex
 from .model import BIFURCATION, LOCATION_FACTOR, SAME_TOL, Atlas, Edge, Node, node_kind
-from .orbits import branch_orbits, mapped_result
-from .solving import OVERDETERMINED_TOL, complete_solve, solve_system
+from .orbits import branch_orbits, follow_level
+from .solving import complete_solve, solve_system
+from .stabiliser import fixing, mechanism_action, subspace_branches, useful_group
 
 # symmetric="auto" uses the symmetric subspace when the complete solver would
 # track more than 2^AUTO_MAX_S paths
 AUTO_MAX_S = 12
+
+
+class _Late(Exception):
+    """A node's complete solve abandoned: the time limit or a stop."""
 
 
 def _say(progress: Progress, msg: str) -> None:
@@ -60,7 +66,7 @@ def _say(progress: Progress, msg: str) -> None:
 class _Explorer:
     def __init__(self, a: Assembly, symmetric: Union[bool, str], executor: Any, progress: Progress,
                  max_length: float, seed: int, threads: int, symmetries: Optional[Sequence[Symmetry]],
-                 max_steps: int, samples: int, shards: Optional[int]) -> None:
+                 max_steps: int, samples: int, shards: Optional[int], symmetry: bool = True) -> None:
         from ..io.model_json import to_json
         self.a = a.clone()
         self.doc = to_json(a)
@@ -70,7 +76,7 @@ class _Explorer:
         self.tol = SAME_TOL * self.scale
         self.symmetric, self.executor, self.progress = symmetric, executor, progress
         self.max_length, self.seed, self.threads = max_length, seed, threads
-        self.max_steps, self.samples, self.shards = max_steps, samples, shards
+        self.max_steps, self.samples, self.shards, self.symmetry = max_steps, samples, shards, symmetry
         self.deadline: Optional[float] = None
         self.symmetry_note = ""
         # detect the symmetries at every expanded node (the C search), unless given
@@ -85,6 +91,7 @@ class _Explorer:
                 self.symmetry_note = f"not detected: {exc}"
                 _say(progress, f"symmetries {self.symmetry_note}; exploring as if the structure had none")
         self.P = [g.free_matrix(self.free_map) for g in self.syms]
+        self.bars = np.asarray(a.bars, dtype=int)
         self.nodes: List[Node] = []
         self.edges: List[Edge] = []
         self.rigid = a.analyse().m_rigid > 0
@@ -179,9 +186,7 @@ class _Explorer:
 
     def stabilizer(self, node: Node) -> List[int]:
         """Indices of the symmetries (not the identity) that fix the node."""
-        tol = self.pair_tol(node.located_tol, 0.0)
-        return [j for j, g in enumerate(self.syms)
-                if not g.is_identity and np.abs(g.apply(node.coords) - node.coords).max() <= tol]
+        return fixing(self.syms, node.coords, self.pair_tol(node.located_tol, 0.0))
 
     def _assembly_at(self, node: Node) -> Assembly:
         a = self.a.clone()
@@ -192,7 +197,6 @@ class _Explorer:
         return a
 
     def _rank_tol(self, node: Node) -> float:
-        # a point located only to v_r ~ v_r_rel is counted as the follower saw it
         # a point located only to a coarser tolerance is analysed as the follower saw it
         return max(1e-9, 10.0 * node.located_tol) if node.kind == BIFURCATION else 1e-9
 
@@ -211,61 +215,41 @@ class _Explorer:
             return [], {"mode": "none", "reason": f"m = {m} internal mechanisms and no self-stress: "
                                                   "a mechanism of several freedoms, not a bifurcation"}
         use_sym = self.symmetric is True or (self.symmetric == "auto" and s > AUTO_MAX_S)
-        rec: Dict[str, Any] = {"m": m, "s": s}
         Q = a.second_order()
+        tol = self.pair_tol(node.located_tol, 0.0)
         if use_sym:
-            from ..symmetry.cyclic import restricted_quadrics
-            stab = [self.P[j] for j, g in enumerate(self.syms)
-                    if g.proper and not g.is_identity
-                    and np.abs(g.apply(node.coords) - node.coords).max() <= self.pair_tol(node.located_tol, 0.0)]
-            G = invariant_subspace(U, stab)
-            k = G.shape[1]
-            rec.update({"mode": "symmetric", "group_order": len(stab) + 1, "k": k})
-            if k == 0:
-                return [], dict(rec, solutions=0, reason="no first-order mechanism keeps the symmetry")
-            if k == 1:
-                # one symmetric mechanism g: a branch if it solves every
-                # second-order equation (the Q_j have unit norm, eq. 18)
-                g = G[:, 0]
-                resid = float(np.abs(np.einsum("x,jxy,y->j", g, Q, g)).max()) if len(Q) else 0.0
-                rec["residual"] = resid
-                if resid > OVERDETERMINED_TOL:
-                    return [], dict(rec, solutions=0, reason="the one symmetric mechanism does not extend to "
-                                                             "second order")
-                betas = G.T.copy()
-                rec["solutions"] = 1
-            else:
-                Qs = restricted_quadrics(Q, G)
-                rec["s_restricted"] = int(Qs.shape[0])
-                gam, more = self.solve_system(Qs, k)
-                rec.update(more)
-                if gam is None:
-                    return [], rec
-                betas = gam @ G.T
+            P = [self.P[j] for j in fixing(self.syms, node.coords, tol, proper_only=True)]
+            betas_or_none, rec = subspace_branches(U, Q, P, self.solve_system)
+            rec = {"m": m, "s": s, **rec}
         else:
-            rec["mode"] = "complete"
-            betas_or_none, more = self.solve_system(Q, m)
+            R = mechanism_action(U, [self.P[j] for j in fixing(self.syms, node.coords, tol)]) \
+                if self.symmetry else None
+            R = R if useful_group(Q, R, self.seed) else None
+            rec = {"m": m, "s": s, "mode": "complete", **({} if R is None else {"solver_group": len(R)})}
+            betas_or_none, more = self.solve_system(Q, m, R)
             rec.update(more)
-            if betas_or_none is None:
-                return [], rec
-            betas = betas_or_none
-        out = []
-        for i, b in enumerate(betas):
-            for sg in (1, -1):
-                out.append((i, sg, b, sg * (U @ b)))
-        return out, rec
+        if betas_or_none is None:
+            return [], rec
+        return [(i, sg, b, sg * (U @ b)) for i, b in enumerate(betas_or_none) for sg in (1, -1)], rec
 
-    def solve_system(self, Q: NDArray[np.float64], k: int) -> Tuple[Optional[NDArray[np.float64]], Dict[str, Any]]:
-        return solve_system(Q, k, self.solve, self.seed)
+    def solve_system(self, Q: NDArray[np.float64], k: int,
+                     group: Optional[NDArray[np.float64]] = None) -> Tuple[Optional[NDArray[np.float64]], Dict[str, Any]]:
+        # the group acts on the system as given (s = k - 1), not on combinations of it
+        return solve_system(Q, k, lambda Qx: self.solve(Qx, group if Qx is Q else None), self.seed)
 
-    def solve(self, Q: NDArray[np.float64]) -> Dict[str, Any]:
-        """The complete solver on Q (s, m, m) (solving.complete_solve)."""
+    def solve(self, Q: NDArray[np.float64], group: Optional[NDArray[np.float64]] = None) -> Dict[str, Any]:
+        """The complete solver on Q (s, m, m) (solving.complete_solve), with
+        the stabiliser's group if given; _Late past the deadline or on stop."""
         def run() -> Dict[str, Any]:
-            return complete_solve(Q, self.executor, self.shards, self.seed, self.threads)
-        return run() if self.store is None else self.store.cached(
-            "solve", [Q.tolist(), self.shards, self.seed, self.threads], run)
+            res = complete_solve(Q, self.executor, self.shards, self.seed, self.threads, group, self.deadline,
+                                 self.stop)
+            if res is None:
+                raise _Late()
+            return res
+        key = [Q.tolist(), self.shards, self.seed, self.threads] + ([] if group is None else [group.tolist()])
+        return run() if self.store is None else self.store.cached("solve", key, run)
 
-    def follow_all(self, work: List[Any], every: Optional[List[Any]] = None) -> List[Any]:
+    def follow_all(self, work: List[Work], every: Optional[List[Work]] = None) -> List[Any]:
         """work: [(node, solution, sign, beta, direction)] -> results in order; every: all their nodes' branches."""
         shared = tasks.branch_lines(every if every is not None else work)
         items = [{"model": self.text, "coords": self.nodes[nid].coords.tolist(),
@@ -296,8 +280,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
             time_limit: Optional[float] = None, symmetric: Union[bool, str] = False, executor: Any = None,
             progress: Progress = None, seed: int = 1, threads: int = 1,
             symmetries: Optional[Sequence[Symmetry]] = None, max_steps: int = 2000, samples: int = 2,
-            shards: Optional[int] = None, follow_orbits: bool = False, store: Any = None, resume: bool = False,
-            stop: Optional[Callable[[], bool]] = None) -> Atlas:
+            shards: Optional[int] = None, follow_orbits: Optional[bool] = None, store: Any = None,
+            resume: bool = False, stop: Optional[Callable[[], bool]] = None, symmetry: bool = True) -> Atlas:
     """Map the paths out of `start` and out of every bifurcation they reach.
 
     Parameters
@@ -315,9 +299,12 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         Path-length budget of one branch (default: 10 times the model size,
         the largest distance of a joint from the centroid, at least 1).
     time_limit : float, optional
-        Seconds; no node is expanded and no branch started after it
-        (branches being followed complete; the others are left out and
-        their nodes say so).
+        Seconds; after it nothing more is started, the branches not yet
+        started are cancelled, a node's complete solve in progress is
+        abandoned (in this process at once; on an executor when its shards
+        in flight return), the branches being followed complete; the atlas
+        so far is returned, stats "partial" and "stopped_by": "time_limit"
+        (the store keeps what was done: resume completes it).
     symmetric : bool or "auto"
         False: the complete solver at every bifurcation. True: only the
         branches that keep the node's symmetry (the proper rotations among
@@ -342,11 +329,19 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     shards : int, optional
         The complete solver's paths are tracked in this many tasks (default:
         about SHARD_PATHS paths a shard with an executor, one task without).
-    follow_orbits : bool
+    follow_orbits : bool, optional
         False: every directed branch is followed. True: one branch per orbit
-        of the node's stabilizer (the symmetries that fix it) is followed
-        and the others are its images (orbits.py): the same atlas to
-        the identification tolerance, up to |stabilizer| times less work.
+        of the node's stabilizer is followed, the others are its images
+        where the image is certain (orbits.certain) and followed otherwise:
+        the same atlas, up to |stabilizer| times less work. Default: symmetry.
+    symmetry : bool
+        True (default): the structure's symmetries are used wherever they
+        save work without changing the atlas: the complete solve at a node
+        with its stabiliser's group (stabiliser.py: where s >= 8 and the
+        equivariant route applies; the same roots as the plain solver) and
+        follow_orbits. False: neither (the plain solver, every branch
+        followed). Symmetries are detected either way, for the orbits of
+        the nodes (pass symmetries=[] to use none).
     store, resume : path or store.Store, bool
         Record each solve and branch there as it completes; resume: reuse an
         earlier run's (same model and settings: the same atlas) (store.py).
@@ -363,14 +358,16 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     InvalidArgumentError
         An argument out of range (symmetric, depth, a budget, start's shape).
     """
-    from ..assembly import Assembly
     t0 = time.perf_counter()
     a = _as_assembly(model)
     if start is not None:
         a = a.clone()
         a.coords = np.asarray(start, dtype=float)
+    if not isinstance(symmetry, bool):
+        raise InvalidArgumentError(f"symmetry: expected True or False, got {symmetry!r}")
+    follow_orbits = symmetry if follow_orbits is None else follow_orbits
     if not isinstance(follow_orbits, bool):
-        raise InvalidArgumentError(f"follow_orbits: expected True or False, got {follow_orbits!r}")
+        raise InvalidArgumentError(f"follow_orbits: expected True, False or None, got {follow_orbits!r}")
     if symmetric not in (False, True, "auto"):
         raise InvalidArgumentError(f"symmetric: expected False, True or 'auto', got {symmetric!r}")
     if not isinstance(depth, int) or depth < 0:
@@ -387,12 +384,13 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     if max_length is None:
         max_length = 10.0 * scale
     ex = _Explorer(a, symmetric, executor, progress, float(max_length), seed, threads, symmetries, int(max_steps),
-                   int(samples), shards)
+                   int(samples), shards, symmetry)
     ex.deadline = None if time_limit is None else t0 + float(time_limit)
     from .store import open_store
-    ex.store, ex.stop = open_store(store, resume, ex.text, [depth, max_nodes, float(max_length), time_limit, symmetric,
+    # the settings that shape the atlas (not time_limit: a time-limited run resumes without it)
+    ex.store, ex.stop = open_store(store, resume, ex.text, [depth, max_nodes, float(max_length), symmetric,
                                    seed, threads, symmetries is None and len(ex.syms), max_steps, samples, shards,
-                                   follow_orbits]), stop
+                                   follow_orbits, symmetry]), stop
     an = a.analyse()
     rec0 = {"m": an.m_internal, "m_rigid": an.m_rigid, "s": an.s,
             "v_r_rel": float(an.v_r / an.v_max) if an.v_max > 0 else 0.0}
@@ -401,8 +399,14 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     _say(progress, f"start: {kind0}, m = {an.m_internal}, s = {an.s}; {len(ex.syms)} symmetries")
     frontier = [0]
     stopped = None
+
+    def halted() -> Optional[str]:  # why nothing more is started, if so
+        if time_limit is not None and time.perf_counter() - t0 > time_limit:
+            return "time_limit"
+        return "interrupted" if stop is not None and stop() else None
+    causes = {"time_limit": "time limit reached", "interrupted": "interrupted"}
     for level in range(depth):
-        work: List[Tuple[int, int, int, NDArray[np.float64], NDArray[np.float64]]] = []
+        work: List[Work] = []
         images: List[Optional[Tuple[int, int]]] = []  # per work item: None (followed) or (work index, symmetry)
         for nid in frontier:
             node = ex.nodes[nid]
@@ -413,15 +417,19 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                 node.status = "not expanded: max_nodes reached"
                 stopped = stopped or "max_nodes"
                 continue
-            late = time_limit is not None and time.perf_counter() - t0 > time_limit
-            if late or (stop is not None and stop()):
-                cause = "time limit reached" if late else "interrupted"
-                node.status = f"not expanded: {cause}"
-                stopped = stopped or ("time_limit" if late else "interrupted")
+            cause = halted()
+            if cause:
+                node.status = f"not expanded: {causes[cause]}"
+                stopped = stopped or cause
                 continue
             ex.learn_symmetries(node)
             try:
                 br, rec = ex.branches(node)
+            except _Late:
+                cause = halted() or "interrupted"
+                node.status = f"not expanded: {causes[cause]} during its solve"
+                stopped = stopped or cause
+                continue
             except KinError as exc:
                 node.status = f"branches not enumerated: {type(exc).__name__}: {exc}"
                 continue
@@ -438,21 +446,16 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         todo = [k for k, im in enumerate(images) if im is None]
         _say(progress, f"level {level + 1}: {len(work)} directed branches from {len(frontier)} node(s)"
              + (f", {len(todo)} followed, the others their images by symmetry" if len(todo) < len(work) else ""))
-        results: List[Any] = [None] * len(work)
-        for k, res in zip(todo, ex.follow_all([work[k] for k in todo], work)):
-            results[k] = res
-        for k, im in enumerate(images):
-            if im is not None and results[im[0]] is not None:
-                results[k] = mapped_result(results[im[0]], ex.syms[im[1]])
-        ex.followed += len(todo)
-        ex.mapped += len(work) - len(todo)
+        results, followed, mapped = follow_level(work, images, lambda w: ex.follow_all(w, work), ex.syms, ex.bars)
+        ex.followed += followed
+        ex.mapped += mapped
         n_before = len(ex.nodes)
         for (nid, i, sg, b, _), res in zip(work, results):
             if res is None:  # not followed: the time limit ran out first, or the run was interrupted
-                node, cause = ex.nodes[nid], "interrupted" if stop is not None and stop() else "time limit reached"
-                if "not followed" not in node.status:
-                    node.status += f"; some branches not followed: {cause}"
-                stopped = stopped or ("time_limit" if cause != "interrupted" else "interrupted")
+                cause = "interrupted" if stop is not None and stop() else "time_limit"
+                if "not followed" not in ex.nodes[nid].status:
+                    ex.nodes[nid].status += f"; some branches not followed: {causes[cause]}"
+                stopped = stopped or cause
                 continue
             ex.merge(nid, i, sg, b, res, level + 1)
         frontier = [n.id for n in ex.nodes[n_before:] if n.kind == BIFURCATION]
@@ -474,11 +477,11 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     settings = {"depth": depth, "max_nodes": max_nodes, "max_length": float(max_length), "time_limit": time_limit,
                 "symmetric": symmetric, "seed": seed, "same_tol": ex.tol, "max_steps": int(max_steps),
                 "samples": int(samples), "symmetries": ex.symmetry_note or f"{len(ex.syms)} detected",
-                "follow_orbits": follow_orbits,
+                "follow_orbits": follow_orbits, "symmetry": symmetry,
                 "executor": None if executor is None else type(executor).__name__}
     stats = {"seconds": round(time.perf_counter() - t0, 3), "follow_cpu_seconds": round(ex.follow_cpu, 3),
              "branches_followed": ex.followed, "branches_mapped": ex.mapped, "stopped_by": stopped,
-             "partial": stopped == "interrupted"}
+             "partial": stopped in ("interrupted", "time_limit")}
     if ex.store is not None:
         stats["store"] = ex.store.finish(store is not ex.store)
     atlas = Atlas(ex.doc, ex.nodes, ex.edges, ex.syms, settings, stats)
@@ -488,13 +491,9 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
 
 def _as_assembly(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]]) -> Assembly:
     from ..assembly import Assembly
+    from ..cliargs import load_model_spec
+    from ..io.model_json import load_json
     if isinstance(model, Assembly):
         return model
-    if isinstance(model, str):
-        if model.startswith("threebar:"):
-            return Assembly.threebar(model.split(":", 1)[1])
-        if model.startswith("sail:"):
-            parts = model.split(":")
-            return Assembly.sail(int(parts[1]), int(parts[2]) if len(parts) > 2 else 1)
-    from ..io.model_json import load_json
-    return load_json(model)
+    return load_model_spec(model) if isinstance(model, str) and model.startswith(("threebar:", "sail:")) \
+        else load_json(model)

@@ -3,11 +3,15 @@
 A symmetry g of the structure that fixes a node (g.apply(node) = node) maps
 every path out of it onto another: the branch along P_g d is the image under
 g of the branch along d (P_g: g acting on the free coordinates), so its next
-event is the same and its end is g applied to the other's end. With
-`explore(..., follow_orbits=True)` one branch per orbit is followed and the
-others are mapped, which divides the following by up to the order of the
-node's stabilizer (6 at the hexagonal sail's flat state, where the mirror
-z -> -z maps each branch onto its opposite sense).
+event is the same and its end is g applied to the other's end. explore()
+follows one branch per orbit (follow_orbits, the default with symmetry) and
+maps the others where the mapped end is certain (certain(): a closed loop
+or a bifurcation located to the strict tolerance, onto a configuration with
+the same bar lengths), following the rest (follow_level); that divides the
+following by up to the order of the node's stabilizer (6 at the hexagonal
+sail's flat state, where the mirror z -> -z maps each branch onto its
+opposite sense). differences() compares two atlases whatever the order of
+their nodes and edges, up to the orbit mapping.
 
 The branches are matched through index.ConfigIndex (a sorted scalar key
 of the unit directions), so n branches cost O(n log n) rather than n^2
@@ -15,7 +19,7 @@ comparisons.
 """
 from __future__ import annotations
 
-from typing import Any, Dict, List, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -62,4 +66,146 @@ def mapped_result(res: Dict[str, Any], g: Any) -> Dict[str, Any]:
     out["samples"] = [g.apply(np.asarray(X, dtype=float)).tolist() for X in res.get("samples", [])]
     out["cpu_seconds"] = 0.0
     out["mapped"] = True
+    return out
+
+
+# the strict location tolerance of tasks.follow_branch (vr_tol's default):
+# a bifurcation located to it is a certain end; one the follower could
+# locate only to a relaxed tolerance is not
+STRICT_VR_TOL = 1e-10
+# a mapped end keeps every bar length to this (relative to the model's rest lengths)
+LENGTH_TOL = 1e-9
+
+
+def certain(res: Dict[str, Any], g: Any, bars: NDArray[np.int_]) -> bool:
+    """Whether the image by g of a followed branch's result is what
+    following the image branch gives, to the identification tolerance.
+
+    The rule: the end is a closed loop (the path came back to the node,
+    which g fixes), or a bifurcation located to the strict tolerance
+    (STRICT_VR_TOL: located where v_r/v_max <= 1e-10, a point the follower
+    pins down whichever way the steps fall); and g maps the end onto a
+    configuration with the same bar lengths to LENGTH_TOL (g is an exact
+    symmetry of the structure there, so the analysis there, m, s and v_r,
+    is the same). Not certain, and so followed: a near-miss (it stops at the
+    regular point before a dip of v_r, which depends on where the steps
+    fall: today's mapped near-miss ends differed from followed ones by up to
+    0.008 on the hexagonal sail), a length or step budget (where the budget
+    runs out depends on the steps too), a bifurcation located only to a
+    relaxed tolerance (known to sqrt(tol) only), a failure."""
+    ev = res.get("event")
+    if ev == "bifurcation":
+        if not (float(res.get("vr_tol", 1.0)) <= STRICT_VR_TOL and float(res.get("accuracy", 1.0)) <= STRICT_VR_TOL):
+            return False
+    elif ev != "loop":
+        return False
+    X = np.asarray(res["coords"], dtype=float)
+    Y = g.apply(X)
+    L = np.linalg.norm(X[bars[:, 0]] - X[bars[:, 1]], axis=1)
+    M = np.linalg.norm(Y[bars[:, 0]] - Y[bars[:, 1]], axis=1)
+    return bool(np.abs(np.sort(L) - np.sort(M)).max() <= LENGTH_TOL * max(1.0, float(L.max())))
+
+
+def follow_level(work: List[Any], images: List[Optional[Tuple[int, int]]],
+                 follow: Callable[[List[Any]], List[Any]], syms: Sequence[Any],
+                 bars: NDArray[np.int_]) -> Tuple[List[Any], int, int]:
+    """The results of a level's directed branches: work[k] is followed when
+    images[k] is None, else it is the image by syms[j] of work[rep] for
+    images[k] = (rep, j), mapped where certain() and followed otherwise.
+    follow(list of work) -> results (None: not followed, the time limit or
+    a stop). Returns (results, followed, mapped)."""
+    results: List[Any] = [None] * len(work)
+    todo = [k for k, im in enumerate(images) if im is None]
+    for k, res in zip(todo, follow([work[k] for k in todo])):
+        results[k] = res
+    again = []
+    mapped = 0
+    for k, im in enumerate(images):
+        if im is None or results[im[0]] is None:
+            continue
+        if certain(results[im[0]], syms[im[1]], bars):
+            results[k] = mapped_result(results[im[0]], syms[im[1]])
+            mapped += 1
+        else:
+            again.append(k)
+    for k, res in zip(again, follow([work[k] for k in again]) if again else []):
+        results[k] = res
+    return results, len(todo) + len(again), mapped
+
+
+def differences(a: Any, b: Any, tol: float = 1e-6, exclude: Optional[Callable[[Any], bool]] = None) -> List[str]:
+    """How atlas b differs from atlas a, whatever the order of their nodes,
+    solutions and edges (the symmetric solver returns the roots in another
+    order): nodes matched by configuration (tol times the model size, or 10
+    sqrt of the coarser location tolerance, as the explorer identifies
+    them; up to a rigid motion where the supports allow one) with the same
+    kind, m and s; the edges out of each orbit of nodes as the same
+    multiset of (event, target, length within tol relative), the target's
+    orbit standing for the target where the atlases expanded different
+    nodes of the orbit: up to the orbit mapping. exclude(edge): edges of either atlas left out, and
+    the nodes only they reach. [] when they are the same atlas."""
+    out: List[str] = []
+    scale = max(1.0, float(np.abs(a.nodes[0].coords - a.nodes[0].coords.mean(axis=0)).max())) if a.nodes else 1.0
+    from ..symmetry.procrustes import aligned_distance
+    rigid = bool(a.nodes) and a.nodes[0].m_rigid > 0  # up to the rigid motions the supports allow
+
+    def dist(X: NDArray[np.float64], Y: NDArray[np.float64]) -> float:
+        return aligned_distance(X, Y) if rigid else float(np.abs(X - Y).max())
+    index = ConfigIndex(a.nodes[0].coords.shape if a.nodes else (1, 1), rigid=rigid)
+    def kept(x: Any) -> Tuple[List[Any], List[Any]]:
+        edges = [e for e in x.edges if exclude is None or not exclude(e)]
+        reached = {0} | {e.source for e in edges} | {e.target for e in edges}
+        return [n for n in x.nodes if n.id in reached], edges
+    (a_nodes, a_edges), (b_nodes, b_edges) = kept(a), kept(b)
+    for n in a_nodes:
+        index.add(n.coords, n.id)
+    worst = max([n.located_tol for n in a.nodes] + [0.0])
+    match: Dict[int, int] = {}
+    for n in b_nodes:
+        for i in index.near(n.coords, scale * max(tol, 10 * np.sqrt(max(n.located_tol, worst)))):
+            m = a.nodes[i]
+            close = scale * max(tol, 10 * np.sqrt(max(n.located_tol, m.located_tol)))
+            if dist(n.coords, m.coords) <= close:
+                match[n.id] = i
+                break
+        if n.id not in match:
+            out.append(f"node {n.id} ({n.kind}, m {n.m}, s {n.s}) is not in the other atlas")
+        elif (a.nodes[match[n.id]].kind, a.nodes[match[n.id]].m, a.nodes[match[n.id]].s) != (n.kind, n.m, n.s):
+            m = a.nodes[match[n.id]]
+            out.append(f"node {n.id} is {n.kind} m {n.m} s {n.s}, there {m.kind} m {m.m} s {m.s}")
+    if len(set(match.values())) != len(a_nodes) or len(a_nodes) != len(b_nodes):
+        out.append(f"{len(a_nodes)} nodes against {len(b_nodes)} ({len(set(match.values()))} matched)")
+    # the edges out of an orbit as the multiset of (event, target, length):
+    # the same whatever the solution order (and the mechanism basis, which a
+    # rigid motion of the node turns); the target's orbit stands for the
+    # target where the two atlases expanded different nodes of an orbit
+    # (the others are its images)
+    def orbit(i: int) -> int:
+        return a.nodes[i].orbit if 0 <= i < len(a.nodes) else -1
+    sources = {(orbit(e.source), e.source) for e in a_edges}
+    same = {o for o, src in sources} & {orbit(match.get(f.source, -1)) for f in b_edges
+                                        if (orbit(match.get(f.source, -1)), match.get(f.source, -1)) in sources}
+    mine: Dict[int, List[Tuple[str, int, float]]] = {}
+    theirs: Dict[int, List[Tuple[str, int, float]]] = {}
+    for e in a_edges:
+        o = orbit(e.source)
+        mine.setdefault(o, []).append((e.event, e.target if o in same else orbit(e.target), e.length))
+    for f in b_edges:
+        o, t = orbit(match.get(f.source, -1)), match.get(f.target, -1)
+        theirs.setdefault(o, []).append((f.event, t if o in same else orbit(t), f.length))
+    for src in sorted(set(mine) | set(theirs)):
+        x, y = sorted(mine.get(src, [])), sorted(theirs.get(src, []))
+        bad = len(x) != len(y) or any(p[:2] != q[:2] or abs(p[2] - q[2]) > tol * max(1.0, p[2]) for p, q in zip(x, y))
+        if bad:
+            out.append(f"the edges out of the orbit of node {src} differ: {len(x)} against {len(y)}, events "
+                       f"{_count(x)} against {_count(y)}")
+    if len(a_edges) != len(b_edges):
+        out.append(f"{len(a_edges)} edges against {len(b_edges)}")
+    return out
+
+
+def _count(edges: List[Tuple[str, int, float]]) -> Dict[str, int]:
+    out: Dict[str, int] = {}
+    for ev, _, _ in edges:
+        out[ev] = out.get(ev, 0) + 1
     return out

@@ -54,14 +54,41 @@ def solve_system(Q: NDArray[np.float64], k: int, solve: Callable[[NDArray[np.flo
 
 
 def complete_solve(Q: NDArray[np.float64], executor: Any, shards: Optional[int], seed: int,
-                   threads: int) -> Dict[str, Any]:
+                   threads: int, group: Optional[NDArray[np.float64]] = None,
+                   deadline: Optional[float] = None,
+                   stop: Optional[Callable[[], bool]] = None) -> Optional[Dict[str, Any]]:
     """The complete solver on Q (s, m, m): in shards on the executor when
-    there are enough paths for it (homotopy_shards), else as one task."""
+    there are enough paths for it (homotopy_shards), else as one task.
+    group (k, m, m): the symmetric solver with that group (stabiliser.py).
+    deadline (time.perf_counter()) and stop(): past the one or once the
+    other is true, the solve is abandoned (None): in this process within
+    about 0.1 s (the solver's cancel), on an executor when the shards in
+    flight return."""
+    import time
     s = Q.shape[0]
     if shards is None:
         shards = 1 if executor is None else max(1, min(64, (1 << s) // SHARD_PATHS))
+
+    def late() -> bool:
+        return (deadline is not None and time.perf_counter() > deadline) or (stop is not None and stop())
+    if late():
+        return None
     if shards > 1 and homotopy_shards.available():
-        betas, acc = homotopy_shards.solve_sharded(Q, executor, shards, seed, threads)
-        return {"betas": betas.tolist(), "accounting": dict(acc, shards=int(shards))}
-    return run_tasks(tasks.solve_task, [{"Q": Q.tolist(), "seed": seed, "threads": threads}],
-                     executor)[0]
+        solved = homotopy_shards.solve_sharded(Q, executor, shards, seed, threads, group=group, deadline=deadline)
+        if solved is None:
+            return None
+        return {"betas": solved[0].tolist(), "accounting": dict(solved[1], shards=int(shards))}
+    task = {"Q": Q.tolist(), "seed": seed, "threads": threads}
+    if executor is None:  # here: cancelled through the progress callback
+        from ..assembly import solve_quadrics
+        from ..errors import CancelledError
+        try:
+            betas, acc = solve_quadrics(Q, "homotopy", seed=seed, threads=threads, group=group,
+                                        progress=lambda done, total: late())
+        except CancelledError:
+            return None
+        return {"betas": betas.tolist(), "accounting": {k: int(v) for k, v in acc.items()}}
+    if group is not None:
+        return run_tasks(homotopy_shards.symmetric_task, [dict(task, group=np.asarray(group).tolist())], executor,
+                         deadline=deadline)[0]
+    return run_tasks(tasks.solve_task, [task], executor, deadline=deadline)[0]

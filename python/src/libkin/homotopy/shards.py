@@ -171,7 +171,8 @@ def _merge(Qm: NDArray[np.float64], m: int, s: int, seed: int, threads: int, end
 
 
 def solve_sharded(Q: ArrayLike, executor: Optional[Any] = None, shards: int = 4, seed: int = 1,
-                  threads: int = 1, group: Optional[ArrayLike] = None) -> Tuple[NDArray[np.float64], Dict[str, int]]:
+                  threads: int = 1, group: Optional[ArrayLike] = None,
+                  deadline: Optional[float] = None) -> Any:
     """Real solutions beta (nsol, m) of beta^T Q_j beta = 0 and the
     accounting, as solve_quadrics(Q, "homotopy", seed=seed) gives them, with
     the paths tracked in `shards` tasks on executor (None: here, one after
@@ -183,7 +184,11 @@ def solve_sharded(Q: ArrayLike, executor: Optional[Any] = None, shards: int = 4,
     the equivariant form (kin_quadrics_equivariant_form,
     kin_quadrics_homotopy_orbit_range), the merge runs on the form and the
     solutions come back as beta = U x; the accounting gains 'order' and
-    'orbits'. Otherwise every path, as without a group."""
+    'orbits'. Otherwise every path, as without a group.
+
+    deadline (a time.perf_counter() value), optional: shards not started by
+    then are cancelled (parallel.run_tasks) and the solve is abandoned:
+    None. Without a deadline the result is always (betas, accounting)."""
     from .._native._lib import ffi
     from ..parallel import run_tasks
     Q, m, s = _system(Q)
@@ -196,7 +201,9 @@ def solve_sharded(Q: ArrayLike, executor: Optional[Any] = None, shards: int = 4,
     if form is None:
         items = [{"Q": Q.tolist(), "seed": seed, "threads": threads, "first": f, "count": c}
                  for f, c in shard_ranges(s, shards)]
-        parts = run_tasks(range_task, items, executor)
+        parts = run_tasks(range_task, items, executor, deadline=deadline)
+        if any(p is None for p in parts):
+            return None
         _check_parts(parts, items, fingerprint(Q, seed))
         for p in sorted(parts, key=lambda p: p["first"]):
             buf[p["first"] * rec:(p["first"] + p["count"]) * rec] = p["ends"]
@@ -205,7 +212,9 @@ def solve_sharded(Q: ArrayLike, executor: Optional[Any] = None, shards: int = 4,
     Qt, U, perm, order, norbits = form
     items = [{"Qt": Qt.tolist(), "perm": perm.tolist(), "order": order, "seed": seed, "threads": threads,
               "first": f, "count": c} for f, c in _split(norbits, shards)]
-    parts = run_tasks(orbit_task, items, executor)
+    parts = run_tasks(orbit_task, items, executor, deadline=deadline)
+    if any(p is None for p in parts):
+        return None
     _check_parts(parts, items, fingerprint(Qt, seed))
     # the records of scattered paths, each to its place (a record's path is
     # an int at a documented offset)
@@ -232,6 +241,16 @@ def solve_sharded(Q: ArrayLike, executor: Optional[Any] = None, shards: int = 4,
     betas *= np.sign(betas[np.arange(len(betas)), big])[:, None]
     acc.update({"order": order, "orbits": norbits})
     return betas, acc
+
+
+def symmetric_task(task: Dict[str, Any]) -> Dict[str, Any]:
+    """The symmetric complete solver on one system, as one task (plain data
+    in and out): {"Q", "group", "seed", "threads"} -> {"betas",
+    "accounting"} (solve_quadrics(Q, group=group))."""
+    from ..assembly import solve_quadrics
+    betas, acc = solve_quadrics(np.asarray(task["Q"], dtype=float), "homotopy", seed=int(task.get("seed", 1)),
+                                threads=int(task.get("threads", 1)), group=np.asarray(task["group"], dtype=float))
+    return {"betas": betas.tolist(), "accounting": {k: int(v) for k, v in acc.items()}}
 
 
 def available() -> bool:
