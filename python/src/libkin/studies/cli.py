@@ -1,6 +1,7 @@
 """`libkin study`: the command line of the solar-sail studies (register() adds
 it to the dispatcher, libkin.cli)."""
 import argparse
+from typing import List, Tuple
 import pathlib
 import sys
 
@@ -38,7 +39,7 @@ def register(sub):
     s.set_defaults(fn=cmd_study)
 
 
-def _members(text: str) -> list:
+def _members(text: str) -> List[Tuple[int, int]]:
     out = []
     for item in text.split(","):
         try:
@@ -51,7 +52,7 @@ def _members(text: str) -> list:
     return out
 
 
-def _thicknesses(text: str) -> list:
+def _thicknesses(text: str) -> List[float]:
     try:
         ts = [float(v) for v in text.split(",")]
     except ValueError:

@@ -27,7 +27,7 @@ recorded steps is a sum of chords, a little shorter than the arc; ARC_MARGIN
 covers that.
 """
 import time
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Set, Tuple
 
 import numpy as np
 
@@ -58,7 +58,7 @@ def sail_panels(a: Any) -> List[List[int]]:
     hub polygon V0, V1, ..."""
     labels = list(a.labels)
     centre = [i for i, lab in enumerate(labels) if lab == "C"]
-    adj: Dict[int, set] = {i: set() for i in range(a.njoints)}
+    adj: Dict[int, Set[int]] = {i: set() for i in range(a.njoints)}
     for i, j in np.asarray(a.bars):
         adj[int(i)].add(int(j))
         adj[int(j)].add(int(i))

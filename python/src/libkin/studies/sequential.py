@@ -137,7 +137,7 @@ def _onward(at: Assembly, chord_in: np.ndarray, n_sides: int, threads: int) -> D
         return {"stop": f"s = {an.s} > {MAX_S}: its 2^s paths were not solved"}
     br = at.branches(solver="homotopy", length=LOOK_AHEAD, threads=threads)
     P = sail_rotation(at, n_sides, 2)
-    cands = []
+    cands: List[Any] = []
     for p in br.paths:
         if not (p.exists and p.tangent_ok):
             continue
@@ -205,7 +205,7 @@ def sequential_fold(n_sides: int = 6, n_loops: int = 2, threads: int = 1, progre
     legs (default n_loops + 2)."""
     t0 = time.perf_counter()
     a = Assembly.sail(n_sides, n_loops)
-    labels = list(a.labels)
+    labels = list(a.labels or [])
     radius = hub_circumradius(a.coords, labels)
     free = a.free_map() >= 0
     hub = [i for i, lab in enumerate(labels) if loop_of(lab) == 0]
