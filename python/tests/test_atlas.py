@@ -201,14 +201,15 @@ def test_bounds():
 
 
 def test_square_sail_matches_stored_example(square):
-    """examples/atlas/square_sail (written by `libkin explore sail:4:1 --out ...`): the same map."""
+    """examples/atlas/square_sail (written by `libkin explore sail:4:1 --out ...`): the same map, whatever
+    the order the solver gives the roots in (the default symmetric solve orders them by orbit)."""
     import pathlib
+    from libkin.atlas.orbits import differences
     stored = pathlib.Path(__file__).resolve().parents[2] / "examples" / "atlas" / "square_sail" / "atlas.json"
     ref = atlas_mod.Atlas.from_dict(json.loads(stored.read_text()))
-    assert [(n.kind, n.m, n.s, n.orbit) for n in ref.nodes] == [(n.kind, n.m, n.s, n.orbit) for n in square.nodes]
-    assert ([(e.source, e.target, e.solution, e.sign, e.event) for e in ref.edges] ==
-            [(e.source, e.target, e.solution, e.sign, e.event) for e in square.edges])
-    assert ref.same_as(square, tol=1e-6)
+    assert sorted((n.kind, n.m, n.s) for n in ref.nodes) == sorted((n.kind, n.m, n.s) for n in square.nodes)
+    assert len(ref.edges) == len(square.edges)
+    assert differences(ref, square) == []
 
 
 def test_follow_orbits_gives_the_same_atlas():
