@@ -361,6 +361,7 @@ static void release(kin_assembly *a)
     free(a->luR);
     free(a->luw);
     if (a->sp_free) a->sp_free(a);
+    if (a->ct_free) a->ct_free(a);
     free(a);
 }
 
@@ -619,6 +620,10 @@ int kin_assembly_clone(const kin_assembly *src, kin_assembly **out)
     kin__copy_state(a, src);
     a->opt = src->opt;
     if (src->sp && (rc = src->sp_prepare(a)) != KIN_OK) {
+        kin_assembly_free(a);
+        return rc;
+    }
+    if (src->ct && (rc = src->ct_clone(a, src)) != KIN_OK) {
         kin_assembly_free(a);
         return rc;
     }
