@@ -21,7 +21,7 @@ static kin_assembly *make(int dim, int nj, const double *xyz, int nb, const int 
 static double clr(kin_assembly *a, int *parts, double *pts)
 {
     double c = NAN;
-    CHECK_RC(kin_clearance(a, NULL, &c, parts, pts), KIN_OK);
+    CHECK_RC(kin_clearance(a, NULL, INFINITY, &c, parts, pts), KIN_OK);
     return c;
 }
 
@@ -53,7 +53,7 @@ static void bars_cases(void)
     /* crossing exactly (h = 0): clearance 0, then -(r_a + r_b) */
     double x0[] = {-1, 0, 0, 1, 0, 0, 0, -1, 0, 0, 1, 0};
     double c;
-    CHECK_RC(kin_clearance(a, x0, &c, NULL, NULL), KIN_OK);
+    CHECK_RC(kin_clearance(a, x0, INFINITY, &c, NULL, NULL), KIN_OK);
     CHECK_CLOSE(c, -0.15, TOL);
     kin_assembly_free(a);
 
@@ -62,12 +62,12 @@ static void bars_cases(void)
     a = make(3, 4, xp, 2, b);
     CHECK_CLOSE(clr(a, NULL, NULL), 0.5, TOL);
     double xc[] = {0, 0, 0, 1, 0, 0, 1, 0, 0, 2, 0, 0};
-    CHECK_RC(kin_clearance(a, xc, &c, NULL, pts), KIN_OK);
+    CHECK_RC(kin_clearance(a, xc, INFINITY, &c, NULL, pts), KIN_OK);
     CHECK(c == 0.0);
     CHECK(pts[0] == 1.0 && pts[3] == 1.0);
     /* collinear with a gap of 0.5 */
     double xg[] = {0, 0, 0, 1, 0, 0, 1.5, 0, 0, 2, 0, 0};
-    CHECK_RC(kin_clearance(a, xg, &c, NULL, NULL), KIN_OK);
+    CHECK_RC(kin_clearance(a, xg, INFINITY, &c, NULL, NULL), KIN_OK);
     CHECK_CLOSE(c, 0.5, TOL);
     kin_assembly_free(a);
 
@@ -100,22 +100,22 @@ static void panel_cases(void)
     /* the bar lifted above the panel, ending at height 0.3: the endpoint's distance */
     double xu[] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 0.5, 0.5, 0.3, 0.5, 0.5, 1};
     double c;
-    CHECK_RC(kin_clearance(a, xu, &c, parts, NULL), KIN_OK);
+    CHECK_RC(kin_clearance(a, xu, INFINITY, &c, parts, NULL), KIN_OK);
     CHECK_CLOSE(c, 0.3, TOL);
     /* exactly touching: the endpoint on the panel */
     double xt[] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 0.5, 0.5, 0, 0.5, 0.5, 1};
-    CHECK_RC(kin_clearance(a, xt, &c, NULL, NULL), KIN_OK);
+    CHECK_RC(kin_clearance(a, xt, INFINITY, &c, NULL, NULL), KIN_OK);
     CHECK(c == 0.0);
     /* panel thickness 0.1, bar radius default 0.05 (t0 = 0.1) */
     double tp = 0.1;
     CHECK_RC(kin_set_thickness(a, 0.1, NULL, &tp), KIN_OK);
-    CHECK_RC(kin_clearance(a, xu, &c, NULL, NULL), KIN_OK);
+    CHECK_RC(kin_clearance(a, xu, INFINITY, &c, NULL, NULL), KIN_OK);
     CHECK_CLOSE(c, 0.3 - 0.05 - 0.05, TOL);
     /* a clone keeps panels and thickness */
     kin_assembly *b2 = NULL;
     CHECK_RC(kin_assembly_clone(a, &b2), KIN_OK);
     CHECK(kin_npanels(b2) == 1);
-    CHECK_RC(kin_clearance(b2, xu, &c, NULL, NULL), KIN_OK);
+    CHECK_RC(kin_clearance(b2, xu, INFINITY, &c, NULL, NULL), KIN_OK);
     CHECK_CLOSE(c, 0.2, TOL);
     int o2[2], j2[3];
     CHECK_RC(kin_get_panels(b2, o2, j2), KIN_OK);
@@ -124,10 +124,10 @@ static void panel_cases(void)
     /* a zero-area panel (collinear joints): its sides; the bar through its middle */
     double xd[] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 1, -1, 0.25, 1, 1, 0.25};
     CHECK_RC(kin_set_thickness(a, 0.0, NULL, NULL), KIN_OK);
-    CHECK_RC(kin_clearance(a, xd, &c, parts, NULL), KIN_OK);
+    CHECK_RC(kin_clearance(a, xd, INFINITY, &c, parts, NULL), KIN_OK);
     CHECK_CLOSE(c, 0.25, TOL);
     double xd0[] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 1, -1, 0, 1, 1, 0};
-    CHECK_RC(kin_clearance(a, xd0, &c, parts, NULL), KIN_OK);
+    CHECK_RC(kin_clearance(a, xd0, INFINITY, &c, parts, NULL), KIN_OK);
     CHECK(c == 0.0);
     /* removing the panels */
     CHECK_RC(kin_set_panels(a, 0, NULL, NULL), KIN_OK);
@@ -149,21 +149,21 @@ static void triangle_cases(void)
     CHECK(clr(a, parts, NULL) == 0.0);
     /* coplanar apart by 1 along x */
     double xa[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, 3, 0, 0, 2, 1, 0};
-    CHECK_RC(kin_clearance(a, xa, &c, parts, NULL), KIN_OK);
+    CHECK_RC(kin_clearance(a, xa, INFINITY, &c, parts, NULL), KIN_OK);
     CHECK_CLOSE(c, 1.0, TOL);
     /* stacked parallel, 0.5 apart: triangle-triangle (and bars) */
     double xs[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0.5, 1, 0, 0.5, 0, 1, 0.5};
-    CHECK_RC(kin_clearance(a, xs, &c, parts, NULL), KIN_OK);
+    CHECK_RC(kin_clearance(a, xs, INFINITY, &c, parts, NULL), KIN_OK);
     CHECK_CLOSE(c, 0.5, TOL);
     double tp[2] = {0.2, 0.4};
     CHECK_RC(kin_set_thickness(a, 0.0, NULL, tp), KIN_OK);
-    CHECK_RC(kin_clearance(a, xs, &c, parts, NULL), KIN_OK);
+    CHECK_RC(kin_clearance(a, xs, INFINITY, &c, parts, NULL), KIN_OK);
     CHECK_CLOSE(c, 0.5 - 0.1 - 0.2, TOL);
     CHECK(parts[0] == KIN_PART_PANEL && parts[2] == KIN_PART_PANEL);
     CHECK_RC(kin_set_thickness(a, 0.0, NULL, NULL), KIN_OK);
     /* crossing: the second triangle stands through the first */
     double xx[] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 0.5, 0.5, -1, 0.6, 0.5, 1, 0.5, 0.6, 1};
-    CHECK_RC(kin_clearance(a, xx, &c, parts, NULL), KIN_OK);
+    CHECK_RC(kin_clearance(a, xx, INFINITY, &c, parts, NULL), KIN_OK);
     CHECK(c == 0.0);
     kin_assembly_free(a);
 
@@ -195,7 +195,7 @@ static void plane_cases(void)
     double pts[4], c;
     CHECK(clr(a, parts, pts) == 0.0);
     double xa[] = {0, 0, 2, 0, 0, 2, 2, 2, 3, 2};
-    CHECK_RC(kin_clearance(a, xa, &c, parts, pts), KIN_OK);
+    CHECK_RC(kin_clearance(a, xa, INFINITY, &c, parts, pts), KIN_OK);
     CHECK_CLOSE(c, sqrt(2.0), TOL * 4);
     CHECK_CLOSE(pts[2], 2.0, TOL);
     CHECK_CLOSE(pts[0], 1.0, TOL * 4);
@@ -241,7 +241,7 @@ static void sail_vs_all_pairs(void)
             y[i] = xyz[i] + amp * ((double)(kin__splitmix(&seed) >> 11) / 9007199254740992.0 - 0.5);
         if (trial % 3 == 0) kin_set_thickness(a, 0.01 * trial, NULL, NULL);
         double c;
-        CHECK_RC(kin_clearance(a, y, &c, NULL, NULL), KIN_OK);
+        CHECK_RC(kin_clearance(a, y, INFINITY, &c, NULL, NULL), KIN_OK);
         /* all pairs */
         double best = INFINITY, cp[3], cq[3];
         double r0, *rb = malloc(sizeof(double) * (size_t)nb), *tp = malloc(sizeof(double) * (size_t)np);
@@ -299,13 +299,21 @@ static void errors(void)
     double rb[2] = {INFINITY, 0};
     CHECK_RC(kin_set_thickness(a, 0.0, rb, NULL), KIN_EGEOM);
     CHECK_RC(kin_get_thickness(NULL, NULL, NULL, NULL), KIN_ENULL);
-    CHECK_RC(kin_clearance(NULL, NULL, &c, NULL, NULL), KIN_ENULL);
-    CHECK_RC(kin_clearance(a, NULL, NULL, NULL, NULL), KIN_ENULL);
+    CHECK_RC(kin_clearance(NULL, NULL, INFINITY, &c, NULL, NULL), KIN_ENULL);
+    CHECK_RC(kin_clearance(a, NULL, INFINITY, NULL, NULL, NULL), KIN_ENULL);
+    CHECK_RC(kin_clearance(a, NULL, NAN, &c, NULL, NULL), KIN_EINVAL);
+    /* a cutoff: below the clearance (1) nothing is resolved; above, the same answer */
+    int parts[4];
+    CHECK_RC(kin_clearance(a, NULL, 0.5, &c, parts, NULL), KIN_OK);
+    CHECK(isinf(c) && parts[0] == -1);
+    CHECK_RC(kin_clearance(a, NULL, 1.5, &c, parts, NULL), KIN_OK);
+    CHECK_CLOSE(c, 1.0, TOL);
+    CHECK(parts[0] == KIN_PART_BAR);
     double xn[] = {-1, 0, 0, 1, 0, 0, 0, -1, NAN, 0, 1, 1};
-    CHECK_RC(kin_clearance(a, xn, &c, NULL, NULL), KIN_EGEOM);
+    CHECK_RC(kin_clearance(a, xn, INFINITY, &c, NULL, NULL), KIN_EGEOM);
     /* after the failures the handle is unchanged: no panels, zero thickness */
     CHECK(kin_has_contact_model(a) == 0);
-    CHECK_RC(kin_clearance(a, NULL, &c, NULL, NULL), KIN_OK);
+    CHECK_RC(kin_clearance(a, NULL, INFINITY, &c, NULL, NULL), KIN_OK);
     CHECK_CLOSE(c, 1.0, TOL);
     kin_assembly_free(a);
 }

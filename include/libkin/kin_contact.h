@@ -80,9 +80,12 @@ KIN_API int kin_has_contact_model(const kin_assembly *a);
 
 /* The smallest clearance between two parts that share no joint, at the
  * configuration xyz (njoints*dim, joint-major; NULL = the handle's current
- * one). Writes:
+ * one), if it is below cutoff (INFINITY: the smallest, wherever it is; a
+ * finite cutoff, such as a contact margin, lets the tree skip every pair
+ * that is at least that far apart, which is what makes a check per step
+ * cheap). Writes:
  *  clearance  the smallest clearance (see CLEARANCE above); +INFINITY when
- *             no two parts are apart from each other (every pair adjacent).
+ *             no pair is below cutoff (or every pair is adjacent).
  *  parts      (may be NULL) 4 ints: kind and index of the first part, kind
  *             and index of the second (enum kin_part_kind; index among the
  *             bars or among the panels); -1s when clearance is +INFINITY.
@@ -94,9 +97,10 @@ KIN_API int kin_has_contact_model(const kin_assembly *a);
  * triangles, built again at each call in O(n log n), prunes pairs. No
  * allocation (the workspace is made by kin_set_panels or kin_set_thickness,
  * or here, the first time, for a model that has neither).
- * Returns KIN_OK, KIN_ENULL, KIN_EGEOM (a non-finite coordinate),
- * KIN_ENOMEM (first call only). */
-KIN_API int kin_clearance(kin_assembly *a, const double *xyz, double *clearance, int *parts, double *points);
+ * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (cutoff NaN), KIN_EGEOM (a
+ * non-finite coordinate), KIN_ENOMEM (first call only). */
+KIN_API int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *clearance, int *parts,
+                          double *points);
 
 #ifdef __cplusplus
 }

@@ -16,6 +16,9 @@
 
 #define LEAF_MAX 4
 
+static inline double dmin(double x, double y) { return x < y ? x : y; }
+static inline double dmax(double x, double y) { return x > y ? x : y; }
+
 static void ct_release(struct kin_contact *c)
 {
     if (!c) return;
@@ -285,10 +288,10 @@ static int build(struct kin_contact *c, int start, int count, int *nn)
     for (int q = start; q < start + count; ++q) {
         int p = c->order[q];
         for (int k = 0; k < 3; ++k) {
-            N->lo[k] = fmin(N->lo[k], c->plo[3 * p + k]);
-            N->hi[k] = fmax(N->hi[k], c->phi[3 * p + k]);
-            clo[k] = fmin(clo[k], c->cen[3 * p + k]);
-            chi[k] = fmax(chi[k], c->cen[3 * p + k]);
+            N->lo[k] = dmin(N->lo[k], c->plo[3 * p + k]);
+            N->hi[k] = dmax(N->hi[k], c->phi[3 * p + k]);
+            clo[k] = dmin(clo[k], c->cen[3 * p + k]);
+            chi[k] = dmax(chi[k], c->cen[3 * p + k]);
         }
     }
     if (count <= LEAF_MAX) {
@@ -313,7 +316,7 @@ static double box_gap(const kin__bvh_node *A, const kin__bvh_node *B)
 {
     double s = 0.0;
     for (int k = 0; k < 3; ++k) {
-        double g = fmax(A->lo[k] - B->hi[k], B->lo[k] - A->hi[k]);
+        double g = dmax(A->lo[k] - B->hi[k], B->lo[k] - A->hi[k]);
         if (g > 0.0) s += g * g;
     }
     return sqrt(s);
@@ -343,6 +346,62 @@ static int adjacent(const kin_assembly *a, int pa, int pb)
     return 0;
 }
 
+/* gap of the projections of nv points V (3 each, by index) and nw points W
+ * on axis u (any nonzero vector; divided by its length): a lower bound of
+ * the distance of their convex hulls */
+static double axis_gap(const double *P, const int *v, int nv, const int *w, int nw, const double *u)
+{
+    double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    if (!(uu > 0.0)) return 0.0;
+    double lo1 = INFINITY, hi1 = -INFINITY, lo2 = INFINITY, hi2 = -INFINITY;
+    for (int i = 0; i < nv; ++i) {
+        const double *x = P + 3 * v[i];
+        double t = x[0] * u[0] + x[1] * u[1] + x[2] * u[2];
+        lo1 = dmin(lo1, t), hi1 = dmax(hi1, t);
+    }
+    for (int i = 0; i < nw; ++i) {
+        const double *x = P + 3 * w[i];
+        double t = x[0] * u[0] + x[1] * u[1] + x[2] * u[2];
+        lo2 = dmin(lo2, t), hi2 = dmax(hi2, t);
+    }
+    return dmax(lo2 - hi1, lo1 - hi2) / sqrt(uu);
+}
+
+/* A cheap lower bound of the distance of primitives p and q (separating
+ * axes: the line of their centres; for a triangle its normal and the
+ * in-plane normals of its sides), so that most pairs near each other but
+ * apart never reach the exact test */
+static double prim_lower_bound(const struct kin_contact *c, int p, int q)
+{
+    const double *P = c->pts;
+    const int *vp = c->prim_v + 3 * p, *vq = c->prim_v + 3 * q;
+    int np = vp[2] >= 0 ? 3 : 2, nq = vq[2] >= 0 ? 3 : 2;
+    double cp[3] = {0, 0, 0}, cq[3] = {0, 0, 0}, u[3];
+    for (int k = 0; k < 3; ++k) {
+        for (int i = 0; i < np; ++i) cp[k] += P[3 * vp[i] + k] / np;
+        for (int i = 0; i < nq; ++i) cq[k] += P[3 * vq[i] + k] / nq;
+        u[k] = cq[k] - cp[k];
+    }
+    double best = axis_gap(P, vp, np, vq, nq, u);
+    for (int side = 0; side < 2; ++side) {
+        const int *t = side ? vq : vp;
+        if ((side ? nq : np) < 3) continue;
+        const double *a = P + 3 * t[0], *b = P + 3 * t[1], *cc = P + 3 * t[2];
+        double e[3][3], n[3];
+        for (int k = 0; k < 3; ++k) e[0][k] = b[k] - a[k], e[1][k] = cc[k] - b[k], e[2][k] = a[k] - cc[k];
+        n[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1];
+        n[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
+        n[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
+        best = dmax(best, axis_gap(P, vp, np, vq, nq, n));
+        for (int i = 0; i < 3; ++i) {
+            double m[3] = {e[i][1] * n[2] - e[i][2] * n[1], e[i][2] * n[0] - e[i][0] * n[2],
+                           e[i][0] * n[1] - e[i][1] * n[0]};
+            best = dmax(best, axis_gap(P, vp, np, vq, nq, m));
+        }
+    }
+    return best;
+}
+
 /* exact clearance of primitives p, q (centre distance minus radii) */
 static double prim_clearance(const struct kin_contact *c, int p, int q, double *cp, double *cq)
 {
@@ -361,11 +420,12 @@ static double prim_clearance(const struct kin_contact *c, int p, int q, double *
     return d - c->prim_r[p] - c->prim_r[q];
 }
 
-int kin_clearance(kin_assembly *a, const double *xyz, double *clearance, int *parts, double *points)
+int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *clearance, int *parts, double *points)
 {
     if (!a || !clearance) return a ? kin__fail(a, KIN_ENULL, "clearance is NULL") : KIN_ENULL;
     *clearance = INFINITY;
     if (parts) parts[0] = parts[1] = parts[2] = parts[3] = -1;
+    if (isnan(cutoff)) return kin__fail(a, KIN_EINVAL, "clearance: cutoff is NaN");
     if (!xyz) xyz = a->xyz;
     int dim = a->dim;
     for (int i = 0; i < a->nj * dim; ++i)
@@ -384,19 +444,19 @@ int kin_clearance(kin_assembly *a, const double *xyz, double *clearance, int *pa
             double lo = INFINITY, hi = -INFINITY;
             for (int q = 0; q < nv; ++q) {
                 double x = c->pts[3 * v[q] + k];
-                lo = fmin(lo, x), hi = fmax(hi, x);
+                lo = dmin(lo, x), hi = dmax(hi, x);
             }
             c->plo[3 * p + k] = lo - c->prim_r[p];
             c->phi[3 * p + k] = hi + c->prim_r[p];
             c->cen[3 * p + k] = 0.5 * (lo + hi);
         }
         c->order[p] = p;
-        rmax = fmax(rmax, c->prim_r[p]);
+        rmax = dmax(rmax, c->prim_r[p]);
     }
     int nn = 0;
     build(c, 0, c->nprim, &nn);
     /* the pair walk, nearer pairs first */
-    double best = INFINITY, bp[3] = {0, 0, 0}, bq[3] = {0, 0, 0}, xp[3], xq[3];
+    double best = cutoff, bp[3] = {0, 0, 0}, bq[3] = {0, 0, 0}, xp[3], xq[3];
     int ba = -1, bb = -1, top = 0;
     int *st = c->stack;
     st[0] = 0, st[1] = 0, top = 1;
@@ -420,10 +480,11 @@ int kin_clearance(kin_assembly *a, const double *xyz, double *clearance, int *pa
                     /* the primitives' own boxes first */
                     double s = 0.0;
                     for (int k = 0; k < 3; ++k) {
-                        double g = fmax(c->plo[3 * p + k] - c->phi[3 * q + k], c->plo[3 * q + k] - c->phi[3 * p + k]);
+                        double g = dmax(c->plo[3 * p + k] - c->phi[3 * q + k], c->plo[3 * q + k] - c->phi[3 * p + k]);
                         if (g > 0.0) s += g * g;
                     }
                     if ((s > 0.0 ? sqrt(s) : -c->prim_r[p] - c->prim_r[q]) >= best) continue;
+                    if (prim_lower_bound(c, p, q) - c->prim_r[p] - c->prim_r[q] >= best) continue;
                     double d = prim_clearance(c, p, q, xp, xq);
                     if (d < best) {
                         best = d;
@@ -452,7 +513,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double *clearance, int *pa
         st[2 * top] = first, st[2 * top + 1] = o, ++top;
         st[2 * top] = second, st[2 * top + 1] = o, ++top;
     }
-    *clearance = best;
+    *clearance = ba >= 0 ? best : INFINITY;
     if (ba >= 0) {
         if (parts) {
             parts[0] = ba < a->nb ? KIN_PART_BAR : KIN_PART_PANEL;

@@ -384,5 +384,6 @@ int kin_set_thickness(kin_assembly *a, double t_default, const double *bar_radiu
 int kin_get_thickness(const kin_assembly *a, double *t_default, double *bar_radius,
                               double *panel_thickness);
 int kin_has_contact_model(const kin_assembly *a);
-int kin_clearance(kin_assembly *a, const double *xyz, double *clearance, int *parts, double *points);
+int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *clearance, int *parts,
+                          double *points);
 '''

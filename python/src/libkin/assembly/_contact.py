@@ -132,13 +132,16 @@ class ContactMixin:
         """True when the model carries panels or a nonzero thickness."""
         return bool(lib.kin_has_contact_model(self._h) == 1)
 
-    def clearance(self, coords: Optional[npt.ArrayLike] = None) -> Clearance:
+    def clearance(self, coords: Optional[npt.ArrayLike] = None, cutoff: float = np.inf) -> Clearance:
         """The smallest clearance between parts that share no joint.
 
         Parameters
         ----------
         coords : array_like, shape (njoints, dim), optional
             A configuration to measure; None = the current one.
+        cutoff : float, optional
+            Resolve only clearances below this (a contact margin: much
+            cheaper); value is inf when none is below it.
 
         Returns
         -------
@@ -148,7 +151,7 @@ class ContactMixin:
         parts = ffi.new("int[4]")
         pts = np.zeros((2, self.dim))
         x = None if coords is None else as_c_array(coords, np.float64, (self.njoints, self.dim), "coords")
-        self._check(lib.kin_clearance(self._h, ffi.NULL if x is None else read_ptr(x, "double *"), c, parts,
+        self._check(lib.kin_clearance(self._h, ffi.NULL if x is None else read_ptr(x, "double *"), float(cutoff), c, parts,
                                       write_ptr(pts, "double *")), "clearance")
         named: Tuple[Tuple[str, int], ...] = ()
         if parts[0] >= 0:
