@@ -318,8 +318,60 @@ static void errors(void)
     kin_assembly_free(a);
 }
 
+/* the JSON model: panels, thickness and radii load, save and load back; every bad field is KIN_EFORMAT */
+static void json_cases(void)
+{
+    const char *head = "{\"dimension\": 3, \"joints\": [{\"xyz\": [0,0,0]}, {\"xyz\": [1,0,0]}, {\"xyz\": [0,1,0]},"
+                       " {\"xyz\": [0.2,0.2,-1]}, {\"xyz\": [0.2,0.2,1]}], \"bars\": [{\"joints\": [0,1]}, {\"joints\": [1,2]},"
+                       " {\"joints\": [2,0]}, {\"joints\": [3,4]%s}]%s}";
+    const char *good[2] = {", \"radius\": 0.002", ", \"thickness\": 0.01, \"panels\": [{\"joints\": [0,1,2], \"thickness\": 0.02}]"};
+    char text[1024], err[512];
+    snprintf(text, sizeof text, head, good[0], good[1]);
+    kin_assembly *a = NULL, *b = NULL;
+    CHECK_RC(kin_assembly_load_string(text, strlen(text), &a, err, sizeof err), KIN_OK);
+    if (a) {
+        double c, c2, t0, rb[4], tp[1];
+        CHECK(kin_npanels(a) == 1);
+        CHECK_RC(kin_get_thickness(a, &t0, rb, tp), KIN_OK);
+        CHECK(t0 == 0.01 && rb[0] == 0.005 && rb[3] == 0.002 && tp[0] == 0.02);
+        CHECK_RC(kin_clearance(a, NULL, INFINITY, &c, NULL, NULL), KIN_OK);
+        CHECK_CLOSE(c, -0.012, TOL);
+        char *out = NULL;
+        size_t n = 0;
+        CHECK_RC(kin_assembly_save_string(a, NULL, &out, &n, err, sizeof err), KIN_OK);
+        CHECK_RC(kin_assembly_load_string(out, n, &b, err, sizeof err), KIN_OK);
+        if (b) {
+            CHECK_RC(kin_clearance(b, NULL, INFINITY, &c2, NULL, NULL), KIN_OK);
+            CHECK(c2 == c && kin_npanels(b) == 1);
+        }
+        kin_free_string(out);
+        kin_assembly_free(b);
+    }
+    kin_assembly_free(a);
+    const char *bad[][2] = {
+        {"", ", \"panels\": 3"},
+        {"", ", \"panels\": [3]"},
+        {"", ", \"panels\": [{\"joints\": [0,1]}]"},
+        {"", ", \"panels\": [{\"joints\": [0,1,1]}]"},
+        {"", ", \"panels\": [{\"joints\": [0,1,9]}]"},
+        {"", ", \"panels\": [{\"joints\": [0,1,2.5]}]"},
+        {"", ", \"panels\": [{\"joints\": [0,1,2], \"index\": 1}]"},
+        {"", ", \"panels\": [{\"joints\": [0,1,2], \"thickness\": -1}]"},
+        {"", ", \"thickness\": -0.5"},
+        {"", ", \"thickness\": \"thick\""},
+        {", \"radius\": -1", ""},
+        {", \"radius\": true", ""},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        snprintf(text, sizeof text, head, bad[i][0], bad[i][1]);
+        CHECK_RC(kin_assembly_load_string(text, strlen(text), &a, err, sizeof err), KIN_EFORMAT);
+        CHECK(a == NULL);
+    }
+}
+
 int main(void)
 {
+    json_cases();
     bars_cases();
     panel_cases();
     triangle_cases();

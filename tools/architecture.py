@@ -477,7 +477,7 @@ def picture(out, build):
                     ax.text(cx, y - 0.06 - 0.16 * k, line, ha="center", va="center", fontsize=7.3, color="#444444")
                 pos[(c_side, g)] = (cx, y)
 
-    row(C_LAYERS, 0.5, 2.2, 0.1, 7.3, True, "#dbe9f6")
+    row(C_LAYERS, 0.5, 7.0 / max(len(C_LAYERS) - 1, 1), 0.1, 7.3, True, "#dbe9f6")
     row([[g for g in grp if pcount.get(g)] for grp in PY_LAYERS if any(pcount.get(g) for g in grp)],
         0.5, 1.0, 8.0, 15.9, False, "#fde9d0")
 

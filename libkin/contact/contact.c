@@ -24,7 +24,7 @@ static void ct_release(struct kin_contact *c)
     if (!c) return;
     free(c->poff), free(c->pj), free(c->rbar), free(c->tpan);
     free(c->prim_part), free(c->prim_v), free(c->prim_r), free(c->cen), free(c->plo), free(c->phi);
-    free(c->order), free(c->node), free(c->stack), free(c->pts);
+    free(c->order), free(c->node), free(c->lp), free(c->stack), free(c->pts);
     free(c);
 }
 
@@ -55,9 +55,10 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->phi = malloc(sizeof(double) * 3 * N);
     c->order = malloc(sizeof(int) * N);
     c->node = malloc(sizeof(kin__bvh_node) * (2 * N));
+    c->lp = malloc(sizeof(kin__leafprim) * (N ? N : 1));
     c->stack = malloc(sizeof(int) * 2 * (size_t)c->stack_cap);
     c->pts = malloc(sizeof(double) * 3 * (size_t)a->nj);
-    if (!c->prim_part || !c->prim_v || !c->prim_r || !c->cen || !c->plo || !c->phi || !c->order || !c->node ||
+    if (!c->prim_part || !c->prim_v || !c->prim_r || !c->cen || !c->plo || !c->phi || !c->order || !c->node || !c->lp ||
         !c->stack || !c->pts)
         return KIN_ENOMEM;
     int p = 0;
@@ -371,10 +372,10 @@ static double axis_gap(const double *P, const int *v, int nv, const int *w, int 
  * axes: the line of their centres; for a triangle its normal and the
  * in-plane normals of its sides), so that most pairs near each other but
  * apart never reach the exact test */
-static double prim_lower_bound(const struct kin_contact *c, int p, int q)
+static double prim_lower_bound(const struct kin_contact *c, const kin__leafprim *Lp, const kin__leafprim *Lq)
 {
     const double *P = c->pts;
-    const int *vp = c->prim_v + 3 * p, *vq = c->prim_v + 3 * q;
+    const int *vp = Lp->v, *vq = Lq->v;
     int np = vp[2] >= 0 ? 3 : 2, nq = vq[2] >= 0 ? 3 : 2;
     double cp[3] = {0, 0, 0}, cq[3] = {0, 0, 0}, u[3];
     for (int k = 0; k < 3; ++k) {
@@ -403,10 +404,11 @@ static double prim_lower_bound(const struct kin_contact *c, int p, int q)
 }
 
 /* exact clearance of primitives p, q (centre distance minus radii) */
-static double prim_clearance(const struct kin_contact *c, int p, int q, double *cp, double *cq)
+static double prim_clearance(const struct kin_contact *c, const kin__leafprim *Lp, const kin__leafprim *Lq,
+                             double *cp, double *cq)
 {
     const double *P = c->pts;
-    const int *vp = c->prim_v + 3 * p, *vq = c->prim_v + 3 * q;
+    const int *vp = Lp->v, *vq = Lq->v;
     double d;
     int tp = vp[2] >= 0, tq = vq[2] >= 0;
     if (!tp && !tq) d = kin__dist_seg_seg(P + 3 * vp[0], P + 3 * vp[1], P + 3 * vq[0], P + 3 * vq[1], cp, cq);
@@ -417,7 +419,7 @@ static double prim_clearance(const struct kin_contact *c, int p, int q, double *
         const double *B[3] = {P + 3 * vq[0], P + 3 * vq[1], P + 3 * vq[2]};
         d = kin__dist_tri_tri(A, B, cp, cq);
     }
-    return d - c->prim_r[p] - c->prim_r[q];
+    return d - Lp->r - Lq->r;
 }
 
 int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *clearance, int *parts, double *points)
@@ -455,6 +457,13 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
     }
     int nn = 0;
     build(c, 0, c->nprim, &nn);
+    for (int q = 0; q < c->nprim; ++q) {
+        int p = c->order[q];
+        kin__leafprim *L = &c->lp[q];
+        for (int k = 0; k < 3; ++k) L->lo[k] = c->plo[3 * p + k], L->hi[k] = c->phi[3 * p + k], L->v[k] = c->prim_v[3 * p + k];
+        L->r = c->prim_r[p];
+        L->part = c->prim_part[p];
+    }
     /* the pair walk, nearer pairs first */
     double best = cutoff, bp[3] = {0, 0, 0}, bq[3] = {0, 0, 0}, xp[3], xq[3];
     int ba = -1, bb = -1, top = 0;
@@ -474,18 +483,18 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
             for (int x = U->start; x < U->start + U->count; ++x) {
                 int y0 = u == v ? x + 1 : V->start;
                 for (int y = y0; y < V->start + V->count; ++y) {
-                    int p = c->order[x], q = c->order[y];
-                    int pa = c->prim_part[p], pb = c->prim_part[q];
-                    if (adjacent(a, pa, pb)) continue;
-                    /* the primitives' own boxes first */
+                    const kin__leafprim *Lp = &c->lp[x], *Lq = &c->lp[y];
+                    int pa = Lp->part, pb = Lq->part;
+                    /* the primitives' own boxes first, then adjacency */
                     double s = 0.0;
                     for (int k = 0; k < 3; ++k) {
-                        double g = dmax(c->plo[3 * p + k] - c->phi[3 * q + k], c->plo[3 * q + k] - c->phi[3 * p + k]);
+                        double g = dmax(Lp->lo[k] - Lq->hi[k], Lq->lo[k] - Lp->hi[k]);
                         if (g > 0.0) s += g * g;
                     }
-                    if ((s > 0.0 ? sqrt(s) : -c->prim_r[p] - c->prim_r[q]) >= best) continue;
-                    if (prim_lower_bound(c, p, q) - c->prim_r[p] - c->prim_r[q] >= best) continue;
-                    double d = prim_clearance(c, p, q, xp, xq);
+                    if ((s > 0.0 ? sqrt(s) : -Lp->r - Lq->r) >= best) continue;
+                    if (adjacent(a, pa, pb)) continue;
+                    if (prim_lower_bound(c, Lp, Lq) - Lp->r - Lq->r >= best) continue;
+                    double d = prim_clearance(c, Lp, Lq, xp, xq);
                     if (d < best) {
                         best = d;
                         int sw = pa > pb;

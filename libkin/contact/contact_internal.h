@@ -12,6 +12,15 @@ typedef struct kin__bvh_node {
     int left, right, start, count;
 } kin__bvh_node;
 
+/* A primitive as the tree's leaves use it, stored in tree order (the walk
+ * reads neighbours from neighbouring memory) */
+typedef struct kin__leafprim {
+    double lo[3], hi[3]; /* box grown by r */
+    double r;            /* radius */
+    int part;            /* bar k or nb + panel */
+    int v[3];            /* joints (a bar's third is -1) */
+} kin__leafprim;
+
 struct kin_contact {
     /* the model: panels (CSR) and thicknesses (entries < 0: the default) */
     int np;
@@ -30,6 +39,7 @@ struct kin_contact {
     double *plo, *phi; /* 3 + 3 per primitive: its box, grown by its radius */
     int *order;        /* nprim primitive indices, grouped by leaf */
     kin__bvh_node *node; /* up to 2*nprim - 1 */
+    kin__leafprim *lp;   /* nprim: the primitives in tree order (order[]) */
     int *stack;        /* 2 * stack_cap node indices of the pair traversal */
     int stack_cap;
     double *pts;       /* nj*3 points of the configuration */

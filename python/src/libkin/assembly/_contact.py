@@ -110,7 +110,16 @@ class ContactMixin:
     def set_thickness(self, default: float, bar_radii: Optional[npt.ArrayLike] = None,
                       panel_thicknesses: Optional[npt.ArrayLike] = None) -> None:
         """Set the model-wide thickness and, optionally, each bar's radius and
-        each panel's thickness (an entry < 0 means the default).
+        each panel's thickness.
+
+        Parameters
+        ----------
+        default : float
+            The model-wide thickness t0 >= 0 (a bar's radius t0/2, a panel's thickness t0).
+        bar_radii : array_like, shape (nbars,), optional
+            Each bar's radius; an entry < 0 means the default.
+        panel_thicknesses : array_like, shape (npanels,), optional
+            Each panel's thickness; an entry < 0 means the default.
 
         Raises
         ------
