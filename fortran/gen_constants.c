@@ -84,6 +84,8 @@ static void constants(void)
     P(KIN_SAIL_SUPPORT_AUTO) P(KIN_SAIL_SUPPORT_OPPOSITE) P(KIN_SAIL_SUPPORT_CENTRE)
     printf("! enum kin_sail_diagonal\n");
     P(KIN_SAIL_DIAG_FORWARD) P(KIN_SAIL_DIAG_BACKWARD)
+    printf("! kin_contact.h: enum kin_part_kind, the largest panel\n");
+    P(KIN_PART_BAR) P(KIN_PART_PANEL) P(KIN_PANEL_MAX_JOINTS)
     /* Fortran names are case-insensitive: KIN_VERSION_NUMBER and _STRING
      * would clash with the functions kin_version_number/_string. */
     printf("! kin_version.h: the version of the headers this module was made from;\n"

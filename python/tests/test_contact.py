@@ -136,7 +136,7 @@ def test_sails_random_and_paths(n, k, count):
     a = _sail(n, k, 0.0)
     x0 = a.coords
     scale = float(np.sqrt(np.mean(a.rest_lengths ** 2)))
-    missed = 0
+    missed = contacts = 0
     worst = 0.0
     for trial in range(count):
         if trial % 4 == 0:
@@ -157,8 +157,11 @@ def test_sails_random_and_paths(n, k, count):
         c = a.clearance(x).value
         ref = ref_model.clearance(x)
         missed += (ref <= 0.0) != (c <= 0.0) and abs(ref) > REL * scale
+        contacts += ref <= 0.0
         worst = max(worst, abs(c - ref) / max(abs(ref), scale))
         assert _agree(c, ref, scale), (trial, c, ref)
+    print(f"sail:{n}:{k}: {count} configurations, {contacts} contacts, {missed} missed, "
+          f"worst |c - ref| / max(|ref|, rms bar) {worst:.2e}")
     assert missed == 0
     assert worst <= REL
 
@@ -167,6 +170,7 @@ def test_sails_random_and_paths(n, k, count):
 def test_random_frameworks(dim):
     rng = np.random.default_rng(dim)
     count = 1800 if SLOW else 360
+    worst, contacts, done = 0.0, 0, 0
     for trial in range(count):
         nj = int(rng.integers(6, 14))
         x = rng.uniform(0, 1, size=(nj, dim))
@@ -193,6 +197,10 @@ def test_random_frameworks(dim):
             assert np.isinf(c)
             continue
         assert _agree(c, ref, 1.0), (trial, c, ref)
+        worst = max(worst, abs(c - ref) / max(abs(ref), 1.0))
+        contacts += ref <= 0.0
+        done += 1
+    print(f"frameworks {dim}D: {done} configurations, {contacts} contacts, worst {worst:.2e}")
 
 
 def test_special_cases():
