@@ -64,7 +64,7 @@ static void constants(void)
     P(KIN_HOMOTOPY_ENDPOINT_SIZE)
     printf("! enum kin_follow_event\n");
     P(KIN_FOLLOW_NONE) P(KIN_FOLLOW_BIFURCATION) P(KIN_FOLLOW_NEAR_MISS) P(KIN_FOLLOW_CLOSED_LOOP)
-    P(KIN_FOLLOW_LENGTH_LIMIT) P(KIN_FOLLOW_STEP_LIMIT) P(KIN_FOLLOW_FAILED)
+    P(KIN_FOLLOW_LENGTH_LIMIT) P(KIN_FOLLOW_STEP_LIMIT) P(KIN_FOLLOW_FAILED) P(KIN_FOLLOW_CONTACT)
     printf("! kin_symmetry.h: graph automorphisms tested at most\n");
     P(KIN_SYMMETRY_MAX_CANDIDATES)
     printf("! kin_io.h: largest model file kin_assembly_load reads\n");

@@ -168,7 +168,7 @@ module libkin
   public :: kin_sail_size, kin_model_sail
   public :: kin_symmetries, kin_mechanism_group
   public :: kin_set_panels, kin_npanels, kin_get_panels, kin_set_thickness, kin_get_thickness
-  public :: kin_has_contact_model, kin_clearance
+  public :: kin_has_contact_model, kin_clearance, kin_set_contact_events, kin_last_contact
   ! ---- Fortran strings and wrappers --------------------------------------
   public :: kin_version_string, kin_strerror, kin_status_name, kin_last_error
   public :: kinf_create, kinf_get_bars, kinf_get_fixed, kinf_free_index, kinf_model_sail
@@ -763,6 +763,21 @@ module libkin
       integer(c_int), intent(out) :: parts(4)
       real(c_double), intent(out) :: points(*)
       integer(c_int) :: kin_clearance
+    end function
+    function kin_set_contact_events(a, on, tol) bind(C, name='kin_set_contact_events')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int), value :: on
+      real(c_double), value :: tol
+      integer(c_int) :: kin_set_contact_events
+    end function
+    function kin_last_contact(a, clearance, parts, points, bracket) bind(C, name='kin_last_contact')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: a
+      real(c_double), intent(out) :: clearance, bracket
+      integer(c_int), intent(out) :: parts(4)
+      real(c_double), intent(out) :: points(*)
+      integer(c_int) :: kin_last_contact
     end function
   end interface
 

@@ -369,8 +369,51 @@ static void json_cases(void)
     }
 }
 
+/* contact as an event of kin_follow_event: a parallelogram swings into a
+ * fixed bar; the first contact is at 30 degrees, where joint 1 reaches x = -0.5 */
+static void follow_cases(void)
+{
+    double x[] = {0, 0, 0, 1, 1, 1, 1, 0, -0.5, 0.5, -0.5, 2};
+    unsigned char fixed[] = {1, 1, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1};
+    int b[] = {0, 1, 1, 2, 2, 3, 4, 5};
+    kin_assembly *a = NULL;
+    CHECK_RC(kin_assembly_create(2, 6, x, fixed, 4, b, NULL, &a, NULL, 0), KIN_OK);
+    if (!a) return;
+    kin_assembly *off = NULL;
+    CHECK_RC(kin_assembly_clone(a, &off), KIN_OK);
+    double dir[] = {-1, 0, -1, 0}, c, pts[4], br;
+    int parts[4];
+    CHECK_RC(kin_last_contact(a, &c, parts, pts, &br), KIN_ESTATE);
+    CHECK_RC(kin_set_contact_events(a, 1, 0.0), KIN_EINVAL);
+    CHECK_RC(kin_set_contact_events(NULL, 1, 1e-9), KIN_ENULL);
+    CHECK_RC(kin_set_contact_events(a, 1, 1e-9), KIN_OK);
+    kin_follow_info info = {.size = sizeof info};
+    CHECK_RC(kin_follow_event(a, dir, NULL, &info), KIN_OK);
+    CHECK(info.event == KIN_FOLLOW_CONTACT);
+    CHECK_RC(kin_last_contact(a, &c, parts, pts, &br), KIN_OK);
+    CHECK(c <= 64 * DBL_EPSILON * 1.2 && br <= 1e-9 * 1.2);
+    CHECK((parts[1] == 3 || parts[3] == 3) && parts[0] == KIN_PART_BAR && parts[2] == KIN_PART_BAR);
+    double y[12];
+    kin_get_coords(a, y);
+    CHECK_CLOSE(y[2], -0.5, 1e-8);
+    CHECK_CLOSE(y[3], sqrt(0.75), 1e-8);
+    CHECK(kin_max_strain(a) < 1e-10);
+    /* the same path without contact events runs on to its bifurcation (flat, at 90 degrees) */
+    kin_follow_info info2 = {.size = sizeof info2};
+    CHECK_RC(kin_follow_event(off, dir, NULL, &info2), KIN_OK);
+    CHECK(info2.event == KIN_FOLLOW_BIFURCATION);
+    CHECK_RC(kin_last_contact(off, &c, NULL, NULL, NULL), KIN_ESTATE);
+    /* a follow that starts in contact is followed as before (no event) */
+    kin_follow_info info3 = {.size = sizeof info3};
+    CHECK_RC(kin_follow_event(a, dir, NULL, &info3), KIN_OK);
+    CHECK(info3.event != KIN_FOLLOW_CONTACT);
+    kin_assembly_free(off);
+    kin_assembly_free(a);
+}
+
 int main(void)
 {
+    follow_cases();
     json_cases();
     bars_cases();
     panel_cases();

@@ -102,6 +102,33 @@ KIN_API int kin_has_contact_model(const kin_assembly *a);
 KIN_API int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *clearance, int *parts,
                           double *points);
 
+/* Contact as an event of kin_follow_event (kin_follow.h): on != 0 makes
+ * every later follow of this handle stop at the first point of its path
+ * where two parts that share no joint have clearance <= 0, with event
+ * KIN_FOLLOW_CONTACT, provided the follow's start point is free of contact
+ * (a start in contact is followed as before). Contact here is clearance
+ * <= 64 DBL_EPSILON x the RMS rest length (segments that cross in a plane,
+ * or a bar through a panel, are at distance zero only up to rounding). The
+ * check is made at each accepted step: two zero-thickness bars in 3D that
+ * pass through each other touch only at an instant and can be missed
+ * between two steps (give them a radius to catch it); parts that overlap
+ * over an interval of the path shorter than a step can be missed too. The contact is located along
+ * the path by bisection of the last step's chord, each trial point brought
+ * back onto the path by kin_relax, until the bracket is at most tol x the
+ * RMS rest length (free coordinates); the assembly is left at the first
+ * point in contact found (its path state reset, as by kin_relax). Off by
+ * default (nothing changes for a handle that never calls this). A clone
+ * keeps the setting. Returns KIN_OK, KIN_ENULL, KIN_EINVAL (tol not in
+ * (0, 1]), KIN_ENOMEM. */
+KIN_API int kin_set_contact_events(kin_assembly *a, int on, double tol);
+
+/* The contact the last follow located (event KIN_FOLLOW_CONTACT): its
+ * clearance (<= 0), parts and closest points (as kin_clearance), and the
+ * bracket left (free-coordinate distance between the last point free of
+ * contact and the point reported). Any output may be NULL. Returns KIN_OK,
+ * KIN_ENULL, KIN_ESTATE (no contact located by the last follow). */
+KIN_API int kin_last_contact(const kin_assembly *a, double *clearance, int *parts, double *points, double *bracket);
+
 #ifdef __cplusplus
 }
 #endif

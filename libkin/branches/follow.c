@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "branches/contact_event.h"
 #include "model/internal.h"
 #include "path/path.h"
 #include "locate/locate.h"
@@ -107,6 +108,9 @@ static int after_step(void *user, const kin_assembly *a)
     } else if (c->o->max_length > 0.0 && c->length >= c->o->max_length) {
         c->reason = KIN_FOLLOW_LENGTH_LIMIT;
         stop = 1;
+    } else if (kin__contact_event_check(c->a, c->xp)) {
+        c->reason = KIN_FOLLOW_CONTACT;
+        stop = 1;
     }
     memcpy(c->xp, c->xq, sizeof(double) * (size_t)nf);
     return stop;
@@ -177,6 +181,7 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
     c.xq = c.xp + nf;
     c.xpp = c.xq + nf;
     kin__gather(a, a->xyz, c.xs);
+    kin__contact_event_arm(a);
     memcpy(c.xp, c.xs, sizeof(double) * (size_t)nf);
     memcpy(c.xpp, c.xs, sizeof(double) * (size_t)nf);
     int attempts = max_attempts(o);
@@ -280,6 +285,8 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
         rc = KIN_OK;
         if (c.reason) {
             info->event = c.reason;
+            if (c.reason == KIN_FOLLOW_CONTACT && (rc = kin__contact_event_locate(a)) != KIN_OK)
+                info->event = KIN_FOLLOW_FAILED;
             break;
         }
         if (li.event == KIN_EVENT_NONE) {

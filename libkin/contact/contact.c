@@ -24,7 +24,7 @@ static void ct_release(struct kin_contact *c)
     if (!c) return;
     free(c->poff), free(c->pj), free(c->rbar), free(c->tpan);
     free(c->prim_part), free(c->prim_v), free(c->prim_r), free(c->cen), free(c->plo), free(c->phi);
-    free(c->order), free(c->node), free(c->lp), free(c->stack), free(c->pts);
+    free(c->order), free(c->node), free(c->lp), free(c->ev_prev), free(c->ev_x), free(c->ev_xyz), free(c->stack), free(c->pts);
     free(c);
 }
 
@@ -58,8 +58,12 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->lp = malloc(sizeof(kin__leafprim) * (N ? N : 1));
     c->stack = malloc(sizeof(int) * 2 * (size_t)c->stack_cap);
     c->pts = malloc(sizeof(double) * 3 * (size_t)a->nj);
+    c->ev_prev = malloc(sizeof(double) * ((size_t)a->nf + 1));
+    c->ev_x = malloc(sizeof(double) * (2 * (size_t)a->nf + 1));
+    c->ev_xyz = malloc(sizeof(double) * 2 * (size_t)a->nj * (size_t)a->dim);
+    c->ev_tol = 1e-9;
     if (!c->prim_part || !c->prim_v || !c->prim_r || !c->cen || !c->plo || !c->phi || !c->order || !c->node || !c->lp ||
-        !c->stack || !c->pts)
+        !c->stack || !c->pts || !c->ev_prev || !c->ev_x || !c->ev_xyz)
         return KIN_ENOMEM;
     int p = 0;
     for (int k = 0; k < a->nb; ++k, ++p) {
@@ -133,6 +137,7 @@ static int ct_clone(kin_assembly *dst, const kin_assembly *src)
     struct kin_contact *c;
     int rc = ct_make(dst, s->np, s->poff, s->pj, s->t0, s->rbar, s->tpan, &c);
     if (rc) return rc;
+    c->ev_on = s->ev_on, c->ev_tol = s->ev_tol;
     if (dst->ct_free) dst->ct_free(dst);
     dst->ct = c;
     dst->ct_free = ct_free;
@@ -142,6 +147,7 @@ static int ct_clone(kin_assembly *dst, const kin_assembly *src)
 
 static void ct_install(kin_assembly *a, struct kin_contact *c)
 {
+    if (a->ct) c->ev_on = a->ct->ev_on, c->ev_tol = a->ct->ev_tol; /* the event setting stays */
     if (a->ct) ct_release(a->ct);
     a->ct = c;
     a->ct_free = ct_free;
@@ -253,6 +259,30 @@ int kin_has_contact_model(const kin_assembly *a)
     for (int k = 0; k < a->nb; ++k)
         if (c->rbar[k] > 0.0) return 1;
     return 0;
+}
+
+int kin_set_contact_events(kin_assembly *a, int on, double tol)
+{
+    if (!a) return KIN_ENULL;
+    if (!(tol > 0.0 && tol <= 1.0)) return kin__fail(a, KIN_EINVAL, "contact location tolerance %g not in (0, 1]", tol);
+    int rc = kin__contact_ensure(a);
+    if (rc) return rc;
+    a->ct->ev_on = on != 0;
+    a->ct->ev_tol = tol;
+    a->ct->ev_have = 0;
+    return KIN_OK;
+}
+
+int kin_last_contact(const kin_assembly *a, double *clearance, int *parts, double *points, double *bracket)
+{
+    if (!a) return KIN_ENULL;
+    const struct kin_contact *c = a->ct;
+    if (!c || !c->ev_have) return KIN_ESTATE;
+    if (clearance) *clearance = c->ev_clearance;
+    if (parts) memcpy(parts, c->ev_parts, sizeof c->ev_parts);
+    if (points) memcpy(points, c->ev_points, sizeof(double) * 2 * (size_t)a->dim);
+    if (bracket) *bracket = c->ev_bracket;
+    return KIN_OK;
 }
 
 /* ---- the tree ----------------------------------------------------------- */

@@ -43,6 +43,16 @@ struct kin_contact {
     int *stack;        /* 2 * stack_cap node indices of the pair traversal */
     int stack_cap;
     double *pts;       /* nj*3 points of the configuration */
+    /* contact as an event of kin_follow_event (branches/contact_event.c) */
+    int ev_on;         /* kin_set_contact_events */
+    double ev_tol;     /* location tolerance, a fraction of the RMS rest length */
+    int ev_armed;      /* the follow's start point was free of contact */
+    int ev_have;       /* a contact was located by the last follow */
+    double *ev_prev;   /* nf: the point before the step that reached contact */
+    double *ev_x;      /* 2*nf scratch */
+    double *ev_xyz;    /* 2*nj*dim: the first point in contact found, and a trial */
+    double ev_clearance, ev_bracket, ev_points[6];
+    int ev_parts[4];
 };
 
 /* Make a->ct (empty: no panels, thickness 0) if it does not exist, with the

@@ -272,3 +272,43 @@ def test_triangles_against_fcl():
             assert c == 0.0 or c <= REL
         else:
             assert abs(c - max(d, 0.0)) <= REL * max(d, 1.0), (trial, c, d)
+
+
+def test_fold_round_trip(tmp_path):
+    """A model's panels are written as FOLD faces and read back as panels."""
+    from libkin.io.fold import read_fold
+    from libkin.io.fold.writer import write_fold
+    a = _sail(6, 1, 0.0)
+    p = tmp_path / "s.fold"
+    write_fold(str(p), a)
+    b = read_fold(str(p))
+    assert sorted(map(sorted, b.panels)) == sorted(map(sorted, a.panels))
+    assert b.clearance().value == pytest.approx(a.clearance().value, rel=1e-12)
+    with pytest.raises(libkin.KinError):
+        a.panels = [[0, 1, "x"]]
+    with pytest.raises(libkin.KinError):
+        a.set_thickness(0.1, bar_radii=[0.1])
+    with pytest.raises(libkin.KinError):
+        a.clearance(np.zeros((2, 3)))
+
+
+def test_follow_stops_at_contact():
+    """A parallelogram swings into a fixed bar: with contact events the
+    follow stops where joint 1 reaches x = -0.5 (30 degrees), the two bars named;
+    without, it runs on to its flat bifurcation."""
+    x = np.array([[0, 0], [0, 1], [1, 1], [1, 0], [-0.5, 0.5], [-0.5, 2]], float)
+    fixed = np.array([[1, 1], [0, 0], [0, 0], [1, 1], [1, 1], [1, 1]], bool)
+    bars = [[0, 1], [1, 2], [2, 3], [4, 5]]
+    a = libkin.Assembly(x, bars, fixed=fixed)
+    b = a.clone()
+    a.set_contact_events(True, 1e-9)
+    ev = a.follow_event(direction=[-1, 0, -1, 0])
+    assert ev.event == "contact"
+    hit = a.last_contact()
+    assert ("bar", 3) in hit.parts and hit.value <= 64 * np.finfo(float).eps * 1.2
+    assert a.coords[1] == pytest.approx([-0.5, np.sqrt(0.75)], abs=1e-8)
+    assert b.follow_event(direction=[-1, 0, -1, 0]).event == "bifurcation"
+    with pytest.raises(libkin.KinError):
+        b.last_contact()
+    with pytest.raises(libkin.KinError):
+        a.set_contact_events(True, 0.0)

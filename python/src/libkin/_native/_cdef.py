@@ -322,7 +322,8 @@ enum kin_follow_event {
     KIN_FOLLOW_CLOSED_LOOP = 3,
     KIN_FOLLOW_LENGTH_LIMIT = 4,
     KIN_FOLLOW_STEP_LIMIT = 5,
-    KIN_FOLLOW_FAILED = 6
+    KIN_FOLLOW_FAILED = 6,
+    KIN_FOLLOW_CONTACT = 7
 };
 typedef struct kin_follow_options {
     size_t size;
@@ -386,4 +387,6 @@ int kin_get_thickness(const kin_assembly *a, double *t_default, double *bar_radi
 int kin_has_contact_model(const kin_assembly *a);
 int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *clearance, int *parts,
                           double *points);
+int kin_set_contact_events(kin_assembly *a, int on, double tol);
+int kin_last_contact(const kin_assembly *a, double *clearance, int *parts, double *points, double *bracket);
 '''

@@ -166,3 +166,37 @@ class ContactMixin:
         if parts[0] >= 0:
             named = ((PART_KINDS[parts[0]], int(parts[1])), (PART_KINDS[parts[2]], int(parts[3])))
         return Clearance(float(c[0]), named, pts)
+
+    def set_contact_events(self, on: bool = True, tol: float = 1e-9) -> None:
+        """Make `follow_event` stop at the first contact of two parts
+        (event 'contact'), located along the path (kin_set_contact_events).
+
+        Parameters
+        ----------
+        on : bool, optional
+            Watch for contact (off by default).
+        tol : float, optional
+            Location tolerance, a fraction of the RMS rest length, in (0, 1].
+        """
+        self._check(lib.kin_set_contact_events(self._h, int(bool(on)), float(tol)), "contact events")
+
+    def last_contact(self) -> Clearance:
+        """The contact the last `follow_event` located (event 'contact').
+
+        Returns
+        -------
+        Clearance
+            Its clearance (<= 0 up to rounding), the two parts and their closest points.
+
+        Raises
+        ------
+        StateError
+            The last follow located no contact.
+        """
+        c = ffi.new("double *")
+        br = ffi.new("double *")
+        parts = ffi.new("int[4]")
+        pts = np.zeros((2, self.dim))
+        self._check(lib.kin_last_contact(self._h, c, parts, write_ptr(pts, "double *"), br), "last contact")
+        named = ((PART_KINDS[parts[0]], int(parts[1])), (PART_KINDS[parts[2]], int(parts[3])))
+        return Clearance(float(c[0]), named, pts)
