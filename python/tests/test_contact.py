@@ -312,3 +312,20 @@ def test_follow_stops_at_contact():
         b.last_contact()
     with pytest.raises(libkin.KinError):
         a.set_contact_events(True, 0.0)
+
+
+def test_explore_marks_contact():
+    """explore(contact=True): the branch that swings into the fixed bar ends
+    in 'contact' (its message names the parts), the other one runs on to its
+    bifurcation: the atlas counts the contact-free branches."""
+    x = np.array([[0, 0], [0, 1], [1, 1], [1, 0], [-0.5, 0.5], [-0.5, 2]], float)
+    fixed = np.array([[1, 1], [0, 0], [0, 0], [1, 1], [1, 1], [1, 1]], bool)
+    a = libkin.Assembly(x, [[0, 1], [1, 2], [2, 3], [4, 5]], fixed=fixed)
+    at = libkin.explore(a, depth=1, contact=True)
+    events = sorted(e.event for e in at.edges)
+    assert events == ["bifurcation", "contact"]
+    hit = next(e for e in at.edges if e.event == "contact")
+    assert "bar 3" in hit.message
+    assert at.summary()["edge_events"].get("contact") == 1
+    plain = libkin.explore(a, depth=1)
+    assert "contact" not in {e.event for e in plain.edges}

@@ -60,7 +60,7 @@ def _say(progress: Progress, msg: str) -> None:
 class _Explorer:
     def __init__(self, a: Assembly, symmetric: Union[bool, str], executor: Any, progress: Progress,
                  max_length: float, seed: int, threads: int, symmetries: Optional[Sequence[Symmetry]],
-                 max_steps: int, samples: int, shards: Optional[int]) -> None:
+                 max_steps: int, samples: int, shards: Optional[int], contact: bool = False) -> None:
         from ..io.model_json import to_json
         self.a = a.clone()
         self.doc = to_json(a)
@@ -70,7 +70,7 @@ class _Explorer:
         self.tol = SAME_TOL * self.scale
         self.symmetric, self.executor, self.progress = symmetric, executor, progress
         self.max_length, self.seed, self.threads = max_length, seed, threads
-        self.max_steps, self.samples, self.shards = max_steps, samples, shards
+        self.max_steps, self.samples, self.shards, self.contact = max_steps, samples, shards, contact
         self.deadline: Optional[float] = None
         self.symmetry_note = ""
         # detect the symmetries at every expanded node (the C search), unless given
@@ -269,7 +269,8 @@ class _Explorer:
         """work: [(node, solution, sign, beta, direction)] -> results in order."""
         items = [{"model": self.text, "coords": self.nodes[nid].coords.tolist(),
                   "rank_tol": self._rank_tol(self.nodes[nid]), "direction": d.tolist(),
-                  "max_length": self.max_length, "max_steps": self.max_steps, "samples": self.samples}
+                  "max_length": self.max_length, "max_steps": self.max_steps, "samples": self.samples,
+                  "contact": self.contact}
                  for nid, _, _, _, d in work]
         if self.store is not None:
             return self.store.run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches",
@@ -295,7 +296,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
             progress: Progress = None, seed: int = 1, threads: int = 1,
             symmetries: Optional[Sequence[Symmetry]] = None, max_steps: int = 2000, samples: int = 2,
             shards: Optional[int] = None, follow_orbits: bool = False, store: Any = None, resume: bool = False,
-            stop: Optional[Callable[[], bool]] = None) -> Atlas:
+            stop: Optional[Callable[[], bool]] = None, contact: bool = False) -> Atlas:
     """Map the paths out of `start` and out of every bifurcation they reach.
 
     Parameters
@@ -311,25 +312,22 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     max_nodes : int
         No node is expanded once the atlas has this many.
     max_length : float, optional
-        Path-length budget of one branch (default: 10 times the model size,
-        the largest distance of a joint from the centroid, at least 1).
+        Path-length budget of one branch (default: 10 times the model size, the
+        largest distance of a joint from the centroid, at least 1).
     time_limit : float, optional
-        Seconds; no node is expanded and no branch started after it
-        (branches being followed complete; the others are left out and
-        their nodes say so).
+        Seconds; no node is expanded and no branch started after it (branches
+        being followed complete; the others are left out and their nodes say so).
     symmetric : bool or "auto"
         False: the complete solver at every bifurcation. True: only the
         branches that keep the node's symmetry (the proper rotations among
         the structure's symmetries that fix the node). "auto": symmetric
         where s > 12.
     executor : None, concurrent.futures.Executor or dask.distributed.Client
-        Where the branches (and the complete solver's shards) run; None:
-        in this process.
+        Where the branches (and the complete solver's shards) run; None: here.
     progress : None, bool or callable
         True: messages on stderr; a callable gets (done, total, what).
     seed : int
-        Seed of the complete solver (and of the combinations of an
-        overdetermined system).
+        Seed of the complete solver (and of an overdetermined system's combinations).
     threads : int
         Threads of each complete-solver task.
     symmetries : sequence of automorphisms.Symmetry, optional
@@ -352,6 +350,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         earlier run's (same model and settings: the same atlas) (store.py).
     stop : callable, optional
         Once true nothing more is started: the atlas so far (stats partial).
+    contact : bool
+        Stop each branch at the first contact of two parts (event 'contact').
 
     Returns
     -------
@@ -387,12 +387,12 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     if max_length is None:
         max_length = 10.0 * scale
     ex = _Explorer(a, symmetric, executor, progress, float(max_length), seed, threads, symmetries, int(max_steps),
-                   int(samples), shards)
+                   int(samples), shards, bool(contact))
     ex.deadline = None if time_limit is None else t0 + float(time_limit)
     from .store import open_store
     ex.store, ex.stop = open_store(store, resume, ex.text, [depth, max_nodes, float(max_length), time_limit, symmetric,
                                    seed, threads, symmetries is None and len(ex.syms), max_steps, samples, shards,
-                                   follow_orbits]), stop
+                                   follow_orbits] + ([True] if contact else [])), stop
     an = a.analyse()
     rec0 = {"m": an.m_internal, "m_rigid": an.m_rigid, "s": an.s,
             "v_r_rel": float(an.v_r / an.v_max) if an.v_max > 0 else 0.0}
@@ -462,9 +462,9 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     arrived: Dict[int, set[str]] = {}
     for e in ex.edges:
         arrived.setdefault(e.target, set()).add(e.event)
-    why = {tasks.BUDGET: "the path-length budget ran out here", tasks.NEAR_MISS: "the follower stopped at a "
-           "dip of v_r here", tasks.FAILURE: "following failed here", tasks.BIFURCATION: "located as a "
-           "bifurcation, but regular at the rank tolerance"}
+    why = {tasks.BUDGET: "the path-length budget ran out here", tasks.CONTACT: "two parts touch here",
+           tasks.NEAR_MISS: "the follower stopped at a dip of v_r here", tasks.FAILURE: "following failed here",
+           tasks.BIFURCATION: "located as a bifurcation, but regular at the rank tolerance"}
     for n in ex.nodes:
         if not n.expanded and not n.status:
             if n.kind == BIFURCATION:
