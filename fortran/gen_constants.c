@@ -64,7 +64,7 @@ static void constants(void)
     P(KIN_HOMOTOPY_ENDPOINT_SIZE)
     printf("! enum kin_follow_event\n");
     P(KIN_FOLLOW_NONE) P(KIN_FOLLOW_BIFURCATION) P(KIN_FOLLOW_NEAR_MISS) P(KIN_FOLLOW_CLOSED_LOOP)
-    P(KIN_FOLLOW_LENGTH_LIMIT) P(KIN_FOLLOW_STEP_LIMIT) P(KIN_FOLLOW_FAILED)
+    P(KIN_FOLLOW_LENGTH_LIMIT) P(KIN_FOLLOW_STEP_LIMIT) P(KIN_FOLLOW_FAILED) P(KIN_FOLLOW_CONTACT)
     P(KIN_FOLLOW_STEPS_SVD) P(KIN_FOLLOW_STEPS_CHEAP)
     printf("! kin_symmetry.h: graph automorphisms tested at most\n");
     P(KIN_SYMMETRY_MAX_CANDIDATES)
@@ -85,6 +85,8 @@ static void constants(void)
     P(KIN_SAIL_SUPPORT_AUTO) P(KIN_SAIL_SUPPORT_OPPOSITE) P(KIN_SAIL_SUPPORT_CENTRE)
     printf("! enum kin_sail_diagonal\n");
     P(KIN_SAIL_DIAG_FORWARD) P(KIN_SAIL_DIAG_BACKWARD)
+    printf("! kin_contact.h: enum kin_part_kind, the largest panel\n");
+    P(KIN_PART_BAR) P(KIN_PART_PANEL) P(KIN_PANEL_MAX_JOINTS)
     /* Fortran names are case-insensitive: KIN_VERSION_NUMBER and _STRING
      * would clash with the functions kin_version_number/_string. */
     printf("! kin_version.h: the version of the headers this module was made from;\n"

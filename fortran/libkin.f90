@@ -171,6 +171,8 @@ module libkin
   public :: kin_model_threebar, kin_sail_params_default, kin_sail_params_default_c, kin_sail_params_init
   public :: kin_sail_size, kin_model_sail
   public :: kin_symmetries, kin_mechanism_group
+  public :: kin_set_panels, kin_npanels, kin_get_panels, kin_set_thickness, kin_get_thickness
+  public :: kin_has_contact_model, kin_clearance, kin_set_contact_events, kin_last_contact
   ! ---- Fortran strings and wrappers --------------------------------------
   public :: kin_version_string, kin_strerror, kin_status_name, kin_last_error
   public :: kinf_create, kinf_get_bars, kinf_get_fixed, kinf_free_index, kinf_model_sail
@@ -730,6 +732,68 @@ module libkin
       import :: c_ptr, c_size_t
       type(c_ptr), value :: s
       integer(c_size_t) :: c_strlen
+    end function
+    ! kin_contact.h: panels, thickness, clearance (docs/contact.md)
+    function kin_set_panels(a, npanels, offsets, joints) bind(C, name='kin_set_panels')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int), value :: npanels
+      integer(c_int), intent(in) :: offsets(*), joints(*)
+      integer(c_int) :: kin_set_panels
+    end function
+    function kin_npanels(a) bind(C, name='kin_npanels')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int) :: kin_npanels
+    end function
+    function kin_get_panels(a, offsets, joints) bind(C, name='kin_get_panels')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int), intent(out) :: offsets(*), joints(*)
+      integer(c_int) :: kin_get_panels
+    end function
+    function kin_set_thickness(a, t_default, bar_radius, panel_thickness) bind(C, name='kin_set_thickness')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: a
+      real(c_double), value :: t_default
+      type(c_ptr), value :: bar_radius, panel_thickness
+      integer(c_int) :: kin_set_thickness
+    end function
+    function kin_get_thickness(a, t_default, bar_radius, panel_thickness) bind(C, name='kin_get_thickness')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: a
+      real(c_double), intent(out) :: t_default
+      type(c_ptr), value :: bar_radius, panel_thickness
+      integer(c_int) :: kin_get_thickness
+    end function
+    function kin_has_contact_model(a) bind(C, name='kin_has_contact_model')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int) :: kin_has_contact_model
+    end function
+    function kin_clearance(a, xyz, cutoff, clearance, parts, points) bind(C, name='kin_clearance')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: a, xyz
+      real(c_double), value :: cutoff
+      real(c_double), intent(out) :: clearance
+      integer(c_int), intent(out) :: parts(4)
+      real(c_double), intent(out) :: points(*)
+      integer(c_int) :: kin_clearance
+    end function
+    function kin_set_contact_events(a, on, tol) bind(C, name='kin_set_contact_events')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int), value :: on
+      real(c_double), value :: tol
+      integer(c_int) :: kin_set_contact_events
+    end function
+    function kin_last_contact(a, clearance, parts, points, bracket) bind(C, name='kin_last_contact')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: a
+      real(c_double), intent(out) :: clearance, bracket
+      integer(c_int), intent(out) :: parts(4)
+      real(c_double), intent(out) :: points(*)
+      integer(c_int) :: kin_last_contact
     end function
   end interface
 

@@ -17,6 +17,7 @@
 #include "libkin/kin_follow.h"
 #include "libkin/kin_io.h"
 #include "libkin/kin_symmetry.h"
+#include "libkin/kin_contact.h"
 
 /* C linkage for C++ callers: each header above has its own guard, and
  * anything declared here goes between these lines. */

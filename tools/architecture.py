@@ -31,6 +31,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # explains it.
 C_LAYERS = [
     ["model"],                                # the handle, options, status, the SVD analysis (paper 2-3.1)
+    ["contact"],                              # panels, thickness, clearance between parts (issue 23)
     ["path", "io", "symmetry", "homotopy"],   # following (3.2), files, symmetry, complete solver (3.4)
     ["locate"],                               # detection and location (4)
     ["branches"],                             # second order, branch paths, follow to event (3.3-3.4, 5)
@@ -400,6 +401,7 @@ def stats(build):
 # what each C folder holds, by the paper's sections (docs/architecture.md)
 C_SECTIONS = {
     "model": "handle, H, SVD: §2-3.1",
+    "contact": "panels, clearance",
     "path": "steps: §3.2",
     "io": "files, §5-6 models",
     "symmetry": "the group (nauty)",
@@ -475,7 +477,7 @@ def picture(out, build):
                     ax.text(cx, y - 0.06 - 0.16 * k, line, ha="center", va="center", fontsize=7.3, color="#444444")
                 pos[(c_side, g)] = (cx, y)
 
-    row(C_LAYERS, 0.5, 2.2, 0.1, 7.3, True, "#dbe9f6")
+    row(C_LAYERS, 0.5, 7.0 / max(len(C_LAYERS) - 1, 1), 0.1, 7.3, True, "#dbe9f6")
     row([[g for g in grp if pcount.get(g)] for grp in PY_LAYERS if any(pcount.get(g) for g in grp)],
         0.5, 1.0, 8.0, 15.9, False, "#fde9d0")
 

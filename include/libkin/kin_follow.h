@@ -10,6 +10,7 @@
  *     configuration);
  *   - a closed loop: the path returns to the start configuration;
  *   - a budget: the path length or the number of steps allowed;
+ *   - a contact between two parts, if asked for (kin_set_contact_events);
  *   - a failure (a step that cannot be taken, the branch direction not
  *     leading anywhere, a cancel), with its status and kin_last_error(). */
 #ifndef KIN_FOLLOW_H
@@ -37,9 +38,13 @@ enum kin_follow_event {
     KIN_FOLLOW_LENGTH_LIMIT = 4, /* path length max_length reached: the assembly at the
                                     first point beyond it */
     KIN_FOLLOW_STEP_LIMIT = 5,   /* max_steps steps taken without an event */
-    KIN_FOLLOW_FAILED = 6        /* the call failed after it started following: status and
+    KIN_FOLLOW_FAILED = 6,       /* the call failed after it started following: status and
                                     kin_last_error() say why; the assembly is at the last
                                     regular point reached (stepping can resume) */
+    KIN_FOLLOW_CONTACT = 7       /* two parts that share no joint touched (only with
+                                    kin_set_contact_events, kin_contact.h): the assembly at
+                                    the first point in contact, located to the tolerance set
+                                    there; kin_last_contact names the parts */
 };
 
 /* Settings. Start from kin_follow_options_default() and change what you need. */

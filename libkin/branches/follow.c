@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "branches/contact_event.h"
 #include "model/internal.h"
 #include "path/path.h"
 #include "locate/locate.h"
@@ -312,6 +313,9 @@ static int after_step(void *user, const kin_assembly *a)
     } else if (c->o->max_length > 0.0 && c->length >= c->o->max_length) {
         c->reason = KIN_FOLLOW_LENGTH_LIMIT;
         stop = 1;
+    } else if (kin__contact_event_check(c->a, c->xp)) {
+        c->reason = KIN_FOLLOW_CONTACT;
+        stop = 1;
     }
     memcpy(c->xp, c->xq, sizeof(double) * (size_t)nf);
     if (stop) return KIN__HOOK_STOP;
@@ -543,6 +547,10 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
         l0 = l1;
     }
     a->opt = user;
+    /* a contact met on an LU step is located as on an SVD step (with the
+     * handle's own options back) */
+    if (rc == KIN_OK && *stop && info->event == KIN_FOLLOW_CONTACT && (rc = kin__contact_event_locate(a)) != KIN_OK)
+        info->event = KIN_FOLLOW_FAILED;
     return rc;
 }
 
@@ -617,6 +625,7 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
         }
     }
     kin__gather(a, a->xyz, c.xs);
+    kin__contact_event_arm(a);
     memcpy(c.xp, c.xs, sizeof(double) * (size_t)nf);
     memcpy(c.xpp, c.xs, sizeof(double) * (size_t)nf);
     int attempts = max_attempts(o);
@@ -757,6 +766,8 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
         rc = KIN_OK;
         if (c.reason) {
             info->event = c.reason;
+            if (c.reason == KIN_FOLLOW_CONTACT && (rc = kin__contact_event_locate(a)) != KIN_OK)
+                info->event = KIN_FOLLOW_FAILED;
             break;
         }
         if (li.event == KIN_EVENT_NONE) {

@@ -73,6 +73,12 @@ typedef struct model_arrays {
     int *bars;            /* 2*nb */
     double *lengths;      /* nb */
     int have_lengths;     /* every bar gave a length */
+    /* contact (kin_contact.h): thickness, bar radii (< 0: default), panels */
+    double t0;
+    double *radius;       /* nb */
+    int np;
+    int *poff, *pj;       /* np + 1, poff[np] */
+    double *tpan;         /* np (< 0: default) */
 } model_arrays;
 
 static void arrays_free(model_arrays *m)
@@ -81,6 +87,10 @@ static void arrays_free(model_arrays *m)
     free(m->fixed);
     free(m->bars);
     free(m->lengths);
+    free(m->radius);
+    free(m->poff);
+    free(m->pj);
+    free(m->tpan);
 }
 
 /* An optional "index" must equal the element's position. */
@@ -93,6 +103,79 @@ static int check_index(const io_err *e, const json_t *obj, const char *list, siz
                        (long long)json_integer_value(v));
     return io_fail(e, KIN_EFORMAT, "%s[%zu].index: expected %zu, got %s", list, pos, pos,
                    json_kind(v));
+}
+
+/* an optional thickness-like number: absent (-1 into *out), or finite >= 0 */
+static int read_thickness(const io_err *e, const json_t *v, const char *what, size_t k, double *out)
+{
+    *out = -1.0;
+    if (!v) return KIN_OK;
+    if (!json_is_number(v) || !isfinite(json_number_value(v)) || json_number_value(v) < 0.0 ||
+        json_number_value(v) > 1e150)
+        return io_fail(e, KIN_EFORMAT, what, k, json_kind(v));
+    *out = json_number_value(v);
+    return KIN_OK;
+}
+
+/* "panels" (a list of {"joints": [3+ distinct joint indices], "thickness"})
+ * and "thickness", after the joints and bars are read */
+static int read_contact(const io_err *e, const json_t *doc, model_arrays *m)
+{
+    const json_t *t = json_object_get(doc, "thickness");
+    if (t && (!json_is_number(t) || !isfinite(json_number_value(t)) || json_number_value(t) < 0.0 ||
+              json_number_value(t) > 1e150))
+        return io_fail(e, KIN_EFORMAT, "thickness: expected a finite number >= 0, got %s", json_kind(t));
+    m->t0 = t ? json_number_value(t) : 0.0;
+    int rc;
+    const json_t *panels = json_object_get(doc, "panels");
+    if (!panels) return KIN_OK;
+    if (!json_is_array(panels))
+        return io_fail(e, KIN_EFORMAT, "panels: expected a list, got %s", json_kind(panels));
+    size_t np = json_array_size(panels), total = 0;
+    if (np > (size_t)INT_MAX / KIN_PANEL_MAX_JOINTS)
+        return io_fail(e, KIN_EFORMAT, "panels: %zu panels, too many", np);
+    for (size_t i = 0; i < np; ++i) {
+        const json_t *p = json_array_get(panels, i);
+        if (!json_is_object(p))
+            return io_fail(e, KIN_EFORMAT, "panels[%zu]: expected an object, got %s", i, json_kind(p));
+        rc = check_index(e, p, "panels", i);
+        if (rc) return rc;
+        const json_t *js = json_object_get(p, "joints");
+        if (!json_is_array(js) || json_array_size(js) < 3 || json_array_size(js) > KIN_PANEL_MAX_JOINTS)
+            return io_fail(e, KIN_EFORMAT, "panels[%zu].joints: expected a list of 3 to %d joint indices, got %s", i,
+                           KIN_PANEL_MAX_JOINTS, json_kind(js));
+        total += json_array_size(js);
+    }
+    m->np = (int)np;
+    m->poff = malloc(sizeof(int) * (np + 1));
+    m->pj = malloc(sizeof(int) * (total ? total : 1));
+    m->tpan = malloc(sizeof(double) * (np ? np : 1));
+    if (!m->poff || !m->pj || !m->tpan) return io_fail(e, KIN_ENOMEM, "panels: %zu panels", np);
+    m->poff[0] = 0;
+    for (size_t i = 0; i < np; ++i) {
+        const json_t *p = json_array_get(panels, i), *js = json_object_get(p, "joints");
+        size_t n = json_array_size(js);
+        for (size_t q = 0; q < n; ++q) {
+            const json_t *v = json_array_get(js, q);
+            if (!json_is_integer(v))
+                return io_fail(e, KIN_EFORMAT, "panels[%zu].joints[%zu]: expected a joint index, got %s", i, q,
+                               json_kind(v));
+            json_int_t j = json_integer_value(v);
+            if (j < 0 || j >= m->nj)
+                return io_fail(e, KIN_EFORMAT, "panels[%zu].joints[%zu]: joint %lld out of range 0..%d", i, q,
+                               (long long)j, m->nj - 1);
+            for (size_t r = 0; r < q; ++r)
+                if (m->pj[m->poff[i] + (int)r] == (int)j)
+                    return io_fail(e, KIN_EFORMAT, "panels[%zu].joints[%zu]: joint %lld repeated", i, q,
+                                   (long long)j);
+            m->pj[m->poff[i] + (int)q] = (int)j;
+        }
+        m->poff[i + 1] = m->poff[i] + (int)n;
+        rc = read_thickness(e, json_object_get(p, "thickness"),
+                            "panels[%zu].thickness: expected a finite number >= 0, got %s", i, &m->tpan[i]);
+        if (rc) return rc;
+    }
+    return KIN_OK;
 }
 
 static int read_joint(const io_err *e, const json_t *j, size_t i, model_arrays *m)
@@ -168,7 +251,8 @@ static int read_bar(const io_err *e, const json_t *b, size_t k, model_arrays *m,
             return io_fail(e, KIN_EFORMAT, "bars[%zu].length: expected > 0, got %.17g", k, L);
         m->lengths[k] = L;
     }
-    return KIN_OK;
+    return read_thickness(e, json_object_get(b, "radius"), "bars[%zu].radius: expected a finite number >= 0, got %s",
+                          k, &m->radius[k]);
 }
 
 /* Check the document against the schema and fill m (m's arrays are
@@ -211,7 +295,8 @@ static int read_model(const io_err *e, const json_t *doc, model_arrays *m)
     m->nb = (int)nb;
     m->bars = malloc(sizeof(int) * 2 * nb);
     m->lengths = malloc(sizeof(double) * nb);
-    if (!m->bars || !m->lengths) return io_fail(e, KIN_ENOMEM, "bars: %zu bars", nb);
+    m->radius = malloc(sizeof(double) * nb);
+    if (!m->bars || !m->lengths || !m->radius) return io_fail(e, KIN_ENOMEM, "bars: %zu bars", nb);
     size_t with_length = 0, first_with = 0, first_without = 0;
     for (size_t k = 0; k < nb; ++k) {
         int has_length = 0;
@@ -230,7 +315,7 @@ static int read_model(const io_err *e, const json_t *doc, model_arrays *m)
     const json_t *name = json_object_get(doc, "name");
     if (name && !json_is_string(name))
         return io_fail(e, KIN_EFORMAT, "name: expected a string, got %s", json_kind(name));
-    return KIN_OK;
+    return read_contact(e, doc, m);
 }
 
 /* Lists and objects nest at most this deep (the document is depth 1); the
@@ -269,13 +354,25 @@ static int load_text(const io_err *e, const char *text, size_t len, kin_assembly
         json_decref(doc);
         return io_fail(e, KIN_EFORMAT, "JSON text: lists or objects nested deeper than %d", MAX_DEPTH);
     }
-    model_arrays m = {0, 0, 0, NULL, NULL, NULL, NULL, 0};
+    model_arrays m = {0, 0, 0, NULL, NULL, NULL, NULL, 0, 0.0, NULL, 0, NULL, NULL, NULL};
     int rc = read_model(e, doc, &m);
     json_decref(doc);
     if (rc == KIN_OK) {
         char msg[KIN_ERRLEN];
         rc = kin_assembly_create(m.dim, m.nj, m.xyz, m.fixed, m.nb, m.bars,
                                  m.have_lengths ? m.lengths : NULL, out, msg, sizeof msg);
+        /* panels and thicknesses: checked above, so only memory can fail */
+        int any_r = 0;
+        for (int k = 0; k < m.nb; ++k) any_r |= m.radius[k] >= 0.0;
+        if (rc == KIN_OK && (m.np > 0 || any_r || m.t0 > 0.0)) {
+            rc = kin_set_panels(*out, m.np, m.np ? m.poff : NULL, m.pj);
+            if (rc == KIN_OK) rc = kin_set_thickness(*out, m.t0, m.radius, m.np ? m.tpan : NULL);
+            if (rc) {
+                snprintf(msg, sizeof msg, "%s", kin_last_error(*out));
+                kin_assembly_free(*out);
+                *out = NULL;
+            }
+        }
         if (rc && e->buf && e->len > 0) {
             if (e->path)
                 snprintf(e->buf, e->len, "%s: %s", e->path, msg);
@@ -478,7 +575,7 @@ static json_t *joint_object(int i, int dim, const double *xyz, const unsigned ch
     return o;
 }
 
-static json_t *bar_object(int k, const int *bars, const double *L0)
+static json_t *bar_object(int k, const int *bars, const double *L0, const double *radius, double t0)
 {
     json_t *o = json_object(), *ends = json_array();
     int bad = !o || !ends;
@@ -488,6 +585,7 @@ static json_t *bar_object(int k, const int *bars, const double *L0)
         bad |= json_object_set_new(o, "index", json_integer(k)) != 0;
         bad |= json_object_set(o, "joints", ends) != 0;
         bad |= json_object_set_new(o, "length", json_real(L0[k])) != 0;
+        if (radius[k] != 0.5 * t0) bad |= json_object_set_new(o, "radius", json_real(radius[k])) != 0;
     }
     json_decref(ends);
     if (bad) {
@@ -511,6 +609,21 @@ static int render(const io_err *e, const kin_assembly *a, const char *name, text
         return io_fail(e, KIN_ENOMEM, "save buffers");
     }
     double *L0 = xyz + (size_t)nj * dim;
+    /* contact: thickness, radii, panels */
+    int np = kin_npanels(a);
+    double t0 = 0.0, *radius = malloc(sizeof(double) * (size_t)nb), *tpan = malloc(sizeof(double) * (np ? (size_t)np : 1));
+    int *poff = malloc(sizeof(int) * ((size_t)np + 1));
+    int *pj = NULL;
+    if (radius && tpan && poff) {
+        kin_get_panels(a, poff, NULL);
+        pj = malloc(sizeof(int) * (poff[np] ? (size_t)poff[np] : 1));
+    }
+    if (!radius || !tpan || !poff || !pj) {
+        free(xyz), free(fixed), free(bars), free(radius), free(tpan), free(poff), free(pj);
+        return io_fail(e, KIN_ENOMEM, "save buffers");
+    }
+    kin_get_panels(a, poff, pj);
+    kin_get_thickness(a, &t0, radius, tpan);
     kin_get_coords(a, xyz);
     kin_get_fixed(a, fixed);
     kin_get_bars(a, bars);
@@ -540,12 +653,35 @@ static int render(const io_err *e, const kin_assembly *a, const char *name, text
         tb_puts(t, " ],\n \"bars\": [\n");
         for (int k = 0; k < nb; ++k) {
             tb_puts(t, "  ");
-            tb_json(t, bar_object(k, bars, L0));
+            tb_json(t, bar_object(k, bars, L0, radius, t0));
             tb_puts(t, k + 1 < nb ? ",\n" : "\n");
         }
-        tb_puts(t, " ]\n}\n");
+        tb_puts(t, " ]");
+        if (t0 > 0.0) {
+            tb_puts(t, ",\n \"thickness\": ");
+            tb_json(t, json_real(t0));
+        }
+        if (np > 0) {
+            tb_puts(t, ",\n \"panels\": [\n");
+            for (int i = 0; i < np; ++i) {
+                json_t *o = json_object(), *js = json_array();
+                for (int q = poff[i]; q < poff[i + 1] && js; ++q) json_array_append_new(js, json_integer(pj[q]));
+                if (o && js) {
+                    json_object_set_new(o, "index", json_integer(i));
+                    json_object_set(o, "joints", js);
+                    if (tpan[i] != t0) json_object_set_new(o, "thickness", json_real(tpan[i]));
+                }
+                json_decref(js);
+                tb_puts(t, "  ");
+                tb_json(t, o);
+                tb_puts(t, i + 1 < np ? ",\n" : "\n");
+            }
+            tb_puts(t, " ]");
+        }
+        tb_puts(t, "\n}\n");
         if (t->failed) rc = io_fail(e, KIN_ENOMEM, "model text");
     }
+    free(radius), free(tpan), free(poff), free(pj);
     free(xyz);
     free(fixed);
     free(bars);

@@ -365,6 +365,7 @@ static void release(kin_assembly *a)
         free(a->san->xyz), free(a->san->Um), free(a->san->Urig), free(a->san->Uint), free(a->san->Ws);
         free(a->san);
     }
+    if (a->ct_free) a->ct_free(a);
     free(a);
 }
 
@@ -624,6 +625,10 @@ int kin_assembly_clone(const kin_assembly *src, kin_assembly **out)
     kin__copy_state(a, src);
     a->opt = src->opt;
     if (src->sp && (rc = src->sp_prepare(a)) != KIN_OK) {
+        kin_assembly_free(a);
+        return rc;
+    }
+    if (src->ct && (rc = src->ct_clone(a, src)) != KIN_OK) {
         kin_assembly_free(a);
         return rc;
     }

@@ -137,6 +137,13 @@ struct kin_assembly {
     /* the sparse mode's analysis (model/analysis_sparse.c); NULL until the
      * first one, not copied by kin_assembly_clone */
     kin_sparse_an *san;
+    /* Panels, thicknesses and the clearance workspace (contact/); NULL until
+     * kin_set_panels, kin_set_thickness or kin_clearance makes it. Owned by
+     * the contact layer, freed and copied (for a clone) through the two
+     * calls it sets, so that model/ never calls up. */
+    struct kin_contact *ct;
+    void (*ct_free)(kin_assembly *a);
+    int (*ct_clone)(kin_assembly *dst, const kin_assembly *src);
 
     /* progress callback of the long loops (kin_set_progress); not copied
      * by kin_assembly_clone nor kin__copy_state */

@@ -322,7 +322,8 @@ enum kin_follow_event {
     KIN_FOLLOW_CLOSED_LOOP = 3,
     KIN_FOLLOW_LENGTH_LIMIT = 4,
     KIN_FOLLOW_STEP_LIMIT = 5,
-    KIN_FOLLOW_FAILED = 6
+    KIN_FOLLOW_FAILED = 6,
+    KIN_FOLLOW_CONTACT = 7
 };
 typedef struct kin_follow_options {
     size_t size;
@@ -389,4 +390,18 @@ void kin_free_string(char *text);
 
 int kin_symmetries(kin_assembly *a, int max_sym, int *perm, double *Q, double *t, int *nsym);
 int kin_mechanism_group(kin_assembly *a, int max_group, double *R, int *ngroup);
+
+enum kin_part_kind { KIN_PART_BAR = 0, KIN_PART_PANEL = 1 };
+int kin_set_panels(kin_assembly *a, int npanels, const int *offsets, const int *joints);
+int kin_npanels(const kin_assembly *a);
+int kin_get_panels(const kin_assembly *a, int *offsets, int *joints);
+int kin_set_thickness(kin_assembly *a, double t_default, const double *bar_radius,
+                              const double *panel_thickness);
+int kin_get_thickness(const kin_assembly *a, double *t_default, double *bar_radius,
+                              double *panel_thickness);
+int kin_has_contact_model(const kin_assembly *a);
+int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *clearance, int *parts,
+                          double *points);
+int kin_set_contact_events(kin_assembly *a, int on, double tol);
+int kin_last_contact(const kin_assembly *a, double *clearance, int *parts, double *points, double *bracket);
 '''

@@ -215,7 +215,63 @@ def parse(doc: Any) -> ParsedModel:
     labels = [j.get("label", f"J{i}") for i, j in enumerate(joints)]
     bars = np.array([b["joints"] for b in bars_doc], dtype=np.int32).reshape(-1, 2)
     lengths = np.array([float(b["length"]) for b in bars_doc]) if "length" in bars_doc[0] else None
-    return doc.get("name", "model"), coords, bars, fixed, lengths, labels
+    out = _Parsed((doc.get("name", "model"), coords, bars, fixed, lengths, labels))
+    out.contact = _contact_fields(doc, len(joints), len(bars_doc))
+    return out
+
+
+class _Parsed(tuple):  # type: ignore[type-arg]
+    """parse()'s 6-tuple, with the contact fields (panels, thickness, radii)
+    as `.contact` (None for a model without them)."""
+    contact: Optional[Dict[str, Any]] = None
+
+
+def _thick(v: Any, where: str) -> float:
+    if _bad_number(v) or v < 0 or v > 1e150:
+        _fail(where, f"expected a finite number >= 0, got {v!r}")
+    return float(v)
+
+
+def _contact_fields(doc: Dict[str, Any], nj: int, nb: int) -> Optional[Dict[str, Any]]:
+    """The optional "thickness", bars[k].radius and "panels" (docs/model_format.md),
+    checked as the C loader checks them."""
+    t0 = _thick(doc["thickness"], "thickness") if "thickness" in doc else 0.0
+    radii = [_thick(b["radius"], f"bars[{k}].radius") if "radius" in b else -1.0
+             for k, b in enumerate(doc["bars"])]
+    panels_doc = doc.get("panels")
+    if panels_doc is None and t0 == 0.0 and all(r < 0 for r in radii):
+        return None
+    if panels_doc is not None and not isinstance(panels_doc, list):
+        _fail("panels", f"expected a list, got {type(panels_doc).__name__}")
+    panels: List[List[int]] = []
+    thick: List[float] = []
+    for i, p in enumerate(panels_doc or []):
+        if not isinstance(p, dict):
+            _fail(f"panels[{i}]", "expected an object")
+        if "index" in p and not (_is_int(p["index"]) and p["index"] == i):
+            _fail(f"panels[{i}].index", f"expected {i}, got {p['index']!r}")
+        js = p.get("joints")
+        if not isinstance(js, list) or not 3 <= len(js) <= 1024:
+            _fail(f"panels[{i}].joints", f"expected a list of 3 to 1024 joint indices, got {js!r}")
+        for q, j in enumerate(js):
+            if not _is_int(j):
+                _fail(f"panels[{i}].joints[{q}]", f"expected a joint index, got {j!r}")
+            if not 0 <= j < nj:
+                _fail(f"panels[{i}].joints[{q}]", f"joint {j} out of range 0..{nj - 1}")
+            if j in js[:q]:
+                _fail(f"panels[{i}].joints[{q}]", f"joint {j} repeated")
+        panels.append([int(j) for j in js])
+        thick.append(_thick(p["thickness"], f"panels[{i}].thickness") if "thickness" in p else -1.0)
+    return {"panels": panels, "thickness": t0, "bar_radii": radii, "panel_thicknesses": thick}
+
+
+def apply_contact(a: Any, contact: Optional[Dict[str, Any]]) -> None:
+    """Set what _contact_fields read on a new Assembly."""
+    if not contact:
+        return
+    if contact["panels"]:
+        a.panels = contact["panels"]
+    a.set_thickness(contact["thickness"], contact["bar_radii"], contact["panel_thicknesses"] or None)
 
 
 def read_json(source: ModelSource, max_bytes: Optional[int] = None) -> ParsedModel:
@@ -278,6 +334,18 @@ def to_json(self: AssemblyBase, path: Union[str, "os.PathLike[str]", None] = Non
         "bars": [{"index": k, "joints": [int(bars[k, 0]), int(bars[k, 1])], "length": float(L0[k])}
                  for k in range(self.nbars)],
     }
+    t0 = float(getattr(self, "thickness", 0.0))
+    if getattr(self, "has_contact_model", False):
+        for k, r in enumerate(getattr(self, "bar_radii")):
+            if r != 0.5 * t0:
+                doc["bars"][k]["radius"] = float(r)
+        if t0 > 0.0:
+            doc["thickness"] = t0
+        panels = getattr(self, "panels")
+        if panels:
+            tp = getattr(self, "panel_thicknesses")
+            doc["panels"] = [dict({"index": i, "joints": f}, **({"thickness": float(tp[i])} if tp[i] != t0 else {}))
+                             for i, f in enumerate(panels)]
     if path is not None:  # whole or not at all: the file saved before stays on a failure
         write_text(path, json.dumps(doc, indent=1))
     return doc

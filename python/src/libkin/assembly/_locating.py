@@ -61,7 +61,8 @@ class LocateInfo:
 
 
 #: kin_follow_event's events, by enum value
-FOLLOW_EVENTS = ("none", "bifurcation", "near-miss", "closed-loop", "length-limit", "step-limit", "failed")
+FOLLOW_EVENTS = ("none", "bifurcation", "near-miss", "closed-loop", "length-limit", "step-limit", "failed",
+                 "contact")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -73,7 +74,9 @@ class FollowEvent:
     event : str
         'bifurcation' (located; the assembly is on it), 'near-miss' (v_r has a
         non-zero minimum), 'closed-loop' (back at the start), 'length-limit',
-        'step-limit' or 'failed' (see `status` and `message`).
+        'step-limit', 'failed' (see `status` and `message`) or 'contact' (two
+        parts touched: only after `set_contact_events`; `last_contact()`
+        names them).
     status : str
         The C status name ('KIN_OK' unless failed).
     message : str

@@ -22,14 +22,15 @@ import numpy.typing as npt
 
 from .._native._arrays import as_c_array, read_ptr
 from ._base import Analysis, AssemblyBase
+from ._contact import Clearance, ContactMixin
 from ._branching import BranchPath, Branches, BranchingMixin, solve_quadrics
-from ._json import read_json, to_json
+from ._json import apply_contact, read_json, to_json
 from .._native._lib import c_string, default_struct, ffi, lib, new_struct
 from ._locating import FollowEvent, LocateInfo, LocatingMixin
 from ._path import Options, PathMixin, StepInfo
 from ..errors import DimensionError, InvalidArgumentError, check, error_class
 
-__all__ = ["Assembly", "Analysis", "StepInfo", "Options", "BranchPath", "Branches", "LocateInfo", "FollowEvent",
+__all__ = ["Assembly", "Clearance", "Analysis", "StepInfo", "Options", "BranchPath", "Branches", "LocateInfo", "FollowEvent",
            "solve_quadrics"]
 
 _THREEBAR_STATES = {"RA": "KIN_THREEBAR_RA", "RB": "KIN_THREEBAR_RB", "RC": "KIN_THREEBAR_RC"}
@@ -38,7 +39,7 @@ _SAIL_SUPPORTS = {"auto": "KIN_SAIL_SUPPORT_AUTO", "opposite": "KIN_SAIL_SUPPORT
 _SAIL_DIAGONALS = {"forward": "KIN_SAIL_DIAG_FORWARD", "backward": "KIN_SAIL_DIAG_BACKWARD"}
 
 
-class Assembly(PathMixin, BranchingMixin, LocatingMixin, AssemblyBase):
+class Assembly(ContactMixin, PathMixin, BranchingMixin, LocatingMixin, AssemblyBase):
     """A pin-jointed bar assembly in 2D or 3D.
 
     Parameters
@@ -55,6 +56,11 @@ class Assembly(PathMixin, BranchingMixin, LocatingMixin, AssemblyBase):
         Joint names (kept for plots and JSON output).
     name : str, optional
         The model's name.
+    panels : sequence of sequences of int, optional
+        Panels (faces): loops of 3 or more joints (docs/contact.md).
+    thickness : float, optional
+        The model-wide thickness (bars: radius thickness/2; panels: slabs);
+        default 0.
 
     Raises
     ------
@@ -74,7 +80,8 @@ class Assembly(PathMixin, BranchingMixin, LocatingMixin, AssemblyBase):
 
     def __init__(self, coords: npt.ArrayLike, bars: npt.ArrayLike, fixed: Optional[npt.ArrayLike] = None,
                  lengths: Optional[npt.ArrayLike] = None, *, labels: Optional[Sequence[str]] = None,
-                 name: Optional[str] = None) -> None:
+                 name: Optional[str] = None, panels: Optional[Sequence[Sequence[int]]] = None,
+                 thickness: float = 0.0) -> None:
         coords_a = as_c_array(coords, np.float64, (None, None), "coords")
         if coords_a.shape[1] not in (2, 3):
             raise DimensionError(f"coords: expected shape (njoints, 2 or 3), got {coords_a.shape}")
@@ -94,6 +101,10 @@ class Assembly(PathMixin, BranchingMixin, LocatingMixin, AssemblyBase):
         self._adopt(out[0])
         self.labels = list(labels) if labels is not None else None
         self.name = name
+        if panels:
+            self.panels = panels
+        if thickness:
+            self.thickness = thickness
 
     # ---- built-in models -------------------------------------------------
     @classmethod
@@ -208,8 +219,11 @@ class Assembly(PathMixin, BranchingMixin, LocatingMixin, AssemblyBase):
         OSError
             The file cannot be read.
         """
-        name, coords, bars, fixed, lengths, labels = read_json(source, max_bytes)
-        return Assembly(coords, bars, fixed=fixed, lengths=lengths, labels=labels, name=name)
+        parsed = read_json(source, max_bytes)
+        name, coords, bars, fixed, lengths, labels = parsed
+        a = Assembly(coords, bars, fixed=fixed, lengths=lengths, labels=labels, name=name)
+        apply_contact(a, getattr(parsed, "contact", None))
+        return a
 
     def to_json(self, path: Union[str, "os.PathLike[str]", None] = None) -> Dict[str, Any]:
         """The assembly's current state as a JSON model.

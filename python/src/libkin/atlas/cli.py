@@ -50,6 +50,8 @@ def add_arguments(s: argparse.ArgumentParser) -> None:
     s.add_argument("--follow-orbits", action="store_true",
                    help="follow one branch per orbit of each node's symmetries, map the others (the default "
                         "unless --no-symmetry)")
+    s.add_argument("--contact", action="store_true",
+                   help="stop each branch at the first contact of two parts (the model's panels and thickness)")
     s.add_argument("--executor", default="serial", choices=["serial", "process", "dask"],
                    help="where branches are followed: this process, a process pool, a local Dask cluster")
     s.add_argument("--workers", type=count(1), default=2, help="workers of --executor process|dask (default 2)")
@@ -84,7 +86,8 @@ def _run(args: argparse.Namespace, assembly: Assembly) -> int:
         at = explore(assembly, depth=args.depth, max_nodes=args.max_nodes, max_length=args.max_length,
                      time_limit=args.time_limit, symmetric=sym, executor=ex,
                      progress=None if args.quiet else True, follow_orbits=True if args.follow_orbits else None,
-                     store=store, resume=args.resume, stop=lambda: bool(signalled), symmetry=not args.no_symmetry)
+                     store=store, resume=args.resume, stop=lambda: bool(signalled), symmetry=not args.no_symmetry,
+                     contact=args.contact)
     rep = atlas_report.write(at, args.out, html="atlas.html" if args.html else None)
     s = at.summary()
     kinds = ", ".join(f"{v} {k}" for k, v in sorted(s["edge_events"].items())) or "none"

@@ -66,7 +66,7 @@ def _say(progress: Progress, msg: str) -> None:
 class _Explorer:
     def __init__(self, a: Assembly, symmetric: Union[bool, str], executor: Any, progress: Progress,
                  max_length: float, seed: int, threads: int, symmetries: Optional[Sequence[Symmetry]],
-                 max_steps: int, samples: int, shards: Optional[int], symmetry: bool = True) -> None:
+                 max_steps: int, samples: int, shards: Optional[int], symmetry: bool, contact: bool) -> None:
         from ..io.model_json import to_json
         self.a = a.clone()
         self.doc = to_json(a)
@@ -76,7 +76,8 @@ class _Explorer:
         self.tol = SAME_TOL * self.scale
         self.symmetric, self.executor, self.progress = symmetric, executor, progress
         self.max_length, self.seed, self.threads = max_length, seed, threads
-        self.max_steps, self.samples, self.shards, self.symmetry = max_steps, samples, shards, symmetry
+        self.max_steps, self.samples, self.shards = max_steps, samples, shards
+        self.symmetry, self.contact = symmetry, contact
         self.deadline: Optional[float] = None
         self.symmetry_note = ""
         # detect the symmetries at every expanded node (the C search), unless given
@@ -255,7 +256,7 @@ class _Explorer:
         items = [{"model": self.text, "coords": self.nodes[nid].coords.tolist(),
                   "rank_tol": self._rank_tol(self.nodes[nid]), "direction": d.tolist(),
                   "max_length": self.max_length, "max_steps": self.max_steps, "samples": self.samples,
-                  "branches": shared.get(nid)}
+                  "branches": shared.get(nid), "contact": self.contact}
                  for nid, _, _, _, d in work]
         if self.store is not None:
             return self.store.run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches",
@@ -281,7 +282,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
             progress: Progress = None, seed: int = 1, threads: int = 1,
             symmetries: Optional[Sequence[Symmetry]] = None, max_steps: int = 2000, samples: int = 2,
             shards: Optional[int] = None, follow_orbits: Optional[bool] = None, store: Any = None,
-            resume: bool = False, stop: Optional[Callable[[], bool]] = None, symmetry: bool = True) -> Atlas:
+            resume: bool = False, stop: Optional[Callable[[], bool]] = None, symmetry: bool = True,
+            contact: bool = False) -> Atlas:
     """Map the paths out of `start` and out of every bifurcation they reach.
 
     Parameters
@@ -296,8 +298,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     max_nodes : int
         No node is expanded once the atlas has this many.
     max_length : float, optional
-        Path-length budget of one branch (default: 10 times the model size,
-        the largest distance of a joint from the centroid, at least 1).
+        Path-length budget of one branch (default: 10 times the model size, the
+        largest distance of a joint from the centroid, at least 1).
     time_limit : float, optional
         Seconds; after it nothing more is started, the branches not yet
         started are cancelled, a node's complete solve in progress is
@@ -311,8 +313,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         the structure's symmetries that fix the node). "auto": symmetric
         where s > 12.
     executor : None, concurrent.futures.Executor or dask.distributed.Client
-        Where the branches (and the complete solver's shards) run; None:
-        in this process.
+        Where the branches (and the complete solver's shards) run; None: here.
     progress : None, bool or callable
         True: messages on stderr; a callable gets (done, total, what).
     seed : int
@@ -347,6 +348,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         earlier run's (same model and settings: the same atlas) (store.py).
     stop : callable, optional
         Once true nothing more is started: the atlas so far (stats partial).
+    contact : bool
+        Stop each branch at the first contact of two parts (event 'contact').
 
     Returns
     -------
@@ -384,13 +387,13 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     if max_length is None:
         max_length = 10.0 * scale
     ex = _Explorer(a, symmetric, executor, progress, float(max_length), seed, threads, symmetries, int(max_steps),
-                   int(samples), shards, symmetry)
+                   int(samples), shards, symmetry, bool(contact))
     ex.deadline = None if time_limit is None else t0 + float(time_limit)
     from .store import open_store
     # the settings that shape the atlas (not time_limit: a time-limited run resumes without it)
     ex.store, ex.stop = open_store(store, resume, ex.text, [depth, max_nodes, float(max_length), symmetric,
                                    seed, threads, symmetries is None and len(ex.syms), max_steps, samples, shards,
-                                   follow_orbits, symmetry]), stop
+                                   follow_orbits, symmetry] + ([True] if contact else [])), stop
     an = a.analyse()
     rec0 = {"m": an.m_internal, "m_rigid": an.m_rigid, "s": an.s,
             "v_r_rel": float(an.v_r / an.v_max) if an.v_max > 0 else 0.0}
@@ -465,19 +468,16 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     arrived: Dict[int, set[str]] = {}
     for e in ex.edges:
         arrived.setdefault(e.target, set()).add(e.event)
-    why = {tasks.BUDGET: "the path-length budget ran out here", tasks.NEAR_MISS: "the follower stopped at a "
-           "dip of v_r here", tasks.FAILURE: "following failed here", tasks.BIFURCATION: "located as a "
-           "bifurcation, but regular at the rank tolerance"}
-    for n in ex.nodes:
-        if not n.expanded and not n.status:
-            if n.kind == BIFURCATION:
-                n.status = "not expanded: depth reached"
-            else:
-                n.status = "; ".join(why[ev] for ev in sorted(arrived.get(n.id, ())) if ev in why) or "end point"
+    why = {tasks.BUDGET: "the path-length budget ran out here", tasks.CONTACT: "two parts touch here",
+           tasks.NEAR_MISS: "the follower stopped at a dip of v_r here", tasks.FAILURE: "following failed here",
+           tasks.BIFURCATION: "located as a bifurcation, but regular at the rank tolerance"}
+    for n in (n for n in ex.nodes if not n.expanded and not n.status):
+        n.status = ("not expanded: depth reached" if n.kind == BIFURCATION else
+                    "; ".join(why[ev] for ev in sorted(arrived.get(n.id, ())) if ev in why) or "end point")
     settings = {"depth": depth, "max_nodes": max_nodes, "max_length": float(max_length), "time_limit": time_limit,
                 "symmetric": symmetric, "seed": seed, "same_tol": ex.tol, "max_steps": int(max_steps),
                 "samples": int(samples), "symmetries": ex.symmetry_note or f"{len(ex.syms)} detected",
-                "follow_orbits": follow_orbits, "symmetry": symmetry,
+                "follow_orbits": follow_orbits, "symmetry": symmetry, "contact": bool(contact),
                 "executor": None if executor is None else type(executor).__name__}
     stats = {"seconds": round(time.perf_counter() - t0, 3), "follow_cpu_seconds": round(ex.follow_cpu, 3),
              "branches_followed": ex.followed, "branches_mapped": ex.mapped, "stopped_by": stopped,

@@ -25,7 +25,8 @@ NEAR_MISS = "near_miss"      # v_r dipped towards zero but the point is regular
 LOOP = "loop"                # the path came back to where it started
 BUDGET = "budget"            # the length (or step) budget ran out first
 FAILURE = "failure"          # following failed (corrector, path jump, ...)
-EVENT_KINDS = (BIFURCATION, NEAR_MISS, LOOP, BUDGET, FAILURE)
+CONTACT = "contact"          # two parts touched first (explore(contact=True), docs/contact.md)
+EVENT_KINDS = (BIFURCATION, NEAR_MISS, LOOP, BUDGET, FAILURE, CONTACT)
 
 
 def rebuild(task: Task) -> Assembly:
@@ -45,7 +46,7 @@ def _rms_rest(a: Assembly) -> float:
 
 
 _EVENTS = {"bifurcation": BIFURCATION, "near-miss": NEAR_MISS, "closed-loop": LOOP, "length-limit": BUDGET,
-           "step-limit": BUDGET}
+           "step-limit": BUDGET, "contact": CONTACT}
 
 
 def follow_branch(task: Task) -> Dict[str, Any]:
@@ -55,7 +56,8 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     "direction": (nfree,) list (U_m beta times the sign), "max_length",
     "max_steps", "vr_tol", "samples": how many configurations to record along
     the way, "branches": optional, the start's branch directions (a return
-    along another branch is located, not a loop)}. Returns {"event": one of EVENT_KINDS, "coords": end
+    along another branch is located, not a loop), "contact": stop at the first
+    contact of two parts}. Returns {"event": one of EVENT_KINDS, "coords": end
     configuration, "length": path length travelled, "m", "m_rigid", "s",
     "v_r_rel" at the end (analysis at the rank tolerance), "accuracy" (the
     vanishing singular value / v_max where the event was located), "vr_tol"
@@ -69,6 +71,8 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     cpu0 = time.process_time()
     a = rebuild(task)
     n = int(task.get("samples", 0))
+    if task.get("contact"):
+        a.set_contact_events(True, 1e-9)
     d = np.asarray(task["direction"], dtype=float)
     lim: Dict[str, Any] = {"max_steps": int(task.get("max_steps", 1000)), "vr_tol": float(task.get("vr_tol", 1e-10))}
     samples: list[Any] = []
@@ -84,6 +88,8 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     kind = _EVENTS.get(ev.event, FAILURE)
     if kind == FAILURE:
         out["message"] = f"{ev.status}: {ev.message}"
+    if kind == CONTACT:
+        out["message"] = "contact: " + " / ".join(f"{k} {i}" for k, i in a.last_contact().parts)
     rank_tol = max(float(task.get("rank_tol") or 1e-9), 10.0 * ev.vr_tol_used) if kind == BIFURCATION else None
     out.update(_end_state(a, kind, rank_tol))
     out.update({"accuracy": float(ev.v_r_rel), "vr_tol": float(ev.vr_tol_used), "steps": int(ev.steps),

@@ -400,6 +400,9 @@ def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: s
     n_edges = len(edges) if edges else 0
     keep = {k: v for k, v in fr.items() if k.startswith("frame_") and k not in ("frame_parent", "frame_inherit")}
     a.fold = FoldSource(nv, n_edges, list(assignment) if assignment is not None else None, face_list, keep)
+    if faces != "ignore" and face_list:
+        # the faces are the model's panels (parts that can touch, docs/contact.md)
+        a.panels = [f for f in face_list if len(set(f)) == len(f)]
     res = detect_resolution(x) if resolution is None else float(resolution)
     if not (math.isfinite(res) and res >= 0.0):
         raise ModelFormatError(f"resolution: expected a finite number >= 0, got {resolution!r}")

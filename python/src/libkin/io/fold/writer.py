@@ -125,6 +125,8 @@ def write_fold(path: Union[None, str, "os.PathLike[str]"], assembly: Assembly,
     face_list: Optional[List[List[int]]]
     if faces is None and src is not None:
         face_list = src.faces
+    elif faces is None and assembly.npanels:
+        face_list = [f for f in assembly.panels if max(f) < nv]
     elif isinstance(faces, str):
         if faces != "triangles":
             raise ValueError(f"faces: expected None, 'triangles' or a list, got {faces!r}")

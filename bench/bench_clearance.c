@@ -1,0 +1,140 @@
+/* The clearance check (kin_clearance) per step, as a fraction of the step's
+ * own cost (kin_step in the LU mode), on sail members of about 100 to 1,500
+ * free coordinates (hexagonal and octagonal hubs), with their bar triangles
+ * as panels; and the growth exponent of the check (least squares of log time
+ * on log free coordinates). Times are the least of the repetitions (the
+machine is shared: the least is the one least disturbed). Two checks: the
+global smallest clearance (cutoff INFINITY) and a contact margin (cutoff
+0.01 x the shortest bar: what a check per step asks). A dome lift of each flat member gives a generic,
+ * strain-free state (bench_common.h). Steps and checks alternate, so the
+ * shared machine's load falls on both alike. Not a test: prints a table. */
+#define _POSIX_C_SOURCE 199309L
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "bench_common.h"
+#include "libkin.h"
+
+/* panels: the bar triangles (each once) */
+static int set_triangles(kin_assembly *a)
+{
+    int nb = kin_nbars(a), nj = kin_njoints(a);
+    int *bars = malloc(sizeof(int) * 2 * (size_t)nb);
+    int *deg = calloc((size_t)nj + 1, sizeof(int)), *adj = malloc(sizeof(int) * 2 * (size_t)nb);
+    int cap = 2 * nb + 8, np = 0;
+    int *off = malloc(sizeof(int) * ((size_t)cap + 1)), *pj = malloc(sizeof(int) * 3 * (size_t)cap);
+    kin_get_bars(a, bars);
+    for (int k = 0; k < 2 * nb; ++k) deg[bars[k] + 1]++;
+    for (int j = 0; j < nj; ++j) deg[j + 1] += deg[j];
+    int *fill = calloc((size_t)nj, sizeof(int));
+    for (int k = 0; k < nb; ++k) {
+        int p = bars[2 * k], q = bars[2 * k + 1];
+        adj[deg[p] + fill[p]++] = q;
+        adj[deg[q] + fill[q]++] = p;
+    }
+    off[0] = 0;
+    for (int p = 0; p < nj; ++p)
+        for (int x = deg[p]; x < deg[p + 1]; ++x)
+            for (int y = deg[p]; y < deg[p + 1]; ++y) {
+                int q = adj[x], r = adj[y];
+                if (!(p < q && q < r)) continue;
+                for (int z = deg[q]; z < deg[q + 1]; ++z)
+                    if (adj[z] == r && np < cap) {
+                        pj[3 * np] = p, pj[3 * np + 1] = q, pj[3 * np + 2] = r;
+                        off[np + 1] = 3 * (np + 1);
+                        ++np;
+                    }
+            }
+    int rc = kin_set_panels(a, np, off, pj);
+    free(bars), free(deg), free(adj), free(fill), free(off), free(pj);
+    return rc;
+}
+
+/* this thread's CPU seconds: what the single-threaded check costs, whatever
+ * else the shared machine runs */
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+int main(void)
+{
+    const int members[][2] = {{6, 5}, {8, 4}, {6, 10}, {8, 8}, {6, 20}, {8, 15}, {6, 40}, {8, 30}, {6, 60}, {8, 61}};
+    const int nm = (int)(sizeof members / sizeof members[0]);
+    double lx[16], ly[16], lm[16], lcpu[16];
+    int nfit = 0;
+    printf("member     nfree  panels  step_LU_ms  global_ms  ratio   margin_ms  ratio  margin_cpu_ms  (margin 0.01 x shortest bar)\n");
+    for (int i = 0; i < nm; ++i) {
+        kin_sail_params p;
+        kin_sail_params_default(&p, members[i][0], members[i][1]);
+        kin_assembly *flat = NULL;
+        if (kin_model_sail(&p, &flat, NULL, 0)) continue;
+        kin_assembly *a = dome_lengths(flat, 0.3 / (members[i][1] + 1.0));
+        kin_assembly_free(flat);
+        if (!a) continue;
+        kin_options o = {.size = sizeof o};
+        kin_get_options(a, &o);
+        o.factorization = KIN_STEP_LU;
+        kin_set_options(a, &o);
+        if (set_triangles(a) != KIN_OK) {
+            kin_assembly_free(a);
+            continue;
+        }
+        kin_step_info info = {.size = sizeof info};
+        if (kin_step(a, 0.0, &info)) {
+            printf("%d:%d warm-up step failed: %s\n", members[i][0], members[i][1], kin_last_error(a));
+            kin_assembly_free(a);
+            continue;
+        }
+        int nsteps = kin_nfree(a) > 800 ? 4 : 12, reps = 20;
+        double ts = INFINITY, tc = INFINITY, tm = INFINITY, tcpu = INFINITY, cl = 0.0, rms = 0.0;
+        {
+            int nb = kin_nbars(a);
+            double *L = malloc(sizeof(double) * (size_t)nb);
+            kin_get_rest_lengths(a, L);
+            rms = INFINITY; /* the shortest rest length (the hub's scale) */
+            for (int k = 0; k < nb; ++k) rms = L[k] < rms ? L[k] : rms;
+            free(L);
+        }
+        int ok = 0;
+        for (int s = 0; s < nsteps; ++s) {
+            double t0 = now();
+            if (kin_step(a, 0.0, &info)) break;
+            double t1 = now();
+            ts = fmin(ts, t1 - t0);
+            for (int r = 0; r < reps; ++r) {
+                double u0 = now();
+                kin_clearance(a, NULL, INFINITY, &cl, NULL, NULL);
+                double u1 = now();
+                kin_clearance(a, NULL, 0.01 * rms, &cl, NULL, NULL);
+                double u2 = now();
+                tc = fmin(tc, u1 - u0);
+                tm = fmin(tm, u2 - u1);
+                double v0 = cpu_now();
+                kin_clearance(a, NULL, 0.01 * rms, &cl, NULL, NULL);
+                tcpu = fmin(tcpu, cpu_now() - v0);
+            }
+            ++ok;
+        }
+        if (!ok) {
+            kin_assembly_free(a);
+            continue;
+        }
+        printf("sail:%d:%-3d %6d  %6d  %10.3f  %9.4f  %.4f  %9.4f  %.4f  %13.4f\n", members[i][0], members[i][1],
+               kin_nfree(a), kin_npanels(a), 1e3 * ts, 1e3 * tc, tc / ts, 1e3 * tm, tm / ts, 1e3 * tcpu);
+        lx[nfit] = log((double)kin_nfree(a)), ly[nfit] = log(tc), lm[nfit] = log(tm), lcpu[nfit] = log(tcpu), ++nfit;
+        kin_assembly_free(a);
+    }
+    for (int m = 0; m < 3; ++m) {
+        const double *y = m == 2 ? lcpu : (m ? lm : ly);
+        double mx = 0, my = 0, sxx = 0, sxy = 0;
+        for (int k = 0; k < nfit; ++k) mx += lx[k] / nfit, my += y[k] / nfit;
+        for (int k = 0; k < nfit; ++k) sxx += (lx[k] - mx) * (lx[k] - mx), sxy += (lx[k] - mx) * (y[k] - my);
+        printf("%s clearance: growth exponent (log-log fit over %d members) %.3f\n",
+               m == 2 ? "margin (CPU time)" : (m ? "margin" : "global"), nfit,
+               sxx > 0 ? sxy / sxx : NAN);
+    }
+    return 0;
+}

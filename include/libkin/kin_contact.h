@@ -1,0 +1,136 @@
+/* libkin: parts that can touch. Panels (faces), thicknesses, and the
+ * clearance between parts that do not share a joint (docs/contact.md).
+ *
+ * PARTS. Every bar is a part (a segment between its joints; with a radius r
+ * it is a capsule, the points within r of the segment). A model may also
+ * carry panels: each panel is a loop of 3 or more distinct joints (as FOLD's
+ * faces_vertices), taken as the fan of triangles (j0, j_i, j_i+1) from its
+ * first joint (exact for planar convex panels; a non-planar panel is that
+ * fan of triangles); with a thickness t it is a slab, the points within t/2
+ * of the panel. In 2D a panel is the polygon in the plane (same fan).
+ * Parts are numbered bars first: part p < nbars is bar p, part nbars + i is
+ * panel i.
+ * THICKNESS. One model-wide default thickness t0 >= 0: a bar's radius is
+ * t0/2 and a panel's thickness t0 unless set part by part.
+ * ADJACENCY. Two parts that share a joint (a bar and a panel it borders, two
+ * panels with a common edge or corner, two bars at a joint) never count as
+ * touching: they are not compared.
+ * CLEARANCE of two parts = the distance between their centre geometries
+ * (segments, triangles) minus r_a + r_b (a panel's r = t/2). Where the
+ * centre geometries intersect (a bar through a panel, two panels crossing)
+ * the distance is 0 and the clearance -(r_a + r_b): with zero thickness,
+ * plain intersection is clearance 0. Clearance <= 0 is contact. (It is not
+ * the penetration depth of thick parts that overlap without their centres
+ * meeting: there it is distance - r_a - r_b, negative.) */
+#ifndef KIN_CONTACT_H
+#define KIN_CONTACT_H
+
+#include "kin_assembly.h"
+#include "kin_export.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The kinds of part that kin_clearance names. */
+enum kin_part_kind { KIN_PART_BAR = 0, KIN_PART_PANEL = 1 };
+
+/* The largest number of joints of one panel. */
+#define KIN_PANEL_MAX_JOINTS 1024
+
+/* Set the model's panels, replacing any it had (npanels = 0 removes them).
+ *  offsets  npanels + 1 increasing offsets into joints, offsets[0] = 0:
+ *           panel i is joints[offsets[i] .. offsets[i+1]-1], 3 to
+ *           KIN_PANEL_MAX_JOINTS distinct joint indices in loop order.
+ *  joints   offsets[npanels] joint indices 0..njoints-1.
+ * Panel thicknesses are reset to the default. The workspace of
+ * kin_clearance (O(nbars + triangles)) is allocated here, once.
+ * Returns KIN_OK; KIN_ENULL (a, or the arrays with npanels > 0), KIN_EINVAL
+ * (npanels < 0, bad offsets, a panel of fewer than 3 or repeated joints),
+ * KIN_EJOINT, KIN_ENOMEM (nothing changed on any failure). */
+KIN_API int kin_set_panels(kin_assembly *a, int npanels, const int *offsets, const int *joints);
+
+/* Number of panels (0 if none), or -1 for a NULL handle. */
+KIN_API int kin_npanels(const kin_assembly *a);
+
+/* Copy the panels out: offsets (npanels + 1) and joints (offsets[npanels]
+ * entries); either may be NULL (not written). Returns KIN_OK, KIN_ENULL. */
+KIN_API int kin_get_panels(const kin_assembly *a, int *offsets, int *joints);
+
+/* Set thicknesses. t_default >= 0 (finite) is the model-wide thickness;
+ * bar_radius (nbars entries or NULL) the radius of each bar, panel_thickness
+ * (npanels entries or NULL) the thickness of each panel; an entry < 0 (or a
+ * NULL array) means "the default" (t_default/2 for a bar, t_default for a
+ * panel). Allocates the clearance workspace if not yet made.
+ * Returns KIN_OK, KIN_ENULL, KIN_EGEOM (a non-finite value or t_default < 0
+ * or > 1e150), KIN_ENOMEM (nothing changed on failure). */
+KIN_API int kin_set_thickness(kin_assembly *a, double t_default, const double *bar_radius,
+                              const double *panel_thickness);
+
+/* Read thicknesses back: *t_default (0 unless set), and the effective
+ * radius of each bar and thickness of each panel (defaults resolved); any
+ * output may be NULL. Returns KIN_OK, KIN_ENULL. */
+KIN_API int kin_get_thickness(const kin_assembly *a, double *t_default, double *bar_radius,
+                              double *panel_thickness);
+
+/* 1 if the model carries panels or any nonzero thickness (the parts can
+ * touch in a way a bare framework's centre lines would not show), 0 if not,
+ * -1 for NULL. */
+KIN_API int kin_has_contact_model(const kin_assembly *a);
+
+/* The smallest clearance between two parts that share no joint, at the
+ * configuration xyz (njoints*dim, joint-major; NULL = the handle's current
+ * one), if it is below cutoff (INFINITY: the smallest, wherever it is; a
+ * finite cutoff, such as a contact margin, lets the tree skip every pair
+ * that is at least that far apart, which is what makes a check per step
+ * cheap). Writes:
+ *  clearance  the smallest clearance (see CLEARANCE above); +INFINITY when
+ *             no pair is below cutoff (or every pair is adjacent).
+ *  parts      (may be NULL) 4 ints: kind and index of the first part, kind
+ *             and index of the second (enum kin_part_kind; index among the
+ *             bars or among the panels); -1s when clearance is +INFINITY.
+ *  points     (may be NULL) 2*dim doubles: the closest point on the first
+ *             part's centre geometry, then on the second's (equal when they
+ *             intersect).
+ * Exact up to rounding (segment-segment, segment-triangle and
+ * triangle-triangle distances); a bounding-volume tree over bars and panel
+ * triangles, built again at each call in O(n log n), prunes pairs. No
+ * allocation (the workspace is made by kin_set_panels or kin_set_thickness,
+ * or here, the first time, for a model that has neither).
+ * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (cutoff NaN), KIN_EGEOM (a
+ * non-finite coordinate), KIN_ENOMEM (first call only). */
+KIN_API int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *clearance, int *parts,
+                          double *points);
+
+/* Contact as an event of kin_follow_event (kin_follow.h): on != 0 makes
+ * every later follow of this handle stop at the first point of its path
+ * where two parts that share no joint have clearance <= 0, with event
+ * KIN_FOLLOW_CONTACT, provided the follow's start point is free of contact
+ * (a start in contact is followed as before). Contact here is clearance
+ * <= 64 DBL_EPSILON x the RMS rest length (segments that cross in a plane,
+ * or a bar through a panel, are at distance zero only up to rounding). The
+ * check is made at each accepted step: two zero-thickness bars in 3D that
+ * pass through each other touch only at an instant and can be missed
+ * between two steps (give them a radius to catch it); parts that overlap
+ * over an interval of the path shorter than a step can be missed too. The contact is located along
+ * the path by bisection of the last step's chord, each trial point brought
+ * back onto the path by kin_relax, until the bracket is at most tol x the
+ * RMS rest length (free coordinates); the assembly is left at the first
+ * point in contact found (its path state reset, as by kin_relax). Off by
+ * default (nothing changes for a handle that never calls this). A clone
+ * keeps the setting. Returns KIN_OK, KIN_ENULL, KIN_EINVAL (tol not in
+ * (0, 1]), KIN_ENOMEM. */
+KIN_API int kin_set_contact_events(kin_assembly *a, int on, double tol);
+
+/* The contact the last follow located (event KIN_FOLLOW_CONTACT): its
+ * clearance (<= 0), parts and closest points (as kin_clearance), and the
+ * bracket left (free-coordinate distance between the last point free of
+ * contact and the point reported). Any output may be NULL. Returns KIN_OK,
+ * KIN_ENULL, KIN_ESTATE (no contact located by the last follow). */
+KIN_API int kin_last_contact(const kin_assembly *a, double *clearance, int *parts, double *points, double *bracket);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* KIN_CONTACT_H */

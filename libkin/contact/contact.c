@@ -1,0 +1,567 @@
+/* Panels, thicknesses and the clearance between parts (kin_contact.h,
+ * docs/contact.md).
+ *
+ * The clearance: every bar is one primitive (a segment), every panel the
+ * fan of its triangles; each primitive's box is grown by its radius. A
+ * bounding-volume tree (median split of the box centres along the widest
+ * axis, built again at each call: O(n log n)) is walked against itself,
+ * pairs of nodes nearer first, a pair dropped when its boxes are no nearer
+ * than the best clearance found so far; leaves of two parts that share no
+ * joint get the exact test of distance.c. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "contact/contact_internal.h"
+
+#define LEAF_MAX 4
+
+static inline double dmin(double x, double y) { return x < y ? x : y; }
+static inline double dmax(double x, double y) { return x > y ? x : y; }
+
+static void ct_release(struct kin_contact *c)
+{
+    if (!c) return;
+    free(c->poff), free(c->pj), free(c->rbar), free(c->tpan);
+    free(c->prim_part), free(c->prim_v), free(c->prim_r), free(c->cen), free(c->plo), free(c->phi);
+    free(c->order), free(c->node), free(c->lp), free(c->ev_prev), free(c->ev_x), free(c->ev_xyz), free(c->stack), free(c->pts);
+    free(c);
+}
+
+static void ct_free(kin_assembly *a)
+{
+    ct_release(a->ct);
+    a->ct = NULL;
+}
+
+/* the clearance workspace of model (np, poff) on handle a, into c */
+static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
+{
+    int ntri = 0;
+    for (int i = 0; i < c->np; ++i) ntri += c->poff[i + 1] - c->poff[i] - 2;
+    int n = a->nb + ntri;
+    c->nprim = n;
+    /* tree depth <= log2(n) + 2 (median split); the pair walk keeps at most
+     * 3 entries per level of each tree, plus the root pair */
+    int depth = 2;
+    while ((1 << (depth - 2)) < n && depth < 62) ++depth;
+    c->stack_cap = 8 * depth + 16;
+    size_t N = (size_t)n;
+    c->prim_part = malloc(sizeof(int) * N);
+    c->prim_v = malloc(sizeof(int) * 3 * N);
+    c->prim_r = malloc(sizeof(double) * N);
+    c->cen = malloc(sizeof(double) * 3 * N);
+    c->plo = malloc(sizeof(double) * 3 * N);
+    c->phi = malloc(sizeof(double) * 3 * N);
+    c->order = malloc(sizeof(int) * N);
+    c->node = malloc(sizeof(kin__bvh_node) * (2 * N));
+    c->lp = malloc(sizeof(kin__leafprim) * (N ? N : 1));
+    c->stack = malloc(sizeof(int) * 2 * (size_t)c->stack_cap);
+    c->pts = malloc(sizeof(double) * 3 * (size_t)a->nj);
+    c->ev_prev = malloc(sizeof(double) * ((size_t)a->nf + 1));
+    c->ev_x = malloc(sizeof(double) * (2 * (size_t)a->nf + 1));
+    c->ev_xyz = malloc(sizeof(double) * 2 * (size_t)a->nj * (size_t)a->dim);
+    c->ev_tol = 1e-9;
+    if (!c->prim_part || !c->prim_v || !c->prim_r || !c->cen || !c->plo || !c->phi || !c->order || !c->node || !c->lp ||
+        !c->stack || !c->pts || !c->ev_prev || !c->ev_x || !c->ev_xyz)
+        return KIN_ENOMEM;
+    int p = 0;
+    for (int k = 0; k < a->nb; ++k, ++p) {
+        c->prim_part[p] = k;
+        c->prim_v[3 * p] = a->bars[2 * k];
+        c->prim_v[3 * p + 1] = a->bars[2 * k + 1];
+        c->prim_v[3 * p + 2] = -1;
+    }
+    for (int i = 0; i < c->np; ++i) {
+        const int *j = c->pj + c->poff[i];
+        for (int q = 1; q + 1 < c->poff[i + 1] - c->poff[i]; ++q, ++p) {
+            c->prim_part[p] = a->nb + i;
+            c->prim_v[3 * p] = j[0];
+            c->prim_v[3 * p + 1] = j[q];
+            c->prim_v[3 * p + 2] = j[q + 1];
+        }
+    }
+    return KIN_OK;
+}
+
+/* the radius of each primitive from the thicknesses */
+static void ct_radii(const kin_assembly *a, struct kin_contact *c)
+{
+    for (int p = 0; p < c->nprim; ++p) {
+        int part = c->prim_part[p];
+        double r;
+        if (part < a->nb) r = c->rbar && c->rbar[part] >= 0.0 ? c->rbar[part] : 0.5 * c->t0;
+        else {
+            double t = c->tpan && c->tpan[part - a->nb] >= 0.0 ? c->tpan[part - a->nb] : c->t0;
+            r = 0.5 * t;
+        }
+        c->prim_r[p] = r;
+    }
+}
+
+/* a new contact record: model (np, poff, pj, t0, rbar, tpan) copied, the
+ * workspace made */
+static int ct_make(const kin_assembly *a, int np, const int *poff, const int *pj, double t0, const double *rbar,
+                   const double *tpan, struct kin_contact **out)
+{
+    struct kin_contact *c = calloc(1, sizeof *c);
+    if (!c) return KIN_ENOMEM;
+    size_t nj = np > 0 ? (size_t)poff[np] : 0;
+    c->np = np;
+    c->t0 = t0;
+    c->poff = malloc(sizeof(int) * ((size_t)np + 1));
+    c->pj = malloc(sizeof(int) * (nj ? nj : 1));
+    c->rbar = malloc(sizeof(double) * (size_t)a->nb);
+    c->tpan = malloc(sizeof(double) * (np ? (size_t)np : 1));
+    if (!c->poff || !c->pj || !c->rbar || !c->tpan) {
+        ct_release(c);
+        return KIN_ENOMEM;
+    }
+    c->poff[0] = 0;
+    if (np) memcpy(c->poff, poff, sizeof(int) * ((size_t)np + 1));
+    if (nj) memcpy(c->pj, pj, sizeof(int) * nj);
+    for (int k = 0; k < a->nb; ++k) c->rbar[k] = rbar ? rbar[k] : -1.0;
+    for (int i = 0; i < np; ++i) c->tpan[i] = tpan ? tpan[i] : -1.0;
+    if (ct_workspace(a, c) != KIN_OK) {
+        ct_release(c);
+        return KIN_ENOMEM;
+    }
+    ct_radii(a, c);
+    *out = c;
+    return KIN_OK;
+}
+
+static int ct_clone(kin_assembly *dst, const kin_assembly *src)
+{
+    const struct kin_contact *s = src->ct;
+    struct kin_contact *c;
+    int rc = ct_make(dst, s->np, s->poff, s->pj, s->t0, s->rbar, s->tpan, &c);
+    if (rc) return rc;
+    c->ev_on = s->ev_on, c->ev_tol = s->ev_tol;
+    if (dst->ct_free) dst->ct_free(dst);
+    dst->ct = c;
+    dst->ct_free = ct_free;
+    dst->ct_clone = ct_clone;
+    return KIN_OK;
+}
+
+static void ct_install(kin_assembly *a, struct kin_contact *c)
+{
+    if (a->ct) c->ev_on = a->ct->ev_on, c->ev_tol = a->ct->ev_tol; /* the event setting stays */
+    if (a->ct) ct_release(a->ct);
+    a->ct = c;
+    a->ct_free = ct_free;
+    a->ct_clone = ct_clone;
+}
+
+int kin__contact_ensure(kin_assembly *a)
+{
+    if (a->ct) return KIN_OK;
+    struct kin_contact *c;
+    int zero = 0;
+    int rc = ct_make(a, 0, &zero, NULL, 0.0, NULL, NULL, &c);
+    if (rc) return kin__fail(a, rc, "clearance workspace for %d bars", a->nb);
+    ct_install(a, c);
+    return KIN_OK;
+}
+
+/* ---- the public calls --------------------------------------------------- */
+
+static int cmp_int(const void *p, const void *q)
+{
+    int x = *(const int *)p, y = *(const int *)q;
+    return (x > y) - (x < y);
+}
+
+int kin_set_panels(kin_assembly *a, int np, const int *offsets, const int *joints)
+{
+    if (!a) return KIN_ENULL;
+    if (np < 0) return kin__fail(a, KIN_EINVAL, "npanels %d < 0", np);
+    if (np > 0 && (!offsets || !joints)) return kin__fail(a, KIN_ENULL, "panel offsets or joints is NULL");
+    if (np > 0 && offsets[0] != 0) return kin__fail(a, KIN_EINVAL, "offsets[0] = %d, not 0", offsets[0]);
+    int sorted[KIN_PANEL_MAX_JOINTS];
+    for (int i = 0; i < np; ++i) {
+        long len = (long)offsets[i + 1] - offsets[i];
+        if (len < 3 || len > KIN_PANEL_MAX_JOINTS)
+            return kin__fail(a, KIN_EINVAL, "panel %d has %ld joints (3..%d)", i, len, KIN_PANEL_MAX_JOINTS);
+        for (int q = 0; q < len; ++q) {
+            int j = joints[offsets[i] + q];
+            if (j < 0 || j >= a->nj)
+                return kin__fail(a, KIN_EJOINT, "panel %d: joint %d out of range 0..%d", i, j, a->nj - 1);
+            sorted[q] = j;
+        }
+        qsort(sorted, (size_t)len, sizeof(int), cmp_int);
+        for (int q = 1; q < len; ++q)
+            if (sorted[q] == sorted[q - 1])
+                return kin__fail(a, KIN_EINVAL, "panel %d: joint %d repeated", i, sorted[q]);
+    }
+    struct kin_contact *c;
+    double t0 = a->ct ? a->ct->t0 : 0.0;
+    int zero = 0;
+    int rc = ct_make(a, np, np ? offsets : &zero, joints, t0, a->ct ? a->ct->rbar : NULL, NULL, &c);
+    if (rc) return kin__fail(a, rc, "panels and clearance workspace");
+    ct_install(a, c);
+    return KIN_OK;
+}
+
+int kin_npanels(const kin_assembly *a) { return a ? (a->ct ? a->ct->np : 0) : -1; }
+
+int kin_get_panels(const kin_assembly *a, int *offsets, int *joints)
+{
+    if (!a) return KIN_ENULL;
+    int np = a->ct ? a->ct->np : 0;
+    if (offsets) {
+        if (np) memcpy(offsets, a->ct->poff, sizeof(int) * ((size_t)np + 1));
+        else offsets[0] = 0;
+    }
+    if (joints && np) memcpy(joints, a->ct->pj, sizeof(int) * (size_t)a->ct->poff[np]);
+    return KIN_OK;
+}
+
+static int bad_thickness(double t) { return !isfinite(t) || t > 1e150; }
+
+int kin_set_thickness(kin_assembly *a, double t0, const double *rbar, const double *tpan)
+{
+    if (!a) return KIN_ENULL;
+    if (bad_thickness(t0) || t0 < 0.0) return kin__fail(a, KIN_EGEOM, "default thickness %g", t0);
+    for (int k = 0; rbar && k < a->nb; ++k)
+        if (bad_thickness(rbar[k])) return kin__fail(a, KIN_EGEOM, "bar %d: radius %g", k, rbar[k]);
+    int np = a->ct ? a->ct->np : 0;
+    for (int i = 0; tpan && i < np; ++i)
+        if (bad_thickness(tpan[i])) return kin__fail(a, KIN_EGEOM, "panel %d: thickness %g", i, tpan[i]);
+    int rc = kin__contact_ensure(a);
+    if (rc) return rc;
+    struct kin_contact *c = a->ct;
+    c->t0 = t0;
+    for (int k = 0; k < a->nb; ++k) c->rbar[k] = rbar ? (rbar[k] < 0.0 ? -1.0 : rbar[k]) : -1.0;
+    for (int i = 0; i < np; ++i) c->tpan[i] = tpan ? (tpan[i] < 0.0 ? -1.0 : tpan[i]) : -1.0;
+    ct_radii(a, c);
+    return KIN_OK;
+}
+
+int kin_get_thickness(const kin_assembly *a, double *t0, double *rbar, double *tpan)
+{
+    if (!a) return KIN_ENULL;
+    const struct kin_contact *c = a->ct;
+    double t = c ? c->t0 : 0.0;
+    if (t0) *t0 = t;
+    for (int k = 0; rbar && k < a->nb; ++k) rbar[k] = c && c->rbar[k] >= 0.0 ? c->rbar[k] : 0.5 * t;
+    for (int i = 0; c && tpan && i < c->np; ++i) tpan[i] = c->tpan[i] >= 0.0 ? c->tpan[i] : t;
+    return KIN_OK;
+}
+
+int kin_has_contact_model(const kin_assembly *a)
+{
+    if (!a) return -1;
+    const struct kin_contact *c = a->ct;
+    if (!c) return 0;
+    if (c->np > 0 || c->t0 > 0.0) return 1;
+    for (int k = 0; k < a->nb; ++k)
+        if (c->rbar[k] > 0.0) return 1;
+    return 0;
+}
+
+int kin_set_contact_events(kin_assembly *a, int on, double tol)
+{
+    if (!a) return KIN_ENULL;
+    if (!(tol > 0.0 && tol <= 1.0)) return kin__fail(a, KIN_EINVAL, "contact location tolerance %g not in (0, 1]", tol);
+    int rc = kin__contact_ensure(a);
+    if (rc) return rc;
+    a->ct->ev_on = on != 0;
+    a->ct->ev_tol = tol;
+    a->ct->ev_have = 0;
+    return KIN_OK;
+}
+
+int kin_last_contact(const kin_assembly *a, double *clearance, int *parts, double *points, double *bracket)
+{
+    if (!a) return KIN_ENULL;
+    const struct kin_contact *c = a->ct;
+    if (!c || !c->ev_have) return KIN_ESTATE;
+    if (clearance) *clearance = c->ev_clearance;
+    if (parts) memcpy(parts, c->ev_parts, sizeof c->ev_parts);
+    if (points) memcpy(points, c->ev_points, sizeof(double) * 2 * (size_t)a->dim);
+    if (bracket) *bracket = c->ev_bracket;
+    return KIN_OK;
+}
+
+/* ---- the tree ----------------------------------------------------------- */
+
+/* partial sort of idx[0..n) by cen[3*idx + ax] so that idx[m] is in place */
+static void select_nth(int *idx, int n, int m, const double *cen, int ax)
+{
+    int lo = 0, hi = n - 1;
+    while (hi > lo) {
+        double piv = cen[3 * idx[(lo + hi) / 2] + ax];
+        int i = lo, j = hi;
+        while (i <= j) {
+            while (cen[3 * idx[i] + ax] < piv) ++i;
+            while (cen[3 * idx[j] + ax] > piv) --j;
+            if (i <= j) {
+                int t = idx[i];
+                idx[i] = idx[j], idx[j] = t;
+                ++i, --j;
+            }
+        }
+        if (m <= j) hi = j;
+        else if (m >= i) lo = i;
+        else break;
+    }
+}
+
+/* build the subtree of order[start .. start+count) into node *nn; returns its index */
+static int build(struct kin_contact *c, int start, int count, int *nn)
+{
+    int id = (*nn)++;
+    kin__bvh_node *N = &c->node[id];
+    double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int k = 0; k < 3; ++k) N->lo[k] = INFINITY, N->hi[k] = -INFINITY;
+    for (int q = start; q < start + count; ++q) {
+        int p = c->order[q];
+        for (int k = 0; k < 3; ++k) {
+            N->lo[k] = dmin(N->lo[k], c->plo[3 * p + k]);
+            N->hi[k] = dmax(N->hi[k], c->phi[3 * p + k]);
+            clo[k] = dmin(clo[k], c->cen[3 * p + k]);
+            chi[k] = dmax(chi[k], c->cen[3 * p + k]);
+        }
+    }
+    if (count <= LEAF_MAX) {
+        N->left = N->right = -1;
+        N->start = start;
+        N->count = count;
+        return id;
+    }
+    int ax = 0;
+    for (int k = 1; k < 3; ++k)
+        if (chi[k] - clo[k] > chi[ax] - clo[ax]) ax = k;
+    int half = count / 2;
+    select_nth(c->order + start, count, half, c->cen, ax);
+    int l = build(c, start, half, nn);
+    int r = build(c, start + half, count - half, nn);
+    N = &c->node[id];
+    N->left = l, N->right = r, N->start = start, N->count = count;
+    return id;
+}
+
+static double box_gap(const kin__bvh_node *A, const kin__bvh_node *B)
+{
+    double s = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        double g = dmax(A->lo[k] - B->hi[k], B->lo[k] - A->hi[k]);
+        if (g > 0.0) s += g * g;
+    }
+    return sqrt(s);
+}
+
+/* the joints of a part */
+static int part_joints(const kin_assembly *a, int part, const int **j)
+{
+    if (part < a->nb) {
+        *j = a->bars + 2 * part;
+        return 2;
+    }
+    const struct kin_contact *c = a->ct;
+    int i = part - a->nb;
+    *j = c->pj + c->poff[i];
+    return c->poff[i + 1] - c->poff[i];
+}
+
+static int adjacent(const kin_assembly *a, int pa, int pb)
+{
+    if (pa == pb) return 1;
+    const int *ja, *jb;
+    int na = part_joints(a, pa, &ja), nb = part_joints(a, pb, &jb);
+    for (int x = 0; x < na; ++x)
+        for (int y = 0; y < nb; ++y)
+            if (ja[x] == jb[y]) return 1;
+    return 0;
+}
+
+/* gap of the projections of nv points V (3 each, by index) and nw points W
+ * on axis u (any nonzero vector; divided by its length): a lower bound of
+ * the distance of their convex hulls */
+static double axis_gap(const double *P, const int *v, int nv, const int *w, int nw, const double *u)
+{
+    double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    if (!(uu > 0.0)) return 0.0;
+    double lo1 = INFINITY, hi1 = -INFINITY, lo2 = INFINITY, hi2 = -INFINITY;
+    for (int i = 0; i < nv; ++i) {
+        const double *x = P + 3 * v[i];
+        double t = x[0] * u[0] + x[1] * u[1] + x[2] * u[2];
+        lo1 = dmin(lo1, t), hi1 = dmax(hi1, t);
+    }
+    for (int i = 0; i < nw; ++i) {
+        const double *x = P + 3 * w[i];
+        double t = x[0] * u[0] + x[1] * u[1] + x[2] * u[2];
+        lo2 = dmin(lo2, t), hi2 = dmax(hi2, t);
+    }
+    return dmax(lo2 - hi1, lo1 - hi2) / sqrt(uu);
+}
+
+/* A cheap lower bound of the distance of primitives p and q (separating
+ * axes: the line of their centres; for a triangle its normal and the
+ * in-plane normals of its sides), so that most pairs near each other but
+ * apart never reach the exact test */
+static double prim_lower_bound(const struct kin_contact *c, const kin__leafprim *Lp, const kin__leafprim *Lq)
+{
+    const double *P = c->pts;
+    const int *vp = Lp->v, *vq = Lq->v;
+    int np = vp[2] >= 0 ? 3 : 2, nq = vq[2] >= 0 ? 3 : 2;
+    double cp[3] = {0, 0, 0}, cq[3] = {0, 0, 0}, u[3];
+    for (int k = 0; k < 3; ++k) {
+        for (int i = 0; i < np; ++i) cp[k] += P[3 * vp[i] + k] / np;
+        for (int i = 0; i < nq; ++i) cq[k] += P[3 * vq[i] + k] / nq;
+        u[k] = cq[k] - cp[k];
+    }
+    double best = axis_gap(P, vp, np, vq, nq, u);
+    for (int side = 0; side < 2; ++side) {
+        const int *t = side ? vq : vp;
+        if ((side ? nq : np) < 3) continue;
+        const double *a = P + 3 * t[0], *b = P + 3 * t[1], *cc = P + 3 * t[2];
+        double e[3][3], n[3];
+        for (int k = 0; k < 3; ++k) e[0][k] = b[k] - a[k], e[1][k] = cc[k] - b[k], e[2][k] = a[k] - cc[k];
+        n[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1];
+        n[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
+        n[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
+        best = dmax(best, axis_gap(P, vp, np, vq, nq, n));
+        for (int i = 0; i < 3; ++i) {
+            double m[3] = {e[i][1] * n[2] - e[i][2] * n[1], e[i][2] * n[0] - e[i][0] * n[2],
+                           e[i][0] * n[1] - e[i][1] * n[0]};
+            best = dmax(best, axis_gap(P, vp, np, vq, nq, m));
+        }
+    }
+    return best;
+}
+
+/* exact clearance of primitives p, q (centre distance minus radii) */
+static double prim_clearance(const struct kin_contact *c, const kin__leafprim *Lp, const kin__leafprim *Lq,
+                             double *cp, double *cq)
+{
+    const double *P = c->pts;
+    const int *vp = Lp->v, *vq = Lq->v;
+    double d;
+    int tp = vp[2] >= 0, tq = vq[2] >= 0;
+    if (!tp && !tq) d = kin__dist_seg_seg(P + 3 * vp[0], P + 3 * vp[1], P + 3 * vq[0], P + 3 * vq[1], cp, cq);
+    else if (!tp) d = kin__dist_seg_tri(P + 3 * vp[0], P + 3 * vp[1], P + 3 * vq[0], P + 3 * vq[1], P + 3 * vq[2], cp, cq);
+    else if (!tq) d = kin__dist_seg_tri(P + 3 * vq[0], P + 3 * vq[1], P + 3 * vp[0], P + 3 * vp[1], P + 3 * vp[2], cq, cp);
+    else {
+        const double *A[3] = {P + 3 * vp[0], P + 3 * vp[1], P + 3 * vp[2]};
+        const double *B[3] = {P + 3 * vq[0], P + 3 * vq[1], P + 3 * vq[2]};
+        d = kin__dist_tri_tri(A, B, cp, cq);
+    }
+    return d - Lp->r - Lq->r;
+}
+
+int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *clearance, int *parts, double *points)
+{
+    if (!a || !clearance) return a ? kin__fail(a, KIN_ENULL, "clearance is NULL") : KIN_ENULL;
+    *clearance = INFINITY;
+    if (parts) parts[0] = parts[1] = parts[2] = parts[3] = -1;
+    if (isnan(cutoff)) return kin__fail(a, KIN_EINVAL, "clearance: cutoff is NaN");
+    if (!xyz) xyz = a->xyz;
+    int dim = a->dim;
+    for (int i = 0; i < a->nj * dim; ++i)
+        if (!isfinite(xyz[i])) return kin__fail(a, KIN_EGEOM, "joint %d: non-finite coordinate", i / dim);
+    int rc = kin__contact_ensure(a);
+    if (rc) return rc;
+    struct kin_contact *c = a->ct;
+    for (int j = 0; j < a->nj; ++j)
+        for (int k = 0; k < 3; ++k) c->pts[3 * j + k] = k < dim ? xyz[j * dim + k] : 0.0;
+    /* primitive boxes, grown by the radius */
+    double rmax = 0.0;
+    for (int p = 0; p < c->nprim; ++p) {
+        const int *v = c->prim_v + 3 * p;
+        int nv = v[2] >= 0 ? 3 : 2;
+        for (int k = 0; k < 3; ++k) {
+            double lo = INFINITY, hi = -INFINITY;
+            for (int q = 0; q < nv; ++q) {
+                double x = c->pts[3 * v[q] + k];
+                lo = dmin(lo, x), hi = dmax(hi, x);
+            }
+            c->plo[3 * p + k] = lo - c->prim_r[p];
+            c->phi[3 * p + k] = hi + c->prim_r[p];
+            c->cen[3 * p + k] = 0.5 * (lo + hi);
+        }
+        c->order[p] = p;
+        rmax = dmax(rmax, c->prim_r[p]);
+    }
+    int nn = 0;
+    build(c, 0, c->nprim, &nn);
+    for (int q = 0; q < c->nprim; ++q) {
+        int p = c->order[q];
+        kin__leafprim *L = &c->lp[q];
+        for (int k = 0; k < 3; ++k) L->lo[k] = c->plo[3 * p + k], L->hi[k] = c->phi[3 * p + k], L->v[k] = c->prim_v[3 * p + k];
+        L->r = c->prim_r[p];
+        L->part = c->prim_part[p];
+    }
+    /* the pair walk, nearer pairs first */
+    double best = cutoff, bp[3] = {0, 0, 0}, bq[3] = {0, 0, 0}, xp[3], xq[3];
+    int ba = -1, bb = -1, top = 0;
+    int *st = c->stack;
+    st[0] = 0, st[1] = 0, top = 1;
+    while (top > 0) {
+        --top;
+        int u = st[2 * top], v = st[2 * top + 1];
+        const kin__bvh_node *U = &c->node[u], *V = &c->node[v];
+        if (u != v) {
+            /* boxes apart by g > 0: every clearance below is >= g; boxes that
+             * meet: >= -2 rmax */
+            double g = box_gap(U, V);
+            if ((g > 0.0 ? g : -2.0 * rmax) >= best) continue;
+        }
+        if (U->left < 0 && V->left < 0) {
+            for (int x = U->start; x < U->start + U->count; ++x) {
+                int y0 = u == v ? x + 1 : V->start;
+                for (int y = y0; y < V->start + V->count; ++y) {
+                    const kin__leafprim *Lp = &c->lp[x], *Lq = &c->lp[y];
+                    int pa = Lp->part, pb = Lq->part;
+                    /* the primitives' own boxes first, then adjacency */
+                    double s = 0.0;
+                    for (int k = 0; k < 3; ++k) {
+                        double g = dmax(Lp->lo[k] - Lq->hi[k], Lq->lo[k] - Lp->hi[k]);
+                        if (g > 0.0) s += g * g;
+                    }
+                    if ((s > 0.0 ? sqrt(s) : -Lp->r - Lq->r) >= best) continue;
+                    if (adjacent(a, pa, pb)) continue;
+                    if (prim_lower_bound(c, Lp, Lq) - Lp->r - Lq->r >= best) continue;
+                    double d = prim_clearance(c, Lp, Lq, xp, xq);
+                    if (d < best) {
+                        best = d;
+                        int sw = pa > pb;
+                        ba = sw ? pb : pa, bb = sw ? pa : pb;
+                        memcpy(bp, sw ? xq : xp, sizeof bp);
+                        memcpy(bq, sw ? xp : xq, sizeof bq);
+                    }
+                }
+            }
+            continue;
+        }
+        if (top + 3 > c->stack_cap) return kin__fail(a, KIN_ERANGE, "clearance: tree walk deeper than planned");
+        if (u == v) {
+            int l = U->left, r = U->right;
+            st[2 * top] = l, st[2 * top + 1] = r, ++top;
+            st[2 * top] = r, st[2 * top + 1] = r, ++top;
+            st[2 * top] = l, st[2 * top + 1] = l, ++top;
+            continue;
+        }
+        /* split the larger (or the inner) node; the nearer child pair last (popped first) */
+        int splitU = V->left < 0 || (U->left >= 0 && U->count >= V->count);
+        int c1 = splitU ? U->left : V->left, c2 = splitU ? U->right : V->right, o = splitU ? v : u;
+        double g1 = box_gap(&c->node[c1], &c->node[o]), g2 = box_gap(&c->node[c2], &c->node[o]);
+        int first = g1 <= g2 ? c2 : c1, second = g1 <= g2 ? c1 : c2;
+        st[2 * top] = first, st[2 * top + 1] = o, ++top;
+        st[2 * top] = second, st[2 * top + 1] = o, ++top;
+    }
+    *clearance = ba >= 0 ? best : INFINITY;
+    if (ba >= 0) {
+        if (parts) {
+            parts[0] = ba < a->nb ? KIN_PART_BAR : KIN_PART_PANEL;
+            parts[1] = ba < a->nb ? ba : ba - a->nb;
+            parts[2] = bb < a->nb ? KIN_PART_BAR : KIN_PART_PANEL;
+            parts[3] = bb < a->nb ? bb : bb - a->nb;
+        }
+        if (points)
+            for (int k = 0; k < dim; ++k) points[k] = bp[k], points[dim + k] = bq[k];
+    }
+    return KIN_OK;
+}

@@ -1,0 +1,77 @@
+/* Private to libkin/contact/: the contact workspace and the exact distance
+ * tests (distance.c). Points are 3-vectors (2D models have z = 0). */
+#ifndef KIN_CONTACT_INTERNAL_H
+#define KIN_CONTACT_INTERNAL_H
+
+#include "model/internal.h"
+
+/* A node of the bounding-volume tree: a box (lo[3], hi[3]) and either two
+ * children (left, right) or a run of primitives (start, count) of order[]. */
+typedef struct kin__bvh_node {
+    double lo[3], hi[3];
+    int left, right, start, count;
+} kin__bvh_node;
+
+/* A primitive as the tree's leaves use it, stored in tree order (the walk
+ * reads neighbours from neighbouring memory) */
+typedef struct kin__leafprim {
+    double lo[3], hi[3]; /* box grown by r */
+    double r;            /* radius */
+    int part;            /* bar k or nb + panel */
+    int v[3];            /* joints (a bar's third is -1) */
+} kin__leafprim;
+
+struct kin_contact {
+    /* the model: panels (CSR) and thicknesses (entries < 0: the default) */
+    int np;
+    int *poff;         /* np + 1 */
+    int *pj;           /* poff[np] */
+    double t0;         /* model-wide thickness */
+    double *rbar;      /* nb bar radii, < 0: t0/2 */
+    double *tpan;      /* np panel thicknesses, < 0: t0 */
+    /* the workspace of kin_clearance: primitives are the bars and the fan
+     * triangles of the panels */
+    int nprim;
+    int *prim_part;    /* part of each primitive (bar k, or nb + panel) */
+    int *prim_v;       /* 3 joints per primitive (a bar's third is -1) */
+    double *prim_r;    /* radius (half thickness) of each primitive */
+    double *cen;       /* 3 per primitive: box centre, for the split */
+    double *plo, *phi; /* 3 + 3 per primitive: its box, grown by its radius */
+    int *order;        /* nprim primitive indices, grouped by leaf */
+    kin__bvh_node *node; /* up to 2*nprim - 1 */
+    kin__leafprim *lp;   /* nprim: the primitives in tree order (order[]) */
+    int *stack;        /* 2 * stack_cap node indices of the pair traversal */
+    int stack_cap;
+    double *pts;       /* nj*3 points of the configuration */
+    /* contact as an event of kin_follow_event (branches/contact_event.c) */
+    int ev_on;         /* kin_set_contact_events */
+    double ev_tol;     /* location tolerance, a fraction of the RMS rest length */
+    int ev_armed;      /* the follow's start point was free of contact */
+    int ev_have;       /* a contact was located by the last follow */
+    double *ev_prev;   /* nf: the point before the step that reached contact */
+    double *ev_x;      /* 2*nf scratch */
+    double *ev_xyz;    /* 2*nj*dim: the first point in contact found, and a trial */
+    double ev_clearance, ev_bracket, ev_points[6];
+    int ev_parts[4];
+};
+
+/* Make a->ct (empty: no panels, thickness 0) if it does not exist, with the
+ * free and clone calls set; KIN_OK or KIN_ENOMEM. */
+int kin__contact_ensure(kin_assembly *a);
+
+/* The closest points of segments [p0,p1] and [q0,q1] into cp, cq; returns
+ * their distance. Degenerate (zero-length) segments are points. */
+double kin__dist_seg_seg(const double *p0, const double *p1, const double *q0, const double *q1, double *cp,
+                         double *cq);
+/* The closest point of triangle (a,b,c) to p into cq; returns the distance.
+ * A zero-area triangle is the union of its sides. */
+double kin__dist_pt_tri(const double *p, const double *a, const double *b, const double *c, double *cq);
+/* Segment [p0,p1] and triangle (a,b,c): distance (0 where they meet) and
+ * closest points. */
+double kin__dist_seg_tri(const double *p0, const double *p1, const double *a, const double *b, const double *c,
+                         double *cp, double *cq);
+/* Triangles (a0,a1,a2) and (b0,b1,b2): distance (0 where they meet) and
+ * closest points. */
+double kin__dist_tri_tri(const double *const A[3], const double *const B[3], double *cp, double *cq);
+
+#endif /* KIN_CONTACT_INTERNAL_H */

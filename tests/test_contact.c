@@ -1,0 +1,425 @@
+/* Panels, thickness and clearance (kin_contact.h): the exact cases on
+ * purpose (exactly touching, parallel segments, coplanar triangles, a
+ * zero-area panel, a bar through a panel), adjacency, thickness, 2D, the
+ * tree against all pairs on a sail, clone, and every error path. */
+#include <math.h>
+#include <string.h>
+
+#include "check.h"
+#include "contact/contact_internal.h"
+#include "libkin.h"
+
+static kin_assembly *make(int dim, int nj, const double *xyz, int nb, const int *bars)
+{
+    kin_assembly *a = NULL;
+    char err[256];
+    int rc = kin_assembly_create(dim, nj, xyz, NULL, nb, bars, NULL, &a, err, sizeof err);
+    if (rc) fprintf(stderr, "create: %s\n", err);
+    return a;
+}
+
+static double clr(kin_assembly *a, int *parts, double *pts)
+{
+    double c = NAN;
+    CHECK_RC(kin_clearance(a, NULL, INFINITY, &c, parts, pts), KIN_OK);
+    return c;
+}
+
+#define TOL (64 * DBL_EPSILON)
+
+static void bars_cases(void)
+{
+    /* two skew bars crossing at height h */
+    double h = 0.25;
+    double x[] = {-1, 0, 0, 1, 0, 0, 0, -1, h, 0, 1, h};
+    int b[] = {0, 1, 2, 3};
+    kin_assembly *a = make(3, 4, x, 2, b);
+    int parts[4];
+    double pts[6];
+    CHECK_CLOSE(clr(a, parts, pts), h, TOL);
+    CHECK(parts[0] == KIN_PART_BAR && parts[1] == 0 && parts[2] == KIN_PART_BAR && parts[3] == 1);
+    CHECK_CLOSE(pts[0], 0.0, TOL);
+    CHECK_CLOSE(pts[5], h, TOL);
+    /* with thickness: radius 0.1 each -> h - 0.2; the default t0 = 0.2 */
+    CHECK_RC(kin_set_thickness(a, 0.2, NULL, NULL), KIN_OK);
+    CHECK_CLOSE(clr(a, NULL, NULL), h - 0.2, TOL);
+    double rb[2] = {0.05, -1.0};
+    CHECK_RC(kin_set_thickness(a, 0.2, rb, NULL), KIN_OK);
+    CHECK_CLOSE(clr(a, NULL, NULL), h - 0.15, TOL);
+    double got[2], t0;
+    CHECK_RC(kin_get_thickness(a, &t0, got, NULL), KIN_OK);
+    CHECK(t0 == 0.2 && got[0] == 0.05 && got[1] == 0.1);
+    CHECK(kin_has_contact_model(a) == 1);
+    /* crossing exactly (h = 0): clearance 0, then -(r_a + r_b) */
+    double x0[] = {-1, 0, 0, 1, 0, 0, 0, -1, 0, 0, 1, 0};
+    double c;
+    CHECK_RC(kin_clearance(a, x0, INFINITY, &c, NULL, NULL), KIN_OK);
+    CHECK_CLOSE(c, -0.15, TOL);
+    kin_assembly_free(a);
+
+    /* parallel bars, overlapping, at distance 0.5; then collinear, touching end to end */
+    double xp[] = {0, 0, 0, 2, 0, 0, 1, 0.5, 0, 3, 0.5, 0};
+    a = make(3, 4, xp, 2, b);
+    CHECK_CLOSE(clr(a, NULL, NULL), 0.5, TOL);
+    double xc[] = {0, 0, 0, 1, 0, 0, 1, 0, 0, 2, 0, 0};
+    CHECK_RC(kin_clearance(a, xc, INFINITY, &c, NULL, pts), KIN_OK);
+    CHECK(c == 0.0);
+    CHECK(pts[0] == 1.0 && pts[3] == 1.0);
+    /* collinear with a gap of 0.5 */
+    double xg[] = {0, 0, 0, 1, 0, 0, 1.5, 0, 0, 2, 0, 0};
+    CHECK_RC(kin_clearance(a, xg, INFINITY, &c, NULL, NULL), KIN_OK);
+    CHECK_CLOSE(c, 0.5, TOL);
+    kin_assembly_free(a);
+
+    /* two bars at a joint: adjacent, never compared */
+    double xj[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    int bj[] = {0, 1, 0, 2};
+    a = make(3, 3, xj, 2, bj);
+    CHECK(isinf(clr(a, parts, NULL)) && parts[0] == -1);
+    CHECK(kin_has_contact_model(a) == 0);
+    kin_assembly_free(a);
+}
+
+/* a triangle panel (0,1,2) with its bars, and a bar (3,4) */
+static void panel_cases(void)
+{
+    double x[] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 0.5, 0.5, -1, 0.5, 0.5, 1};
+    int b[] = {0, 1, 1, 2, 2, 0, 3, 4};
+    kin_assembly *a = make(3, 5, x, 4, b);
+    int off[] = {0, 3}, pj[] = {0, 1, 2};
+    CHECK_RC(kin_set_panels(a, 1, off, pj), KIN_OK);
+    CHECK(kin_npanels(a) == 1);
+    int parts[4];
+    double pts[6];
+    /* the bar passes through the panel at (0.5, 0.5, 0) */
+    CHECK(clr(a, parts, pts) == 0.0);
+    CHECK(parts[0] == KIN_PART_BAR && parts[1] == 3 && parts[2] == KIN_PART_PANEL && parts[3] == 0);
+    CHECK_CLOSE(pts[0], 0.5, TOL);
+    CHECK_CLOSE(pts[2], 0.0, TOL);
+    CHECK_CLOSE(pts[5], 0.0, TOL);
+    /* the bar lifted above the panel, ending at height 0.3: the endpoint's distance */
+    double xu[] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 0.5, 0.5, 0.3, 0.5, 0.5, 1};
+    double c;
+    CHECK_RC(kin_clearance(a, xu, INFINITY, &c, parts, NULL), KIN_OK);
+    CHECK_CLOSE(c, 0.3, TOL);
+    /* exactly touching: the endpoint on the panel */
+    double xt[] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 0.5, 0.5, 0, 0.5, 0.5, 1};
+    CHECK_RC(kin_clearance(a, xt, INFINITY, &c, NULL, NULL), KIN_OK);
+    CHECK(c == 0.0);
+    /* panel thickness 0.1, bar radius default 0.05 (t0 = 0.1) */
+    double tp = 0.1;
+    CHECK_RC(kin_set_thickness(a, 0.1, NULL, &tp), KIN_OK);
+    CHECK_RC(kin_clearance(a, xu, INFINITY, &c, NULL, NULL), KIN_OK);
+    CHECK_CLOSE(c, 0.3 - 0.05 - 0.05, TOL);
+    /* a clone keeps panels and thickness */
+    kin_assembly *b2 = NULL;
+    CHECK_RC(kin_assembly_clone(a, &b2), KIN_OK);
+    CHECK(kin_npanels(b2) == 1);
+    CHECK_RC(kin_clearance(b2, xu, INFINITY, &c, NULL, NULL), KIN_OK);
+    CHECK_CLOSE(c, 0.2, TOL);
+    int o2[2], j2[3];
+    CHECK_RC(kin_get_panels(b2, o2, j2), KIN_OK);
+    CHECK(o2[1] == 3 && j2[2] == 2);
+    kin_assembly_free(b2);
+    /* a zero-area panel (collinear joints): its sides; the bar through its middle */
+    double xd[] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 1, -1, 0.25, 1, 1, 0.25};
+    CHECK_RC(kin_set_thickness(a, 0.0, NULL, NULL), KIN_OK);
+    CHECK_RC(kin_clearance(a, xd, INFINITY, &c, parts, NULL), KIN_OK);
+    CHECK_CLOSE(c, 0.25, TOL);
+    double xd0[] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 1, -1, 0, 1, 1, 0};
+    CHECK_RC(kin_clearance(a, xd0, INFINITY, &c, parts, NULL), KIN_OK);
+    CHECK(c == 0.0);
+    /* removing the panels */
+    CHECK_RC(kin_set_panels(a, 0, NULL, NULL), KIN_OK);
+    CHECK(kin_npanels(a) == 0);
+    kin_assembly_free(a);
+}
+
+/* two triangles: coplanar overlapping, coplanar apart, stacked, crossing, sharing an edge */
+static void triangle_cases(void)
+{
+    double x[] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 0.5, 0.5, 0, 3, 0.5, 0, 0.5, 3, 0};
+    int b[] = {0, 1, 1, 2, 2, 0, 3, 4, 4, 5, 5, 3};
+    kin_assembly *a = make(3, 6, x, 6, b);
+    int off[] = {0, 3, 6}, pj[] = {0, 1, 2, 3, 4, 5};
+    CHECK_RC(kin_set_panels(a, 2, off, pj), KIN_OK);
+    int parts[4];
+    double c;
+    /* coplanar overlapping */
+    CHECK(clr(a, parts, NULL) == 0.0);
+    /* coplanar apart by 1 along x */
+    double xa[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, 3, 0, 0, 2, 1, 0};
+    CHECK_RC(kin_clearance(a, xa, INFINITY, &c, parts, NULL), KIN_OK);
+    CHECK_CLOSE(c, 1.0, TOL);
+    /* stacked parallel, 0.5 apart: triangle-triangle (and bars) */
+    double xs[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0.5, 1, 0, 0.5, 0, 1, 0.5};
+    CHECK_RC(kin_clearance(a, xs, INFINITY, &c, parts, NULL), KIN_OK);
+    CHECK_CLOSE(c, 0.5, TOL);
+    double tp[2] = {0.2, 0.4};
+    CHECK_RC(kin_set_thickness(a, 0.0, NULL, tp), KIN_OK);
+    CHECK_RC(kin_clearance(a, xs, INFINITY, &c, parts, NULL), KIN_OK);
+    CHECK_CLOSE(c, 0.5 - 0.1 - 0.2, TOL);
+    CHECK(parts[0] == KIN_PART_PANEL && parts[2] == KIN_PART_PANEL);
+    CHECK_RC(kin_set_thickness(a, 0.0, NULL, NULL), KIN_OK);
+    /* crossing: the second triangle stands through the first */
+    double xx[] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 0.5, 0.5, -1, 0.6, 0.5, 1, 0.5, 0.6, 1};
+    CHECK_RC(kin_clearance(a, xx, INFINITY, &c, parts, NULL), KIN_OK);
+    CHECK(c == 0.0);
+    kin_assembly_free(a);
+
+    /* a quad panel and a triangle sharing its edge (1, 2): adjacent; a far bar */
+    double xq[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 2, 0.5, 0, 2, 0.5, 3, 2, 0.5, 4};
+    int bq[] = {0, 1, 1, 2, 2, 3, 3, 0, 1, 4, 2, 4, 5, 6};
+    a = make(3, 7, xq, 7, bq);
+    int oq[] = {0, 4, 7}, jq[] = {0, 1, 2, 3, 1, 4, 2};
+    CHECK_RC(kin_set_panels(a, 2, oq, jq), KIN_OK);
+    c = clr(a, parts, NULL);
+    /* the panels share the edge (1, 2) and are not compared; the nearest
+     * non-adjacent pair is bar 0 (joints 0, 1) and bar 5 (joints 2, 4),
+     * or by symmetry bar 2 (2, 3) and bar 4 (1, 4) */
+    double dmin = 2.0 / sqrt(5.0);
+    CHECK(parts[0] == KIN_PART_BAR && parts[2] == KIN_PART_BAR);
+    CHECK_CLOSE(c, dmin, TOL * 8);
+    kin_assembly_free(a);
+}
+
+static void plane_cases(void)
+{
+    /* 2D: a triangle panel and a bar crossing its side; then apart */
+    double x[] = {0, 0, 2, 0, 0, 2, 0.2, 1.5, 3, 1.5};
+    int b[] = {0, 1, 1, 2, 2, 0, 3, 4};
+    kin_assembly *a = make(2, 5, x, 4, b);
+    int off[] = {0, 3}, pj[] = {0, 1, 2};
+    CHECK_RC(kin_set_panels(a, 1, off, pj), KIN_OK);
+    int parts[4];
+    double pts[4], c;
+    CHECK(clr(a, parts, pts) == 0.0);
+    double xa[] = {0, 0, 2, 0, 0, 2, 2, 2, 3, 2};
+    CHECK_RC(kin_clearance(a, xa, INFINITY, &c, parts, pts), KIN_OK);
+    CHECK_CLOSE(c, sqrt(2.0), TOL * 4);
+    CHECK_CLOSE(pts[2], 2.0, TOL);
+    CHECK_CLOSE(pts[0], 1.0, TOL * 4);
+    kin_assembly_free(a);
+}
+
+/* on a folded-ish sail: the tree's answer equals the smallest over all pairs */
+static void sail_vs_all_pairs(void)
+{
+    kin_sail_params p;
+    kin_sail_params_default(&p, 6, 2);
+    kin_assembly *a = NULL;
+    CHECK_RC(kin_model_sail(&p, &a, NULL, 0), KIN_OK);
+    if (!a) return;
+    int nb = kin_nbars(a), nj = kin_njoints(a);
+    int *bars = malloc(sizeof(int) * 2 * (size_t)nb);
+    double *xyz = malloc(sizeof(double) * 3 * (size_t)nj);
+    kin_get_bars(a, bars);
+    kin_get_coords(a, xyz);
+    /* panels: the bar triangles */
+    int cap = 4 * nb, np = 0;
+    int *off = malloc(sizeof(int) * ((size_t)cap + 1)), *pj = malloc(sizeof(int) * 3 * (size_t)cap);
+    off[0] = 0;
+    for (int k = 0; k < nb; ++k)
+        for (int m = k + 1; m < nb; ++m) {
+            int p0 = bars[2 * k], p1 = bars[2 * k + 1], q0 = bars[2 * m], q1 = bars[2 * m + 1];
+            int shared = p0 == q0 || p0 == q1 ? p0 : (p1 == q0 || p1 == q1 ? p1 : -1);
+            if (shared < 0) continue;
+            int u = p0 == shared ? p1 : p0, v = q0 == shared ? q1 : q0;
+            if (u > shared || v > shared || u >= v) continue; /* each triangle once: shared the largest */
+            for (int r = 0; r < nb; ++r)
+                if ((bars[2 * r] == u && bars[2 * r + 1] == v) || (bars[2 * r] == v && bars[2 * r + 1] == u)) {
+                    if (np < cap) pj[3 * np] = u, pj[3 * np + 1] = v, pj[3 * np + 2] = shared, off[np + 1] = 3 * (np + 1), ++np;
+                }
+        }
+    CHECK(np > 0);
+    CHECK_RC(kin_set_panels(a, np, off, pj), KIN_OK);
+    unsigned long long seed = 7;
+    for (int trial = 0; trial < 40; ++trial) {
+        double *y = malloc(sizeof(double) * 3 * (size_t)nj);
+        double amp = trial < 20 ? 0.05 : 0.6;
+        for (int i = 0; i < 3 * nj; ++i)
+            y[i] = xyz[i] + amp * ((double)(kin__splitmix(&seed) >> 11) / 9007199254740992.0 - 0.5);
+        if (trial % 3 == 0) kin_set_thickness(a, 0.01 * trial, NULL, NULL);
+        double c;
+        CHECK_RC(kin_clearance(a, y, INFINITY, &c, NULL, NULL), KIN_OK);
+        /* all pairs */
+        double best = INFINITY, cp[3], cq[3];
+        double r0, *rb = malloc(sizeof(double) * (size_t)nb), *tp = malloc(sizeof(double) * (size_t)np);
+        kin_get_thickness(a, &r0, rb, tp);
+        int npart = nb + np;
+        for (int s = 0; s < npart; ++s)
+            for (int t = s + 1; t < npart; ++t) {
+                const int *js = s < nb ? bars + 2 * s : pj + 3 * (s - nb);
+                const int *jt = t < nb ? bars + 2 * t : pj + 3 * (t - nb);
+                int ns = s < nb ? 2 : 3, nt = t < nb ? 2 : 3, adj = 0;
+                for (int i = 0; i < ns; ++i)
+                    for (int j = 0; j < nt; ++j) adj |= js[i] == jt[j];
+                if (adj) continue;
+                double d;
+                const double *S[3] = {y + 3 * js[0], y + 3 * js[1], ns == 3 ? y + 3 * js[2] : NULL};
+                const double *T[3] = {y + 3 * jt[0], y + 3 * jt[1], nt == 3 ? y + 3 * jt[2] : NULL};
+                if (ns == 2 && nt == 2) d = kin__dist_seg_seg(S[0], S[1], T[0], T[1], cp, cq);
+                else if (ns == 2) d = kin__dist_seg_tri(S[0], S[1], T[0], T[1], T[2], cp, cq);
+                else d = kin__dist_tri_tri(S, T, cp, cq);
+                d -= (s < nb ? rb[s] : 0.5 * tp[s - nb]) + (t < nb ? rb[t] : 0.5 * tp[t - nb]);
+                best = fmin(best, d);
+            }
+        CHECK_CLOSE(c, best, 16 * DBL_EPSILON);
+        free(rb), free(tp), free(y);
+    }
+    free(bars), free(xyz), free(off), free(pj);
+    kin_assembly_free(a);
+}
+
+static void errors(void)
+{
+    double x[] = {-1, 0, 0, 1, 0, 0, 0, -1, 1, 0, 1, 1};
+    int b[] = {0, 1, 2, 3};
+    kin_assembly *a = make(3, 4, x, 2, b);
+    double c;
+    int off[] = {0, 3}, pj[] = {0, 1, 2};
+    CHECK_RC(kin_set_panels(NULL, 1, off, pj), KIN_ENULL);
+    CHECK_RC(kin_set_panels(a, 1, NULL, pj), KIN_ENULL);
+    CHECK_RC(kin_set_panels(a, -1, off, pj), KIN_EINVAL);
+    int off_bad0[] = {1, 3};
+    CHECK_RC(kin_set_panels(a, 1, off_bad0, pj), KIN_EINVAL);
+    int off2[] = {0, 2};
+    CHECK_RC(kin_set_panels(a, 1, off2, pj), KIN_EINVAL);
+    int pj_rep[] = {0, 1, 0};
+    CHECK_RC(kin_set_panels(a, 1, off, pj_rep), KIN_EINVAL);
+    int pj_out[] = {0, 1, 9};
+    CHECK_RC(kin_set_panels(a, 1, off, pj_out), KIN_EJOINT);
+    CHECK(kin_npanels(a) == 0);
+    CHECK(kin_npanels(NULL) == -1);
+    CHECK(kin_has_contact_model(NULL) == -1);
+    CHECK_RC(kin_get_panels(NULL, NULL, NULL), KIN_ENULL);
+    CHECK_RC(kin_set_thickness(NULL, 0, NULL, NULL), KIN_ENULL);
+    CHECK_RC(kin_set_thickness(a, -1.0, NULL, NULL), KIN_EGEOM);
+    CHECK_RC(kin_set_thickness(a, NAN, NULL, NULL), KIN_EGEOM);
+    double rb[2] = {INFINITY, 0};
+    CHECK_RC(kin_set_thickness(a, 0.0, rb, NULL), KIN_EGEOM);
+    CHECK_RC(kin_get_thickness(NULL, NULL, NULL, NULL), KIN_ENULL);
+    CHECK_RC(kin_clearance(NULL, NULL, INFINITY, &c, NULL, NULL), KIN_ENULL);
+    CHECK_RC(kin_clearance(a, NULL, INFINITY, NULL, NULL, NULL), KIN_ENULL);
+    CHECK_RC(kin_clearance(a, NULL, NAN, &c, NULL, NULL), KIN_EINVAL);
+    /* a cutoff: below the clearance (1) nothing is resolved; above, the same answer */
+    int parts[4];
+    CHECK_RC(kin_clearance(a, NULL, 0.5, &c, parts, NULL), KIN_OK);
+    CHECK(isinf(c) && parts[0] == -1);
+    CHECK_RC(kin_clearance(a, NULL, 1.5, &c, parts, NULL), KIN_OK);
+    CHECK_CLOSE(c, 1.0, TOL);
+    CHECK(parts[0] == KIN_PART_BAR);
+    double xn[] = {-1, 0, 0, 1, 0, 0, 0, -1, NAN, 0, 1, 1};
+    CHECK_RC(kin_clearance(a, xn, INFINITY, &c, NULL, NULL), KIN_EGEOM);
+    /* after the failures the handle is unchanged: no panels, zero thickness */
+    CHECK(kin_has_contact_model(a) == 0);
+    CHECK_RC(kin_clearance(a, NULL, INFINITY, &c, NULL, NULL), KIN_OK);
+    CHECK_CLOSE(c, 1.0, TOL);
+    kin_assembly_free(a);
+}
+
+/* the JSON model: panels, thickness and radii load, save and load back; every bad field is KIN_EFORMAT */
+static void json_cases(void)
+{
+    const char *head = "{\"dimension\": 3, \"joints\": [{\"xyz\": [0,0,0]}, {\"xyz\": [1,0,0]}, {\"xyz\": [0,1,0]},"
+                       " {\"xyz\": [0.2,0.2,-1]}, {\"xyz\": [0.2,0.2,1]}], \"bars\": [{\"joints\": [0,1]}, {\"joints\": [1,2]},"
+                       " {\"joints\": [2,0]}, {\"joints\": [3,4]%s}]%s}";
+    const char *good[2] = {", \"radius\": 0.002", ", \"thickness\": 0.01, \"panels\": [{\"joints\": [0,1,2], \"thickness\": 0.02}]"};
+    char text[1024], err[512];
+    snprintf(text, sizeof text, head, good[0], good[1]);
+    kin_assembly *a = NULL, *b = NULL;
+    CHECK_RC(kin_assembly_load_string(text, strlen(text), &a, err, sizeof err), KIN_OK);
+    if (a) {
+        double c, c2, t0, rb[4], tp[1];
+        CHECK(kin_npanels(a) == 1);
+        CHECK_RC(kin_get_thickness(a, &t0, rb, tp), KIN_OK);
+        CHECK(t0 == 0.01 && rb[0] == 0.005 && rb[3] == 0.002 && tp[0] == 0.02);
+        CHECK_RC(kin_clearance(a, NULL, INFINITY, &c, NULL, NULL), KIN_OK);
+        CHECK_CLOSE(c, -0.012, TOL);
+        char *out = NULL;
+        size_t n = 0;
+        CHECK_RC(kin_assembly_save_string(a, NULL, &out, &n, err, sizeof err), KIN_OK);
+        CHECK_RC(kin_assembly_load_string(out, n, &b, err, sizeof err), KIN_OK);
+        if (b) {
+            CHECK_RC(kin_clearance(b, NULL, INFINITY, &c2, NULL, NULL), KIN_OK);
+            CHECK(c2 == c && kin_npanels(b) == 1);
+        }
+        kin_free_string(out);
+        kin_assembly_free(b);
+    }
+    kin_assembly_free(a);
+    const char *bad[][2] = {
+        {"", ", \"panels\": 3"},
+        {"", ", \"panels\": [3]"},
+        {"", ", \"panels\": [{\"joints\": [0,1]}]"},
+        {"", ", \"panels\": [{\"joints\": [0,1,1]}]"},
+        {"", ", \"panels\": [{\"joints\": [0,1,9]}]"},
+        {"", ", \"panels\": [{\"joints\": [0,1,2.5]}]"},
+        {"", ", \"panels\": [{\"joints\": [0,1,2], \"index\": 1}]"},
+        {"", ", \"panels\": [{\"joints\": [0,1,2], \"thickness\": -1}]"},
+        {"", ", \"thickness\": -0.5"},
+        {"", ", \"thickness\": \"thick\""},
+        {", \"radius\": -1", ""},
+        {", \"radius\": true", ""},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        snprintf(text, sizeof text, head, bad[i][0], bad[i][1]);
+        CHECK_RC(kin_assembly_load_string(text, strlen(text), &a, err, sizeof err), KIN_EFORMAT);
+        CHECK(a == NULL);
+    }
+}
+
+/* contact as an event of kin_follow_event: a parallelogram swings into a
+ * fixed bar; the first contact is at 30 degrees, where joint 1 reaches x = -0.5 */
+static void follow_cases(void)
+{
+    double x[] = {0, 0, 0, 1, 1, 1, 1, 0, -0.5, 0.5, -0.5, 2};
+    unsigned char fixed[] = {1, 1, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1};
+    int b[] = {0, 1, 1, 2, 2, 3, 4, 5};
+    kin_assembly *a = NULL;
+    CHECK_RC(kin_assembly_create(2, 6, x, fixed, 4, b, NULL, &a, NULL, 0), KIN_OK);
+    if (!a) return;
+    kin_assembly *off = NULL;
+    CHECK_RC(kin_assembly_clone(a, &off), KIN_OK);
+    double dir[] = {-1, 0, -1, 0}, c, pts[4], br;
+    int parts[4];
+    CHECK_RC(kin_last_contact(a, &c, parts, pts, &br), KIN_ESTATE);
+    CHECK_RC(kin_set_contact_events(a, 1, 0.0), KIN_EINVAL);
+    CHECK_RC(kin_set_contact_events(NULL, 1, 1e-9), KIN_ENULL);
+    CHECK_RC(kin_set_contact_events(a, 1, 1e-9), KIN_OK);
+    kin_follow_info info = {.size = sizeof info};
+    CHECK_RC(kin_follow_event(a, dir, NULL, &info), KIN_OK);
+    CHECK(info.event == KIN_FOLLOW_CONTACT);
+    CHECK_RC(kin_last_contact(a, &c, parts, pts, &br), KIN_OK);
+    CHECK(c <= 64 * DBL_EPSILON * 1.2 && br <= 1e-9 * 1.2);
+    CHECK((parts[1] == 3 || parts[3] == 3) && parts[0] == KIN_PART_BAR && parts[2] == KIN_PART_BAR);
+    double y[12];
+    kin_get_coords(a, y);
+    CHECK_CLOSE(y[2], -0.5, 1e-8);
+    CHECK_CLOSE(y[3], sqrt(0.75), 1e-8);
+    CHECK(kin_max_strain(a) < 1e-10);
+    /* the same path without contact events runs on to its bifurcation (flat, at 90 degrees) */
+    kin_follow_info info2 = {.size = sizeof info2};
+    CHECK_RC(kin_follow_event(off, dir, NULL, &info2), KIN_OK);
+    CHECK(info2.event == KIN_FOLLOW_BIFURCATION);
+    CHECK_RC(kin_last_contact(off, &c, NULL, NULL, NULL), KIN_ESTATE);
+    /* a follow that starts in contact is followed as before (no event) */
+    kin_follow_info info3 = {.size = sizeof info3};
+    CHECK_RC(kin_follow_event(a, dir, NULL, &info3), KIN_OK);
+    CHECK(info3.event != KIN_FOLLOW_CONTACT);
+    kin_assembly_free(off);
+    kin_assembly_free(a);
+}
+
+int main(void)
+{
+    follow_cases();
+    json_cases();
+    bars_cases();
+    panel_cases();
+    triangle_cases();
+    plane_cases();
+    sail_vs_all_pairs();
+    errors();
+    TEST_REPORT("test_contact");
+}
