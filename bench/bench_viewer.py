@@ -37,21 +37,13 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "python" / "tests"))
 
 from atlas_synthetic import replicate  # noqa: E402
-from test_viewer_browser import CHROMEDRIVER, CHROMIUM, FLAGS  # noqa: E402
+from test_viewer_browser import CHROMIUM, new_driver  # noqa: E402
 
 from libkin.atlas import Atlas, html  # noqa: E402
 
 
 def open_page(page: pathlib.Path, shot: "pathlib.Path | None", edge: int = -1) -> dict:
-    from selenium import webdriver
-    from selenium.webdriver.chrome.service import Service
-    profile = tempfile.mkdtemp(prefix="libkin-chromium-")
-    opts = webdriver.ChromeOptions()
-    opts.binary_location = CHROMIUM
-    for f in FLAGS + [f"--user-data-dir={profile}"]:
-        opts.add_argument(f)
-    opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    d = webdriver.Chrome(service=Service(CHROMEDRIVER), options=opts)
+    d = new_driver()
     try:
         d.set_page_load_timeout(300)
         d.get(page.as_uri())
@@ -73,7 +65,7 @@ def open_page(page: pathlib.Path, shot: "pathlib.Path | None", edge: int = -1) -
         return r
     finally:
         d.quit()
-        shutil.rmtree(profile, ignore_errors=True)
+        shutil.rmtree(d.libkin_profile, ignore_errors=True)
 
 
 def main() -> None:

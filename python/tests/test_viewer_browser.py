@@ -67,8 +67,9 @@ def shots(tmp_path_factory):
     return d
 
 
-@pytest.fixture(scope="module")
-def driver():
+def new_driver():
+    """Headless Chromium through chromedriver, with a fresh profile and the
+    browser's console log kept (also bench/bench_viewer.py's)."""
     from selenium import webdriver
     from selenium.webdriver.chrome.service import Service
     profile = tempfile.mkdtemp(prefix="libkin-chromium-")
@@ -78,13 +79,20 @@ def driver():
         opts.add_argument(f)
     opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
     d = webdriver.Chrome(service=Service(CHROMEDRIVER), options=opts)
+    d.libkin_profile = profile  # removed by the caller after quit()
+    return d
+
+
+@pytest.fixture(scope="module")
+def driver():
+    d = new_driver()
     d.set_page_load_timeout(120)
     d.set_script_timeout(60)
     try:
         yield d
     finally:
         d.quit()
-        shutil.rmtree(profile, ignore_errors=True)
+        shutil.rmtree(d.libkin_profile, ignore_errors=True)
 
 
 @pytest.fixture(scope="module")
