@@ -28,7 +28,7 @@ STYLE = {  # kind: (marker, face colour, size, legend text)
     _atlas.FAILURE: ("X", "#8c564b", 90, "following failed"),
 }
 EVENT_COLOUR = {"bifurcation": "#d62728", "near_miss": "#ff7f0e", "loop": "#2ca02c", "budget": "#999999",
-                "failure": "#8c564b"}
+                "failure": "#8c564b", "contact": "#e377c2"}
 
 
 def _label(atlas: _atlas.Atlas, n: _atlas.Node) -> str:

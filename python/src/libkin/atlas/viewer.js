@@ -21,7 +21,7 @@
     bifurcation: ["diamond", "#d62728"], regular: ["circle", "#a0a0a0"], near_miss: ["triangle-up", "#ff7f0e"],
     multi_dof: ["square", "#9467bd"], rigid: ["cross", "#333333"], failure: ["x", "#8c564b"] };
   const EVENT_COLOUR = { bifurcation: "#d62728", near_miss: "#ff7f0e", loop: "#2ca02c", budget: "#7f7f7f",
-    failure: "#8c564b" };
+    failure: "#8c564b", contact: "#e377c2" };
   const word = (k) => String(k).replace(/_/g, "-");
   const fmt = (v, d) => (v === null || v === undefined) ? "-" : Number(v).toPrecision(d || 4).replace(/\.?0+(e|$)/, "$1");
   const esc = (s) => String(s).replace(/[&<>"]/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;" })[c]);
