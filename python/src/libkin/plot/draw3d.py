@@ -157,9 +157,13 @@ def small_multiples(panels, bars, kinds, fixed, path, suptitle, base, cols=8, si
     return factor
 
 
-def animate3d(frames, bars, kinds, fixed, path, titles, fps=10, view=(24, -62), size=(5.0, 4.2), dpi=100):
+def animate3d(frames, bars, kinds, fixed, path, titles, fps=10, view=(24, -62), size=(5.0, 4.2), dpi=100,
+              highlight=None, note=None):
     """A GIF of configurations `frames` (list of (njoints, 3)) with a title
-    per frame, at one fixed scale and camera."""
+    per frame, at one fixed scale and camera. highlight: per frame a list
+    of joint sequences (a bar's two joints, a panel's loop) drawn thick in
+    magenta on that frame (the parts in contact); note: a line under the
+    legend saying what they are."""
     plt = pyplot()
     allp = np.concatenate(frames)
     fig = plt.figure(figsize=size, dpi=dpi)
@@ -174,7 +178,12 @@ def animate3d(frames, bars, kinds, fixed, path, titles, fps=10, view=(24, -62), 
     title = ax.set_title(titles[0], fontsize=8)
     fig.text(0.5, 0.02, "black: hub; red: fold lines; blue: rings and diagonals; triangles: pinned supports; "
              "axes in hub sides a", ha="center", fontsize=6.5)
+    if note:
+        fig.text(0.5, 0.055, note, ha="center", fontsize=6.5, color="#c2188c")
     fig.subplots_adjust(left=0, right=0.97, bottom=0.05, top=0.95)
+    # the highlighted parts: a few lines, redrawn on every frame
+    marks = [ax.plot([], [], [], color="#e0199a", lw=3.0)[0] for _ in range(max((len(h) for h in highlight or [[]]),
+                                                                              default=0))]
     # frames drawn by matplotlib, written by Pillow with one shared palette:
     # unchanged pixels then compress across frames (half the size of
     # matplotlib's PillowWriter, which palettes every frame on its own)
@@ -183,6 +192,10 @@ def animate3d(frames, bars, kinds, fixed, path, titles, fps=10, view=(24, -62), 
     for k in range(len(frames)):
         update(art, frames[k])
         title.set_text(titles[k])
+        for j, line in enumerate(marks):
+            seq = highlight[k][j] if highlight and j < len(highlight[k]) else []
+            pts = frames[k][list(seq) + list(seq[:1] if len(seq) > 2 else [])] if len(seq) else np.zeros((0, 3))
+            line.set_data_3d(pts[:, 0], pts[:, 1], pts[:, 2])
         fig.canvas.draw()
         images.append(Image.fromarray(np.asarray(fig.canvas.buffer_rgba())[:, :, :3].copy()))
     plt.close(fig)

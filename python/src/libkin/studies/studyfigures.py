@@ -419,5 +419,22 @@ def animation(M, res, track, out, n_frames=48):
         x = track.coords[i]
         titles.append(f"{tex(where)}   l = {l[i]:.2f} {UNIT}, x-y extent {np.hypot(x[:, 0], x[:, 1]).max():.2f} {UNIT}")
     frames = [track.coords[i] for i in idx]
-    draw3d.animate3d(frames, M.bars, M.kinds, M.fixed, out / "fold_animation.gif", titles)
+    # the bare membrane (contactstudy.py: every bar triangle and the hub as
+    # panels) on every frame: the two closest parts that share no joint,
+    # where they touch or pass through each other
+    highlight, note = None, None
+    if "interference" in res:
+        from .contactstudy import TOUCH, sail_panels
+        model = M.a.clone()
+        panels = sail_panels(M.a)
+        model.panels = panels
+        highlight = []
+        for x in frames:
+            c = model.clearance(x)
+            highlight.append([list(M.bars[i]) if kind == "bar" else list(panels[i]) for kind, i in c.parts]
+                             if c.value <= TOUCH else [])
+        if any(highlight):
+            note = "magenta: two parts of the membrane that touch or pass through each other (zero thickness)"
+    draw3d.animate3d(frames, M.bars, M.kinds, M.fixed, out / "fold_animation.gif", titles, highlight=highlight,
+                     note=note)
     return len(frames)
