@@ -42,17 +42,6 @@ static const int OLD_MAX_M = 420;
  * once (see docs/performance.md, "the rigid/internal split") */
 static const double OLD_PLATE_ANALYSE_CPU = 505.6; /* s CPU, one BLAS thread, 2026-11-26 */
 
-static void print_load(const char *when)
-{
-    double l[3] = {NAN, NAN, NAN};
-    FILE *f = fopen("/proc/loadavg", "r");
-    if (f) {
-        if (fscanf(f, "%lf %lf %lf", &l[0], &l[1], &l[2]) != 3) l[0] = NAN;
-        fclose(f);
-    }
-    printf("[load average %s: %.2f %.2f %.2f]\n", when, l[0], l[1], l[2]);
-}
-
 static double cpu_now(void)
 {
     struct timespec ts;

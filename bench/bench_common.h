@@ -6,12 +6,25 @@
 #define KIN_BENCH_COMMON_H
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
 
 #include "model/internal.h"
 
 /* wall-clock seconds, monotonic */
+/* the load average, printed with the benchmark's figures (a shared machine) */
+static inline void print_load(const char *when)
+{
+    double l[3] = {NAN, NAN, NAN};
+    FILE *f = fopen("/proc/loadavg", "r");
+    if (f) {
+        if (fscanf(f, "%lf %lf %lf", &l[0], &l[1], &l[2]) != 3) l[0] = NAN;
+        fclose(f);
+    }
+    printf("[load average %s: %.2f %.2f %.2f]\n", when, l[0], l[1], l[2]);
+}
+
 static inline double now(void)
 {
     struct timespec ts;

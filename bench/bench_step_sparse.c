@@ -61,17 +61,6 @@
 
 #include <suitesparse/klu.h>
 
-static void print_load(const char *when)
-{
-    double l[3] = {NAN, NAN, NAN};
-    FILE *f = fopen("/proc/loadavg", "r");
-    if (f) {
-        if (fscanf(f, "%lf %lf %lf", &l[0], &l[1], &l[2]) != 3) l[0] = NAN;
-        fclose(f);
-    }
-    printf("[load average %s: %.2f %.2f %.2f]\n", when, l[0], l[1], l[2]);
-}
-
 /* resident and virtual size of this process, MB (Linux /proc) */
 static void memory_mb(double *rss, double *vsz)
 {
