@@ -50,6 +50,9 @@ def _executor(kind):
 @pytest.mark.parametrize("kind", ["serial", "thread", "process", "futures-process", "dask"])
 def test_run_tasks_cancels_what_is_not_started(kind):
     with _executor(kind) as ex:
+        # warm the executor first (a Dask cluster or a process pool takes
+        # longer than LIMIT to run its first task on a loaded machine)
+        assert parallel.run_tasks(_nap, [0, 1], ex) == [0, 1]
         items = list(range(TASKS))
         out = parallel.run_tasks(_nap, items, ex, deadline=time.perf_counter() + LIMIT)
         assert len(out) == TASKS
