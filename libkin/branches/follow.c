@@ -547,10 +547,6 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
         l0 = l1;
     }
     a->opt = user;
-    /* a contact met on an LU step is located as on an SVD step (with the
-     * handle's own options back) */
-    if (rc == KIN_OK && *stop && info->event == KIN_FOLLOW_CONTACT && (rc = kin__contact_event_locate(a)) != KIN_OK)
-        info->event = KIN_FOLLOW_FAILED;
     return rc;
 }
 
@@ -766,8 +762,6 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
         rc = KIN_OK;
         if (c.reason) {
             info->event = c.reason;
-            if (c.reason == KIN_FOLLOW_CONTACT && (rc = kin__contact_event_locate(a)) != KIN_OK)
-                info->event = KIN_FOLLOW_FAILED;
             break;
         }
         if (li.event == KIN_EVENT_NONE) {
@@ -796,6 +790,10 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
         info->v_r_rel = kin__cur(a)->an.v_r / kin__cur(a)->an.v_max;
     if (rc == KIN_OK) (void)kin__progress(a, c.total, c.total);
 out:
+    /* a contact, whether an LU step or an SVD step met it: located here,
+     * once, with the handle's own options */
+    if (rc == KIN_OK && info->event == KIN_FOLLOW_CONTACT && (rc = kin__contact_event_locate(a)) != KIN_OK)
+        info->event = KIN_FOLLOW_FAILED;
     info->status = rc;
     info->length = c.length;
     {
