@@ -25,35 +25,17 @@ import sys
 import time
 from typing import Any, Iterator
 
-import numpy as np
 
 import libkin
 from libkin import parallel
 from libkin.atlas.orbits import differences
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python", "tests"))
+from test_symmetry_default import excluding, fragile_branches  # noqa: E402  (one comparison for both)
+
 
 def load() -> str:
     return " ".join(f"{x:.1f}" for x in os.getloadavg())
-
-
-def _fragile(plain: Any, sym: Any) -> Any:
-    """The start's branches that end differently in the two atlases (each a
-    failure or a near-miss in one of them: python/tests/test_symmetry_default.py),
-    and the exclude() that leaves them out."""
-    def ends(at: Any) -> Any:
-        return [(e.sign * np.asarray(e.beta), e.event, at.nodes[e.target].coords, e.length) for e in at.edges
-                if e.source == 0]
-    theirs = ends(sym)
-    out = []
-    for d, ev, X, length in ends(plain):
-        k = next(i for i, t in enumerate(theirs) if np.abs(t[0] - d).max() <= 1e-6)
-        if ev != theirs[k][1] or np.abs(X - theirs[k][2]).max() > 1e-6 or abs(length - theirs[k][3]) > 1e-6 * length:
-            out.append((d, ev, theirs[k][1]))
-
-    def exclude(e: Any) -> bool:
-        d = e.sign * np.asarray(e.beta)
-        return e.source == 0 and any(np.abs(d - f[0]).max() <= 1e-6 for f in out)
-    return out, exclude
 
 
 def atlas(args: argparse.Namespace) -> None:
@@ -70,8 +52,8 @@ def atlas(args: argparse.Namespace) -> None:
                 res[sym] = libkin.explore(spec, depth=depth, symmetry=sym, samples=0)
                 t[sym].append(time.perf_counter() - t0)
         a, b = res[False], res[True]
-        fragile, exclude = _fragile(a, b)
-        diff = differences(a, b, exclude=exclude)
+        fragile = fragile_branches(a, b)
+        diff = differences(a, b, exclude=excluding(fragile))
         kinds = sorted({f"{p}/{q}" for _, p, q in fragile})
         print(f"| {spec} | {depth} | {len(a.nodes)} / {len(b.nodes)} | {len(a.edges)} | "
               f"{min(t[False]):.2f} | {min(t[True]):.2f} | {min(t[False]) / min(t[True]):.2f} | "
