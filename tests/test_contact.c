@@ -390,6 +390,8 @@ static void follow_cases(void)
     kin_follow_info info = {.size = sizeof info};
     CHECK_RC(kin_follow_event(a, dir, NULL, &info), KIN_OK);
     CHECK(info.event == KIN_FOLLOW_CONTACT);
+    /* the length to the located contact: two joints on unit circles, 30 degrees */
+    CHECK(info.length <= sqrt(2.0) * acos(-1.0) / 6 && info.length >= sqrt(2.0) * acos(-1.0) / 6 * (1 - 2e-3));
     CHECK_RC(kin_last_contact(a, &c, parts, pts, &br), KIN_OK);
     CHECK(c <= 64 * DBL_EPSILON * 1.2 && br <= 1e-9 * 1.2);
     CHECK((parts[1] == 3 || parts[3] == 3) && parts[0] == KIN_PART_BAR && parts[2] == KIN_PART_BAR);
@@ -411,8 +413,69 @@ static void follow_cases(void)
     kin_assembly_free(a);
 }
 
+/* two bare bars in 3D that pass through each other touch only at an
+ * instant, between two steps: joint P swings on the circle x = 0, (y - 0)^2 +
+ * (z - 1)^2 = 1 (bars to the fixed O1 = (-1, 0, 1) and O2 = (1, 0, 1)), and the
+ * middle of bar O1-P passes through the fixed vertical bar x = -0.5, y = 0.3
+ * where sin(theta) = 0.6: P = (0, 0.6, 0.2) */
+static void crossing_cases(void)
+{
+    double x[] = {-1, 0, 1, 1, 0, 1, 0, 0, 0, -0.5, 0.3, -1, -0.5, 0.3, 2};
+    unsigned char fixed[] = {1, 1, 1, 1, 1, 1, 0, 0, 0, 1, 1, 1, 1, 1, 1};
+    int b[] = {0, 2, 1, 2, 3, 4};
+    kin_assembly *a = NULL, *off = NULL;
+    CHECK_RC(kin_assembly_create(3, 5, x, fixed, 3, b, NULL, &a, NULL, 0), KIN_OK);
+    if (!a) return;
+    CHECK_RC(kin_assembly_clone(a, &off), KIN_OK);
+    double dir[] = {0, 1, 0}, c = NAN, pts[6], br = NAN, y[15];
+    int parts[4] = {-1, -1, -1, -1};
+    CHECK_RC(kin_set_contact_events(a, 1, 1e-9), KIN_OK);
+    kin_follow_info info = {.size = sizeof info};
+    CHECK_RC(kin_follow_event(a, dir, NULL, &info), KIN_OK);
+    CHECK(info.event == KIN_FOLLOW_CONTACT);
+    /* the length to the located contact (a sum of chords: a little short
+     * of the arc theta = asin 0.6 of P's unit circle) */
+    CHECK(info.length <= asin(0.6) && info.length >= asin(0.6) * (1 - 2e-3));
+    CHECK_RC(kin_last_contact(a, &c, parts, pts, &br), KIN_OK);
+    CHECK(parts[0] == KIN_PART_BAR && parts[2] == KIN_PART_BAR);
+    CHECK((parts[1] == 0 && parts[3] == 2) || (parts[1] == 2 && parts[3] == 0));
+    /* located to 1e-9 x the RMS bar length (sqrt(13/3)); the bars' distance
+     * there is at most the bracket's (a joint moves at most as far) */
+    double rms = sqrt(13.0 / 3.0);
+    CHECK(br <= 1e-9 * rms && c >= 0.0 && c <= br);
+    kin_get_coords(a, y);
+    CHECK_CLOSE(y[7], 0.6, 1e-8);
+    CHECK_CLOSE(y[8], 0.2, 1e-8);
+    CHECK(kin_max_strain(a) < 1e-10);
+    /* with a radius the same bars touch before they cross: where the distance
+     * of O1-P's middle to the vertical bar is 2 r */
+    CHECK_RC(kin_set_thickness(off, 0.02, NULL, NULL), KIN_OK);
+    CHECK_RC(kin_set_contact_events(off, 1, 1e-9), KIN_OK);
+    kin_follow_info info2 = {.size = sizeof info2};
+    CHECK_RC(kin_follow_event(off, dir, NULL, &info2), KIN_OK);
+    CHECK(info2.event == KIN_FOLLOW_CONTACT);
+    CHECK_RC(kin_last_contact(off, &c, parts, pts, &br), KIN_OK);
+    CHECK((parts[1] == 0 && parts[3] == 2) || (parts[1] == 2 && parts[3] == 0));
+    CHECK(br <= 1e-9 * rms && c <= 64 * DBL_EPSILON * rms && c >= -2.0 * br);
+    kin_get_coords(off, y);
+    /* O1-P is 2 r = 0.02 from the vertical line: seen from above, the line
+     * from (-1, 0) along (1, y) passes 0.02 from (-0.5, 0.3):
+     * (0.3 - 0.5 y)^2 = 0.0004 (1 + y^2), the smaller root */
+    double qa = 0.25 - 0.0004, qb = -0.3, qc = 0.09 - 0.0004;
+    CHECK_CLOSE(y[7], (-qb - sqrt(qb * qb - 4 * qa * qc)) / (2 * qa), 1e-8);
+    /* events off: the same follow passes through and goes on */
+    CHECK_RC(kin_set_contact_events(off, 0, 1e-9), KIN_OK);
+    CHECK_RC(kin_set_coords(off, x), KIN_OK);
+    kin_follow_info info3 = {.size = sizeof info3};
+    CHECK_RC(kin_follow_event(off, dir, NULL, &info3), KIN_OK);
+    CHECK(info3.event != KIN_FOLLOW_CONTACT);
+    kin_assembly_free(off);
+    kin_assembly_free(a);
+}
+
 int main(void)
 {
+    crossing_cases();
     follow_cases();
     json_cases();
     bars_cases();

@@ -8,5 +8,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/build.sh
 bash tools/venv.sh
+# with no arguments, the main job also maps which of the symmetric paths a
+# bare membrane can follow (--contact: the path map with contact as an event)
+if [ $# -eq 0 ]; then set -- --contact; fi
 LIBKIN_LIBRARY="$PWD/build/libkin.so" PYTHONPATH="$PWD/python/src" \
   build/venv/bin/python -m libkin study "$@"

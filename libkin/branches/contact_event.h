@@ -20,4 +20,8 @@ int kin__contact_event_check(kin_assembly *a, const double *xprev);
  * kin_set_coords / kin_clearance returned). */
 int kin__contact_event_locate(kin_assembly *a);
 
+/* After kin__contact_event_locate: how much shorter the path is to the
+ * located point than to the end of the last step (along its chord). */
+double kin__contact_event_back(const kin_assembly *a);
+
 #endif /* KIN_CONTACT_EVENT_H */

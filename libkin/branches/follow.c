@@ -795,7 +795,8 @@ out:
     if (rc == KIN_OK && info->event == KIN_FOLLOW_CONTACT && (rc = kin__contact_event_locate(a)) != KIN_OK)
         info->event = KIN_FOLLOW_FAILED;
     info->status = rc;
-    info->length = c.length;
+    /* a contact located within the last step: the length to it */
+    info->length = c.length - (rc == KIN_OK && info->event == KIN_FOLLOW_CONTACT ? kin__contact_event_back(a) : 0.0);
     {
         double *xe = c.xq;
         kin__gather(a, a->xyz, xe);

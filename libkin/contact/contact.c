@@ -25,6 +25,7 @@ static void ct_release(struct kin_contact *c)
     free(c->poff), free(c->pj), free(c->rbar), free(c->tpan);
     free(c->prim_part), free(c->prim_v), free(c->prim_r), free(c->cen), free(c->plo), free(c->phi);
     free(c->order), free(c->node), free(c->lp), free(c->ev_prev), free(c->ev_x), free(c->ev_xyz), free(c->stack), free(c->pts);
+    free(c->ev_box), free(c->ev_key);
     free(c);
 }
 
@@ -61,9 +62,12 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->ev_prev = malloc(sizeof(double) * ((size_t)a->nf + 1));
     c->ev_x = malloc(sizeof(double) * (2 * (size_t)a->nf + 1));
     c->ev_xyz = malloc(sizeof(double) * 2 * (size_t)a->nj * (size_t)a->dim);
+    c->ev_box = malloc(sizeof(double) * 6 * ((size_t)a->nb + 1));
+    c->ev_key = malloc(sizeof(kin__sweepkey) * ((size_t)a->nb + 1));
+    c->ev_pair[0] = c->ev_pair[1] = -1;
     c->ev_tol = 1e-9;
     if (!c->prim_part || !c->prim_v || !c->prim_r || !c->cen || !c->plo || !c->phi || !c->order || !c->node || !c->lp ||
-        !c->stack || !c->pts || !c->ev_prev || !c->ev_x || !c->ev_xyz)
+        !c->stack || !c->pts || !c->ev_prev || !c->ev_x || !c->ev_xyz || !c->ev_box || !c->ev_key)
         return KIN_ENOMEM;
     int p = 0;
     for (int k = 0; k < a->nb; ++k, ++p) {

@@ -21,6 +21,12 @@ typedef struct kin__leafprim {
     int v[3];            /* joints (a bar's third is -1) */
 } kin__leafprim;
 
+/* A bar in the sweep of contact_event.c's crossing check: its box's low x */
+typedef struct kin__sweepkey {
+    double x;
+    int k;
+} kin__sweepkey;
+
 struct kin_contact {
     /* the model: panels (CSR) and thicknesses (entries < 0: the default) */
     int np;
@@ -52,7 +58,15 @@ struct kin_contact {
     double *ev_x;      /* 2*nf scratch */
     double *ev_xyz;    /* 2*nj*dim: the first point in contact found, and a trial */
     double ev_clearance, ev_bracket, ev_points[6];
+    double ev_back;    /* chord length from the located point to the step's end */
     int ev_parts[4];
+    /* bars (3D) that passed through each other within a step
+     * (contact_event.c): each bar's box over the step, the sweep's keys,
+     * the pair found (-1: none) and the sign of its orientation before */
+    double *ev_box;      /* 6 per bar */
+    kin__sweepkey *ev_key; /* nb */
+    int ev_pair[2];
+    double ev_side;
 };
 
 /* Make a->ct (empty: no panels, thickness 0) if it does not exist, with the

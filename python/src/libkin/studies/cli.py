@@ -27,6 +27,10 @@ def register(sub):
                    help="where the path map's branches are followed (libkin explore's --executor)")
     s.add_argument("--workers", type=count(1), default=2, help="workers of --executor process|dask (default 2)")
     s.add_argument("--quiet", action="store_true", help="no progress messages")
+    s.add_argument("--contact", nargs="?", type=float, const=0.0, default=None, metavar="T",
+                   help="also explore the path map with contact as an event (membrane thickness t/a = T, default "
+                        "0: the bare membrane) and report which mapped paths reach their next event free of "
+                        "contact")
     s.add_argument("--interference", action="store_true",
                    help="the interference study instead (paper Section 7's open question): fold each member of "
                         "--members along its radially sequential path and report the first contact of its "
@@ -79,6 +83,14 @@ def _interference(args: argparse.Namespace) -> int:
 
 
 def cmd_study(args: argparse.Namespace) -> int:
+    if args.contact is not None:
+        if not (0.0 <= args.contact < 1.0):
+            print("--contact: the thickness t/a must be in [0, 1)", file=sys.stderr)
+            return EXIT_USAGE
+        if args.interference or args.hub == 4:
+            print("--contact maps the hexagonal-type study's paths (--hub 6, 8, ...; not with --interference "
+                  "or --hub 4)", file=sys.stderr)
+            return EXIT_USAGE
     if args.interference:
         with folder_lock(args.out):
             return _interference(args)
@@ -100,7 +112,7 @@ def _study(args: argparse.Namespace) -> int:
         with executor(args.executor, args.workers) as ex:
             res = sailstudy.hexagonal_study(args.hub, args.loops, complete=not args.quick, threads=args.threads,
                                             progress=not args.quiet, out=args.out, executor=ex,
-                                            map_depth=args.map_depth)
+                                            map_depth=args.map_depth, contact=args.contact)
     if "failed" in res:
         print(f"study stopped early: {res['failed']}", file=sys.stderr)
         return EXIT_STUDY_FAILED

@@ -43,6 +43,9 @@ class SailMap:
 
     def __init__(self, atlas: Atlas) -> None:
         self.atlas = atlas
+        # the same map explored again with contact as an event, when the
+        # study is asked for it (contactmap.py; `libkin study --contact`)
+        self.contact_atlas: Optional[Atlas] = None
         self.nodes = atlas.nodes
         x0 = self.nodes[0].coords
         self.scale = max(1.0, float(np.abs(x0 - x0.mean(axis=0)).max()))

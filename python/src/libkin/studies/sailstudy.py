@@ -34,6 +34,7 @@ from .contactstudy import member_study
 from .common import (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, accounting_words, branch_words, follow_to_bifurcation,
                      jsonable, leave, paper_locate, record, say)
 from .flatcache import flat_solve
+from .contactmap import contact_map
 from .sailmap import MAP_DEPTH, SailMap, explore_symmetric
 from .sailmeasure import measures
 from .squarestudy import square_study as square_study
@@ -118,7 +119,7 @@ def _branch_report(a, threads, length, max_s=12):
 
 
 def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=True, out=None, executor=None,
-                    map_depth=MAP_DEPTH, interference=True):
+                    map_depth=MAP_DEPTH, interference=True, contact=None):
     """The folding and deployment study of Section 6.2 on a CENTRE-supported
     family member (the paper's: n_sides=6, n_loops=2). interference: also
     the first contact of the membrane along the member's radially
@@ -128,7 +129,10 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     either way). The path map is the explorer's symmetric atlas to
     map_depth levels (sailmap.py), its branches followed on `executor`
     (None: in this process; a concurrent.futures.Executor or a
-    dask.distributed.Client)."""
+    dask.distributed.Client). contact: a membrane thickness t/a (0 for the
+    bare membrane) to explore the map again with contact as an event
+    (contactmap.py: which mapped paths reach their next event free of
+    contact); None (the default) skips it."""
     t_start = time.perf_counter()
     res = {"model": f"sail {n_sides}-gon hub, {n_loops} loops", "n_sides": n_sides, "n_loops": n_loops,
            "events": {}}
@@ -160,6 +164,10 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     say(progress, f"[map] exploring the symmetric paths (depth {map_depth}) ...")
     smap = SailMap(explore_symmetric(a, map_depth, executor=executor, threads=threads, progress=progress))
     res["flat"]["symmetric"] = _symmetric_record(smap.branches_record(0))
+    if contact is not None:
+        cm = contact_map(a, smap, map_depth, contact, executor=executor, threads=threads, progress=progress)
+        smap.contact_atlas = cm.pop("atlas")
+        res["contact_map"] = cm
     sym = res["flat"]["symmetric"]
     say(progress, f"[R^A] {n_sides // 2}-fold symmetric motions: {sym['k']} mechanisms, {sym['s']} equations, "
          f"{sym['accounting']['real_distinct']} real solutions of {sym['accounting']['paths']}")

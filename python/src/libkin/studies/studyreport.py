@@ -40,6 +40,11 @@ def hexagonal(res, track, stages, out, smap=None, snaps=None):
     F.fold_measures(M, res, track, out)
     if smap is not None and smap.nodes:
         F.path_map(smap, out)
+    if smap is not None and smap.contact_atlas is not None:
+        from libkin.atlas.plot import draw_map
+        draw_map(smap.contact_atlas, out / "contact_map.png",
+                 title=f"The path map with contact as an event (t/a = {res['contact_map']['thickness']:g})")
+        figs["contact_map"] = "contact_map.png"
     figs["grids"] = []
     for name, snap in (snaps or {}).items():
         fname = f"branches_{name.replace('^', '')}.png"
@@ -243,6 +248,10 @@ def _write_hex_md(res, out, M, figs):
                  "(near-misses, regular points); arrows are symmetric paths between them (thicker: more "
                  "directed paths). A node and its mirror image z -> -z share a marker.*\n")
         fig_no += 1
+    if "contact_map" in res:
+        from .contactmap import contact_map_md
+        L += contact_map_md(res["contact_map"], res.get("map", {}).get("atlas", {}).get("edges"),
+                            figs.get("contact_map"))
     L.append("## The paper's three questions\n")
     cont = "failed" not in res
     L.append(f"1. **Continuous strain-free motion from open to folded?** "
