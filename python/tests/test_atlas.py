@@ -250,3 +250,39 @@ def test_branch_orbits_match_images():
             u = dirs[k] / np.linalg.norm(dirs[k])
             v = P[j] @ dirs[r] / np.linalg.norm(dirs[r])
             assert np.abs(u - v).max() < 1e-12
+
+
+def test_a_task_gives_the_same_result_with_the_model_cached():
+    # tasks clone a per-process template of the model (atlas/tasks.py): the
+    # result must be the freshly loaded model's, bit for bit, and a task must
+    # not change what the next one starts from
+    from libkin.atlas import tasks
+    a = libkin.Assembly.sail(4, 1)
+    an = a.analyse()
+    res = a.branches()
+    text = json.dumps(a.to_json())
+    outs = {}
+    for cached in (False, True, True):
+        rows = []
+        for k, d in enumerate(res.directions[:6]):
+            if not cached:
+                tasks._template.cache_clear()
+            task = {"model": text, "coords": a.coords.tolist(), "rank_tol": None, "direction": list(d),
+                    "max_length": 10.0 * a.nfree, "samples": 2}
+            r = tasks.follow_branch(task)
+            rows.append((r["event"], r["length"], np.asarray(r["coords"]).tobytes(), r["steps"],
+                         [np.asarray(x).tobytes() for x in r["samples"]]))
+        outs.setdefault(cached, []).append(rows)
+    assert an.m_internal >= 2
+    assert outs[False][0] == outs[True][0] == outs[True][1]
+    # what a task does to its handle stays with it
+    task = {"model": text, "coords": a.coords.tolist(), "rank_tol": 1e-8}
+    b = tasks.rebuild(task)
+    b.coords = np.asarray(tasks.follow_branch(dict(task, direction=list(res.directions[0]),
+                                                   max_length=1.0))["coords"])
+    assert not np.array_equal(b.coords, a.coords)
+    o = b.options
+    o.rank_tol = 1e-3
+    b.options = o
+    c = tasks.rebuild(task)
+    assert np.array_equal(c.coords, a.coords) and c.options.rank_tol == 1e-8
