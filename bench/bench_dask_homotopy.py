@@ -45,7 +45,7 @@ def load() -> str:
 
 def cluster(workers: int):
     from dask.distributed import Client, LocalCluster
-    lc = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
+    lc = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0")
     return lc, Client(lc)
 
 

@@ -57,7 +57,11 @@ def test_workers_dying_every_time_give_one_error_and_keep_what_completed():
         # the pool serves the next run
         assert run_tasks(square_killing_always, [(x, -1) for x in range(3)], pool) == [0, 1, 4]
     assert isinstance(e.value, KinError) and "\n" not in str(e.value)
-    assert e.value.partial == [0, 1, None, None, None]
+    # what completed is kept (tasks run as workers free up, so which of the
+    # others completed before the last death varies); the victim never did
+    part = e.value.partial
+    assert len(part) == 5 and part[2] is None
+    assert all(r is None or r == x * x for x, r in enumerate(part)) and any(r is not None for r in part)
     # any other executor: no renewal, the same one error
     with ProcessPoolExecutor(max_workers=2) as ex:
         with pytest.raises(WorkersLostError):

@@ -12,7 +12,6 @@ leaving executor() by an exception terminates and joins the pool's workers.
 """
 from __future__ import annotations
 
-import asyncio
 import concurrent.futures
 import contextlib
 import signal
@@ -137,88 +136,148 @@ def _is_dask_client(ex: Any) -> bool:
 
 
 def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = None, progress: Progress = None,
-              what: str = "tasks", deadline: Optional[float] = None) -> List[Any]:
+              what: str = "tasks", deadline: Optional[float] = None,
+              on_result: Optional[Callable[[int, Any], None]] = None,
+              stop: Optional[Callable[[], bool]] = None) -> List[Any]:
     """fn(item) for every item, serially (executor None) or on a
     concurrent.futures.Executor or a dask.distributed.Client; the results in
     the order of items. progress(done, total, what) after each.
 
-    deadline (a time.perf_counter() value): once it passes, nothing more is
-    started and every task not yet started is cancelled at once (all of
-    them, in one sweep, before waiting on any: cancelling one at a time
-    while waiting on the next let a pool's feeder start each in turn, so a
-    run went on to the end); those give None. The grace after the deadline
-    is the tasks in flight: serially the one running, on a
-    concurrent.futures pool those its workers run or hold queued (a process
-    pool queues one more than its width), each bounded by its own budget;
-    on Dask none (running tasks are cancelled too: their results are
-    dropped)."""
+    At most a window of tasks (WINDOW_PER_WORKER times the executor's width)
+    is in flight; each result is taken as it completes, in any order, and
+    the next task submitted, so no worker waits behind a slow task and a
+    cancel has few futures to sweep. on_result(k, result) is called in
+    this thread as task k's result is taken (None for a task not run), so a
+    caller can record results while the others run.
+
+    deadline (a time.perf_counter() value) or stop() (checked at least every
+    0.1 s while waiting): once past / true, nothing more is started and the
+    tasks in flight but not started are cancelled in one sweep; those, and
+    the tasks never submitted, give None. The grace is the tasks running:
+    serially the one running, on a concurrent.futures pool those its
+    workers run (each bounded by its own budget); on Dask, at the deadline
+    none (running tasks are cancelled too: their results are dropped), on
+    stop() the window in flight (a signal lets the branches being followed
+    complete).
+
+    A process pool (ProcessPool) whose worker died is renewed and the tasks
+    in flight resubmitted, up to RETRIES times; then WorkersLostError with
+    the results so far. Dask's KilledWorker (a task whose workers died too
+    often) gives WorkersLostError too."""
     n = len(items)
-    out: List[Any] = []
+    out: List[Any] = [None] * n
+    taken = 0
+
+    def take(k: int, res: Any) -> None:
+        nonlocal taken
+        out[k] = res
+        taken += 1
+        if on_result is not None:
+            on_result(k, res)
+        tick(progress, taken, n, what)
+
+    def halted() -> bool:
+        return (deadline is not None and time.perf_counter() > deadline) or (stop is not None and bool(stop()))
+
     if executor is None:
         for k, it in enumerate(items):
-            out.append(None if deadline is not None and time.perf_counter() > deadline else fn(it))
-            tick(progress, k + 1, n, what)
+            take(k, None if halted() else fn(it))
         return out
     dask = _is_dask_client(executor)
-    if dask:
-        futures = list(executor.map(fn, items, pure=False))
-    else:
-        futures = [executor.submit(fn, it) for it in items]
+    window = WINDOW_PER_WORKER * _width(executor, dask)
+    inflight: Dict[Any, int] = {}
+    nxt = 0
     deaths = 0
     expired = False
-    gathered: Dict[int, Any] = {}
-    k = 0
-    while k < n:
-        if deadline is not None and not expired and not _wait(futures[k], deadline):
+
+    def submit(k: int) -> None:
+        f = executor.submit(fn, items[k], pure=False) if dask else executor.submit(fn, items[k])
+        inflight[f] = k
+
+    while nxt < n or inflight:
+        if not expired and halted():
             expired = True
-            _cancel_pending(executor, futures[k:], dask)
-            if dask:  # the finished ones in one call (a result() each is a scheduler round trip)
-                ready = [i for i in range(k, n) if futures[i].status == "finished"]
-                with contextlib.suppress(Exception):  # a task's error: raised by its own result() below
-                    gathered.update(zip(ready, executor.gather([futures[i] for i in ready])))
-        if k in gathered:
-            out.append(gathered.pop(k))
-            k += 1
-            tick(progress, k, n, what)
-            continue
-        if futures[k].cancelled():
-            out.append(None)
-            k += 1
-            tick(progress, k, n, what)
-            continue
-        try:
-            out.append(futures[k].result())
-        except BrokenProcessPool:
-            deaths += 1
-            if not isinstance(executor, ProcessPool) or deaths > RETRIES:
-                raise WorkersLostError(f"worker processes died {deaths} time{'s' if deaths > 1 else ''}; "
-                                       f"{k} of {n} {what} completed", out + [None] * (n - k)) from None
-            executor.renew()
-            futures[k:] = [f if _succeeded(f) else (_cancelled() if expired else executor.submit(fn, it))
-                           for f, it in zip(futures[k:], items[k:])]
-            continue
-        except Exception as exc:
-            if type(exc).__name__ != "KilledWorker":  # Dask: a task's workers died too often
-                raise
-            raise WorkersLostError(f"Dask workers died running one task; {k} of {n} {what} completed",
-                                   out + [None] * (n - k)) from None
-        k += 1
-        tick(progress, k, n, what)
+            # at the deadline, Dask's running tasks are cancelled too; on
+            # stop() (a signal) the tasks in flight complete, as documented
+            if not dask or (deadline is not None and time.perf_counter() > deadline):
+                _cancel_pending(executor, list(inflight), dask)
+        while not expired and nxt < n and len(inflight) < window:
+            submit(nxt)
+            nxt += 1
+        if not inflight:
+            break
+        timeout = None if (deadline is None and stop is None) or expired else 0.1
+        if deadline is not None and timeout is not None:
+            timeout = max(0.0, min(timeout, deadline - time.perf_counter()))
+        for f in _first_done(list(inflight), timeout, dask):
+            if f not in inflight:  # resubmitted after a lost worker below
+                continue
+            k = inflight.pop(f)
+            if f.cancelled():
+                take(k, None)
+                continue
+            try:
+                res = f.result()
+            except BrokenProcessPool:
+                deaths += 1
+                if not isinstance(executor, ProcessPool) or deaths > RETRIES:
+                    raise WorkersLostError(f"worker processes died {deaths} time{'s' if deaths > 1 else ''}; "
+                                           f"{taken} of {n} {what} completed", out) from None
+                executor.renew()
+                lost = [k] + [j for g, j in inflight.items() if not _succeeded(g)]
+                for g in [g for g in inflight if not _succeeded(g)]:
+                    del inflight[g]
+                for j in sorted(lost):
+                    if expired:
+                        take(j, None)
+                    else:
+                        submit(j)
+                break  # the set of done futures is stale
+            except Exception as exc:
+                if type(exc).__name__ == "CancelledError" and (dask or expired):
+                    take(k, None)  # Dask: cancelled after the halt (running tasks too)
+                    continue
+                if type(exc).__name__ != "KilledWorker":  # Dask: a task's workers died too often
+                    raise
+                raise WorkersLostError(f"Dask workers died running one task; {taken} of {n} {what} completed",
+                                       out) from None
+            take(k, res)
+    for k in range(nxt, n):  # never submitted: halted
+        take(k, None)
     return out
 
 
-def _wait(f: Any, deadline: float) -> bool:
-    """Wait for the future until the deadline; True if it is done by then."""
-    left = deadline - time.perf_counter()
-    if not f.done() and left > 0:
-        try:
-            concurrent.futures.wait([f], timeout=left) if isinstance(f, concurrent.futures.Future) \
-                else f.result(timeout=left)
-        except (TimeoutError, concurrent.futures.TimeoutError, asyncio.TimeoutError):
-            pass
-        except Exception:  # noqa: BLE001 - the task's own error: raised by the caller's result()
-            pass
-    return bool(f.done())
+#: tasks in flight per worker of the executor (run_tasks): enough that a
+#: worker finds the next task queued when it finishes one
+WINDOW_PER_WORKER = 4
+
+
+def _width(executor: Any, dask: bool) -> int:
+    """How many tasks the executor runs at once (a guess of 4 for an
+    executor that does not say)."""
+    n: Any = None
+    if dask:
+        with contextlib.suppress(Exception):
+            n = sum(executor.nthreads().values())
+    else:
+        n = getattr(executor, "workers", None) or getattr(executor, "_max_workers", None)
+    return max(1, int(n or 4))
+
+
+def _first_done(futures: List[Any], timeout: Optional[float], dask: bool) -> List[Any]:
+    """The futures done once at least one is, or the timeout passes
+    (possibly none), in submission order."""
+    if dask:
+        end = None if timeout is None else time.perf_counter() + timeout
+        pause = 0.0005
+        while True:  # Dask futures: poll their state (no blocking wait on a set without a timeout error)
+            done = [f for f in futures if f.done()]
+            if done or (end is not None and time.perf_counter() >= end):
+                return done
+            time.sleep(pause)
+            pause = min(0.02, 2 * pause)
+    done, _ = concurrent.futures.wait(futures, timeout=timeout, return_when=concurrent.futures.FIRST_COMPLETED)
+    return [f for f in futures if f in done]
 
 
 def _cancel_pending(executor: Any, futures: Sequence[Any], dask: bool) -> None:
@@ -232,12 +291,6 @@ def _cancel_pending(executor: Any, futures: Sequence[Any], dask: bool) -> None:
         return
     for f in futures:
         f.cancel()
-
-
-def _cancelled() -> "concurrent.futures.Future[Any]":
-    f: "concurrent.futures.Future[Any]" = concurrent.futures.Future()
-    f.cancel()
-    return f
 
 
 def _succeeded(f: "concurrent.futures.Future[Any]") -> bool:
@@ -275,8 +328,11 @@ def executor(kind: str, workers: int) -> Iterator[Any]:
             from distributed import Client, LocalCluster
         except ImportError:
             raise ImportError("--executor dask needs dask[distributed] (pip install 'libkin[dask]')") from None
+        # dashboard_address ":0": the scheduler's HTTP server (started even
+        # without a dashboard) on a free port; its default, 8787, warns on
+        # stderr when another cluster on the machine holds it
         with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                          dashboard_address=None) as cluster, Client(cluster) as client:
+                          dashboard_address=":0") as cluster, Client(cluster) as client:
             try:
                 yield client
             except BaseException:

@@ -154,37 +154,28 @@ class Store:
     def run_tasks(self, fn: Callable[[Any], Any], items: Sequence[Any], executor: Any, progress: Progress,
                   what: str, deadline: Optional[float], stop: Optional[Callable[[], bool]] = None) -> List[Any]:
         """parallel.run_tasks(fn, items, ...) with each result recorded as it
-        completes (tasks in batches of the executor's width, so a kill loses
-        at most one batch) and recorded results taken from the store. stop():
-        no batch is started once it is true (those tasks give None)."""
+        is taken (in the order of items, while the others run: the workers
+        never wait for a batch) and recorded results taken from the store.
+        stop(): nothing more is started once it is true (those tasks give
+        None); the tasks in flight complete and are recorded. A kill loses
+        the tasks in flight and those finished after the oldest one still
+        running (results are taken in order)."""
         kind = getattr(fn, "__name__", "task")
         keys = [kind + ":" + _hash(it) for it in items]
         out: List[Any] = [self.get(k) for k in keys]
         todo = [i for i, r in enumerate(out) if r is None]
-        width = _width(executor)
         done = len(items) - len(todo)
-        for b in range(0, len(todo), width):
-            if (stop is not None and stop()) or (deadline is not None and time.perf_counter() > deadline):
-                break
-            batch = todo[b:b + width]
-            for i, res in zip(batch, run_tasks(fn, [items[i] for i in batch], executor, None, what, deadline)):
-                if res is not None:
-                    res = json.loads(json.dumps(res))
-                    self.put(kind, keys[i], res)
-                out[i] = res
-                done += 1
-                tick(progress, done, len(items), what)
+
+        def record(j: int, res: Any) -> None:
+            nonlocal done
+            i = todo[j]
+            if res is not None:
+                res = json.loads(json.dumps(res))  # as a reader of the store will see it
+                self.put(kind, keys[i], res)
+            out[i] = res
+            done += 1
+            tick(progress, done, len(items), what)
+
+        if todo and not (stop is not None and stop()):
+            run_tasks(fn, [items[i] for i in todo], executor, None, what, deadline, on_result=record, stop=stop)
         return out
-
-
-def _width(executor: Any) -> int:
-    """How many tasks the executor runs at once (1 in this process)."""
-    if executor is None:
-        return 1
-    n = getattr(executor, "_max_workers", None)
-    if n is None:
-        try:
-            n = sum(executor.nthreads().values())  # dask.distributed.Client
-        except Exception:  # noqa: BLE001 - any other executor: a guess
-            n = 4
-    return max(1, int(n))
