@@ -45,10 +45,12 @@ static const double CHEAP_NEAR_FACTOR = 3.0;
 enum { SLOPE_PASSES = 40 };
 /* ... by subspace iteration with this many vectors (kin__lu_vr_triple): the
  * flat state's lowest singular values come in close groups, where one
- * vector converges at (v_r / v_(r-1))^2 per pass, 10.6 passes on average
- * over the 200-branch benchmark and up to 40 (12% of the cheap follower's
- * time); the block's Ritz vector converges at (v_r / v_(r-k))^2 */
-enum { SLOPE_BLOCK = 3 };
+ * vector converges at (v_r / v_(r-1))^2 per pass: on the 200-branch
+ * benchmark 11.6 passes per point, 1% of points not converged in 40 (each a
+ * handover), 12% of the cheap follower's time. With 2 vectors 5.4 passes
+ * (each about 1.6x the cost of one vector's) and every point converged;
+ * 3 and 4 vectors take 4.8 and 4.4 passes at 2.3x and 2.6x the cost. */
+enum { SLOPE_BLOCK = 2 };
 static const double SLOPE_VECTOR_TOL = 1e-9;
 /* a slope below this x v_max / RMS length is too flat to tell its sign:
  * the SVD takes over */

@@ -497,7 +497,7 @@ int kin__lu_vr_triple(kin_assembly *a, int max_passes, double tol, int k, double
         for (int i = 0; i < nf; ++i) moved += (R[i] - u[i]) * (R[i] - u[i]);
         memcpy(u, R, sizeof(double) * (size_t)nf);
         *v = 1.0 / sqrt(lam[k - 1]);
-        if (sqrt(moved) <= tol) {
+        if (pass > 0 && sqrt(moved) <= tol) { /* moved under the operator, not only rotated within X */
             *converged = 1;
             break;
         }
