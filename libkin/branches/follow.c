@@ -723,6 +723,10 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
     lo.delta = o->delta;
     lo.max_iter = o->max_iter;
     double tol = o->vr_tol;
+    /* the locator's working copies, made once for all the attempts and
+     * handovers of this call (1.1 handovers and 1.0 attempts per branch on
+     * the flat state: 5 clones at each was 4% of the time) */
+    kin__locate_ws lws = {0};
     for (int k = 0; k < attempts; ++k) {
         int left = o->max_steps - info->steps;
         if (left < 1) {
@@ -733,7 +737,7 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
         lo.vr_tol = tol;
         lo.max_steps = left;
         kin_locate_info li = {.size = sizeof li};
-        rc = kin__locate_hooked(a, &lo, &li, after_step, &c);
+        rc = kin__locate_hooked(a, &lo, &li, after_step, &c, &lws);
         int resume = c.reason == REASON_RESUME;
         if (resume) c.reason = 0;
         resync(&c);
@@ -799,6 +803,7 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
         tol *= RELAX_FACTOR;
         if (tol > o->vr_floor * (1.0 + 1e-9)) break;
     }
+    kin__locate_ws_free(&lws);
     a->progress = c.user_fn;
     a->progress_user = c.user_data;
     if (info->event == KIN_FOLLOW_NEAR_MISS && kin__cur(a)->valid)
