@@ -294,12 +294,17 @@ static int is_loop(follow_ctx *c, const kin_assembly *a, double s)
 }
 
 /* the vanishing singular value of an SVD point is well separated from the
- * next (inverse iteration with LU factors converges fast there) */
+ * SLOPE_BLOCK-th above it (the slope's subspace iteration with LU factors
+ * converges at their ratio squared: fast there). With one vector this was
+ * the next singular value: the flat state's close pairs kept the SVD
+ * stepping (5.2 SVD steps per handover); with the subspace the LU steps
+ * resume over them (measured: the same events and located points on the
+ * 200-branch benchmark, rb and R^C) */
 static int separated(const kin_assembly *a)
 {
     const kin_factor *f = kin__cur(a);
-    int k = a->nf - 2 - f->an.m_rigid, mn = a->nf < a->nb ? a->nf : a->nb;
-    return f->valid && k >= 1 && k < mn && f->sv[k] <= RESUME_GAP * f->sv[k - 1];
+    int k = a->nf - 2 - f->an.m_rigid, mn = a->nf < a->nb ? a->nf : a->nb, j = k - SLOPE_BLOCK + 1;
+    return f->valid && j >= 0 && k < mn && f->sv[k] <= RESUME_GAP * f->sv[j];
 }
 
 /* after every accepted step: count the chord, keep a sample, stop on a
