@@ -367,14 +367,16 @@ int kin__locate_hermite(loc_ctx *c)
             kin__copy_state(w, prev);
             kin__scatter(w, h->xs, w->xyz);
             int kv = kin__loc_vanishing_index(prev), rc;
-            double vv, vmax;
+            double vv = INFINITY, vmax = 0.0;
             if (kv >= 0) {
                 if ((rc = kin__singular_values(w, w->xyz, h->sv)) != KIN_OK) return rc;
                 w->fac[w->cur].valid = 0; /* prev's analysis, not this point's */
                 vv = kin__loc_group_top_sv(h->sv, kv, c->o->vr_tol);
                 vmax = h->sv[0];
             }
-            if (kv < 0 || vv <= c->o->vr_tol * vmax) {
+            if (kv >= 0 && !(vv <= c->o->vr_tol * vmax)) {
+                w->nfact++; /* this point's one factorization */
+            } else {
                 if ((rc = kin__analyse_into(w, w->xyz, w->cur)) != KIN_OK) return rc;
                 vv = kin__loc_group_top(w, c->o->vr_tol);
                 vmax = kin__cur(w)->an.v_max;

@@ -211,7 +211,8 @@ int kin__options_read(kin_assembly *a, const kin_options *user, kin_options *o);
 int kin__analyse_into(kin_assembly *a, const double *xyz, int idx);
 /* the singular values of H at xyz only (no vectors: about 40% of the SVD's
  * cost at the sails' sizes), descending, into sv (min(nf, nb) entries); no
- * analysis is changed */
+ * analysis is changed and nfact is not counted (the caller counts the
+ * point once) */
 int kin__singular_values(kin_assembly *a, const double *xyz, double *sv);
 /* kin_analyse's route in KIN_STEP_SPARSE mode (model/analysis_sparse.c):
  * the analysis of the current configuration from sparse factorizations
