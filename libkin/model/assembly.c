@@ -333,7 +333,7 @@ static int query_lwork(kin_assembly *a, int *lwork, int *liwork)
 static void release(kin_assembly *a)
 {
     if (!a) return;
-    double **dp[] = {&a->xyz, &a->L0, &a->H, &a->A, &a->work, &a->G, &a->Gs, &a->mwork, &a->B,
+    double **dp[] = {&a->xyz, &a->L0, &a->H, &a->A, &a->work, &a->G, &a->Gs, &a->sup_fix, &a->mwork, &a->B,
                      &a->rhs, &a->svB, &a->t, &a->x0, &a->x, &a->xp, &a->d, &a->y, &a->e,
                      &a->len, &a->chord, &a->xyz_trial, &a->Rref};
     for (size_t i = 0; i < sizeof dp / sizeof dp[0]; ++i) free(*dp[i]);
@@ -385,7 +385,7 @@ static int allocate(kin_assembly *a)
     size_t m1 = nb + 1, ldb = m1 > nf ? m1 : nf;
     int bad = ALLOC_(a->xyz, nj * d) | ALLOC_(a->fixed, nj * d) | ALLOC_(a->bars, 2 * nb) |
               ALLOC_(a->L0, nb) | ALLOC_(a->free_index, nj * d) | ALLOC_(a->free_coord, nf) |
-              ALLOC_(a->G, nj * d * 6) | ALLOC_(a->Gs, 6 * 6 + 6 + 6 * nf + nj * d * 6) |
+              ALLOC_(a->G, nj * d * 6) | ALLOC_(a->Gs, 6 * 6 + 6 + 6 * nf + nj * d * 6) | ALLOC_(a->sup_fix, a->nfix) |
               ALLOC_(a->rhs, ldb) | ALLOC_(a->t, nf) | ALLOC_(a->x0, nf) | ALLOC_(a->x, nf) |
               ALLOC_(a->xp, nf) | ALLOC_(a->d, nf) | ALLOC_(a->y, nf + nb) | ALLOC_(a->e, nb) |
               ALLOC_(a->len, nb) | ALLOC_(a->chord, nf) | ALLOC_(a->xyz_trial, nj * d) | ALLOC_(a->Rref, nf * 6);

@@ -89,6 +89,12 @@ struct kin_assembly {
     int nfix;                /* number of fixed coordinates */
     double *G;               /* (nj*dim) x nrig rigid motions (ld nj*dim) */
     double *Gs;              /* small scratch: nrig*nrig + nrig + nrig*nf */
+    /* mechanism_split.c: the supports admit no rigid motion, measured at
+     * centre sup_c, radius sup_rho with smallest / largest singular value
+     * sup_ratio, the fixed coordinates then in sup_fix (nfix) */
+    double *sup_fix;
+    double sup_c[3], sup_rho, sup_ratio;
+    int sup_full;
     double *mwork;           /* scratch for the mechanism split: 2*nf*nf */
 
     /* bordered Newton system [C; t^T] ((nb+1) x nf, ld = max(nb+1, nf)) */
