@@ -354,12 +354,14 @@ static void release(kin_assembly *a)
         free(L->JT);
         free(L->ipiv);
         free(L->tq);
+        free(L->Jinv);
         free(L->xyz);
         free(L->vr_vec);
         free(L->vmax_vec);
     }
     free(a->luR);
     free(a->luw);
+    free(a->luw2);
     if (a->sp_free) a->sp_free(a);
     if (a->san) { /* the sparse mode's analysis (analysis_sparse.c) */
         free(a->san->xyz), free(a->san->Um), free(a->san->Urig), free(a->san->Uint), free(a->san->Ws);
@@ -395,7 +397,7 @@ static int allocate(kin_assembly *a)
         kin_lufactor *L = &a->lu[f];
         bad |= ALLOC_(L->xyz, nj * d) | ALLOC_(L->vr_vec, nf) | ALLOC_(L->vmax_vec, nf);
     }
-    bad |= ALLOC_(a->luR, nf * 6) | ALLOC_(a->luw, rows > nf ? rows : nf);
+    bad |= ALLOC_(a->luR, nf * 6) | ALLOC_(a->luw, rows > nf ? rows : nf) | ALLOC_(a->luw2, nf);
     return bad ? KIN_ENOMEM : KIN_OK;
 }
 
@@ -410,9 +412,9 @@ static size_t dense_bytes(const kin_assembly *a)
     if (!kin__mul_size(nf, nf, &nfnf) || !kin__mul_size(nf, nb, &nfnb) || !kin__mul_size(nb, nb, &nbnb) ||
         !kin__mul_size(nf, m1, &nfm1) || !kin__mul_size(nf, rows, &nfrows))
         return 0;
-    /* doubles: H, A; 2 x (sv, U, VT, Uint); mwork; B, svB; 2 x JT */
+    /* doubles: H, A; 2 x (sv, U, VT, Uint); mwork; B, svB; 2 x JT; 2 x Jinv */
     size_t terms[] = {nfnb, nfnb, mn, nfnf, nbnb, nfnf, mn, nfnf, nbnb, nfnf, nfnf, nfnf, nfnf, 8 * nf,
-                      nfm1, m1 < nf ? m1 : nf, nfrows, nfrows};
+                      nfm1, m1 < nf ? m1 : nf, nfrows, nfrows, nfnf, nfnf};
     for (size_t i = 0; i < sizeof terms / sizeof terms[0]; ++i) {
         if (total > (size_t)-1 - terms[i]) return 0;
         total += terms[i];
@@ -451,8 +453,9 @@ static void release_dense(kin_assembly *a)
         F->sv = F->U = F->VT = F->Uint = NULL;
         F->valid = 0;
         kin_lufactor *L = &a->lu[f];
-        free(L->JT), free(L->ipiv), free(L->tq);
-        L->JT = L->tq = NULL;
+        free(L->JT), free(L->ipiv), free(L->tq), free(L->Jinv);
+        L->JT = L->tq = L->Jinv = NULL;
+        L->inv = 0;
         L->ipiv = NULL;
         if (!L->sparse) L->valid = 0;
     }
@@ -483,7 +486,7 @@ int kin__dense_ready(kin_assembly *a)
     for (int f = 0; f < 2; ++f) {
         kin_lufactor *L = &a->lu[f];
         if (lu || lq) bad |= ALLOC_(L->JT, nf * rows);
-        if (lu) bad |= ALLOC_(L->ipiv, nf);
+        if (lu) bad |= ALLOC_(L->ipiv, nf) | ALLOC_(L->Jinv, nf * nf);
         if (lq) bad |= ALLOC_(L->tq, nf);
     }
     int lwork = 0, rc = bad ? KIN_ENOMEM : query_lwork(a, &lwork, &a->lwork_i);
@@ -596,6 +599,8 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
         memcpy(t->JT, s->JT, sizeof(double) * nf * rows);
         if (s->ipiv) memcpy(t->ipiv, s->ipiv, sizeof(int) * nf); /* only where a route applies */
         if (s->tq) memcpy(t->tq, s->tq, sizeof(double) * nf);
+        t->inv = s->inv && s->Jinv && t->Jinv;
+        if (t->inv) memcpy(t->Jinv, s->Jinv, sizeof(double) * nf * nf);
         memcpy(t->xyz, s->xyz, sizeof(double) * ncoord);
         memcpy(t->vr_vec, s->vr_vec, sizeof(double) * nf);
         memcpy(t->vmax_vec, s->vmax_vec, sizeof(double) * nf);

@@ -55,6 +55,8 @@ typedef struct kin_lufactor {
     double *JT;       /* nf x (nb + 1 + nrig) factors; NULL, like ipiv and tq, where no route applies */
     int *ipiv;        /* nf pivots (LU; NULL unless nf - nb - 1 is in 0..nrig) */
     double *tq;       /* nf Householder scalars (LQ; NULL unless nb + 1 + nrig > nf) */
+    double *Jinv;     /* nf x nf: (J^T)^-1 from the LU (NULL where LU does not apply), current where inv */
+    int inv;
     double *xyz;      /* nj*dim configuration the factors belong to */
     double *vr_vec;   /* nf: inverse-iteration vector of v_r (unit) */
     double *vmax_vec; /* nf: power-iteration vector of v_max (unit) */
@@ -130,6 +132,7 @@ struct kin_assembly {
     int lu_cur;
     double *luR;             /* nf x 6 rigid mechanisms of a trial point */
     double *luw;             /* max(nf, nb + 1 + nrig) solve vector */
+    double *luw2;            /* nf: the product with (J^T)^-1 */
 
     /* KIN_STEP_SPARSE: KLU pattern, symbolic analysis and one numeric
      * factorization per lu[] slot (path/sparse.c); NULL until the mode is
