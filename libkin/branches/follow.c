@@ -486,6 +486,9 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
      * steps would (to rounding), so that the SVD locator, started from any
      * of them, continues exactly as the SVD follower would have */
     a->opt.step_control = KIN_STEP_CONTROL_SHARED;
+    /* small J: solves by products with (J^T)^-1, kept with each point's
+     * factors (path/step_lu.c): some 25 solves a point here */
+    a->lu_inverse = 1;
     c->nkept = 0;
     c->watch = 0;
     keep_point(c);
@@ -565,6 +568,7 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
         l0 = l1;
     }
     a->opt = user;
+    a->lu_inverse = 0;
     return rc;
 }
 

@@ -412,9 +412,10 @@ static size_t dense_bytes(const kin_assembly *a)
     if (!kin__mul_size(nf, nf, &nfnf) || !kin__mul_size(nf, nb, &nfnb) || !kin__mul_size(nb, nb, &nbnb) ||
         !kin__mul_size(nf, m1, &nfm1) || !kin__mul_size(nf, rows, &nfrows))
         return 0;
-    /* doubles: H, A; 2 x (sv, U, VT, Uint); mwork; B, svB; 2 x JT; 2 x Jinv */
+    /* doubles: H, A; 2 x (sv, U, VT, Uint); mwork; B, svB; 2 x JT; 2 x Jinv (small) */
+    size_t ninv = nf <= KIN__LU_INVERSE_MAX_NF ? nfnf : 0;
     size_t terms[] = {nfnb, nfnb, mn, nfnf, nbnb, nfnf, mn, nfnf, nbnb, nfnf, nfnf, nfnf, nfnf, 8 * nf,
-                      nfm1, m1 < nf ? m1 : nf, nfrows, nfrows, nfnf, nfnf};
+                      nfm1, m1 < nf ? m1 : nf, nfrows, nfrows, ninv, ninv};
     for (size_t i = 0; i < sizeof terms / sizeof terms[0]; ++i) {
         if (total > (size_t)-1 - terms[i]) return 0;
         total += terms[i];
@@ -486,7 +487,8 @@ int kin__dense_ready(kin_assembly *a)
     for (int f = 0; f < 2; ++f) {
         kin_lufactor *L = &a->lu[f];
         if (lu || lq) bad |= ALLOC_(L->JT, nf * rows);
-        if (lu) bad |= ALLOC_(L->ipiv, nf) | ALLOC_(L->Jinv, nf * nf);
+        if (lu) bad |= ALLOC_(L->ipiv, nf);
+        if (lu && nf <= KIN__LU_INVERSE_MAX_NF) bad |= ALLOC_(L->Jinv, nf * nf);
         if (lq) bad |= ALLOC_(L->tq, nf);
     }
     int lwork = 0, rc = bad ? KIN_ENOMEM : query_lwork(a, &lwork, &a->lwork_i);

@@ -48,6 +48,13 @@ typedef struct kin_sparse_an {
  * rows == nf, LQ (dgelqf, i.e. a QR of J) when rows > nf (redundant bars).
  * Valid only for the configuration in xyz. The handle keeps two, swapped
  * when a step is accepted, like fac[]. */
+/* The LU mode keeps (J^T)^-1 with a point's factors (kin_lufactor.Jinv)
+ * only up to this many free coordinates, and only where a->lu_inverse asks
+ * (the follower, whose cheap stretches solve about 25 times per point):
+ * measured with OpenBLAS, dgetri costs as much as 16 solves by dgetrs at 46
+ * coordinates, 24 at 64, 43 at 100 (path/step_lu.c). */
+enum { KIN__LU_INVERSE_MAX_NF = 64 };
+
 typedef struct kin_lufactor {
     int valid;        /* factors of a regular point (estimated m_internal = 1) */
     int rows;         /* nb + 1 + m_rigid */
@@ -133,6 +140,7 @@ struct kin_assembly {
     double *luR;             /* nf x 6 rigid mechanisms of a trial point */
     double *luw;             /* max(nf, nb + 1 + nrig) solve vector */
     double *luw2;            /* nf: the product with (J^T)^-1 */
+    int lu_inverse;          /* LU mode: keep (J^T)^-1 with the factors (the follower's cheap stretches) */
 
     /* KIN_STEP_SPARSE: KLU pattern, symbolic analysis and one numeric
      * factorization per lu[] slot (path/sparse.c); NULL until the mode is

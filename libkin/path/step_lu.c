@@ -242,14 +242,17 @@ static int factor_point(kin_assembly *a, const double *xyz, const double *border
             dgetrf_(&nf, &nf, JT, &nf, T->ipiv, &info);
             if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrf info = %d", info);
             if (info > 0) return KIN_OK; /* exactly singular */
-            /* The inverse, once per point: a point's factors serve some 25
-             * solves (the tangent, the v_r estimate's passes, the slope's
-             * subspace iteration in a follow, the next step's chord
-             * corrections), and a solve by dgetrs cost 1.8 us against 0.3 us
-             * for a product with the inverse (46 coordinates), which costs
-             * 1.6 factorizations: 13% of a follow on the hexagonal sail.
-             * The solutions agree to the conditioning's rounding. */
-            if (T->Jinv) {
+            /* The inverse, once per point, where the follower asks
+             * (a->lu_inverse) and J is small (KIN__LU_INVERSE_MAX_NF): there
+             * a point's factors serve some 25 solves (the tangent, the v_r
+             * estimate's passes, the slope's subspace iteration, the next
+             * step's chord corrections), and a solve by dgetrs cost 1.8 us
+             * in place against 0.3 us for a product with the inverse (46
+             * coordinates), which costs 1.6 factorizations: 15% of a follow
+             * on the hexagonal sail. Plain LU steps solve about 14 times a
+             * point: no gain there. The solutions agree to the
+             * conditioning's rounding. */
+            if (T->Jinv && a->lu_inverse) {
                 memcpy(T->Jinv, JT, sizeof(double) * (size_t)nf * (size_t)nf);
                 dgetri_(&nf, T->Jinv, &nf, T->ipiv, a->work, &a->lwork, &info);
                 T->inv = info == 0;
