@@ -12,6 +12,10 @@
  *                                   branches (2 x the real second-order
  *                                   solutions); cache: a file keeping the
  *                                   solutions between runs; k...: only those
+ * Environment: BENCH_FOLLOW_CHEAP_ONLY=1 follows with the cheap steps only
+ * (for profiling); BENCH_FOLLOW_DUMP=file writes each branch's result (the
+ * cheap follower's) to compare two builds with follow_dump_compare.py;
+ * BENCH_FOLLOW_BRANCHES=1 follows returns again with the branch directions.
  * Not a test: prints a summary. */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
