@@ -85,18 +85,20 @@ void kin__locate_ws_free(kin__locate_ws *ws)
 static int use_ws(loc_ctx *c, kin_assembly *a, kin__locate_ws *ws)
 {
     if (!ws->hw) {
+        /* the look-ahead's pair (tb0, tb1) only when a look-ahead needs it */
         ws->hw = kin__hermite_alloc(a);
         if (!ws->hw || kin_assembly_clone(a, &ws->prev) || kin_assembly_clone(a, &ws->work) ||
-            kin_assembly_clone(a, &ws->probe) || kin_assembly_clone(a, &ws->tb0) || kin_assembly_clone(a, &ws->tb1)) {
+            kin_assembly_clone(a, &ws->probe)) {
             kin__locate_ws_free(ws);
             return KIN_ENOMEM;
         }
     } else {
         kin_assembly *copies[] = {ws->prev, ws->work, ws->probe, ws->tb0, ws->tb1};
-        for (int i = 0; i < 5; ++i) {
-            kin__copy_state(copies[i], a);
-            copies[i]->opt = a->opt;
-        }
+        for (int i = 0; i < 5; ++i)
+            if (copies[i]) {
+                kin__copy_state(copies[i], a);
+                copies[i]->opt = a->opt;
+            }
     }
     c->prev = ws->prev;
     c->work = ws->work;
@@ -144,8 +146,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
             return kin__fail(a, KIN_ENOMEM, "locator working copies");
         }
     } else if (!(c.hw = kin__hermite_alloc(a)) || kin_assembly_clone(a, &c.prev) || kin_assembly_clone(a, &c.work) ||
-        kin_assembly_clone(a, &c.probe) ||
-        (o.method == KIN_LOCATE_FAST && (kin_assembly_clone(a, &c.tb0) || kin_assembly_clone(a, &c.tb1)))) {
+               kin_assembly_clone(a, &c.probe)) {
         a->opt = user;
         free_ctx(&c, NULL);
         return kin__fail(a, KIN_ENOMEM, "locator working copies");
@@ -195,6 +196,18 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
                  * (even twice) just before the point. Keep the first such
                  * bracket and look a step or two further for v_r to turn. */
                 if (!pending) {
+                    /* the pair that keeps the bracket, made at the first
+                     * look-ahead (most follows never need one: 2 of the 5
+                     * working copies, each a clone of the handle) */
+                    int bad = (!c.tb0 && kin_assembly_clone(a, &c.tb0)) || (!c.tb1 && kin_assembly_clone(a, &c.tb1));
+                    if (ws) { /* the caller's from now on (freed with the rest) */
+                        ws->tb0 = c.tb0;
+                        ws->tb1 = c.tb1;
+                    }
+                    if (bad) {
+                        rc = kin__fail(a, KIN_ENOMEM, "locator working copies");
+                        break;
+                    }
                     kin__copy_state(c.tb0, c.prev);
                     kin__copy_state(c.tb1, a);
                     tb_delta = si.delta;
