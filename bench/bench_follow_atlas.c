@@ -12,6 +12,10 @@
  *                                   branches (2 x the real second-order
  *                                   solutions); cache: a file keeping the
  *                                   solutions between runs; k...: only those
+ * Environment: BENCH_FOLLOW_CHEAP_ONLY=1 follows with the cheap steps only
+ * (for profiling); BENCH_FOLLOW_DUMP=file writes each branch's result (the
+ * cheap follower's) to compare two builds with follow_dump_compare.py;
+ * BENCH_FOLLOW_BRANCHES=1 follows returns again with the branch directions.
  * Not a test: prints a summary. */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
@@ -120,6 +124,10 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
     o.steps_mode = KIN_FOLLOW_STEPS_CHEAP;
     oo.steps_mode = KIN_FOLLOW_STEPS_SVD;
     int no_svd = getenv("BENCH_FOLLOW_CHEAP_ONLY") != NULL;
+    /* BENCH_FOLLOW_DUMP=file: per branch the cheap follower's event, accuracy,
+     * m, s, steps and end coordinates, one line each, to compare two builds
+     * (bench/follow_dump_compare.py) */
+    FILE *dump = getenv("BENCH_FOLLOW_DUMP") ? fopen(getenv("BENCH_FOLLOW_DUMP"), "w") : NULL;
     /* BENCH_FOLLOW_BRANCHES: returns to the start followed again with every
      * real branch direction (kin_follow_event_ex) */
     double *lines = NULL;
@@ -159,6 +167,12 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
             rc = follow_once(a, dir, &o, &fi, xn, &cn[i], &b);
         }
         if (!b) return 1;
+        if (dump) {
+            fprintf(dump, "%d %d %d %.17g %.17g %d %d %d", k, fi.event, fi.at_start, fi.vr_tol_used, fi.v_r_rel,
+                    fi.m_internal, fi.s, fi.steps);
+            for (int j = 0; j < nc; ++j) fprintf(dump, " %.17g", xn[j]);
+            fprintf(dump, "\n");
+        }
         double tb = cn[i];
         if (tb > worst) worst = tb;
         cheap += fi.cheap_steps;
@@ -235,6 +249,7 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
                "the same number of steps as the SVD follower on %d / %d\n", steps,
                cheap, 100.0 * cheap / (steps ? steps : 1), hand, (double)hand / n, same_steps, n);
     }
+    if (dump) fclose(dump);
     free(cn); free(co); free(xn); free(xo); free(x0);
     double t2 = now();
     printf("  events:");

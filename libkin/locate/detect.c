@@ -83,21 +83,26 @@ double kin__loc_vanishing_sv(const kin_assembly *a)
  * come out wrong. The group: from the path's lowest singular value up to the
  * largest ratio gap among those at most sqrt(tol) * v_max and the first one
  * above. */
+double kin__loc_group_top_sv(const double *sv, int k, double tol)
+{
+    double cut = sqrt(tol) * sv[0], top = sv[k], gap = 1.0;
+    for (int i = k - 1; i >= 0; --i) {
+        double r = sv[i + 1] > 0.0 ? sv[i] / sv[i + 1] : INFINITY;
+        if (r > gap) {
+            gap = r;
+            top = sv[i + 1];
+        }
+        if (sv[i] > cut) break;
+    }
+    return top;
+}
+
 double kin__loc_group_top(const kin_assembly *a, double tol)
 {
     const kin_factor *f = kin__cur(a);
     int k = kin__loc_vanishing_index(a);
     if (k < 0) return f->an.v_r;
-    double cut = sqrt(tol) * f->an.v_max, top = f->sv[k], gap = 1.0;
-    for (int i = k - 1; i >= 0; --i) {
-        double r = f->sv[i + 1] > 0.0 ? f->sv[i] / f->sv[i + 1] : INFINITY;
-        if (r > gap) {
-            gap = r;
-            top = f->sv[i + 1];
-        }
-        if (f->sv[i] > cut) break;
-    }
-    return top;
+    return kin__loc_group_top_sv(f->sv, k, tol);
 }
 
 int kin__loc_at_bifurcation(const kin_assembly *a, double tol)

@@ -67,8 +67,51 @@ static double turn_value(double v0, double sl0, double v1, double sl1, double le
     return v0 + sl0 * s;
 }
 
-static void free_ctx(loc_ctx *c)
+void kin__locate_ws_free(kin__locate_ws *ws)
 {
+    if (!ws) return;
+    kin_assembly_free(ws->prev);
+    kin_assembly_free(ws->work);
+    kin_assembly_free(ws->probe);
+    kin_assembly_free(ws->tb0);
+    kin_assembly_free(ws->tb1);
+    kin__hermite_free(ws->hw);
+    memset(ws, 0, sizeof *ws);
+}
+
+/* the caller's working copies: made at the first call (as clones of a, with
+ * the locator's options), then refreshed from a (state and options: what a
+ * clone of a made now would hold) */
+static int use_ws(loc_ctx *c, kin_assembly *a, kin__locate_ws *ws)
+{
+    if (!ws->hw) {
+        /* the look-ahead's pair (tb0, tb1) only when a look-ahead needs it */
+        ws->hw = kin__hermite_alloc(a);
+        if (!ws->hw || kin_assembly_clone(a, &ws->prev) || kin_assembly_clone(a, &ws->work) ||
+            kin_assembly_clone(a, &ws->probe)) {
+            kin__locate_ws_free(ws);
+            return KIN_ENOMEM;
+        }
+    } else {
+        kin_assembly *copies[] = {ws->prev, ws->work, ws->probe, ws->tb0, ws->tb1};
+        for (int i = 0; i < 5; ++i)
+            if (copies[i]) {
+                kin__copy_state(copies[i], a);
+                copies[i]->opt = a->opt;
+            }
+    }
+    c->prev = ws->prev;
+    c->work = ws->work;
+    c->probe = ws->probe;
+    c->tb0 = ws->tb0;
+    c->tb1 = ws->tb1;
+    c->hw = ws->hw;
+    return KIN_OK;
+}
+
+static void free_ctx(loc_ctx *c, const kin__locate_ws *ws)
+{
+    if (ws) return; /* the caller's */
     kin_assembly_free(c->prev);
     kin_assembly_free(c->work);
     kin_assembly_free(c->probe);
@@ -78,7 +121,7 @@ static void free_ctx(loc_ctx *c)
 }
 
 static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,
-                       void *hook_user)
+                       void *hook_user, kin__locate_ws *ws)
 {
     kin_locate_options o = *opt;
     if ((o.method != KIN_LOCATE_PAPER && o.method != KIN_LOCATE_FAST && o.method != KIN_LOCATE_ILLINOIS) ||
@@ -97,12 +140,15 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
     a->opt.rank_tol = fine;
     /* the detectors and the nodes need every point's SVD */
     a->opt.factorization = KIN_STEP_SVD;
-    c.hw = kin__hermite_alloc(a);
-    if (!c.hw || kin_assembly_clone(a, &c.prev) || kin_assembly_clone(a, &c.work) ||
-        kin_assembly_clone(a, &c.probe) ||
-        (o.method == KIN_LOCATE_FAST && (kin_assembly_clone(a, &c.tb0) || kin_assembly_clone(a, &c.tb1)))) {
+    if (ws) {
+        if (use_ws(&c, a, ws)) {
+            a->opt = user;
+            return kin__fail(a, KIN_ENOMEM, "locator working copies");
+        }
+    } else if (!(c.hw = kin__hermite_alloc(a)) || kin_assembly_clone(a, &c.prev) || kin_assembly_clone(a, &c.work) ||
+               kin_assembly_clone(a, &c.probe)) {
         a->opt = user;
-        free_ctx(&c);
+        free_ctx(&c, NULL);
         return kin__fail(a, KIN_ENOMEM, "locator working copies");
     }
     if (!a->have_t) {
@@ -150,6 +196,18 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
                  * (even twice) just before the point. Keep the first such
                  * bracket and look a step or two further for v_r to turn. */
                 if (!pending) {
+                    /* the pair that keeps the bracket, made at the first
+                     * look-ahead (most follows never need one: 2 of the 5
+                     * working copies, each a clone of the handle) */
+                    int bad = (!c.tb0 && kin_assembly_clone(a, &c.tb0)) || (!c.tb1 && kin_assembly_clone(a, &c.tb1));
+                    if (ws) { /* the caller's from now on (freed with the rest) */
+                        ws->tb0 = c.tb0;
+                        ws->tb1 = c.tb1;
+                    }
+                    if (bad) {
+                        rc = kin__fail(a, KIN_ENOMEM, "locator working copies");
+                        break;
+                    }
                     kin__copy_state(c.tb0, c.prev);
                     kin__copy_state(c.tb1, a);
                     tb_delta = si.delta;
@@ -275,27 +333,27 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
                   info->steps, info->forward);
     else if (rc == KIN_OK)
         (void)kin__progress(a, (double)o.max_steps + (double)o.max_iter, (double)o.max_steps + (double)o.max_iter);
-    free_ctx(&c);
+    free_ctx(&c, ws);
     return rc;
 }
 
 int kin_locate_next(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info)
 {
     int token = kin__blas_threads_small(a); /* small matrices: one BLAS thread, restored after */
-    int rc = kin__locate_hooked(a, opt, info, NULL, NULL);
+    int rc = kin__locate_hooked(a, opt, info, NULL, NULL, NULL);
     kin__blas_threads_restore(token);
     return rc;
 }
 
 int kin__locate_hooked(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,
-                       void *hook_user)
+                       void *hook_user, kin__locate_ws *ws)
 {
     kin_locate_options o;
     kin_locate_options_default(&o); /* fields an older caller does not have keep their defaults */
     int rc = kin__abi_entry(a, info, KIN__ABI(kin_locate_info), opt, &o, KIN__ABI(kin_locate_options));
     if (rc) return rc;
     kin_locate_info local = {.size = sizeof local};
-    rc = locate_impl(a, &o, &local, hook, hook_user);
+    rc = locate_impl(a, &o, &local, hook, hook_user, ws);
     if (info) kin__abi_write(info, &local, KIN__ABI(kin_locate_info));
     return rc;
 }

@@ -14,7 +14,22 @@
  * kin_locate_next itself. */
 enum { KIN__HOOK_GO = 0, KIN__HOOK_STOP = 1, KIN__HOOK_STOP_IDLE = 2 };
 typedef int (*kin__step_hook)(void *user, const kin_assembly *a);
+/* The locator's working copies of the handle (3 clones, 2 more at the
+ * first look-ahead past a sign change, and the Hermite workspace), for a
+ * caller that locates several times on one handle (the follower: once per
+ * handover and per relaxed tolerance). Zero-initialize; the first
+ * kin__locate_hooked that gets it makes them (cloning the handle, as a call
+ * without it does every time), later calls only copy the handle's state and
+ * options into them: a clone costs about as much as a step of the locator. Valid while the handle's model (bars, rest lengths,
+ * fixed coordinates, contact settings) is unchanged; kin__locate_ws_free
+ * releases them. */
+typedef struct kin__locate_ws {
+    kin_assembly *prev, *work, *probe, *tb0, *tb1;
+    struct hermite_ws *hw;
+} kin__locate_ws;
+void kin__locate_ws_free(kin__locate_ws *ws);
+/* ws: NULL (copies made and freed in the call) or the caller's, as above */
 int kin__locate_hooked(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,
-                       void *hook_user);
+                       void *hook_user, kin__locate_ws *ws);
 
 #endif /* KIN__LAYER_LOCATE_H */

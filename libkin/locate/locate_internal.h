@@ -41,6 +41,9 @@ int kin__loc_vanishing_index(const kin_assembly *a);
 double kin__loc_vanishing_sv(const kin_assembly *a);
 /* the largest of the singular values that vanish together there */
 double kin__loc_group_top(const kin_assembly *a, double tol);
+/* the same from singular values alone (descending, v_max = sv[0]; k the
+ * vanishing index, >= 0) */
+double kin__loc_group_top_sv(const double *sv, int k, double tol);
 /* every vanishing singular value is at most tol * v_max */
 int kin__loc_at_bifurcation(const kin_assembly *a, double tol);
 /* forward calculation: dst := base moved by delta along its tangent; *used the amplitude taken */

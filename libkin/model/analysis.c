@@ -54,6 +54,32 @@ static int factorize(kin_assembly *a, const double *xyz, int idx)
     return KIN_OK;
 }
 
+int kin__singular_values(kin_assembly *a, const double *xyz, double *sv)
+{
+    int rc = kin__dense_ready(a);
+    if (rc) return rc;
+    int nf = a->nf, nb = a->nb, info = 0, one = 1;
+    double dummy = 0.0;
+    kin__build_H(a, xyz, a->H, nf);
+    memcpy(a->A, a->H, sizeof(double) * (size_t)nf * (size_t)nb);
+    /* not counted in nfact: the caller counts the point once, whether or
+     * not it analyses it in full after this */
+    /* the workspace queried for jobz = 'A' covers 'N' */
+    dgesdd_("N", &nf, &nb, a->A, &nf, sv, &dummy, &one, &dummy, &one, a->work, &a->lwork, a->iwork, &info, 1);
+    /* the same injected faults as factorize's */
+    if (a->fault == KIN__FAULT_SVD_ARG) info = -4;
+    if (a->fault == KIN__FAULT_SVD_CONV || a->fault == KIN__FAULT_SDD_CONV) info = 1;
+    if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgesdd info = %d", info);
+    if (info > 0) {
+        memcpy(a->A, a->H, sizeof(double) * (size_t)nf * (size_t)nb);
+        dgesvd_("N", "N", &nf, &nb, a->A, &nf, sv, &dummy, &one, &dummy, &one, a->work, &a->lwork, &info, 1, 1);
+        if (a->fault == KIN__FAULT_SVD_CONV) info = 1;
+        if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgesvd info = %d", info);
+        if (info > 0) return kin__fail(a, KIN_ELAPACK_CONV, "dgesdd and dgesvd failed (dgesvd info = %d)", info);
+    }
+    return KIN_OK;
+}
+
 int kin__analyse_into(kin_assembly *a, const double *xyz, int idx)
 {
     int rc = factorize(a, xyz, idx);

@@ -333,7 +333,7 @@ static int query_lwork(kin_assembly *a, int *lwork, int *liwork)
 static void release(kin_assembly *a)
 {
     if (!a) return;
-    double **dp[] = {&a->xyz, &a->L0, &a->H, &a->A, &a->work, &a->G, &a->Gs, &a->mwork, &a->B,
+    double **dp[] = {&a->xyz, &a->L0, &a->H, &a->A, &a->work, &a->G, &a->Gs, &a->sup_fix, &a->mwork, &a->B,
                      &a->rhs, &a->svB, &a->t, &a->x0, &a->x, &a->xp, &a->d, &a->y, &a->e,
                      &a->len, &a->chord, &a->xyz_trial, &a->Rref};
     for (size_t i = 0; i < sizeof dp / sizeof dp[0]; ++i) free(*dp[i]);
@@ -354,12 +354,14 @@ static void release(kin_assembly *a)
         free(L->JT);
         free(L->ipiv);
         free(L->tq);
+        free(L->Jinv);
         free(L->xyz);
         free(L->vr_vec);
         free(L->vmax_vec);
     }
     free(a->luR);
     free(a->luw);
+    free(a->luw2);
     if (a->sp_free) a->sp_free(a);
     if (a->san) { /* the sparse mode's analysis (analysis_sparse.c) */
         free(a->san->xyz), free(a->san->Um), free(a->san->Urig), free(a->san->Uint), free(a->san->Ws);
@@ -385,7 +387,7 @@ static int allocate(kin_assembly *a)
     size_t m1 = nb + 1, ldb = m1 > nf ? m1 : nf;
     int bad = ALLOC_(a->xyz, nj * d) | ALLOC_(a->fixed, nj * d) | ALLOC_(a->bars, 2 * nb) |
               ALLOC_(a->L0, nb) | ALLOC_(a->free_index, nj * d) | ALLOC_(a->free_coord, nf) |
-              ALLOC_(a->G, nj * d * 6) | ALLOC_(a->Gs, 6 * 6 + 6 + 6 * nf + nj * d * 6) |
+              ALLOC_(a->G, nj * d * 6) | ALLOC_(a->Gs, 6 * 6 + 6 + 6 * nf + nj * d * 6) | ALLOC_(a->sup_fix, a->nfix) |
               ALLOC_(a->rhs, ldb) | ALLOC_(a->t, nf) | ALLOC_(a->x0, nf) | ALLOC_(a->x, nf) |
               ALLOC_(a->xp, nf) | ALLOC_(a->d, nf) | ALLOC_(a->y, nf + nb) | ALLOC_(a->e, nb) |
               ALLOC_(a->len, nb) | ALLOC_(a->chord, nf) | ALLOC_(a->xyz_trial, nj * d) | ALLOC_(a->Rref, nf * 6);
@@ -395,7 +397,7 @@ static int allocate(kin_assembly *a)
         kin_lufactor *L = &a->lu[f];
         bad |= ALLOC_(L->xyz, nj * d) | ALLOC_(L->vr_vec, nf) | ALLOC_(L->vmax_vec, nf);
     }
-    bad |= ALLOC_(a->luR, nf * 6) | ALLOC_(a->luw, rows > nf ? rows : nf);
+    bad |= ALLOC_(a->luR, nf * 6) | ALLOC_(a->luw, rows > nf ? rows : nf) | ALLOC_(a->luw2, nf);
     return bad ? KIN_ENOMEM : KIN_OK;
 }
 
@@ -410,9 +412,10 @@ static size_t dense_bytes(const kin_assembly *a)
     if (!kin__mul_size(nf, nf, &nfnf) || !kin__mul_size(nf, nb, &nfnb) || !kin__mul_size(nb, nb, &nbnb) ||
         !kin__mul_size(nf, m1, &nfm1) || !kin__mul_size(nf, rows, &nfrows))
         return 0;
-    /* doubles: H, A; 2 x (sv, U, VT, Uint); mwork; B, svB; 2 x JT */
+    /* doubles: H, A; 2 x (sv, U, VT, Uint); mwork; B, svB; 2 x JT; 2 x Jinv (small) */
+    size_t ninv = nf <= KIN__LU_INVERSE_MAX_NF ? nfnf : 0;
     size_t terms[] = {nfnb, nfnb, mn, nfnf, nbnb, nfnf, mn, nfnf, nbnb, nfnf, nfnf, nfnf, nfnf, 8 * nf,
-                      nfm1, m1 < nf ? m1 : nf, nfrows, nfrows};
+                      nfm1, m1 < nf ? m1 : nf, nfrows, nfrows, ninv, ninv};
     for (size_t i = 0; i < sizeof terms / sizeof terms[0]; ++i) {
         if (total > (size_t)-1 - terms[i]) return 0;
         total += terms[i];
@@ -451,8 +454,9 @@ static void release_dense(kin_assembly *a)
         F->sv = F->U = F->VT = F->Uint = NULL;
         F->valid = 0;
         kin_lufactor *L = &a->lu[f];
-        free(L->JT), free(L->ipiv), free(L->tq);
-        L->JT = L->tq = NULL;
+        free(L->JT), free(L->ipiv), free(L->tq), free(L->Jinv);
+        L->JT = L->tq = L->Jinv = NULL;
+        L->inv = 0;
         L->ipiv = NULL;
         if (!L->sparse) L->valid = 0;
     }
@@ -484,6 +488,7 @@ int kin__dense_ready(kin_assembly *a)
         kin_lufactor *L = &a->lu[f];
         if (lu || lq) bad |= ALLOC_(L->JT, nf * rows);
         if (lu) bad |= ALLOC_(L->ipiv, nf);
+        if (lu && nf <= KIN__LU_INVERSE_MAX_NF) bad |= ALLOC_(L->Jinv, nf * nf);
         if (lq) bad |= ALLOC_(L->tq, nf);
     }
     int lwork = 0, rc = bad ? KIN_ENOMEM : query_lwork(a, &lwork, &a->lwork_i);
@@ -596,6 +601,8 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
         memcpy(t->JT, s->JT, sizeof(double) * nf * rows);
         if (s->ipiv) memcpy(t->ipiv, s->ipiv, sizeof(int) * nf); /* only where a route applies */
         if (s->tq) memcpy(t->tq, s->tq, sizeof(double) * nf);
+        t->inv = s->inv && s->Jinv && t->Jinv;
+        if (t->inv) memcpy(t->Jinv, s->Jinv, sizeof(double) * nf * nf);
         memcpy(t->xyz, s->xyz, sizeof(double) * ncoord);
         memcpy(t->vr_vec, s->vr_vec, sizeof(double) * nf);
         memcpy(t->vmax_vec, s->vmax_vec, sizeof(double) * nf);

@@ -48,6 +48,13 @@ typedef struct kin_sparse_an {
  * rows == nf, LQ (dgelqf, i.e. a QR of J) when rows > nf (redundant bars).
  * Valid only for the configuration in xyz. The handle keeps two, swapped
  * when a step is accepted, like fac[]. */
+/* The LU mode keeps (J^T)^-1 with a point's factors (kin_lufactor.Jinv)
+ * only up to this many free coordinates, and only where a->lu_inverse asks
+ * (the follower, whose cheap stretches solve about 25 times per point):
+ * measured with OpenBLAS, dgetri costs as much as 16 solves by dgetrs at 46
+ * coordinates, 24 at 64, 43 at 100 (path/step_lu.c). */
+enum { KIN__LU_INVERSE_MAX_NF = 64 };
+
 typedef struct kin_lufactor {
     int valid;        /* factors of a regular point (estimated m_internal = 1) */
     int rows;         /* nb + 1 + m_rigid */
@@ -55,6 +62,8 @@ typedef struct kin_lufactor {
     double *JT;       /* nf x (nb + 1 + nrig) factors; NULL, like ipiv and tq, where no route applies */
     int *ipiv;        /* nf pivots (LU; NULL unless nf - nb - 1 is in 0..nrig) */
     double *tq;       /* nf Householder scalars (LQ; NULL unless nb + 1 + nrig > nf) */
+    double *Jinv;     /* nf x nf: (J^T)^-1 from the LU (NULL where LU does not apply), current where inv */
+    int inv;
     double *xyz;      /* nj*dim configuration the factors belong to */
     double *vr_vec;   /* nf: inverse-iteration vector of v_r (unit) */
     double *vmax_vec; /* nf: power-iteration vector of v_max (unit) */
@@ -89,6 +98,12 @@ struct kin_assembly {
     int nfix;                /* number of fixed coordinates */
     double *G;               /* (nj*dim) x nrig rigid motions (ld nj*dim) */
     double *Gs;              /* small scratch: nrig*nrig + nrig + nrig*nf */
+    /* mechanism_split.c: the supports admit no rigid motion, measured at
+     * centre sup_c, radius sup_rho with smallest / largest singular value
+     * sup_ratio, the fixed coordinates then in sup_fix (nfix) */
+    double *sup_fix;
+    double sup_c[3], sup_rho, sup_ratio;
+    int sup_full;
     double *mwork;           /* scratch for the mechanism split: 2*nf*nf */
 
     /* bordered Newton system [C; t^T] ((nb+1) x nf, ld = max(nb+1, nf)) */
@@ -124,6 +139,8 @@ struct kin_assembly {
     int lu_cur;
     double *luR;             /* nf x 6 rigid mechanisms of a trial point */
     double *luw;             /* max(nf, nb + 1 + nrig) solve vector */
+    double *luw2;            /* nf: the product with (J^T)^-1 */
+    int lu_inverse;          /* LU mode: keep (J^T)^-1 with the factors (the follower's cheap stretches) */
 
     /* KIN_STEP_SPARSE: KLU pattern, symbolic analysis and one numeric
      * factorization per lu[] slot (path/sparse.c); NULL until the mode is
@@ -209,6 +226,11 @@ int kin__options_read(kin_assembly *a, const kin_options *user, kin_options *o);
 
 /* factorize the configuration xyz into fac[idx] (SVD, rank, mechanisms) */
 int kin__analyse_into(kin_assembly *a, const double *xyz, int idx);
+/* the singular values of H at xyz only (no vectors: about 40% of the SVD's
+ * cost at the sails' sizes), descending, into sv (min(nf, nb) entries); no
+ * analysis is changed and nfact is not counted (the caller counts the
+ * point once) */
+int kin__singular_values(kin_assembly *a, const double *xyz, double *sv);
 /* kin_analyse's route in KIN_STEP_SPARSE mode (model/analysis_sparse.c):
  * the analysis of the current configuration from sparse factorizations
  * into a->san, with the progress reports of kin_analyse when report is 1.

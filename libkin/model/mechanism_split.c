@@ -52,10 +52,11 @@ static void orient(int n, double *v)
  * coordinate (nj*dim rows, ld nj*dim), into a->G. Returns the rounding
  * error of the fields, relative: DBL_EPSILON times the largest coordinate
  * over the RMS radius (the centring loses that much). */
-static double rigid_fields(kin_assembly *a, const double *xyz)
+static double rigid_fields(kin_assembly *a, const double *xyz, double *c, double *rho_out)
 {
     int d = a->dim, nj = a->nj, n = nj * d;
-    double c[3] = {0, 0, 0}, rho = 0.0;
+    double rho = 0.0;
+    c[0] = c[1] = c[2] = 0.0;
     for (int j = 0; j < nj; ++j)
         for (int k = 0; k < d; ++k) c[k] += xyz[j * d + k] / nj;
     for (int j = 0; j < nj; ++j)
@@ -82,18 +83,50 @@ static double rigid_fields(kin_assembly *a, const double *xyz)
             rot[j * 3 + 0] = -p[1]; rot[j * 3 + 1] = p[0];
         }
     }
+    *rho_out = rho;
     return DBL_EPSILON * (1.0 + big / rho);
+}
+
+/* The supports admit no rigid motion wherever they did at the remembered
+ * centre and radius (a->sup_*), with the fixed coordinates unchanged, and
+ * the rank test cannot tell otherwise. The fields at centre c and radius
+ * rho are those at (c0, rho0) times T = [I, X; 0, s I] (s = rho0 / rho, X
+ * the cross product with d = (c0 - c) / rho: a rotation about another centre
+ * is the same rotation plus a translation), so their singular values at the
+ * supports change by at most the factors ||T|| <= max(1, s) + |d| and
+ * ||T^-1|| <= max(1, 1/s) + |d| / s. A smallest / largest ratio that stays
+ * SUPPORT_KEEP_MARGIN above RIGID_SUPPORT_TOL after both is full rank for
+ * the SVD as well (its values are accurate to a few rounding units of the
+ * largest): the SVD's answer, without the SVD (it was 5% of a follow on the
+ * hexagonal sail, where every LU step builds its rigid basis). */
+static const double SUPPORT_KEEP_MARGIN = 1e4;
+
+static int supports_still_full(const kin_assembly *a, const double *xyz, const double *c, double rho)
+{
+    if (!a->sup_full) return 0;
+    int r = 0, n = a->nj * a->dim;
+    for (int i = 0; i < n; ++i)
+        if (a->fixed[i] && xyz[i] != a->sup_fix[r++]) return 0;
+    double dd = 0.0;
+    for (int k = 0; k < a->dim; ++k) dd += (a->sup_c[k] - c[k]) * (a->sup_c[k] - c[k]);
+    double s = a->sup_rho / rho, dn = sqrt(dd) / rho;
+    double kappa = (fmax(1.0, s) + dn) * (fmax(1.0, 1.0 / s) + dn / s);
+    return isfinite(kappa) && a->sup_ratio / kappa > SUPPORT_KEEP_MARGIN * RIGID_SUPPORT_TOL;
 }
 
 /* Combinations alpha of the rigid motions in a->G that keep every fixed
  * coordinate: the null space of G restricted to the fixed rows, as rows
  * 0..*nnull-1 of the nr x nr matrix a->Gs (ld nr). */
-static int support_nullspace(kin_assembly *a, int *nnull_out)
+static int support_nullspace(kin_assembly *a, const double *xyz, const double *c, double rho, int *nnull_out)
 {
     int nf = a->nf, nr = a->nrig, n = a->nj * a->dim;
     double *Gfix = a->Gs + 6 * 6 + 6 + 6 * (size_t)nf; /* nfix x nr */
     double *vt = a->Gs, *svg = a->Gs + 36;
     int nnull = 0;
+    if (a->nfix > 0 && supports_still_full(a, xyz, c, rho)) {
+        *nnull_out = 0;
+        return KIN_OK;
+    }
     if (a->nfix == 0) {
         memset(vt, 0, sizeof(double) * 36);
         for (int i = 0; i < nr; ++i) vt[i + i * nr] = 1.0;
@@ -117,6 +150,17 @@ static int support_nullspace(kin_assembly *a, int *nnull_out)
         for (int i = rk; i < nr; ++i)
             for (int c = 0; c < nr; ++c) vt[(i - rk) + (size_t)c * nr] = vt[i + (size_t)c * nr];
         nnull = nr - rk;
+        /* remembered where no rigid motion keeps the supports */
+        a->sup_full = 0;
+        if (nnull == 0 && ns == nr) {
+            int q = 0;
+            for (int i = 0; i < n; ++i)
+                if (a->fixed[i]) a->sup_fix[q++] = xyz[i];
+            for (int k = 0; k < 3; ++k) a->sup_c[k] = c[k];
+            a->sup_rho = rho;
+            a->sup_ratio = svg[nr - 1] / svg[0];
+            a->sup_full = 1;
+        }
     }
     *nnull_out = nnull;
     return KIN_OK;
@@ -146,8 +190,9 @@ static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um
 {
     int nf = a->nf, nr = a->nrig, n = a->nj * a->dim, nnull = 0, kept = 0;
     *mr = 0;
-    double rounding = rigid_fields(a, xyz);
-    int rc = support_nullspace(a, &nnull);
+    double cen[3], rho = 1.0;
+    double rounding = rigid_fields(a, xyz, cen, &rho);
+    int rc = support_nullspace(a, xyz, cen, rho, &nnull);
     if (rc) return rc;
     const double *vt = a->Gs;
     double *C = a->Gs + 42; /* nf x nnull candidates */

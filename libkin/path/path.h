@@ -40,12 +40,19 @@ int kin__border_det_sign(kin_assembly *a, int *sign);
 double kin__lu_rel_estimate(const kin_assembly *a);
 
 /* The vanishing singular triple (H w = v u, the lowest non-zero singular
- * value) of the current point from its LU-mode factors: inverse iteration
- * on pinv(C) pinv(C)^T, from the LU mode's vector, until the unit vector
- * moves by less than tol between passes (*converged = 1) or after
- * max_passes. u: nf entries, w: nb, v > 0. KIN_ESTATE without square dense
- * factors of this point. */
-int kin__lu_vr_triple(kin_assembly *a, int max_passes, double tol, double *u, double *w, double *v, int *converged);
+ * value) of the current point from its LU-mode factors: subspace iteration
+ * on pinv(C) pinv(C)^T with k vectors (1 <= k <= KIN__VR_BLOCK_MAX), the
+ * first the LU mode's vector, the others the Ritz vectors of the last call
+ * where *warm (else fixed pseudo-random ones), and Rayleigh-Ritz after every
+ * pass, until the Ritz vector of v_r moves by less than tol between passes
+ * (*converged = 1) or after max_passes. The Ritz vector converges at
+ * (v_r / v_(r-k))^2 per pass, not (v_r / v_(r-1))^2 as one vector does: the
+ * next singular values may be close. block: room for 2 k nf (the first k nf
+ * keep the Ritz vectors for the next call, *warm set). u: nf entries, w: nb,
+ * v > 0. KIN_ESTATE without square dense factors of this point. */
+enum { KIN__VR_BLOCK_MAX = 4 };
+int kin__lu_vr_triple(kin_assembly *a, int max_passes, double tol, int k, double *block, int *warm, double *u,
+                      double *w, double *v, int *converged);
 
 /* A point of a path, kept cheaply (no factors): what a step needs to resume
  * from it. kin__path_restore puts the handle back there with no analysis

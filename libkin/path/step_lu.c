@@ -48,6 +48,14 @@ static int lu_solve(kin_assembly *a, const kin_lufactor *F, int trans, double *v
 {
     int nf = a->nf, rows = F->rows, one = 1, info = 0;
     if (F->sparse) return kin__sparse_solve(a, (int)(F - a->lu), trans, v); /* KLU holds J itself */
+    if (rows == nf && F->inv) {
+        /* with (J^T)^-1 (made with the factors, factor_point): J^T w = v is
+         * w = (J^T)^-1 v, J x = v is x = ((J^T)^-1)^T v */
+        double d1 = 1.0, d0 = 0.0;
+        dgemv_(trans ? "N" : "T", &nf, &nf, &d1, F->Jinv, &nf, v, &one, &d0, a->luw2, &one, 1);
+        memcpy(v, a->luw2, sizeof(double) * (size_t)nf);
+        return KIN_OK;
+    }
     if (rows == nf) {
         /* J = (J^T)^T and F holds the LU of J^T */
         dgetrs_(trans ? "N" : "T", &nf, &one, F->JT, &nf, F->ipiv, v, &nf, &info, 1);
@@ -129,6 +137,7 @@ int kin__lu_newton_solve(kin_assembly *a, const double *xyz, const double *e, do
     int nf = a->nf, nb = a->nb, mr = 0, info = 0, one = 1;
     T->valid = 0;
     T->sparse = 0;
+    T->inv = 0;
     *reusable = 0;
     int rc = kin__rigid_basis(a, xyz, a->luR, &mr);
     if (rc) return rc;
@@ -191,6 +200,7 @@ static int factor_point(kin_assembly *a, const double *xyz, const double *border
     *regular = 0;
     T->valid = 0;
     T->sparse = 0;
+    T->inv = 0;
     int rc = kin__rigid_basis(a, xyz, a->luR, &mr);
     if (rc) return rc;
     int rows = nb + 1 + mr;
@@ -232,6 +242,21 @@ static int factor_point(kin_assembly *a, const double *xyz, const double *border
             dgetrf_(&nf, &nf, JT, &nf, T->ipiv, &info);
             if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrf info = %d", info);
             if (info > 0) return KIN_OK; /* exactly singular */
+            /* The inverse, once per point, where the follower asks
+             * (a->lu_inverse) and J is small (KIN__LU_INVERSE_MAX_NF): there
+             * a point's factors serve some 25 solves (the tangent, the v_r
+             * estimate's passes, the slope's subspace iteration, the next
+             * step's chord corrections), and a solve by dgetrs cost 1.8 us
+             * in place against 0.3 us for a product with the inverse (46
+             * coordinates), which costs 1.6 factorizations: 15% of a follow
+             * on the hexagonal sail. Plain LU steps solve about 14 times a
+             * point: no gain there. The solutions agree to the
+             * conditioning's rounding. */
+            if (T->Jinv && a->lu_inverse) {
+                memcpy(T->Jinv, JT, sizeof(double) * (size_t)nf * (size_t)nf);
+                dgetri_(&nf, T->Jinv, &nf, T->ipiv, a->work, &a->lwork, &info);
+                T->inv = info == 0;
+            }
         } else {
             dgelqf_(&nf, &rows, JT, &nf, T->tq, a->work, &a->lwork, &info);
             if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgelqf info = %d", info);
@@ -421,40 +446,106 @@ void kin__path_restore(kin_assembly *a, const kin__path_point *p)
     a->lu[0].valid = a->lu[1].valid = 0;
 }
 
-int kin__lu_vr_triple(kin_assembly *a, int max_passes, double tol, double *u, double *w, double *v, int *converged)
+/* orthonormalize the k columns of X (nf x k, ld nf) against t and each
+ * other (Gram-Schmidt twice); a column that vanishes is replaced by a fixed
+ * pseudo-random one. */
+static void block_orthonormalize(int nf, const double *t, int k, double *X, unsigned long long *seed)
+{
+    for (int j = 0; j < k; ++j) {
+        double *x = X + (size_t)j * nf;
+        for (int tries = 0; tries < 3; ++tries) {
+            double n0 = kin__norm(nf, x);
+            for (int pass = 0; pass < 2; ++pass) {
+                remove_components(nf, t, 1, x);
+                remove_components(nf, X, j, x);
+            }
+            double n = kin__norm(nf, x);
+            if (n > 1e-8 * n0 && isfinite(n)) {
+                for (int i = 0; i < nf; ++i) x[i] /= n;
+                break;
+            }
+            for (int i = 0; i < nf; ++i) x[i] = (double)(kin__splitmix(seed) >> 11) * 0x1.0p-53 - 0.5;
+        }
+    }
+}
+
+/* seed of the pseudo-random start vectors of the triple's subspace */
+static const unsigned long long VR_BLOCK_SEED = 0xb10cULL;
+
+int kin__lu_vr_triple(kin_assembly *a, int max_passes, double tol, int k, double *block, int *warm, double *u,
+                      double *w, double *v, int *converged)
 {
     const kin_lufactor *F = &a->lu[a->lu_cur];
-    int nf = a->nf, nb = a->nb, rows = F->rows;
+    int nf = a->nf, nb = a->nb, rows = F->rows, info = 0;
     *converged = 0;
-    if (!kin__lu_current(a) || F->sparse || rows != nf) return KIN_ESTATE;
-    double *y = a->luw, *t = a->t;
-    memcpy(u, F->vr_vec, sizeof(double) * (size_t)nf);
-    remove_components(nf, t, 1, u);
-    unit_or_ones(nf, u);
-    for (int k = 0; k < max_passes; ++k) {
-        memcpy(y, u, sizeof(double) * (size_t)nf);
-        int rc = lu_solve(a, F, 1, y); /* y[0..nb-1] = pinv(C)^T u */
-        if (rc) return rc;
-        double ny = kin__norm(nb, y);
-        if (!(ny > 0.0 && isfinite(ny))) return KIN_OK;
-        *v = 1.0 / ny;
-        for (int i = 0; i < nb; ++i) w[i] = y[i] / ny;
-        for (int i = nb; i < rows; ++i) y[i] = 0.0;
-        rc = lu_solve(a, F, 0, y); /* pinv(C) pinv(C)^T u, up to the null direction t */
-        if (rc) return rc;
-        remove_components(nf, t, 1, y);
-        unit_or_ones(nf, y);
-        if (kin__dot(nf, y, u) < 0.0)
-            for (int i = 0; i < nf; ++i) y[i] = -y[i];
+    if (!kin__lu_current(a) || F->sparse || rows != nf || k < 1 || k > KIN__VR_BLOCK_MAX) return KIN_ESTATE;
+    double *t = a->t, *R = block, *X = block + (size_t)k * nf;
+    double B[KIN__VR_BLOCK_MAX * KIN__VR_BLOCK_MAX], lam[KIN__VR_BLOCK_MAX], ew[64];
+    double *Y = a->mwork; /* 3 nf^2 + 8 nf: room for k nf */
+    double d1 = 1.0, d0 = 0.0;
+    int lwork = 64;
+    unsigned long long seed = VR_BLOCK_SEED;
+    /* the start: the LU mode's vector, then the last call's next Ritz
+     * vectors (they follow the path's next singular values) */
+    memcpy(X, F->vr_vec, sizeof(double) * (size_t)nf);
+    for (int j = 1; j < k; ++j)
+        for (int i = 0; i < nf; ++i)
+            X[i + (size_t)j * nf] =
+                *warm ? R[i + (size_t)j * nf] : (double)(kin__splitmix(&seed) >> 11) * 0x1.0p-53 - 0.5;
+    block_orthonormalize(nf, t, k, X, &seed);
+    memcpy(u, X, sizeof(double) * (size_t)nf);
+    for (int pass = 0; pass < max_passes; ++pass) {
+        /* Y = J^-T X: its first nb rows are pinv(C)^T X (F holds the LU of J^T) */
+        if (F->inv) {
+            dgemm_("N", "N", &nf, &k, &nf, &d1, F->Jinv, &nf, X, &nf, &d0, Y, &nf, 1, 1);
+        } else {
+            memcpy(Y, X, sizeof(double) * (size_t)nf * (size_t)k);
+            dgetrs_("N", &nf, &k, F->JT, &nf, F->ipiv, Y, &nf, &info, 1);
+            if (info) return kin__fail(a, KIN_ELAPACK_ARG, "bordered solve: LAPACK info = %d", info);
+        }
+        /* Rayleigh-Ritz: B = (pinv(C)^T X)^T (pinv(C)^T X) = X^T M X */
+        for (int p = 0; p < k; ++p)
+            for (int q = 0; q <= p; ++q)
+                B[p + q * k] = B[q + p * k] = kin__dot(nb, Y + (size_t)p * nf, Y + (size_t)q * nf);
+        dsyev_("V", "L", &k, B, &k, lam, ew, &lwork, &info, 1, 1);
+        if (info || !(lam[k - 1] > 0.0 && isfinite(lam[k - 1]))) return KIN_OK;
+        /* the Ritz vectors, largest eigenvalue (smallest singular value) first */
+        for (int j = 0; j < k; ++j) {
+            const double *s = B + (size_t)(k - 1 - j) * k;
+            double *r = R + (size_t)j * nf;
+            for (int i = 0; i < nf; ++i) {
+                double acc = 0.0;
+                for (int q = 0; q < k; ++q) acc += X[i + (size_t)q * nf] * s[q];
+                r[i] = acc;
+            }
+        }
+        *warm = 1;
+        unit_or_ones(nf, R);
+        if (kin__dot(nf, R, u) < 0.0)
+            for (int i = 0; i < nf; ++i) R[i] = -R[i];
         double moved = 0.0;
-        for (int i = 0; i < nf; ++i) moved += (y[i] - u[i]) * (y[i] - u[i]);
-        memcpy(u, y, sizeof(double) * (size_t)nf);
-        if (sqrt(moved) <= tol) {
+        for (int i = 0; i < nf; ++i) moved += (R[i] - u[i]) * (R[i] - u[i]);
+        memcpy(u, R, sizeof(double) * (size_t)nf);
+        *v = 1.0 / sqrt(lam[k - 1]);
+        if (pass > 0 && sqrt(moved) <= tol) { /* moved under the operator, not only rotated within X */
             *converged = 1;
             break;
         }
+        if (pass + 1 == max_passes) break;
+        /* X := J^-1 [pinv(C)^T X; 0] = M X up to the null direction t */
+        for (int j = 0; j < k; ++j)
+            for (int i = nb; i < rows; ++i) Y[i + (size_t)j * nf] = 0.0;
+        if (F->inv) {
+            dgemm_("T", "N", &nf, &k, &nf, &d1, F->Jinv, &nf, Y, &nf, &d0, X, &nf, 1, 1);
+        } else {
+            dgetrs_("T", &nf, &k, F->JT, &nf, F->ipiv, Y, &nf, &info, 1);
+            if (info) return kin__fail(a, KIN_ELAPACK_ARG, "bordered solve: LAPACK info = %d", info);
+            memcpy(X, Y, sizeof(double) * (size_t)nf * (size_t)k);
+        }
+        block_orthonormalize(nf, t, k, X, &seed);
     }
     /* w and v for the final u */
+    double *y = a->luw;
     memcpy(y, u, sizeof(double) * (size_t)nf);
     int rc = lu_solve(a, F, 1, y);
     if (rc) return rc;
