@@ -21,7 +21,7 @@
 
 #include "contact/contact_internal.h"
 
-#define LEAF_MAX 4
+#define LEAF_MAX 8
 
 static inline double dmin(double x, double y) { return x < y ? x : y; }
 static inline double dmax(double x, double y) { return x > y ? x : y; }
@@ -31,7 +31,7 @@ static void ct_release(struct kin_contact *c)
     if (!c) return;
     free(c->poff), free(c->pj), free(c->rbar), free(c->tpan);
     free(c->prim_part), free(c->prim_v), free(c->prim_r), free(c->cen), free(c->lr), free(c->jpos);
-    free(c->order), free(c->node), free(c->lp), free(c->ev_prev), free(c->ev_x), free(c->ev_xyz), free(c->stack), free(c->pts);
+    free(c->order), free(c->node), free(c->lp), free(c->ev_prev), free(c->ev_x), free(c->ev_xyz), free(c->stack), free(c->sgap), free(c->pts);
     free(c);
 }
 
@@ -64,13 +64,14 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->node = malloc(sizeof(kin__bvh_node) * (2 * N));
     c->lp = malloc(sizeof(kin__leafprim) * (N ? N : 1));
     c->stack = malloc(sizeof(int) * 2 * (size_t)c->stack_cap);
+    c->sgap = malloc(sizeof(double) * (size_t)c->stack_cap);
     c->pts = malloc(sizeof(double) * 3 * (size_t)a->nj);
     c->ev_prev = malloc(sizeof(double) * ((size_t)a->nf + 1));
     c->ev_x = malloc(sizeof(double) * (2 * (size_t)a->nf + 1));
     c->ev_xyz = malloc(sizeof(double) * 2 * (size_t)a->nj * (size_t)a->dim);
     c->ev_tol = 1e-9;
     if (!c->prim_part || !c->prim_v || !c->prim_r || !c->cen || !c->lr || !c->jpos || !c->order || !c->node || !c->lp ||
-        !c->stack || !c->pts || !c->ev_prev || !c->ev_x || !c->ev_xyz)
+        !c->stack || !c->sgap || !c->pts || !c->ev_prev || !c->ev_x || !c->ev_xyz)
         return KIN_ENOMEM;
     int p = 0;
     for (int k = 0; k < a->nb; ++k, ++p) {
@@ -641,17 +642,20 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         }
     }
     int sx = c->seed[0], sy = c->seed[1];
-    /* the pair walk, nearer pairs first */
+    /* the pair walk, nearer pairs first; each pair on the stack with the
+     * squared gap of its boxes (0 for a node against itself), tested again
+     * when it is taken (best may have come down since) */
     const double neg_node = -2.0 * c->rmax;
     const kin__bvh_node *node = c->node;
     const kin__leafprim *lp = c->lp;
     int *st = c->stack;
-    st[0] = 0, st[1] = 0, top = 1;
+    double *sg = c->sgap;
+    st[0] = 0, st[1] = 0, sg[0] = 0.0, top = 1;
     while (top > 0) {
         --top;
         int u = st[2 * top], v = st[2 * top + 1];
+        if (u != v && cannot_beat(sg[top], neg_node, best)) continue;
         const kin__bvh_node *U = &node[u], *V = &node[v];
-        if (u != v && cannot_beat(gap2(U->lo, U->hi, V->lo, V->hi), neg_node, best)) continue;
         if (U->left < 0 && V->left < 0) {
             for (int x = U->start; x < U->start + U->count; ++x) {
                 const kin__leafprim *Lp = &lp[x];
@@ -679,9 +683,10 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         if (top + 3 > c->stack_cap) return kin__fail(a, KIN_ERANGE, "clearance: tree walk deeper than planned");
         if (u == v) {
             int l = U->left, r = U->right;
-            st[2 * top] = l, st[2 * top + 1] = r, ++top;
-            st[2 * top] = r, st[2 * top + 1] = r, ++top;
-            st[2 * top] = l, st[2 * top + 1] = l, ++top;
+            double g = gap2(node[l].lo, node[l].hi, node[r].lo, node[r].hi);
+            if (!cannot_beat(g, neg_node, best)) st[2 * top] = l, st[2 * top + 1] = r, sg[top] = g, ++top;
+            st[2 * top] = r, st[2 * top + 1] = r, sg[top] = 0.0, ++top;
+            st[2 * top] = l, st[2 * top + 1] = l, sg[top] = 0.0, ++top;
             continue;
         }
         /* split the larger (or the inner) node; the nearer child pair last (popped first) */
@@ -689,9 +694,11 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         int c1 = splitU ? U->left : V->left, c2 = splitU ? U->right : V->right, o = splitU ? v : u;
         const kin__bvh_node *O = &node[o], *C1 = &node[c1], *C2 = &node[c2];
         double g1 = gap2(C1->lo, C1->hi, O->lo, O->hi), g2 = gap2(C2->lo, C2->hi, O->lo, O->hi);
-        int first = g1 <= g2 ? c2 : c1, second = g1 <= g2 ? c1 : c2;
-        st[2 * top] = first, st[2 * top + 1] = o, ++top;
-        st[2 * top] = second, st[2 * top + 1] = o, ++top;
+        int near = g1 <= g2;
+        if (!cannot_beat(near ? g2 : g1, neg_node, best))
+            st[2 * top] = near ? c2 : c1, st[2 * top + 1] = o, sg[top] = near ? g2 : g1, ++top;
+        if (!cannot_beat(near ? g1 : g2, neg_node, best))
+            st[2 * top] = near ? c1 : c2, st[2 * top + 1] = o, sg[top] = near ? g1 : g2, ++top;
     }
     *clearance = ba >= 0 ? best : INFINITY;
     if (ba >= 0) {

@@ -53,6 +53,7 @@ struct kin_contact {
     double rmax;       /* the largest radius */
     int seed[2];       /* tree positions of the last smallest pair found, or -1 */
     int *stack;        /* 2 * stack_cap node indices of the pair traversal */
+    double *sgap;      /* stack_cap: the squared box gap of each pair on the stack */
     int stack_cap;
     double *pts;       /* nj*3 points of the configuration, joints in tree order */
     /* contact as an event of kin_follow_event (branches/contact_event.c) */
