@@ -547,6 +547,24 @@ static int prim_far(const struct kin_contact *c, const kin__leafprim *Lp, const 
         u[k] = cq[k] - cp[k];
     }
     if (axis_gap(P, vp, np, vq, nq, u) - rr > best) return 1;
+    if (np == 2 && nq == 2) {
+        /* two segments: the common normal of their lines, and the normal of
+         * each in the plane of both (segments side by side in a plane) */
+        double d1[3], d2[3], n[3], m[3];
+        for (int k = 0; k < 3; ++k) d1[k] = P[3 * vp[1] + k] - P[3 * vp[0] + k], d2[k] = P[3 * vq[1] + k] - P[3 * vq[0] + k];
+        n[0] = d1[1] * d2[2] - d1[2] * d2[1];
+        n[1] = d1[2] * d2[0] - d1[0] * d2[2];
+        n[2] = d1[0] * d2[1] - d1[1] * d2[0];
+        if (axis_gap(P, vp, np, vq, nq, n) - rr > best) return 1;
+        for (int side = 0; side < 2; ++side) {
+            const double *e = side ? d2 : d1;
+            m[0] = e[1] * n[2] - e[2] * n[1];
+            m[1] = e[2] * n[0] - e[0] * n[2];
+            m[2] = e[0] * n[1] - e[1] * n[0];
+            if (axis_gap(P, vp, np, vq, nq, m) - rr > best) return 1;
+        }
+        return 0;
+    }
     for (int side = 0; side < 2; ++side) {
         const int *t = side ? vq : vp;
         if ((side ? nq : np) < 3) continue;
@@ -659,6 +677,8 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         if (U->left < 0 && V->left < 0) {
             for (int x = U->start; x < U->start + U->count; ++x) {
                 const kin__leafprim *Lp = &lp[x];
+                /* this leaf against the other node's box first */
+                if (u != v && cannot_beat(gap2(Lp->lo, Lp->hi, V->lo, V->hi), -(double)Lp->r - c->rmax, best)) continue;
                 int y0 = u == v ? x + 1 : V->start;
                 for (int y = y0; y < V->start + V->count; ++y) {
                     const kin__leafprim *Lq = &lp[y];
