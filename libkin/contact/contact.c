@@ -61,7 +61,10 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->lr = malloc(sizeof(double) * (N ? N : 1));
     c->jpos = malloc(sizeof(int) * ((size_t)a->nj + 1));
     c->order = malloc(sizeof(int) * N);
-    c->node = malloc(sizeof(kin__bvh_node) * (2 * N));
+    /* a split node has more than LEAF_MAX primitives, so every leaf of a
+     * tree of more than LEAF_MAX has at least (LEAF_MAX + 1) / 2: at most
+     * N / that leaves, and one fewer inner nodes */
+    c->node = malloc(sizeof(kin__bvh_node) * (2 * (N / ((LEAF_MAX + 1) / 2) + 1)));
     c->lp = malloc(sizeof(kin__leafprim) * (N ? N : 1));
     c->stack = malloc(sizeof(int) * 2 * (size_t)c->stack_cap);
     c->sgap = malloc(sizeof(double) * (size_t)c->stack_cap);

@@ -42,7 +42,7 @@ struct kin_contact {
     double *prim_r;    /* radius (half thickness) of each primitive */
     double *cen;       /* 3 per primitive: box centre, for the split */
     int *order;        /* nprim primitive indices, grouped by leaf */
-    kin__bvh_node *node; /* up to 2*nprim - 1 */
+    kin__bvh_node *node; /* up to 2 * (nprim / ((LEAF_MAX + 1) / 2) + 1) */
     int nnode;         /* nodes of the current tree */
     kin__leafprim *lp;   /* nprim: the primitives in tree order (order[]) */
     double *lr;        /* nprim: their radii, in tree order */
