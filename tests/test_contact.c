@@ -202,7 +202,82 @@ static void plane_cases(void)
     kin_assembly_free(a);
 }
 
-/* on a folded-ish sail: the tree's answer equals the smallest over all pairs */
+/* the tree's boxes are floats: rounded to nearest, two bars end to end
+ * 0.2 float ulps apart would have boxes a whole ulp apart and be dropped
+ * under a margin between the two; rounded outward they are kept */
+static void float_boxes(void)
+{
+    double u = 0x1p-23, d = 0.2 * u;
+    double x[] = {0, 0, 0, 1 + 0.4 * u, 0, 0, 1 + 0.6 * u, 0, 0, 2, 0, 0};
+    int b[] = {0, 1, 2, 3};
+    kin_assembly *a = make(3, 4, x, 2, b);
+    double c;
+    CHECK_RC(kin_clearance(a, NULL, 0.5 * (d + u), &c, NULL, NULL), KIN_OK);
+    CHECK_CLOSE(c, d, 4 * DBL_EPSILON);
+    CHECK_RC(kin_clearance(a, NULL, INFINITY, &c, NULL, NULL), KIN_OK);
+    CHECK_CLOSE(c, d, 4 * DBL_EPSILON);
+    kin_assembly_free(a);
+}
+
+/* the smallest clearance over all pairs of non-adjacent parts of a model of
+ * bars and triangle panels pj (np of them) at y, by brute force; the
+ * clearance of the pair of parts (pa, pb) into *dab (if pa >= 0) */
+static double all_pairs(const kin_assembly *a, const double *y, const int *bars, const int *pj, int np, int pa,
+                        int pb, double *dab)
+{
+    int nb = kin_nbars(a);
+    double best = INFINITY, cp[3], cq[3];
+    double r0, *rb = malloc(sizeof(double) * (size_t)nb), *tp = malloc(sizeof(double) * (size_t)np);
+    kin_get_thickness(a, &r0, rb, tp);
+    int npart = nb + np;
+    for (int s = 0; s < npart; ++s)
+        for (int t = s + 1; t < npart; ++t) {
+            const int *js = s < nb ? bars + 2 * s : pj + 3 * (s - nb);
+            const int *jt = t < nb ? bars + 2 * t : pj + 3 * (t - nb);
+            int ns = s < nb ? 2 : 3, nt = t < nb ? 2 : 3, adj = 0;
+            for (int i = 0; i < ns; ++i)
+                for (int j = 0; j < nt; ++j) adj |= js[i] == jt[j];
+            if (adj) continue;
+            double d;
+            const double *S[3] = {y + 3 * js[0], y + 3 * js[1], ns == 3 ? y + 3 * js[2] : NULL};
+            const double *T[3] = {y + 3 * jt[0], y + 3 * jt[1], nt == 3 ? y + 3 * jt[2] : NULL};
+            if (ns == 2 && nt == 2) d = kin__dist_seg_seg(S[0], S[1], T[0], T[1], cp, cq);
+            else if (ns == 2) d = kin__dist_seg_tri(S[0], S[1], T[0], T[1], T[2], cp, cq);
+            else d = kin__dist_tri_tri(S, T, cp, cq);
+            d -= (s < nb ? rb[s] : 0.5 * tp[s - nb]) + (t < nb ? rb[t] : 0.5 * tp[t - nb]);
+            best = fmin(best, d);
+            if (s == pa && t == pb) *dab = d;
+        }
+    free(rb), free(tp);
+    return best;
+}
+
+/* kin_clearance at y with cutoff against all pairs: the value, and the
+ * parts it names are a pair at that clearance */
+static void check_against_all(kin_assembly *a, const double *y, double cutoff, const int *bars, const int *pj, int np,
+                              double scale)
+{
+    int nb = kin_nbars(a), parts[4];
+    double c, dab = NAN;
+    CHECK_RC(kin_clearance(a, y, cutoff, &c, parts, NULL), KIN_OK);
+    int pa = parts[0] == KIN_PART_BAR ? parts[1] : nb + parts[1], pb = parts[2] == KIN_PART_BAR ? parts[3] : nb + parts[3];
+    double best = all_pairs(a, y, bars, pj, np, pa, pb, &dab), tol = 16 * DBL_EPSILON * scale;
+    /* within rounding of the cutoff (the same distance computed with the
+     * operands in another order), either answer is right */
+    if (best < cutoff - tol || (best <= cutoff + tol && c < INFINITY)) {
+        CHECK_CLOSE(c, best, tol);
+        CHECK(parts[0] >= 0 && pa < pb);
+        CHECK_CLOSE(dab, c, tol);
+    } else {
+        CHECK(c == INFINITY && parts[0] == -1);
+    }
+}
+
+/* on a folded-ish sail: the tree's answer equals the smallest over all
+ * pairs, call after call on one handle (the tree is refitted, and built
+ * again when the configuration has moved far), along a path of small moves,
+ * with cutoffs, and at scales beyond the range of a float (its boxes are
+ * floats rounded outward: they must stay conservative) */
 static void sail_vs_all_pairs(void)
 {
     kin_sail_params p;
@@ -212,7 +287,7 @@ static void sail_vs_all_pairs(void)
     if (!a) return;
     int nb = kin_nbars(a), nj = kin_njoints(a);
     int *bars = malloc(sizeof(int) * 2 * (size_t)nb);
-    double *xyz = malloc(sizeof(double) * 3 * (size_t)nj);
+    double *xyz = malloc(sizeof(double) * 3 * (size_t)nj), *y = malloc(sizeof(double) * 3 * (size_t)nj);
     kin_get_bars(a, bars);
     kin_get_coords(a, xyz);
     /* panels: the bar triangles */
@@ -235,39 +310,33 @@ static void sail_vs_all_pairs(void)
     CHECK_RC(kin_set_panels(a, np, off, pj), KIN_OK);
     unsigned long long seed = 7;
     for (int trial = 0; trial < 40; ++trial) {
-        double *y = malloc(sizeof(double) * 3 * (size_t)nj);
         double amp = trial < 20 ? 0.05 : 0.6;
         for (int i = 0; i < 3 * nj; ++i)
             y[i] = xyz[i] + amp * ((double)(kin__splitmix(&seed) >> 11) / 9007199254740992.0 - 0.5);
         if (trial % 3 == 0) kin_set_thickness(a, 0.01 * trial, NULL, NULL);
+        check_against_all(a, y, INFINITY, bars, pj, np, 1.0);
+        /* a contact margin: the same answer below it, none above */
         double c;
         CHECK_RC(kin_clearance(a, y, INFINITY, &c, NULL, NULL), KIN_OK);
-        /* all pairs */
-        double best = INFINITY, cp[3], cq[3];
-        double r0, *rb = malloc(sizeof(double) * (size_t)nb), *tp = malloc(sizeof(double) * (size_t)np);
-        kin_get_thickness(a, &r0, rb, tp);
-        int npart = nb + np;
-        for (int s = 0; s < npart; ++s)
-            for (int t = s + 1; t < npart; ++t) {
-                const int *js = s < nb ? bars + 2 * s : pj + 3 * (s - nb);
-                const int *jt = t < nb ? bars + 2 * t : pj + 3 * (t - nb);
-                int ns = s < nb ? 2 : 3, nt = t < nb ? 2 : 3, adj = 0;
-                for (int i = 0; i < ns; ++i)
-                    for (int j = 0; j < nt; ++j) adj |= js[i] == jt[j];
-                if (adj) continue;
-                double d;
-                const double *S[3] = {y + 3 * js[0], y + 3 * js[1], ns == 3 ? y + 3 * js[2] : NULL};
-                const double *T[3] = {y + 3 * jt[0], y + 3 * jt[1], nt == 3 ? y + 3 * jt[2] : NULL};
-                if (ns == 2 && nt == 2) d = kin__dist_seg_seg(S[0], S[1], T[0], T[1], cp, cq);
-                else if (ns == 2) d = kin__dist_seg_tri(S[0], S[1], T[0], T[1], T[2], cp, cq);
-                else d = kin__dist_tri_tri(S, T, cp, cq);
-                d -= (s < nb ? rb[s] : 0.5 * tp[s - nb]) + (t < nb ? rb[t] : 0.5 * tp[t - nb]);
-                best = fmin(best, d);
-            }
-        CHECK_CLOSE(c, best, 16 * DBL_EPSILON);
-        free(rb), free(tp), free(y);
+        check_against_all(a, y, c + 0.01, bars, pj, np, 1.0);
+        check_against_all(a, y, c, bars, pj, np, 1.0);
     }
-    free(bars), free(xyz), free(off), free(pj);
+    /* a path of small moves from a crumpled configuration (refits), then back */
+    double *dir = malloc(sizeof(double) * 3 * (size_t)nj);
+    for (int i = 0; i < 3 * nj; ++i) dir[i] = (double)(kin__splitmix(&seed) >> 11) / 9007199254740992.0 - 0.5;
+    kin_set_thickness(a, 0.0, NULL, NULL);
+    for (int t = 0; t <= 30; ++t) {
+        double s = t <= 15 ? t / 15.0 : (30 - t) / 15.0;
+        for (int i = 0; i < 3 * nj; ++i) y[i] = xyz[i] + 0.4 * s * dir[i];
+        check_against_all(a, y, t % 2 ? INFINITY : 0.05, bars, pj, np, 1.0);
+    }
+    /* beyond the float range, and below its normal range */
+    double scales[] = {1e45, 1e-42, 1e-300};
+    for (int m = 0; m < 3; ++m) {
+        for (int i = 0; i < 3 * nj; ++i) y[i] = scales[m] * (xyz[i] + 0.3 * dir[i]);
+        check_against_all(a, y, INFINITY, bars, pj, np, scales[m]);
+    }
+    free(dir), free(bars), free(xyz), free(y), free(off), free(pj);
     kin_assembly_free(a);
 }
 
@@ -482,6 +551,7 @@ int main(void)
     panel_cases();
     triangle_cases();
     plane_cases();
+    float_boxes();
     sail_vs_all_pairs();
     errors();
     TEST_REPORT("test_contact");

@@ -94,9 +94,13 @@ KIN_API int kin_has_contact_model(const kin_assembly *a);
  *             intersect).
  * Exact up to rounding (segment-segment, segment-triangle and
  * triangle-triangle distances); a bounding-volume tree over bars and panel
- * triangles, built again at each call in O(n log n), prunes pairs. No
- * allocation (the workspace is made by kin_set_panels or kin_set_thickness,
- * or here, the first time, for a model that has neither).
+ * triangles, built at the first call and refitted to each later
+ * configuration in O(n) (built again when it has grown loose), prunes
+ * pairs. Of several pairs at exactly the smallest clearance, the smallest
+ * pair of parts (first, then second) is named, whatever the calls before.
+ * No allocation (the workspace is made by kin_set_panels or
+ * kin_set_thickness, or here, the first time, for a model that has
+ * neither).
  * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (cutoff NaN), KIN_EGEOM (a
  * non-finite coordinate), KIN_ENOMEM (first call only). */
 KIN_API int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *clearance, int *parts,

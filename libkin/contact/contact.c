@@ -4,17 +4,24 @@
  * The clearance: every bar is one primitive (a segment), every panel the
  * fan of its triangles; each primitive's box is grown by its radius. A
  * bounding-volume tree (median split of the box centres along the widest
- * axis, built again at each call: O(n log n)) is walked against itself,
- * pairs of nodes nearer first, a pair dropped when its boxes are no nearer
- * than the best clearance found so far; leaves of two parts that share no
+ * axis) is built at the first call and then refitted to each configuration
+ * (O(n): the boxes bottom up, the topology kept), and built again only when
+ * the refitted boxes have grown by half against those right after its
+ * build. Primitives and joints are stored in tree order and boxes as floats
+ * rounded outward (48 and 40 bytes per leaf and node), so the walk reads
+ * contiguous memory. The tree is walked against itself, pairs of nodes
+ * nearer first, a pair dropped when its boxes are no nearer than the best
+ * clearance found so far (the last call's closest pair, evaluated first,
+ * gives that bound from the start); leaves of two parts that share no
  * joint get the exact test of distance.c. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "contact/contact_internal.h"
 
-#define LEAF_MAX 4
+#define LEAF_MAX 8
 
 static inline double dmin(double x, double y) { return x < y ? x : y; }
 static inline double dmax(double x, double y) { return x > y ? x : y; }
@@ -23,8 +30,8 @@ static void ct_release(struct kin_contact *c)
 {
     if (!c) return;
     free(c->poff), free(c->pj), free(c->rbar), free(c->tpan);
-    free(c->prim_part), free(c->prim_v), free(c->prim_r), free(c->cen), free(c->plo), free(c->phi);
-    free(c->order), free(c->node), free(c->lp), free(c->ev_prev), free(c->ev_x), free(c->ev_xyz), free(c->stack), free(c->pts);
+    free(c->prim_part), free(c->prim_v), free(c->prim_r), free(c->cen), free(c->lr), free(c->jpos);
+    free(c->order), free(c->node), free(c->lp), free(c->ev_prev), free(c->ev_x), free(c->ev_xyz), free(c->stack), free(c->sgap), free(c->pts);
     free(c->ev_box), free(c->ev_key);
     free(c);
 }
@@ -52,12 +59,16 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->prim_v = malloc(sizeof(int) * 3 * N);
     c->prim_r = malloc(sizeof(double) * N);
     c->cen = malloc(sizeof(double) * 3 * N);
-    c->plo = malloc(sizeof(double) * 3 * N);
-    c->phi = malloc(sizeof(double) * 3 * N);
+    c->lr = malloc(sizeof(double) * (N ? N : 1));
+    c->jpos = malloc(sizeof(int) * ((size_t)a->nj + 1));
     c->order = malloc(sizeof(int) * N);
-    c->node = malloc(sizeof(kin__bvh_node) * (2 * N));
+    /* a split node has more than LEAF_MAX primitives, so every leaf of a
+     * tree of more than LEAF_MAX has at least (LEAF_MAX + 1) / 2: at most
+     * N / that leaves, and one fewer inner nodes */
+    c->node = malloc(sizeof(kin__bvh_node) * (2 * (N / ((LEAF_MAX + 1) / 2) + 1)));
     c->lp = malloc(sizeof(kin__leafprim) * (N ? N : 1));
     c->stack = malloc(sizeof(int) * 2 * (size_t)c->stack_cap);
+    c->sgap = malloc(sizeof(double) * (size_t)c->stack_cap);
     c->pts = malloc(sizeof(double) * 3 * (size_t)a->nj);
     c->ev_prev = malloc(sizeof(double) * ((size_t)a->nf + 1));
     c->ev_x = malloc(sizeof(double) * (2 * (size_t)a->nf + 1));
@@ -66,8 +77,8 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->ev_key = malloc(sizeof(kin__sweepkey) * ((size_t)a->nb + 1));
     c->ev_pair[0] = c->ev_pair[1] = -1;
     c->ev_tol = 1e-9;
-    if (!c->prim_part || !c->prim_v || !c->prim_r || !c->cen || !c->plo || !c->phi || !c->order || !c->node || !c->lp ||
-        !c->stack || !c->pts || !c->ev_prev || !c->ev_x || !c->ev_xyz || !c->ev_box || !c->ev_key)
+    if (!c->prim_part || !c->prim_v || !c->prim_r || !c->cen || !c->lr || !c->jpos || !c->order || !c->node || !c->lp ||
+        !c->stack || !c->sgap || !c->pts || !c->ev_prev || !c->ev_x || !c->ev_xyz || !c->ev_box || !c->ev_key)
         return KIN_ENOMEM;
     int p = 0;
     for (int k = 0; k < a->nb; ++k, ++p) {
@@ -101,6 +112,7 @@ static void ct_radii(const kin_assembly *a, struct kin_contact *c)
         }
         c->prim_r[p] = r;
     }
+    c->tree_ok = 0; /* the leaves carry the radii: build again */
 }
 
 /* a new contact record: model (np, poff, pj, t0, rbar, tpan) copied, the
@@ -291,6 +303,14 @@ int kin_last_contact(const kin_assembly *a, double *clearance, int *parts, doubl
 
 /* ---- the tree ----------------------------------------------------------- */
 
+/* A double bound rounded outward to float: lo down, hi up. The slack
+ * (2^-23 relative, 2^-140 absolute) is more than the rounding to nearest of
+ * the conversion and of the double arithmetic before it; the clamp keeps a
+ * bound beyond the float range on its own side (lo <= FLT_MAX, hi >=
+ * -FLT_MAX), so box gaps are never inf - inf. */
+static inline float f_down(double x) { return (float)dmin(x - fabs(x) * 0x1p-23 - 0x1p-140, FLT_MAX); }
+static inline float f_up(double x) { return (float)dmax(x + fabs(x) * 0x1p-23 + 0x1p-140, -FLT_MAX); }
+
 /* partial sort of idx[0..n) by cen[3*idx + ax] so that idx[m] is in place */
 static void select_nth(int *idx, int n, int m, const double *cen, int ax)
 {
@@ -313,27 +333,22 @@ static void select_nth(int *idx, int n, int m, const double *cen, int ax)
     }
 }
 
-/* build the subtree of order[start .. start+count) into node *nn; returns its index */
+/* the subtree of order[start .. start+count) into node *nn (median split of
+ * the box centres along their widest axis); returns its index. Boxes are
+ * set by refit. */
 static int build(struct kin_contact *c, int start, int count, int *nn)
 {
     int id = (*nn)++;
     kin__bvh_node *N = &c->node[id];
-    double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int k = 0; k < 3; ++k) N->lo[k] = INFINITY, N->hi[k] = -INFINITY;
-    for (int q = start; q < start + count; ++q) {
-        int p = c->order[q];
-        for (int k = 0; k < 3; ++k) {
-            N->lo[k] = dmin(N->lo[k], c->plo[3 * p + k]);
-            N->hi[k] = dmax(N->hi[k], c->phi[3 * p + k]);
-            clo[k] = dmin(clo[k], c->cen[3 * p + k]);
-            chi[k] = dmax(chi[k], c->cen[3 * p + k]);
-        }
-    }
+    N->start = start, N->count = count;
     if (count <= LEAF_MAX) {
         N->left = N->right = -1;
-        N->start = start;
-        N->count = count;
         return id;
+    }
+    double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int q = start; q < start + count; ++q) {
+        const double *x = c->cen + 3 * c->order[q];
+        for (int k = 0; k < 3; ++k) clo[k] = dmin(clo[k], x[k]), chi[k] = dmax(chi[k], x[k]);
     }
     int ax = 0;
     for (int k = 1; k < 3; ++k)
@@ -343,18 +358,134 @@ static int build(struct kin_contact *c, int start, int count, int *nn)
     int l = build(c, start, half, nn);
     int r = build(c, start + half, count - half, nn);
     N = &c->node[id];
-    N->left = l, N->right = r, N->start = start, N->count = count;
+    N->left = l, N->right = r;
     return id;
 }
 
-static double box_gap(const kin__bvh_node *A, const kin__bvh_node *B)
+/* c->pts from the configuration xyz (njoints*dim): joint j at its tree
+ * position jpos[j] (tree = 1), or at j (tree = 0) */
+static void load_points(const kin_assembly *a, struct kin_contact *c, const double *xyz, int tree)
+{
+    int dim = a->dim;
+    for (int j = 0; j < a->nj; ++j) {
+        double *x = c->pts + 3 * (tree ? c->jpos[j] : j);
+        for (int k = 0; k < 3; ++k) x[k] = k < dim ? xyz[j * dim + k] : 0.0;
+    }
+}
+
+/* A new tree for the configuration xyz: topology (order, node), the joints
+ * numbered in the order the leaves first use them (jpos), the leaves in tree
+ * order (lp, lr); c->pts is left in tree order. Boxes: refit. */
+static void tree_build(const kin_assembly *a, struct kin_contact *c, const double *xyz)
+{
+    load_points(a, c, xyz, 0);
+    for (int p = 0; p < c->nprim; ++p) {
+        const int *v = c->prim_v + 3 * p;
+        int nv = v[2] >= 0 ? 3 : 2;
+        for (int k = 0; k < 3; ++k) {
+            double lo = INFINITY, hi = -INFINITY;
+            for (int q = 0; q < nv; ++q) lo = dmin(lo, c->pts[3 * v[q] + k]), hi = dmax(hi, c->pts[3 * v[q] + k]);
+            c->cen[3 * p + k] = 0.5 * lo + 0.5 * hi;
+        }
+        c->order[p] = p;
+    }
+    int nn = 0;
+    build(c, 0, c->nprim, &nn);
+    c->nnode = nn;
+    for (int j = 0; j < a->nj; ++j) c->jpos[j] = -1;
+    int next = 0;
+    for (int q = 0; q < c->nprim; ++q) {
+        const int *v = c->prim_v + 3 * c->order[q];
+        for (int k = 0; k < 3; ++k)
+            if (v[k] >= 0 && c->jpos[v[k]] < 0) c->jpos[v[k]] = next++;
+    }
+    for (int j = 0; j < a->nj; ++j)
+        if (c->jpos[j] < 0) c->jpos[j] = next++;
+    c->rmax = 0.0;
+    for (int q = 0; q < c->nprim; ++q) {
+        int p = c->order[q];
+        kin__leafprim *L = &c->lp[q];
+        const int *v = c->prim_v + 3 * p;
+        for (int k = 0; k < 3; ++k) L->v[k] = v[k] >= 0 ? c->jpos[v[k]] : -1;
+        L->part = c->prim_part[p];
+        L->own = L->part < a->nb || c->poff[L->part - a->nb + 1] - c->poff[L->part - a->nb] == 3;
+        c->lr[q] = c->prim_r[p];
+        L->r = f_up(c->prim_r[p]);
+        c->rmax = dmax(c->rmax, c->prim_r[p]);
+    }
+    load_points(a, c, xyz, 1);
+    c->seed[0] = c->seed[1] = -1;
+    c->tree_ok = 1;
+    c->fresh = 1;
+}
+
+/* The boxes of the leaves and nodes at the configuration c->pts, bottom up
+ * (nodes are in pre-order). Returns the tree's quality measure: the summed
+ * half surface areas of the node boxes over the root's (it grows as the
+ * configuration moves away from the one the tree was built for; 0 for a
+ * degenerate root). */
+static double refit(struct kin_contact *c)
+{
+    const double *P = c->pts;
+    for (int q = 0; q < c->nprim; ++q) {
+        kin__leafprim *L = &c->lp[q];
+        double r = c->lr[q];
+        const double *x = P + 3 * L->v[0], *y = P + 3 * L->v[1];
+        if (L->v[2] >= 0) {
+            const double *z = P + 3 * L->v[2];
+            for (int k = 0; k < 3; ++k) {
+                L->lo[k] = f_down(dmin(dmin(x[k], y[k]), z[k]) - r);
+                L->hi[k] = f_up(dmax(dmax(x[k], y[k]), z[k]) + r);
+            }
+        } else {
+            for (int k = 0; k < 3; ++k) {
+                L->lo[k] = f_down(dmin(x[k], y[k]) - r);
+                L->hi[k] = f_up(dmax(x[k], y[k]) + r);
+            }
+        }
+    }
+    double sum = 0.0;
+    for (int id = c->nnode - 1; id >= 0; --id) {
+        kin__bvh_node *N = &c->node[id];
+        float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        if (N->left < 0) {
+            for (int q = N->start; q < N->start + N->count; ++q)
+                for (int k = 0; k < 3; ++k) lo[k] = fminf(lo[k], c->lp[q].lo[k]), hi[k] = fmaxf(hi[k], c->lp[q].hi[k]);
+        } else {
+            const kin__bvh_node *A = &c->node[N->left], *B = &c->node[N->right];
+            for (int k = 0; k < 3; ++k) lo[k] = fminf(A->lo[k], B->lo[k]), hi[k] = fmaxf(A->hi[k], B->hi[k]);
+        }
+        double e[3];
+        for (int k = 0; k < 3; ++k) N->lo[k] = lo[k], N->hi[k] = hi[k], e[k] = dmax((double)hi[k] - lo[k], 0.0);
+        sum += e[0] * e[1] + e[1] * e[2] + e[2] * e[0];
+    }
+    const kin__bvh_node *R = &c->node[0];
+    double e[3];
+    for (int k = 0; k < 3; ++k) e[k] = dmax((double)R->hi[k] - R->lo[k], 0.0);
+    double root = e[0] * e[1] + e[1] * e[2] + e[2] * e[0];
+    return root > 0.0 && isfinite(sum) ? sum / root : 0.0;
+}
+
+/* squared gap of two float boxes (0 when they meet), in double: a lower
+ * bound of the squared distance of anything inside them */
+static inline double gap2(const float *alo, const float *ahi, const float *blo, const float *bhi)
 {
     double s = 0.0;
     for (int k = 0; k < 3; ++k) {
-        double g = dmax(A->lo[k] - B->hi[k], B->lo[k] - A->hi[k]);
+        double g = dmax((double)alo[k] - bhi[k], (double)blo[k] - ahi[k]);
         if (g > 0.0) s += g * g;
     }
-    return sqrt(s);
+    return s;
+}
+
+/* 1 if a pair in boxes s2 (squared gap) apart cannot have clearance at or
+ * below best (a tie is kept: ties go to the smallest pair of parts, so
+ * the answer does not depend on the order of the walk): boxes apart by
+ * g > 0 give clearance >= g; boxes that meet give clearance >= neg */
+static inline int cannot_beat(double s2, double neg, double best)
+{
+    if (s2 > 0.0) return best < 0.0 || s2 > best * best * (1.0 + 0x1p-40);
+    return neg > best;
 }
 
 /* the joints of a part */
@@ -370,7 +501,7 @@ static int part_joints(const kin_assembly *a, int part, const int **j)
     return c->poff[i + 1] - c->poff[i];
 }
 
-static int adjacent(const kin_assembly *a, int pa, int pb)
+static int adjacent_parts(const kin_assembly *a, int pa, int pb)
 {
     if (pa == pb) return 1;
     const int *ja, *jb;
@@ -382,12 +513,11 @@ static int adjacent(const kin_assembly *a, int pa, int pb)
 }
 
 /* gap of the projections of nv points V (3 each, by index) and nw points W
- * on axis u (any nonzero vector; divided by its length): a lower bound of
- * the distance of their convex hulls */
+ * on axis u (any vector; divided by its length; 0 for a zero vector or
+ * projections that overlap): a lower bound of the distance of their convex
+ * hulls */
 static double axis_gap(const double *P, const int *v, int nv, const int *w, int nw, const double *u)
 {
-    double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
-    if (!(uu > 0.0)) return 0.0;
     double lo1 = INFINITY, hi1 = -INFINITY, lo2 = INFINITY, hi2 = -INFINITY;
     for (int i = 0; i < nv; ++i) {
         const double *x = P + 3 * v[i];
@@ -399,15 +529,21 @@ static double axis_gap(const double *P, const int *v, int nv, const int *w, int 
         double t = x[0] * u[0] + x[1] * u[1] + x[2] * u[2];
         lo2 = dmin(lo2, t), hi2 = dmax(hi2, t);
     }
-    return dmax(lo2 - hi1, lo1 - hi2) / sqrt(uu);
+    double g = dmax(lo2 - hi1, lo1 - hi2);
+    if (!(g > 0.0)) return 0.0;
+    double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    return uu > 0.0 ? g / sqrt(uu) : 0.0;
 }
 
-/* A cheap lower bound of the distance of primitives p and q (separating
- * axes: the line of their centres; for a triangle its normal and the
- * in-plane normals of its sides), so that most pairs near each other but
- * apart never reach the exact test */
-static double prim_lower_bound(const struct kin_contact *c, const kin__leafprim *Lp, const kin__leafprim *Lq)
+/* 1 if a cheap lower bound shows that leaves p and q (radii sum rr) have
+ * clearance above best: separating axes (the line of their centres; for a
+ * triangle its normal and the in-plane normals of its sides), stopping at
+ * the first that shows it, so that most pairs near each other but apart
+ * never reach the exact test */
+static int prim_far(const struct kin_contact *c, const kin__leafprim *Lp, const kin__leafprim *Lq, double rr,
+                    double best)
 {
+    if (-rr > best) return 1; /* the distance is >= 0 */
     const double *P = c->pts;
     const int *vp = Lp->v, *vq = Lq->v;
     int np = vp[2] >= 0 ? 3 : 2, nq = vq[2] >= 0 ? 3 : 2;
@@ -417,7 +553,25 @@ static double prim_lower_bound(const struct kin_contact *c, const kin__leafprim 
         for (int i = 0; i < nq; ++i) cq[k] += P[3 * vq[i] + k] / nq;
         u[k] = cq[k] - cp[k];
     }
-    double best = axis_gap(P, vp, np, vq, nq, u);
+    if (axis_gap(P, vp, np, vq, nq, u) - rr > best) return 1;
+    if (np == 2 && nq == 2) {
+        /* two segments: the common normal of their lines, and the normal of
+         * each in the plane of both (segments side by side in a plane) */
+        double d1[3], d2[3], n[3], m[3];
+        for (int k = 0; k < 3; ++k) d1[k] = P[3 * vp[1] + k] - P[3 * vp[0] + k], d2[k] = P[3 * vq[1] + k] - P[3 * vq[0] + k];
+        n[0] = d1[1] * d2[2] - d1[2] * d2[1];
+        n[1] = d1[2] * d2[0] - d1[0] * d2[2];
+        n[2] = d1[0] * d2[1] - d1[1] * d2[0];
+        if (axis_gap(P, vp, np, vq, nq, n) - rr > best) return 1;
+        for (int side = 0; side < 2; ++side) {
+            const double *e = side ? d2 : d1;
+            m[0] = e[1] * n[2] - e[2] * n[1];
+            m[1] = e[2] * n[0] - e[0] * n[2];
+            m[2] = e[0] * n[1] - e[1] * n[0];
+            if (axis_gap(P, vp, np, vq, nq, m) - rr > best) return 1;
+        }
+        return 0;
+    }
     for (int side = 0; side < 2; ++side) {
         const int *t = side ? vq : vp;
         if ((side ? nq : np) < 3) continue;
@@ -427,22 +581,37 @@ static double prim_lower_bound(const struct kin_contact *c, const kin__leafprim 
         n[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1];
         n[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
         n[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
-        best = dmax(best, axis_gap(P, vp, np, vq, nq, n));
+        if (axis_gap(P, vp, np, vq, nq, n) - rr > best) return 1;
         for (int i = 0; i < 3; ++i) {
             double m[3] = {e[i][1] * n[2] - e[i][2] * n[1], e[i][2] * n[0] - e[i][0] * n[2],
                            e[i][0] * n[1] - e[i][1] * n[0]};
-            best = dmax(best, axis_gap(P, vp, np, vq, nq, m));
+            if (axis_gap(P, vp, np, vq, nq, m) - rr > best) return 1;
         }
     }
-    return best;
+    return 0;
 }
 
-/* exact clearance of primitives p, q (centre distance minus radii) */
-static double prim_clearance(const struct kin_contact *c, const kin__leafprim *Lp, const kin__leafprim *Lq,
-                             double *cp, double *cq)
+/* (a1, b1) before (a2, b2) */
+static inline int pair_less(int a1, int b1, int a2, int b2) { return a1 < a2 || (a1 == a2 && b1 < b2); }
+
+/* leaves of parts that share a joint (compared by their own joints when
+ * those are all of their parts': bars and triangle panels) */
+static inline int adjacent(const kin_assembly *a, const kin__leafprim *P, const kin__leafprim *Q)
+{
+    if (P->part == Q->part) return 1;
+    if (!(P->own && Q->own)) return adjacent_parts(a, P->part, Q->part);
+    int np = P->v[2] >= 0 ? 3 : 2, nq = Q->v[2] >= 0 ? 3 : 2;
+    for (int x = 0; x < np; ++x)
+        for (int y = 0; y < nq; ++y)
+            if (P->v[x] == Q->v[y]) return 1;
+    return 0;
+}
+
+/* exact clearance of leaves x, y (centre distance minus radii) */
+static double prim_clearance(const struct kin_contact *c, int x, int y, double *cp, double *cq)
 {
     const double *P = c->pts;
-    const int *vp = Lp->v, *vq = Lq->v;
+    const int *vp = c->lp[x].v, *vq = c->lp[y].v;
     double d;
     int tp = vp[2] >= 0, tq = vq[2] >= 0;
     if (!tp && !tq) d = kin__dist_seg_seg(P + 3 * vp[0], P + 3 * vp[1], P + 3 * vq[0], P + 3 * vq[1], cp, cq);
@@ -453,7 +622,7 @@ static double prim_clearance(const struct kin_contact *c, const kin__leafprim *L
         const double *B[3] = {P + 3 * vq[0], P + 3 * vq[1], P + 3 * vq[2]};
         d = kin__dist_tri_tri(A, B, cp, cq);
     }
-    return d - Lp->r - Lq->r;
+    return d - c->lr[x] - c->lr[y];
 }
 
 int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *clearance, int *parts, double *points)
@@ -469,72 +638,70 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
     int rc = kin__contact_ensure(a);
     if (rc) return rc;
     struct kin_contact *c = a->ct;
-    for (int j = 0; j < a->nj; ++j)
-        for (int k = 0; k < 3; ++k) c->pts[3 * j + k] = k < dim ? xyz[j * dim + k] : 0.0;
-    /* primitive boxes, grown by the radius */
-    double rmax = 0.0;
-    for (int p = 0; p < c->nprim; ++p) {
-        const int *v = c->prim_v + 3 * p;
-        int nv = v[2] >= 0 ? 3 : 2;
-        for (int k = 0; k < 3; ++k) {
-            double lo = INFINITY, hi = -INFINITY;
-            for (int q = 0; q < nv; ++q) {
-                double x = c->pts[3 * v[q] + k];
-                lo = dmin(lo, x), hi = dmax(hi, x);
-            }
-            c->plo[3 * p + k] = lo - c->prim_r[p];
-            c->phi[3 * p + k] = hi + c->prim_r[p];
-            c->cen[3 * p + k] = 0.5 * (lo + hi);
-        }
-        c->order[p] = p;
-        rmax = dmax(rmax, c->prim_r[p]);
+    if (!c->tree_ok) tree_build(a, c, xyz);
+    else load_points(a, c, xyz, 1);
+    /* refit the tree to this configuration; build it again when the
+     * configuration has moved so far from the one it was built for that its
+     * boxes have grown by half (any tree gives the same answer: this is
+     * only about speed) */
+    double quality = refit(c);
+    if (c->fresh) c->quality0 = quality, c->fresh = 0;
+    else if (quality > 1.5 * c->quality0) {
+        tree_build(a, c, xyz);
+        c->quality0 = refit(c);
+        c->fresh = 0;
     }
-    int nn = 0;
-    build(c, 0, c->nprim, &nn);
-    for (int q = 0; q < c->nprim; ++q) {
-        int p = c->order[q];
-        kin__leafprim *L = &c->lp[q];
-        for (int k = 0; k < 3; ++k) L->lo[k] = c->plo[3 * p + k], L->hi[k] = c->phi[3 * p + k], L->v[k] = c->prim_v[3 * p + k];
-        L->r = c->prim_r[p];
-        L->part = c->prim_part[p];
-    }
-    /* the pair walk, nearer pairs first */
     double best = cutoff, bp[3] = {0, 0, 0}, bq[3] = {0, 0, 0}, xp[3], xq[3];
     int ba = -1, bb = -1, top = 0;
+    /* the last answer's pair first (when the tree is the same): an upper
+     * bound that prunes from the start */
+    if (c->seed[0] >= 0) {
+        int x = c->seed[0], y = c->seed[1];
+        double d = prim_clearance(c, x, y, xp, xq);
+        int pa = c->lp[x].part, pb = c->lp[y].part, sw = pa > pb;
+        if (d < best) {
+            best = d;
+            ba = sw ? pb : pa, bb = sw ? pa : pb;
+            memcpy(bp, sw ? xq : xp, sizeof bp);
+            memcpy(bq, sw ? xp : xq, sizeof bq);
+        }
+    }
+    int sx = c->seed[0], sy = c->seed[1];
+    /* the pair walk, nearer pairs first; each pair on the stack with the
+     * squared gap of its boxes (0 for a node against itself), tested again
+     * when it is taken (best may have come down since) */
+    const double neg_node = -2.0 * c->rmax;
+    const kin__bvh_node *node = c->node;
+    const kin__leafprim *lp = c->lp;
     int *st = c->stack;
-    st[0] = 0, st[1] = 0, top = 1;
+    double *sg = c->sgap;
+    st[0] = 0, st[1] = 0, sg[0] = 0.0, top = 1;
     while (top > 0) {
         --top;
         int u = st[2 * top], v = st[2 * top + 1];
-        const kin__bvh_node *U = &c->node[u], *V = &c->node[v];
-        if (u != v) {
-            /* boxes apart by g > 0: every clearance below is >= g; boxes that
-             * meet: >= -2 rmax */
-            double g = box_gap(U, V);
-            if ((g > 0.0 ? g : -2.0 * rmax) >= best) continue;
-        }
+        if (u != v && cannot_beat(sg[top], neg_node, best)) continue;
+        const kin__bvh_node *U = &node[u], *V = &node[v];
         if (U->left < 0 && V->left < 0) {
             for (int x = U->start; x < U->start + U->count; ++x) {
+                const kin__leafprim *Lp = &lp[x];
+                /* this leaf against the other node's box first */
+                if (u != v && cannot_beat(gap2(Lp->lo, Lp->hi, V->lo, V->hi), -(double)Lp->r - c->rmax, best)) continue;
                 int y0 = u == v ? x + 1 : V->start;
                 for (int y = y0; y < V->start + V->count; ++y) {
-                    const kin__leafprim *Lp = &c->lp[x], *Lq = &c->lp[y];
-                    int pa = Lp->part, pb = Lq->part;
-                    /* the primitives' own boxes first, then adjacency */
-                    double s = 0.0;
-                    for (int k = 0; k < 3; ++k) {
-                        double g = dmax(Lp->lo[k] - Lq->hi[k], Lq->lo[k] - Lp->hi[k]);
-                        if (g > 0.0) s += g * g;
-                    }
-                    if ((s > 0.0 ? sqrt(s) : -Lp->r - Lq->r) >= best) continue;
-                    if (adjacent(a, pa, pb)) continue;
-                    if (prim_lower_bound(c, Lp, Lq) - Lp->r - Lq->r >= best) continue;
-                    double d = prim_clearance(c, Lp, Lq, xp, xq);
-                    if (d < best) {
+                    const kin__leafprim *Lq = &lp[y];
+                    /* the leaves' own boxes first, then adjacency */
+                    if (cannot_beat(gap2(Lp->lo, Lp->hi, Lq->lo, Lq->hi), -(double)Lp->r - Lq->r, best)) continue;
+                    if (adjacent(a, Lp, Lq)) continue;
+                    if (prim_far(c, Lp, Lq, c->lr[x] + c->lr[y], best)) continue;
+                    if ((x == sx && y == sy) || (x == sy && y == sx)) continue; /* done first */
+                    double d = prim_clearance(c, x, y, xp, xq);
+                    int pa = Lp->part, pb = Lq->part, sw = pa > pb;
+                    if (d < best || (d == best && ba >= 0 && pair_less(sw ? pb : pa, sw ? pa : pb, ba, bb))) {
                         best = d;
-                        int sw = pa > pb;
                         ba = sw ? pb : pa, bb = sw ? pa : pb;
                         memcpy(bp, sw ? xq : xp, sizeof bp);
                         memcpy(bq, sw ? xp : xq, sizeof bq);
+                        c->seed[0] = x, c->seed[1] = y;
                     }
                 }
             }
@@ -543,18 +710,22 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         if (top + 3 > c->stack_cap) return kin__fail(a, KIN_ERANGE, "clearance: tree walk deeper than planned");
         if (u == v) {
             int l = U->left, r = U->right;
-            st[2 * top] = l, st[2 * top + 1] = r, ++top;
-            st[2 * top] = r, st[2 * top + 1] = r, ++top;
-            st[2 * top] = l, st[2 * top + 1] = l, ++top;
+            double g = gap2(node[l].lo, node[l].hi, node[r].lo, node[r].hi);
+            if (!cannot_beat(g, neg_node, best)) st[2 * top] = l, st[2 * top + 1] = r, sg[top] = g, ++top;
+            st[2 * top] = r, st[2 * top + 1] = r, sg[top] = 0.0, ++top;
+            st[2 * top] = l, st[2 * top + 1] = l, sg[top] = 0.0, ++top;
             continue;
         }
         /* split the larger (or the inner) node; the nearer child pair last (popped first) */
         int splitU = V->left < 0 || (U->left >= 0 && U->count >= V->count);
         int c1 = splitU ? U->left : V->left, c2 = splitU ? U->right : V->right, o = splitU ? v : u;
-        double g1 = box_gap(&c->node[c1], &c->node[o]), g2 = box_gap(&c->node[c2], &c->node[o]);
-        int first = g1 <= g2 ? c2 : c1, second = g1 <= g2 ? c1 : c2;
-        st[2 * top] = first, st[2 * top + 1] = o, ++top;
-        st[2 * top] = second, st[2 * top + 1] = o, ++top;
+        const kin__bvh_node *O = &node[o], *C1 = &node[c1], *C2 = &node[c2];
+        double g1 = gap2(C1->lo, C1->hi, O->lo, O->hi), g2 = gap2(C2->lo, C2->hi, O->lo, O->hi);
+        int near = g1 <= g2;
+        if (!cannot_beat(near ? g2 : g1, neg_node, best))
+            st[2 * top] = near ? c2 : c1, st[2 * top + 1] = o, sg[top] = near ? g2 : g1, ++top;
+        if (!cannot_beat(near ? g1 : g2, neg_node, best))
+            st[2 * top] = near ? c1 : c2, st[2 * top + 1] = o, sg[top] = near ? g1 : g2, ++top;
     }
     *clearance = ba >= 0 ? best : INFINITY;
     if (ba >= 0) {

@@ -5,20 +5,25 @@
 
 #include "model/internal.h"
 
-/* A node of the bounding-volume tree: a box (lo[3], hi[3]) and either two
- * children (left, right) or a run of primitives (start, count) of order[]. */
+/* A node of the bounding-volume tree: a box (lo[3], hi[3]; floats rounded
+ * outward, so it contains the double box) and either two children (left,
+ * right) or a run (start, count) of the primitives in tree order. Nodes are
+ * in pre-order: a node's children have larger indices than it has. */
 typedef struct kin__bvh_node {
-    double lo[3], hi[3];
+    float lo[3], hi[3];
     int left, right, start, count;
 } kin__bvh_node;
 
 /* A primitive as the tree's leaves use it, stored in tree order (the walk
- * reads neighbours from neighbouring memory) */
+ * reads neighbours from neighbouring memory); its joints are numbered in
+ * tree order too (pts). 48 bytes. */
 typedef struct kin__leafprim {
-    double lo[3], hi[3]; /* box grown by r */
-    double r;            /* radius */
-    int part;            /* bar k or nb + panel */
-    int v[3];            /* joints (a bar's third is -1) */
+    float lo[3], hi[3]; /* box grown by r, rounded outward */
+    float r;            /* radius, rounded up (the exact test reads lr) */
+    int part;           /* bar k or nb + panel */
+    int v[3];           /* joints in tree order (a bar's third is -1) */
+    int own;            /* 1: v are all the joints of its part (a bar, a
+                           triangle panel): adjacency compares v */
 } kin__leafprim;
 
 /* A bar in the sweep of contact_event.c's crossing check: its box's low x */
@@ -42,13 +47,21 @@ struct kin_contact {
     int *prim_v;       /* 3 joints per primitive (a bar's third is -1) */
     double *prim_r;    /* radius (half thickness) of each primitive */
     double *cen;       /* 3 per primitive: box centre, for the split */
-    double *plo, *phi; /* 3 + 3 per primitive: its box, grown by its radius */
     int *order;        /* nprim primitive indices, grouped by leaf */
-    kin__bvh_node *node; /* up to 2*nprim - 1 */
+    kin__bvh_node *node; /* up to 2 * (nprim / ((LEAF_MAX + 1) / 2) + 1) */
+    int nnode;         /* nodes of the current tree */
     kin__leafprim *lp;   /* nprim: the primitives in tree order (order[]) */
+    double *lr;        /* nprim: their radii, in tree order */
+    int *jpos;         /* nj: tree-order number of each joint */
+    int tree_ok;       /* the tree (order, node, lp, jpos) exists: refit it */
+    int fresh;         /* built since the last call: its quality is the reference */
+    double quality0;   /* the refitted tree's quality measure just after its build */
+    double rmax;       /* the largest radius */
+    int seed[2];       /* tree positions of the last smallest pair found, or -1 */
     int *stack;        /* 2 * stack_cap node indices of the pair traversal */
+    double *sgap;      /* stack_cap: the squared box gap of each pair on the stack */
     int stack_cap;
-    double *pts;       /* nj*3 points of the configuration */
+    double *pts;       /* nj*3 points of the configuration, joints in tree order */
     /* contact as an event of kin_follow_event (branches/contact_event.c) */
     int ev_on;         /* kin_set_contact_events */
     double ev_tol;     /* location tolerance, a fraction of the RMS rest length */
