@@ -40,7 +40,7 @@ from ..errors import InvalidArgumentError, KinError, LimitError
 from ..parallel import Progress, run_tasks
 from ..symmetry.automorphisms import same_symmetry, symmetries_at
 from ..symmetry.procrustes import aligned_distance
-from . import tasks
+from . import directions, tasks
 from .index import GroupedIndex
 from .model import BIFURCATION, LOCATION_FACTOR, SAME_TOL, Atlas, Edge, Node, node_kind
 from .orbits import branch_orbits, follow_level
@@ -252,16 +252,16 @@ class _Explorer:
 
     def follow_all(self, work: List[Work], every: Optional[List[Work]] = None) -> List[Any]:
         """work: [(node, solution, sign, beta, direction)] -> results in order; every: all their nodes' branches."""
-        shared = tasks.branch_lines(every if every is not None else work)
-        items = [{"model": self.text, "coords": self.nodes[nid].coords.tolist(),
-                  "rank_tol": self._rank_tol(self.nodes[nid]), "direction": d.tolist(),
-                  "max_length": self.max_length, "max_steps": self.max_steps, "samples": self.samples,
-                  "branches": shared.get(nid), "contact": self.contact}
-                 for nid, _, _, _, d in work]
-        if self.store is not None:
-            return self.store.run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches",
-                                        self.deadline, self.stop)
-        return run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches", self.deadline)
+        def item(nid: int, d: NDArray[np.float64]) -> Dict[str, Any]:
+            return {"model": self.text, "coords": self.nodes[nid].coords.tolist(), "contact": self.contact,
+                    "rank_tol": self._rank_tol(self.nodes[nid]), "direction": d.tolist(),
+                    "max_length": self.max_length, "max_steps": self.max_steps, "samples": self.samples}
+
+        def run(items: List[Any]) -> List[Any]:
+            return run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches", self.deadline) \
+                if self.store is None else self.store.run_tasks(tasks.follow_branch, items, self.executor,
+                                                                self.progress, "branches", self.deadline, self.stop)
+        return directions.follow(work, every if every is not None else work, item, run)  # directions.py
 
     def merge(self, nid: int, sol: int, sign: int, beta: NDArray[np.float64], res: Dict[str, Any],
               depth: int) -> int:

@@ -1,0 +1,135 @@
+"""A bifurcation's branch directions for its follow tasks, at any size.
+
+The follower decides what a return to the start is against the start's
+real branch directions (kin_follow_event_ex, docs/follow.md "Branch
+directions"): a closed loop only when the direction it comes back along,
+t, is nearest the branch's own line by at least the margin (0.05 rad),
+angle(t, k) >= angle(t, own) + margin for every other branch k; otherwise
+following goes on and the start is located as a bifurcation. A node's
+directions go with each of its tasks where they are few
+(tasks.BRANCH_DIRECTIONS_MAX numbers). Where they are many (the hexagonal
+sail's flat state: 29,828 x 46 numbers, 11 MB, for each of 59,656 tasks)
+follow() gives every task a subset S of them chosen so that the follower
+decides exactly as with all of them:
+
+* S always holds the own line (and, in index order, every line nearer
+  dir than the farthest it holds). The follower uses the directions only
+  in that decision, so its path is the same with any such S up to the
+  first return, and at a return: with all directions a loop implies a
+  loop with S (own still nearest; the next nearest no nearer). So a task
+  that ends in anything but a loop with S decided every return as all
+  directions would: its result is theirs.
+* A task that ends in a loop with S, at the angle b = angle(t, own), is
+  certain when every line outside S is at least 2 b + margin from dir:
+  the angle between lines is a metric, so such a line k has
+  angle(t, k) >= angle(dir, k) - angle(dir, t) >= b + margin. Otherwise
+  the task runs again with S = every line within 2 b + margin of dir,
+  until certain (at worst with all of them).
+
+The first pass gives S = {own} (46 numbers), so the bulk of the tasks
+carry nothing more; only the returns to the start run again, with the
+lines near their own (a NumPy array in the task: it pickles compactly,
+and the store hashes it by content). Everything is a function of the
+tasks' results, so the tasks and their store keys are the same in every
+run: resume takes them from the store. The alternatives (the whole set
+once per worker: a file or a Dask broadcast) would cost each task the C
+side's pass over all 29,828 lines (checking them, finding the own one),
+a few ms against about 16 ms of following; see docs/atlas.md.
+"""
+from __future__ import annotations
+
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import tasks
+
+# added to the certificate's bound: the rounding of the angles (theirs in C,
+# these by arccos, accurate to 1e-15 rad above the margin)
+SLACK = 1e-9
+
+
+def branch_margin() -> float:
+    """The follower's default branch_margin (kin_follow_options), radians."""
+    from .._native._lib import default_struct
+    return float(default_struct("kin_follow_options").branch_margin)
+
+
+class _Lines:
+    """A node's branch lines (sign +1 directions, unit rows) and their angles to a direction."""
+
+    def __init__(self, lines: List[NDArray[np.float64]]) -> None:
+        self.raw = np.array(lines, dtype=float)
+        self.unit = self.raw / np.linalg.norm(self.raw, axis=1)[:, None]
+
+    def angles(self, own: int) -> NDArray[np.float64]:
+        c = np.abs(self.unit @ self.unit[own])
+        a = np.arccos(np.minimum(c, 1.0))
+        a[own] = 0.0
+        return a
+
+
+def node_lines(every: Sequence[Any]) -> Tuple[Dict[int, List[Any]], Dict[Tuple[int, int], int]]:
+    """Per node of work [(node, solution, sign, beta, direction)] with at
+    least two solutions: its branch directions (sign +1, in work order), and
+    for each (node, solution) the index of its line among them."""
+    lines: Dict[int, List[Any]] = {}
+    index: Dict[Tuple[int, int], int] = {}
+    for nid, sol, sg, _, d in every:
+        if sg == 1:
+            index[(nid, sol)] = len(lines.setdefault(nid, []))
+            lines[nid].append(d)
+    return {nid: L for nid, L in lines.items() if len(L) >= 2}, index
+
+
+def follow(work: Sequence[Any], every: Sequence[Any], item: Callable[[int, Any], Dict[str, Any]],
+           run: Callable[[List[Dict[str, Any]]], List[Any]]) -> List[Any]:
+    """The results of work's branches [(node, solution, sign, beta,
+    direction)], each decided against all of its node's branch directions
+    (from every: the level's work). item(node, direction) -> the task
+    without "branches"; run(tasks) -> results (None: not run)."""
+    lines, index = node_lines(every)
+    limit = tasks.BRANCH_DIRECTIONS_MAX
+    whole = {nid: [list(map(float, d)) for d in L] for nid, L in lines.items() if len(L) * len(L[0]) <= limit}
+    items = []
+    for nid, sol, _, _, d in work:
+        it = item(nid, d)
+        it["branches"] = whole.get(nid) or ([list(map(float, d))] if nid in lines else None)
+        items.append(it)
+    results = run(items)
+    # the tasks to decide again: k -> (node, own index, the angle every line outside S is at least)
+    big: Dict[int, _Lines] = {}
+    reach: Dict[int, float] = {}
+    angles: Dict[int, NDArray[np.float64]] = {}
+    margin = branch_margin()
+    while True:
+        again: List[int] = []
+        subsets: List[NDArray[np.float64]] = []
+        for k, res in enumerate(results):
+            nid, sol = work[k][0], work[k][1]
+            if res is None or res["event"] != tasks.LOOP or nid not in lines or nid in whole:
+                continue
+            if k not in angles:
+                L = big.get(nid) or big.setdefault(nid, _Lines(lines[nid]))
+                angles[k] = L.angles(index[(nid, sol)])
+                reach[k] = float(np.delete(angles[k], index[(nid, sol)]).min())  # S = {own}
+            b = float(res.get("return_angle", float("inf")))
+            if 2.0 * b + margin + SLACK <= reach[k]:
+                continue  # certain: what all directions give
+            radius = 2.0 * b + margin + 2.0 * SLACK
+            inside = angles[k] < radius
+            outside = angles[k][~inside]
+            reach[k] = float(outside.min()) if outside.size else float("inf")
+            again.append(k)
+            subsets.append(big[nid].raw[inside])
+        if not again:
+            return results
+        redo = []
+        for k, S in zip(again, subsets):
+            it = dict(items[k])
+            it["branches"] = S
+            redo.append(it)
+        for k, res in zip(again, run(redo)):
+            results[k] = res
+
