@@ -48,6 +48,10 @@ from . import tasks
 # added to the certificate's bound: the rounding of the angles (theirs in C,
 # these by arccos, accurate to 1e-15 rad above the margin)
 SLACK = 1e-9
+# a return to the start is decided again first with the lines within this
+# angle (radians) of its direction at the end (an estimate: a task that
+# still ends in a loop is decided again around its own line)
+RETURN_RADIUS = 0.15
 
 
 def branch_margin() -> float:
@@ -62,6 +66,10 @@ class _Lines:
     def __init__(self, lines: List[NDArray[np.float64]]) -> None:
         self.raw = np.array(lines, dtype=float)
         self.unit = self.raw / np.linalg.norm(self.raw, axis=1)[:, None]
+
+    def near(self, t: NDArray[np.float64], radius: float) -> NDArray[np.bool_]:
+        """Which lines are within radius (radians) of the line of t."""
+        return np.abs(self.unit @ (t / np.linalg.norm(t))) > np.cos(radius)
 
     def angles(self, own: int) -> NDArray[np.float64]:
         c = np.abs(self.unit @ self.unit[own])
@@ -84,11 +92,13 @@ def node_lines(every: Sequence[Any]) -> Tuple[Dict[int, List[Any]], Dict[Tuple[i
 
 
 def follow(work: Sequence[Any], every: Sequence[Any], item: Callable[[int, Any], Dict[str, Any]],
-           run: Callable[[List[Dict[str, Any]]], List[Any]]) -> List[Any]:
+           run: Callable[[List[Dict[str, Any]]], List[Any]], record: Optional[Dict[str, int]] = None) -> List[Any]:
     """The results of work's branches [(node, solution, sign, beta,
     direction)], each decided against all of its node's branch directions
     (from every: the level's work). item(node, direction) -> the task
-    without "branches"; run(tasks) -> results (None: not run)."""
+    without "branches"; run(tasks) -> results (None: not run). record, if
+    given, gains the counts of the tasks run again ("tasks"), the lines
+    they carried ("lines", "lines_max") and their CPU seconds ("cpu_ms")."""
     lines, index = node_lines(every)
     limit = tasks.BRANCH_DIRECTIONS_MAX
     whole = {nid: [list(map(float, d)) for d in L] for nid, L in lines.items() if len(L) * len(L[0]) <= limit}
@@ -98,10 +108,9 @@ def follow(work: Sequence[Any], every: Sequence[Any], item: Callable[[int, Any],
         it["branches"] = whole.get(nid) or ([list(map(float, d))] if nid in lines else None)
         items.append(it)
     results = run(items)
-    # the tasks to decide again: k -> (node, own index, the angle every line outside S is at least)
     big: Dict[int, _Lines] = {}
-    reach: Dict[int, float] = {}
-    angles: Dict[int, NDArray[np.float64]] = {}
+    reach: Dict[int, float] = {}  # per task: every line outside its last subset is at least this far from dir
+    angles: Dict[int, NDArray[np.float64]] = {}  # per task: the angles of its node's lines to dir
     margin = branch_margin()
     while True:
         again: List[int] = []
@@ -110,19 +119,27 @@ def follow(work: Sequence[Any], every: Sequence[Any], item: Callable[[int, Any],
             nid, sol = work[k][0], work[k][1]
             if res is None or res["event"] != tasks.LOOP or nid not in lines or nid in whole:
                 continue
-            if k not in angles:
-                L = big.get(nid) or big.setdefault(nid, _Lines(lines[nid]))
-                angles[k] = L.angles(index[(nid, sol)])
-                reach[k] = float(np.delete(angles[k], index[(nid, sol)]).min())  # S = {own}
+            L = big.get(nid) or big.setdefault(nid, _Lines(lines[nid]))
+            own = index[(nid, sol)]
+            first = k not in angles
+            if first:
+                angles[k] = L.angles(own)
+                reach[k] = float(np.delete(angles[k], own).min())  # S = {own}
             b = float(res.get("return_angle", float("inf")))
             if 2.0 * b + margin + SLACK <= reach[k]:
                 continue  # certain: what all directions give
-            radius = 2.0 * b + margin + 2.0 * SLACK
-            inside = angles[k] < radius
+            t = res.get("return_tangent")
+            if first and t is not None:
+                # most returns come back along another branch: the lines near the return
+                # direction (and the own one) make the follower go on as with all of them
+                inside = L.near(np.asarray(t, dtype=float), RETURN_RADIUS)
+                inside[own] = True
+            else:
+                inside = angles[k] < 2.0 * b + margin + 2.0 * SLACK
             outside = angles[k][~inside]
             reach[k] = float(outside.min()) if outside.size else float("inf")
             again.append(k)
-            subsets.append(big[nid].raw[inside])
+            subsets.append(L.raw[inside])
         if not again:
             return results
         redo = []
@@ -130,6 +147,12 @@ def follow(work: Sequence[Any], every: Sequence[Any], item: Callable[[int, Any],
             it = dict(items[k])
             it["branches"] = S
             redo.append(it)
-        for k, res in zip(again, run(redo)):
+        for k, S, res in zip(again, subsets, run(redo)):
             results[k] = res
+            if record is not None:
+                n = len(S)
+                cpu = round(1e3 * (res or {}).get("cpu_seconds", 0.0))
+                for key, v in (("tasks", 1), ("lines", n), ("cpu_ms", cpu)):
+                    record[key] = record.get(key, 0) + v
+                record["lines_max"] = max(record.get("lines_max", 0), n)
 

@@ -64,7 +64,8 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     vanishing singular value / v_max where the event was located), "vr_tol"
     (the tolerance it was located to), "steps", "samples", "message",
     "cpu_seconds" (this task's CPU time in its process), with "branches" and
-    a loop "return_angle" (radians, its return direction to its own branch)}.
+    a loop "return_angle" (radians, its return direction to its own branch)
+    and "return_tangent" (the path's direction at the end, where regular)}.
     The samples come from the same follow (kin_follow_event_ex records the
     points its steps reach, up to SAMPLE_ROOM per sample asked for): for
     k = 1..n the recorded point whose path length is nearest k/(n+1) of the
@@ -96,8 +97,11 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     out.update(_end_state(a, kind, rank_tol))
     out.update({"accuracy": float(ev.v_r_rel), "vr_tol": float(ev.vr_tol_used), "steps": int(ev.steps),
                 "length": float(ev.length), "at_start": bool(ev.at_start)})
-    if kind == LOOP and task.get("branches") is not None:
-        out["return_angle"] = float(ev.return_angle)  # to the own branch (atlas/directions.py)
+    if kind == LOOP and task.get("branches") is not None:  # for atlas/directions.py
+        out["return_angle"] = float(ev.return_angle)  # to the own branch
+        an = a.analyse()
+        if an.m_internal == 1:  # the path's direction at the end, near the start
+            out["return_tangent"] = [float(v) for v in an.internal_mechanisms[:, 0]]
     samples.extend(_pick_samples(ev.samples, ev.sample_lengths, ev.length, n))
     out["cpu_seconds"] = time.process_time() - cpu0
     return out
