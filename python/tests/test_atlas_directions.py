@@ -62,7 +62,6 @@ def test_subsets_decide_as_all_directions(flat):
     sample = [work[k] for k in flat["sample"]]
     record = {}
     got = directions.follow(sample, work, item, _serial, record)
-    assert record["tasks"] >= 1 and record["lines_max"] < len(lines)  # subsets, never the whole set
     margin = directions.branch_margin()
     along_other = 0
     for (nid, sol, sg, _, d), res in zip(sample, got):
@@ -83,3 +82,32 @@ def test_subsets_decide_as_all_directions(flat):
             assert np.abs(np.asarray(res["coords"]) - flat["start"]).max() <= 1e-6
             along_other += 1
     assert along_other >= 1
+    assert record.get("tasks", 0) >= 1 and record["lines_max"] < len(lines)  # subsets, never the whole set
+
+
+def test_executors_and_resume(flat, tmp_path):
+    """The subsets ship as arrays: the same results on a process pool and a
+    Dask cluster; with a store, a second run takes every task (the first
+    pass and the decided-again ones) from it."""
+    from concurrent.futures import ProcessPoolExecutor
+    work, item = flat["work"], flat["item"]
+    sample = [work[k] for k in flat["sample"][:3]]
+    ref = directions.follow(sample, work, item, _serial)
+    path = tmp_path / "run.sqlite"
+    with ProcessPoolExecutor(max_workers=2) as ex:
+        for resume in (False, True):
+            with Store(path, "fingerprint", resume=resume) as store:
+                got = directions.follow(sample, work, item,
+                                        lambda items: store.run_tasks(tasks.follow_branch, items, ex, None,
+                                                                      "branches", None))
+                assert all(_same(r, s) for r, s in zip(ref, got))
+                if resume:
+                    assert store.recorded == 0 and store.reused == recorded
+                else:
+                    recorded = store.recorded
+                    assert recorded > len(sample)  # the returns ran twice
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        got = directions.follow(sample, work, item, lambda items: run_tasks(tasks.follow_branch, items, client))
+    assert all(_same(r, s) for r, s in zip(ref, got))

@@ -3,38 +3,40 @@
 The follower decides what a return to the start is against the start's
 real branch directions (kin_follow_event_ex, docs/follow.md "Branch
 directions"): a closed loop only when the direction it comes back along,
-t, is nearest the branch's own line by at least the margin (0.05 rad),
-angle(t, k) >= angle(t, own) + margin for every other branch k; otherwise
+t, is nearest the branch's own line by at least the margin (0.05 rad):
+angle(t, k) >= angle(t, own) + margin for every other line k; otherwise
 following goes on and the start is located as a bifurcation. A node's
-directions go with each of its tasks where they are few
+directions go whole with each of its tasks where they are few
 (tasks.BRANCH_DIRECTIONS_MAX numbers). Where they are many (the hexagonal
 sail's flat state: 29,828 x 46 numbers, 11 MB, for each of 59,656 tasks)
-follow() gives every task a subset S of them chosen so that the follower
-decides exactly as with all of them:
+follow() gives each task a subset S of them (the own line always among
+them, in their order) such that the follower decides exactly as with all:
 
-* S always holds the own line (and, in index order, every line nearer
-  dir than the farthest it holds). The follower uses the directions only
-  in that decision, so its path is the same with any such S up to the
-  first return, and at a return: with all directions a loop implies a
-  loop with S (own still nearest; the next nearest no nearer). So a task
-  that ends in anything but a loop with S decided every return as all
-  directions would: its result is theirs.
-* A task that ends in a loop with S, at the angle b = angle(t, own), is
-  certain when every line outside S is at least 2 b + margin from dir:
-  the angle between lines is a metric, so such a line k has
-  angle(t, k) >= angle(dir, k) - angle(dir, t) >= b + margin. Otherwise
-  the task runs again with S = every line within 2 b + margin of dir,
-  until certain (at worst with all of them).
+* The follower uses the directions only in that decision, so up to the
+  first return its path is the same with any S; and at a return a loop
+  with all of them is a loop with S (own still nearest, the next nearest
+  no nearer). So a task that ends in anything but a loop with S decided
+  every return as all directions would: its result is theirs.
+* A task that ends in a loop with S, at b = angle(t, own), is certain when
+  every line outside S is at least 2 b + margin from dir: the angle between
+  lines is a metric, so such a line k has angle(t, k) >= angle(dir, k) -
+  angle(dir, t) >= b + margin.
 
-The first pass gives S = {own} (46 numbers), so the bulk of the tasks
-carry nothing more; only the returns to the start run again, with the
-lines near their own (a NumPy array in the task: it pickles compactly,
-and the store hashes it by content). Everything is a function of the
-tasks' results, so the tasks and their store keys are the same in every
-run: resume takes them from the store. The alternatives (the whole set
-once per worker: a file or a Dask broadcast) would cost each task the C
-side's pass over all 29,828 lines (checking them, finding the own one),
-a few ms against about 16 ms of following; see docs/atlas.md.
+The passes: first S = {own} (46 numbers: the bulk of the tasks carry
+nothing more; a return ends the task as a loop). A loop not certain is
+followed again with the lines within RETURN_RADIUS of the path's direction
+at its end (the task's "return_tangent", near t): a return along another
+branch finds that branch among them and goes on, as with all lines. A
+loop still not certain is followed again with every line within 2 b +
+margin of dir, until certain (at worst with all of them). The subsets go
+as NumPy arrays (they pickle compactly; the store hashes them by content).
+Everything is a function of the tasks' results, so the tasks and their
+store keys are the same in every run, serial or on any executor: resume
+takes them from the store. Why not the whole set once per worker (a file,
+shared memory, a Dask broadcast): the C side passes over every line in
+each task (checking them, finding the own one, and at each return), about
+6 ms of a task's 13-20 ms at the flat state; the returns followed twice
+cost less (docs/atlas.md).
 """
 from __future__ import annotations
 
