@@ -112,21 +112,23 @@ def follow(work: Sequence[Any], every: Sequence[Any], item: Callable[[int, Any],
     results = run(items)
     big: Dict[int, _Lines] = {}
     reach: Dict[int, float] = {}  # per task: every line outside its last subset is at least this far from dir
-    angles: Dict[int, NDArray[np.float64]] = {}  # per task: the angles of its node's lines to dir
     margin = branch_margin()
+    pending = [k for k, res in enumerate(results)
+               if res is not None and res["event"] == tasks.LOOP and work[k][0] in lines and work[k][0] not in whole]
     while True:
         again: List[int] = []
         subsets: List[NDArray[np.float64]] = []
-        for k, res in enumerate(results):
+        for k in pending:
+            res = results[k]
+            if res is None or res["event"] != tasks.LOOP:
+                continue  # not run (time limit), or not a loop: decided as with all lines
             nid, sol = work[k][0], work[k][1]
-            if res is None or res["event"] != tasks.LOOP or nid not in lines or nid in whole:
-                continue
             L = big.get(nid) or big.setdefault(nid, _Lines(lines[nid]))
             own = index[(nid, sol)]
-            first = k not in angles
+            angles = L.angles(own)
+            first = k not in reach
             if first:
-                angles[k] = L.angles(own)
-                reach[k] = float(np.delete(angles[k], own).min())  # S = {own}
+                reach[k] = float(np.delete(angles, own).min())  # S = {own}
             b = float(res.get("return_angle", float("inf")))
             if 2.0 * b + margin + SLACK <= reach[k]:
                 continue  # certain: what all directions give
@@ -137,8 +139,8 @@ def follow(work: Sequence[Any], every: Sequence[Any], item: Callable[[int, Any],
                 inside = L.near(np.asarray(t, dtype=float), RETURN_RADIUS)
                 inside[own] = True
             else:
-                inside = angles[k] < 2.0 * b + margin + 2.0 * SLACK
-            outside = angles[k][~inside]
+                inside = angles < 2.0 * b + margin + 2.0 * SLACK
+            outside = angles[~inside]
             reach[k] = float(outside.min()) if outside.size else float("inf")
             again.append(k)
             subsets.append(L.raw[inside])
@@ -149,6 +151,7 @@ def follow(work: Sequence[Any], every: Sequence[Any], item: Callable[[int, Any],
             it = dict(items[k])
             it["branches"] = S
             redo.append(it)
+        pending = again
         for k, S, res in zip(again, subsets, run(redo)):
             results[k] = res
             if record is not None:
