@@ -103,6 +103,10 @@ class FollowEvent:
         Steps taken with LU factors only; handovers to the SVD locator.
     return_branch : int
         With `branches`: the branch a return to the start came back along, or -1.
+    return_angle, return_gap : float
+        That return: the angle (radians) between its direction and that
+        branch, and how much farther the next nearest branch is (0.0 without
+        a return; inf with one branch).
     samples : numpy.ndarray, shape (k, njoints, dim)
         With ``samples > 0``: configurations the steps reached, evenly spread
         by steps over the path (start and end excluded).
@@ -130,6 +134,8 @@ class FollowEvent:
     cheap_steps: int = 0
     handovers: int = 0
     return_branch: int = -1
+    return_angle: float = 0.0
+    return_gap: float = 0.0
     samples: Any = None
     sample_lengths: Any = None
 
@@ -281,7 +287,8 @@ class LocatingMixin(AssemblyBase):
                            info.factorizations, info.attempts, info.length, info.vr_tol_used, info.v_r_rel,
                            info.m_internal, info.s, info.zero_order, bool(info.path_kept), bool(info.at_start),
                            info.start_distance, info.tangent_cos, info.cheap_steps, info.handovers,
-                           info.return_branch, sbuf[:count[0]].copy(), lbuf[:count[0]].copy())
+                           info.return_branch, info.return_angle, info.return_gap, sbuf[:count[0]].copy(),
+                           lbuf[:count[0]].copy())
 
     def test_function(self) -> float:
         """The signed test function here.

@@ -40,7 +40,7 @@ from ..errors import InvalidArgumentError, KinError, LimitError
 from ..parallel import Progress, run_tasks
 from ..symmetry.automorphisms import same_symmetry, symmetries_at
 from ..symmetry.procrustes import aligned_distance
-from . import tasks
+from . import directions, tasks
 from .index import GroupedIndex
 from .model import BIFURCATION, LOCATION_FACTOR, SAME_TOL, Atlas, Edge, Node, node_kind
 from .orbits import branch_orbits, follow_level
@@ -99,9 +99,9 @@ class _Explorer:
         # the nodes, and their images under each symmetry, by position
         self.index = GroupedIndex(a.coords.shape, self.rigid)
         self.images = GroupedIndex(a.coords.shape, self.rigid)
-        self.follow_cpu = 0.0   # CPU seconds the followers reported
-        self.followed = 0       # branches followed, and mapped from a followed one by symmetry
-        self.mapped = 0
+        # CPU seconds the followers reported; branches followed, and mapped from a followed one by symmetry
+        self.follow_cpu, self.followed, self.mapped = 0.0, 0, 0
+        self.redo: Dict[str, int] = {}  # the returns to the start decided again (directions.follow)
         self.store: Any = None  # store.Store: results recorded as they complete (reused on resume), and stop()
         self.stop: Optional[Callable[[], bool]] = None
 
@@ -252,16 +252,15 @@ class _Explorer:
 
     def follow_all(self, work: List[Work], every: Optional[List[Work]] = None) -> List[Any]:
         """work: [(node, solution, sign, beta, direction)] -> results in order; every: all their nodes' branches."""
-        shared = tasks.branch_lines(every if every is not None else work)
-        items = [{"model": self.text, "coords": self.nodes[nid].coords.tolist(),
-                  "rank_tol": self._rank_tol(self.nodes[nid]), "direction": d.tolist(),
-                  "max_length": self.max_length, "max_steps": self.max_steps, "samples": self.samples,
-                  "branches": shared.get(nid), "contact": self.contact}
-                 for nid, _, _, _, d in work]
-        if self.store is not None:
-            return self.store.run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches",
-                                        self.deadline, self.stop)
-        return run_tasks(tasks.follow_branch, items, self.executor, self.progress, "branches", self.deadline)
+        def item(nid: int, d: NDArray[np.float64]) -> Dict[str, Any]:
+            n, rest = self.nodes[nid], {"max_steps": self.max_steps, "samples": self.samples, "contact": self.contact}
+            return {"model": self.text, "coords": n.coords.tolist(), "rank_tol": self._rank_tol(n),
+                    "direction": d.tolist(), "max_length": self.max_length, **rest}
+
+        def run(items: List[Any]) -> List[Any]:
+            args = (tasks.follow_branch, items, self.executor, self.progress, "branches", self.deadline)
+            return run_tasks(*args) if self.store is None else self.store.run_tasks(*args, self.stop)
+        return directions.follow(work, every if every is not None else work, item, run, self.redo)
 
     def merge(self, nid: int, sol: int, sign: int, beta: NDArray[np.float64], res: Dict[str, Any],
               depth: int) -> int:
@@ -480,7 +479,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                 "follow_orbits": follow_orbits, "symmetry": symmetry, "contact": bool(contact),
                 "executor": None if executor is None else type(executor).__name__}
     stats = {"seconds": round(time.perf_counter() - t0, 3), "follow_cpu_seconds": round(ex.follow_cpu, 3),
-             "branches_followed": ex.followed, "branches_mapped": ex.mapped, "stopped_by": stopped,
+             "branches_followed": ex.followed, "branches_mapped": ex.mapped, "returns_decided_again": ex.redo,
+             "stopped_by": stopped,
              "partial": stopped in ("interrupted", "time_limit")}
     if ex.store is not None:
         stats["store"] = ex.store.finish(store is not ex.store)

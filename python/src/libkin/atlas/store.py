@@ -40,7 +40,16 @@ class StoreMismatchError(InvalidArgumentError):
 
 
 def _hash(data: Any) -> str:
-    return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()
+    return hashlib.sha256(json.dumps(data, sort_keys=True, default=_by_content).encode()).hexdigest()
+
+
+def _by_content(x: Any) -> Any:
+    """A NumPy array in a task (atlas/directions.py): by its shape and the digest of its bytes."""
+    import numpy as np
+    if isinstance(x, np.ndarray):
+        a = np.ascontiguousarray(x, dtype=np.float64)
+        return {"ndarray": list(a.shape), "sha256": hashlib.sha256(a.tobytes()).hexdigest()}
+    raise TypeError(f"not JSON serializable: {type(x).__name__}")
 
 
 def fingerprint(model_text: str, settings: Any) -> str:

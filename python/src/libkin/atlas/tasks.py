@@ -77,14 +77,17 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     task: {"model": JSON text, "coords": (njoints, dim) list, "rank_tol",
     "direction": (nfree,) list (U_m beta times the sign), "max_length",
     "max_steps", "vr_tol", "samples": how many configurations to record along
-    the way, "branches": optional, the start's branch directions (a return
-    along another branch is located, not a loop), "contact": stop at the first
+    the way, "branches": optional, the start's branch directions, a list or
+    an array (a return along another branch is located, not a loop; a subset
+    of them: atlas/directions.py), "contact": stop at the first
     contact of two parts}. Returns {"event": one of EVENT_KINDS, "coords": end
     configuration, "length": path length travelled, "m", "m_rigid", "s",
     "v_r_rel" at the end (analysis at the rank tolerance), "accuracy" (the
     vanishing singular value / v_max where the event was located), "vr_tol"
     (the tolerance it was located to), "steps", "samples", "message",
-    "cpu_seconds" (this task's CPU time in its process)}.
+    "cpu_seconds" (this task's CPU time in its process), with "branches" and
+    a loop "return_angle" (radians, its return direction to its own branch)
+    and "return_tangent" (the path's direction at the end, where regular)}.
     The samples come from the same follow (kin_follow_event_ex records the
     points its steps reach, up to SAMPLE_ROOM per sample asked for): for
     k = 1..n the recorded point whose path length is nearest k/(n+1) of the
@@ -116,27 +119,20 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     out.update(_end_state(a, kind, rank_tol))
     out.update({"accuracy": float(ev.v_r_rel), "vr_tol": float(ev.vr_tol_used), "steps": int(ev.steps),
                 "length": float(ev.length), "at_start": bool(ev.at_start)})
+    if kind == LOOP and task.get("branches") is not None:  # for atlas/directions.py
+        out["return_angle"] = float(ev.return_angle)  # to the own branch
+        an = a.analyse()
+        if an.m_internal == 1:  # the path's direction at the end, near the start
+            out["return_tangent"] = [float(v) for v in an.internal_mechanisms[:, 0]]
     samples.extend(_pick_samples(ev.samples, ev.sample_lengths, ev.length, n))
     out["cpu_seconds"] = time.process_time() - cpu0
     return out
 
 
-# a bifurcation's branch directions go with each of its branch tasks up to
-# this many numbers (branches x nfree): beyond (the hexagonal sail's flat
-# state: 29,828 x 46) they would cost more to send than to follow
+# a bifurcation's branch directions go whole with each of its branch tasks up
+# to this many numbers (branches x nfree); beyond (the hexagonal sail's flat
+# state: 29,828 x 46) each task gets the exact subset of directions.follow
 BRANCH_DIRECTIONS_MAX = 20000
-
-
-def branch_lines(work: List[Any]) -> Dict[int, Any]:
-    """Per node of work [(node, solution, sign, beta, direction)], its
-    branch directions (sign +1 each) as lists, where there are at least two
-    and at most BRANCH_DIRECTIONS_MAX numbers of them."""
-    lines: Dict[int, List[Any]] = {}
-    for nid, _, sg, _, d in work:
-        if sg == 1:
-            lines.setdefault(nid, []).append(d)
-    return {nid: [list(map(float, d)) for d in L] for nid, L in lines.items()
-            if len(L) >= 2 and len(L) * len(L[0]) <= BRANCH_DIRECTIONS_MAX}
 
 
 # recorded points per sample asked for: the follower keeps them evenly spread
