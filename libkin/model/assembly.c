@@ -90,7 +90,24 @@ static inline void dd_add(double *hi, double *lo, double a, double b)
     two_sum(s, t, hi, lo);
 }
 
-double kin__extensions(const kin_assembly *a, const double *xyz, double *e)
+/* The extensions are the corrector's residual, evaluated at every
+ * iteration of every step (10% of a cheap follow on the hexagonal flat
+ * state, most of it in libm's fma called through the PLT: the x86-64
+ * baseline has no FMA instruction). A clone for CPUs with FMA makes each
+ * fma one instruction; fma rounds once on either path, and the file is
+ * built with -ffp-contract=off, so both clones give the same bits. Static
+ * and called through the plain function below (homotopy_control.h: Clang
+ * before 18 dispatches clones only from their own file). */
+#if defined(__x86_64__) && defined(__ELF__) && defined(__has_attribute) && !defined(KIN_NO_MULTIVERSION)
+#if __has_attribute(target_clones)
+#define EXT_KERNEL __attribute__((target_clones("fma", "default")))
+#endif
+#endif
+#ifndef EXT_KERNEL
+#define EXT_KERNEL
+#endif
+
+EXT_KERNEL static double extensions_kernel(const kin_assembly *a, const double *xyz, double *e)
 {
     /* e = L - L0 = (L^2 - L0^2) / (L + L0), with L^2 - L0^2 formed in
      * double-double from the exact coordinate differences: e is then
@@ -119,6 +136,11 @@ double kin__extensions(const kin_assembly *a, const double *xyz, double *e)
         if (!(r <= worst)) worst = r;
     }
     return worst;
+}
+
+double kin__extensions(const kin_assembly *a, const double *xyz, double *e)
+{
+    return extensions_kernel(a, xyz, e);
 }
 
 void kin__build_H(const kin_assembly *a, const double *xyz, double *H, int ldh)
