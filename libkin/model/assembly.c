@@ -594,10 +594,14 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
     /* src's dense analysis needs dst's dense workspace (made once; if it
      * cannot be had, dst keeps no analysis and makes its own when asked) */
     int dense = src->H != NULL && kin__dense_ready(a) == KIN_OK;
+    /* only the current point's factors: the other slot of each pair is a
+     * step's trial workspace, always written before it is read (path.c,
+     * step_lu.c). The locator copies states at every SVD step, check and
+     * node; both slots were 3.5% of a cheap follow on the flat state */
     for (int f = 0; f < 2; ++f) {
         const kin_factor *s = &src->fac[f];
         kin_factor *t = &a->fac[f];
-        t->valid = s->valid && dense;
+        t->valid = s->valid && dense && f == src->cur;
         t->an = s->an;
         if (!t->valid) continue;
         memcpy(t->sv, s->sv, sizeof(double) * mn);
@@ -614,7 +618,7 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
         kin_lufactor *t = &a->lu[f];
         /* sparse factors live in src's KLU objects: not copied (dst factorizes
          * its point again when it steps) */
-        t->valid = s->valid && !s->sparse && dense;
+        t->valid = s->valid && !s->sparse && dense && f == src->lu_cur;
         t->sparse = 0;
         if (!t->valid) continue;
         t->rows = s->rows;
