@@ -753,6 +753,7 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
         lo.vr_tol = tol;
         lo.max_steps = left;
         kin_locate_info li = {.size = sizeof li};
+        lws.nonzero_min = 0.0;
         rc = kin__locate_hooked(a, &lo, &li, after_step, &c, &lws);
         int resume = c.reason == REASON_RESUME;
         if (resume) c.reason = 0;
@@ -816,6 +817,15 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
         /* else try a tolerance nearer the floor from the regular point
          * before the event, or report the near miss */
         info->event = KIN_FOLLOW_NEAR_MISS;
+        /* ... but not where the fast method found a non-zero minimum of v_r
+         * above sqrt(vr_floor): each relaxed attempt steps over the same
+         * bracket again and gives up on the same minimum (it calls a
+         * minimum non-zero above sqrt of its own tolerance, and would have
+         * to find a point a thousand times lower than any it saw to
+         * succeed). The flat state's near misses (v_r / v_max 2e-4 ...
+         * 1e-2) took all 5 attempts, each an SVD step, a start analysis
+         * and a Hermite location: 4 of them for nothing */
+        if (lws.nonzero_min > sqrt(o->vr_floor)) break;
         tol *= RELAX_FACTOR;
         if (tol > o->vr_floor * (1.0 + 1e-9)) break;
     }
