@@ -513,14 +513,18 @@ int kin__dense_ready(kin_assembly *a)
         if (lu && nf <= KIN__LU_INVERSE_MAX_NF) bad |= ALLOC_(L->Jinv, nf * nf);
         if (lq) bad |= ALLOC_(L->tq, nf);
     }
-    int lwork = 0, rc = bad ? KIN_ENOMEM : query_lwork(a, &lwork, &a->lwork_i);
+    int lwork = a->lwork_dense, rc = KIN_OK;
+    if (bad) rc = KIN_ENOMEM;
+    else if (lwork > 0) a->lwork_i = a->lwork_dense_i; /* a clone's: its source's sizes */
+    else rc = query_lwork(a, &lwork, &a->lwork_i);
     double *work = NULL;
     if (rc == KIN_OK && (ALLOC_(work, lwork) | ALLOC_(a->iwork, a->lwork_i))) rc = KIN_ENOMEM;
     if (rc == KIN_OK) {
         /* the full workspace replaces the small one of the supports' SVD */
         free(a->work);
         a->work = work;
-        a->lwork = lwork;
+        a->lwork = a->lwork_dense = lwork;
+        a->lwork_dense_i = a->lwork_i;
     } else {
         free(work);
         release_dense(a);
@@ -655,6 +659,8 @@ int kin_assembly_clone(const kin_assembly *src, kin_assembly **out)
     int rc = kin_assembly_create(src->dim, src->nj, src->xyz, src->fixed, src->nb, src->bars,
                                  src->L0, &a, NULL, 0);
     if (rc) return rc;
+    a->lwork_dense = src->lwork_dense; /* the same dimensions: no new workspace queries */
+    a->lwork_dense_i = src->lwork_dense_i;
     kin__copy_state(a, src);
     a->opt = src->opt;
     if (src->sp && (rc = src->sp_prepare(a)) != KIN_OK) {
