@@ -61,9 +61,12 @@ static const double SLOPE_TURN_MARGIN = 1.5;
 /* the LU steps count singular values as zero (and fall back to the SVD)
  * below 1000 x this fraction of vr_tol, as the locator's steps do */
 static const double CHEAP_RANK_FRACTION = 1e-3;
-/* after a handover the SVD locator steps at least this many steps, and past
- * the point where the cheap stretch stopped, before LU steps resume */
-enum { RESUME_AFTER = 2 };
+/* after a handover the SVD locator steps at least this many steps, and up
+ * to the point where the cheap stretch stopped (a step that failed: past
+ * it, and 2 steps), before LU steps resume. The detectors have then seen
+ * the suspect step with the SVD: resuming at its end, not a step later,
+ * saves an SVD step per handover that finds nothing (2 before) */
+enum { RESUME_AFTER = 1, RESUME_AFTER_FAILED = 2 };
 /* ... and, where v_r / v_max is below CHEAP_NEAR_FACTOR x switch_eps, only
  * once v_r is at most this fraction of the next singular value (the slope's
  * vectors then converge in a few passes) */
@@ -146,7 +149,7 @@ typedef struct follow_ctx {
     int nkept;
     /* after a handover: SVD steps taken, the length to pass, and the exact
      * v_r / v_max at the last two SVD points */
-    int watch, svd_steps;
+    int watch, svd_steps, resume_after;
     double resume_len, rho_prev, rho_cur;
     /* progress: the caller's callback, fed cumulative counts */
     kin_progress_fn user_fn;
@@ -340,7 +343,7 @@ static int after_step(void *user, const kin_assembly *a)
         double r = kin__lu_rel_estimate(a);
         c->rho_prev = c->rho_cur;
         c->rho_cur = r;
-        if (++c->svd_steps >= RESUME_AFTER && c->length > c->resume_len && r > 0.0 &&
+        if (++c->svd_steps >= c->resume_after && c->length > c->resume_len && r > 0.0 &&
             (r >= CHEAP_NEAR_FACTOR * c->o->switch_eps || separated(a))) {
             c->reason = REASON_RESUME;
 #ifdef KIN_FOLLOW_TRACE
@@ -511,6 +514,7 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
         if (kin_step(a, o->delta, &si) != KIN_OK) {
             c->watch = 1; /* the SVD locator takes over (state unchanged) */
             c->svd_steps = 0;
+            c->resume_after = RESUME_AFTER_FAILED;
             c->resume_len = c->length;
             c->rho_prev = c->rho_cur = -INFINITY;
             info->handovers++;
@@ -551,7 +555,10 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
             fprintf(stderr, "handover at step %d: m %d sg %d/%d r %.3g %.3g %.3g slope_turn %d turned %d v1 %.3g sl1 %.3g sl0 %.3g\n", info->steps,
                     si.m_internal, sg0, sg, rm, r0, r1, slope_turn, turned, v1 / vm, sl1 * c->scale / vm, sl0 * c->scale / vm);
 #endif
-            c->resume_len = c->length;
+            /* the SVD steps retake the LU steps' amplitudes: past the middle
+             * of the last step, the SVD stepping has reached its end */
+            c->resume_len = c->length - 0.5 * (c->length - c->len_pp);
+            c->resume_after = RESUME_AFTER;
             back_to_kept(c, !turned);
             c->watch = 1;
             c->svd_steps = 0;
@@ -746,6 +753,7 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
         lo.vr_tol = tol;
         lo.max_steps = left;
         kin_locate_info li = {.size = sizeof li};
+        lws.nonzero_min = 0.0;
         rc = kin__locate_hooked(a, &lo, &li, after_step, &c, &lws);
         int resume = c.reason == REASON_RESUME;
         if (resume) c.reason = 0;
@@ -809,6 +817,15 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
         /* else try a tolerance nearer the floor from the regular point
          * before the event, or report the near miss */
         info->event = KIN_FOLLOW_NEAR_MISS;
+        /* ... but not where the fast method found a non-zero minimum of v_r
+         * above sqrt(vr_floor): each relaxed attempt steps over the same
+         * bracket again and gives up on the same minimum (it calls a
+         * minimum non-zero above sqrt of its own tolerance, and would have
+         * to find a point a thousand times lower than any it saw to
+         * succeed). The flat state's near misses (v_r / v_max 2e-4 ...
+         * 1e-2) took all 5 attempts, each an SVD step, a start analysis
+         * and a Hermite location: 4 of them for nothing */
+        if (lws.nonzero_min > sqrt(o->vr_floor)) break;
         tol *= RELAX_FACTOR;
         if (tol > o->vr_floor * (1.0 + 1e-9)) break;
     }

@@ -26,6 +26,10 @@ typedef int (*kin__step_hook)(void *user, const kin_assembly *a);
 typedef struct kin__locate_ws {
     kin_assembly *prev, *work, *probe, *tb0, *tb1;
     struct hermite_ws *hw;
+    /* out, each call: where the fast method gave up (KIN_ENOTFOUND) on a
+     * non-zero minimum of v_r, the lowest v_r / v_max its nodes and checks
+     * reached; 0 otherwise */
+    double nonzero_min;
 } kin__locate_ws;
 void kin__locate_ws_free(kin__locate_ws *ws);
 /* ws: NULL (copies made and freed in the call) or the caller's, as above */

@@ -497,6 +497,7 @@ int kin__locate_hermite(loc_ctx *c)
                          "vr_tol = %.2g: the attainable accuracy here, or a near miss of that size (a larger "
                          "vr_tol accepts it)",
                          E.p, best, c->o->vr_tol);
+    c->nonzero_min = best;
     return kin__fail(c->a, KIN_ENOTFOUND,
                      "v_r has a non-zero minimum (%.3g relative) here: a near-singular but regular configuration",
                      best);

@@ -27,6 +27,9 @@ typedef struct loc_ctx {
     hermite_ws *hw;
     kin__step_hook hook; /* optional: may stop following after any accepted step */
     void *hook_user;
+    /* the fast method gave up on a non-zero minimum of v_r: the lowest
+     * v_r / v_max it saw (0 otherwise) */
+    double nonzero_min;
 } loc_ctx;
 
 /* eq. 26: the path is kept if the new tangent agrees with the old one to this |cos| */

@@ -90,7 +90,24 @@ static inline void dd_add(double *hi, double *lo, double a, double b)
     two_sum(s, t, hi, lo);
 }
 
-double kin__extensions(const kin_assembly *a, const double *xyz, double *e)
+/* The extensions are the corrector's residual, evaluated at every
+ * iteration of every step (10% of a cheap follow on the hexagonal flat
+ * state, most of it in libm's fma called through the PLT: the x86-64
+ * baseline has no FMA instruction). A clone for CPUs with FMA makes each
+ * fma one instruction; fma rounds once on either path, and the file is
+ * built with -ffp-contract=off, so both clones give the same bits. Static
+ * and called through the plain function below (homotopy_control.h: Clang
+ * before 18 dispatches clones only from their own file). */
+#if defined(__x86_64__) && defined(__ELF__) && defined(__has_attribute) && !defined(KIN_NO_MULTIVERSION)
+#if __has_attribute(target_clones)
+#define EXT_KERNEL __attribute__((target_clones("fma", "default")))
+#endif
+#endif
+#ifndef EXT_KERNEL
+#define EXT_KERNEL
+#endif
+
+EXT_KERNEL static double extensions_kernel(const kin_assembly *a, const double *xyz, double *e)
 {
     /* e = L - L0 = (L^2 - L0^2) / (L + L0), with L^2 - L0^2 formed in
      * double-double from the exact coordinate differences: e is then
@@ -119,6 +136,11 @@ double kin__extensions(const kin_assembly *a, const double *xyz, double *e)
         if (!(r <= worst)) worst = r;
     }
     return worst;
+}
+
+double kin__extensions(const kin_assembly *a, const double *xyz, double *e)
+{
+    return extensions_kernel(a, xyz, e);
 }
 
 void kin__build_H(const kin_assembly *a, const double *xyz, double *H, int ldh)
@@ -491,14 +513,18 @@ int kin__dense_ready(kin_assembly *a)
         if (lu && nf <= KIN__LU_INVERSE_MAX_NF) bad |= ALLOC_(L->Jinv, nf * nf);
         if (lq) bad |= ALLOC_(L->tq, nf);
     }
-    int lwork = 0, rc = bad ? KIN_ENOMEM : query_lwork(a, &lwork, &a->lwork_i);
+    int lwork = a->lwork_dense, rc = KIN_OK;
+    if (bad) rc = KIN_ENOMEM;
+    else if (lwork > 0) a->lwork_i = a->lwork_dense_i; /* a clone's: its source's sizes */
+    else rc = query_lwork(a, &lwork, &a->lwork_i);
     double *work = NULL;
     if (rc == KIN_OK && (ALLOC_(work, lwork) | ALLOC_(a->iwork, a->lwork_i))) rc = KIN_ENOMEM;
     if (rc == KIN_OK) {
         /* the full workspace replaces the small one of the supports' SVD */
         free(a->work);
         a->work = work;
-        a->lwork = lwork;
+        a->lwork = a->lwork_dense = lwork;
+        a->lwork_dense_i = a->lwork_i;
     } else {
         free(work);
         release_dense(a);
@@ -572,10 +598,14 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
     /* src's dense analysis needs dst's dense workspace (made once; if it
      * cannot be had, dst keeps no analysis and makes its own when asked) */
     int dense = src->H != NULL && kin__dense_ready(a) == KIN_OK;
+    /* only the current point's factors: the other slot of each pair is a
+     * step's trial workspace, always written before it is read (path.c,
+     * step_lu.c). The locator copies states at every SVD step, check and
+     * node; both slots were 3.5% of a cheap follow on the flat state */
     for (int f = 0; f < 2; ++f) {
         const kin_factor *s = &src->fac[f];
         kin_factor *t = &a->fac[f];
-        t->valid = s->valid && dense;
+        t->valid = s->valid && dense && f == src->cur;
         t->an = s->an;
         if (!t->valid) continue;
         memcpy(t->sv, s->sv, sizeof(double) * mn);
@@ -592,7 +622,7 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
         kin_lufactor *t = &a->lu[f];
         /* sparse factors live in src's KLU objects: not copied (dst factorizes
          * its point again when it steps) */
-        t->valid = s->valid && !s->sparse && dense;
+        t->valid = s->valid && !s->sparse && dense && f == src->lu_cur;
         t->sparse = 0;
         if (!t->valid) continue;
         t->rows = s->rows;
@@ -629,6 +659,8 @@ int kin_assembly_clone(const kin_assembly *src, kin_assembly **out)
     int rc = kin_assembly_create(src->dim, src->nj, src->xyz, src->fixed, src->nb, src->bars,
                                  src->L0, &a, NULL, 0);
     if (rc) return rc;
+    a->lwork_dense = src->lwork_dense; /* the same dimensions: no new workspace queries */
+    a->lwork_dense_i = src->lwork_dense_i;
     kin__copy_state(a, src);
     a->opt = src->opt;
     if (src->sp && (rc = src->sp_prepare(a)) != KIN_OK) {

@@ -92,6 +92,10 @@ struct kin_assembly {
     double *work;            /* LAPACK workspace, lwork doubles */
     int lwork;
     int *iwork;              /* lwork_i ints */
+    /* the dense workspace's sizes once queried (query_lwork: 6 LAPACK
+     * queries, a function of the dimensions alone); a clone takes its
+     * source's instead of asking again (4 clones in a follow) */
+    int lwork_dense, lwork_dense_i;
     int lwork_i;
     long nfact;              /* factorizations made by this handle, ever */
     int nrig;                /* 3 (2D) or 6 (3D) rigid motions */
