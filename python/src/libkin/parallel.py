@@ -128,7 +128,7 @@ class ProcessPool(concurrent.futures.Executor):
 Progress = Union[None, bool, Callable[[int, int, str], Any]]
 
 
-def _is_dask_client(ex: Any) -> bool:
+def is_dask_client(ex: Any) -> bool:
     try:
         from distributed import Client
     except ImportError:
@@ -159,7 +159,7 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
             out.append(None if deadline is not None and time.perf_counter() > deadline else fn(it))
             tick(progress, k + 1, n, what)
         return out
-    dask = _is_dask_client(executor)
+    dask = is_dask_client(executor)
     if dask:
         futures = list(executor.map(fn, items, pure=False))
     else:
@@ -205,6 +205,58 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
         k += 1
         tick(progress, k, n, what)
     return out
+
+
+def stream_dask(fn: Callable[[Any], Any], items: Sequence[Any], client: Any, record: Callable[[int, Any], None],
+                window: int, deadline: Optional[float] = None, stop: Optional[Callable[[], bool]] = None) -> List[Any]:
+    """fn(item) for every item on a dask.distributed.Client, at most
+    `window` tasks submitted and not yet received at any time; record(k,
+    result) as each completes, in the order of completion, and the results
+    in the order of items. The workers are kept busy (the next tasks wait
+    in the window) while the client receives and records: the finished
+    ones are gathered in one call per wait, so a round trip to the
+    scheduler is paid per wait, not per task, and no task waits for a
+    batch's slowest. Past the deadline, or once stop() is true, nothing
+    more is submitted and the tasks in flight are cancelled (Dask cancels
+    running tasks): those and the ones not started give None. A task's
+    error is raised; workers killed running one task: WorkersLostError."""
+    from distributed import wait as dask_wait
+    n, nxt = len(items), 0
+    out: List[Any] = [None] * n
+    pending: Dict[str, Any] = {}  # future key -> (future, item index)
+
+    def late() -> bool:
+        return (deadline is not None and time.perf_counter() > deadline) or (stop is not None and stop())
+    while True:
+        if late():
+            if pending:
+                client.cancel([f for f, _ in pending.values()])
+            return out
+        while nxt < n and len(pending) < window:
+            f = client.submit(fn, items[nxt], pure=False)
+            pending[f.key] = (f, nxt)
+            nxt += 1
+        if not pending:
+            return out
+        left = 1.0 if deadline is None else min(1.0, max(0.0, deadline - time.perf_counter()))
+        try:  # at most a second, so that stop() is seen
+            done = dask_wait([f for f, _ in pending.values()], timeout=left, return_when="FIRST_COMPLETED").done
+        except (TimeoutError, asyncio.TimeoutError):
+            continue
+        finished = [f for f in done if f.status == "finished"]
+        for f in done:
+            if f.status != "finished":
+                try:
+                    f.result()
+                except Exception as exc:
+                    if type(exc).__name__ == "KilledWorker":
+                        raise WorkersLostError(f"Dask workers died running one task; "
+                                               f"{sum(r is not None for r in out)} of {n} completed", out) from None
+                    raise
+        for f, res in zip(finished, client.gather(finished) if finished else []):
+            k = pending.pop(f.key)[1]
+            out[k] = res
+            record(k, res)
 
 
 def _wait(f: Any, deadline: float) -> bool:

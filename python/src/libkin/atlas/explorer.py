@@ -40,7 +40,7 @@ from ..errors import InvalidArgumentError, KinError, LimitError
 from ..parallel import Progress, run_tasks
 from ..symmetry.automorphisms import same_symmetry, symmetries_at
 from ..symmetry.procrustes import aligned_distance
-from . import tasks
+from . import levels, tasks
 from .index import GroupedIndex
 from .model import BIFURCATION, LOCATION_FACTOR, SAME_TOL, Atlas, Edge, Node, node_kind
 from .orbits import branch_orbits, follow_level
@@ -99,9 +99,8 @@ class _Explorer:
         # the nodes, and their images under each symmetry, by position
         self.index = GroupedIndex(a.coords.shape, self.rigid)
         self.images = GroupedIndex(a.coords.shape, self.rigid)
-        self.follow_cpu = 0.0   # CPU seconds the followers reported
-        self.followed = 0       # branches followed, and mapped from a followed one by symmetry
-        self.mapped = 0
+        self.follow_cpu, self.levels = 0.0, levels.Levels()  # followers' CPU seconds; per-level rows
+        self.followed = self.mapped = 0  # branches followed, and mapped from a followed one by symmetry
         self.store: Any = None  # store.Store: results recorded as they complete (reused on resume), and stop()
         self.stop: Optional[Callable[[], bool]] = None
 
@@ -390,8 +389,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                    int(samples), shards, symmetry, bool(contact))
     ex.deadline = None if time_limit is None else t0 + float(time_limit)
     from .store import open_store
-    # the settings that shape the atlas (not time_limit: a time-limited run resumes without it)
-    ex.store, ex.stop = open_store(store, resume, ex.text, [depth, max_nodes, float(max_length), symmetric,
+    # the settings that shape the results (not time_limit, nor depth: a deeper run resumes a shallower one's)
+    ex.store, ex.stop = open_store(store, resume, ex.text, [max_nodes, float(max_length), symmetric,
                                    seed, threads, symmetries is None and len(ex.syms), max_steps, samples, shards,
                                    follow_orbits, symmetry] + ([True] if contact else [])), stop
     an = a.analyse()
@@ -409,6 +408,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         return "interrupted" if stop is not None and stop() else None
     causes = {"time_limit": "time limit reached", "interrupted": "interrupted"}
     for level in range(depth):
+        ex.levels.begin(level, frontier)
         work: List[Work] = []
         images: List[Optional[Tuple[int, int]]] = []  # per work item: None (followed) or (work index, symmetry)
         for nid in frontier:
@@ -449,9 +449,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         todo = [k for k, im in enumerate(images) if im is None]
         _say(progress, f"level {level + 1}: {len(work)} directed branches from {len(frontier)} node(s)"
              + (f", {len(todo)} followed, the others their images by symmetry" if len(todo) < len(work) else ""))
-        results, followed, mapped = follow_level(work, images, lambda w: ex.follow_all(w, work), ex.syms, ex.bars)
-        ex.followed += followed
-        ex.mapped += mapped
+        results = ex.levels.follow(ex, lambda: follow_level(work, images, lambda w: ex.follow_all(w, work), ex.syms,
+                                                            ex.bars))
         n_before = len(ex.nodes)
         for (nid, i, sg, b, _), res in zip(work, results):
             if res is None:  # not followed: the time limit ran out first, or the run was interrupted
@@ -461,6 +460,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                 stopped = stopped or cause
                 continue
             ex.merge(nid, i, sg, b, res, level + 1)
+        ex.levels.end(ex.nodes, n_before)
         frontier = [n.id for n in ex.nodes[n_before:] if n.kind == BIFURCATION]
         if not frontier:
             break
@@ -481,7 +481,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                 "executor": None if executor is None else type(executor).__name__}
     stats = {"seconds": round(time.perf_counter() - t0, 3), "follow_cpu_seconds": round(ex.follow_cpu, 3),
              "branches_followed": ex.followed, "branches_mapped": ex.mapped, "stopped_by": stopped,
-             "partial": stopped in ("interrupted", "time_limit")}
+             "partial": stopped in ("interrupted", "time_limit"), "levels": ex.levels.rows}
     if ex.store is not None:
         stats["store"] = ex.store.finish(store is not ex.store)
     atlas = Atlas(ex.doc, ex.nodes, ex.edges, ex.syms, settings, stats)

@@ -26,7 +26,11 @@ import time
 from typing import Any, Callable, Dict, List, Optional, Sequence, Union
 
 from ..errors import InvalidArgumentError
-from ..parallel import Progress, run_tasks, tick
+from ..parallel import Progress, is_dask_client, run_tasks, stream_dask, tick
+
+# on Dask, tasks in flight (submitted, not yet recorded) per worker: the next
+# ones wait on the scheduler while the client records the finished ones
+DASK_WINDOW = 4
 
 __all__ = ["Store", "StoreMismatchError", "fingerprint", "default_path", "open_store", "remove_store"]
 
@@ -155,7 +159,8 @@ class Store:
                   what: str, deadline: Optional[float], stop: Optional[Callable[[], bool]] = None) -> List[Any]:
         """parallel.run_tasks(fn, items, ...) with each result recorded as it
         completes (tasks in batches of the executor's width, so a kill loses
-        at most one batch) and recorded results taken from the store. stop():
+        at most one batch; on Dask streamed, parallel.stream_dask, at most
+        DASK_WINDOW x width in flight) and recorded results taken from the store. stop():
         no batch is started once it is true (those tasks give None)."""
         kind = getattr(fn, "__name__", "task")
         keys = [kind + ":" + _hash(it) for it in items]
@@ -163,6 +168,15 @@ class Store:
         todo = [i for i, r in enumerate(out) if r is None]
         width = _width(executor)
         done = len(items) - len(todo)
+        if todo and is_dask_client(executor):  # streamed: a kill loses at most the window in flight
+            def record(j: int, res: Any) -> None:
+                nonlocal done
+                out[todo[j]] = res = json.loads(json.dumps(res))
+                self.put(kind, keys[todo[j]], res)
+                done += 1
+                tick(progress, done, len(items), what)
+            stream_dask(fn, [items[i] for i in todo], executor, record, DASK_WINDOW * width, deadline, stop)
+            return out
         for b in range(0, len(todo), width):
             if (stop is not None and stop()) or (deadline is not None and time.perf_counter() > deadline):
                 break
