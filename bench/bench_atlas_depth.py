@@ -101,7 +101,7 @@ def run(args: argparse.Namespace) -> None:
     if os.path.exists(old):  # keep what the scaling subcommand added, and earlier runs' rows
         with open(old) as f:
             prev = json.load(f)
-        s["scaling"] = prev.get("scaling")
+        s["scaling"], s["scaling_runs"] = prev.get("scaling"), prev.get("scaling_runs", [])
         s["runs"] = prev.get("runs", []) + [{k: prev.get(k) for k in ("depth", "wall_seconds", "resumed", "date")}]
     write_summary(s, os.path.join(args.out, "summary.json"), args.summary)
     table_of(s)
@@ -121,11 +121,21 @@ def _representatives(d: Dict[str, Any], k: int) -> List[Dict[str, Any]]:
     return out[:k]
 
 
+def _cpu() -> float:
+    """CPU seconds of this process (run in each Dask worker)."""
+    import resource
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
+
+
 def scaling(args: argparse.Namespace) -> None:
     from libkin.atlas import explorer, tasks
     from libkin.atlas.model import Node
     from libkin.atlas.store import Store
     from libkin.parallel import run_tasks
+    from libkin.atlas import store as atlas_store
+    if args.chunk is not None:
+        atlas_store.DASK_CHUNK = args.chunk
     with open(args.atlas) as f:
         d = json.load(f)
     a = libkin.Assembly.from_json(json.dumps(d["model"])) if hasattr(libkin.Assembly, "from_json") else None
@@ -155,20 +165,29 @@ def scaling(args: argparse.Namespace) -> None:
         try:
             run_tasks(tasks.follow_branch, items[:2 * w], client)  # warm: imports in each worker
             with tempfile.TemporaryDirectory() as tmp, Store(os.path.join(tmp, "s.sqlite"), "scaling") as st:
-                t = time.perf_counter()  # as explore() ships a level: streamed, each result recorded
+                w0 = sum(client.run(_cpu).values())
+                t, c0 = time.perf_counter(), time.process_time()  # as explore() ships a level: streamed
                 res = st.run_tasks(tasks.follow_branch, items, client, None, "branches", None)
-                wall = time.perf_counter() - t
+                wall, client_cpu = time.perf_counter() - t, time.process_time() - c0
+                worker_cpu = sum(client.run(_cpu).values()) - w0
         finally:
             client.close()
             lc.close()
         cpu = sum(float(r.get("cpu_seconds", 0.0)) for r in res)
         ev = collections.Counter(r["event"] for r in res)
         rows.append({"workers": w, "branches": len(items), "wall_seconds": round(wall, 2),
-                     "follower_cpu_seconds": round(cpu, 2), "events": dict(ev), "load": load()})
-        print(f"  {w} worker(s): {wall:.1f} s wall, {cpu:.1f} s follower CPU, {dict(ev)}; load {load()}", flush=True)
+                     "follower_cpu_seconds": round(cpu, 2), "worker_cpu_seconds": round(worker_cpu, 2),
+                     "client_cpu_seconds": round(client_cpu, 2), "events": dict(ev), "load": load()})
+        print(f"  {w} worker(s): {wall:.1f} s wall; CPU: followers {cpu:.1f} s, worker processes {worker_cpu:.1f} s, "
+              f"client {client_cpu:.1f} s; {dict(ev)}; load {load()}", flush=True)
     one = [r["wall_seconds"] for r in rows if r["workers"] == 1]
     two = [r["wall_seconds"] for r in rows if r["workers"] == 2]
-    out = {"nodes": args.nodes, "branches": len(items), "enumerate_seconds": round(enum, 2), "rows": rows}
+    out = {"nodes": args.nodes, "branches": len(items), "enumerate_seconds": round(enum, 2),
+           "chunk": atlas_store.DASK_CHUNK, "rows": rows}
+    n = len(items)
+    out["per_branch_ms"] = {k: round(1e3 * min(r[k] for r in rows) / n, 2) for k in
+                            ("follower_cpu_seconds", "worker_cpu_seconds", "client_cpu_seconds")}
+    print("per branch (least over the runs): " + ", ".join(f"{k} {v} ms" for k, v in out["per_branch_ms"].items()))
     if one and two:
         out["speedup_1_to_2"] = round(min(one) / min(two), 3)
         out["efficiency_2"] = round(out["speedup_1_to_2"] / 2, 3)
@@ -178,6 +197,7 @@ def scaling(args: argparse.Namespace) -> None:
     if args.summary:
         with open(args.summary) as f:
             s = json.load(f)
+        s.setdefault("scaling_runs", []).append(out)
         s["scaling"] = out
         write_summary(s, args.summary, None)
         print(f"added to {args.summary}")
@@ -210,16 +230,32 @@ def table_of(s: Dict[str, Any], project: Optional[List[int]] = None) -> None:
         print(f"  depth {r['depth']}: " + ", ".join(f"{k} {r[k] / ref[k]:.3f}x" for k in ref if ref[k]))
     sc = s.get("scaling")
     if sc and "efficiency_2" in sc:
-        print(f"\nscaling slice: {sc['branches']:,} branches of {sc['nodes']} depth-1 orbits: "
-              + ", ".join(f"{r['workers']} w {r['wall_seconds']} s" for r in sc["rows"])
+        print(f"\nscaling slice: {sc['branches']:,} branches of {sc['nodes']} depth-1 orbits, {sc.get('chunk', 1)} a "
+              "Dask task: " + ", ".join(f"{r['workers']} w {r['wall_seconds']} s" for r in sc["rows"])
               + f"; speed-up {sc['speedup_1_to_2']}, efficiency {sc['efficiency_2']}")
-        e, per = sc["efficiency_2"], sc["follow_seconds_per_branch_1_worker"]
-        for lv in s.get("levels", []):
-            serial = lv.get("enumerate_seconds", 0) + lv.get("merge_seconds", 0)
-            par = lv.get("followed", 0) * per
-            print(f"  depth {lv['depth']}: serial (enumerate + merge, client) {serial:.0f} s, following "
-                  f"{lv.get('followed', 0):,} branches x {per * 1e3:.1f} ms = {par:.0f} s at 1 worker; "
-                  + ", ".join(f"{n} workers ~{serial + par / (n * e):.0f} s" for n in (project or [2, 8, 64])))
+        project_levels(s, sc, project or [2, 8, 64])
+
+
+def project_levels(s: Dict[str, Any], sc: Dict[str, Any], workers: List[int]) -> None:
+    """The model: per level, the serial part measured in the run (enumerate
+    + merge, in the client) plus the following: the workers' CPU per branch
+    (scaling slice) over N x the measured efficiency, but never less than
+    the client's own CPU per branch (it submits, receives and records every
+    branch: the serial floor of the following)."""
+    e = sc["efficiency_2"]
+    w, c = sc["per_branch_ms"]["worker_cpu_seconds"] / 1e3, sc["per_branch_ms"]["client_cpu_seconds"] / 1e3
+    print(f"projection: per level enumerate + merge (measured) + max(followed x {c * 1e3:.2f} ms (client), "
+          f"followed x {w * 1e3:.1f} ms / (N x {e}))")
+    total = {n: 0.0 for n in workers}
+    for lv in s.get("levels", []):
+        serial = lv.get("enumerate_seconds", 0) + lv.get("merge_seconds", 0)
+        f = lv.get("followed", 0)
+        est = {n: serial + max(f * c, f * w / (n * e)) for n in workers}
+        for n in workers:
+            total[n] += est[n]
+        print(f"  depth {lv['depth']}: serial {serial:.0f} s, {f:,} followed: "
+              + ", ".join(f"{n} workers {est[n]:.0f} s" for n in workers))
+    print("  all levels: " + ", ".join(f"{n} workers {total[n]:.0f} s ({total[n] / 60:.1f} min)" for n in workers))
 
 
 def table(args: argparse.Namespace) -> None:
@@ -247,6 +283,8 @@ def main(argv: Optional[List[str]] = None) -> None:
     c.add_argument("--nodes", type=int, default=60)
     c.add_argument("--workers", default="1,2")
     c.add_argument("--summary", default=None)
+    c.add_argument("--chunk", type=int, default=None,
+                   help="branches per Dask task (atlas.store.DASK_CHUNK, default 16; 1: one task a branch)")
     t = sub.add_parser("table")
     t.add_argument("path")
     t.add_argument("--project", default="2,8,64")

@@ -31,6 +31,10 @@ from ..parallel import Progress, is_dask_client, run_tasks, stream_dask, tick
 # on Dask, tasks in flight (submitted, not yet recorded) per worker: the next
 # ones wait on the scheduler while the client records the finished ones
 DASK_WINDOW = 4
+# and at most this many tasks in one Dask task (each a chunk, while there are
+# at least 4 chunks per window): the client's cost per Dask task, about 5 ms
+# of its CPU (bench/bench_atlas_depth.py scaling), shared by the chunk
+DASK_CHUNK = 16
 
 __all__ = ["Store", "StoreMismatchError", "fingerprint", "default_path", "open_store", "remove_store"]
 
@@ -160,7 +164,7 @@ class Store:
         """parallel.run_tasks(fn, items, ...) with each result recorded as it
         completes (tasks in batches of the executor's width, so a kill loses
         at most one batch; on Dask streamed, parallel.stream_dask, at most
-        DASK_WINDOW x width in flight) and recorded results taken from the store. stop():
+        DASK_WINDOW x width chunks of up to DASK_CHUNK tasks in flight) and recorded results taken from the store. stop():
         no batch is started once it is true (those tasks give None)."""
         kind = getattr(fn, "__name__", "task")
         keys = [kind + ":" + _hash(it) for it in items]
@@ -175,7 +179,8 @@ class Store:
                 self.put(kind, keys[todo[j]], res)
                 done += 1
                 tick(progress, done, len(items), what)
-            stream_dask(fn, [items[i] for i in todo], executor, record, DASK_WINDOW * width, deadline, stop)
+            chunk = max(1, min(DASK_CHUNK, len(todo) // (DASK_WINDOW * 4 * width)))
+            stream_dask(fn, [items[i] for i in todo], executor, record, DASK_WINDOW * width, deadline, stop, chunk)
             return out
         for b in range(0, len(todo), width):
             if (stop is not None and stop()) or (deadline is not None and time.perf_counter() > deadline):
