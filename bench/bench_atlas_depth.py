@@ -207,8 +207,10 @@ def table_of(s: Dict[str, Any], project: Optional[List[int]] = None) -> None:
     with open(DEPTH1) as f:
         d1 = json.load(f)
     rows = {r["depth"]: r for r in s.get("levels", [])}
+    runs = s.get("runs") if isinstance(s.get("runs"), list) and len(s.get("runs") or []) > 1 else None
     print(f"\n{s['model']}, depth {s['depth']}, {s['workers']} Dask workers; wall {s['wall_seconds']} s "
-          f"(this run{', resumed' if s.get('resumed') else ''}); stopped by {s['stats'].get('stopped_by')}")
+          f"({f'{len(runs)} runs' if runs else 'this run'}{', resumed' if s.get('resumed') else ''}); "
+          f"stopped by {s['stats'].get('stopped_by')}")
     print("| depth | nodes expanded | directed branches | followed / mapped | bifurcation | near miss | loop | "
           "budget | failure | new nodes | new orbits (bifurcation) | enumerate / follow / merge s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
