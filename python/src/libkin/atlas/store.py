@@ -31,8 +31,8 @@ from ..parallel import Progress, is_dask_client, run_tasks, stream_dask, tick
 # on Dask, tasks in flight (submitted, not yet recorded) per worker: the next
 # ones wait on the scheduler while the client records the finished ones
 DASK_WINDOW = 4
-# and at most this many tasks in one Dask task (each a chunk, while there are
-# at least 4 chunks per window): the client's cost per Dask task, about 5 ms
+# and at most this many tasks in one Dask task (while that leaves at least 4
+# windows of chunks): the client's cost per Dask task, about 5 ms
 # of its CPU (bench/bench_atlas_depth.py scaling), shared by the chunk
 DASK_CHUNK = 16
 
