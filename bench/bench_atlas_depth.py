@@ -57,7 +57,7 @@ def load() -> str:
 
 def cluster(workers: int) -> Any:
     from dask.distributed import Client, LocalCluster
-    lc = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
+    lc = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0")
     client = Client(lc)
     client.run(lambda: 0)  # the workers are up
     return lc, client

@@ -336,8 +336,9 @@ def executor(kind: str, workers: int) -> Iterator[Any]:
             from distributed import Client, LocalCluster
         except ImportError:
             raise ImportError("--executor dask needs dask[distributed] (pip install 'libkin[dask]')") from None
+        # the dashboard on any free port: with 8787 taken (another cluster) Dask warns on stderr
         with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                          dashboard_address=None) as cluster, Client(cluster) as client:
+                          dashboard_address=":0") as cluster, Client(cluster) as client:
             try:
                 yield client
             except BaseException:
