@@ -223,24 +223,24 @@ def stream_dask(fn: Callable[[Any], Any], items: Sequence[Any], client: Any, rec
     items. The workers are kept busy (the next tasks wait in the window)
     while the client receives and records: the finished ones are gathered
     in one call per wait, so a round trip to the scheduler is paid per
-    wait, not per task, and no task waits for a batch's slowest. Past the
-    deadline, or once stop() is true, nothing more is submitted and the
-    tasks in flight are cancelled (Dask cancels running tasks): those and
-    the ones not started give None. A task's error is raised; workers
+    wait, not per task, and no task waits for a batch's slowest. Once
+    stop() is true nothing more is submitted and the tasks in flight
+    complete (recorded); past the deadline they are cancelled too (Dask
+    cancels running tasks). The tasks not run give None. A task's error is raised; workers
     killed running one task: WorkersLostError."""
     from distributed import wait as dask_wait
     n, nxt, chunk = len(items), 0, max(1, int(chunk))
     out: List[Any] = [None] * n
     pending: Dict[str, Any] = {}  # future key -> (future, first item index)
 
-    def late() -> bool:
-        return (deadline is not None and time.perf_counter() > deadline) or (stop is not None and stop())
+    stopping = False
     while True:
-        if late():
+        if deadline is not None and time.perf_counter() > deadline:
             if pending:
                 client.cancel([f for f, _ in pending.values()])
             return out
-        while nxt < n and len(pending) < window:
+        stopping = stopping or (stop is not None and stop())
+        while not stopping and nxt < n and len(pending) < window:
             f = client.submit(run_chunk, fn, items[nxt:nxt + chunk], pure=False)
             pending[f.key] = (f, nxt)
             nxt += chunk
