@@ -12,6 +12,7 @@ leaving executor() by an exception terminates and joins the pool's workers.
 """
 from __future__ import annotations
 
+import asyncio
 import concurrent.futures
 import contextlib
 import signal
@@ -127,7 +128,7 @@ class ProcessPool(concurrent.futures.Executor):
 Progress = Union[None, bool, Callable[[int, int, str], Any]]
 
 
-def _is_dask_client(ex: Any) -> bool:
+def is_dask_client(ex: Any) -> bool:
     try:
         from distributed import Client
     except ImportError:
@@ -183,7 +184,7 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
         for k, it in enumerate(items):
             take(k, None if halted() else fn(it))
         return out
-    dask = _is_dask_client(executor)
+    dask = is_dask_client(executor)
     window = WINDOW_PER_WORKER * _width(executor, dask)
     inflight: Dict[Any, int] = {}
     nxt = 0
@@ -247,9 +248,75 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
     return out
 
 
+def run_chunk(fn: Callable[[Any], Any], items: Sequence[Any]) -> List[Any]:
+    """[fn(item) for item in items]: one Dask task for several items."""
+    return [fn(it) for it in items]
+
+
+def stream_dask(fn: Callable[[Any], Any], items: Sequence[Any], client: Any, record: Callable[[int, Any], None],
+                window: int, deadline: Optional[float] = None, stop: Optional[Callable[[], bool]] = None,
+                chunk: int = 1) -> List[Any]:
+    """fn(item) for every item on a dask.distributed.Client, `chunk` items
+    a task (run_chunk: the client's cost per task, about 5 ms of its CPU,
+    shared by the chunk), at most `window` tasks submitted and not yet
+    received at any time; record(k, result) for each item as its task
+    completes, in the order of completion, and the results in the order of
+    items. The workers are kept busy (the next tasks wait in the window)
+    while the client receives and records: the finished ones are gathered
+    in one call per wait, so a round trip to the scheduler is paid per
+    wait, not per task, and no task waits for a batch's slowest. Once
+    stop() is true nothing more is submitted and the tasks in flight
+    complete (recorded); past the deadline they are cancelled too (Dask
+    cancels running tasks). The tasks not run give None. A task's error is raised; workers
+    killed running one task: WorkersLostError."""
+    from distributed import wait as dask_wait
+    n, nxt, chunk = len(items), 0, max(1, int(chunk))
+    out: List[Any] = [None] * n
+    pending: Dict[str, Any] = {}  # future key -> (future, first item index)
+
+    stopping = False
+    while True:
+        if deadline is not None and time.perf_counter() > deadline:
+            if pending:
+                client.cancel([f for f, _ in pending.values()])
+            return out
+        stopping = stopping or (stop is not None and stop())
+        while not stopping and nxt < n and len(pending) < window:
+            f = client.submit(run_chunk, fn, items[nxt:nxt + chunk], pure=False)
+            pending[f.key] = (f, nxt)
+            nxt += chunk
+        if not pending:
+            return out
+        left = 1.0 if deadline is None else min(1.0, max(0.0, deadline - time.perf_counter()))
+        try:  # at most a second, so that stop() is seen
+            done = dask_wait([f for f, _ in pending.values()], timeout=left, return_when="FIRST_COMPLETED").done
+        except (TimeoutError, asyncio.TimeoutError):
+            continue
+        finished = [f for f in done if f.status == "finished"]
+        for f in done:
+            if f.status != "finished":
+                try:
+                    f.result()
+                except Exception as exc:
+                    if type(exc).__name__ == "KilledWorker":
+                        raise WorkersLostError(f"Dask workers died running one task; "
+                                               f"{sum(r is not None for r in out)} of {n} completed", out) from None
+                    raise
+        for f, got in zip(finished, client.gather(finished) if finished else []):
+            first = pending.pop(f.key)[1]
+            for k, res in enumerate(got, first):
+                out[k] = res
+                record(k, res)
+
+
 #: tasks in flight per worker of the executor (run_tasks): enough that a
 #: worker finds the next task queued when it finishes one
 WINDOW_PER_WORKER = 4
+
+
+def executor_width(executor: Any) -> int:
+    """How many tasks the executor runs at once (1 serially)."""
+    return 1 if executor is None else _width(executor, is_dask_client(executor))
 
 
 def _width(executor: Any, dask: bool) -> int:
@@ -276,8 +343,8 @@ def _first_done(futures: List[Any], timeout: Optional[float], dask: bool) -> Lis
                 return done
             time.sleep(pause)
             pause = min(0.02, 2 * pause)
-    done, _ = concurrent.futures.wait(futures, timeout=timeout, return_when=concurrent.futures.FIRST_COMPLETED)
-    return [f for f in futures if f in done]
+    finished = concurrent.futures.wait(futures, timeout=timeout, return_when=concurrent.futures.FIRST_COMPLETED)[0]
+    return [f for f in futures if f in finished]
 
 
 def _cancel_pending(executor: Any, futures: Sequence[Any], dask: bool) -> None:

@@ -40,7 +40,7 @@ from ..errors import InvalidArgumentError, KinError, LimitError
 from ..parallel import Progress, run_tasks
 from ..symmetry.automorphisms import same_symmetry, symmetries_at
 from ..symmetry.procrustes import aligned_distance
-from . import directions, tasks
+from . import directions, levels, tasks
 from .index import GroupedIndex
 from .model import BIFURCATION, LOCATION_FACTOR, SAME_TOL, Atlas, Edge, Node, node_kind
 from .orbits import branch_orbits, follow_level
@@ -97,11 +97,10 @@ class _Explorer:
         self.edges: List[Edge] = []
         self.rigid = a.analyse().m_rigid > 0
         # the nodes, and their images under each symmetry, by position
-        self.index = GroupedIndex(a.coords.shape, self.rigid)
-        self.images = GroupedIndex(a.coords.shape, self.rigid)
-        # CPU seconds the followers reported; branches followed, and mapped from a followed one by symmetry
-        self.follow_cpu, self.followed, self.mapped = 0.0, 0, 0
-        self.redo: Dict[str, int] = {}  # the returns to the start decided again (directions.follow)
+        self.index, self.images = GroupedIndex(a.coords.shape, self.rigid), GroupedIndex(a.coords.shape, self.rigid)
+        self.follow_cpu, self.levels = 0.0, levels.Levels()  # followers' CPU seconds; per-level rows
+        # branches followed, and mapped from a followed one by symmetry; returns decided again (directions.follow)
+        self.followed, self.mapped, self.redo = 0, 0, {}  # type: Tuple[int, int, Dict[str, int]]
         self.store: Any = None  # store.Store: results recorded as they complete (reused on resume), and stop()
         self.stop: Optional[Callable[[], bool]] = None
 
@@ -389,8 +388,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                    int(samples), shards, symmetry, bool(contact))
     ex.deadline = None if time_limit is None else t0 + float(time_limit)
     from .store import open_store
-    # the settings that shape the atlas (not time_limit: a time-limited run resumes without it)
-    ex.store, ex.stop = open_store(store, resume, ex.text, [depth, max_nodes, float(max_length), symmetric,
+    # the settings that shape the results (not time_limit, nor depth: a deeper run resumes a shallower one's)
+    ex.store, ex.stop = open_store(store, resume, ex.text, [max_nodes, float(max_length), symmetric,
                                    seed, threads, symmetries is None and len(ex.syms), max_steps, samples, shards,
                                    follow_orbits, symmetry] + ([True] if contact else [])), stop
     an = a.analyse()
@@ -408,6 +407,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         return "interrupted" if stop is not None and stop() else None
     causes = {"time_limit": "time limit reached", "interrupted": "interrupted"}
     for level in range(depth):
+        ex.levels.begin(level, frontier)
         work: List[Work] = []
         images: List[Optional[Tuple[int, int]]] = []  # per work item: None (followed) or (work index, symmetry)
         for nid in frontier:
@@ -448,9 +448,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         todo = [k for k, im in enumerate(images) if im is None]
         _say(progress, f"level {level + 1}: {len(work)} directed branches from {len(frontier)} node(s)"
              + (f", {len(todo)} followed, the others their images by symmetry" if len(todo) < len(work) else ""))
-        results, followed, mapped = follow_level(work, images, lambda w: ex.follow_all(w, work), ex.syms, ex.bars)
-        ex.followed += followed
-        ex.mapped += mapped
+        results = ex.levels.follow(ex, lambda: follow_level(work, images, lambda w: ex.follow_all(w, work), ex.syms,
+                                                            ex.bars))
         n_before = len(ex.nodes)
         for (nid, i, sg, b, _), res in zip(work, results):
             if res is None:  # not followed: the time limit ran out first, or the run was interrupted
@@ -460,6 +459,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                 stopped = stopped or cause
                 continue
             ex.merge(nid, i, sg, b, res, level + 1)
+        ex.levels.end(ex.nodes, n_before)
         frontier = [n.id for n in ex.nodes[n_before:] if n.kind == BIFURCATION]
         if not frontier:
             break
@@ -479,9 +479,9 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                 "follow_orbits": follow_orbits, "symmetry": symmetry, "contact": bool(contact),
                 "executor": None if executor is None else type(executor).__name__}
     stats = {"seconds": round(time.perf_counter() - t0, 3), "follow_cpu_seconds": round(ex.follow_cpu, 3),
-             "branches_followed": ex.followed, "branches_mapped": ex.mapped, "returns_decided_again": ex.redo,
-             "stopped_by": stopped,
-             "partial": stopped in ("interrupted", "time_limit")}
+             "branches_followed": ex.followed, "branches_mapped": ex.mapped,
+             "returns_decided_again": ex.redo, "stopped_by": stopped,
+             "partial": stopped in ("interrupted", "time_limit"), "levels": ex.levels.rows}
     if ex.store is not None:
         stats["store"] = ex.store.finish(store is not ex.store)
     atlas = Atlas(ex.doc, ex.nodes, ex.edges, ex.syms, settings, stats)

@@ -16,6 +16,11 @@ from . import tasks
 # with an executor, the complete solver is split into shards of about this
 # many homotopy paths (at most 64 shards)
 SHARD_PATHS = 256
+# a system of at most this many homotopy paths (2^s) is solved here, not
+# sent to the executor: it takes a millisecond or less, a task's round trip
+# to a Dask cluster 10-100 ms of the client's time (most nodes past depth one
+# of the hexagonal sail have s = 1 to 3; docs/atlas.md, "Depth two and beyond")
+LOCAL_PATHS = 64
 # an overdetermined system's candidate solves every equation to this
 # (relative residual |beta^T Q_j beta| / |Q_j|_F, unit beta)
 OVERDETERMINED_TOL = 1e-8
@@ -58,7 +63,8 @@ def complete_solve(Q: NDArray[np.float64], executor: Any, shards: Optional[int],
                    deadline: Optional[float] = None,
                    stop: Optional[Callable[[], bool]] = None) -> Optional[Dict[str, Any]]:
     """The complete solver on Q (s, m, m): in shards on the executor when
-    there are enough paths for it (homotopy_shards), else as one task.
+    there are enough paths for it (homotopy_shards), else as one task, or
+    here for at most LOCAL_PATHS paths (the same solver, the same roots).
     group (k, m, m): the symmetric solver with that group (stabiliser.py).
     deadline (time.perf_counter()) and stop(): past the one or once the
     other is true, the solve is abandoned (None): in this process within
@@ -79,7 +85,7 @@ def complete_solve(Q: NDArray[np.float64], executor: Any, shards: Optional[int],
             return None
         return {"betas": solved[0].tolist(), "accounting": dict(solved[1], shards=int(shards))}
     task = {"Q": Q.tolist(), "seed": seed, "threads": threads}
-    if executor is None:  # here: cancelled through the progress callback
+    if executor is None or (1 << s) <= LOCAL_PATHS:  # here: cancelled through the progress callback
         from ..assembly import solve_quadrics
         from ..errors import CancelledError
         try:

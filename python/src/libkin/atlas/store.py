@@ -26,7 +26,15 @@ import time
 from typing import Any, Callable, Dict, List, Optional, Sequence, Union
 
 from ..errors import InvalidArgumentError
-from ..parallel import Progress, run_tasks, tick
+from ..parallel import Progress, executor_width, is_dask_client, run_tasks, stream_dask, tick
+
+# on Dask, tasks in flight (submitted, not yet recorded) per worker: the next
+# ones wait on the scheduler while the client records the finished ones
+DASK_WINDOW = 4
+# and at most this many tasks in one Dask task (while that leaves at least 4
+# windows of chunks): the client's cost per Dask task, about 5 ms
+# of its CPU (bench/bench_atlas_depth.py scaling), shared by the chunk
+DASK_CHUNK = 16
 
 __all__ = ["Store", "StoreMismatchError", "fingerprint", "default_path", "open_store", "remove_store"]
 
@@ -168,7 +176,9 @@ class Store:
         stop(): nothing more is started once it is true (those tasks give
         None); the tasks in flight complete and are recorded. A kill loses
         the tasks in flight and those finished after the oldest one still
-        running (results are taken in order)."""
+        running (results are taken in order). On Dask the tasks are streamed
+        in chunks (parallel.stream_dask: at most DASK_WINDOW x width chunks of up
+        to DASK_CHUNK tasks in flight, the client's cost per Dask task shared)."""
         kind = getattr(fn, "__name__", "task")
         keys = [kind + ":" + _hash(it) for it in items]
         out: List[Any] = [self.get(k) for k in keys]
@@ -185,6 +195,12 @@ class Store:
             done += 1
             tick(progress, done, len(items), what)
 
-        if todo and not (stop is not None and stop()):
-            run_tasks(fn, [items[i] for i in todo], executor, None, what, deadline, on_result=record, stop=stop)
+        if not todo or (stop is not None and stop()):
+            return out
+        if is_dask_client(executor):  # streamed in chunks: a kill loses at most the window in flight
+            width = executor_width(executor)
+            chunk = max(1, min(DASK_CHUNK, len(todo) // (DASK_WINDOW * 4 * width)))
+            stream_dask(fn, [items[i] for i in todo], executor, record, DASK_WINDOW * width, deadline, stop, chunk)
+            return out
+        run_tasks(fn, [items[i] for i in todo], executor, None, what, deadline, on_result=record, stop=stop)
         return out
