@@ -90,14 +90,15 @@ def run(args: argparse.Namespace) -> None:
 
     with concurrent.futures.ProcessPoolExecutor(args.workers) as ex:
         atlas = libkin.explore(args.model, depth=1, symmetric=False, symmetry=args.symmetry, executor=ex,
-                               samples=0, progress=progress, threads=args.workers)
+                               samples=0, progress=progress, threads=args.workers, store=args.store)
     wall = time.perf_counter() - t0
     d = atlas.to_dict()
     d["settings"]["model_name"] = args.model
     with open(os.path.join(args.out, "atlas.json"), "w") as f:
         json.dump(d, f)
     s = summarize(d)
-    s.update({"wall_seconds": round(wall, 1), "workers": args.workers, "load_end": load()})
+    s.update({"wall_seconds": round(wall, 1), "workers": args.workers, "load_end": load(),
+              "store": bool(args.store)})
     with open(os.path.join(args.out, "summary.json"), "w") as f:
         json.dump(s, f, indent=1)
     print(json.dumps(s, indent=1))
@@ -154,6 +155,8 @@ def main(argv: list[str] | None = None) -> None:
     r = sub.add_parser("run")
     r.add_argument("--model", default="sail:6:2")
     r.add_argument("--workers", type=int, default=2)
+    r.add_argument("--store", default=None,
+                   help="record every result in this SQLite store as it completes, as `libkin explore` does")
     r.add_argument("--out", required=True)
     r.add_argument("--symmetry", action="store_true",
                    help="explore's default: the stabiliser's group in the solve, one branch per orbit followed "
