@@ -149,6 +149,22 @@ def chart(args: argparse.Namespace) -> None:
         print(f"wrote {args.map}")
 
 
+def overhead(args: argparse.Namespace) -> None:
+    """The explorer's own cost: the run of `run --store S` again on its
+    store (resume), every branch's result read back and nothing followed,
+    against the follower CPU the run recorded."""
+    t0, c0 = time.perf_counter(), time.process_time()
+    atlas = libkin.explore(args.model, depth=1, symmetric=False, symmetry=args.symmetry, samples=0,
+                           threads=args.workers, store=args.store, resume=True)
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    st = atlas.stats
+    with open(os.path.join(args.run, "summary.json")) as f:
+        follow_cpu = json.load(f)["stats"]["follow_cpu_seconds"]
+    print(f"explorer alone: {wall:.1f} s wall, {cpu:.1f} s CPU ({st['store']['reused']} results read, "
+          f"{st['store']['recorded']} computed); the run's follower CPU {follow_cpu:.1f} s; "
+          f"overhead / follower = {cpu / follow_cpu:.2f} (the issue's target: <= 0.5)")
+
+
 def main(argv: list[str] | None = None) -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="cmd", required=True)
@@ -161,12 +177,18 @@ def main(argv: list[str] | None = None) -> None:
     r.add_argument("--symmetry", action="store_true",
                    help="explore's default: the stabiliser's group in the solve, one branch per orbit followed "
                         "where its image is certain (without it every branch is followed)")
+    o = sub.add_parser("overhead", help="the explorer's own cost: a run's store replayed (nothing followed)")
+    o.add_argument("--model", default="sail:6:2")
+    o.add_argument("--workers", type=int, default=2, help="as given to run (its solver threads)")
+    o.add_argument("--store", required=True, help="the store of a finished `run --store S`")
+    o.add_argument("--run", required=True, help="that run's --out (its summary.json)")
+    o.add_argument("--symmetry", action="store_true", help="as given to run")
     c = sub.add_parser("chart")
     c.add_argument("dir")
     c.add_argument("--png", default="docs/atlas_flat.png")
     c.add_argument("--map", default="docs/atlas_flat_map.png", help="the condensed map ('' for none)")
     args = p.parse_args(argv)
-    (run if args.cmd == "run" else chart)(args)
+    {"run": run, "overhead": overhead, "chart": chart}[args.cmd](args)
 
 
 if __name__ == "__main__":
