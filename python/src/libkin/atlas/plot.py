@@ -21,7 +21,7 @@ from . import model as _atlas
 
 STYLE = {  # kind: (marker, face colour, size, legend text)
     _atlas.BIFURCATION: ("D", "#d62728", 110, "bifurcation (m, s)"),
-    _atlas.REGULAR: ("o", "#bbbbbb", 50, "regular point (a budget or a contact ended the path there / start)"),
+    _atlas.REGULAR: ("o", "#bbbbbb", 50, "regular point (budget, contact, start)"),
     _atlas.NEAR_MISS: ("^", "#ff7f0e", 80, "near-miss (regular)"),
     _atlas.MULTI_DOF: ("s", "#9467bd", 80, "several freedoms (s = 0)"),
     _atlas.RIGID: ("P", "#333333", 80, "rigid"),
