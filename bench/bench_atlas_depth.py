@@ -46,13 +46,10 @@ from typing import Any, Dict, List, Optional
 import numpy as np
 
 import libkin
+from bench_atlas_flat import load, progress_printer
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEPTH1 = os.path.join(HERE, "atlas_flat_symmetry_summary_lu_follower.json")
-
-
-def load() -> str:
-    return " ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
 def cluster(workers: int) -> Any:
@@ -70,15 +67,7 @@ def run(args: argparse.Namespace) -> None:
     print(f"load average at start: {load()}  ({os.cpu_count()} CPUs); store {store}"
           f"{' (resumed)' if args.resume else ''}", flush=True)
     t0 = time.perf_counter()
-    last = [0.0]
-
-    def progress(done: int, total: int, what: str) -> None:
-        now = time.perf_counter()
-        if done == total or now - last[0] > 60:
-            last[0] = now
-            print(f"  [{time.strftime('%H:%M:%S')}] {what}: {done}/{total} after {now - t0:.0f} s (load {load()})",
-                  flush=True)
-
+    progress = progress_printer(t0)
     lc, client = cluster(args.workers)
     try:
         atlas = libkin.explore(args.model, depth=args.depth, samples=0, executor=client, threads=1,

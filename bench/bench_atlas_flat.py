@@ -35,6 +35,22 @@ def load() -> str:
     return " ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
+def progress_printer(t0: float, every: float = 60.0) -> Any:
+    """An explore() progress callback: a line at most every `every` s and
+    at the end of each batch of work, with the rate and the load
+    (bench_atlas_depth.py uses it too)."""
+    last = [0.0]
+
+    def progress(done: int, total: int, what: str) -> None:
+        now = time.perf_counter()
+        if done == total or now - last[0] > every:
+            last[0] = now
+            rate = done / max(now - t0, 1e-9)
+            print(f"  [{time.strftime('%H:%M:%S')}] {what}: {done}/{total} after {now - t0:.0f} s "
+                  f"({rate:.2f}/s; load {load()})", flush=True)
+    return progress
+
+
 def summarize(d: Dict[str, Any]) -> Dict[str, Any]:
     nodes, edges = d["nodes"], d["edges"]
     start = nodes[0]
@@ -79,15 +95,7 @@ def run(args: argparse.Namespace) -> None:
     os.makedirs(args.out, exist_ok=True)
     print(f"load average at start: {load()}  ({os.cpu_count()} CPUs)", flush=True)
     t0 = time.perf_counter()
-    last = [0.0]
-
-    def progress(done: int, total: int, what: str) -> None:
-        now = time.perf_counter()
-        if done == total or now - last[0] > 60:
-            last[0] = now
-            rate = done / max(now - t0, 1e-9)
-            print(f"  {what}: {done}/{total} after {now - t0:.0f} s ({rate:.2f}/s; load {load()})", flush=True)
-
+    progress = progress_printer(t0)
     with concurrent.futures.ProcessPoolExecutor(args.workers) as ex:
         atlas = libkin.explore(args.model, depth=1, symmetric=False, symmetry=args.symmetry, executor=ex,
                                samples=0, progress=progress, threads=args.workers, store=args.store)
