@@ -494,6 +494,34 @@ static void block_orthonormalize(int nf, const double *t, int k, double *X, unsi
     }
 }
 
+/* Eigen-decomposition of the symmetric 2 x 2 matrix B (column-major, both
+ * triangles set) as dsyev ("V") leaves it: eigenvalues ascending in lam,
+ * unit eigenvectors in B's columns. One Jacobi rotation (Golub & Van Loan,
+ * the symmetric Schur decomposition), accurate to rounding; the Rayleigh-Ritz
+ * step of the slope's subspace iteration calls it at every pass, where
+ * dsyev's call and workspace handling cost about 1% of a cheap follow. */
+static void sym2_eig(double *B, double *lam)
+{
+    double p = B[0], q = B[1], r = B[3], c = 1.0, s = 0.0;
+    if (q != 0.0) {
+        double tau = (r - p) / (2.0 * q);
+        double t = (tau >= 0.0 ? 1.0 : -1.0) / (fabs(tau) + sqrt(1.0 + tau * tau));
+        c = 1.0 / sqrt(1.0 + t * t);
+        s = t * c;
+        p -= t * q; /* the eigenvalue of (c, -s) */
+        r += t * q; /* ... of (s, c) */
+    }
+    if (p <= r) {
+        lam[0] = p;
+        lam[1] = r;
+        B[0] = c, B[1] = -s, B[2] = s, B[3] = c;
+    } else {
+        lam[0] = r;
+        lam[1] = p;
+        B[0] = s, B[1] = c, B[2] = c, B[3] = -s;
+    }
+}
+
 /* seed of the pseudo-random start vectors of the triple's subspace */
 static const unsigned long long VR_BLOCK_SEED = 0xb10cULL;
 
@@ -532,7 +560,8 @@ int kin__lu_vr_triple(kin_assembly *a, int max_passes, double tol, int k, double
         for (int p = 0; p < k; ++p)
             for (int q = 0; q <= p; ++q)
                 B[p + q * k] = B[q + p * k] = kin__dot(nb, Y + (size_t)p * nf, Y + (size_t)q * nf);
-        dsyev_("V", "L", &k, B, &k, lam, ew, &lwork, &info, 1, 1);
+        if (k == 2) sym2_eig(B, lam);
+        else dsyev_("V", "L", &k, B, &k, lam, ew, &lwork, &info, 1, 1);
         if (info || !(lam[k - 1] > 0.0 && isfinite(lam[k - 1]))) return KIN_OK;
         /* the Ritz vectors, largest eigenvalue (smallest singular value) first */
         for (int j = 0; j < k; ++j) {
