@@ -579,6 +579,58 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
     return rc;
 }
 
+/* CHEAP STEPS: THE FIRST STEP OFF A BIFURCATION. Its point (1e-3 of the
+ * largest step away) still counts as a bifurcation where v_r / v_max <= the
+ * handle's rank tolerance (then a step ten times as long is tried), and
+ * v_r / v_max there is far below the LU mode's margin (1000 x the rank
+ * tolerance: 8e-8 on the flat state's branch 0), so the LU step alone would
+ * always analyse it by SVD (4% of a cheap follow). Instead: the LU step with
+ * a rank tolerance FIRST_LU_MARGIN / 1000 x the handle's (its estimate, an
+ * upper bound, must be above FIRST_LU_MARGIN x the tolerance), then the
+ * verdict from the vanishing singular value converged by the slope's
+ * subspace iteration (Rayleigh-Ritz: accurate to rounding once the vector
+ * has converged) and the LU mode's v_max (a lower bound, from the start's
+ * top singular vector: within a few 1e-6): a mechanism count of 1 where
+ * v_r / v_max > FIRST_LU_MARGIN x the handle's rank tolerance, else the
+ * SVD, classified with the handle's own tolerance as the SVD step was. */
+static const double FIRST_LU_MARGIN = 2.0;
+
+static void first_step_lu(follow_ctx *c, const kin_options *user)
+{
+    kin_assembly *a = c->a;
+    a->opt = *user;
+    a->opt.factorization = KIN_STEP_LU;
+    a->opt.rank_tol = user->rank_tol * FIRST_LU_MARGIN * 1e-3;
+    a->lu_inverse = 1;
+}
+
+/* after the first step (the handle's own options back): the mechanism count
+ * the SVD step would have given, into si->m_internal */
+static int first_point_verdict(follow_ctx *c, kin_step_info *si)
+{
+    kin_assembly *a = c->a;
+    if (kin__cur(a)->valid) {
+        /* analysed by SVD in the step, with the lower tolerance: the handle's */
+        int rc = kin__reclassify(a, a->xyz, a->cur);
+        if (rc) return rc;
+        si->m_internal = kin__cur(a)->an.m_internal;
+        return KIN_OK;
+    }
+    double v = 0.0, vmax = a->lu[a->lu_cur].v_max;
+    int conv = 0;
+    c->blk_warm = 0;
+    if (kin__lu_vr_triple(a, SLOPE_PASSES, SLOPE_VECTOR_TOL, SLOPE_BLOCK, c->blk, &c->blk_warm, c->u, c->w, &v,
+                          &conv) == KIN_OK &&
+        conv && vmax > 0.0 && v > FIRST_LU_MARGIN * kin__rank_tolerance(a) * vmax) {
+        si->m_internal = 1;
+        return KIN_OK;
+    }
+    int rc = kin__analyse(a, NULL);
+    if (rc) return rc;
+    si->m_internal = kin__cur(a)->an.m_internal;
+    return KIN_OK;
+}
+
 static int options_ok(const kin_follow_options *o)
 {
     return o->vr_tol > 0.0 && o->vr_tol < 1.0 && o->vr_floor >= o->vr_tol && o->vr_floor < 1.0 &&
@@ -690,8 +742,14 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
             rc = kin__fail(a, KIN_ENOMEM, "follow: a copy of the start");
             goto out;
         }
+        kin_options user_opt = a->opt;
         for (double fr = o->first_step;; fr *= RELAX_FACTOR) {
+            if (o->steps_mode == KIN_FOLLOW_STEPS_CHEAP) first_step_lu(&c, &user_opt);
             rc = kin__leave_bifurcation(a, dir, fr, &si, &cs);
+            a->opt = user_opt;
+            a->lu_inverse = 0;
+            if (rc == KIN_OK && o->steps_mode == KIN_FOLLOW_STEPS_CHEAP && (rc = first_point_verdict(&c, &si)) != KIN_OK)
+                break;
             if (rc || si.m_internal < 2 || fr * RELAX_FACTOR > 1.0) break;
             kin__copy_state(a, start);
         }
