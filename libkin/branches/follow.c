@@ -801,6 +801,8 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
      * handovers of this call (1.1 handovers and 1.0 attempts per branch on
      * the flat state: 5 clones at each was 4% of the time) */
     kin__locate_ws lws = {0};
+    /* cheap steps: the Hermite nodes from LU steps too (locate.h) */
+    lws.lu_nodes = o->steps_mode == KIN_FOLLOW_STEPS_CHEAP;
     for (int k = 0; k < attempts; ++k) {
         int left = o->max_steps - info->steps;
         if (left < 1) {

@@ -134,7 +134,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         return kin__fail(a, KIN_EBIFURCATION, "already at a bifurcation (m_internal = %d)",
                          kin__cur(a)->an.m_internal);
     if (kin__cur(a)->an.m_internal == 0) return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");
-    loc_ctx c = {a, NULL, NULL, NULL, NULL, NULL, &o, info, NULL, hook, hook_user, 0.0};
+    loc_ctx c = {a, NULL, NULL, NULL, NULL, NULL, &o, info, NULL, hook, hook_user, 0.0, ws ? ws->lu_nodes : 0};
     kin_options user = a->opt;
     double fine = fmin(user.rank_tol, LOCATE_RANK_FRACTION * o.vr_tol);
     a->opt.rank_tol = fine;

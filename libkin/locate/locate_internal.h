@@ -30,6 +30,7 @@ typedef struct loc_ctx {
     /* the fast method gave up on a non-zero minimum of v_r: the lowest
      * v_r / v_max it saw (0 otherwise) */
     double nonzero_min;
+    int lu_nodes; /* kin__locate_ws.lu_nodes */
 } loc_ctx;
 
 /* eq. 26: the path is kept if the new tangent agrees with the old one to this |cos| */

@@ -51,6 +51,12 @@ double kin__lu_rel_estimate(const kin_assembly *a);
  * keep the Ritz vectors for the next call, *warm set). u: nf entries, w: nb,
  * v > 0. KIN_ESTATE without square dense factors of this point. */
 enum { KIN__VR_BLOCK_MAX = 4 };
+/* The minimum-norm chord correction d (nf) of the strain residual e (nb)
+ * with the current point's LU-mode factors: C d = e, d orthogonal to the
+ * tangent and the rigid mechanisms (pinv(C) e, as the SVD's chord
+ * correction over the non-zero singular values). KIN_ESTATE without
+ * current factors. */
+int kin__lu_pinv_correction(kin_assembly *a, const double *e, double *d);
 int kin__lu_vr_triple(kin_assembly *a, int max_passes, double tol, int k, double *block, int *warm, double *u,
                       double *w, double *v, int *converged);
 

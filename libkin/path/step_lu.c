@@ -126,6 +126,12 @@ int kin__lu_chord_correction(kin_assembly *a, const double *e, double *d)
     return KIN_OK;
 }
 
+int kin__lu_pinv_correction(kin_assembly *a, const double *e, double *d)
+{
+    if (!kin__lu_current(a)) return KIN_ESTATE;
+    return kin__lu_chord_correction(a, e, d);
+}
+
 /* v := v - sum_c q_c (q_c . v) over the columns of Q (nf x k, ld nf) */
 static void remove_components(int nf, const double *Q, int k, double *v)
 {
