@@ -110,6 +110,18 @@ int kin__loc_at_bifurcation(const kin_assembly *a, double tol)
     return kin__loc_group_top(a, tol) <= tol * kin__cur(a)->an.v_max;
 }
 
+kin_assembly *kin__loc_probe(loc_ctx *c)
+{
+    if (c->probe) return c->probe;
+    if (kin_assembly_clone(c->a, &c->probe)) {
+        c->probe = NULL;
+        return NULL;
+    }
+    c->probe->nfact = 0; /* its factorizations count from here */
+    if (c->ws) c->ws->probe = c->probe;
+    return c->probe;
+}
+
 /* forward calculation: work := base moved by delta along its tangent */
 int kin__loc_forward(loc_ctx *c, const kin_assembly *base, kin_assembly *dst, double delta, double *used)
 {

@@ -85,10 +85,10 @@ void kin__locate_ws_free(kin__locate_ws *ws)
 static int use_ws(loc_ctx *c, kin_assembly *a, kin__locate_ws *ws)
 {
     if (!ws->hw) {
-        /* the look-ahead's pair (tb0, tb1) only when a look-ahead needs it */
+        /* the look-ahead's pair (tb0, tb1) and the paper's probe only when
+         * one needs it (kin__loc_probe) */
         ws->hw = kin__hermite_alloc(a);
-        if (!ws->hw || kin_assembly_clone(a, &ws->prev) || kin_assembly_clone(a, &ws->work) ||
-            kin_assembly_clone(a, &ws->probe)) {
+        if (!ws->hw || kin_assembly_clone(a, &ws->prev) || kin_assembly_clone(a, &ws->work)) {
             kin__locate_ws_free(ws);
             return KIN_ENOMEM;
         }
@@ -134,7 +134,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         return kin__fail(a, KIN_EBIFURCATION, "already at a bifurcation (m_internal = %d)",
                          kin__cur(a)->an.m_internal);
     if (kin__cur(a)->an.m_internal == 0) return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");
-    loc_ctx c = {a, NULL, NULL, NULL, NULL, NULL, &o, info, NULL, hook, hook_user, 0.0, ws ? ws->lu_nodes : 0};
+    loc_ctx c = {a, NULL, NULL, NULL, NULL, NULL, &o, info, NULL, hook, hook_user, 0.0, ws ? ws->lu_nodes : 0, ws};
     kin_options user = a->opt;
     double fine = fmin(user.rank_tol, LOCATE_RANK_FRACTION * o.vr_tol);
     a->opt.rank_tol = fine;
@@ -145,8 +145,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
             a->opt = user;
             return kin__fail(a, KIN_ENOMEM, "locator working copies");
         }
-    } else if (!(c.hw = kin__hermite_alloc(a)) || kin_assembly_clone(a, &c.prev) || kin_assembly_clone(a, &c.work) ||
-               kin_assembly_clone(a, &c.probe)) {
+    } else if (!(c.hw = kin__hermite_alloc(a)) || kin_assembly_clone(a, &c.prev) || kin_assembly_clone(a, &c.work)) {
         a->opt = user;
         free_ctx(&c, NULL);
         return kin__fail(a, KIN_ENOMEM, "locator working copies");
@@ -262,7 +261,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
     }
     fa = a->nfact;
     fw = c.work->nfact;
-    fp = c.probe->nfact;
+    fp = c.probe ? c.probe->nfact : 0;
     fpv = c.prev->nfact;
     if (rc == KIN_OK && info->event == KIN_EVENT_NONE)
         rc = stopped ? kin__fail(a, KIN_ENOTFOUND, "following stopped by the caller after %d steps", info->steps)
@@ -292,7 +291,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         if (rc == KIN_OK) {
             /* eq. 26: the move from the last regular point must continue its
              * tangent, or the search slid onto a neighbouring path */
-            double *ch = c.probe->chord, *x1 = c.probe->x;
+            double *ch = kin__hermite_scratch(c.hw), *x1 = ch + a->nf; /* 2 nj dim doubles */
             kin__gather(a, c.prev->xyz, ch);
             kin__gather(a, c.work->xyz, x1);
             for (int i = 0; i < a->nf; ++i) ch[i] = x1[i] - ch[i];
@@ -322,7 +321,8 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         if (rc == KIN_OK) rc = rc2;
     }
     a->opt = user;
-    info->factorizations = (int)((a->nfact - fa) + (c.work->nfact - fw) + (c.probe->nfact - fp) + (c.prev->nfact - fpv));
+    info->factorizations =
+        (int)((a->nfact - fa) + (c.work->nfact - fw) + (c.probe ? c.probe->nfact - fp : 0) + (c.prev->nfact - fpv));
     info->located = rc == KIN_OK;
     info->v_r = kin__loc_group_top(a, o.vr_tol);
     info->v_r_rel = kin__cur(a)->an.v_max > 0 ? info->v_r / kin__cur(a)->an.v_max : 0.0;

@@ -31,6 +31,7 @@ typedef struct loc_ctx {
      * v_r / v_max it saw (0 otherwise) */
     double nonzero_min;
     int lu_nodes; /* kin__locate_ws.lu_nodes */
+    kin__locate_ws *ws; /* the caller's working copies, or NULL */
 } loc_ctx;
 
 /* eq. 26: the path is kept if the new tangent agrees with the old one to this |cos| */
@@ -54,6 +55,10 @@ int kin__loc_at_bifurcation(const kin_assembly *a, double tol);
 int kin__loc_forward(loc_ctx *c, const kin_assembly *base, kin_assembly *dst, double delta, double *used);
 /* progress through the caller's callback; 1 when the caller cancels */
 int kin__loc_cancelled(const loc_ctx *c);
+/* the paper's overshoot probe, a working copy made at its first use (a
+ * clone of the handle; the caller's from then on where it gave a
+ * kin__locate_ws): most locations never need it. NULL: out of memory. */
+kin_assembly *kin__loc_probe(loc_ctx *c);
 /* |t_x . t_y| of the two states' tangents */
 double kin__loc_tangent_cos(const kin_assembly *x, const kin_assembly *y);
 
