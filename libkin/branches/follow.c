@@ -125,6 +125,8 @@ typedef struct follow_extra {
 /* a point the cheap stretch may go back to, with the follower's counters there */
 typedef struct kept_point {
     kin__path_point p;
+    double *border; /* nf: the border row of its LU factors (the tangent before the step to it) */
+    int has_border; /* it was an LU point (its factors can be made again) */
     double length;
     int left, index;
 } kept_point;
@@ -392,7 +394,7 @@ static int progress_adapter(void *user, double done, double total)
 
 /* ---- cheap stretches (KIN_FOLLOW_STEPS_CHEAP) ---- */
 
-static void keep_point(follow_ctx *c)
+static void keep_point(follow_ctx *c, const double *border)
 {
     if (c->nkept == 2) {
         kept_point t = c->kept[0];
@@ -402,6 +404,9 @@ static void keep_point(follow_ctx *c)
     }
     kept_point *k = &c->kept[c->nkept++];
     kin__path_save(c->a, &k->p);
+    /* an LU point: its factors' border row, the tangent before the step (c->tprev) */
+    k->has_border = border != NULL;
+    if (border) memcpy(k->border, border, sizeof(double) * (size_t)c->a->nf);
     k->length = c->length;
     k->left = c->left;
     k->index = c->p;
@@ -420,6 +425,13 @@ static void back_to_kept(follow_ctx *c, int newer)
     c->length = c->len_pp = k->length;
     c->left = k->left;
     c->p = k->index;
+    if (k->has_border) {
+        /* its LU factors again (the same as the step made): the locator
+         * starts there without an SVD (locate.h, kin__locate_ws.lu_nodes) */
+        int regular = 0;
+        c->a->lu_inverse = 1;
+        if (kin__lu_refactor(c->a, k->border, &regular) != KIN_OK) c->a->lu[c->a->lu_cur].valid = 0;
+    }
     kin__gather(c->a, c->a->xyz, c->xp);
     memcpy(c->xpp, c->xp, sizeof(double) * (size_t)nf);
     memcpy(c->xq, c->xp, sizeof(double) * (size_t)nf);
@@ -501,7 +513,7 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
     a->lu_inverse = 1;
     c->nkept = 0;
     c->watch = 0;
-    keep_point(c);
+    keep_point(c, NULL); /* an SVD point (or one whose border is not known) */
     double r0 = kin__lu_rel_estimate(a), rm = r_before; /* this point's v_r / v_max and the one before */
     /* the vanishing singular value and its slope at the start (an SVD point) */
     double v0 = NAN, sl0 = NAN, vm = 0.0, l0 = a->l;
@@ -573,7 +585,7 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
             info->handovers++;
             break;
         }
-        keep_point(c);
+        keep_point(c, si.m_internal == 1 && !kin__cur(a)->valid ? c->tprev : NULL);
         rm = r0;
         r0 = r1;
         sg0 = sg;
@@ -687,7 +699,7 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
 #endif
     size_t nc = (size_t)(a->nj * a->dim);
     c.xs = malloc(sizeof(double) * (6 * (size_t)nf + 2 * (nc + (size_t)nf) + (size_t)nf + (size_t)a->nb + 2 * nc +
-                                    2 * (size_t)SLOPE_BLOCK * nf));
+                                    2 * (size_t)SLOPE_BLOCK * nf + 2 * (size_t)nf));
     if (!c.xs) return kin__fail(a, KIN_ENOMEM, "follow workspace");
     c.ts = c.xs + nf;
     c.xp = c.ts + nf;
@@ -702,6 +714,8 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
     c.w = c.u + nf;
     c.scr = c.w + a->nb;
     c.blk = c.scr + 2 * nc;
+    c.kept[0].border = c.blk + 2 * (size_t)SLOPE_BLOCK * nf;
+    c.kept[1].border = c.kept[0].border + nf;
     if (at_bif && x->nbranch > 0) {
         double ang = 0.0, gap = 0.0;
         c.own = nearest_branch(&c, dir, &ang, &gap);

@@ -66,7 +66,11 @@ double kin__loc_rel(const kin_assembly *a) { return kin__cur(a)->an.v_r / kin__c
  * path has rank nfree - 1 - m_rigid, so it is the last non-zero one there */
 int kin__loc_vanishing_index(const kin_assembly *a)
 {
-    int mn = a->nf < a->nb ? a->nf : a->nb, k = a->nf - 2 - kin__cur(a)->an.m_rigid;
+    /* a point with LU-mode factors and no SVD (kin__locate_ws.lu_nodes):
+     * its rigid mechanisms are the factors' extra border rows */
+    const kin_lufactor *F = &a->lu[a->lu_cur];
+    int mr = !kin__cur(a)->valid && F->valid ? F->rows - a->nb - 1 : kin__cur(a)->an.m_rigid;
+    int mn = a->nf < a->nb ? a->nf : a->nb, k = a->nf - 2 - mr;
     return k >= 0 && k < mn ? k : -1;
 }
 

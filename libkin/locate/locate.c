@@ -128,12 +128,20 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         !(o.vr_tol > 0 && o.vr_tol < 1) || !(o.switch_eps > 0 && o.switch_eps < 1) || !isfinite(o.delta) ||
         o.max_steps < 1 || o.max_iter < 1)
         return kin__fail(a, KIN_EINVAL, "locate options out of range");
-    int rc = kin__cur(a)->valid ? KIN_OK : kin__analyse(a, NULL);
+    /* the follower's LU steps hand over at a point they factorized
+     * (kin__locate_ws.lu_nodes): it starts without an SVD, its test
+     * function, vanishing singular value and slope from those factors (a
+     * regular point: one internal mechanism) and the first step's chord
+     * corrector with them; else (or where the slope's iteration does not
+     * converge) its SVD analysis as always */
+    int lu_start = ws && ws->lu_nodes && !kin__cur(a)->valid && kin__lu_square_current(a) && a->have_t && !a->t_chosen;
+    int rc = kin__cur(a)->valid || lu_start ? KIN_OK : kin__analyse(a, NULL);
     if (rc) return rc;
-    if (kin__cur(a)->an.m_internal >= 2)
+    if (!lu_start && kin__cur(a)->an.m_internal >= 2)
         return kin__fail(a, KIN_EBIFURCATION, "already at a bifurcation (m_internal = %d)",
                          kin__cur(a)->an.m_internal);
-    if (kin__cur(a)->an.m_internal == 0) return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");
+    if (!lu_start && kin__cur(a)->an.m_internal == 0)
+        return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");
     loc_ctx c = {a, NULL, NULL, NULL, NULL, NULL, &o, info, NULL, hook, hook_user, 0.0, ws ? ws->lu_nodes : 0, ws};
     kin_options user = a->opt;
     double fine = fmin(user.rank_tol, LOCATE_RANK_FRACTION * o.vr_tol);
@@ -157,12 +165,30 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
     }
     double dir = o.delta < 0.0 ? -1.0 : 1.0, tb_delta = 0.0, tb_tau0 = 0.0, tb_tau1 = 0.0;
     int pending = 0, stopped = 0;
-    double tau0, tau1, hl[4], hv[4];
+    double tau0 = 0.0, tau1, hl[4], hv[4], v0 = 0.0, sl0 = 0.0;
     int nh = 0;
-    rc = kin_test_function(a, &tau0);
-    double v0 = kin__loc_vanishing_sv(a), sl0 = motion_slope(&c, a, dir);
-    hl[nh] = a->l;
-    hv[nh++] = kin__cur(a)->an.v_r;
+    if (lu_start && !kin__hermite_lu_vanishing(c.hw, a, dir, &v0, &sl0)) {
+        lu_start = 0;
+        if ((rc = kin__analyse(a, NULL)) != KIN_OK || kin__cur(a)->an.m_internal != 1) {
+            a->opt = user;
+            free_ctx(&c, ws);
+            return rc ? rc : kin__fail(a, KIN_EBIFURCATION, "the locator's start is not a regular point");
+        }
+    }
+    if (lu_start) {
+        /* tau = sign(det [C; t^T]) v_r, as kin_test_function (no rigid mechanisms here) */
+        int sg = 0;
+        rc = kin__border_det_sign(a, &sg);
+        tau0 = sg * v0;
+        hv[nh] = v0;
+        a->lu_svd_start = 1;
+    } else {
+        rc = kin_test_function(a, &tau0);
+        v0 = kin__loc_vanishing_sv(a);
+        sl0 = motion_slope(&c, a, dir);
+        hv[nh] = kin__cur(a)->an.v_r;
+    }
+    hl[nh++] = a->l;
     kin_step_info si = {.size = sizeof si};
     long fa = 0, fw = 0, fp = 0, fpv = 0;
     while (rc == KIN_OK && info->steps < o.max_steps) {
@@ -259,6 +285,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
             break;
         }
     }
+    a->lu_svd_start = 0;
     fa = a->nfact;
     fw = c.work->nfact;
     fp = c.probe ? c.probe->nfact : 0;
@@ -272,6 +299,11 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         if (o.method == KIN_LOCATE_FAST && bracket) {
             rc = kin__locate_hermite(&c);
             TRACE(" event %d: hermite returned %d\n", info->event, rc);
+            if (rc == KIN__HERMITE_NO_BRACKET && !kin__cur(c.prev)->valid) {
+                /* the fallbacks read the SVD analysis of the point before */
+                int rc2 = kin__analyse(c.prev, NULL);
+                if (rc2) rc = rc2;
+            }
             if (rc == KIN__HERMITE_NO_BRACKET) {
                 /* v_r does not turn within the step although tau changed
                  * sign: the test function's bracket, then the paper's

@@ -267,6 +267,17 @@ static int hermite_add_lu(hermite_ws *h, kin_assembly *st, const kin_assembly *b
     return 1;
 }
 
+int kin__hermite_lu_vanishing(hermite_ws *h, kin_assembly *st, double dir, double *v, double *sl)
+{
+    int warm = 0, conv = 0;
+    if (kin__lu_vr_triple(st, LU_NODE_PASSES, LU_NODE_VECTOR_TOL, LU_NODE_BLOCK, h->blk, &warm, h->uu, h->ww, v,
+                          &conv) != KIN_OK ||
+        !conv || !(*v > 0.0))
+        return 0;
+    *sl = dir * kin__sv_derivative_uw(st, st->xyz, st->t, h->uu, h->ww, h->scratch);
+    return 1;
+}
+
 /* Hermite divided differences of `dim`-vectors f (values) and df
  * (derivatives) at the n nodes z, each taken twice (zz = z0 z0 z1 z1 ...),
  * into coef (2n x dim, row j = f[zz_0 .. zz_j]) */
@@ -416,7 +427,15 @@ int kin__locate_hermite(loc_ctx *c)
     kin_assembly *prev = c->prev, *w = c->work;
     int nf = h->nf, all[HERMITE_MAX_NODES], good[HERMITE_MAX_NODES];
     h->n = 0;
-    if (!hermite_add(h, prev, prev) || !hermite_add(h, c->a, prev)) return KIN__HERMITE_NO_BRACKET;
+    /* prev may be the follower's LU point (no SVD): its node from the LU
+     * factors, or its SVD where the triple does not converge */
+    int added = kin__cur(prev)->valid ? -1 : hermite_add_lu(h, prev, prev);
+    if (added < 0 && !kin__cur(prev)->valid) {
+        int rc = kin__analyse(prev, NULL);
+        if (rc) return rc;
+    }
+    if (added < 0) added = hermite_add(h, prev, prev);
+    if (!added || !hermite_add(h, c->a, prev)) return KIN__HERMITE_NO_BRACKET;
     double width0 = fabs(h->z[1] - h->z[0]);
     double err_ok = NODE_ERROR_FRACTION * c->o->vr_tol * prev->rms_length;
     for (int i = 0; i < HERMITE_MAX_NODES; ++i) all[i] = 1;
@@ -576,7 +595,7 @@ int kin__locate_hermite(loc_ctx *c)
      * bifurcation pinned only so far (a tangency, where v_r ~ |l - l*|^2 and
      * the strain fixes a point less sharply) or a near miss of that size;
      * above that, a non-zero minimum of v_r */
-    double vmax0 = kin__cur(prev)->an.v_max;
+    double vmax0 = kin__cur(prev)->valid ? kin__cur(prev)->an.v_max : prev->lu[prev->lu_cur].v_max;
     for (int i = 0; i < h->n; ++i) best = fmin(best, h->v[i] / vmax0); /* points of the path, too */
     if (best <= sqrt(c->o->vr_tol))
         return kin__fail(c->a, KIN_ENOTFOUND,

@@ -72,6 +72,10 @@ void kin__hermite_free(hermite_ws *h);
 /* 2 * njoints * dim doubles of h the detector may use between locator calls */
 double *kin__hermite_scratch(hermite_ws *h);
 int kin__locate_hermite(loc_ctx *c);
+/* the vanishing singular value v of st, a point with square LU-mode factors
+ * and no SVD, and its slope *sl along dir * t, from those factors (subspace
+ * iteration, in h's workspace); 0 where the iteration does not converge */
+int kin__hermite_lu_vanishing(hermite_ws *h, kin_assembly *st, double dir, double *v, double *sl);
 /* Illinois on tau(delta) over [0, hi] from c->prev (tau_lo there) */
 int kin__locate_illinois(loc_ctx *c, double hi, double tau_lo, double tau_hi);
 /* the paper's quadratic (eq. 23-26) from the history (hl, hv) of nh points */

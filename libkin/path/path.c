@@ -406,7 +406,7 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
     const kin_factor *f = kin__cur(a);
     /* LU mode continues from the bordered factors of a regular point
      * without an SVD there; otherwise the point needs its analysis */
-    int lu_point = use_lu && !f->valid && kin__lu_current(a);
+    int lu_point = (use_lu || a->lu_svd_start) && !f->valid && kin__lu_current(a);
     if (use_lu && !lu_point && !f->valid) {
         /* sparse mode: factorize the start point sparsely instead of the
          * SVD where it is regular (a no-op in the dense LU mode) */

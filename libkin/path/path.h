@@ -51,6 +51,17 @@ double kin__lu_rel_estimate(const kin_assembly *a);
  * keep the Ritz vectors for the next call, *warm set). u: nf entries, w: nb,
  * v > 0. KIN_ESTATE without square dense factors of this point. */
 enum { KIN__VR_BLOCK_MAX = 4 };
+/* The LU mode's factors of the current point again (a point restored by
+ * kin__path_restore, whose factors were made with border row `border`, the
+ * tangent before the step that reached it): bordered factors, estimates and
+ * (with a->lu_inverse) (J^T)^-1 into the current slot; the tangent stays
+ * a->t. *regular = 0 where the SVD must decide (the factors are then not
+ * kept). The same factors as the step made, where the estimates' start
+ * vectors are the same. */
+int kin__lu_refactor(kin_assembly *a, const double *border, int *regular);
+/* The current point has usable square dense LU-mode factors of
+ * J = [C; t_prev^T] (no rigid mechanisms: nb + 1 = nf) */
+int kin__lu_square_current(const kin_assembly *a);
 /* The minimum-norm chord correction d (nf) of the strain residual e (nb)
  * with the current point's LU-mode factors: C d = e, d orthogonal to the
  * tangent and the rigid mechanisms (pinv(C) e, as the SVD's chord

@@ -126,6 +126,12 @@ int kin__lu_chord_correction(kin_assembly *a, const double *e, double *d)
     return KIN_OK;
 }
 
+int kin__lu_square_current(const kin_assembly *a)
+{
+    const kin_lufactor *F = &a->lu[a->lu_cur];
+    return kin__lu_current(a) && !F->sparse && F->rows == a->nf && F->rows == a->nb + 1;
+}
+
 int kin__lu_pinv_correction(kin_assembly *a, const double *e, double *d)
 {
     if (!kin__lu_current(a)) return KIN_ESTATE;
@@ -337,6 +343,20 @@ static int factor_point(kin_assembly *a, const double *xyz, const double *border
         *regular = 1;
     }
     return KIN_OK;
+}
+
+int kin__lu_refactor(kin_assembly *a, const double *border, int *regular)
+{
+    *regular = 0;
+    if (!a->have_t || a->t_chosen) return KIN_OK;
+    /* warm starts: the slot's last vectors (a nearby point's), copied out
+     * of the slot factor_point writes */
+    const kin_lufactor *P = &a->lu[a->lu_cur];
+    memcpy(a->luw2, P->vr_vec, sizeof(double) * (size_t)a->nf);
+    memcpy(a->y, P->vmax_vec, sizeof(double) * (size_t)a->nf);
+    int rc = factor_point(a, a->xyz, border, a->lu_cur, a->luw2, a->y, regular);
+    if (rc == KIN_OK && !*regular) a->lu[a->lu_cur].valid = 0;
+    return rc;
 }
 
 int kin__lu_new_point(kin_assembly *a, const double *xyz, int *regular)
