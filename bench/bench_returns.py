@@ -64,6 +64,20 @@ def main() -> None:
         t0 = time.process_time()
         tasks.follow_branch({**base, "direction": lines[0].tolist(), "branches": ref, "own": 0, "max_steps": 1})
         first = time.process_time() - t0
+        from libkin.assembly import BranchLines
+        from libkin.shared import resolve
+        held = resolve(ref, BranchLines)  # the worker's checked lines: count and time the calls at returns
+        calls = [0, 0.0]
+        nearest = held.nearest
+
+        def counted(t):
+            c0 = time.process_time()
+            out = nearest(t)
+            calls[0] += 1
+            calls[1] += time.process_time() - c0
+            return out
+        held.nearest = counted
+        kind = []
         for k, (i, sg) in enumerate(zip(picks, signs)):
             d = (sg * lines[i]).tolist()
             res = {}
@@ -80,12 +94,21 @@ def main() -> None:
             if not ok:
                 differ.append((int(i), int(sg), x["event"], y["event"]))
             events[(res["own"]["event"], y["event"])] = events.get((res["own"]["event"], y["event"]), 0) + 1
+            kind.append(f'{res["own"]["event"]} -> {y["event"]}')
     print(f"first shared task (lines checked, unit rows made): {1e3 * first:.1f} ms")
     print("| mode | mean CPU ms / task | median | vs own |")
     print("| --- | --- | --- | --- |")
     m0 = np.mean(cpu["own"])
     for mode, v in cpu.items():
         print(f"| {mode} | {1e3 * np.mean(v):.2f} | {1e3 * np.median(v):.2f} | {np.mean(v) / m0:.3f} |")
+    print(f"return_fn calls: {calls[0]} ({calls[0] / args.tasks:.2f} a task), "
+          f"{1e3 * calls[1] / max(calls[0], 1):.2f} ms CPU each, {1e3 * calls[1] / args.tasks:.3f} ms a task")
+    print("| own only -> all lines | tasks | own | array | shared (mean CPU ms) |")
+    print("| --- | --- | --- | --- | --- |")
+    for k in sorted(set(kind)):
+        sel = [i for i, x in enumerate(kind) if x == k]
+        print(f"| {k} | {len(sel)} | " + " | ".join(f"{1e3 * np.mean([cpu[m][i] for i in sel]):.2f}"
+                                                     for m in ("own", "array", "shared")) + " |")
     print(f"array and shared: the same event and end point on {same} of {args.tasks} tasks {differ[:5]}")
     print("events (own only -> all lines):", {f"{a} -> {b}": n for (a, b), n in sorted(events.items())})
 

@@ -20,6 +20,7 @@ from libkin.errors import InvalidArgumentError
 from libkin.parallel import ProcessPool, run_tasks
 
 EPS = np.finfo(float).eps
+LOOP_TOL = 0.05
 
 
 def _sum_of(ref):
@@ -106,19 +107,66 @@ def test_branch_lines_nearest_as_c():
             BranchLines(bad)
 
 
-def test_follow_event_with_branch_lines_checks_its_input():
-    a = libkin.Assembly.threebar("RC")
+@pytest.fixture(scope="module")
+def sail4():
+    """The flat state of sail:4:1 and its directed branches (with loop_tol LOOP_TOL, 9 of the 32
+    come back to it by the follower's loop test)."""
+    from libkin.atlas import explorer
+    a = libkin.Assembly.sail(4, 1)
+    ex = explorer._Explorer(a, False, None, None, 20.0, 1, 1, None, 2000, 0, None, True, False)
     an = a.analyse()
-    U = an.internal_mechanisms
-    d = U[:, 0]
-    lines = BranchLines(np.array([d, U[:, 1]]))
-    for bad in ({"own_branch": 2}, {"own_branch": -1}, {"own_branch": 1.0}, {"own_branch": None},
-                {"own_branch": 1}):  # 1: d is not along line 1
+    ex.add_node(a.coords, "bifurcation", {"m": an.m_internal, "m_rigid": an.m_rigid, "s": an.s, "v_r_rel": 0.0}, 0)
+    br, _ = ex.branches(ex.nodes[0])
+    return a, br, np.array([d for _, sg, _, d in br if sg == 1])
+
+
+def test_follow_event_with_branch_lines_decides_as_c(sail4):
+    a, br, L = sail4
+    lines, back = BranchLines(L), 0
+    for i, sg, _, d in br:
+        x, y = a.clone(), a.clone()
+        ex = x.follow_event(d, max_length=20.0, loop_tol=LOOP_TOL, branches=L)
+        ey = y.follow_event(d, max_length=20.0, loop_tol=LOOP_TOL, branches=lines, own_branch=i)
+        assert (ex.event, ex.steps, ex.at_start, ex.return_branch) == (ey.event, ey.steps, ey.at_start, ey.return_branch)
+        assert np.array_equal(x.coords, y.coords) and abs(ex.return_gap - ey.return_gap) <= 1e3 * EPS
+        back += ex.return_branch >= 0
+    assert back >= 1  # returns to the start were decided
+
+
+class _Raises(BranchLines):
+    def nearest(self, t):
+        raise RuntimeError("lines gone")
+
+
+class _Stops(BranchLines):
+    def nearest(self, t):
+        return -3, 0.0, 1.0
+
+
+class _Nonsense(BranchLines):
+    def nearest(self, t):
+        return 0, float("nan"), 1.0
+
+
+def test_follow_event_with_branch_lines_checks_its_input(sail4):
+    a, br, L = sail4
+    i, _, _, d = br[0]
+    lines = BranchLines(L)
+    for bad in ({"own_branch": len(L)}, {"own_branch": -1}, {"own_branch": 1.0}, {"own_branch": None},
+                {"own_branch": i + 1}):  # i + 1: d is not along that line
         with pytest.raises(InvalidArgumentError):
             a.clone().follow_event(d, branches=lines, **bad)
     with pytest.raises(InvalidArgumentError):
-        a.clone().follow_event(d, branches=np.array([d]), own_branch=0)  # own_branch only with BranchLines
+        a.clone().follow_event(d, branches=L, own_branch=i)  # own_branch only with BranchLines
     with pytest.raises(InvalidArgumentError):
         a.clone().follow_event(d, branches=BranchLines(np.ones((2, a.nfree + 1))), own_branch=0)
-    ev = a.clone().follow_event(d, branches=lines, own_branch=0)
-    assert ev.event in ("bifurcation", "closed-loop", "near-miss", "length-limit", "step-limit")
+    # a return decided by a hook that fails: its exception, a stop, nonsense refused
+    k = next(k for k, (i, _, _, d) in enumerate(br)
+             if a.clone().follow_event(d, max_length=20.0, loop_tol=LOOP_TOL, branches=L).return_branch >= 0)
+    i, _, _, d = br[k]
+    with pytest.raises(RuntimeError, match="lines gone"):
+        a.clone().follow_event(d, max_length=20.0, loop_tol=LOOP_TOL, branches=_Raises(L), own_branch=i)
+    with pytest.raises(libkin.errors.CancelledError):
+        a.clone().follow_event(d, max_length=20.0, loop_tol=LOOP_TOL, branches=_Stops(L), own_branch=i)
+    ev = a.clone().follow_event(d, max_length=20.0, loop_tol=LOOP_TOL, branches=_Nonsense(L), own_branch=i)
+    assert ev.event == "failed" and ev.status == "KIN_EINVAL"
