@@ -16,10 +16,10 @@ content: the store's keys are the same in every run) and the index of its
 own line. In the worker the lines are checked once (BranchLines) and the
 follower asks them for the nearest line at each return
 (kin_follow_options.return_fn): every return is decided as with all lines,
-in the one follow. Passing the array itself to C in every task cost 15.9
-ms a task against 10.0 with the own line alone (C checks every number and
-searches the own line in each call); the shared lines cost only at returns
-(docs/atlas.md "Branch directions at scale").
+in the one follow. Passing the array itself to C in every task cost 16.2
+ms a task against 7.2 with the own line alone (C checks every number and
+searches the own line in each call); shared, 8.5 (bench/bench_returns.py):
+the lines cost only at returns (0.8 ms each, 0.5 a task).
 
 Where the executor cannot be given the lines (another kind of executor, a
 folder not writable) the old passes remain, with subsets S of the lines
@@ -43,8 +43,9 @@ return along another branch finds that branch among them and goes on, as
 with all lines. A loop still not certain is followed again with every line
 within 2 b + margin of dir, until certain (at worst with all of them). The
 subsets go as NumPy arrays (the store hashes them by content). Following
-those returns twice cost 220 s of CPU of 870 in the last full atlas of the
-flat state (11,196 tasks again); the shared lines remove that pass.
+the returns twice cost the full atlas of the flat state 835 s of CPU (187 s
+of first-pass tasks stopped at a return, 210 s the 11,196 tasks again);
+with the lines shared, 600 s and the same atlas (docs/atlas.md).
 """
 from __future__ import annotations
 
