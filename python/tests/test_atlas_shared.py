@@ -49,3 +49,13 @@ def test_resume_across_the_temporary_path(many, tmp_path):
     assert first.stats["store"]["recorded"] >= len(first.edges)
     assert again.stats["store"]["recorded"] == 0 and again.stats["store"]["reused"] == first.stats["store"]["recorded"]
     assert again.same_as(first, tol=0.0)
+
+
+def test_dask_broadcast_with_a_store(many, tmp_path):
+    """On Dask the lines go once to every worker (a broadcast), the tasks stream through the store."""
+    distributed = pytest.importorskip("distributed")
+    here = libkin.explore(MODEL, **SETTINGS)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        on_dask = libkin.explore(MODEL, executor=client, store=tmp_path / "run.sqlite", **SETTINGS)
+    assert on_dask.stats["returns_decided_again"] == {} and on_dask.same_as(here, tol=0.0)
