@@ -138,8 +138,8 @@ typedef struct kin_follow_info {
     int handovers;       /* times the cheap steps handed over to the SVD locator */
     int samples;         /* kin_follow_event_ex: configurations written to its buffer */
     int return_branch;   /* kin_follow_event_ex with branch directions, at a return to the
-                            start: the index of the branch it came back along (nearest),
-                            else -1 */
+                            start: the index of the branch it came back along (nearest;
+                            with return_fn, in the caller's numbering), else -1 */
     double return_angle; /* that return: angle (radians) between the return direction and
                             that branch; the next nearest branch is return_gap farther */
     double return_gap;
