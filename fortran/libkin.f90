@@ -123,6 +123,9 @@ module libkin
     real(c_double) :: max_length = 0, loop_tol = 0, first_step = 0, branch_cos = 0
     integer(c_int) :: steps_mode = 0
     real(c_double) :: branch_margin = 0
+    type(c_funptr) :: return_fn = c_null_funptr
+    type(c_ptr) :: return_user = c_null_ptr
+    integer(c_int) :: return_own = 0
   end type
 
   type, bind(C), public :: kin_follow_info

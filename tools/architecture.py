@@ -40,7 +40,8 @@ C_LAYERS = [
 # the libkin package: a module may import from its own layer or below, never
 # above, and no two modules may import each other, even through others.
 PY_LAYERS = [
-    ["_native", "errors", "_compat", "parallel", "atomic", "_bounded"],  # cffi, exceptions, executors, writes, reads
+    ["_native", "errors", "_compat", "parallel", "shared", "atomic", "_bounded"],  # cffi, exceptions, executors,
+    # arrays shared with the workers, writes, reads
     ["assembly"],                                   # Assembly: analysis, paths, location, branches
     ["io", "homotopy", "symmetry", "plot", "cliargs"],
     ["atlas"],                                      # libkin.explore

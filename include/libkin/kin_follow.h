@@ -47,6 +47,16 @@ enum kin_follow_event {
                                     there; kin_last_contact names the parts */
 };
 
+/* kin_follow_options.return_fn: the start's branch lines held by the caller
+ * (kin_follow_event_ex). Called at each return to the start with t, the
+ * direction (nfree entries, not normalised) the path comes back along. It
+ * returns the index (>= 0) of the caller's line nearest the line of t, and
+ * sets *angle to the angle (radians, in [0, pi/2]) between the two lines and
+ * *gap (>= 0; INFINITY with one line) to how much farther the next nearest
+ * line is: what the follower computes itself from `branches`. A negative
+ * return stops the follow (event FAILED, KIN_ECANCELLED). */
+typedef int (*kin_follow_return_fn)(void *user, const double *t, int nfree, double *angle, double *gap);
+
 /* Settings. Start from kin_follow_options_default() and change what you need. */
 typedef struct kin_follow_options {
     size_t size;        /* sizeof(kin_follow_options) as the caller compiled it (docs/abi.md) */
@@ -75,6 +85,15 @@ typedef struct kin_follow_options {
                            nearer its own departure branch than any other branch by this
                            angle (radians); else it is located like a bifurcation.
                            Default 0.05 */
+    /* layout 3 (docs/abi.md): a host compiled without these fields gets their defaults */
+    kin_follow_return_fn return_fn; /* at a bifurcation, instead of kin_follow_event_ex's
+                           `branches` (give one or the other): the caller finds the
+                           branch nearest a return's direction among its lines (many
+                           lines checked once by the caller, not at every call).
+                           Default NULL (none) */
+    void *return_user;  /* passed to return_fn unchanged. Default NULL */
+    int return_own;     /* with return_fn: the index (>= 0) of dir's own branch among the
+                           caller's lines (the one nearest dir). Default -1 */
 } kin_follow_options;
 
 /* How kin_follow_event steps between events (kin_follow_options.steps_mode). */
@@ -119,8 +138,8 @@ typedef struct kin_follow_info {
     int handovers;       /* times the cheap steps handed over to the SVD locator */
     int samples;         /* kin_follow_event_ex: configurations written to its buffer */
     int return_branch;   /* kin_follow_event_ex with branch directions, at a return to the
-                            start: the index of the branch it came back along (nearest),
-                            else -1 */
+                            start: the index of the branch it came back along (nearest;
+                            with return_fn, in the caller's numbering), else -1 */
     double return_angle; /* that return: angle (radians) between the return direction and
                             that branch; the next nearest branch is return_gap farther */
     double return_gap;
@@ -178,8 +197,9 @@ KIN_API int kin_follow_event(kin_assembly *a, const double *dir, const kin_follo
  *        direction nearer that branch than any other by branch_margin);
  *        along any other branch, or too close to call, following goes on and
  *        the start is located like any bifurcation (info->at_start).
- *        Without them a return with a tangent parallel to the start's
- *        (|cos| >= 0.9) is a loop. Ignored at a regular start.
+ *        Without them (nor o->return_fn, which gives the same decision from
+ *        the caller's lines) a return with a tangent parallel to the
+ *        start's (|cos| >= 0.9) is a loop. Ignored at a regular start.
  *  samples, sample_length, capacity, *nsamples  a buffer for up to
  *        capacity configurations along the path (njoints*dim coordinates
  *        each, samples + k*njoints*dim) and their path lengths: the points
@@ -189,7 +209,11 @@ KIN_API int kin_follow_event(kin_assembly *a, const double *dir, const kin_follo
  *        and the start are not included). *nsamples receives the count (also
  *        info->samples). Any of samples / sample_length may be NULL.
  * Returns as kin_follow_event; KIN_EINVAL also for nbranch < 0, branches
- * not finite, capacity < 0, or capacity > 0 without nsamples. */
+ * not finite, branches with o->return_fn, o->return_fn without
+ * o->return_own >= 0, capacity < 0, or capacity > 0 without nsamples;
+ * after following started, a return_fn that returns < 0 gives event FAILED
+ * with KIN_ECANCELLED, one that gives an angle outside [0, pi/2] or a
+ * negative or NaN gap event FAILED with KIN_EINVAL. */
 KIN_API int kin_follow_event_ex(kin_assembly *a, const double *dir, const kin_follow_options *o,
                                 const double *branches, int nbranch, double *samples, double *sample_length,
                                 int capacity, int *nsamples, kin_follow_info *info);

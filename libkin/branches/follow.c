@@ -97,6 +97,9 @@ static const kin_follow_options DEFAULTS = {
     .branch_cos = 0.99,
     .steps_mode = KIN_FOLLOW_STEPS_CHEAP,
     .branch_margin = 0.05,
+    .return_fn = NULL,
+    .return_user = NULL,
+    .return_own = -1,
 };
 
 int kin_follow_options_init(kin_follow_options *o, size_t size)
@@ -150,7 +153,8 @@ typedef struct follow_ctx {
     int left;         /* has been 2 loop_tol away from the start */
     int reason;       /* KIN_FOLLOW_CLOSED_LOOP / _LENGTH_LIMIT when the hook stopped */
     int at_bif;       /* the start is a bifurcation */
-    int own;          /* index of dir's own branch among x->branches, or -1 */
+    int own;          /* index of dir's own branch among x->branches (or o->return_fn's lines), or -1 */
+    int hook_rc;      /* o->return_fn failed: the call's status (event FAILED) */
     /* SAMPLES: the current point's index along the path (steps from the
      * start), the points recorded, every stride-th index */
     int p, nrec, stride;
@@ -279,13 +283,14 @@ static int deliver_samples(const follow_ctx *c)
 
 /* A return to the start (the last chord passes within loop_tol of it): is
  * it a closed loop? Without branch directions: the tangent parallel to the
- * start's. With them: the direction the path comes back along, measured at
- * the point of the path nearest the start (a step back from the chord's
- * end, on a copy), is nearest dir's own branch by branch_margin. */
+ * start's. With them (or the caller's o->return_fn): the direction the path
+ * comes back along, measured at the point of the path nearest the start (a
+ * step back from the chord's end, on a copy), is nearest dir's own branch
+ * by branch_margin. -1: return_fn failed (c->hook_rc). */
 static int is_loop(follow_ctx *c, const kin_assembly *a, double s)
 {
     int nf = a->nf;
-    if (!c->at_bif || c->x->nbranch <= 0 || c->own < 0)
+    if (!c->at_bif || c->own < 0)
         return fabs(kin__dot(nf, a->t, c->ts)) >= LOOP_TANGENT_COS;
     const double *t = a->t;
     kin_assembly *b = c->probe; /* made at the start of the call */
@@ -298,7 +303,21 @@ static int is_loop(follow_ctx *c, const kin_assembly *a, double s)
         if (kin_step(b, -back, &si) == KIN_OK && si.m_internal == 1) t = b->t;
     }
     double ang = 0.0, gap = 0.0;
-    int j = nearest_branch(c, t, &ang, &gap);
+    int j;
+    if (c->o->return_fn) {
+        ang = gap = NAN;
+        j = c->o->return_fn(c->o->return_user, t, nf, &ang, &gap);
+        if (j < 0) {
+            c->hook_rc = kin__fail(c->a, KIN_ECANCELLED, "follow: return_fn stopped the follow (returned %d)", j);
+            return -1;
+        }
+        if (!(ang >= 0.0 && ang <= HALF_PI * (1.0 + 1e-12)) || !(gap >= 0.0)) {
+            c->hook_rc = kin__fail(c->a, KIN_EINVAL, "follow: return_fn gave angle %g, gap %g", ang, gap);
+            return -1;
+        }
+    } else {
+        j = nearest_branch(c, t, &ang, &gap);
+    }
     c->info->return_branch = j;
     c->info->return_angle = ang;
     c->info->return_gap = gap;
@@ -334,8 +353,9 @@ static int after_step(void *user, const kin_assembly *a)
     double tol = c->o->loop_tol * c->scale, s = 0.0;
     int stop = 0, was_away = c->left; /* away from the start before this chord */
     if (distance(nf, c->xq, c->xs) > 2.0 * tol) c->left = 1;
-    if (was_away && segment_distance(nf, c->xp, c->xq, c->xs, &s) <= tol && is_loop(c, a, s)) {
-        c->reason = KIN_FOLLOW_CLOSED_LOOP;
+    int loop = was_away && segment_distance(nf, c->xp, c->xq, c->xs, &s) <= tol ? is_loop(c, a, s) : 0;
+    if (loop) {
+        c->reason = loop < 0 ? KIN_FOLLOW_FAILED : KIN_FOLLOW_CLOSED_LOOP;
         stop = 1;
     } else if (c->o->max_length > 0.0 && c->length >= c->o->max_length) {
         c->reason = KIN_FOLLOW_LENGTH_LIMIT;
@@ -657,7 +677,7 @@ static int options_ok(const kin_follow_options *o)
            o->max_iter >= 1 && o->max_length >= 0.0 && isfinite(o->max_length) && o->loop_tol > 0.0 &&
            isfinite(o->loop_tol) && o->first_step > 0.0 && o->first_step <= 1.0 && o->branch_cos >= 0.0 &&
            o->branch_cos <= 1.0 && (o->steps_mode == KIN_FOLLOW_STEPS_CHEAP || o->steps_mode == KIN_FOLLOW_STEPS_SVD) &&
-           o->branch_margin >= 0.0 && o->branch_margin <= HALF_PI;
+           o->branch_margin >= 0.0 && o->branch_margin <= HALF_PI && (!o->return_fn || o->return_own >= 0);
 }
 
 /* number of location attempts: vr_tol, then relaxed tenfold up to vr_floor */
@@ -716,9 +736,9 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
     c.blk = c.scr + 2 * nc;
     c.kept[0].border = c.blk + 2 * (size_t)SLOPE_BLOCK * nf;
     c.kept[1].border = c.kept[0].border + nf;
-    if (at_bif && x->nbranch > 0) {
+    if (at_bif && (x->nbranch > 0 || o->return_fn)) {
         double ang = 0.0, gap = 0.0;
-        c.own = nearest_branch(&c, dir, &ang, &gap);
+        c.own = o->return_fn ? o->return_own : nearest_branch(&c, dir, &ang, &gap);
         if (kin_assembly_clone(a, &c.probe)) {
             free(c.xs);
             return kin__fail(a, KIN_ENOMEM, "follow: a copy for the return direction");
@@ -921,6 +941,10 @@ out:
      * once, with the handle's own options */
     if (rc == KIN_OK && info->event == KIN_FOLLOW_CONTACT && (rc = kin__contact_event_locate(a)) != KIN_OK)
         info->event = KIN_FOLLOW_FAILED;
+    if (c.hook_rc) { /* return_fn failed: the follow stopped there */
+        rc = c.hook_rc;
+        info->event = KIN_FOLLOW_FAILED;
+    }
     info->status = rc;
     /* a contact located within the last step: the length to it */
     info->length = c.length - (rc == KIN_OK && info->event == KIN_FOLLOW_CONTACT ? kin__contact_event_back(a) : 0.0);
@@ -955,6 +979,10 @@ int kin_follow_event_ex(kin_assembly *a, const double *dir, const kin_follow_opt
     if (nbranch < 0 || (nbranch > 0 && !branches) || capacity < 0 || (capacity > 0 && !nsamples)) {
         if (info) kin__abi_zero(info);
         return kin__fail(a, KIN_EINVAL, "follow: nbranch %d, capacity %d (or a NULL buffer)", nbranch, capacity);
+    }
+    if (nbranch > 0 && o.return_fn) {
+        if (info) kin__abi_zero(info);
+        return kin__fail(a, KIN_EINVAL, "follow: branch directions given both as branches and by return_fn");
     }
     for (long i = 0; i < (long)nbranch * a->nf; ++i)
         if (!isfinite(branches[i])) {

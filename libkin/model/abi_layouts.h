@@ -64,6 +64,22 @@ struct kin__kin_follow_options_1 {
     double first_step;
     double branch_cos;
 };
+/* kin_follow_options as a host compiled against layout 2 has it */
+struct kin__kin_follow_options_2 {
+    size_t size;
+    double vr_tol;
+    double vr_floor;
+    double switch_eps;
+    double delta;
+    int max_steps;
+    int max_iter;
+    double max_length;
+    double loop_tol;
+    double first_step;
+    double branch_cos;
+    int steps_mode;
+    double branch_margin;
+};
 /* kin_follow_info as a host compiled against layout 1 has it */
 struct kin__kin_follow_info_1 {
     size_t size;
@@ -116,7 +132,7 @@ enum kin__abi_id {
     KIN__ABI_ID_kin_follow_info,
     KIN__ABI_NTYPES
 };
-#define KIN__ABI_MAX_LAYOUTS 2
+#define KIN__ABI_MAX_LAYOUTS 3
 
 /* {name, layouts, {sizeof each layout}, {where its fields end}}, oldest first;
  * the last layout is the struct of today's header */
@@ -132,7 +148,7 @@ enum kin__abi_id {
     {"kin_branch_path", 1, {sizeof(kin_branch_path)}, {sizeof(kin_branch_path)}}, \
     {"kin_locate_options", 1, {sizeof(kin_locate_options)}, {sizeof(kin_locate_options)}}, \
     {"kin_locate_info", 1, {sizeof(kin_locate_info)}, {sizeof(kin_locate_info)}}, \
-    {"kin_follow_options", 2, {sizeof(struct kin__kin_follow_options_1), sizeof(kin_follow_options)}, {offsetof(struct kin__kin_follow_options_1, branch_cos) + sizeof(((struct kin__kin_follow_options_1 *)0)->branch_cos), sizeof(kin_follow_options)}}, \
+    {"kin_follow_options", 3, {sizeof(struct kin__kin_follow_options_1), sizeof(struct kin__kin_follow_options_2), sizeof(kin_follow_options)}, {offsetof(struct kin__kin_follow_options_1, branch_cos) + sizeof(((struct kin__kin_follow_options_1 *)0)->branch_cos), offsetof(struct kin__kin_follow_options_2, branch_margin) + sizeof(((struct kin__kin_follow_options_2 *)0)->branch_margin), sizeof(kin_follow_options)}}, \
     {"kin_follow_info", 2, {sizeof(struct kin__kin_follow_info_1), sizeof(kin_follow_info)}, {offsetof(struct kin__kin_follow_info_1, tangent_cos) + sizeof(((struct kin__kin_follow_info_1 *)0)->tangent_cos), sizeof(kin_follow_info)}}
 
 /* compile-time checks (C99: a negative array size is an error). Each older
@@ -177,18 +193,32 @@ typedef char kin__abi_prefix_kin_homotopy_info_1_steps[offsetof(struct kin__kin_
 typedef char kin__abi_prefix_kin_homotopy_info_1_rejected[offsetof(struct kin__kin_homotopy_info_1, rejected) == offsetof(kin_homotopy_info, rejected) ? 1 : -1];
 typedef char kin__abi_prefix_kin_homotopy_info_1_max_residual[offsetof(struct kin__kin_homotopy_info_1, max_residual) == offsetof(kin_homotopy_info, max_residual) ? 1 : -1];
 typedef char kin__abi_prefix_kin_homotopy_info_1_max_cond[offsetof(struct kin__kin_homotopy_info_1, max_cond) == offsetof(kin_homotopy_info, max_cond) ? 1 : -1];
-typedef char kin__abi_grows_kin_follow_options_1[sizeof(struct kin__kin_follow_options_1) < sizeof(kin_follow_options) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_1_size[offsetof(struct kin__kin_follow_options_1, size) == offsetof(kin_follow_options, size) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_1_vr_tol[offsetof(struct kin__kin_follow_options_1, vr_tol) == offsetof(kin_follow_options, vr_tol) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_1_vr_floor[offsetof(struct kin__kin_follow_options_1, vr_floor) == offsetof(kin_follow_options, vr_floor) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_1_switch_eps[offsetof(struct kin__kin_follow_options_1, switch_eps) == offsetof(kin_follow_options, switch_eps) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_1_delta[offsetof(struct kin__kin_follow_options_1, delta) == offsetof(kin_follow_options, delta) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_1_max_steps[offsetof(struct kin__kin_follow_options_1, max_steps) == offsetof(kin_follow_options, max_steps) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_1_max_iter[offsetof(struct kin__kin_follow_options_1, max_iter) == offsetof(kin_follow_options, max_iter) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_1_max_length[offsetof(struct kin__kin_follow_options_1, max_length) == offsetof(kin_follow_options, max_length) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_1_loop_tol[offsetof(struct kin__kin_follow_options_1, loop_tol) == offsetof(kin_follow_options, loop_tol) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_1_first_step[offsetof(struct kin__kin_follow_options_1, first_step) == offsetof(kin_follow_options, first_step) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_1_branch_cos[offsetof(struct kin__kin_follow_options_1, branch_cos) == offsetof(kin_follow_options, branch_cos) ? 1 : -1];
+typedef char kin__abi_grows_kin_follow_options_1[sizeof(struct kin__kin_follow_options_1) < sizeof(struct kin__kin_follow_options_2) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_size[offsetof(struct kin__kin_follow_options_1, size) == offsetof(struct kin__kin_follow_options_2, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_vr_tol[offsetof(struct kin__kin_follow_options_1, vr_tol) == offsetof(struct kin__kin_follow_options_2, vr_tol) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_vr_floor[offsetof(struct kin__kin_follow_options_1, vr_floor) == offsetof(struct kin__kin_follow_options_2, vr_floor) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_switch_eps[offsetof(struct kin__kin_follow_options_1, switch_eps) == offsetof(struct kin__kin_follow_options_2, switch_eps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_delta[offsetof(struct kin__kin_follow_options_1, delta) == offsetof(struct kin__kin_follow_options_2, delta) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_max_steps[offsetof(struct kin__kin_follow_options_1, max_steps) == offsetof(struct kin__kin_follow_options_2, max_steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_max_iter[offsetof(struct kin__kin_follow_options_1, max_iter) == offsetof(struct kin__kin_follow_options_2, max_iter) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_max_length[offsetof(struct kin__kin_follow_options_1, max_length) == offsetof(struct kin__kin_follow_options_2, max_length) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_loop_tol[offsetof(struct kin__kin_follow_options_1, loop_tol) == offsetof(struct kin__kin_follow_options_2, loop_tol) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_first_step[offsetof(struct kin__kin_follow_options_1, first_step) == offsetof(struct kin__kin_follow_options_2, first_step) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_1_branch_cos[offsetof(struct kin__kin_follow_options_1, branch_cos) == offsetof(struct kin__kin_follow_options_2, branch_cos) ? 1 : -1];
+typedef char kin__abi_grows_kin_follow_options_2[sizeof(struct kin__kin_follow_options_2) < sizeof(kin_follow_options) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_size[offsetof(struct kin__kin_follow_options_2, size) == offsetof(kin_follow_options, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_vr_tol[offsetof(struct kin__kin_follow_options_2, vr_tol) == offsetof(kin_follow_options, vr_tol) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_vr_floor[offsetof(struct kin__kin_follow_options_2, vr_floor) == offsetof(kin_follow_options, vr_floor) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_switch_eps[offsetof(struct kin__kin_follow_options_2, switch_eps) == offsetof(kin_follow_options, switch_eps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_delta[offsetof(struct kin__kin_follow_options_2, delta) == offsetof(kin_follow_options, delta) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_max_steps[offsetof(struct kin__kin_follow_options_2, max_steps) == offsetof(kin_follow_options, max_steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_max_iter[offsetof(struct kin__kin_follow_options_2, max_iter) == offsetof(kin_follow_options, max_iter) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_max_length[offsetof(struct kin__kin_follow_options_2, max_length) == offsetof(kin_follow_options, max_length) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_loop_tol[offsetof(struct kin__kin_follow_options_2, loop_tol) == offsetof(kin_follow_options, loop_tol) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_first_step[offsetof(struct kin__kin_follow_options_2, first_step) == offsetof(kin_follow_options, first_step) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_branch_cos[offsetof(struct kin__kin_follow_options_2, branch_cos) == offsetof(kin_follow_options, branch_cos) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_steps_mode[offsetof(struct kin__kin_follow_options_2, steps_mode) == offsetof(kin_follow_options, steps_mode) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_branch_margin[offsetof(struct kin__kin_follow_options_2, branch_margin) == offsetof(kin_follow_options, branch_margin) ? 1 : -1];
 typedef char kin__abi_grows_kin_follow_info_1[sizeof(struct kin__kin_follow_info_1) < sizeof(kin_follow_info) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_info_1_size[offsetof(struct kin__kin_follow_info_1, size) == offsetof(kin_follow_info, size) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_info_1_event[offsetof(struct kin__kin_follow_info_1, event) == offsetof(kin_follow_info, event) ? 1 : -1];

@@ -3,9 +3,11 @@ start, at any size (atlas/directions.py), on the hexagonal sail's flat
 state (29,828 branch lines x 46 coordinates: too many to send whole with
 each task): a sample of its directed branches that come back to the start
 gets from directions.follow exactly what following with all 29,828 lines
-gives; the returns along another branch are located as bifurcations at the
-start and only the returns along the own branch are loops; the same on a
-process pool and a Dask cluster, and the subset tasks resume from a store."""
+gives, with the lines shared once (libkin.shared, each branch followed
+once) and with the old passes (subsets, where the lines cannot be shared);
+the returns along another branch are located as bifurcations at the start
+and only the returns along the own branch are loops; the same on a process
+pool and a Dask cluster, and the tasks resume from a store."""
 import numpy as np
 import pytest
 
@@ -13,6 +15,7 @@ import libkin
 from libkin.atlas import directions, explorer, tasks
 from libkin.atlas.store import Store
 from libkin.parallel import run_tasks
+from libkin.shared import Sharing
 
 SCAN = 240      # branches scanned (in a fixed spread over the start's) for returns to the start
 RETURNS = 8     # of which this many returns are kept, with NON_RETURNS others
@@ -60,7 +63,29 @@ def _same(r, s):
     return all(r[k] == s[k] for k in KEYS)
 
 
-def test_subsets_decide_as_all_directions(flat):
+@pytest.fixture
+def unshared(monkeypatch):
+    monkeypatch.setattr(Sharing, "share", lambda self, array: None)  # workers that cannot get the lines
+
+
+def test_shared_lines_decide_as_all_directions_in_one_follow(flat):
+    work, lines, item = flat["work"], flat["lines"], flat["item"]
+    sample = [work[k] for k in flat["sample"]]
+    record, sent = {}, []
+
+    def run(items):
+        sent.extend(items)
+        return _serial(items)
+    got = directions.follow(sample, work, item, run, record)
+    assert record == {} and len(sent) == len(sample)  # each branch followed once
+    assert all(it["own"] == sol and it["branches"].shape == lines.shape for it, (_, sol, *_) in zip(sent, sample))
+    for (nid, sol, sg, _, d), res in zip(sample, got):
+        whole = tasks.follow_branch({**item(nid, d), "branches": lines})
+        assert _same(res, whole), (sol, sg, res["event"], whole["event"])
+    assert sum(r["event"] == tasks.LOOP for r in got) >= 1 and sum(r["at_start"] for r in got) >= 2
+
+
+def test_subsets_decide_as_all_directions(flat, unshared):
     work, lines, item = flat["work"], flat["lines"], flat["item"]
     sample = [work[k] for k in flat["sample"]]
     record = {}
@@ -89,11 +114,15 @@ def test_subsets_decide_as_all_directions(flat):
     assert record.get("tasks", 0) >= 1 and record["lines_max"] < len(lines)  # subsets, never the whole set
 
 
-def test_executors_and_resume(flat, tmp_path):
-    """The subsets ship as arrays: the same results on a process pool and a
-    Dask cluster; with a store, a second run takes every task (the first
-    pass and the decided-again ones) from it."""
+@pytest.mark.parametrize("share", [True, False])
+def test_executors_and_resume(flat, tmp_path, monkeypatch, share):
+    """The lines shared with a process pool (a file) and a Dask cluster (a
+    broadcast), or the subsets shipped as arrays: the same results; with a
+    store, a second run (its lines in another temporary file) takes every
+    task (the first pass and any decided-again ones) from it."""
     from concurrent.futures import ProcessPoolExecutor
+    if not share:
+        monkeypatch.setattr(Sharing, "share", lambda self, array: None)
     work, item = flat["work"], flat["item"]
     sample = [work[k] for k in flat["sample"][:4]]
     ref = directions.follow(sample, work, item, _serial)
@@ -103,15 +132,16 @@ def test_executors_and_resume(flat, tmp_path):
             with Store(path, "fingerprint", resume=resume) as store:
                 got = directions.follow(sample, work, item,
                                         lambda items: store.run_tasks(tasks.follow_branch, items, ex, None,
-                                                                      "branches", None))
+                                                                      "branches", None), None, ex)
                 assert all(_same(r, s) for r, s in zip(ref, got))
                 if resume:
                     assert store.recorded == 0 and store.reused == recorded
                 else:
                     recorded = store.recorded
-                    assert recorded > len(sample)  # the returns ran twice
+                    assert recorded == len(sample) if share else recorded > len(sample)  # returns ran twice
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as client:
-        got = directions.follow(sample, work, item, lambda items: run_tasks(tasks.follow_branch, items, client))
+        got = directions.follow(sample, work, item, lambda items: run_tasks(tasks.follow_branch, items, client),
+                                None, client)
     assert all(_same(r, s) for r, s in zip(ref, got))

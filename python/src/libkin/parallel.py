@@ -192,7 +192,7 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
     expired = False
 
     def submit(k: int) -> None:
-        f = executor.submit(fn, items[k], pure=False) if dask else executor.submit(fn, items[k])
+        f = executor.submit(fn, for_dask(items[k]), pure=False) if dask else executor.submit(fn, items[k])
         inflight[f] = k
 
     while nxt < n or inflight:
@@ -248,6 +248,15 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
     return out
 
 
+def for_dask(item: Any) -> Any:
+    """A task item as a Dask task takes it: in a dict item, each value
+    with a dask_arg() method (libkin.shared.Ref) replaced by what it gives
+    (a dict holding a future Dask resolves in the worker)."""
+    if isinstance(item, dict) and any(hasattr(v, "dask_arg") for v in item.values()):
+        return {k: v.dask_arg() if hasattr(v, "dask_arg") else v for k, v in item.items()}
+    return item
+
+
 def run_chunk(fn: Callable[[Any], Any], items: Sequence[Any]) -> List[Any]:
     """[fn(item) for item in items]: one Dask task for several items."""
     return [fn(it) for it in items]
@@ -282,7 +291,7 @@ def stream_dask(fn: Callable[[Any], Any], items: Sequence[Any], client: Any, rec
             return out
         stopping = stopping or (stop is not None and stop())
         while not stopping and nxt < n and len(pending) < window:
-            f = client.submit(run_chunk, fn, items[nxt:nxt + chunk], pure=False)
+            f = client.submit(run_chunk, fn, [for_dask(it) for it in items[nxt:nxt + chunk]], pure=False)
             pending[f.key] = (f, nxt)
             nxt += chunk
         if not pending:

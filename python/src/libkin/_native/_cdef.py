@@ -325,6 +325,7 @@ enum kin_follow_event {
     KIN_FOLLOW_FAILED = 6,
     KIN_FOLLOW_CONTACT = 7
 };
+typedef int (*kin_follow_return_fn)(void *user, const double *t, int nfree, double *angle, double *gap);
 typedef struct kin_follow_options {
     size_t size;
     double vr_tol;
@@ -339,6 +340,9 @@ typedef struct kin_follow_options {
     double branch_cos;
     int steps_mode;
     double branch_margin;
+    kin_follow_return_fn return_fn;
+    void *return_user;
+    int return_own;
 } kin_follow_options;
 enum kin_follow_steps {
     KIN_FOLLOW_STEPS_SVD = 0,

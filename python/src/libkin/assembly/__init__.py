@@ -6,16 +6,17 @@ methods in its own body: the handle, model and first-order analysis
 `Options`, `StepInfo`), the paths out of a bifurcation
 (`_branching.BranchingMixin`, `Branches`, `BranchPath`, `solve_quadrics`)
 and locating bifurcations (`_locating.LocatingMixin`, `LocateInfo`,
-`FollowEvent`); its JSON form is `_json.py`.
+`FollowEvent`, `BranchLines`); its JSON form is `_json.py`.
 
 This package depends only on `libkin._native` and `libkin.errors`; the file
 formats (`libkin.io`) and everything else build on it.
 """
 from ._base import Analysis
+from ._branch_lines import BranchLines
 from ._branching import BranchPath, Branches, solve_quadrics
 from ._locating import FollowEvent, LocateInfo
 from ._path import Options, StepInfo
 from .core import Assembly
 
 __all__ = ["Assembly", "Analysis", "StepInfo", "Options", "BranchPath", "Branches", "LocateInfo", "FollowEvent",
-           "solve_quadrics"]
+           "solve_quadrics", "BranchLines"]

@@ -5,16 +5,21 @@
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, Optional
+from typing import Any, Optional, Union
 
 import numpy as np
 import numpy.typing as npt
 
 from .._native._arrays import as_c_array, read_ptr
 from ._base import AssemblyBase
+from ._branch_lines import BranchLines
 from .._native._lib import c_string, default_struct, ffi, lib, new_struct
 from .._native._progress import Progress, reporting
 from ..errors import InvalidArgumentError
+
+#: follow_event(branches=BranchLines, own_branch=k): the most the direction may
+#: be off line k (radians)
+OWN_BRANCH_TOL = 1e-8
 
 _METHODS = {"fast": "KIN_LOCATE_FAST", "paper": "KIN_LOCATE_PAPER", "illinois": "KIN_LOCATE_ILLINOIS"}
 
@@ -200,8 +205,8 @@ class LocatingMixin(AssemblyBase):
     def follow_event(self, direction: Optional[npt.ArrayLike] = None, vr_tol: float = 1e-10,
                      vr_floor: float = 1e-6, delta: float = 0.0, max_steps: int = 1000,
                      max_length: float = 0.0, loop_tol: float = 1e-2,
-                     progress: Progress = None, branches: Optional[npt.ArrayLike] = None,
-                     samples: int = 0, steps_mode: str = "cheap") -> FollowEvent:
+                     progress: Progress = None, branches: Union[None, npt.ArrayLike, BranchLines] = None,
+                     samples: int = 0, steps_mode: str = "cheap", own_branch: Optional[int] = None) -> FollowEvent:
         """Follow the path to its next event and say what it was (kin_follow_event).
 
         Parameters
@@ -227,7 +232,10 @@ class LocatingMixin(AssemblyBase):
             At a bifurcation: every real branch direction of the start (e.g.
             ``U_m @ beta`` for each solution); a return to the start is then a
             closed loop only along `direction`'s own branch, and located as a
-            bifurcation along any other (kin_follow_event_ex).
+            bifurcation along any other (kin_follow_event_ex). Or a
+            `BranchLines` (many lines checked once for many follows: the
+            decision made by `BranchLines.nearest`, the same) with
+            `own_branch`.
         samples : int, optional
             Room for this many configurations recorded along the path
             (`FollowEvent.samples`).
@@ -235,6 +243,9 @@ class LocatingMixin(AssemblyBase):
             LU steps on regular stretches and the SVD locator near events
             (default: the same events and points, ``docs/follow.md``), or an
             SVD at every step.
+        own_branch : int, optional
+            With `branches` a `BranchLines`: the index of `direction`'s own
+            line among them (`direction` along it, to OWN_BRANCH_TOL rad).
 
         Returns
         -------
@@ -261,8 +272,20 @@ class LocatingMixin(AssemblyBase):
         if direction is not None:
             arr = as_c_array(direction, np.float64, (self.nfree,), "direction")
             d = read_ptr(arr, "double *")
-        br, nbr = ffi.NULL, 0
-        if branches is not None:
+        br, nbr, lines = ffi.NULL, 0, None
+        if isinstance(branches, BranchLines):
+            lines = branches
+            k = own_branch
+            if not isinstance(k, (int, np.integer)) or not 0 <= k < lines.shape[0]:
+                raise InvalidArgumentError(f"own_branch: expected an index in [0, {lines.shape[0]}), got {k!r}")
+            if lines.shape[1] != self.nfree:
+                raise InvalidArgumentError(f"branches must have shape (nbranch, {self.nfree}), not {lines.shape}")
+            if direction is None or not float(lines.angle(direction, int(k))) <= OWN_BRANCH_TOL:
+                raise InvalidArgumentError(f"direction is not along branch line own_branch = {k}")
+            o.return_fn, o.return_own = lines.c_fn, int(k)
+        elif own_branch is not None:
+            raise InvalidArgumentError("own_branch is only for branches given as BranchLines")
+        elif branches is not None:
             barr = np.asarray(branches, dtype=np.float64)
             if barr.ndim != 2 or barr.shape[1] != self.nfree:
                 raise InvalidArgumentError(f"branches must have shape (nbranch, {self.nfree}), not {barr.shape}")
@@ -280,6 +303,9 @@ class LocatingMixin(AssemblyBase):
             rc = lib.kin_follow_event_ex(self._h, d, o, br, nbr, read_ptr(sbuf, "double *"),
                                          read_ptr(lbuf, "double *"), ns, count, info)
         event = FOLLOW_EVENTS[info.event] if 0 <= info.event < len(FOLLOW_EVENTS) else str(info.event)
+        hook_error = lines.take_error() if lines is not None else None
+        if hook_error is not None:
+            raise hook_error
         if rc != lib.KIN_OK and (info.event != lib.KIN_FOLLOW_FAILED or rc == lib.KIN_ECANCELLED):
             self._check(rc, "follow_event")
         message = c_string(lib.kin_last_error(self._h)) if rc != lib.KIN_OK else ""

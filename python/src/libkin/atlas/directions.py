@@ -9,8 +9,22 @@ following goes on and the start is located as a bifurcation. A node's
 directions go whole with each of its tasks where they are few
 (tasks.BRANCH_DIRECTIONS_MAX numbers). Where they are many (the hexagonal
 sail's flat state: 29,828 x 46 numbers, 11 MB, for each of 59,656 tasks)
-follow() gives each task a subset S of them (the own line always among
-them, in their order) such that the follower decides exactly as with all:
+follow() gives them to the workers ONCE (libkin.shared: the array itself
+serially or on threads, a file mapped by each worker of a process pool, a
+Dask broadcast), and each task carries a reference to them (named by their
+content: the store's keys are the same in every run) and the index of its
+own line. In the worker the lines are checked once (BranchLines) and the
+follower asks them for the nearest line at each return
+(kin_follow_options.return_fn): every return is decided as with all lines,
+in the one follow. Passing the array itself to C in every task cost 16.2
+ms a task against 7.2 with the own line alone (C checks every number and
+searches the own line in each call); shared, 8.5 (bench/bench_returns.py):
+the lines cost only at returns (0.8 ms each, 0.5 a task).
+
+Where the executor cannot be given the lines (another kind of executor, a
+folder not writable) the old passes remain, with subsets S of the lines
+(the own line always among them, in their order) such that the follower
+decides exactly as with all:
 
 * The follower uses the directions only in that decision, so up to the
   first return its path is the same with any S; and at a return a loop
@@ -22,21 +36,16 @@ them, in their order) such that the follower decides exactly as with all:
   lines is a metric, so such a line k has angle(t, k) >= angle(dir, k) -
   angle(dir, t) >= b + margin.
 
-The passes: first S = {own} (46 numbers: the bulk of the tasks carry
-nothing more; a return ends the task as a loop). A loop not certain is
-followed again with the lines within RETURN_RADIUS of the path's direction
-at its end (the task's "return_tangent", near t): a return along another
-branch finds that branch among them and goes on, as with all lines. A
-loop still not certain is followed again with every line within 2 b +
-margin of dir, until certain (at worst with all of them). The subsets go
-as NumPy arrays (they pickle compactly; the store hashes them by content).
-Everything is a function of the tasks' results, so the tasks and their
-store keys are the same in every run, serial or on any executor: resume
-takes them from the store. Why not the whole set once per worker (a file,
-shared memory, a Dask broadcast): the C side passes over every line in
-each task (checking them, finding the own one, and at each return): 15.9
-ms a task at the flat state against 10.35 without directions and 10.0 with
-the own line alone; the returns followed twice cost less (docs/atlas.md).
+The passes: first S = {own} (a return ends the task as a loop). A loop not
+certain is followed again with the lines within RETURN_RADIUS of the
+path's direction at its end (the task's "return_tangent", near t): a
+return along another branch finds that branch among them and goes on, as
+with all lines. A loop still not certain is followed again with every line
+within 2 b + margin of dir, until certain (at worst with all of them). The
+subsets go as NumPy arrays (the store hashes them by content). Following
+the returns twice cost the full atlas of the flat state 835 s of CPU (187 s
+of first-pass tasks stopped at a return, 210 s the 11,196 tasks again);
+with the lines shared, 600 s and the same atlas (docs/atlas.md).
 """
 from __future__ import annotations
 
@@ -45,6 +54,7 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 import numpy as np
 from numpy.typing import NDArray
 
+from ..shared import Sharing
 from . import tasks
 
 # added to the certificate's bound: the rounding of the angles (theirs in C,
@@ -94,27 +104,35 @@ def node_lines(every: Sequence[Any]) -> Tuple[Dict[int, List[Any]], Dict[Tuple[i
 
 
 def follow(work: Sequence[Any], every: Sequence[Any], item: Callable[[int, Any], Dict[str, Any]],
-           run: Callable[[List[Dict[str, Any]]], List[Any]], record: Optional[Dict[str, int]] = None) -> List[Any]:
+           run: Callable[[List[Dict[str, Any]]], List[Any]], record: Optional[Dict[str, int]] = None,
+           executor: Any = None) -> List[Any]:
     """The results of work's branches [(node, solution, sign, beta,
     direction)], each decided against all of its node's branch directions
     (from every: the level's work). item(node, direction) -> the task
-    without "branches"; run(tasks) -> results (None: not run). record, if
-    given, gains the counts of the tasks run again ("tasks"), the lines
-    they carried ("lines", "lines_max") and their CPU seconds ("cpu_ms")."""
+    without "branches"; run(tasks) -> results (None: not run); executor:
+    where run runs them (the many directions shared with its workers).
+    record, if given, gains the counts of the tasks run again ("tasks"), the
+    lines they carried ("lines", "lines_max") and their CPU seconds ("cpu_ms")."""
     lines, index = node_lines(every)
     limit = tasks.BRANCH_DIRECTIONS_MAX
     whole = {nid: [list(map(float, d)) for d in L] for nid, L in lines.items() if len(L) * len(L[0]) <= limit}
-    items = []
-    for nid, sol, _, _, d in work:
-        it = item(nid, d)
-        it["branches"] = whole.get(nid) or ([list(map(float, d))] if nid in lines else None)
-        items.append(it)
-    results = run(items)
+    with Sharing(executor) as sharing:
+        many = {nid for nid, *_ in work if nid in lines and nid not in whole}
+        refs = {nid: sharing.share(np.array(lines[nid], dtype=float)) for nid in sorted(many)}
+        items = []
+        for nid, sol, _, _, d in work:
+            it = item(nid, d)
+            if refs.get(nid) is not None:  # every line, the same array for all the node's tasks
+                it["branches"], it["own"] = refs[nid], index[(nid, sol)]
+            else:
+                it["branches"] = whole.get(nid) or ([list(map(float, d))] if nid in lines else None)
+            items.append(it)
+        results = run(items)
     big: Dict[int, _Lines] = {}
     reach: Dict[int, float] = {}  # per task: every line outside its last subset is at least this far from dir
     margin = branch_margin()
-    pending = [k for k, res in enumerate(results)
-               if res is not None and res["event"] == tasks.LOOP and work[k][0] in lines and work[k][0] not in whole]
+    pending = [k for k, res in enumerate(results) if res is not None and res["event"] == tasks.LOOP
+               and work[k][0] in many and refs[work[k][0]] is None]
     while True:
         again: List[int] = []
         subsets: List[NDArray[np.float64]] = []

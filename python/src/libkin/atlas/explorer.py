@@ -259,7 +259,7 @@ class _Explorer:
         def run(items: List[Any]) -> List[Any]:
             args = (tasks.follow_branch, items, self.executor, self.progress, "branches", self.deadline)
             return run_tasks(*args) if self.store is None else self.store.run_tasks(*args, self.stop)
-        return directions.follow(work, every if every is not None else work, item, run, self.redo)
+        return directions.follow(work, every if every is not None else work, item, run, self.redo, self.executor)
 
     def merge(self, nid: int, sol: int, sign: int, beta: NDArray[np.float64], res: Dict[str, Any],
               depth: int) -> int:

@@ -27,6 +27,7 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Union
 
 from ..errors import InvalidArgumentError
 from ..parallel import Progress, executor_width, is_dask_client, run_tasks, stream_dask, tick
+from ..shared import Ref, content
 
 # on Dask, tasks in flight (submitted, not yet recorded) per worker: the next
 # ones wait on the scheduler while the client records the finished ones
@@ -52,8 +53,12 @@ def _hash(data: Any) -> str:
 
 
 def _by_content(x: Any) -> Any:
-    """A NumPy array in a task (atlas/directions.py): by its shape and the digest of its bytes."""
+    """A NumPy array in a task (atlas/directions.py): by its shape and the
+    digest of its bytes; a shared one (libkin.shared.Ref) by its content too,
+    never by its file or future (the same key in every run)."""
     import numpy as np
+    if isinstance(x, Ref):
+        return content(x)
     if isinstance(x, np.ndarray):
         a = np.ascontiguousarray(x, dtype=np.float64)
         return {"ndarray": list(a.shape), "sha256": hashlib.sha256(a.tobytes()).hexdigest()}

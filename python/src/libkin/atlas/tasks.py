@@ -79,7 +79,9 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     "max_steps", "vr_tol", "samples": how many configurations to record along
     the way, "branches": optional, the start's branch directions, a list or
     an array (a return along another branch is located, not a loop; a subset
-    of them: atlas/directions.py), "contact": stop at the first
+    of them: atlas/directions.py), or with "own" (the index of direction's
+    line among them) all of them as a libkin.shared reference (read and
+    checked once per process), "contact": stop at the first
     contact of two parts}. Returns {"event": one of EVENT_KINDS, "coords": end
     configuration, "length": path length travelled, "m", "m_rigid", "s",
     "v_r_rel" at the end (analysis at the rank tolerance), "accuracy" (the
@@ -99,12 +101,17 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     if task.get("contact"):
         a.set_contact_events(True, 1e-9)
     d = np.asarray(task["direction"], dtype=float)
+    br, own = task.get("branches"), task.get("own")
+    if own is not None:  # every line of the node, shared with the workers (directions.follow)
+        from ..assembly import BranchLines
+        from ..shared import resolve
+        br = resolve(br, BranchLines)
     lim: Dict[str, Any] = {"max_steps": int(task.get("max_steps", 1000)), "vr_tol": float(task.get("vr_tol", 1e-10))}
     samples: list[Any] = []
     out: Dict[str, Any] = {"samples": samples, "message": ""}
     try:
         ev = a.follow_event(d, max_length=float(task["max_length"]), samples=SAMPLE_ROOM * n,
-                            branches=task.get("branches"), **lim)
+                            branches=br, own_branch=own, **lim)
     except KinError as exc:
         out.update(_end_state(a, FAILURE))
         out.update({"message": f"{type(exc).__name__}: {exc}", "accuracy": float("nan"), "vr_tol": 0.0,
@@ -119,10 +126,10 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     out.update(_end_state(a, kind, rank_tol))
     out.update({"accuracy": float(ev.v_r_rel), "vr_tol": float(ev.vr_tol_used), "steps": int(ev.steps),
                 "length": float(ev.length), "at_start": bool(ev.at_start)})
-    if kind == LOOP and task.get("branches") is not None:  # for atlas/directions.py
+    if kind == LOOP and br is not None:  # for atlas/directions.py
         out["return_angle"] = float(ev.return_angle)  # to the own branch
-        an = a.analyse()
-        if an.m_internal == 1:  # the path's direction at the end, near the start
+        an = a.analyse() if own is None else None  # decided with every line: nothing to decide again
+        if an is not None and an.m_internal == 1:  # the path's direction at the end, near the start
             out["return_tangent"] = [float(v) for v in an.internal_mechanisms[:, 0]]
     samples.extend(_pick_samples(ev.samples, ev.sample_lengths, ev.length, n))
     out["cpu_seconds"] = time.process_time() - cpu0
