@@ -68,9 +68,16 @@ static const double CHEAP_RANK_FRACTION = 1e-3;
  * saves an SVD step per handover that finds nothing (2 before) */
 enum { RESUME_AFTER = 1, RESUME_AFTER_FAILED = 2 };
 /* ... and, where v_r / v_max is below CHEAP_NEAR_FACTOR x switch_eps, only
- * once v_r is at most this fraction of the next singular value (the slope's
- * vectors then converge in a few passes) */
+ * once v_r is at most RESUME_GAP of the singular value SLOPE_BLOCK above it
+ * (the slope's subspace converges at their ratio squared per pass) and at
+ * most RESUME_PAIR_GAP of the next one (the Ritz vector of v_r within the
+ * subspace needs that gap: at R^B, without it, the iteration did not
+ * converge in 40 passes and the SVD took over again at the next step, 5.6
+ * handovers a branch instead of 1.3). Measured against the earlier rule
+ * (RESUME_GAP of the next singular value): LU-only steps 90% -> 94% on the
+ * flat state's 200 branches, 62% -> 73% at R^B, the same events and points */
 static const double RESUME_GAP = 0.5;
+static const double RESUME_PAIR_GAP = 0.9;
 /* follow_ctx.reason: the SVD locator handed back to LU steps */
 enum { REASON_RESUME = -1 };
 static const double HALF_PI = 1.5707963267948966;
@@ -121,6 +128,8 @@ typedef struct follow_extra {
 /* a point the cheap stretch may go back to, with the follower's counters there */
 typedef struct kept_point {
     kin__path_point p;
+    double *border; /* nf: the border row of its LU factors (the tangent before the step to it) */
+    int has_border; /* it was an LU point (its factors can be made again) */
     double length;
     int left, index;
 } kept_point;
@@ -317,16 +326,16 @@ static int is_loop(follow_ctx *c, const kin_assembly *a, double s)
 
 /* the vanishing singular value of an SVD point is well separated from the
  * SLOPE_BLOCK-th above it (the slope's subspace iteration with LU factors
- * converges at their ratio squared: fast there). With one vector this was
- * the next singular value: the flat state's close pairs kept the SVD
- * stepping (5.2 SVD steps per handover); with the subspace the LU steps
- * resume over them (measured: the same events and located points on the
- * 200-branch benchmark, rb and R^C) */
+ * converges at their ratio squared: fast there), and a little from the next
+ * one (RESUME_PAIR_GAP). With one vector this was the next singular value
+ * (RESUME_GAP): the flat state's close pairs kept the SVD stepping (5.2 SVD
+ * steps per handover); the subspace resumes over them (measured: the same
+ * events and located points on the 200-branch benchmark, rb and R^C) */
 static int separated(const kin_assembly *a)
 {
     const kin_factor *f = kin__cur(a);
-    int k = a->nf - 2 - f->an.m_rigid, mn = a->nf < a->nb ? a->nf : a->nb, j = k - SLOPE_BLOCK + 1;
-    return f->valid && j >= 0 && k < mn && f->sv[k] <= RESUME_GAP * f->sv[j];
+    int k = a->nf - 2 - f->an.m_rigid, mn = a->nf < a->nb ? a->nf : a->nb, j = k - SLOPE_BLOCK;
+    return f->valid && j >= 0 && k < mn && f->sv[k] <= RESUME_GAP * f->sv[j] && f->sv[k] <= RESUME_PAIR_GAP * f->sv[k - 1];
 }
 
 /* after every accepted step: count the chord, keep a sample, stop on a
@@ -405,7 +414,7 @@ static int progress_adapter(void *user, double done, double total)
 
 /* ---- cheap stretches (KIN_FOLLOW_STEPS_CHEAP) ---- */
 
-static void keep_point(follow_ctx *c)
+static void keep_point(follow_ctx *c, const double *border)
 {
     if (c->nkept == 2) {
         kept_point t = c->kept[0];
@@ -415,6 +424,9 @@ static void keep_point(follow_ctx *c)
     }
     kept_point *k = &c->kept[c->nkept++];
     kin__path_save(c->a, &k->p);
+    /* an LU point: its factors' border row, the tangent before the step (c->tprev) */
+    k->has_border = border != NULL;
+    if (border) memcpy(k->border, border, sizeof(double) * (size_t)c->a->nf);
     k->length = c->length;
     k->left = c->left;
     k->index = c->p;
@@ -433,6 +445,13 @@ static void back_to_kept(follow_ctx *c, int newer)
     c->length = c->len_pp = k->length;
     c->left = k->left;
     c->p = k->index;
+    if (k->has_border) {
+        /* its LU factors again (the same as the step made): the locator
+         * starts there without an SVD (locate.h, kin__locate_ws.lu_nodes) */
+        int regular = 0;
+        c->a->lu_inverse = 1;
+        if (kin__lu_refactor(c->a, k->border, &regular) != KIN_OK) c->a->lu[c->a->lu_cur].valid = 0;
+    }
     kin__gather(c->a, c->a->xyz, c->xp);
     memcpy(c->xpp, c->xp, sizeof(double) * (size_t)nf);
     memcpy(c->xq, c->xp, sizeof(double) * (size_t)nf);
@@ -514,7 +533,7 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
     a->lu_inverse = 1;
     c->nkept = 0;
     c->watch = 0;
-    keep_point(c);
+    keep_point(c, NULL); /* an SVD point (or one whose border is not known) */
     double r0 = kin__lu_rel_estimate(a), rm = r_before; /* this point's v_r / v_max and the one before */
     /* the vanishing singular value and its slope at the start (an SVD point) */
     double v0 = NAN, sl0 = NAN, vm = 0.0, l0 = a->l;
@@ -586,7 +605,7 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
             info->handovers++;
             break;
         }
-        keep_point(c);
+        keep_point(c, si.m_internal == 1 && !kin__cur(a)->valid ? c->tprev : NULL);
         rm = r0;
         r0 = r1;
         sg0 = sg;
@@ -597,6 +616,58 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
     a->opt = user;
     a->lu_inverse = 0;
     return rc;
+}
+
+/* CHEAP STEPS: THE FIRST STEP OFF A BIFURCATION. Its point (1e-3 of the
+ * largest step away) still counts as a bifurcation where v_r / v_max <= the
+ * handle's rank tolerance (then a step ten times as long is tried), and
+ * v_r / v_max there is far below the LU mode's margin (1000 x the rank
+ * tolerance: 8e-8 on the flat state's branch 0), so the LU step alone would
+ * always analyse it by SVD (4% of a cheap follow). Instead: the LU step with
+ * a rank tolerance FIRST_LU_MARGIN / 1000 x the handle's (its estimate, an
+ * upper bound, must be above FIRST_LU_MARGIN x the tolerance), then the
+ * verdict from the vanishing singular value converged by the slope's
+ * subspace iteration (Rayleigh-Ritz: accurate to rounding once the vector
+ * has converged) and the LU mode's v_max (a lower bound, from the start's
+ * top singular vector: within a few 1e-6): a mechanism count of 1 where
+ * v_r / v_max > FIRST_LU_MARGIN x the handle's rank tolerance, else the
+ * SVD, classified with the handle's own tolerance as the SVD step was. */
+static const double FIRST_LU_MARGIN = 2.0;
+
+static void first_step_lu(follow_ctx *c, const kin_options *user)
+{
+    kin_assembly *a = c->a;
+    a->opt = *user;
+    a->opt.factorization = KIN_STEP_LU;
+    a->opt.rank_tol = user->rank_tol * FIRST_LU_MARGIN * 1e-3;
+    a->lu_inverse = 1;
+}
+
+/* after the first step (the handle's own options back): the mechanism count
+ * the SVD step would have given, into si->m_internal */
+static int first_point_verdict(follow_ctx *c, kin_step_info *si)
+{
+    kin_assembly *a = c->a;
+    if (kin__cur(a)->valid) {
+        /* analysed by SVD in the step, with the lower tolerance: the handle's */
+        int rc = kin__reclassify(a, a->xyz, a->cur);
+        if (rc) return rc;
+        si->m_internal = kin__cur(a)->an.m_internal;
+        return KIN_OK;
+    }
+    double v = 0.0, vmax = a->lu[a->lu_cur].v_max;
+    int conv = 0;
+    c->blk_warm = 0;
+    if (kin__lu_vr_triple(a, SLOPE_PASSES, SLOPE_VECTOR_TOL, SLOPE_BLOCK, c->blk, &c->blk_warm, c->u, c->w, &v,
+                          &conv) == KIN_OK &&
+        conv && vmax > 0.0 && v > FIRST_LU_MARGIN * kin__rank_tolerance(a) * vmax) {
+        si->m_internal = 1;
+        return KIN_OK;
+    }
+    int rc = kin__analyse(a, NULL);
+    if (rc) return rc;
+    si->m_internal = kin__cur(a)->an.m_internal;
+    return KIN_OK;
 }
 
 static int options_ok(const kin_follow_options *o)
@@ -648,7 +719,7 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
 #endif
     size_t nc = (size_t)(a->nj * a->dim);
     c.xs = malloc(sizeof(double) * (6 * (size_t)nf + 2 * (nc + (size_t)nf) + (size_t)nf + (size_t)a->nb + 2 * nc +
-                                    2 * (size_t)SLOPE_BLOCK * nf));
+                                    2 * (size_t)SLOPE_BLOCK * nf + 2 * (size_t)nf));
     if (!c.xs) return kin__fail(a, KIN_ENOMEM, "follow workspace");
     c.ts = c.xs + nf;
     c.xp = c.ts + nf;
@@ -663,6 +734,8 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
     c.w = c.u + nf;
     c.scr = c.w + a->nb;
     c.blk = c.scr + 2 * nc;
+    c.kept[0].border = c.blk + 2 * (size_t)SLOPE_BLOCK * nf;
+    c.kept[1].border = c.kept[0].border + nf;
     if (at_bif && (x->nbranch > 0 || o->return_fn)) {
         double ang = 0.0, gap = 0.0;
         c.own = o->return_fn ? o->return_own : nearest_branch(&c, dir, &ang, &gap);
@@ -710,8 +783,14 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
             rc = kin__fail(a, KIN_ENOMEM, "follow: a copy of the start");
             goto out;
         }
+        kin_options user_opt = a->opt;
         for (double fr = o->first_step;; fr *= RELAX_FACTOR) {
+            if (o->steps_mode == KIN_FOLLOW_STEPS_CHEAP) first_step_lu(&c, &user_opt);
             rc = kin__leave_bifurcation(a, dir, fr, &si, &cs);
+            a->opt = user_opt;
+            a->lu_inverse = 0;
+            if (rc == KIN_OK && o->steps_mode == KIN_FOLLOW_STEPS_CHEAP && (rc = first_point_verdict(&c, &si)) != KIN_OK)
+                break;
             if (rc || si.m_internal < 2 || fr * RELAX_FACTOR > 1.0) break;
             kin__copy_state(a, start);
         }
@@ -763,6 +842,8 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
      * handovers of this call (1.1 handovers and 1.0 attempts per branch on
      * the flat state: 5 clones at each was 4% of the time) */
     kin__locate_ws lws = {0};
+    /* cheap steps: the Hermite nodes from LU steps too (locate.h) */
+    lws.lu_nodes = o->steps_mode == KIN_FOLLOW_STEPS_CHEAP;
     for (int k = 0; k < attempts; ++k) {
         int left = o->max_steps - info->steps;
         if (left < 1) {

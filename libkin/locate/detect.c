@@ -66,7 +66,11 @@ double kin__loc_rel(const kin_assembly *a) { return kin__cur(a)->an.v_r / kin__c
  * path has rank nfree - 1 - m_rigid, so it is the last non-zero one there */
 int kin__loc_vanishing_index(const kin_assembly *a)
 {
-    int mn = a->nf < a->nb ? a->nf : a->nb, k = a->nf - 2 - kin__cur(a)->an.m_rigid;
+    /* a point with LU-mode factors and no SVD (kin__locate_ws.lu_nodes):
+     * its rigid mechanisms are the factors' extra border rows */
+    const kin_lufactor *F = &a->lu[a->lu_cur];
+    int mr = !kin__cur(a)->valid && F->valid ? F->rows - a->nb - 1 : kin__cur(a)->an.m_rigid;
+    int mn = a->nf < a->nb ? a->nf : a->nb, k = a->nf - 2 - mr;
     return k >= 0 && k < mn ? k : -1;
 }
 
@@ -108,6 +112,18 @@ double kin__loc_group_top(const kin_assembly *a, double tol)
 int kin__loc_at_bifurcation(const kin_assembly *a, double tol)
 {
     return kin__loc_group_top(a, tol) <= tol * kin__cur(a)->an.v_max;
+}
+
+kin_assembly *kin__loc_probe(loc_ctx *c)
+{
+    if (c->probe) return c->probe;
+    if (kin_assembly_clone(c->a, &c->probe)) {
+        c->probe = NULL;
+        return NULL;
+    }
+    c->probe->nfact = 0; /* its factorizations count from here */
+    if (c->ws) c->ws->probe = c->probe;
+    return c->probe;
 }
 
 /* forward calculation: work := base moved by delta along its tangent */

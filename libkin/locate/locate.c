@@ -20,6 +20,10 @@ static const double LOCATE_RANK_FRACTION = 1e-3;
 /* m and s at a located point are counted with rank tolerance at least this
  * multiple of vr_tol: the point is only that exact */
 static const double LOCATED_RANK_MARGIN = 10.0;
+/* the follower's locator (kin__locate_ws.lu_nodes) steps by LU steps too:
+ * a new point's v_max is its LU estimate refined by this many power passes
+ * (the turn rule compares with switch_eps x v_max) */
+enum { LU_VMAX_PASSES = 4 };
 /* steps the fast method follows past a sign change of the test function at
  * which v_r is still decreasing, looking for v_r to turn */
 enum { TAU_LOOK_AHEAD = 2 };
@@ -85,10 +89,10 @@ void kin__locate_ws_free(kin__locate_ws *ws)
 static int use_ws(loc_ctx *c, kin_assembly *a, kin__locate_ws *ws)
 {
     if (!ws->hw) {
-        /* the look-ahead's pair (tb0, tb1) only when a look-ahead needs it */
+        /* the look-ahead's pair (tb0, tb1) and the paper's probe only when
+         * one needs it (kin__loc_probe) */
         ws->hw = kin__hermite_alloc(a);
-        if (!ws->hw || kin_assembly_clone(a, &ws->prev) || kin_assembly_clone(a, &ws->work) ||
-            kin_assembly_clone(a, &ws->probe)) {
+        if (!ws->hw || kin_assembly_clone(a, &ws->prev) || kin_assembly_clone(a, &ws->work)) {
             kin__locate_ws_free(ws);
             return KIN_ENOMEM;
         }
@@ -128,25 +132,44 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         !(o.vr_tol > 0 && o.vr_tol < 1) || !(o.switch_eps > 0 && o.switch_eps < 1) || !isfinite(o.delta) ||
         o.max_steps < 1 || o.max_iter < 1)
         return kin__fail(a, KIN_EINVAL, "locate options out of range");
-    int rc = kin__cur(a)->valid ? KIN_OK : kin__analyse(a, NULL);
+    /* the follower's LU steps hand over at a point they factorized
+     * (kin__locate_ws.lu_nodes): it starts without an SVD, its test
+     * function, vanishing singular value and slope from those factors (a
+     * regular point: one internal mechanism) and the first step's chord
+     * corrector with them; else (or where the slope's iteration does not
+     * converge) its SVD analysis as always */
+    int lu_start = ws && ws->lu_nodes && !kin__cur(a)->valid && kin__lu_square_current(a) && a->have_t && !a->t_chosen;
+    int rc = kin__cur(a)->valid || lu_start ? KIN_OK : kin__analyse(a, NULL);
     if (rc) return rc;
-    if (kin__cur(a)->an.m_internal >= 2)
+    if (!lu_start && kin__cur(a)->an.m_internal >= 2)
         return kin__fail(a, KIN_EBIFURCATION, "already at a bifurcation (m_internal = %d)",
                          kin__cur(a)->an.m_internal);
-    if (kin__cur(a)->an.m_internal == 0) return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");
-    loc_ctx c = {a, NULL, NULL, NULL, NULL, NULL, &o, info, NULL, hook, hook_user, 0.0};
+    if (!lu_start && kin__cur(a)->an.m_internal == 0)
+        return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");
+    loc_ctx c = {a, NULL, NULL, NULL, NULL, NULL, &o, info, NULL, hook, hook_user, 0.0, ws ? ws->lu_nodes : 0, ws};
     kin_options user = a->opt;
+    int user_inverse = a->lu_inverse;
     double fine = fmin(user.rank_tol, LOCATE_RANK_FRACTION * o.vr_tol);
     a->opt.rank_tol = fine;
-    /* the detectors and the nodes need every point's SVD */
-    a->opt.factorization = KIN_STEP_SVD;
+    /* the detectors and the nodes need every point's singular values: from
+     * its SVD, or (the follower's locator, without rigid mechanisms: the
+     * test function's sign needs no orientation of them) from LU steps'
+     * factors, the vanishing triple by subspace iteration, v_max refined, the
+     * sign of the test function from the same factors, and the SVD where a
+     * point is not regular or the triple does not converge. The SVD mode's
+     * amplitudes either way. */
+    int lu_steps = ws && ws->lu_nodes && a->nb + 1 == a->nf;
+    a->opt.factorization = lu_steps ? KIN_STEP_LU : KIN_STEP_SVD;
+    if (lu_steps) {
+        a->opt.step_control = KIN_STEP_CONTROL_SHARED;
+        a->lu_inverse = 1;
+    }
     if (ws) {
         if (use_ws(&c, a, ws)) {
             a->opt = user;
             return kin__fail(a, KIN_ENOMEM, "locator working copies");
         }
-    } else if (!(c.hw = kin__hermite_alloc(a)) || kin_assembly_clone(a, &c.prev) || kin_assembly_clone(a, &c.work) ||
-               kin_assembly_clone(a, &c.probe)) {
+    } else if (!(c.hw = kin__hermite_alloc(a)) || kin_assembly_clone(a, &c.prev) || kin_assembly_clone(a, &c.work)) {
         a->opt = user;
         free_ctx(&c, NULL);
         return kin__fail(a, KIN_ENOMEM, "locator working copies");
@@ -158,12 +181,30 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
     }
     double dir = o.delta < 0.0 ? -1.0 : 1.0, tb_delta = 0.0, tb_tau0 = 0.0, tb_tau1 = 0.0;
     int pending = 0, stopped = 0;
-    double tau0, tau1, hl[4], hv[4];
+    double tau0 = 0.0, tau1, hl[4], hv[4], v0 = 0.0, sl0 = 0.0;
     int nh = 0;
-    rc = kin_test_function(a, &tau0);
-    double v0 = kin__loc_vanishing_sv(a), sl0 = motion_slope(&c, a, dir);
-    hl[nh] = a->l;
-    hv[nh++] = kin__cur(a)->an.v_r;
+    if (lu_start && !kin__hermite_lu_vanishing(c.hw, a, dir, &v0, &sl0)) {
+        lu_start = 0;
+        if ((rc = kin__analyse(a, NULL)) != KIN_OK || kin__cur(a)->an.m_internal != 1) {
+            a->opt = user;
+            free_ctx(&c, ws);
+            return rc ? rc : kin__fail(a, KIN_EBIFURCATION, "the locator's start is not a regular point");
+        }
+    }
+    if (lu_start) {
+        /* tau = sign(det [C; t^T]) v_r, as kin_test_function (no rigid mechanisms here) */
+        int sg = 0;
+        rc = kin__border_det_sign(a, &sg);
+        tau0 = sg * v0;
+        hv[nh] = v0;
+        a->lu_svd_start = 1;
+    } else {
+        rc = kin_test_function(a, &tau0);
+        v0 = kin__loc_vanishing_sv(a);
+        sl0 = motion_slope(&c, a, dir);
+        hv[nh] = kin__cur(a)->an.v_r;
+    }
+    hl[nh++] = a->l;
     kin_step_info si = {.size = sizeof si};
     long fa = 0, fw = 0, fp = 0, fpv = 0;
     while (rc == KIN_OK && info->steps < o.max_steps) {
@@ -184,10 +225,24 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
             info->event = KIN_EVENT_LANDED;
             break;
         }
-        rc = kin_test_function(a, &tau1);
-        if (rc) break;
-        double vr = kin__cur(a)->an.v_r, vmax = kin__cur(a)->an.v_max;
-        double v1 = kin__loc_vanishing_sv(a), sl1 = motion_slope(&c, a, dir);
+        double vr = 0.0, vmax = 0.0, v1 = 0.0, sl1 = 0.0;
+        if (!kin__cur(a)->valid && !(kin__lu_square_current(a) && kin__hermite_lu_vanishing(c.hw, a, dir, &v1, &sl1)))
+            if ((rc = kin__analyse(a, NULL)) != KIN_OK) break;
+        if (!kin__cur(a)->valid) {
+            /* an LU point: tau from its factors (border: the tangent before the step) */
+            int sg = 0;
+            kin__lu_det_sign(a, c.prev->t, &sg);
+            tau1 = sg * v1;
+            vr = v1;
+            vmax = kin__lu_vmax(a, LU_VMAX_PASSES);
+        } else {
+            rc = kin_test_function(a, &tau1);
+            if (rc) break;
+            vr = kin__cur(a)->an.v_r;
+            vmax = kin__cur(a)->an.v_max;
+            v1 = kin__loc_vanishing_sv(a);
+            sl1 = motion_slope(&c, a, dir);
+        }
         TRACE(" step %d: l %.6f tau %+.3e v %.3e slope %+.3e\n", info->steps, a->l, tau1, v1 / vmax, sl1 / vmax);
         if (tau0 != 0.0 && tau1 != 0.0 && (tau0 > 0) != (tau1 > 0)) {
             if (o.method == KIN_LOCATE_FAST && sl1 < 0.0) {
@@ -260,9 +315,11 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
             break;
         }
     }
+    a->lu_svd_start = 0;
+    a->lu_inverse = user_inverse;
     fa = a->nfact;
     fw = c.work->nfact;
-    fp = c.probe->nfact;
+    fp = c.probe ? c.probe->nfact : 0;
     fpv = c.prev->nfact;
     if (rc == KIN_OK && info->event == KIN_EVENT_NONE)
         rc = stopped ? kin__fail(a, KIN_ENOTFOUND, "following stopped by the caller after %d steps", info->steps)
@@ -273,6 +330,12 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         if (o.method == KIN_LOCATE_FAST && bracket) {
             rc = kin__locate_hermite(&c);
             TRACE(" event %d: hermite returned %d\n", info->event, rc);
+            if (rc == KIN__HERMITE_NO_BRACKET) {
+                /* the fallbacks read the SVD analyses of the bracket's ends */
+                int rc2 = kin__cur(c.prev)->valid ? KIN_OK : kin__analyse(c.prev, NULL);
+                if (rc2 == KIN_OK && !kin__cur(a)->valid) rc2 = kin__analyse(a, NULL);
+                if (rc2) rc = rc2;
+            }
             if (rc == KIN__HERMITE_NO_BRACKET) {
                 /* v_r does not turn within the step although tau changed
                  * sign: the test function's bracket, then the paper's
@@ -292,7 +355,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         if (rc == KIN_OK) {
             /* eq. 26: the move from the last regular point must continue its
              * tangent, or the search slid onto a neighbouring path */
-            double *ch = c.probe->chord, *x1 = c.probe->x;
+            double *ch = kin__hermite_scratch(c.hw), *x1 = ch + a->nf; /* 2 nj dim doubles */
             kin__gather(a, c.prev->xyz, ch);
             kin__gather(a, c.work->xyz, x1);
             for (int i = 0; i < a->nf; ++i) ch[i] = x1[i] - ch[i];
@@ -322,7 +385,8 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         if (rc == KIN_OK) rc = rc2;
     }
     a->opt = user;
-    info->factorizations = (int)((a->nfact - fa) + (c.work->nfact - fw) + (c.probe->nfact - fp) + (c.prev->nfact - fpv));
+    info->factorizations =
+        (int)((a->nfact - fa) + (c.work->nfact - fw) + (c.probe ? c.probe->nfact - fp : 0) + (c.prev->nfact - fpv));
     info->located = rc == KIN_OK;
     info->v_r = kin__loc_group_top(a, o.vr_tol);
     info->v_r_rel = kin__cur(a)->an.v_max > 0 ? info->v_r / kin__cur(a)->an.v_max : 0.0;

@@ -30,6 +30,12 @@ typedef struct kin__locate_ws {
      * non-zero minimum of v_r, the lowest v_r / v_max its nodes and checks
      * reached; 0 otherwise */
     double nonzero_min;
+    /* in: the fast method's forward calculations (Hermite nodes) by LU
+     * steps, the node's singular triple by subspace iteration with their
+     * factors and its polish by their minimum-norm corrections; the SVD
+     * where the point is not regular or the triple does not converge (the
+     * follower's cheap steps) */
+    int lu_nodes;
 } kin__locate_ws;
 void kin__locate_ws_free(kin__locate_ws *ws);
 /* ws: NULL (copies made and freed in the call) or the caller's, as above */

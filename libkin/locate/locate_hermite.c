@@ -52,6 +52,11 @@ static const double POLISH_CUT = 1e3;
 enum { POLISH_MAX_ITER = 5 };
 /* bisection steps for the root of the interpolated signed singular value */
 enum { ROOT_BISECTIONS = 100 };
+/* LU nodes (loc_ctx.lu_nodes): the node's vanishing singular triple by
+ * subspace iteration with this many vectors, at most this many passes,
+ * until its vector moves less than this (as the follower's slope) */
+enum { LU_NODE_BLOCK = 2, LU_NODE_PASSES = 40 };
+static const double LU_NODE_VECTOR_TOL = 1e-9;
 
 /* ---- the fast method: Hermite interpolation of the path -----------------
  *
@@ -82,6 +87,7 @@ struct hermite_ws {
     double *e, *y, *d; /* nb, max(nf, nb), nf */
     double *scratch;  /* 2 * nj * dim */
     double *sv;       /* min(nf, nb): a check's singular values */
+    double *blk, *uu, *ww; /* LU nodes: the subspace (2 LU_NODE_BLOCK nf), u (nf), w (nb) */
 };
 
 void kin__hermite_free(hermite_ws *h)
@@ -100,7 +106,7 @@ hermite_ws *kin__hermite_alloc(const kin_assembly *a)
     size_t nf = (size_t)a->nf, nb = (size_t)a->nb, K = HERMITE_MAX_NODES, nc = (size_t)a->nj * (size_t)a->dim;
     size_t ny = nf > nb ? nf : nb;
     h->nf = a->nf;
-    h->x = malloc(sizeof(double) * (K * nf * 6 + nf + nc + nb + ny + nf + 2 * nc + ny));
+    h->x = malloc(sizeof(double) * (K * nf * 6 + nf + nc + nb + ny + nf + 2 * nc + ny + 2 * LU_NODE_BLOCK * nf + nf + nb));
     if (!h->x) {
         free(h);
         return NULL;
@@ -116,6 +122,9 @@ hermite_ws *kin__hermite_alloc(const kin_assembly *a)
     h->d = h->y + ny;
     h->scratch = h->d + nf;
     h->sv = h->scratch + 2 * nc;
+    h->blk = h->sv + ny;
+    h->uu = h->blk + 2 * LU_NODE_BLOCK * nf;
+    h->ww = h->uu + nf;
     return h;
 }
 
@@ -187,6 +196,85 @@ static int hermite_add(hermite_ws *h, const kin_assembly *st, const kin_assembly
     h->dv[h->n] = kin__sv_derivative(st, f, st->xyz, dx, k, h->scratch);
     h->err[h->n] = fmax(corr, floor);
     h->n++;
+    return 1;
+}
+
+/* chord_polish with the LU-mode factors of st (made at xyz, the point x):
+ * the same minimum-norm corrections pinv(C) e, by solves with them. dc
+ * (nf) holds a correction, d the corrected point. */
+static double chord_polish_lu(kin_assembly *st, double *x, double *xyz, double *e, double *dc, double *d, int maxit)
+{
+    int nf = st->nf, nb = st->nb;
+    kin__scatter(st, x, xyz);
+    kin__extensions(st, xyz, e);
+    double res = kin__norm(nb, e), corr = 0.0;
+    for (int it = 0; it <= maxit; ++it) {
+        if (kin__lu_pinv_correction(st, e, dc) != KIN_OK) return INFINITY;
+        corr = 0.0;
+        for (int j = 0; j < nf; ++j) {
+            d[j] = x[j] - dc[j];
+            corr = fmax(corr, fabs(dc[j]));
+        }
+        if (it == maxit || res == 0.0) break;
+        kin__scatter(st, d, xyz);
+        kin__extensions(st, xyz, e);
+        double rn = kin__norm(nb, e);
+        if (!(rn < res)) {
+            kin__scatter(st, x, xyz);
+            kin__extensions(st, xyz, e);
+            break;
+        }
+        memcpy(x, d, sizeof(double) * (size_t)nf);
+        res = rn;
+    }
+    return corr;
+}
+
+/* hermite_add for a state st that has the LU mode's factors and no SVD (a
+ * forward calculation with loc_ctx.lu_nodes): the vanishing singular value
+ * and its vectors by subspace iteration with those factors, the polish by
+ * their minimum-norm corrections (the same quantities as the SVD's, to
+ * rounding). Returns 1 (added), 0 (no room, or no vanishing index) or -1:
+ * the triple did not converge (the caller analyses st by SVD). */
+static int hermite_add_lu(hermite_ws *h, kin_assembly *st, const kin_assembly *base)
+{
+    int nf = h->nf, nb = st->nb, mn = nf < nb ? nf : nb;
+    const kin_lufactor *F = &st->lu[st->lu_cur];
+    int k = nf - 2 - (F->rows - nb - 1); /* nf - 2 - m_rigid, as kin__loc_vanishing_index */
+    if (h->n >= HERMITE_MAX_NODES || k < 0 || k >= mn) return 0;
+    int warm = 0, conv = 0;
+    double v = 0.0;
+    if (kin__lu_vr_triple(st, LU_NODE_PASSES, LU_NODE_VECTOR_TOL, LU_NODE_BLOCK, h->blk, &warm, h->uu, h->ww, &v,
+                          &conv) != KIN_OK ||
+        !conv || !(v > 0.0))
+        return -1;
+    double *x = h->x + (size_t)h->n * nf, *dx = h->dx + (size_t)h->n * nf;
+    kin__gather(st, st->xyz, x);
+    memcpy(h->xyz, st->xyz, sizeof(double) * (size_t)(st->nj * st->dim));
+    double corr = chord_polish_lu(st, x, h->xyz, h->e, h->y, h->d, NODE_POLISH_ITER);
+    if (!isfinite(corr)) return -1;
+    double floor = DBL_EPSILON * st->rms_length;
+    kin__gather(base, base->xyz, h->xs);
+    double z = 0.0, tt = kin__dot(nf, st->t, base->t);
+    for (int i = 0; i < nf; ++i) z += base->t[i] * (x[i] - h->xs[i]);
+    if (!(fabs(tt) > 0.0)) return 0;
+    for (int i = 0; i < nf; ++i) dx[i] = st->t[i] / tt;
+    h->z[h->n] = z;
+    h->v[h->n] = v;
+    h->dv[h->n] = kin__sv_derivative_uw(st, st->xyz, dx, h->uu, h->ww, h->scratch);
+    h->err[h->n] = fmax(corr, floor);
+    h->n++;
+    return 1;
+}
+
+int kin__hermite_lu_vanishing(hermite_ws *h, kin_assembly *st, double dir, double *v, double *sl)
+{
+    int warm = 0, conv = 0;
+    if (kin__lu_vr_triple(st, LU_NODE_PASSES, LU_NODE_VECTOR_TOL, LU_NODE_BLOCK, h->blk, &warm, h->uu, h->ww, v,
+                          &conv) != KIN_OK ||
+        !conv || !(*v > 0.0))
+        return 0;
+    *sl = dir * kin__sv_derivative_uw(st, st->xyz, st->t, h->uu, h->ww, h->scratch);
     return 1;
 }
 
@@ -339,7 +427,19 @@ int kin__locate_hermite(loc_ctx *c)
     kin_assembly *prev = c->prev, *w = c->work;
     int nf = h->nf, all[HERMITE_MAX_NODES], good[HERMITE_MAX_NODES];
     h->n = 0;
-    if (!hermite_add(h, prev, prev) || !hermite_add(h, c->a, prev)) return KIN__HERMITE_NO_BRACKET;
+    /* prev may be the follower's LU point (no SVD): its node from the LU
+     * factors, or its SVD where the triple does not converge */
+    kin_assembly *ends[2] = {prev, c->a};
+    for (int e = 0; e < 2; ++e) {
+        kin_assembly *st = ends[e];
+        int added = kin__cur(st)->valid ? -1 : hermite_add_lu(h, st, prev);
+        if (added < 0 && !kin__cur(st)->valid) {
+            int rc = kin__analyse(st, NULL);
+            if (rc) return rc;
+        }
+        if (added < 0) added = hermite_add(h, st, prev);
+        if (!added) return KIN__HERMITE_NO_BRACKET;
+    }
     double width0 = fabs(h->z[1] - h->z[0]);
     double err_ok = NODE_ERROR_FRACTION * c->o->vr_tol * prev->rms_length;
     for (int i = 0; i < HERMITE_MAX_NODES; ++i) all[i] = 1;
@@ -474,14 +574,24 @@ int kin__locate_hermite(loc_ctx *c)
         for (int i = 0; i < nf; ++i) dz += from->t[i] * (h->xs[i] - x0[i]);
         kin__copy_state(w, from);
         c->info->forward++;
+        if (c->lu_nodes) {
+            /* the LU mode's factors at the node (the SVD where it is not regular) */
+            w->opt.factorization = KIN_STEP_LU;
+            w->lu_inverse = w->lu_predicted = 1;
+        }
         int rc = kin__step_predicted(w, dz, h->xs, NULL);
+        w->opt.factorization = KIN_STEP_SVD;
+        w->lu_inverse = w->lu_predicted = 0;
         if (rc == KIN_ENOTCONVERGED || rc == KIN_EPATHJUMP || rc == KIN_ENOMECH) break;
         if (rc) return rc;
         double jump = 0.0;
         kin__gather(w, w->xyz, x0);
         for (int i = 0; i < nf; ++i) jump = fmax(jump, fabs(x0[i] - h->xs[i]));
         if (jump > NODE_JUMP_FRACTION * fabs(zn - E.zs)) break; /* onto a neighbouring branch */
-        if (!hermite_add(h, w, prev)) break;
+        int added = kin__cur(w)->valid ? -1 : hermite_add_lu(h, w, prev);
+        if (added < 0 && !kin__cur(w)->valid && (rc = kin__analyse_into(w, w->xyz, w->cur)) != KIN_OK) return rc;
+        if (added < 0) added = hermite_add(h, w, prev);
+        if (!added) break;
         TRACE("  node %d at z = %.12g (estimate %.12g, rho_min %.3g): v %.3g, error %.3g\n", h->n - 1, h->z[h->n - 1],
               E.zs, rho_min, h->v[h->n - 1], h->err[h->n - 1]);
     }
@@ -489,7 +599,7 @@ int kin__locate_hermite(loc_ctx *c)
      * bifurcation pinned only so far (a tangency, where v_r ~ |l - l*|^2 and
      * the strain fixes a point less sharply) or a near miss of that size;
      * above that, a non-zero minimum of v_r */
-    double vmax0 = kin__cur(prev)->an.v_max;
+    double vmax0 = kin__cur(prev)->valid ? kin__cur(prev)->an.v_max : prev->lu[prev->lu_cur].v_max;
     for (int i = 0; i < h->n; ++i) best = fmin(best, h->v[i] / vmax0); /* points of the path, too */
     if (best <= sqrt(c->o->vr_tol))
         return kin__fail(c->a, KIN_ENOTFOUND,

@@ -30,6 +30,8 @@ typedef struct loc_ctx {
     /* the fast method gave up on a non-zero minimum of v_r: the lowest
      * v_r / v_max it saw (0 otherwise) */
     double nonzero_min;
+    int lu_nodes; /* kin__locate_ws.lu_nodes */
+    kin__locate_ws *ws; /* the caller's working copies, or NULL */
 } loc_ctx;
 
 /* eq. 26: the path is kept if the new tangent agrees with the old one to this |cos| */
@@ -53,6 +55,10 @@ int kin__loc_at_bifurcation(const kin_assembly *a, double tol);
 int kin__loc_forward(loc_ctx *c, const kin_assembly *base, kin_assembly *dst, double delta, double *used);
 /* progress through the caller's callback; 1 when the caller cancels */
 int kin__loc_cancelled(const loc_ctx *c);
+/* the paper's overshoot probe, a working copy made at its first use (a
+ * clone of the handle; the caller's from then on where it gave a
+ * kin__locate_ws): most locations never need it. NULL: out of memory. */
+kin_assembly *kin__loc_probe(loc_ctx *c);
 /* |t_x . t_y| of the two states' tangents */
 double kin__loc_tangent_cos(const kin_assembly *x, const kin_assembly *y);
 
@@ -66,6 +72,10 @@ void kin__hermite_free(hermite_ws *h);
 /* 2 * njoints * dim doubles of h the detector may use between locator calls */
 double *kin__hermite_scratch(hermite_ws *h);
 int kin__locate_hermite(loc_ctx *c);
+/* the vanishing singular value v of st, a point with square LU-mode factors
+ * and no SVD, and its slope *sl along dir * t, from those factors (subspace
+ * iteration, in h's workspace); 0 where the iteration does not converge */
+int kin__hermite_lu_vanishing(hermite_ws *h, kin_assembly *st, double dir, double *v, double *sl);
 /* Illinois on tau(delta) over [0, hi] from c->prev (tau_lo there) */
 int kin__locate_illinois(loc_ctx *c, double hi, double tau_lo, double tau_hi);
 /* the paper's quadratic (eq. 23-26) from the history (hl, hv) of nh points */

@@ -99,6 +99,7 @@ int kin__locate_paper(loc_ctx *c, double *hl, double *hv, int nh, double step)
             continue;
         }
         /* overshoot probe: a small extra step; v_r growing means we crossed */
+        if (!kin__loc_probe(c)) return kin__fail(c->a, KIN_ENOMEM, "locator working copies");
         rc = kin__loc_forward(c, c->work, c->probe, PROBE_FRACTION * delta, NULL);
         if (rc == KIN_OK) {
             /* the samples so far bracket a smooth non-zero minimum: no bifurcation here */

@@ -145,6 +145,12 @@ struct kin_assembly {
     double *luw;             /* max(nf, nb + 1 + nrig) solve vector */
     double *luw2;            /* nf: the product with (J^T)^-1 */
     int lu_inverse;          /* LU mode: keep (J^T)^-1 with the factors (the follower's cheap stretches) */
+    int lu_svd_start;        /* SVD mode: a point with current square LU-mode factors and no SVD starts a
+                              * step with them (its chord corrector); the new point is analysed by SVD
+                              * (the locator started where the follower's LU steps handed over) */
+    int lu_predicted;        /* LU mode: forward calculations with a predictor (kin__step_predicted) get
+                              * bordered factors too, the SVD only where they are not regular (the
+                              * follower's Hermite nodes); else those are always analysed by SVD */
 
     /* KIN_STEP_SPARSE: KLU pattern, symbolic analysis and one numeric
      * factorization per lu[] slot (path/sparse.c); NULL until the mode is

@@ -394,18 +394,19 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
 
 /* kin_step, and the locator's forward calculations with an explicit
  * predictor (pred != NULL: free coordinates with t.(pred - x0) = delta, no
- * clamping, no halving; always analysed by SVD, whatever the mode: the
- * locator reads the singular values of the point it reaches) */
+ * clamping, no halving; analysed by SVD, whatever the mode, since the
+ * locator reads the singular values of the point it reaches, unless
+ * a->lu_predicted asks for the LU mode's factors there) */
 static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step_info *info)
 {
     if (!a) return KIN_ENULL;
     if (!isfinite(delta)) return kin__fail(a, KIN_EINVAL, "delta is not finite");
     long f0 = a->nfact;
-    int use_lu = lu_mode(a) && !pred, rc = KIN_OK;
+    int use_lu = lu_mode(a) && (!pred || a->lu_predicted), rc = KIN_OK;
     const kin_factor *f = kin__cur(a);
     /* LU mode continues from the bordered factors of a regular point
      * without an SVD there; otherwise the point needs its analysis */
-    int lu_point = use_lu && !f->valid && kin__lu_current(a);
+    int lu_point = (use_lu || a->lu_svd_start) && !f->valid && kin__lu_current(a);
     if (use_lu && !lu_point && !f->valid) {
         /* sparse mode: factorize the start point sparsely instead of the
          * SVD where it is regular (a no-op in the dense LU mode) */

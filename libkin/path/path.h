@@ -51,6 +51,27 @@ double kin__lu_rel_estimate(const kin_assembly *a);
  * keep the Ritz vectors for the next call, *warm set). u: nf entries, w: nb,
  * v > 0. KIN_ESTATE without square dense factors of this point. */
 enum { KIN__VR_BLOCK_MAX = 4 };
+/* The LU mode's factors of the current point again (a point restored by
+ * kin__path_restore, whose factors were made with border row `border`, the
+ * tangent before the step that reached it): bordered factors, estimates and
+ * (with a->lu_inverse) (J^T)^-1 into the current slot; the tangent stays
+ * a->t. *regular = 0 where the SVD must decide (the factors are then not
+ * kept). The same factors as the step made, where the estimates' start
+ * vectors are the same. */
+int kin__lu_refactor(kin_assembly *a, const double *border, int *regular);
+/* v_max of the current point refined by `passes` more power-iteration
+ * passes on H H^T from its LU-mode estimate's vector (a lower bound that
+ * converges at (v_1 / v_max)^2 per pass); kept in the factors */
+double kin__lu_vmax(kin_assembly *a, int passes);
+/* The current point has usable square dense LU-mode factors of
+ * J = [C; t_prev^T] (no rigid mechanisms: nb + 1 = nf) */
+int kin__lu_square_current(const kin_assembly *a);
+/* The minimum-norm chord correction d (nf) of the strain residual e (nb)
+ * with the current point's LU-mode factors: C d = e, d orthogonal to the
+ * tangent and the rigid mechanisms (pinv(C) e, as the SVD's chord
+ * correction over the non-zero singular values). KIN_ESTATE without
+ * current factors. */
+int kin__lu_pinv_correction(kin_assembly *a, const double *e, double *d);
 int kin__lu_vr_triple(kin_assembly *a, int max_passes, double tol, int k, double *block, int *warm, double *u,
                       double *w, double *v, int *converged);
 

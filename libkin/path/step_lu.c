@@ -33,6 +33,31 @@ static const double LU_VR_SEED_WEIGHT = 1e-3;
 static const unsigned long long LU_VR_SEED = 0x5eedULL;
 
 
+/* Euclidean norm for the LU side's vectors (estimates, the slope's
+ * subspace): the plain sum of squares in 4 partial sums, no division. The
+ * scaled kin__norm (as BLAS dnrm2) cost a division per entry: 2.6% of a
+ * cheap follow on the flat state in these calls. Where the sum could have
+ * overflowed or lost its underflowed squares (outside 2^-900 ... 2^1000),
+ * or is not finite, kin__norm's. Agrees with it to rounding (7.7e-16
+ * relative on random vectors). Not used for the tangent, whose bits the
+ * next step's predictor carries. */
+static const double FAST_NORM_LO = 0x1p-900, FAST_NORM_HI = 0x1p+1000;
+
+static double fast_norm(int n, const double *x)
+{
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+    int i = 0;
+    for (; i + 4 <= n; i += 4) {
+        s0 += x[i] * x[i];
+        s1 += x[i + 1] * x[i + 1];
+        s2 += x[i + 2] * x[i + 2];
+        s3 += x[i + 3] * x[i + 3];
+    }
+    for (; i < n; ++i) s0 += x[i] * x[i];
+    double s = (s0 + s1) + (s2 + s3);
+    return s >= FAST_NORM_LO && s <= FAST_NORM_HI ? sqrt(s) : kin__norm(n, x);
+}
+
 /* the sparse route applies to a point with mr rigid mechanisms */
 static int sparse_route(const kin_assembly *a, int mr)
 {
@@ -101,6 +126,37 @@ int kin__lu_chord_correction(kin_assembly *a, const double *e, double *d)
     return KIN_OK;
 }
 
+double kin__lu_vmax(kin_assembly *a, int passes)
+{
+    kin_lufactor *F = &a->lu[a->lu_cur];
+    int nf = a->nf, nb = a->nb, inc = 1;
+    double d1 = 1.0, d0 = 0.0, *H = a->mwork, *x = F->vmax_vec, *y = a->y, v = F->v_max;
+    if (!kin__lu_current(a) || F->sparse || kin__dense_ready(a) != KIN_OK) return v;
+    kin__build_H(a, a->xyz, H, nf);
+    for (int p = 0; p < passes; ++p) {
+        dgemv_("T", &nf, &nb, &d1, H, &nf, x, &inc, &d0, y, &inc, 1);
+        dgemv_("N", &nf, &nb, &d1, H, &nf, y, &inc, &d0, x, &inc, 1);
+        double nx = kin__norm(nf, x);
+        if (!(nx > 0.0 && isfinite(nx))) break;
+        v = sqrt(nx);
+        for (int i = 0; i < nf; ++i) x[i] /= nx;
+    }
+    F->v_max = v;
+    return v;
+}
+
+int kin__lu_square_current(const kin_assembly *a)
+{
+    const kin_lufactor *F = &a->lu[a->lu_cur];
+    return kin__lu_current(a) && !F->sparse && F->rows == a->nf && F->rows == a->nb + 1;
+}
+
+int kin__lu_pinv_correction(kin_assembly *a, const double *e, double *d)
+{
+    if (!kin__lu_current(a)) return KIN_ESTATE;
+    return kin__lu_chord_correction(a, e, d);
+}
+
 /* v := v - sum_c q_c (q_c . v) over the columns of Q (nf x k, ld nf) */
 static void remove_components(int nf, const double *Q, int k, double *v)
 {
@@ -115,7 +171,7 @@ static void remove_components(int nf, const double *Q, int k, double *v)
  * (1, ..., 1)/sqrt(nf). */
 static void unit_or_ones(int nf, double *v)
 {
-    double n = kin__norm(nf, v);
+    double n = fast_norm(nf, v);
     if (!(n > 0.0 && isfinite(n))) {
         for (int i = 0; i < nf; ++i) v[i] = 1.0;
         n = sqrt((double)nf);
@@ -220,7 +276,7 @@ static int factor_point(kin_assembly *a, const double *xyz, const double *border
         if (rc) return rc;
         kin__sparse_C(a, x, y);
         kin__sparse_CT(a, y, x);
-        T->v_max = sqrt(kin__norm(nf, x));
+        T->v_max = sqrt(fast_norm(nf, x));
         unit_or_ones(nf, x);
         if (singular) return KIN_OK;
         T->sparse = 1;
@@ -234,7 +290,7 @@ static int factor_point(kin_assembly *a, const double *xyz, const double *border
         /* v_max: one power-iteration pass on H H^T (a lower bound) */
         dgemv_("T", &nf, &nb, &done, JT, &nf, x, &inc, &zero, y, &inc, 1);
         dgemv_("N", &nf, &nb, &done, JT, &nf, y, &inc, &zero, x, &inc, 1);
-        double nx = kin__norm(nf, x);
+        double nx = fast_norm(nf, x);
         T->v_max = sqrt(nx);
         unit_or_ones(nf, x);
         a->nfact++;
@@ -290,7 +346,7 @@ static int factor_point(kin_assembly *a, const double *xyz, const double *border
         memcpy(w, x, sizeof(double) * (size_t)nf);
         rc = lu_solve(a, T, 1, w);
         if (rc) return rc;
-        double ny = kin__norm(nb, w);
+        double ny = fast_norm(nb, w);
         vr = ny > 0.0 ? 1.0 / ny : INFINITY;
         for (int i = nb; i < rows; ++i) w[i] = 0.0;
         rc = lu_solve(a, T, 0, w);
@@ -306,6 +362,20 @@ static int factor_point(kin_assembly *a, const double *xyz, const double *border
         *regular = 1;
     }
     return KIN_OK;
+}
+
+int kin__lu_refactor(kin_assembly *a, const double *border, int *regular)
+{
+    *regular = 0;
+    if (!a->have_t || a->t_chosen) return KIN_OK;
+    /* warm starts: the slot's last vectors (a nearby point's), copied out
+     * of the slot factor_point writes */
+    const kin_lufactor *P = &a->lu[a->lu_cur];
+    memcpy(a->luw2, P->vr_vec, sizeof(double) * (size_t)a->nf);
+    memcpy(a->y, P->vmax_vec, sizeof(double) * (size_t)a->nf);
+    int rc = factor_point(a, a->xyz, border, a->lu_cur, a->luw2, a->y, regular);
+    if (rc == KIN_OK && !*regular) a->lu[a->lu_cur].valid = 0;
+    return rc;
 }
 
 int kin__lu_new_point(kin_assembly *a, const double *xyz, int *regular)
@@ -454,18 +524,46 @@ static void block_orthonormalize(int nf, const double *t, int k, double *X, unsi
     for (int j = 0; j < k; ++j) {
         double *x = X + (size_t)j * nf;
         for (int tries = 0; tries < 3; ++tries) {
-            double n0 = kin__norm(nf, x);
+            double n0 = fast_norm(nf, x);
             for (int pass = 0; pass < 2; ++pass) {
                 remove_components(nf, t, 1, x);
                 remove_components(nf, X, j, x);
             }
-            double n = kin__norm(nf, x);
+            double n = fast_norm(nf, x);
             if (n > 1e-8 * n0 && isfinite(n)) {
                 for (int i = 0; i < nf; ++i) x[i] /= n;
                 break;
             }
             for (int i = 0; i < nf; ++i) x[i] = (double)(kin__splitmix(seed) >> 11) * 0x1.0p-53 - 0.5;
         }
+    }
+}
+
+/* Eigen-decomposition of the symmetric 2 x 2 matrix B (column-major, both
+ * triangles set) as dsyev ("V") leaves it: eigenvalues ascending in lam,
+ * unit eigenvectors in B's columns. One Jacobi rotation (Golub & Van Loan,
+ * the symmetric Schur decomposition), accurate to rounding; the Rayleigh-Ritz
+ * step of the slope's subspace iteration calls it at every pass, where
+ * dsyev's call and workspace handling cost about 1% of a cheap follow. */
+static void sym2_eig(double *B, double *lam)
+{
+    double p = B[0], q = B[1], r = B[3], c = 1.0, s = 0.0;
+    if (q != 0.0) {
+        double tau = (r - p) / (2.0 * q);
+        double t = (tau >= 0.0 ? 1.0 : -1.0) / (fabs(tau) + sqrt(1.0 + tau * tau));
+        c = 1.0 / sqrt(1.0 + t * t);
+        s = t * c;
+        p -= t * q; /* the eigenvalue of (c, -s) */
+        r += t * q; /* ... of (s, c) */
+    }
+    if (p <= r) {
+        lam[0] = p;
+        lam[1] = r;
+        B[0] = c, B[1] = -s, B[2] = s, B[3] = c;
+    } else {
+        lam[0] = r;
+        lam[1] = p;
+        B[0] = s, B[1] = c, B[2] = c, B[3] = -s;
     }
 }
 
@@ -507,7 +605,8 @@ int kin__lu_vr_triple(kin_assembly *a, int max_passes, double tol, int k, double
         for (int p = 0; p < k; ++p)
             for (int q = 0; q <= p; ++q)
                 B[p + q * k] = B[q + p * k] = kin__dot(nb, Y + (size_t)p * nf, Y + (size_t)q * nf);
-        dsyev_("V", "L", &k, B, &k, lam, ew, &lwork, &info, 1, 1);
+        if (k == 2) sym2_eig(B, lam);
+        else dsyev_("V", "L", &k, B, &k, lam, ew, &lwork, &info, 1, 1);
         if (info || !(lam[k - 1] > 0.0 && isfinite(lam[k - 1]))) return KIN_OK;
         /* the Ritz vectors, largest eigenvalue (smallest singular value) first */
         for (int j = 0; j < k; ++j) {
@@ -549,7 +648,7 @@ int kin__lu_vr_triple(kin_assembly *a, int max_passes, double tol, int k, double
     memcpy(y, u, sizeof(double) * (size_t)nf);
     int rc = lu_solve(a, F, 1, y);
     if (rc) return rc;
-    double ny = kin__norm(nb, y);
+    double ny = fast_norm(nb, y);
     if (!(ny > 0.0 && isfinite(ny))) {
         *converged = 0;
         return KIN_OK;
