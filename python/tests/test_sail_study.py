@@ -74,7 +74,10 @@ def test_hex_study_says_it_in_words(hex_run):
     said = res["_said"]
     assert "[R^C]" in said and not RAW.search(said), said
     run_time = float(re.search(r"Run time ([\d.]+) s", (out / "report.md").read_text()).group(1))
-    assert res["_wall"] - 1.0 <= run_time <= res["_wall"] + 0.2, (run_time, res["_wall"])
+    # what lies outside the report's clock (the call, its imports) is well under a second idle;
+    # a loaded machine stretches it with the rest, so the slack grows with the wall time
+    slack = max(1.0, 0.1 * res["_wall"])
+    assert res["_wall"] - slack <= run_time <= res["_wall"] + 0.2, (run_time, res["_wall"])
 
 
 def test_hex_summary_agrees_with_its_table(hex_run):
