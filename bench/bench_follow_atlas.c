@@ -14,10 +14,7 @@
  *                                   solutions between runs; k...: only those
  * Environment: BENCH_FOLLOW_CHEAP_ONLY=1 follows with the cheap steps only
  * (for profiling); BENCH_FOLLOW_DUMP=file writes each branch's result (the
- * cheap follower's; rb: R^B's, then R^C's) to compare two builds with
- * follow_dump_compare.py (R^C starts where the cheap follower located its
- * first m = 6 point of R^B: where that moved, R^C's branches may come in
- * another order);
+ * cheap follower's) to compare two builds with follow_dump_compare.py;
  * BENCH_FOLLOW_BRANCHES=1 follows returns again with the branch directions.
  * Not a test: prints a summary. */
 #define _POSIX_C_SOURCE 199309L
@@ -130,8 +127,7 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
     /* BENCH_FOLLOW_DUMP=file: per branch the cheap follower's event, accuracy,
      * m, s, steps and end coordinates, one line each, to compare two builds
      * (bench/follow_dump_compare.py) */
-    static int dumped = 0; /* rb: R^B's lines, then R^C's, in one file */
-    FILE *dump = getenv("BENCH_FOLLOW_DUMP") ? fopen(getenv("BENCH_FOLLOW_DUMP"), dumped++ ? "a" : "w") : NULL;
+    FILE *dump = getenv("BENCH_FOLLOW_DUMP") ? fopen(getenv("BENCH_FOLLOW_DUMP"), "w") : NULL;
     /* BENCH_FOLLOW_BRANCHES: returns to the start followed again with every
      * real branch direction (kin_follow_event_ex) */
     double *lines = NULL;

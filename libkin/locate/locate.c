@@ -20,10 +20,6 @@ static const double LOCATE_RANK_FRACTION = 1e-3;
 /* m and s at a located point are counted with rank tolerance at least this
  * multiple of vr_tol: the point is only that exact */
 static const double LOCATED_RANK_MARGIN = 10.0;
-/* the follower's locator (kin__locate_ws.lu_nodes) steps by LU steps too:
- * a new point's v_max is its LU estimate refined by this many power passes
- * (the turn rule compares with switch_eps x v_max) */
-enum { LU_VMAX_PASSES = 4 };
 /* steps the fast method follows past a sign change of the test function at
  * which v_r is still decreasing, looking for v_r to turn */
 enum { TAU_LOOK_AHEAD = 2 };
@@ -148,22 +144,10 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");
     loc_ctx c = {a, NULL, NULL, NULL, NULL, NULL, &o, info, NULL, hook, hook_user, 0.0, ws ? ws->lu_nodes : 0, ws};
     kin_options user = a->opt;
-    int user_inverse = a->lu_inverse;
     double fine = fmin(user.rank_tol, LOCATE_RANK_FRACTION * o.vr_tol);
     a->opt.rank_tol = fine;
-    /* the detectors and the nodes need every point's singular values: from
-     * its SVD, or (the follower's locator, without rigid mechanisms: the
-     * test function's sign needs no orientation of them) from LU steps'
-     * factors, the vanishing triple by subspace iteration, v_max refined, the
-     * sign of the test function from the same factors, and the SVD where a
-     * point is not regular or the triple does not converge. The SVD mode's
-     * amplitudes either way. */
-    int lu_steps = ws && ws->lu_nodes && a->nb + 1 == a->nf;
-    a->opt.factorization = lu_steps ? KIN_STEP_LU : KIN_STEP_SVD;
-    if (lu_steps) {
-        a->opt.step_control = KIN_STEP_CONTROL_SHARED;
-        a->lu_inverse = 1;
-    }
+    /* the detectors and the nodes need every point's SVD */
+    a->opt.factorization = KIN_STEP_SVD;
     if (ws) {
         if (use_ws(&c, a, ws)) {
             a->opt = user;
@@ -225,24 +209,10 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
             info->event = KIN_EVENT_LANDED;
             break;
         }
-        double vr = 0.0, vmax = 0.0, v1 = 0.0, sl1 = 0.0;
-        if (!kin__cur(a)->valid && !(kin__lu_square_current(a) && kin__hermite_lu_vanishing(c.hw, a, dir, &v1, &sl1)))
-            if ((rc = kin__analyse(a, NULL)) != KIN_OK) break;
-        if (!kin__cur(a)->valid) {
-            /* an LU point: tau from its factors (border: the tangent before the step) */
-            int sg = 0;
-            kin__lu_det_sign(a, c.prev->t, &sg);
-            tau1 = sg * v1;
-            vr = v1;
-            vmax = kin__lu_vmax(a, LU_VMAX_PASSES);
-        } else {
-            rc = kin_test_function(a, &tau1);
-            if (rc) break;
-            vr = kin__cur(a)->an.v_r;
-            vmax = kin__cur(a)->an.v_max;
-            v1 = kin__loc_vanishing_sv(a);
-            sl1 = motion_slope(&c, a, dir);
-        }
+        rc = kin_test_function(a, &tau1);
+        if (rc) break;
+        double vr = kin__cur(a)->an.v_r, vmax = kin__cur(a)->an.v_max;
+        double v1 = kin__loc_vanishing_sv(a), sl1 = motion_slope(&c, a, dir);
         TRACE(" step %d: l %.6f tau %+.3e v %.3e slope %+.3e\n", info->steps, a->l, tau1, v1 / vmax, sl1 / vmax);
         if (tau0 != 0.0 && tau1 != 0.0 && (tau0 > 0) != (tau1 > 0)) {
             if (o.method == KIN_LOCATE_FAST && sl1 < 0.0) {
@@ -316,7 +286,6 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         }
     }
     a->lu_svd_start = 0;
-    a->lu_inverse = user_inverse;
     fa = a->nfact;
     fw = c.work->nfact;
     fp = c.probe ? c.probe->nfact : 0;
@@ -330,10 +299,9 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         if (o.method == KIN_LOCATE_FAST && bracket) {
             rc = kin__locate_hermite(&c);
             TRACE(" event %d: hermite returned %d\n", info->event, rc);
-            if (rc == KIN__HERMITE_NO_BRACKET) {
-                /* the fallbacks read the SVD analyses of the bracket's ends */
-                int rc2 = kin__cur(c.prev)->valid ? KIN_OK : kin__analyse(c.prev, NULL);
-                if (rc2 == KIN_OK && !kin__cur(a)->valid) rc2 = kin__analyse(a, NULL);
+            if (rc == KIN__HERMITE_NO_BRACKET && !kin__cur(c.prev)->valid) {
+                /* the fallbacks read the SVD analysis of the point before */
+                int rc2 = kin__analyse(c.prev, NULL);
                 if (rc2) rc = rc2;
             }
             if (rc == KIN__HERMITE_NO_BRACKET) {

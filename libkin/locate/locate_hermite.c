@@ -429,17 +429,13 @@ int kin__locate_hermite(loc_ctx *c)
     h->n = 0;
     /* prev may be the follower's LU point (no SVD): its node from the LU
      * factors, or its SVD where the triple does not converge */
-    kin_assembly *ends[2] = {prev, c->a};
-    for (int e = 0; e < 2; ++e) {
-        kin_assembly *st = ends[e];
-        int added = kin__cur(st)->valid ? -1 : hermite_add_lu(h, st, prev);
-        if (added < 0 && !kin__cur(st)->valid) {
-            int rc = kin__analyse(st, NULL);
-            if (rc) return rc;
-        }
-        if (added < 0) added = hermite_add(h, st, prev);
-        if (!added) return KIN__HERMITE_NO_BRACKET;
+    int added = kin__cur(prev)->valid ? -1 : hermite_add_lu(h, prev, prev);
+    if (added < 0 && !kin__cur(prev)->valid) {
+        int rc = kin__analyse(prev, NULL);
+        if (rc) return rc;
     }
+    if (added < 0) added = hermite_add(h, prev, prev);
+    if (!added || !hermite_add(h, c->a, prev)) return KIN__HERMITE_NO_BRACKET;
     double width0 = fabs(h->z[1] - h->z[0]);
     double err_ok = NODE_ERROR_FRACTION * c->o->vr_tol * prev->rms_length;
     for (int i = 0; i < HERMITE_MAX_NODES; ++i) all[i] = 1;

@@ -59,10 +59,6 @@ enum { KIN__VR_BLOCK_MAX = 4 };
  * kept). The same factors as the step made, where the estimates' start
  * vectors are the same. */
 int kin__lu_refactor(kin_assembly *a, const double *border, int *regular);
-/* v_max of the current point refined by `passes` more power-iteration
- * passes on H H^T from its LU-mode estimate's vector (a lower bound that
- * converges at (v_1 / v_max)^2 per pass); kept in the factors */
-double kin__lu_vmax(kin_assembly *a, int passes);
 /* The current point has usable square dense LU-mode factors of
  * J = [C; t_prev^T] (no rigid mechanisms: nb + 1 = nf) */
 int kin__lu_square_current(const kin_assembly *a);

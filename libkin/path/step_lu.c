@@ -126,25 +126,6 @@ int kin__lu_chord_correction(kin_assembly *a, const double *e, double *d)
     return KIN_OK;
 }
 
-double kin__lu_vmax(kin_assembly *a, int passes)
-{
-    kin_lufactor *F = &a->lu[a->lu_cur];
-    int nf = a->nf, nb = a->nb, inc = 1;
-    double d1 = 1.0, d0 = 0.0, *H = a->mwork, *x = F->vmax_vec, *y = a->y, v = F->v_max;
-    if (!kin__lu_current(a) || F->sparse || kin__dense_ready(a) != KIN_OK) return v;
-    kin__build_H(a, a->xyz, H, nf);
-    for (int p = 0; p < passes; ++p) {
-        dgemv_("T", &nf, &nb, &d1, H, &nf, x, &inc, &d0, y, &inc, 1);
-        dgemv_("N", &nf, &nb, &d1, H, &nf, y, &inc, &d0, x, &inc, 1);
-        double nx = kin__norm(nf, x);
-        if (!(nx > 0.0 && isfinite(nx))) break;
-        v = sqrt(nx);
-        for (int i = 0; i < nf; ++i) x[i] /= nx;
-    }
-    F->v_max = v;
-    return v;
-}
-
 int kin__lu_square_current(const kin_assembly *a)
 {
     const kin_lufactor *F = &a->lu[a->lu_cur];
