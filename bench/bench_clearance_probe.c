@@ -6,7 +6,8 @@
  * time, the median and the least of `reps` checks, in three states:
  *   warm     checks repeated at one configuration;
  *   cold     before each check 8 MB of memory written (the caches emptied
- *            of the check's data, as a large step leaves them);
+ *            of the check's data, as a large step leaves them; the size in
+ *            MB from LIBKIN_PROBE_EVICT_MB: 64 empties the 32 MB L3 too);
  *   cold+br  as cold, plus 200,000 data-dependent random branches (the
  *            branch predictor's history of the walk overwritten, as a step
  *            does).
@@ -70,7 +71,7 @@ static int cmp_dbl(const void *p, const void *q)
     return (x > y) - (x < y);
 }
 
-#define EVICT (8u << 20)
+static size_t EVICT = 8u << 20; /* LIBKIN_PROBE_EVICT_MB */
 static volatile unsigned long long sink;
 
 /* the caches emptied (8 MB written and read), and with br the branch
@@ -100,6 +101,8 @@ int main(int argc, char **argv)
         for (int i = 2; i < argc && nm < 16; ++i)
             if (sscanf(argv[i], "%d:%d", &members[nm][0], &members[nm][1]) == 2) ++nm;
     }
+    const char *ev = getenv("LIBKIN_PROBE_EVICT_MB");
+    if (ev && atoi(ev) > 0) EVICT = (size_t)atoi(ev) << 20;
     unsigned char *buf = calloc(EVICT, 1);
     double *t = malloc(sizeof(double) * (size_t)reps);
     unsigned long long st = 7;

@@ -424,6 +424,9 @@ static void tree_build(const kin_assembly *a, struct kin_contact *c, const doubl
             const int *v = i < N->count ? c->lp[N->start + i].v : NULL;
             for (int k = 0; k < 3; ++k) S->v[k][i] = v ? (v[k] >= 0 ? v[k] : v[1]) : -1;
             for (int k = 0; k < 3; ++k) S->lo[k][i] = FLT_MAX, S->hi[k][i] = -FLT_MAX;
+            for (int q = 0; q < 3; ++q)
+                for (int k = 0; k < 3; ++k) S->p[q][k][i] = 0.0f;
+            S->r[i] = v ? c->lp[N->start + i].r : 0.0f;
         }
     }
     load_points(a, c, xyz, 1);
@@ -450,6 +453,7 @@ static double refit(struct kin_contact *c)
             const double *r = c->lr + N->start;
             for (int i = 0; i < N->count; ++i) {
                 const double *x = P + 3 * S->v[0][i], *y = P + 3 * S->v[1][i], *z = P + 3 * S->v[2][i];
+                for (int k = 0; k < 3; ++k) S->p[0][k][i] = (float)x[k], S->p[1][k][i] = (float)y[k], S->p[2][k][i] = (float)z[k];
                 for (int k = 0; k < 3; ++k) {
                     float l = f_down(dmin(dmin(x[k], y[k]), z[k]) - r[i]);
                     float h = f_up(dmax(dmax(x[k], y[k]), z[k]) + r[i]);
@@ -555,6 +559,68 @@ static inline unsigned adjacent_lanes(const kin__leafsoa *S, int v0, int v1, int
         int eq = 0;
         for (int k = 0; k < 3; ++k) eq |= (S->v[k][i] == v0) | (S->v[k][i] == v1) | (S->v[k][i] == v2);
         m |= (unsigned)eq << i;
+    }
+    return m;
+}
+#endif
+
+/* apart_lanes: bit j set when lane j of S and lane i of X are shown
+ * apart by more than T along the line of their box centres (the first
+ * separating axis of prim_far, in float on the joints' points rounded to
+ * float): bound = (gap of the projections) / |u| - radii. Rounding: every
+ * point is within M (the root box's largest coordinate), so the points'
+ * rounding and the float arithmetic move the bound by less than 2^-19 M,
+ * and slack = 2^-16 M is added to T (slack inf for M outside 2^-40 ..
+ * 2^100, where products would overflow or underflow: no lane). A superset of what is kept stays kept: it only drops pairs
+ * whose clearance is above T >= best. */
+static inline void apart_row(const kin__leafsoa *X, int i, float cx[3], float xp[3][3])
+{
+    for (int k = 0; k < 3; ++k) cx[k] = 0.5f * X->lo[k][i] + 0.5f * X->hi[k][i];
+    for (int q = 0; q < 3; ++q)
+        for (int k = 0; k < 3; ++k) xp[q][k] = X->p[q][k][i];
+}
+#if defined(__SSE2__)
+static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], float xp[3][3], float thr0)
+{
+    const __m128 half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps();
+    unsigned m = 0;
+    for (int h = 0; h < LEAF_MAX; h += 4) {
+        __m128 u[3];
+        for (int k = 0; k < 3; ++k)
+            u[k] = _mm_sub_ps(_mm_add_ps(_mm_mul_ps(half, _mm_loadu_ps(S->lo[k] + h)), _mm_mul_ps(half, _mm_loadu_ps(S->hi[k] + h))),
+                              _mm_set1_ps(cx[k]));
+        __m128 lo1 = _mm_set1_ps(INFINITY), hi1 = _mm_set1_ps(-INFINITY), lo2 = lo1, hi2 = hi1;
+        for (int q = 0; q < 3; ++q) {
+            __m128 t = _mm_add_ps(_mm_add_ps(_mm_mul_ps(u[0], _mm_set1_ps(xp[q][0])), _mm_mul_ps(u[1], _mm_set1_ps(xp[q][1]))),
+                                  _mm_mul_ps(u[2], _mm_set1_ps(xp[q][2])));
+            lo1 = _mm_min_ps(lo1, t), hi1 = _mm_max_ps(hi1, t);
+            __m128 w = _mm_add_ps(_mm_add_ps(_mm_mul_ps(u[0], _mm_loadu_ps(S->p[q][0] + h)), _mm_mul_ps(u[1], _mm_loadu_ps(S->p[q][1] + h))),
+                                  _mm_mul_ps(u[2], _mm_loadu_ps(S->p[q][2] + h)));
+            lo2 = _mm_min_ps(lo2, w), hi2 = _mm_max_ps(hi2, w);
+        }
+        __m128 gap = _mm_max_ps(_mm_sub_ps(lo2, hi1), _mm_sub_ps(lo1, hi2));
+        __m128 thr = _mm_add_ps(_mm_set1_ps(thr0), _mm_loadu_ps(S->r + h));
+        __m128 uu = _mm_add_ps(_mm_add_ps(_mm_mul_ps(u[0], u[0]), _mm_mul_ps(u[1], u[1])), _mm_mul_ps(u[2], u[2]));
+        __m128 apart = _mm_and_ps(_mm_cmpgt_ps(gap, zero), _mm_cmpgt_ps(_mm_mul_ps(gap, gap), _mm_mul_ps(_mm_mul_ps(thr, thr), uu)));
+        m |= (unsigned)_mm_movemask_ps(apart) << h;
+    }
+    return m;
+}
+#else
+static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], float xp[3][3], float thr0)
+{
+    unsigned m = 0;
+    for (int j = 0; j < LEAF_MAX; ++j) {
+        float u[3], lo1 = INFINITY, hi1 = -INFINITY, lo2 = INFINITY, hi2 = -INFINITY;
+        for (int k = 0; k < 3; ++k) u[k] = (0.5f * S->lo[k][j] + 0.5f * S->hi[k][j]) - cx[k];
+        for (int q = 0; q < 3; ++q) {
+            float t = u[0] * xp[q][0] + u[1] * xp[q][1] + u[2] * xp[q][2];
+            float w = u[0] * S->p[q][0][j] + u[1] * S->p[q][1][j] + u[2] * S->p[q][2][j];
+            lo1 = t < lo1 ? t : lo1, hi1 = t > hi1 ? t : hi1, lo2 = w < lo2 ? w : lo2, hi2 = w > hi2 ? w : hi2;
+        }
+        float gap = lo2 - hi1 > lo1 - hi2 ? lo2 - hi1 : lo1 - hi2, thr = thr0 + S->r[j];
+        float uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+        m |= (unsigned)(gap > 0.0f && gap * gap > thr * thr * uu) << j;
     }
     return m;
 }
@@ -768,6 +834,13 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
      * squared gap of its boxes (0 for a node against itself), tested again
      * when it is taken (best may have come down since) */
     const double neg_node = -2.0 * c->rmax;
+    float slack;
+    {
+        double M = 0.0;
+        for (int k = 0; k < 3; ++k) M = dmax(M, dmax(fabs((double)c->node[0].lo[k]), fabs((double)c->node[0].hi[k])));
+        /* far from 1 (float overflow, underflow): no lane is dropped so */
+        slack = M > 0x1p-40 && M < 0x1p100 ? f_up(0x1p-16 * M) : INFINITY;
+    }
     const kin__bvh_node *node = c->node;
     const kin__leafprim *lp = c->lp;
     int *st = c->stack;
@@ -784,6 +857,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
              * pairs left in row order (the same pairs, in the same order,
              * as one pair at a time) */
             const kin__leafsoa *SU = &c->leaf[U->right], *SV = &c->leaf[V->right];
+            float cx[3], rp[3][3]; /* a row's box centre and points */
             unsigned rows = (1u << U->count) - 1, lanes = (1u << V->count) - 1;
             if (u != v) rows &= near_lanes(SU, V->lo, V->hi, near_bound(best)); /* against the other node's box */
             while (rows) {
@@ -794,6 +868,11 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
                 unsigned cols = near_lanes(SV, lo, hi, near_bound(best)) & lanes &
                                 ~adjacent_lanes(SV, SU->v[0][i], SU->v[1][i], SU->v[2][i]);
                 if (u == v) cols &= ~((2u << i) - 1); /* each pair once */
+                if (cols) {
+                    apart_row(SU, i, cx, rp);
+                    float thr0 = near_bound(best) + SU->r[i] + slack; /* rounded up: float sums of floats >= 0 */
+                    cols &= ~apart_lanes(SV, cx, rp, thr0);
+                }
                 int x = U->start + i;
                 const kin__leafprim *Lp = &lp[x];
                 while (cols) {

@@ -23,11 +23,14 @@ typedef struct kin__bvh_node {
  * start + i), so that a primitive is tested against all of another leaf's
  * in straight-line code (contact.c, near_lanes and adjacent_lanes): their
  * boxes grown by their radii, floats rounded outward, and their joints in
- * tree order (a bar's third repeats its second). Lanes past the leaf's
- * count: empty boxes, joints -1. 288 bytes. */
+ * tree order (a bar's third repeats its second), the joints' points and
+ * the radii in float. Lanes past the leaf's count: empty boxes, joints -1,
+ * points and radii 0. 608 bytes. */
 typedef struct kin__leafsoa {
     float lo[3][KIN__LEAF_MAX], hi[3][KIN__LEAF_MAX];
     int v[3][KIN__LEAF_MAX];
+    float p[3][3][KIN__LEAF_MAX]; /* joint q's coordinate k, rounded to nearest */
+    float r[KIN__LEAF_MAX];       /* radius, rounded up */
 } kin__leafsoa;
 
 /* A primitive as the exact tests use it, stored in tree order (the walk
