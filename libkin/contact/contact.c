@@ -58,7 +58,7 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->prim_part = malloc(sizeof(int) * N);
     c->prim_v = malloc(sizeof(int) * 3 * N);
     c->prim_r = malloc(sizeof(double) * N);
-    c->cen = malloc(sizeof(double) * 3 * N);
+    c->cen = malloc(sizeof(kin__bitem) * (N ? N : 1));
     c->lr = malloc(sizeof(double) * (N ? N : 1));
     c->jpos = malloc(sizeof(int) * ((size_t)a->nj + 1));
     c->order = malloc(sizeof(int) * N);
@@ -312,19 +312,19 @@ int kin_last_contact(const kin_assembly *a, double *clearance, int *parts, doubl
 static inline float f_down(double x) { return (float)dmin(x - fabs(x) * 0x1p-23 - 0x1p-140, FLT_MAX); }
 static inline float f_up(double x) { return (float)dmax(x + fabs(x) * 0x1p-23 + 0x1p-140, -FLT_MAX); }
 
-/* partial sort of idx[0..n) by cen[3*idx + ax] so that idx[m] is in place */
-static void select_nth(int *idx, int n, int m, const double *cen, int ax)
+/* partial sort of it[0..n) by c[ax] so that it[m] is in place */
+static void select_nth(kin__bitem *it, int n, int m, int ax)
 {
     int lo = 0, hi = n - 1;
     while (hi > lo) {
-        double piv = cen[3 * idx[(lo + hi) / 2] + ax];
+        double piv = it[(lo + hi) / 2].c[ax];
         int i = lo, j = hi;
         while (i <= j) {
-            while (cen[3 * idx[i] + ax] < piv) ++i;
-            while (cen[3 * idx[j] + ax] > piv) --j;
+            while (it[i].c[ax] < piv) ++i;
+            while (it[j].c[ax] > piv) --j;
             if (i <= j) {
-                int t = idx[i];
-                idx[i] = idx[j], idx[j] = t;
+                kin__bitem t = it[i];
+                it[i] = it[j], it[j] = t;
                 ++i, --j;
             }
         }
@@ -334,7 +334,7 @@ static void select_nth(int *idx, int n, int m, const double *cen, int ax)
     }
 }
 
-/* the subtree of order[start .. start+count) into node *nn (median split of
+/* the subtree of cen[start .. start+count) into node *nn (median split of
  * the box centres along their widest axis); returns its index. Boxes are
  * set by refit. */
 static int build(struct kin_contact *c, int start, int count, int *nn)
@@ -349,14 +349,14 @@ static int build(struct kin_contact *c, int start, int count, int *nn)
     }
     double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int q = start; q < start + count; ++q) {
-        const double *x = c->cen + 3 * c->order[q];
+        const double *x = c->cen[q].c;
         for (int k = 0; k < 3; ++k) clo[k] = dmin(clo[k], x[k]), chi[k] = dmax(chi[k], x[k]);
     }
     int ax = 0;
     for (int k = 1; k < 3; ++k)
         if (chi[k] - clo[k] > chi[ax] - clo[ax]) ax = k;
     int half = count / 2;
-    select_nth(c->order + start, count, half, c->cen, ax);
+    select_nth(c->cen + start, count, half, ax);
     int l = build(c, start, half, nn);
     int r = build(c, start + half, count - half, nn);
     N = &c->node[id];
@@ -387,13 +387,14 @@ static void tree_build(const kin_assembly *a, struct kin_contact *c, const doubl
         for (int k = 0; k < 3; ++k) {
             double lo = INFINITY, hi = -INFINITY;
             for (int q = 0; q < nv; ++q) lo = dmin(lo, c->pts[3 * v[q] + k]), hi = dmax(hi, c->pts[3 * v[q] + k]);
-            c->cen[3 * p + k] = 0.5 * lo + 0.5 * hi;
+            c->cen[p].c[k] = 0.5 * lo + 0.5 * hi;
         }
-        c->order[p] = p;
+        c->cen[p].p = p;
     }
     int nn = 0;
     c->nleaf = 0;
     build(c, 0, c->nprim, &nn);
+    for (int q = 0; q < c->nprim; ++q) c->order[q] = c->cen[q].p;
     c->nnode = nn;
     for (int j = 0; j < a->nj; ++j) c->jpos[j] = -1;
     int next = 0;
@@ -570,8 +571,10 @@ static inline unsigned adjacent_lanes(const kin__leafsoa *S, int v0, int v1, int
  * float): bound = (gap of the projections) / |u| - radii. Rounding: every
  * point is within M (the root box's largest coordinate), so the points'
  * rounding and the float arithmetic move the bound by less than 2^-19 M,
- * and slack = 2^-16 M is added to T (slack inf for M outside 2^-40 ..
- * 2^100, where products would overflow or underflow: no lane). A superset of what is kept stays kept: it only drops pairs
+ * and slack = 2^-16 M is added to T and the radii (slack inf for M
+ * outside 2^-40 .. 2^100, where products would overflow or underflow: no
+ * lane; where the float sum thr0 = T + r + slack loses more than the
+ * slack to its rounding, it is beyond any gap the points can have). A superset of what is kept stays kept: it only drops pairs
  * whose clearance is above T >= best. */
 static inline void apart_row(const kin__leafsoa *X, int i, float cx[3], float xp[3][3])
 {
@@ -870,7 +873,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
                 if (u == v) cols &= ~((2u << i) - 1); /* each pair once */
                 if (cols) {
                     apart_row(SU, i, cx, rp);
-                    float thr0 = near_bound(best) + SU->r[i] + slack; /* rounded up: float sums of floats >= 0 */
+                    float thr0 = near_bound(best) + SU->r[i] + slack; /* see apart_lanes */
                     cols &= ~apart_lanes(SV, cx, rp, thr0);
                 }
                 int x = U->start + i;
