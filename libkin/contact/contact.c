@@ -58,7 +58,7 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->prim_part = malloc(sizeof(int) * N);
     c->prim_v = malloc(sizeof(int) * 3 * N);
     c->prim_r = malloc(sizeof(double) * N);
-    c->cen = malloc(sizeof(kin__bitem) * (N ? N : 1));
+    c->cen = malloc(sizeof(double) * 3 * N);
     c->lr = malloc(sizeof(double) * (N ? N : 1));
     c->jpos = malloc(sizeof(int) * ((size_t)a->nj + 1));
     c->order = malloc(sizeof(int) * N);
@@ -312,19 +312,19 @@ int kin_last_contact(const kin_assembly *a, double *clearance, int *parts, doubl
 static inline float f_down(double x) { return (float)dmin(x - fabs(x) * 0x1p-23 - 0x1p-140, FLT_MAX); }
 static inline float f_up(double x) { return (float)dmax(x + fabs(x) * 0x1p-23 + 0x1p-140, -FLT_MAX); }
 
-/* partial sort of it[0..n) by c[ax] so that it[m] is in place */
-static void select_nth(kin__bitem *it, int n, int m, int ax)
+/* partial sort of idx[0..n) by cen[3*idx + ax] so that idx[m] is in place */
+static void select_nth(int *idx, int n, int m, const double *cen, int ax)
 {
     int lo = 0, hi = n - 1;
     while (hi > lo) {
-        double piv = it[(lo + hi) / 2].c[ax];
+        double piv = cen[3 * idx[(lo + hi) / 2] + ax];
         int i = lo, j = hi;
         while (i <= j) {
-            while (it[i].c[ax] < piv) ++i;
-            while (it[j].c[ax] > piv) --j;
+            while (cen[3 * idx[i] + ax] < piv) ++i;
+            while (cen[3 * idx[j] + ax] > piv) --j;
             if (i <= j) {
-                kin__bitem t = it[i];
-                it[i] = it[j], it[j] = t;
+                int t = idx[i];
+                idx[i] = idx[j], idx[j] = t;
                 ++i, --j;
             }
         }
@@ -334,7 +334,7 @@ static void select_nth(kin__bitem *it, int n, int m, int ax)
     }
 }
 
-/* the subtree of cen[start .. start+count) into node *nn (median split of
+/* the subtree of order[start .. start+count) into node *nn (median split of
  * the box centres along their widest axis); returns its index. Boxes are
  * set by refit. */
 static int build(struct kin_contact *c, int start, int count, int *nn)
@@ -349,14 +349,14 @@ static int build(struct kin_contact *c, int start, int count, int *nn)
     }
     double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int q = start; q < start + count; ++q) {
-        const double *x = c->cen[q].c;
+        const double *x = c->cen + 3 * c->order[q];
         for (int k = 0; k < 3; ++k) clo[k] = dmin(clo[k], x[k]), chi[k] = dmax(chi[k], x[k]);
     }
     int ax = 0;
     for (int k = 1; k < 3; ++k)
         if (chi[k] - clo[k] > chi[ax] - clo[ax]) ax = k;
     int half = count / 2;
-    select_nth(c->cen + start, count, half, ax);
+    select_nth(c->order + start, count, half, c->cen, ax);
     int l = build(c, start, half, nn);
     int r = build(c, start + half, count - half, nn);
     N = &c->node[id];
@@ -387,14 +387,13 @@ static void tree_build(const kin_assembly *a, struct kin_contact *c, const doubl
         for (int k = 0; k < 3; ++k) {
             double lo = INFINITY, hi = -INFINITY;
             for (int q = 0; q < nv; ++q) lo = dmin(lo, c->pts[3 * v[q] + k]), hi = dmax(hi, c->pts[3 * v[q] + k]);
-            c->cen[p].c[k] = 0.5 * lo + 0.5 * hi;
+            c->cen[3 * p + k] = 0.5 * lo + 0.5 * hi;
         }
-        c->cen[p].p = p;
+        c->order[p] = p;
     }
     int nn = 0;
     c->nleaf = 0;
     build(c, 0, c->nprim, &nn);
-    for (int q = 0; q < c->nprim; ++q) c->order[q] = c->cen[q].p;
     c->nnode = nn;
     for (int j = 0; j < a->nj; ++j) c->jpos[j] = -1;
     int next = 0;

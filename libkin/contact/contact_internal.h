@@ -44,13 +44,6 @@ typedef struct kin__leafprim {
                            triangle panel): adjacency compares v */
 } kin__leafprim;
 
-/* A primitive while the tree is built: its box centre and number (the
- * median splits move these, contiguous, rather than indices into them) */
-typedef struct kin__bitem {
-    double c[3];
-    int p;
-} kin__bitem;
-
 /* A bar in the sweep of contact_event.c's crossing check: its box's low x */
 typedef struct kin__sweepkey {
     double x;
@@ -71,7 +64,7 @@ struct kin_contact {
     int *prim_part;    /* part of each primitive (bar k, or nb + panel) */
     int *prim_v;       /* 3 joints per primitive (a bar's third is -1) */
     double *prim_r;    /* radius (half thickness) of each primitive */
-    kin__bitem *cen;   /* nprim: box centres, for the split */
+    double *cen;       /* 3 per primitive: box centre, for the split */
     int *order;        /* nprim primitive indices, grouped by leaf */
     kin__bvh_node *node; /* up to 2 * (nprim / ((LEAF_MAX + 1) / 2) + 1) */
     int nnode;         /* nodes of the current tree */
