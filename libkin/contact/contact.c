@@ -363,6 +363,7 @@ static int build(struct kin_contact *c, int start, int count, int *nn)
     for (int k = 1; k < 3; ++k)
         if (chi[k] - clo[k] > chi[ax] - clo[ax]) ax = k;
     int half = count / 2;
+    if (count > 2 * LEAF_MAX) half = (half + LEAF_MAX / 2) / LEAF_MAX * LEAF_MAX; /* full leaves on the left */
     select_nth(c->order + start, count, half, c->cen, ax);
     int l = build(c, start, half, nn);
     int r = build(c, start + half, count - half, nn);
