@@ -3,17 +3,20 @@
  *
  * The clearance: every bar is one primitive (a segment), every panel the
  * fan of its triangles; each primitive's box is grown by its radius. A
- * bounding-volume tree (median split of the box centres along the widest
- * axis) is built at the first call and then refitted to each configuration
+ * bounding-volume tree (split of the box centres along the widest axis at
+ * the median, moved to a multiple of 8 so that the leaves are full) is built at the first call and then refitted to each configuration
  * (O(n): the boxes bottom up, the topology kept), and built again only when
  * the refitted boxes have grown by half against those right after its
  * build. Primitives and joints are stored in tree order and boxes as floats
- * rounded outward (48 and 40 bytes per leaf and node), so the walk reads
- * contiguous memory. The tree is walked against itself, pairs of nodes
- * nearer first, a pair dropped when its boxes are no nearer than the best
- * clearance found so far (the last call's closest pair, evaluated first,
- * gives that bound from the start); leaves of two parts that share no
- * joint get the exact test of distance.c. */
+ * rounded outward (24 bytes per primitive, a 608-byte block of 8 lanes per
+ * leaf, 40 bytes per node), so the walk reads contiguous memory. The tree
+ * is walked against itself, pairs of nodes nearer first, a pair dropped
+ * when its boxes are no nearer than the best clearance found so far (the
+ * last call's closest pair, evaluated first, gives that bound from the
+ * start); two leaves are tested a row at a time, 8 lanes at once without a
+ * branch per pair (boxes, shared joints, one separating axis), and the
+ * pairs left of parts that share no joint get the separating-axis bound
+ * and the exact test of distance.c. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -21,7 +24,11 @@
 
 #include "contact/contact_internal.h"
 
-#define LEAF_MAX 8
+#if defined(__SSE2__)
+#include <emmintrin.h> /* the leaf tests (every x86-64 has SSE2) */
+#endif
+
+#define LEAF_MAX KIN__LEAF_MAX
 
 static inline double dmin(double x, double y) { return x < y ? x : y; }
 static inline double dmax(double x, double y) { return x > y ? x : y; }
@@ -31,7 +38,7 @@ static void ct_release(struct kin_contact *c)
     if (!c) return;
     free(c->poff), free(c->pj), free(c->rbar), free(c->tpan);
     free(c->prim_part), free(c->prim_v), free(c->prim_r), free(c->cen), free(c->lr), free(c->jpos);
-    free(c->order), free(c->node), free(c->lp), free(c->ev_prev), free(c->ev_x), free(c->ev_xyz), free(c->stack), free(c->sgap), free(c->pts);
+    free(c->order), free(c->node), free(c->lp), free(c->leaf), free(c->ev_prev), free(c->ev_x), free(c->ev_xyz), free(c->stack), free(c->sgap), free(c->pts);
     free(c->ev_box), free(c->ev_key);
     free(c);
 }
@@ -49,8 +56,10 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     for (int i = 0; i < c->np; ++i) ntri += c->poff[i + 1] - c->poff[i] - 2;
     int n = a->nb + ntri;
     c->nprim = n;
-    /* tree depth <= log2(n) + 2 (median split); the pair walk keeps at most
-     * 3 entries per level of each tree, plus the root pair */
+    /* tree depth <= log2(n) + 2 (each split within 4 of the median, and
+     * 16 or fewer primitives split into two leaves: checked for every n up
+     * to 200,000); the pair walk keeps at most 3 entries per level of each
+     * tree, plus the root pair */
     int depth = 2;
     while ((1 << (depth - 2)) < n && depth < 62) ++depth;
     c->stack_cap = 8 * depth + 16;
@@ -67,6 +76,7 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
      * N / that leaves, and one fewer inner nodes */
     c->node = malloc(sizeof(kin__bvh_node) * (2 * (N / ((LEAF_MAX + 1) / 2) + 1)));
     c->lp = malloc(sizeof(kin__leafprim) * (N ? N : 1));
+    c->leaf = malloc(sizeof(kin__leafsoa) * (N / ((LEAF_MAX + 1) / 2) + 1));
     c->stack = malloc(sizeof(int) * 2 * (size_t)c->stack_cap);
     c->sgap = malloc(sizeof(double) * (size_t)c->stack_cap);
     c->pts = malloc(sizeof(double) * 3 * (size_t)a->nj);
@@ -77,7 +87,7 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->ev_key = malloc(sizeof(kin__sweepkey) * ((size_t)a->nb + 1));
     c->ev_pair[0] = c->ev_pair[1] = -1;
     c->ev_tol = 1e-9;
-    if (!c->prim_part || !c->prim_v || !c->prim_r || !c->cen || !c->lr || !c->jpos || !c->order || !c->node || !c->lp ||
+    if (!c->prim_part || !c->prim_v || !c->prim_r || !c->cen || !c->lr || !c->jpos || !c->order || !c->node || !c->lp || !c->leaf ||
         !c->stack || !c->sgap || !c->pts || !c->ev_prev || !c->ev_x || !c->ev_xyz || !c->ev_box || !c->ev_key)
         return KIN_ENOMEM;
     int p = 0;
@@ -333,7 +343,7 @@ static void select_nth(int *idx, int n, int m, const double *cen, int ax)
     }
 }
 
-/* the subtree of order[start .. start+count) into node *nn (median split of
+/* the subtree of order[start .. start+count) into node *nn (split of
  * the box centres along their widest axis); returns its index. Boxes are
  * set by refit. */
 static int build(struct kin_contact *c, int start, int count, int *nn)
@@ -342,7 +352,8 @@ static int build(struct kin_contact *c, int start, int count, int *nn)
     kin__bvh_node *N = &c->node[id];
     N->start = start, N->count = count;
     if (count <= LEAF_MAX) {
-        N->left = N->right = -1;
+        N->left = -1;
+        N->right = c->nleaf++; /* its leaf block */
         return id;
     }
     double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -354,6 +365,7 @@ static int build(struct kin_contact *c, int start, int count, int *nn)
     for (int k = 1; k < 3; ++k)
         if (chi[k] - clo[k] > chi[ax] - clo[ax]) ax = k;
     int half = count / 2;
+    if (count > 2 * LEAF_MAX) half = (half + LEAF_MAX / 2) / LEAF_MAX * LEAF_MAX; /* full leaves on the left */
     select_nth(c->order + start, count, half, c->cen, ax);
     int l = build(c, start, half, nn);
     int r = build(c, start + half, count - half, nn);
@@ -390,6 +402,7 @@ static void tree_build(const kin_assembly *a, struct kin_contact *c, const doubl
         c->order[p] = p;
     }
     int nn = 0;
+    c->nleaf = 0;
     build(c, 0, c->nprim, &nn);
     c->nnode = nn;
     for (int j = 0; j < a->nj; ++j) c->jpos[j] = -1;
@@ -413,6 +426,19 @@ static void tree_build(const kin_assembly *a, struct kin_contact *c, const doubl
         L->r = f_up(c->prim_r[p]);
         c->rmax = dmax(c->rmax, c->prim_r[p]);
     }
+    for (int id = 0; id < c->nnode; ++id) {
+        const kin__bvh_node *N = &c->node[id];
+        if (N->left >= 0) continue;
+        kin__leafsoa *S = &c->leaf[N->right];
+        for (int i = 0; i < LEAF_MAX; ++i) {
+            const int *v = i < N->count ? c->lp[N->start + i].v : NULL;
+            for (int k = 0; k < 3; ++k) S->v[k][i] = v ? (v[k] >= 0 ? v[k] : v[1]) : -1;
+            for (int k = 0; k < 3; ++k) S->lo[k][i] = FLT_MAX, S->hi[k][i] = -FLT_MAX;
+            for (int q = 0; q < 3; ++q)
+                for (int k = 0; k < 3; ++k) S->p[q][k][i] = 0.0f;
+            S->r[i] = v ? c->lp[N->start + i].r : 0.0f;
+        }
+    }
     load_points(a, c, xyz, 1);
     c->seed[0] = c->seed[1] = -1;
     c->tree_ok = 1;
@@ -427,33 +453,28 @@ static void tree_build(const kin_assembly *a, struct kin_contact *c, const doubl
 static double refit(struct kin_contact *c)
 {
     const double *P = c->pts;
-    for (int q = 0; q < c->nprim; ++q) {
-        kin__leafprim *L = &c->lp[q];
-        double r = c->lr[q];
-        const double *x = P + 3 * L->v[0], *y = P + 3 * L->v[1];
-        if (L->v[2] >= 0) {
-            const double *z = P + 3 * L->v[2];
-            for (int k = 0; k < 3; ++k) {
-                L->lo[k] = f_down(dmin(dmin(x[k], y[k]), z[k]) - r);
-                L->hi[k] = f_up(dmax(dmax(x[k], y[k]), z[k]) + r);
-            }
-        } else {
-            for (int k = 0; k < 3; ++k) {
-                L->lo[k] = f_down(dmin(x[k], y[k]) - r);
-                L->hi[k] = f_up(dmax(x[k], y[k]) + r);
-            }
-        }
-    }
     double sum = 0.0;
     for (int id = c->nnode - 1; id >= 0; --id) {
         kin__bvh_node *N = &c->node[id];
         float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
         if (N->left < 0) {
-            for (int q = N->start; q < N->start + N->count; ++q)
-                for (int k = 0; k < 3; ++k) lo[k] = fminf(lo[k], c->lp[q].lo[k]), hi[k] = fmaxf(hi[k], c->lp[q].hi[k]);
+            /* its primitives' boxes (a bar's third joint is its second) */
+            kin__leafsoa *S = &c->leaf[N->right];
+            const double *r = c->lr + N->start;
+            for (int i = 0; i < N->count; ++i) {
+                const double *x = P + 3 * S->v[0][i], *y = P + 3 * S->v[1][i], *z = P + 3 * S->v[2][i];
+                for (int k = 0; k < 3; ++k) S->p[0][k][i] = (float)x[k], S->p[1][k][i] = (float)y[k], S->p[2][k][i] = (float)z[k];
+                for (int k = 0; k < 3; ++k) {
+                    float l = f_down(dmin(dmin(x[k], y[k]), z[k]) - r[i]);
+                    float h = f_up(dmax(dmax(x[k], y[k]), z[k]) + r[i]);
+                    S->lo[k][i] = l, S->hi[k][i] = h;
+                    lo[k] = l < lo[k] ? l : lo[k], hi[k] = h > hi[k] ? h : hi[k];
+                }
+            }
         } else {
             const kin__bvh_node *A = &c->node[N->left], *B = &c->node[N->right];
-            for (int k = 0; k < 3; ++k) lo[k] = fminf(A->lo[k], B->lo[k]), hi[k] = fmaxf(A->hi[k], B->hi[k]);
+            for (int k = 0; k < 3; ++k)
+                lo[k] = A->lo[k] < B->lo[k] ? A->lo[k] : B->lo[k], hi[k] = A->hi[k] > B->hi[k] ? A->hi[k] : B->hi[k];
         }
         double e[3];
         for (int k = 0; k < 3; ++k) N->lo[k] = lo[k], N->hi[k] = hi[k], e[k] = dmax((double)hi[k] - lo[k], 0.0);
@@ -486,6 +507,158 @@ static inline int cannot_beat(double s2, double neg, double best)
 {
     if (s2 > 0.0) return best < 0.0 || s2 > best * best * (1.0 + 0x1p-40);
     return neg > best;
+}
+
+/* The leaf tests in straight-line code (no branch per pair: a walk over
+ * thousands of leaf pairs, each pair's outcome different, is more than a
+ * branch predictor can learn). near_lanes: bit i set unless lane i's box is
+ * more than T apart from box (lo, hi) along some axis, in float: a superset
+ * of the pairs the exact test (cannot_beat of gap2, in double) keeps, for T
+ * = near_bound(best) (rounding to float is monotone, and T is above the
+ * largest axis gap that test keeps); NaN differences (none arise: boxes are
+ * finite or clamped) would keep the lane. adjacent_lanes: bit i set when
+ * lane i shares a joint with (v0, v1, v2). Lanes past the leaf's count are
+ * masked by the caller. SSE2 (every x86-64) or plain C. */
+static inline float near_bound(double best) { return best >= 0.0 ? f_up(best) : 0.0f; }
+
+#if defined(__SSE2__)
+static inline unsigned near_lanes(const kin__leafsoa *S, const float *lo, const float *hi, float T)
+{
+    const __m128 t = _mm_set1_ps(T);
+    unsigned m = 0;
+    for (int h = 0; h < LEAF_MAX; h += 4) {
+        __m128 far = _mm_setzero_ps();
+        for (int k = 0; k < 3; ++k) {
+            far = _mm_or_ps(far, _mm_cmpgt_ps(_mm_sub_ps(_mm_loadu_ps(S->lo[k] + h), _mm_set1_ps(hi[k])), t));
+            far = _mm_or_ps(far, _mm_cmpgt_ps(_mm_sub_ps(_mm_set1_ps(lo[k]), _mm_loadu_ps(S->hi[k] + h)), t));
+        }
+        m |= (unsigned)(~_mm_movemask_ps(far) & 15) << h;
+    }
+    return m;
+}
+static inline unsigned adjacent_lanes(const kin__leafsoa *S, int v0, int v1, int v2)
+{
+    const __m128i a = _mm_set1_epi32(v0), b = _mm_set1_epi32(v1), d = _mm_set1_epi32(v2);
+    unsigned m = 0;
+    for (int h = 0; h < LEAF_MAX; h += 4) {
+        __m128i eq = _mm_setzero_si128();
+        for (int k = 0; k < 3; ++k) {
+            __m128i w = _mm_loadu_si128((const __m128i *)(S->v[k] + h));
+            eq = _mm_or_si128(eq, _mm_or_si128(_mm_cmpeq_epi32(w, a), _mm_or_si128(_mm_cmpeq_epi32(w, b), _mm_cmpeq_epi32(w, d))));
+        }
+        m |= (unsigned)_mm_movemask_ps(_mm_castsi128_ps(eq)) << h;
+    }
+    return m;
+}
+#else
+static inline unsigned near_lanes(const kin__leafsoa *S, const float *lo, const float *hi, float T)
+{
+    unsigned m = 0;
+    for (int i = 0; i < LEAF_MAX; ++i) {
+        int far = 0;
+        for (int k = 0; k < 3; ++k) far |= (S->lo[k][i] - hi[k] > T) | (lo[k] - S->hi[k][i] > T);
+        m |= (unsigned)!far << i;
+    }
+    return m;
+}
+static inline unsigned adjacent_lanes(const kin__leafsoa *S, int v0, int v1, int v2)
+{
+    unsigned m = 0;
+    for (int i = 0; i < LEAF_MAX; ++i) {
+        int eq = 0;
+        for (int k = 0; k < 3; ++k) eq |= (S->v[k][i] == v0) | (S->v[k][i] == v1) | (S->v[k][i] == v2);
+        m |= (unsigned)eq << i;
+    }
+    return m;
+}
+#endif
+
+/* apart_lanes: bit j set when lane j of S and lane i of X are shown
+ * apart by more than T along the line of their box centres (the first
+ * separating axis of prim_far, in float on the joints' points rounded to
+ * float): bound = (gap of the projections) / |u| - radii. Rounding: every
+ * point is within M (the root box's largest coordinate), so the points'
+ * rounding and the float arithmetic move the bound by less than 2^-19 M,
+ * and slack = 2^-16 M is added to T and the radii (slack inf for M
+ * outside 2^-40 .. 2^100, where products would overflow or underflow: no
+ * lane; where the float sum thr0 = T + r + slack loses more than the
+ * slack to its rounding, it is beyond any gap the points can have). A
+ * superset of what the exact bounds keep stays kept: it only drops pairs
+ * whose clearance is above T >= best. */
+static inline void apart_row(const kin__leafsoa *X, int i, float cx[3], float xp[3][3])
+{
+    for (int k = 0; k < 3; ++k) cx[k] = 0.5f * X->lo[k][i] + 0.5f * X->hi[k][i];
+    for (int q = 0; q < 3; ++q)
+        for (int k = 0; k < 3; ++k) xp[q][k] = X->p[q][k][i];
+}
+#if defined(__SSE2__)
+static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], float xp[3][3], float thr0)
+{
+    const __m128 half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps();
+    unsigned m = 0;
+    for (int h = 0; h < LEAF_MAX; h += 4) {
+        __m128 u[3];
+        for (int k = 0; k < 3; ++k)
+            u[k] = _mm_sub_ps(_mm_add_ps(_mm_mul_ps(half, _mm_loadu_ps(S->lo[k] + h)), _mm_mul_ps(half, _mm_loadu_ps(S->hi[k] + h))),
+                              _mm_set1_ps(cx[k]));
+        __m128 lo1 = _mm_set1_ps(INFINITY), hi1 = _mm_set1_ps(-INFINITY), lo2 = lo1, hi2 = hi1;
+        for (int q = 0; q < 3; ++q) {
+            __m128 t = _mm_add_ps(_mm_add_ps(_mm_mul_ps(u[0], _mm_set1_ps(xp[q][0])), _mm_mul_ps(u[1], _mm_set1_ps(xp[q][1]))),
+                                  _mm_mul_ps(u[2], _mm_set1_ps(xp[q][2])));
+            lo1 = _mm_min_ps(lo1, t), hi1 = _mm_max_ps(hi1, t);
+            __m128 w = _mm_add_ps(_mm_add_ps(_mm_mul_ps(u[0], _mm_loadu_ps(S->p[q][0] + h)), _mm_mul_ps(u[1], _mm_loadu_ps(S->p[q][1] + h))),
+                                  _mm_mul_ps(u[2], _mm_loadu_ps(S->p[q][2] + h)));
+            lo2 = _mm_min_ps(lo2, w), hi2 = _mm_max_ps(hi2, w);
+        }
+        __m128 gap = _mm_max_ps(_mm_sub_ps(lo2, hi1), _mm_sub_ps(lo1, hi2));
+        __m128 thr = _mm_add_ps(_mm_set1_ps(thr0), _mm_loadu_ps(S->r + h));
+        __m128 uu = _mm_add_ps(_mm_add_ps(_mm_mul_ps(u[0], u[0]), _mm_mul_ps(u[1], u[1])), _mm_mul_ps(u[2], u[2]));
+        __m128 apart = _mm_and_ps(_mm_cmpgt_ps(gap, zero), _mm_cmpgt_ps(_mm_mul_ps(gap, gap), _mm_mul_ps(_mm_mul_ps(thr, thr), uu)));
+        m |= (unsigned)_mm_movemask_ps(apart) << h;
+    }
+    return m;
+}
+#else
+static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], float xp[3][3], float thr0)
+{
+    unsigned m = 0;
+    for (int j = 0; j < LEAF_MAX; ++j) {
+        float u[3], lo1 = INFINITY, hi1 = -INFINITY, lo2 = INFINITY, hi2 = -INFINITY;
+        for (int k = 0; k < 3; ++k) u[k] = (0.5f * S->lo[k][j] + 0.5f * S->hi[k][j]) - cx[k];
+        for (int q = 0; q < 3; ++q) {
+            float t = u[0] * xp[q][0] + u[1] * xp[q][1] + u[2] * xp[q][2];
+            float w = u[0] * S->p[q][0][j] + u[1] * S->p[q][1][j] + u[2] * S->p[q][2][j];
+            lo1 = t < lo1 ? t : lo1, hi1 = t > hi1 ? t : hi1, lo2 = w < lo2 ? w : lo2, hi2 = w > hi2 ? w : hi2;
+        }
+        float gap = lo2 - hi1 > lo1 - hi2 ? lo2 - hi1 : lo1 - hi2, thr = thr0 + S->r[j];
+        float uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+        m |= (unsigned)(gap > 0.0f && gap * gap > thr * thr * uu) << j;
+    }
+    return m;
+}
+#endif
+
+/* the lowest set bit's index of m != 0 */
+static inline int low_bit(unsigned m)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_ctz(m);
+#else
+    int i = 0;
+    while (!(m & 1u)) m >>= 1, ++i;
+    return i;
+#endif
+}
+
+/* squared gap of lanes i of S and j of T (gap2 of their boxes) */
+static inline double lane_gap2(const kin__leafsoa *S, int i, const kin__leafsoa *T, int j)
+{
+    double s = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        double g = dmax((double)S->lo[k][i] - T->hi[k][j], (double)T->lo[k][j] - S->hi[k][i]);
+        if (g > 0.0) s += g * g;
+    }
+    return s;
 }
 
 /* the joints of a part */
@@ -536,9 +709,9 @@ static double axis_gap(const double *P, const int *v, int nv, const int *w, int 
 }
 
 /* 1 if a cheap lower bound shows that leaves p and q (radii sum rr) have
- * clearance above best: separating axes (the line of their centres; for a
- * triangle its normal and the in-plane normals of its sides), stopping at
- * the first that shows it, so that most pairs near each other but apart
+ * clearance above best: separating axes (the line of their centroids; for
+ * a triangle its normal and the in-plane normals of its sides; then the
+ * cross products of their sides), stopping at the first that shows it, so that most pairs near each other but apart
  * never reach the exact test */
 static int prim_far(const struct kin_contact *c, const kin__leafprim *Lp, const kin__leafprim *Lq, double rr,
                     double best)
@@ -547,11 +720,12 @@ static int prim_far(const struct kin_contact *c, const kin__leafprim *Lp, const 
     const double *P = c->pts;
     const int *vp = Lp->v, *vq = Lq->v;
     int np = vp[2] >= 0 ? 3 : 2, nq = vq[2] >= 0 ? 3 : 2;
-    double cp[3] = {0, 0, 0}, cq[3] = {0, 0, 0}, u[3];
+    double u[3]; /* the line of the centroids: np * nq times their difference */
     for (int k = 0; k < 3; ++k) {
-        for (int i = 0; i < np; ++i) cp[k] += P[3 * vp[i] + k] / np;
-        for (int i = 0; i < nq; ++i) cq[k] += P[3 * vq[i] + k] / nq;
-        u[k] = cq[k] - cp[k];
+        double sp = P[3 * vp[0] + k] + P[3 * vp[1] + k], sq = P[3 * vq[0] + k] + P[3 * vq[1] + k];
+        if (np == 3) sp += P[3 * vp[2] + k];
+        if (nq == 3) sq += P[3 * vq[2] + k];
+        u[k] = np * sq - nq * sp;
     }
     if (axis_gap(P, vp, np, vq, nq, u) - rr > best) return 1;
     if (np == 2 && nq == 2) {
@@ -588,24 +762,25 @@ static int prim_far(const struct kin_contact *c, const kin__leafprim *Lp, const 
             if (axis_gap(P, vp, np, vq, nq, m) - rr > best) return 1;
         }
     }
+    /* the cross products of a side of one with a side of the other (with
+     * the axes above, every axis that can separate them: a long bar that
+     * passes over a triangle, say, is not separated by any of those) */
+    double ep[3][3], eq[3][3];
+    for (int i = 0; i < np; ++i)
+        for (int k = 0; k < 3; ++k) ep[i][k] = P[3 * vp[(i + 1) % np] + k] - P[3 * vp[i] + k];
+    for (int i = 0; i < nq; ++i)
+        for (int k = 0; k < 3; ++k) eq[i][k] = P[3 * vq[(i + 1) % nq] + k] - P[3 * vq[i] + k];
+    for (int i = 0; i < (np == 3 ? 3 : 1); ++i)
+        for (int j = 0; j < (nq == 3 ? 3 : 1); ++j) {
+            const double *e = ep[i], *f = eq[j];
+            double m[3] = {e[1] * f[2] - e[2] * f[1], e[2] * f[0] - e[0] * f[2], e[0] * f[1] - e[1] * f[0]};
+            if (axis_gap(P, vp, np, vq, nq, m) - rr > best) return 1;
+        }
     return 0;
 }
 
 /* (a1, b1) before (a2, b2) */
 static inline int pair_less(int a1, int b1, int a2, int b2) { return a1 < a2 || (a1 == a2 && b1 < b2); }
-
-/* leaves of parts that share a joint (compared by their own joints when
- * those are all of their parts': bars and triangle panels) */
-static inline int adjacent(const kin_assembly *a, const kin__leafprim *P, const kin__leafprim *Q)
-{
-    if (P->part == Q->part) return 1;
-    if (!(P->own && Q->own)) return adjacent_parts(a, P->part, Q->part);
-    int np = P->v[2] >= 0 ? 3 : 2, nq = Q->v[2] >= 0 ? 3 : 2;
-    for (int x = 0; x < np; ++x)
-        for (int y = 0; y < nq; ++y)
-            if (P->v[x] == Q->v[y]) return 1;
-    return 0;
-}
 
 /* exact clearance of leaves x, y (centre distance minus radii) */
 static double prim_clearance(const struct kin_contact *c, int x, int y, double *cp, double *cq)
@@ -671,6 +846,13 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
      * squared gap of its boxes (0 for a node against itself), tested again
      * when it is taken (best may have come down since) */
     const double neg_node = -2.0 * c->rmax;
+    float slack;
+    {
+        double M = 0.0;
+        for (int k = 0; k < 3; ++k) M = dmax(M, dmax(fabs((double)c->node[0].lo[k]), fabs((double)c->node[0].hi[k])));
+        /* far from 1 (float overflow, underflow): no lane is dropped so */
+        slack = M > 0x1p-40 && M < 0x1p100 ? f_up(0x1p-16 * M) : INFINITY;
+    }
     const kin__bvh_node *node = c->node;
     const kin__leafprim *lp = c->lp;
     int *st = c->stack;
@@ -682,16 +864,38 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         if (u != v && cannot_beat(sg[top], neg_node, best)) continue;
         const kin__bvh_node *U = &node[u], *V = &node[v];
         if (U->left < 0 && V->left < 0) {
-            for (int x = U->start; x < U->start + U->count; ++x) {
+            /* leaf against leaf: a row of pairs at a time, box and joint
+             * tests of all 8 lanes at once, then the exact tests of the
+             * pairs left in row order (the same pairs, in the same order,
+             * as one pair at a time) */
+            const kin__leafsoa *SU = &c->leaf[U->right], *SV = &c->leaf[V->right];
+            float cx[3], rp[3][3]; /* a row's box centre and points */
+            unsigned rows = (1u << U->count) - 1, lanes = (1u << V->count) - 1;
+            if (u != v) rows &= near_lanes(SU, V->lo, V->hi, near_bound(best)); /* against the other node's box */
+            while (rows) {
+                int i = low_bit(rows);
+                rows &= rows - 1;
+                const float lo[3] = {SU->lo[0][i], SU->lo[1][i], SU->lo[2][i]};
+                const float hi[3] = {SU->hi[0][i], SU->hi[1][i], SU->hi[2][i]};
+                unsigned cols = near_lanes(SV, lo, hi, near_bound(best)) & lanes &
+                                ~adjacent_lanes(SV, SU->v[0][i], SU->v[1][i], SU->v[2][i]);
+                if (u == v) cols &= ~((2u << i) - 1); /* each pair once */
+                if (cols) {
+                    apart_row(SU, i, cx, rp);
+                    float thr0 = near_bound(best) + SU->r[i] + slack; /* see apart_lanes */
+                    cols &= ~apart_lanes(SV, cx, rp, thr0);
+                }
+                int x = U->start + i;
                 const kin__leafprim *Lp = &lp[x];
-                /* this leaf against the other node's box first */
-                if (u != v && cannot_beat(gap2(Lp->lo, Lp->hi, V->lo, V->hi), -(double)Lp->r - c->rmax, best)) continue;
-                int y0 = u == v ? x + 1 : V->start;
-                for (int y = y0; y < V->start + V->count; ++y) {
+                while (cols) {
+                    int j = low_bit(cols);
+                    cols &= cols - 1;
+                    int y = V->start + j;
                     const kin__leafprim *Lq = &lp[y];
-                    /* the leaves' own boxes first, then adjacency */
-                    if (cannot_beat(gap2(Lp->lo, Lp->hi, Lq->lo, Lq->hi), -(double)Lp->r - Lq->r, best)) continue;
-                    if (adjacent(a, Lp, Lq)) continue;
+                    if (cannot_beat(lane_gap2(SU, i, SV, j), -(double)Lp->r - Lq->r, best)) continue;
+                    /* joints shared were dropped above; parts with more
+                     * joints than the primitives have are compared whole */
+                    if (!(Lp->own && Lq->own) && adjacent_parts(a, Lp->part, Lq->part)) continue;
                     if (prim_far(c, Lp, Lq, c->lr[x] + c->lr[y], best)) continue;
                     if ((x == sx && y == sy) || (x == sy && y == sx)) continue; /* done first */
                     double d = prim_clearance(c, x, y, xp, xq);

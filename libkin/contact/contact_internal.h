@@ -5,20 +5,38 @@
 
 #include "model/internal.h"
 
+/* Primitives per leaf of the bounding-volume tree at most */
+#define KIN__LEAF_MAX 8
+
 /* A node of the bounding-volume tree: a box (lo[3], hi[3]; floats rounded
  * outward, so it contains the double box) and either two children (left,
- * right) or a run (start, count) of the primitives in tree order. Nodes are
- * in pre-order: a node's children have larger indices than it has. */
+ * right) or, for a leaf (left = -1), a run (start, count) of the primitives
+ * in tree order whose boxes and joints are leaf block `right` (leaf blocks
+ * numbered in pre-order, which is the order of start). Nodes are in
+ * pre-order: a node's children have larger indices than it has. */
 typedef struct kin__bvh_node {
     float lo[3], hi[3];
     int left, right, start, count;
 } kin__bvh_node;
 
-/* A primitive as the tree's leaves use it, stored in tree order (the walk
+/* A leaf's primitives side by side (one lane each, lane i = primitive
+ * start + i), so that a primitive is tested against all of another leaf's
+ * in straight-line code (contact.c, near_lanes and adjacent_lanes): their
+ * boxes grown by their radii, floats rounded outward, and their joints in
+ * tree order (a bar's third repeats its second), the joints' points and
+ * the radii in float. Lanes past the leaf's count: empty boxes, joints -1,
+ * points and radii 0. 608 bytes. */
+typedef struct kin__leafsoa {
+    float lo[3][KIN__LEAF_MAX], hi[3][KIN__LEAF_MAX];
+    int v[3][KIN__LEAF_MAX];
+    float p[3][3][KIN__LEAF_MAX]; /* joint q's coordinate k, rounded to nearest */
+    float r[KIN__LEAF_MAX];       /* radius, rounded up */
+} kin__leafsoa;
+
+/* A primitive as the exact tests use it, stored in tree order (the walk
  * reads neighbours from neighbouring memory); its joints are numbered in
- * tree order too (pts). 48 bytes. */
+ * tree order too (pts). 24 bytes. */
 typedef struct kin__leafprim {
-    float lo[3], hi[3]; /* box grown by r, rounded outward */
     float r;            /* radius, rounded up (the exact test reads lr) */
     int part;           /* bar k or nb + panel */
     int v[3];           /* joints in tree order (a bar's third is -1) */
@@ -51,9 +69,11 @@ struct kin_contact {
     kin__bvh_node *node; /* up to 2 * (nprim / ((LEAF_MAX + 1) / 2) + 1) */
     int nnode;         /* nodes of the current tree */
     kin__leafprim *lp;   /* nprim: the primitives in tree order (order[]) */
+    kin__leafsoa *leaf;  /* the leaves' boxes and joints, one block per leaf node */
+    int nleaf;         /* leaf blocks of the current tree */
     double *lr;        /* nprim: their radii, in tree order */
     int *jpos;         /* nj: tree-order number of each joint */
-    int tree_ok;       /* the tree (order, node, lp, jpos) exists: refit it */
+    int tree_ok;       /* the tree (order, node, lp, leaf, jpos) exists: refit it */
     int fresh;         /* built since the last call: its quality is the reference */
     double quality0;   /* the refitted tree's quality measure just after its build */
     double rmax;       /* the largest radius */
