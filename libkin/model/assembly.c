@@ -384,7 +384,6 @@ static void release(kin_assembly *a)
     free(a->luR);
     free(a->luw);
     free(a->luw2);
-    free(a->broyden);
     if (a->sp_free) a->sp_free(a);
     if (a->san) { /* the sparse mode's analysis (analysis_sparse.c) */
         free(a->san->xyz), free(a->san->Um), free(a->san->Urig), free(a->san->Uint), free(a->san->Ws);
@@ -421,7 +420,6 @@ static int allocate(kin_assembly *a)
         bad |= ALLOC_(L->xyz, nj * d) | ALLOC_(L->vr_vec, nf) | ALLOC_(L->vmax_vec, nf);
     }
     bad |= ALLOC_(a->luR, nf * 6) | ALLOC_(a->luw, rows > nf ? rows : nf) | ALLOC_(a->luw2, nf);
-    bad |= ALLOC_(a->broyden, nf * KIN__BROYDEN_STEPS);
     return bad ? KIN_ENOMEM : KIN_OK;
 }
 

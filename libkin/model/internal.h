@@ -54,10 +54,6 @@ typedef struct kin_sparse_an {
  * measured with OpenBLAS, dgetri costs as much as 16 solves by dgetrs at 46
  * coordinates, 24 at 64, 43 at 100 (path/step_lu.c). */
 enum { KIN__LU_INVERSE_MAX_NF = 64 };
-/* Broyden steps the LU modes' chord corrector keeps (path.c, attempt): the
- * chord converges in about 10 iterations; past this many it restarts its
- * history. */
-enum { KIN__BROYDEN_STEPS = 8 };
 
 typedef struct kin_lufactor {
     int valid;        /* factors of a regular point (estimated m_internal = 1) */
@@ -155,7 +151,6 @@ struct kin_assembly {
     int lu_predicted;        /* LU mode: forward calculations with a predictor (kin__step_predicted) get
                               * bordered factors too, the SVD only where they are not regular (the
                               * follower's Hermite nodes); else those are always analysed by SVD */
-    double *broyden;         /* nf x KIN__BROYDEN_STEPS: the LU chord's Broyden steps (path.c) */
 
     /* KIN_STEP_SPARSE: KLU pattern, symbolic analysis and one numeric
      * factorization per lu[] slot (path/sparse.c); NULL until the mode is

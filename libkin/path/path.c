@@ -37,9 +37,6 @@ enum { CHORD_ONLY_HALVINGS = 3 };
  * down to delta / 500), the next this many automatic steps use Newton at
  * the full amplitude before shorter steps are tried again. */
 enum { CHORD_RETRY_STEPS = 4 };
-/* Broyden's update of the chord (broyden_step) restarts its history where
- * 1 - s.z/|s|^2 is smaller than this (the update would be ill-conditioned). */
-static const double BROYDEN_MIN_DENOMINATOR = 0.1;
 /* Automatic steps (delta == 0) grow by this factor after an easy step, up
  * to the largest step. */
 static const double STEP_GROWTH = 1.5;
@@ -195,72 +192,6 @@ static void chord_correction(kin_assembly *a, const double *e, double *d)
     dgemv_("N", &nf, &r, &one, f->U, &nf, a->y, &inc, &zero, d, &inc, 1);
 }
 
-/* x . y in 4 partial sums (the history's products: a serial sum's latency
- * was most of broyden_step's cost) */
-static double dot4(int n, const double *x, const double *y)
-{
-    double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
-    int i = 0;
-    for (; i + 4 <= n; i += 4) {
-        s0 += x[i] * y[i];
-        s1 += x[i + 1] * y[i + 1];
-        s2 += x[i + 2] * y[i + 2];
-        s3 += x[i + 3] * y[i + 3];
-    }
-    for (; i < n; ++i) s0 += x[i] * y[i];
-    return (s0 + s1) + (s2 + s3);
-}
-
-/* Broyden's ("good") update of the LU chord corrector, in the form that
- * keeps the steps instead of the matrix (Kelley, Iterative Methods for
- * Linear and Nonlinear Equations, 1995, sec. 7.3): with the chord's map
- * M (the point's bordered factors, its correction d = M e) as the first
- * inverse, the k-th step is
- *   z = -M e_k;  z += s_(j+1) (s_j . z) / |s_j|^2  (j = 0 .. k-2);
- *   s_k = z / (1 - s_(k-1) . z / |s_(k-1)|^2),
- * every s_j in the step's hyperplane as the chord's. The chord's first
- * iteration is its own; the rest converge superlinearly where the chord
- * contracts linearly (at rate ~ the change of J over the step). d holds
- * the chord's correction on entry and Broyden's (-s_k) on return; steps
- * (a->broyden, nf each) and their squared norms ss are the history, *k of
- * them; past KIN__BROYDEN_STEPS, or where the update's denominator is
- * near zero, the history restarts with the plain chord step. */
-static void broyden_step(kin_assembly *a, int *k, double *ss, double *d)
-{
-    int nf = a->nf, n = *k;
-    double *S = a->broyden;
-    if (n > 0 && n < KIN__BROYDEN_STEPS) {
-        double *z = S + (size_t)n * nf;
-        for (int i = 0; i < nf; ++i) z[i] = -d[i];
-        for (int j = 0; j + 1 < n; ++j) {
-            const double *sj = S + (size_t)j * nf, *sj1 = sj + nf;
-            double c = dot4(nf, sj, z) / ss[j];
-            for (int i = 0; i < nf; ++i) z[i] += c * sj1[i];
-        }
-        const double *sl = S + (size_t)(n - 1) * nf;
-        double den = 1.0 - dot4(nf, sl, z) / ss[n - 1];
-        double nz = dot4(nf, z, z) / (den * den);
-        if (fabs(den) > BROYDEN_MIN_DENOMINATOR && isfinite(den) && nz > 0.0 && isfinite(nz)) {
-            for (int i = 0; i < nf; ++i) {
-                z[i] /= den;
-                d[i] = -z[i];
-            }
-            ss[n] = nz;
-            *k = n + 1;
-            return;
-        }
-    }
-    /* the first step, or a restart: the chord's own */
-    double nd = dot4(nf, d, d);
-    if (!(nd > 0.0 && isfinite(nd))) {
-        *k = 0;
-        return;
-    }
-    for (int i = 0; i < nf; ++i) S[i] = -d[i];
-    ss[0] = nd;
-    *k = 1;
-}
-
 /* One attempt at amplitude delta from x0 along t. On success the trial
  * factor holds the analysis of the new point and a->x the new free
  * coordinates. */
@@ -317,9 +248,6 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
     kin__scatter(a, a->x, xyz);
     double r = kin__extensions(a, xyz, a->e), r_start = r;
     int it = 0, chord = use_chord;
-    /* the LU chord's Broyden history (broyden_step) */
-    int nbro = 0;
-    double bro_ss[KIN__BROYDEN_STEPS];
     /* Newton keeps its last factorization while it contracts the residual
      * by NEWTON_REUSE_CONTRACTION or better (a new one costs as much as the
      * rest of the step) */
@@ -350,7 +278,6 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
         } else if (chord) {
             int rc = kin__lu_chord_correction(a, a->e, a->d);
             if (rc) return rc;
-            broyden_step(a, &nbro, bro_ss, a->d);
         } else {
             /* Newton on [C; t^T; R^T] by LU where it is square (the same
              * correction as the minimum-norm one of [C; t^T] by QR) */
@@ -391,8 +318,7 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
             return kin__fail(a, KIN_ENOTCONVERGED, "corrector diverges: residual %.3g from %.3g (delta = %.3g)",
                              rn, r_start, delta);
         }
-        int stalled = chord && !(rn <= CHORD_MIN_CONTRACTION * r) && rn > tol;
-        if (stalled && chord_only) {
+        if (chord && !(rn <= CHORD_MIN_CONTRACTION * r) && rn > tol && chord_only) {
             /* LU modes' automatic step: a shorter step whose chord converges
              * costs one factorization; Newton here would cost one per
              * iteration */
@@ -401,7 +327,7 @@ static int attempt(kin_assembly *a, double delta, const double *pred, int use_ch
             return kin__fail(a, KIN_ENOTCONVERGED, "chord corrector stalls: residual %.3g from %.3g (delta = %.3g)",
                              rn, r, delta);
         }
-        if (stalled) {
+        if (chord && !(rn <= CHORD_MIN_CONTRACTION * r) && rn > tol) {
             /* chord stalls or diverges: restart Newton from the predictor */
             chord = 0;
             dlast = dprev = INFINITY;
