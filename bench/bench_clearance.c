@@ -30,51 +30,6 @@
 #include "bench_common.h"
 #include "libkin.h"
 
-/* panels: the bar triangles (each once) */
-static int set_triangles(kin_assembly *a)
-{
-    int nb = kin_nbars(a), nj = kin_njoints(a);
-    int *bars = malloc(sizeof(int) * 2 * (size_t)nb);
-    int *deg = calloc((size_t)nj + 1, sizeof(int)), *adj = malloc(sizeof(int) * 2 * (size_t)nb);
-    int cap = 2 * nb + 8, np = 0;
-    int *off = malloc(sizeof(int) * ((size_t)cap + 1)), *pj = malloc(sizeof(int) * 3 * (size_t)cap);
-    kin_get_bars(a, bars);
-    for (int k = 0; k < 2 * nb; ++k) deg[bars[k] + 1]++;
-    for (int j = 0; j < nj; ++j) deg[j + 1] += deg[j];
-    int *fill = calloc((size_t)nj, sizeof(int));
-    for (int k = 0; k < nb; ++k) {
-        int p = bars[2 * k], q = bars[2 * k + 1];
-        adj[deg[p] + fill[p]++] = q;
-        adj[deg[q] + fill[q]++] = p;
-    }
-    off[0] = 0;
-    for (int p = 0; p < nj; ++p)
-        for (int x = deg[p]; x < deg[p + 1]; ++x)
-            for (int y = deg[p]; y < deg[p + 1]; ++y) {
-                int q = adj[x], r = adj[y];
-                if (!(p < q && q < r)) continue;
-                for (int z = deg[q]; z < deg[q + 1]; ++z)
-                    if (adj[z] == r && np < cap) {
-                        pj[3 * np] = p, pj[3 * np + 1] = q, pj[3 * np + 2] = r;
-                        off[np + 1] = 3 * (np + 1);
-                        ++np;
-                    }
-            }
-    int rc = kin_set_panels(a, np, off, pj);
-    free(bars), free(deg), free(adj), free(fill), free(off), free(pj);
-    return rc;
-}
-
-/* this thread's CPU seconds: what the single-threaded check costs, whatever
- * else the shared machine runs (a check preempted halfway is not charged for
- * the wait; the caches the other processes emptied meanwhile still are) */
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
 int main(void)
 {
     const int members[][2] = {{6, 5}, {8, 4}, {6, 10}, {8, 8}, {6, 20}, {8, 15}, {6, 40}, {8, 30}, {6, 60}, {8, 61}};
@@ -97,7 +52,7 @@ int main(void)
         kin_get_options(a, &o);
         o.factorization = KIN_STEP_LU;
         kin_set_options(a, &o);
-        if (set_triangles(a) != KIN_OK) {
+        if (bench_set_triangles(a) != KIN_OK) {
             kin_assembly_free(a);
             continue;
         }
@@ -126,17 +81,17 @@ int main(void)
             if (t1 - t0 < ts) ts = t1 - t0, tf = (t1 - t0) / (info.factorizations > 0 ? info.factorizations : 1);
             /* the first check after the step */
             double cut = s % 2 ? INFINITY : 0.01 * sh;
-            double c1 = cpu_now();
+            double c1 = thread_cpu_now();
             kin_clearance(a, NULL, cut, &cl, NULL, NULL);
-            double c2 = cpu_now(), t2 = now();
+            double c2 = thread_cpu_now(), t2 = now();
             if (s % 2) tg = fmin(tg, c2 - c1), wg = fmin(wg, t2 - t1);
             else tm = fmin(tm, c2 - c1), wm = fmin(wm, t2 - t1);
             for (int r = 0; r < reps; ++r) {
-                double u0 = cpu_now();
+                double u0 = thread_cpu_now();
                 kin_clearance(a, NULL, INFINITY, &cl, NULL, NULL);
-                double u1 = cpu_now();
+                double u1 = thread_cpu_now();
                 kin_clearance(a, NULL, 0.01 * sh, &cl, NULL, NULL);
-                double u2 = cpu_now();
+                double u2 = thread_cpu_now();
                 tgr = fmin(tgr, u1 - u0);
                 tmr = fmin(tmr, u2 - u1);
             }

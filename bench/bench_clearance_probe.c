@@ -25,48 +25,6 @@
 #include "bench_common.h"
 #include "libkin.h"
 
-/* panels: the bar triangles (each once), as bench_clearance.c */
-static int set_triangles(kin_assembly *a)
-{
-    int nb = kin_nbars(a), nj = kin_njoints(a);
-    int *bars = malloc(sizeof(int) * 2 * (size_t)nb);
-    int *deg = calloc((size_t)nj + 1, sizeof(int)), *adj = malloc(sizeof(int) * 2 * (size_t)nb);
-    int cap = 2 * nb + 8, np = 0;
-    int *off = malloc(sizeof(int) * ((size_t)cap + 1)), *pj = malloc(sizeof(int) * 3 * (size_t)cap);
-    kin_get_bars(a, bars);
-    for (int k = 0; k < 2 * nb; ++k) deg[bars[k] + 1]++;
-    for (int j = 0; j < nj; ++j) deg[j + 1] += deg[j];
-    int *fill = calloc((size_t)nj, sizeof(int));
-    for (int k = 0; k < nb; ++k) {
-        int p = bars[2 * k], q = bars[2 * k + 1];
-        adj[deg[p] + fill[p]++] = q;
-        adj[deg[q] + fill[q]++] = p;
-    }
-    off[0] = 0;
-    for (int p = 0; p < nj; ++p)
-        for (int x = deg[p]; x < deg[p + 1]; ++x)
-            for (int y = deg[p]; y < deg[p + 1]; ++y) {
-                int q = adj[x], r = adj[y];
-                if (!(p < q && q < r)) continue;
-                for (int z = deg[q]; z < deg[q + 1]; ++z)
-                    if (adj[z] == r && np < cap) {
-                        pj[3 * np] = p, pj[3 * np + 1] = q, pj[3 * np + 2] = r;
-                        off[np + 1] = 3 * (np + 1);
-                        ++np;
-                    }
-            }
-    int rc = kin_set_panels(a, np, off, pj);
-    free(bars), free(deg), free(adj), free(fill), free(off), free(pj);
-    return rc;
-}
-
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
 static int cmp_dbl(const void *p, const void *q)
 {
     double x = *(const double *)p, y = *(const double *)q;
@@ -125,7 +83,7 @@ int main(int argc, char **argv)
         kin_get_options(a, &o);
         o.factorization = KIN_STEP_LU;
         kin_set_options(a, &o);
-        if (set_triangles(a) != KIN_OK) continue;
+        if (bench_set_triangles(a) != KIN_OK) continue;
         kin_step_info info = {.size = sizeof info};
         const char *ns = getenv("LIBKIN_PROBE_STEPS");
         int nsteps = ns && atoi(ns) > 0 ? atoi(ns) : 1, bad = 0;
@@ -157,9 +115,9 @@ int main(int argc, char **argv)
             kin_get_thickness(a, &t0, NULL, NULL);
             for (int r = 0; r < reps; ++r) {
                 kin_set_thickness(a, t0, NULL, NULL);
-                double c0 = cpu_now();
+                double c0 = thread_cpu_now();
                 kin_clearance(a, NULL, 0.01 * sh, &cl, NULL, NULL);
-                t[r] = cpu_now() - c0;
+                t[r] = thread_cpu_now() - c0;
             }
             qsort(t, (size_t)reps, sizeof(double), cmp_dbl);
             res[5][0] = t[0], res[5][1] = t[reps / 2];
@@ -169,9 +127,9 @@ int main(int argc, char **argv)
             int state = m < 3 ? m : (m == 3 ? 0 : 2);
             for (int r = 0; r < reps; ++r) {
                 if (state) pollute(buf, state == 2, &st);
-                double c0 = cpu_now();
+                double c0 = thread_cpu_now();
                 kin_clearance(a, NULL, cut, &cl, NULL, NULL);
-                t[r] = cpu_now() - c0;
+                t[r] = thread_cpu_now() - c0;
             }
             qsort(t, (size_t)reps, sizeof(double), cmp_dbl);
             res[m][0] = t[0], res[m][1] = t[reps / 2];

@@ -93,4 +93,49 @@ static inline kin_assembly *dome_lengths(const kin_assembly *a, double amp)
     return b;
 }
 
+/* panels: the bar triangles (each once): bench_clearance.c and bench_clearance_probe.c */
+static inline int bench_set_triangles(kin_assembly *a)
+{
+    int nb = kin_nbars(a), nj = kin_njoints(a);
+    int *bars = malloc(sizeof(int) * 2 * (size_t)nb);
+    int *deg = calloc((size_t)nj + 1, sizeof(int)), *adj = malloc(sizeof(int) * 2 * (size_t)nb);
+    int cap = 2 * nb + 8, np = 0;
+    int *off = malloc(sizeof(int) * ((size_t)cap + 1)), *pj = malloc(sizeof(int) * 3 * (size_t)cap);
+    kin_get_bars(a, bars);
+    for (int k = 0; k < 2 * nb; ++k) deg[bars[k] + 1]++;
+    for (int j = 0; j < nj; ++j) deg[j + 1] += deg[j];
+    int *fill = calloc((size_t)nj, sizeof(int));
+    for (int k = 0; k < nb; ++k) {
+        int p = bars[2 * k], q = bars[2 * k + 1];
+        adj[deg[p] + fill[p]++] = q;
+        adj[deg[q] + fill[q]++] = p;
+    }
+    off[0] = 0;
+    for (int p = 0; p < nj; ++p)
+        for (int x = deg[p]; x < deg[p + 1]; ++x)
+            for (int y = deg[p]; y < deg[p + 1]; ++y) {
+                int q = adj[x], r = adj[y];
+                if (!(p < q && q < r)) continue;
+                for (int z = deg[q]; z < deg[q + 1]; ++z)
+                    if (adj[z] == r && np < cap) {
+                        pj[3 * np] = p, pj[3 * np + 1] = q, pj[3 * np + 2] = r;
+                        off[np + 1] = 3 * (np + 1);
+                        ++np;
+                    }
+            }
+    int rc = kin_set_panels(a, np, off, pj);
+    free(bars), free(deg), free(adj), free(fill), free(off), free(pj);
+    return rc;
+}
+
+/* this thread's CPU seconds: what the single-threaded check costs, whatever
+ * else the shared machine runs (a check preempted halfway is not charged for
+ * the wait; the caches the other processes emptied meanwhile still are) */
+static inline double thread_cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
 #endif /* KIN_BENCH_COMMON_H */
