@@ -128,6 +128,24 @@ hermite_ws *kin__hermite_alloc(const kin_assembly *a)
     return h;
 }
 
+/* One chord polish's acceptance: the corrected point d replaces x (and res
+ * becomes its strain residual) only while the residual decreases; else x,
+ * xyz and e are left as they were at x. Returns whether to go on. */
+static int polish_accept(const kin_assembly *a, double *x, const double *d, double *xyz, double *e, double *res)
+{
+    kin__scatter(a, d, xyz);
+    kin__extensions(a, xyz, e);
+    double rn = kin__norm(a->nb, e);
+    if (!(rn < *res)) {
+        kin__scatter(a, x, xyz);
+        kin__extensions(a, xyz, e);
+        return 0;
+    }
+    memcpy(x, d, sizeof(double) * (size_t)a->nf);
+    *res = rn;
+    return 1;
+}
+
 /* Chord corrections x -= sum_{i<r} u_i (w_i^T e) / v_i with factorization
  * f (made at or next to x), while the strain residual |e| decreases, at most
  * maxit times. xyz: full coordinates (fixed ones already in place), kept in
@@ -156,17 +174,7 @@ static double chord_polish(const kin_assembly *a, const kin_factor *f, int r, do
             d[j] = x[j] - sum;
             corr = fmax(corr, fabs(sum));
         }
-        if (it == maxit || res == 0.0) break;
-        kin__scatter(a, d, xyz);
-        kin__extensions(a, xyz, e);
-        double rn = kin__norm(nb, e);
-        if (!(rn < res)) {
-            kin__scatter(a, x, xyz);
-            kin__extensions(a, xyz, e);
-            break;
-        }
-        memcpy(x, d, sizeof(double) * (size_t)nf);
-        res = rn;
+        if (it == maxit || res == 0.0 || !polish_accept(a, x, d, xyz, e, &res)) break;
     }
     return corr;
 }
@@ -215,17 +223,7 @@ static double chord_polish_lu(kin_assembly *st, double *x, double *xyz, double *
             d[j] = x[j] - dc[j];
             corr = fmax(corr, fabs(dc[j]));
         }
-        if (it == maxit || res == 0.0) break;
-        kin__scatter(st, d, xyz);
-        kin__extensions(st, xyz, e);
-        double rn = kin__norm(nb, e);
-        if (!(rn < res)) {
-            kin__scatter(st, x, xyz);
-            kin__extensions(st, xyz, e);
-            break;
-        }
-        memcpy(x, d, sizeof(double) * (size_t)nf);
-        res = rn;
+        if (it == maxit || res == 0.0 || !polish_accept(st, x, d, xyz, e, &res)) break;
     }
     return corr;
 }
