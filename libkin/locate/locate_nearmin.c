@@ -31,6 +31,9 @@ static const double NEAR_MIN_JUMP = 0.25;
 /* where the first guess (the cubic's minimum) is not below both ends: these
  * fractions of the bracket are tried */
 static const double NEAR_MIN_PROBES[] = {0.5, 0.25, 0.75, 0.125, 0.875};
+/* ... and where none is, the bracket moves a step the way v_r falls, at
+ * most this many times */
+enum { NEAR_MIN_EXTEND = 3 };
 
 typedef struct nm_ctx {
     kin_assembly *start, *trial;
@@ -79,49 +82,96 @@ static double trial_value(double z, void *user)
     return f;
 }
 
+/* the bracket [st, end] into c: its ends, tangents and parameter; 0 where it is not a forward step */
+static int set_bracket(nm_ctx *c, kin_assembly *st, const kin_assembly *end, double *x0, double *x1, double *d1)
+{
+    int nf = c->nf;
+    c->start = st;
+    c->t0 = st->t;
+    kin__gather(st, st->xyz, x0);
+    kin__gather(end, end->xyz, x1);
+    double tt = kin__dot(nf, st->t, end->t), t00 = kin__dot(nf, st->t, st->t);
+    c->z1 = 0.0;
+    for (int i = 0; i < nf; ++i) c->z1 += st->t[i] * (x1[i] - x0[i]);
+    if (!(fabs(tt) > 0.0) || !(fabs(t00 - 1.0) < 1e-6) || !(c->z1 > 0.0)) return 0;
+    for (int i = 0; i < nf; ++i) d1[i] = end->t[i] / tt;
+    return 1;
+}
+
 int kin__locate_near_minimum(kin_assembly *a, kin__locate_ws *ws, kin__near_min *out)
 {
     memset(out, 0, sizeof *out);
-    if (!ws || !ws->near_bracket || !ws->work) return KIN_OK;
+    if (!ws || !ws->near_bracket || !ws->work || !ws->prev) return KIN_OK;
     int nf = a->nf, rc;
-    kin_assembly *end = ws->work;
+    kin_assembly *st = ws->prev, *end = ws->work;
     if (!ws->probe && kin_assembly_clone(a, &ws->probe)) return kin__fail(a, KIN_ENOMEM, "near-miss minimum: a working copy");
     if (!ws->near_buf && !(ws->near_buf = malloc(sizeof(double) * 6 * (size_t)nf)))
         return kin__fail(a, KIN_ENOMEM, "near-miss minimum: workspace");
     if (!ws->near_min && !(ws->near_min = gsl_min_fminimizer_alloc(gsl_min_fminimizer_brent)))
         return kin__fail(a, KIN_ENOMEM, "near-miss minimum: the minimiser");
-    if (!kin__cur(a)->valid && (rc = kin__analyse(a, NULL)) != KIN_OK) return rc;
-    if (!kin__cur(end)->valid && (rc = kin__analyse(end, NULL)) != KIN_OK) return rc;
-    /* the trials: the handle's options, each point analysed by SVD */
-    ws->probe->opt = a->opt;
-    ws->probe->opt.factorization = KIN_STEP_SVD;
-    ws->probe->lu_inverse = 0;
-    double *x0 = ws->near_buf, *x1 = x0 + nf, *d1 = x1 + nf;
-    nm_ctx c = {a, ws->probe, x0, a->t, x1, d1, d1 + nf, d1 + 2 * nf, 0.0, 0.0, nf, 0, 0};
-    kin__gather(a, a->xyz, x0);
-    kin__gather(end, end->xyz, x1);
-    double tt = kin__dot(nf, a->t, end->t), t00 = kin__dot(nf, a->t, a->t);
-    for (int i = 0; i < nf; ++i) c.z1 += a->t[i] * (x1[i] - x0[i]);
-    if (!(fabs(tt) > 0.0) || !(fabs(t00 - 1.0) < 1e-6) || !(c.z1 > 0.0)) return KIN_OK; /* not a forward step */
-    for (int i = 0; i < nf; ++i) d1[i] = end->t[i] / tt;
-    double f0 = rel_vr(a), f1 = rel_vr(end);
-    if (!isfinite(f0) || !isfinite(f1)) return KIN_OK;
-    c.bad = 2.0 * fmax(f0, f1) + 1.0;
-    /* a first point below both ends: the minimum of the parabola through
-     * the ends' values with the slope rule of the detector would need the
-     * slopes; the middle of the bracket and then the probes serve */
-    double zm = NAN, fm = INFINITY;
-    for (size_t k = 0; k < sizeof NEAR_MIN_PROBES / sizeof *NEAR_MIN_PROBES; ++k) {
-        double z = NEAR_MIN_PROBES[k] * c.z1, f = trial_value(z, &c);
-        if (f < fm) {
-            fm = f;
-            zm = z;
-        }
-        if (fm < f0 && fm < f1) break;
+    /* the bracket's start (the handle) and end, and the trials: the
+     * handle's options, each point analysed by SVD */
+    kin__copy_state(st, a);
+    kin_assembly *cp[3] = {st, end, ws->probe};
+    for (int k = 0; k < 3; ++k) {
+        cp[k]->opt = a->opt;
+        cp[k]->opt.factorization = KIN_STEP_SVD;
+        cp[k]->lu_inverse = 0;
     }
-    if (!(fm < f0 && fm < f1)) {
+    double *x0 = ws->near_buf, *x1 = x0 + nf, *d1 = x1 + nf;
+    nm_ctx c = {st, ws->probe, x0, st->t, x1, d1, d1 + nf, d1 + 2 * nf, 0.0, 0.0, nf, 0, 0};
+    double zm = NAN, fm = INFINITY, f0 = NAN, f1 = NAN, *xo = d1 + 3 * nf;
+    int have_mid = 0; /* after a move: the old end inside the bracket, (zm, fm) */
+    for (int ext = 0;; ++ext) {
+        if (!kin__cur(st)->valid && (rc = kin__analyse(st, NULL)) != KIN_OK) return KIN_OK;
+        if (!kin__cur(end)->valid && (rc = kin__analyse(end, NULL)) != KIN_OK) return KIN_OK;
+        if (!set_bracket(&c, st, end, x0, x1, d1)) return KIN_OK; /* not a forward step */
+        f0 = rel_vr(st);
+        f1 = rel_vr(end);
+        if (!isfinite(f0) || !isfinite(f1)) return KIN_OK;
+        c.bad = 2.0 * fmax(f0, fmax(f1, have_mid ? fm : 0.0)) + 1.0;
+        if (have_mid) {
+            zm = 0.0;
+            for (int i = 0; i < nf; ++i) zm += st->t[i] * (xo[i] - x0[i]);
+            if (!(zm > 0.0 && zm < c.z1)) return KIN_OK;
+            if (fm < f0 && fm < f1) break;
+        } else {
+            /* a first point below both ends: the middle of the bracket, then the probes */
+            zm = NAN;
+            fm = INFINITY;
+            for (size_t k = 0; k < sizeof NEAR_MIN_PROBES / sizeof *NEAR_MIN_PROBES; ++k) {
+                double z = NEAR_MIN_PROBES[k] * c.z1, f = trial_value(z, &c);
+                if (f < fm) {
+                    fm = f;
+                    zm = z;
+                }
+                if (fm < f0 && fm < f1) break;
+            }
+            if (fm < f0 && fm < f1) break;
+        }
         out->evals = c.evals;
-        return KIN_OK; /* no interior minimum: the end stays at the regular point before the dip */
+        if (ext == NEAR_MIN_EXTEND) return KIN_OK; /* not found: the end stays at the regular point before the dip */
+        /* the minimum lies at or past the lower end (a sign change of the
+         * test function kept while v_r still fell, or a turn next to the
+         * step's end): a bracket around that end, from the probe next to
+         * it to a step of the same length beyond it, the end its middle */
+        double len = c.z1;
+        int fwd = f1 < f0;
+        double zp = (fwd ? NEAR_MIN_PROBES[4] : NEAR_MIN_PROBES[3]) * c.z1;
+        memcpy(xo, fwd ? x1 : x0, sizeof(double) * (size_t)nf);
+        fm = fwd ? f1 : f0;
+        if (!(trial_value(zp, &c) < c.bad)) return KIN_OK;
+        if (fwd) {
+            kin__copy_state(st, end);
+            rc = kin_step(st, len, NULL);
+            if (rc == KIN_OK) kin__copy_state(end, st);
+            kin__copy_state(st, c.trial);
+        } else {
+            kin__copy_state(end, c.trial);
+            rc = kin_step(st, -len, NULL);
+        }
+        if (rc) return KIN_OK;
+        have_mid = 1;
     }
     gsl_function F = {trial_value, &c};
     gsl_min_fminimizer *s = ws->near_min;
