@@ -169,6 +169,7 @@ def test_certainty_rule():
     assert certain(near, g, bars)
     assert not certain(dict(near, min_located=False), g, bars)
     assert not certain(dict(near, min_width=1e-6), g, bars)
+    assert not certain(dict(near, accuracy=1e-8), g, bars)  # nearly a bifurcation: pinned less sharply
 
     class NotASymmetry:  # a map that changes the bar lengths
         def apply(self, X):

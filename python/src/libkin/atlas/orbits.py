@@ -80,6 +80,13 @@ STRICT_VR_TOL = 1e-10
 # larger than the RMS rest length): the image branch's minimum is then the
 # mapped one to well within it
 NEAR_MIN_WIDTH = 1e-7
+# ... and where v_r/v_max there is at least this (the follower's vr_floor):
+# a lower minimum is a bifurcation the locator could not pin, where the
+# corrector fixes points only to about its tolerance / v_r across the path
+# (on the hexagonal flat state, 7 of 1,500 near misses followed directly,
+# all at v_r/v_max 1e-9 .. 5e-8, ended 1e-6 .. 1.2e-5 x the model size from
+# their mapped ends; the others within 2e-8)
+NEAR_MIN_VR = 1e-6
 # a mapped end keeps every bar length to this (relative to the model's rest lengths)
 LENGTH_TOL = 1e-9
 
@@ -96,7 +103,7 @@ def certain(res: Dict[str, Any], g: Any, bars: NDArray[np.int_]) -> bool:
     symmetry of the structure there, so the analysis there, m, s and v_r,
     is the same), or a near miss whose end is the minimum of v_r/v_max
     along the path located to NEAR_MIN_WIDTH (min_located: a geometric
-    point, whichever way the steps fall). Not certain, and so followed: a
+    point, whichever way the steps fall) at v_r/v_max >= NEAR_MIN_VR. Not certain, and so followed: a
     near miss without a located minimum (it stops at the regular point
     before the dip, which depends on where the steps fall: mapped ends of
     those differed from followed ones by up to 0.008 on the hexagonal
@@ -105,7 +112,8 @@ def certain(res: Dict[str, Any], g: Any, bars: NDArray[np.int_]) -> bool:
     (known to sqrt(tol) only), a failure."""
     ev = res.get("event")
     if ev == "near_miss":
-        if not (res.get("min_located") and float(res.get("min_width", 1.0)) <= NEAR_MIN_WIDTH):
+        if not (res.get("min_located") and float(res.get("min_width", 1.0)) <= NEAR_MIN_WIDTH
+                and float(res.get("accuracy", 0.0)) >= NEAR_MIN_VR):
             return False
     elif ev == "bifurcation":
         if not (float(res.get("vr_tol", 1.0)) <= STRICT_VR_TOL and float(res.get("accuracy", 1.0)) <= STRICT_VR_TOL):
