@@ -30,8 +30,11 @@ enum kin_follow_event {
     KIN_FOLLOW_NONE = 0,         /* nothing followed (argument errors: info zeroed) */
     KIN_FOLLOW_BIFURCATION = 1,  /* a bifurcation located; the assembly sits on it (analysed:
                                     m, s, U_m, W_s readable, counted at the accuracy reached) */
-    KIN_FOLLOW_NEAR_MISS = 2,    /* v_r has a non-zero minimum (v_r_rel above vr_floor): the
-                                    assembly is at the regular point before it */
+    KIN_FOLLOW_NEAR_MISS = 2,    /* v_r has a minimum the locator could not bring below
+                                    vr_floor: the assembly is at that minimum of v_r / v_max
+                                    along the path where min_located (v_r_rel its value, which
+                                    can lie below vr_floor: a bifurcation that could not be
+                                    pinned), else at the regular point before it */
     KIN_FOLLOW_CLOSED_LOOP = 3,  /* the path came back to the start configuration (within
                                     loop_tol, with a parallel tangent): the assembly is at the
                                     first point of the path past that return */
