@@ -107,7 +107,8 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
            nsol, now() - t0, n, total);
     int counts[7] = {0}, tols[8] = {0}, mhist[64] = {0}, back = 0, same_event = 0, same_end = 0, ends = 0;
     int same_acc = 0, cheap = 0, steps = 0, hand = 0, same_steps = 0, nc = kin_njoints(a) * kin_dim(a);
-    double nm_lo = INFINITY, nm_hi = 0.0, worst_rel = 0.0;
+    double nm_lo = INFINITY, nm_hi = 0.0, worst_rel = 0.0, nm_width = 0.0;
+    int nm_located = 0, nm_evals = 0; /* near misses ended at their located minimum; points computed for them */
     double t1 = now(), worst = 0.0;
     double *cn = malloc(sizeof(double) * (size_t)n), *co = malloc(sizeof(double) * (size_t)n);
     double *xn = malloc(sizeof(double) * (size_t)nc), *xo = malloc(sizeof(double) * (size_t)nc);
@@ -202,6 +203,10 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
             if (fi.v_r_rel < 1e-3) printf("  branch %d: near miss at v_r / v_max %.2g after %d steps\n", k, fi.v_r_rel, fi.steps);
             nm_lo = fmin(nm_lo, fi.v_r_rel);
             nm_hi = fmax(nm_hi, fi.v_r_rel);
+            nm_located += fi.min_located;
+            nm_evals += fi.min_evals;
+            if (fi.min_located) nm_width = fmax(nm_width, fi.min_width);
+            if (!fi.min_located) printf("  branch %d: near miss not at a located minimum (%d points)\n", k, fi.min_evals);
         }
         if (fi.event == KIN_FOLLOW_BIFURCATION) {
             int e = 0;
@@ -257,6 +262,10 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
         if (counts[e]) printf(" %s %d", event_name(e), counts[e]);
     printf("\n  bifurcations back at the start: %d; near misses at v_r / v_max %.2g .. %.2g",
            back, counts[KIN_FOLLOW_NEAR_MISS] ? nm_lo : 0.0, nm_hi);
+    printf("\n  near misses ended at their located minimum: %d / %d (to %.2g of the RMS length at worst), %.1f points "
+           "each",
+           nm_located, counts[KIN_FOLLOW_NEAR_MISS], nm_width,
+           counts[KIN_FOLLOW_NEAR_MISS] ? (double)nm_evals / counts[KIN_FOLLOW_NEAR_MISS] : 0.0);
     printf("\n  bifurcations located to vr_tol x 10^k, k = 0..:");
     for (int e = 0; e < 8; ++e) printf(" %d", tols[e]);
     printf("\n  m_internal at the located bifurcations:");

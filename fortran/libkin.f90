@@ -137,6 +137,8 @@ module libkin
     real(c_double) :: start_distance = 0, tangent_cos = 0
     integer(c_int) :: cheap_steps = 0, handovers = 0, samples = 0, return_branch = 0
     real(c_double) :: return_angle = 0, return_gap = 0
+    real(c_double) :: min_width = 0
+    integer(c_int) :: min_located = 0, min_evals = 0
   end type
 
   ! widths: c_loc of a target array of n_loops reals, or c_null_ptr (the

@@ -30,8 +30,11 @@ enum kin_follow_event {
     KIN_FOLLOW_NONE = 0,         /* nothing followed (argument errors: info zeroed) */
     KIN_FOLLOW_BIFURCATION = 1,  /* a bifurcation located; the assembly sits on it (analysed:
                                     m, s, U_m, W_s readable, counted at the accuracy reached) */
-    KIN_FOLLOW_NEAR_MISS = 2,    /* v_r has a non-zero minimum (v_r_rel above vr_floor): the
-                                    assembly is at the regular point before it */
+    KIN_FOLLOW_NEAR_MISS = 2,    /* v_r has a minimum the locator could not bring below
+                                    vr_floor: the assembly is at that minimum of v_r / v_max
+                                    along the path where min_located (v_r_rel its value, which
+                                    can lie below vr_floor: a bifurcation that could not be
+                                    pinned), else at the regular point before it */
     KIN_FOLLOW_CLOSED_LOOP = 3,  /* the path came back to the start configuration (within
                                     loop_tol, with a parallel tangent): the assembly is at the
                                     first point of the path past that return */
@@ -123,7 +126,8 @@ typedef struct kin_follow_info {
     double length;       /* path length travelled (sum of chords, >= 0) */
     double vr_tol_used;  /* BIFURCATION: the tolerance it was located to (vr_tol ... vr_floor) */
     double v_r_rel;      /* at the end point: the vanishing singular values' largest / v_max
-                            (kin_locate_info.v_r_rel); NEAR_MISS: v_r / v_max there */
+                            (kin_locate_info.v_r_rel); NEAR_MISS: v_r / v_max there (at the
+                            minimum where min_located) */
     int m_internal, s;   /* analysis at the end point */
     int zero_order;      /* BIFURCATION: 1 a crossing, 2 a tangency, 0 not estimated */
     int path_kept;       /* BIFURCATION: the location stayed on the path (eq. 26) */
@@ -143,6 +147,14 @@ typedef struct kin_follow_info {
     double return_angle; /* that return: angle (radians) between the return direction and
                             that branch; the next nearest branch is return_gap farther */
     double return_gap;
+    /* layout 3 (docs/abi.md): a host compiled without these fields does not get them */
+    double min_width;    /* NEAR_MISS with min_located: the interval of path length (/ RMS
+                            rest length) the minimum of v_r / v_max was located to (<= 1e-8);
+                            v_r_rel is the value there. 0 otherwise */
+    int min_located;     /* NEAR_MISS: 1 when the end is the located minimum of v_r / v_max
+                            along the path (Brent's method over the step where v_r turned),
+                            0 when it is the regular point before the dip */
+    int min_evals;       /* NEAR_MISS: points computed to locate that minimum */
 } kin_follow_info;
 
 /* Fill *o with the defaults above, for a struct of `size` bytes: pass

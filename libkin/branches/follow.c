@@ -930,6 +930,16 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
         tol *= RELAX_FACTOR;
         if (tol > o->vr_floor * (1.0 + 1e-9)) break;
     }
+    /* a near miss ends at the minimum of v_r / v_max along the path, found
+     * within the bracket the last location attempt gave up on */
+    if (rc == KIN_OK && info->event == KIN_FOLLOW_NEAR_MISS && lws.near_bracket) {
+        kin__near_min nm;
+        rc = kin__locate_near_minimum(a, &lws, &nm);
+        info->min_located = nm.located;
+        info->min_width = nm.located ? nm.width : 0.0;
+        info->min_evals = nm.evals;
+        if (rc) info->event = KIN_FOLLOW_FAILED;
+    }
     kin__locate_ws_free(&lws);
     a->progress = c.user_fn;
     a->progress_user = c.user_data;

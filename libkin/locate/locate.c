@@ -8,8 +8,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_min.h>
+
 #include "model/internal.h"
 #include "model/lapack.h"
+
 #include "locate/locate.h"
 #include "locate/locate_internal.h"
 
@@ -76,6 +79,8 @@ void kin__locate_ws_free(kin__locate_ws *ws)
     kin_assembly_free(ws->tb0);
     kin_assembly_free(ws->tb1);
     kin__hermite_free(ws->hw);
+    free(ws->near_buf);
+    if (ws->near_min) gsl_min_fminimizer_free(ws->near_min);
     memset(ws, 0, sizeof *ws);
 }
 
@@ -142,6 +147,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
                          kin__cur(a)->an.m_internal);
     if (!lu_start && kin__cur(a)->an.m_internal == 0)
         return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");
+    if (ws) ws->near_bracket = 0;
     loc_ctx c = {a, NULL, NULL, NULL, NULL, NULL, &o, info, NULL, hook, hook_user, 0.0, ws ? ws->lu_nodes : 0, ws};
     kin_options user = a->opt;
     double fine = fmin(user.rank_tol, LOCATE_RANK_FRACTION * o.vr_tol);
@@ -335,6 +341,12 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
             info->distance = sqrt(dist);
             kin__copy_state(a, c.work);
         } else if (rc == KIN_ENOTFOUND || rc == KIN_ECANCELLED) {
+            /* a turn of v_r without a zero: the bracket's end kept for
+             * kin__locate_near_minimum (the working copy is free now) */
+            if (ws && rc == KIN_ENOTFOUND && (info->event == KIN_EVENT_MINIMUM || info->event == KIN_EVENT_SIGN_CHANGE)) {
+                kin__copy_state(c.work, a);
+                ws->near_bracket = 1;
+            }
             /* leave the assembly at the best regular point: the base of the search */
             kin__copy_state(a, c.prev);
         }

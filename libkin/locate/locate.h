@@ -36,10 +36,34 @@ typedef struct kin__locate_ws {
      * where the point is not regular or the triple does not converge (the
      * follower's cheap steps) */
     int lu_nodes;
+    /* out, each call: 1 where it gave up (KIN_ENOTFOUND) on a turn of v_r
+     * (KIN_EVENT_MINIMUM) without a zero: the handle is left at the
+     * bracket's start and `work` holds its end, for
+     * kin__locate_near_minimum; 0 otherwise */
+    int near_bracket;
+    /* kin__locate_near_minimum's workspace, made at its first call */
+    double *near_buf;
+    void *near_min; /* gsl_min_fminimizer */
 } kin__locate_ws;
 void kin__locate_ws_free(kin__locate_ws *ws);
 /* ws: NULL (copies made and freed in the call) or the caller's, as above */
 int kin__locate_hooked(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,
                        void *hook_user, kin__locate_ws *ws);
+
+/* A near miss located at its minimum: v_r / v_max minimised along the
+ * path over the bracket ws->near_bracket holds (the handle at its start,
+ * ws->work at its end) by Brent's method (GSL) on the path parameter z
+ * (t0.(x - x0), the arc length to within the step's turn), each trial point
+ * a forward calculation onto the path (locate_nearmin.c). Where a point
+ * below both ends is found the handle moves to the best point (analysed by
+ * SVD), out->located = 1 when the minimum's position is within width (a
+ * fraction of the RMS rest length, at most 1e-8 then) and out->v_rel its
+ * v_r / v_max; else the handle stays (located 0). Returns KIN_OK or
+ * KIN_ENOMEM (the workspace, made once per ws). */
+typedef struct kin__near_min {
+    int located, evals; /* the minimum located to its tolerance; trial points computed */
+    double z, width, v_rel;
+} kin__near_min;
+int kin__locate_near_minimum(kin_assembly *a, kin__locate_ws *ws, kin__near_min *out);
 
 #endif /* KIN__LAYER_LOCATE_H */

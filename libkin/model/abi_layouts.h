@@ -99,6 +99,31 @@ struct kin__kin_follow_info_1 {
     double start_distance;
     double tangent_cos;
 };
+/* kin_follow_info as a host compiled against layout 2 has it */
+struct kin__kin_follow_info_2 {
+    size_t size;
+    int event;
+    int status;
+    int steps;
+    int forward;
+    int factorizations;
+    int attempts;
+    double length;
+    double vr_tol_used;
+    double v_r_rel;
+    int m_internal, s;
+    int zero_order;
+    int path_kept;
+    int at_start;
+    double start_distance;
+    double tangent_cos;
+    int cheap_steps;
+    int handovers;
+    int samples;
+    int return_branch;
+    double return_angle;
+    double return_gap;
+};
 
 /* each struct as a host compiled against its first layout has it */
 typedef kin_analysis kin__kin_analysis_layout1;
@@ -149,7 +174,7 @@ enum kin__abi_id {
     {"kin_locate_options", 1, {sizeof(kin_locate_options)}, {sizeof(kin_locate_options)}}, \
     {"kin_locate_info", 1, {sizeof(kin_locate_info)}, {sizeof(kin_locate_info)}}, \
     {"kin_follow_options", 3, {sizeof(struct kin__kin_follow_options_1), sizeof(struct kin__kin_follow_options_2), sizeof(kin_follow_options)}, {offsetof(struct kin__kin_follow_options_1, branch_cos) + sizeof(((struct kin__kin_follow_options_1 *)0)->branch_cos), offsetof(struct kin__kin_follow_options_2, branch_margin) + sizeof(((struct kin__kin_follow_options_2 *)0)->branch_margin), sizeof(kin_follow_options)}}, \
-    {"kin_follow_info", 2, {sizeof(struct kin__kin_follow_info_1), sizeof(kin_follow_info)}, {offsetof(struct kin__kin_follow_info_1, tangent_cos) + sizeof(((struct kin__kin_follow_info_1 *)0)->tangent_cos), sizeof(kin_follow_info)}}
+    {"kin_follow_info", 3, {sizeof(struct kin__kin_follow_info_1), sizeof(struct kin__kin_follow_info_2), sizeof(kin_follow_info)}, {offsetof(struct kin__kin_follow_info_1, tangent_cos) + sizeof(((struct kin__kin_follow_info_1 *)0)->tangent_cos), offsetof(struct kin__kin_follow_info_2, return_gap) + sizeof(((struct kin__kin_follow_info_2 *)0)->return_gap), sizeof(kin_follow_info)}}
 
 /* compile-time checks (C99: a negative array size is an error). Each older
  * layout is a prefix of the next, and each layout's sizeof is larger than
@@ -219,23 +244,47 @@ typedef char kin__abi_prefix_kin_follow_options_2_first_step[offsetof(struct kin
 typedef char kin__abi_prefix_kin_follow_options_2_branch_cos[offsetof(struct kin__kin_follow_options_2, branch_cos) == offsetof(kin_follow_options, branch_cos) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_options_2_steps_mode[offsetof(struct kin__kin_follow_options_2, steps_mode) == offsetof(kin_follow_options, steps_mode) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_options_2_branch_margin[offsetof(struct kin__kin_follow_options_2, branch_margin) == offsetof(kin_follow_options, branch_margin) ? 1 : -1];
-typedef char kin__abi_grows_kin_follow_info_1[sizeof(struct kin__kin_follow_info_1) < sizeof(kin_follow_info) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_size[offsetof(struct kin__kin_follow_info_1, size) == offsetof(kin_follow_info, size) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_event[offsetof(struct kin__kin_follow_info_1, event) == offsetof(kin_follow_info, event) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_status[offsetof(struct kin__kin_follow_info_1, status) == offsetof(kin_follow_info, status) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_steps[offsetof(struct kin__kin_follow_info_1, steps) == offsetof(kin_follow_info, steps) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_forward[offsetof(struct kin__kin_follow_info_1, forward) == offsetof(kin_follow_info, forward) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_factorizations[offsetof(struct kin__kin_follow_info_1, factorizations) == offsetof(kin_follow_info, factorizations) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_attempts[offsetof(struct kin__kin_follow_info_1, attempts) == offsetof(kin_follow_info, attempts) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_length[offsetof(struct kin__kin_follow_info_1, length) == offsetof(kin_follow_info, length) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_vr_tol_used[offsetof(struct kin__kin_follow_info_1, vr_tol_used) == offsetof(kin_follow_info, vr_tol_used) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_v_r_rel[offsetof(struct kin__kin_follow_info_1, v_r_rel) == offsetof(kin_follow_info, v_r_rel) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_m_internal[offsetof(struct kin__kin_follow_info_1, m_internal) == offsetof(kin_follow_info, m_internal) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_s[offsetof(struct kin__kin_follow_info_1, s) == offsetof(kin_follow_info, s) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_zero_order[offsetof(struct kin__kin_follow_info_1, zero_order) == offsetof(kin_follow_info, zero_order) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_path_kept[offsetof(struct kin__kin_follow_info_1, path_kept) == offsetof(kin_follow_info, path_kept) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_at_start[offsetof(struct kin__kin_follow_info_1, at_start) == offsetof(kin_follow_info, at_start) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_start_distance[offsetof(struct kin__kin_follow_info_1, start_distance) == offsetof(kin_follow_info, start_distance) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_1_tangent_cos[offsetof(struct kin__kin_follow_info_1, tangent_cos) == offsetof(kin_follow_info, tangent_cos) ? 1 : -1];
+typedef char kin__abi_grows_kin_follow_info_1[sizeof(struct kin__kin_follow_info_1) < sizeof(struct kin__kin_follow_info_2) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_size[offsetof(struct kin__kin_follow_info_1, size) == offsetof(struct kin__kin_follow_info_2, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_event[offsetof(struct kin__kin_follow_info_1, event) == offsetof(struct kin__kin_follow_info_2, event) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_status[offsetof(struct kin__kin_follow_info_1, status) == offsetof(struct kin__kin_follow_info_2, status) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_steps[offsetof(struct kin__kin_follow_info_1, steps) == offsetof(struct kin__kin_follow_info_2, steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_forward[offsetof(struct kin__kin_follow_info_1, forward) == offsetof(struct kin__kin_follow_info_2, forward) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_factorizations[offsetof(struct kin__kin_follow_info_1, factorizations) == offsetof(struct kin__kin_follow_info_2, factorizations) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_attempts[offsetof(struct kin__kin_follow_info_1, attempts) == offsetof(struct kin__kin_follow_info_2, attempts) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_length[offsetof(struct kin__kin_follow_info_1, length) == offsetof(struct kin__kin_follow_info_2, length) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_vr_tol_used[offsetof(struct kin__kin_follow_info_1, vr_tol_used) == offsetof(struct kin__kin_follow_info_2, vr_tol_used) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_v_r_rel[offsetof(struct kin__kin_follow_info_1, v_r_rel) == offsetof(struct kin__kin_follow_info_2, v_r_rel) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_m_internal[offsetof(struct kin__kin_follow_info_1, m_internal) == offsetof(struct kin__kin_follow_info_2, m_internal) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_s[offsetof(struct kin__kin_follow_info_1, s) == offsetof(struct kin__kin_follow_info_2, s) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_zero_order[offsetof(struct kin__kin_follow_info_1, zero_order) == offsetof(struct kin__kin_follow_info_2, zero_order) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_path_kept[offsetof(struct kin__kin_follow_info_1, path_kept) == offsetof(struct kin__kin_follow_info_2, path_kept) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_at_start[offsetof(struct kin__kin_follow_info_1, at_start) == offsetof(struct kin__kin_follow_info_2, at_start) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_start_distance[offsetof(struct kin__kin_follow_info_1, start_distance) == offsetof(struct kin__kin_follow_info_2, start_distance) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_1_tangent_cos[offsetof(struct kin__kin_follow_info_1, tangent_cos) == offsetof(struct kin__kin_follow_info_2, tangent_cos) ? 1 : -1];
+typedef char kin__abi_grows_kin_follow_info_2[sizeof(struct kin__kin_follow_info_2) < sizeof(kin_follow_info) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_size[offsetof(struct kin__kin_follow_info_2, size) == offsetof(kin_follow_info, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_event[offsetof(struct kin__kin_follow_info_2, event) == offsetof(kin_follow_info, event) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_status[offsetof(struct kin__kin_follow_info_2, status) == offsetof(kin_follow_info, status) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_steps[offsetof(struct kin__kin_follow_info_2, steps) == offsetof(kin_follow_info, steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_forward[offsetof(struct kin__kin_follow_info_2, forward) == offsetof(kin_follow_info, forward) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_factorizations[offsetof(struct kin__kin_follow_info_2, factorizations) == offsetof(kin_follow_info, factorizations) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_attempts[offsetof(struct kin__kin_follow_info_2, attempts) == offsetof(kin_follow_info, attempts) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_length[offsetof(struct kin__kin_follow_info_2, length) == offsetof(kin_follow_info, length) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_vr_tol_used[offsetof(struct kin__kin_follow_info_2, vr_tol_used) == offsetof(kin_follow_info, vr_tol_used) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_v_r_rel[offsetof(struct kin__kin_follow_info_2, v_r_rel) == offsetof(kin_follow_info, v_r_rel) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_m_internal[offsetof(struct kin__kin_follow_info_2, m_internal) == offsetof(kin_follow_info, m_internal) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_s[offsetof(struct kin__kin_follow_info_2, s) == offsetof(kin_follow_info, s) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_zero_order[offsetof(struct kin__kin_follow_info_2, zero_order) == offsetof(kin_follow_info, zero_order) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_path_kept[offsetof(struct kin__kin_follow_info_2, path_kept) == offsetof(kin_follow_info, path_kept) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_at_start[offsetof(struct kin__kin_follow_info_2, at_start) == offsetof(kin_follow_info, at_start) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_start_distance[offsetof(struct kin__kin_follow_info_2, start_distance) == offsetof(kin_follow_info, start_distance) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_tangent_cos[offsetof(struct kin__kin_follow_info_2, tangent_cos) == offsetof(kin_follow_info, tangent_cos) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_cheap_steps[offsetof(struct kin__kin_follow_info_2, cheap_steps) == offsetof(kin_follow_info, cheap_steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_handovers[offsetof(struct kin__kin_follow_info_2, handovers) == offsetof(kin_follow_info, handovers) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_samples[offsetof(struct kin__kin_follow_info_2, samples) == offsetof(kin_follow_info, samples) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_return_branch[offsetof(struct kin__kin_follow_info_2, return_branch) == offsetof(kin_follow_info, return_branch) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_return_angle[offsetof(struct kin__kin_follow_info_2, return_angle) == offsetof(kin_follow_info, return_angle) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_return_gap[offsetof(struct kin__kin_follow_info_2, return_gap) == offsetof(kin_follow_info, return_gap) ? 1 : -1];
 
 #endif /* KIN_MODEL_ABI_LAYOUTS_H */

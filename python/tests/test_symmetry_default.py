@@ -163,6 +163,13 @@ def test_certainty_rule():
     assert not certain(dict(base, event="bifurcation", accuracy=1e-9), g, bars)
     for ev in ("near_miss", "budget", "failure"):
         assert not certain(dict(base, event=ev), g, bars)
+    # a near miss at its located minimum (tasks.follow_branch: min_located,
+    # min_width), to a width the identification supports
+    near = dict(base, event="near_miss", vr_tol=0.0, accuracy=3e-3, min_located=True, min_width=1e-9)
+    assert certain(near, g, bars)
+    assert not certain(dict(near, min_located=False), g, bars)
+    assert not certain(dict(near, min_width=1e-6), g, bars)
+    assert not certain(dict(near, accuracy=1e-8), g, bars)  # nearly a bifurcation: pinned less sharply
 
     class NotASymmetry:  # a map that changes the bar lengths
         def apply(self, X):
@@ -170,6 +177,48 @@ def test_certainty_rule():
             Y[0] += 0.1
             return Y
     assert not certain(dict(base, event="loop"), NotASymmetry(), bars)
+    assert not certain(near, NotASymmetry(), bars)
+
+
+def test_near_miss_ends_at_its_minimum():
+    """The rhombus whose middle bar is 1e-4 too long (test_follow_nearmin.c):
+    tasks.follow_branch ends its near miss at the located minimum of
+    v_r/v_max; the start's mirror image (x -> 1 - x, joints 0 <-> 1 and
+    2 <-> 3), followed with other steps, ends at the image of that end with
+    the same v_r, and certain() maps the one onto the other."""
+    from libkin.atlas.tasks import follow_branch
+    th = 1.0
+    X = np.array([[np.cos(th), np.sin(th)], [np.cos(th) + 1, np.sin(th)], [0.0, 0.0], [1.0, 0.0]])
+    a = libkin.Assembly(X, [[2, 0], [0, 1], [1, 3]], fixed=[[0, 0], [0, 0], [1, 1], [1, 1]],
+                        lengths=[1.0, 1.0 + 1e-4, 1.0])
+    a.relax()
+    X = a.coords.copy()
+    t = a.analyse().internal_mechanisms[:, 0]
+
+    class Mirror:
+        def apply(self, Y):
+            Y = np.asarray(Y, dtype=float)
+            return np.array([[1 - Y[1, 0], Y[1, 1]], [1 - Y[0, 0], Y[0, 1]], [1 - Y[3, 0], Y[3, 1]],
+                             [1 - Y[2, 0], Y[2, 1]]])
+    g = Mirror()
+    model = json.dumps(a.to_json())
+    # the image starts a little farther along (the image of a point the
+    # path passes): its steps fall elsewhere
+    a.set_direction(t)
+    a.step(0.0123)
+    Xb, tb = a.coords.copy(), a.tangent()
+    gt = np.array([-tb[2], tb[3], -tb[0], tb[1]])
+    ends = []
+    for coords, d in ((X, t), (g.apply(Xb), gt)):
+        res = follow_branch({"model": model, "coords": coords.tolist(), "direction": d.tolist(),
+                             "max_length": 50.0})
+        assert res["event"] == "near_miss" and res["min_located"] and 0 < res["min_width"] <= 1e-8, res
+        ends.append(res)
+    bars = np.asarray(a.bars)
+    assert certain(ends[0], g, bars)
+    mapped = g.apply(np.asarray(ends[0]["coords"]))
+    assert np.abs(mapped - np.asarray(ends[1]["coords"])).max() <= 2e-8
+    assert abs(ends[0]["accuracy"] - ends[1]["accuracy"]) <= 1e-12
 
 
 def test_symmetry_argument_checked():

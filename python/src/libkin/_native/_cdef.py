@@ -371,6 +371,9 @@ typedef struct kin_follow_info {
     int return_branch;
     double return_angle;
     double return_gap;
+    double min_width;
+    int min_located;
+    int min_evals;
 } kin_follow_info;
 int kin_follow_options_init(kin_follow_options *o, size_t size);
 void kin_follow_options_default(kin_follow_options *o);

@@ -112,6 +112,15 @@ class FollowEvent:
         That return: the angle (radians) between its direction and that
         branch, and how much farther the next nearest branch is (0.0 without
         a return; inf with one branch).
+    min_located : bool
+        A near miss ending at the located minimum of v_r / v_max along the
+        path (v_r_rel is the value there); False: at the regular point
+        before the dip.
+    min_width : float
+        That minimum's position is known to this path length / RMS rest
+        length (0.0 where not located).
+    min_evals : int
+        Points computed to locate it.
     samples : numpy.ndarray, shape (k, njoints, dim)
         With ``samples > 0``: configurations the steps reached, evenly spread
         by steps over the path (start and end excluded).
@@ -143,6 +152,9 @@ class FollowEvent:
     return_gap: float = 0.0
     samples: Any = None
     sample_lengths: Any = None
+    min_located: bool = False
+    min_width: float = 0.0
+    min_evals: int = 0
 
 
 class LocatingMixin(AssemblyBase):
@@ -314,7 +326,8 @@ class LocatingMixin(AssemblyBase):
                            info.m_internal, info.s, info.zero_order, bool(info.path_kept), bool(info.at_start),
                            info.start_distance, info.tangent_cos, info.cheap_steps, info.handovers,
                            info.return_branch, info.return_angle, info.return_gap, sbuf[:count[0]].copy(),
-                           lbuf[:count[0]].copy())
+                           lbuf[:count[0]].copy(), bool(info.min_located), float(info.min_width),
+                           int(info.min_evals))
 
     def test_function(self) -> float:
         """The signed test function here.

@@ -5,9 +5,9 @@ every path out of it onto another: the branch along P_g d is the image under
 g of the branch along d (P_g: g acting on the free coordinates), so its next
 event is the same and its end is g applied to the other's end. explore()
 follows one branch per orbit (follow_orbits, the default with symmetry) and
-maps the others where the mapped end is certain (certain(): a closed loop
-or a bifurcation located to the strict tolerance, onto a configuration with
-the same bar lengths), following the rest (follow_level); that divides the
+maps the others where the mapped end is certain (certain(): a closed loop,
+a bifurcation located to the strict tolerance or a near miss located at its
+minimum, onto a configuration with the same bar lengths), following the rest (follow_level); that divides the
 following by up to the order of the node's stabilizer (6 at the hexagonal
 sail's flat state, where the mirror z -> -z maps each branch onto its
 opposite sense). differences() compares two atlases whatever the order of
@@ -73,6 +73,20 @@ def mapped_result(res: Dict[str, Any], g: Any) -> Dict[str, Any]:
 # a bifurcation located to it is a certain end; one the follower could
 # locate only to a relaxed tolerance is not
 STRICT_VR_TOL = 1e-10
+# a near miss ends at the minimum of v_r/v_max along the path, located to
+# min_width (path length / RMS rest length; kin_follow_info, at most 1e-8):
+# a certain end where that is below this, 10x under the explorer's
+# identification tolerance (SAME_TOL, 1e-6 of the model size, which is
+# larger than the RMS rest length): the image branch's minimum is then the
+# mapped one to well within it
+NEAR_MIN_WIDTH = 1e-7
+# ... and where v_r/v_max there is at least this (the follower's vr_floor):
+# a lower minimum is a bifurcation the locator could not pin, where the
+# corrector fixes points only to about its tolerance / v_r across the path
+# (on the hexagonal flat state, 7 of 1,500 near misses followed directly,
+# all at v_r/v_max 1e-9 .. 5e-8, ended 1e-6 .. 1.2e-5 x the model size from
+# their mapped ends; the others within 2e-8)
+NEAR_MIN_VR = 1e-6
 # a mapped end keeps every bar length to this (relative to the model's rest lengths)
 LENGTH_TOL = 1e-9
 
@@ -87,14 +101,21 @@ def certain(res: Dict[str, Any], g: Any, bars: NDArray[np.int_]) -> bool:
     pins down whichever way the steps fall); and g maps the end onto a
     configuration with the same bar lengths to LENGTH_TOL (g is an exact
     symmetry of the structure there, so the analysis there, m, s and v_r,
-    is the same). Not certain, and so followed: a near-miss (it stops at the
-    regular point before a dip of v_r, which depends on where the steps
-    fall: today's mapped near-miss ends differed from followed ones by up to
-    0.008 on the hexagonal sail), a length or step budget (where the budget
-    runs out depends on the steps too), a bifurcation located only to a
-    relaxed tolerance (known to sqrt(tol) only), a failure."""
+    is the same), or a near miss whose end is the minimum of v_r/v_max
+    along the path located to NEAR_MIN_WIDTH (min_located: a geometric
+    point, whichever way the steps fall) at v_r/v_max >= NEAR_MIN_VR. Not certain, and so followed: a
+    near miss without a located minimum (it stops at the regular point
+    before the dip, which depends on where the steps fall: mapped ends of
+    those differed from followed ones by up to 0.008 on the hexagonal
+    sail), a length or step budget (where the budget runs out depends on
+    the steps too), a bifurcation located only to a relaxed tolerance
+    (known to sqrt(tol) only), a failure."""
     ev = res.get("event")
-    if ev == "bifurcation":
+    if ev == "near_miss":
+        if not (res.get("min_located") and float(res.get("min_width", 1.0)) <= NEAR_MIN_WIDTH
+                and float(res.get("accuracy", 0.0)) >= NEAR_MIN_VR):
+            return False
+    elif ev == "bifurcation":
         if not (float(res.get("vr_tol", 1.0)) <= STRICT_VR_TOL and float(res.get("accuracy", 1.0)) <= STRICT_VR_TOL):
             return False
     elif ev != "loop":

@@ -87,6 +87,8 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     "v_r_rel" at the end (analysis at the rank tolerance), "accuracy" (the
     vanishing singular value / v_max where the event was located), "vr_tol"
     (the tolerance it was located to), "steps", "samples", "message",
+    a near miss's "min_located" and "min_width" (its end is the minimum of
+    v_r / v_max along the path, located to that path length / RMS length),
     "cpu_seconds" (this task's CPU time in its process), with "branches" and
     a loop "return_angle" (radians, its return direction to its own branch)
     and "return_tangent" (the path's direction at the end, where regular)}.
@@ -126,6 +128,8 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     out.update(_end_state(a, kind, rank_tol))
     out.update({"accuracy": float(ev.v_r_rel), "vr_tol": float(ev.vr_tol_used), "steps": int(ev.steps),
                 "length": float(ev.length), "at_start": bool(ev.at_start)})
+    if kind == NEAR_MISS:  # the end is the located minimum of v_r / v_max, to min_width (orbits.certain)
+        out.update({"min_located": bool(ev.min_located), "min_width": float(ev.min_width)})
     if kind == LOOP and br is not None:  # for atlas/directions.py
         out["return_angle"] = float(ev.return_angle)  # to the own branch
         an = a.analyse() if own is None else None  # decided with every line: nothing to decide again
