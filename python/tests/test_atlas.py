@@ -286,3 +286,29 @@ def test_a_task_gives_the_same_result_with_the_model_cached():
     b.options = o
     c = tasks.rebuild(task)
     assert np.array_equal(c.coords, a.coords) and c.options.rank_tol == 1e-8
+
+
+def test_node_kind_does_not_depend_on_arrival_order():
+    """A point reached as a near miss (the minimum of v_r along one path) and
+    as a located bifurcation (along another) is a bifurcation node, whichever
+    branch came first; a bifurcation node stays one, and an expanded node is
+    never changed."""
+    from libkin.atlas.model import Node, node_kind
+    near = {"m": 1, "m_rigid": 0, "s": 0, "v_r_rel": 3e-8, "accuracy": 3e-8}
+    bif = {"m": 2, "m_rigid": 0, "s": 1, "v_r_rel": 0.02, "accuracy": 4e-11}
+
+    def node(kind, res):
+        return Node(7, kind, np.zeros((2, 3)), res["m"], res["m_rigid"], res["s"], res["v_r_rel"], 1,
+                    located_v_r=res["accuracy"], located_tol=1e-10)
+
+    kinds = {}
+    for first, second in (("near_miss", "bifurcation"), ("bifurcation", "near_miss")):
+        res = {"near_miss": near, "bifurcation": bif}
+        n = node(node_kind(first, res[first]), res[first])
+        assert n.arrived(node_kind(second, res[second]), res[second]) == 7
+        kinds[first] = (n.kind, n.m, n.s, n.located_v_r, n.located_tol)
+    assert kinds["near_miss"] == kinds["bifurcation"] == (atlas_mod.BIFURCATION, 2, 1, 4e-11, 1e-10)
+    done = node(atlas_mod.NEAR_MISS, near)
+    done.expanded = True
+    done.arrived(atlas_mod.BIFURCATION, bif)
+    assert (done.kind, done.m) == (atlas_mod.NEAR_MISS, 1)

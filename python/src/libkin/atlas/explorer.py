@@ -267,7 +267,8 @@ class _Explorer:
         self.follow_cpu += float(res.get("cpu_seconds", 0.0))
         X = np.asarray(res["coords"])
         found = nid if ev == tasks.LOOP else self.find(X, float(res.get("vr_tol", 0.0)))
-        target = found if found is not None else self.add_node(X, node_kind(ev, res), res, depth)
+        kind = node_kind(ev, res)
+        target = self.nodes[found].arrived(kind, res) if found is not None else self.add_node(X, kind, res, depth)
         self.edges.append(Edge(len(self.edges), nid, target, int(sol), int(sign), [float(v) for v in beta], ev,
                                float(res["length"]), float(res["accuracy"]), res["samples"], res["message"],
                                int(res.get("steps", 0)), float(res.get("vr_tol", 0.0))))

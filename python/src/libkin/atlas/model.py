@@ -53,6 +53,19 @@ class Node:
     status: str = ""              # why not expanded, or what enumeration found
     branches: Optional[Dict[str, Any]] = None        # how its branches were enumerated
 
+    def arrived(self, kind: str, res: Dict[str, Any]) -> int:
+        """Another branch's end identified with this node (of kind `kind`,
+        its follower's result res): a bifurcation located there makes a
+        node first reached as a near miss (the minimum of v_r along another
+        path, which the locator could not pin) a bifurcation, with that
+        analysis, so the kind does not depend on which branch came first.
+        Only before the node is expanded; its coordinates and location
+        tolerance (its index entry) stay. Returns the node's id."""
+        if kind == BIFURCATION and self.kind == NEAR_MISS and not self.expanded:
+            self.kind, self.m, self.m_rigid, self.s = kind, int(res["m"]), int(res["m_rigid"]), int(res["s"])
+            self.v_r_rel, self.located_v_r = float(res["v_r_rel"]), float(res.get("accuracy", 0.0))
+        return self.id
+
     def to_dict(self) -> Dict[str, Any]:
         d = dataclasses.asdict(self)
         d["coords"] = self.coords.tolist()
