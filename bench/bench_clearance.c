@@ -41,21 +41,8 @@ int main(void)
            "after_step  repeated  ratio  ratio_fact   (checks in CPU ms, step in wall ms; ratio: after step / step; "
            "ratio_fact: margin after step / one factorization; margin 0.01 x shortest bar)\n");
     for (int i = 0; i < nm; ++i) {
-        kin_sail_params p;
-        kin_sail_params_default(&p, members[i][0], members[i][1]);
-        kin_assembly *flat = NULL;
-        if (kin_model_sail(&p, &flat, NULL, 0)) continue;
-        kin_assembly *a = dome_lengths(flat, 0.3 / (members[i][1] + 1.0));
-        kin_assembly_free(flat);
+        kin_assembly *a = bench_clearance_member(members[i][0], members[i][1]);
         if (!a) continue;
-        kin_options o = {.size = sizeof o};
-        kin_get_options(a, &o);
-        o.factorization = KIN_STEP_LU;
-        kin_set_options(a, &o);
-        if (bench_set_triangles(a) != KIN_OK) {
-            kin_assembly_free(a);
-            continue;
-        }
         kin_step_info info = {.size = sizeof info};
         if (kin_step(a, 0.0, &info)) {
             printf("%d:%d warm-up step failed: %s\n", members[i][0], members[i][1], kin_last_error(a));

@@ -72,18 +72,8 @@ int main(int argc, char **argv)
     printf("member     nfree  nprim | margin us: warm(min med)  cold(min med)  cold+br(min med) | "
            "global us: warm  cold+br | margin ns/prim: warm cold+br | margin with the tree built (us)\n");
     for (int i = 0; i < nm; ++i) {
-        kin_sail_params p;
-        kin_sail_params_default(&p, members[i][0], members[i][1]);
-        kin_assembly *flat = NULL;
-        if (kin_model_sail(&p, &flat, NULL, 0)) continue;
-        kin_assembly *a = dome_lengths(flat, 0.3 / (members[i][1] + 1.0));
-        kin_assembly_free(flat);
+        kin_assembly *a = bench_clearance_member(members[i][0], members[i][1]);
         if (!a) continue;
-        kin_options o = {.size = sizeof o};
-        kin_get_options(a, &o);
-        o.factorization = KIN_STEP_LU;
-        kin_set_options(a, &o);
-        if (bench_set_triangles(a) != KIN_OK) continue;
         kin_step_info info = {.size = sizeof info};
         const char *ns = getenv("LIBKIN_PROBE_STEPS");
         int nsteps = ns && atoi(ns) > 0 ? atoi(ns) : 1, bad = 0;

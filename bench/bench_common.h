@@ -128,6 +128,29 @@ static inline int bench_set_triangles(kin_assembly *a)
     return rc;
 }
 
+/* bench_clearance.c's and its probe's members: the sail hub:loops lifted into
+ * a strain-free dome, stepped in the LU mode, with its bar triangles as
+ * panels; NULL where any of it fails */
+static inline kin_assembly *bench_clearance_member(int hub, int loops)
+{
+    kin_sail_params p;
+    kin_sail_params_default(&p, hub, loops);
+    kin_assembly *flat = NULL;
+    if (kin_model_sail(&p, &flat, NULL, 0)) return NULL;
+    kin_assembly *a = dome_lengths(flat, 0.3 / (loops + 1.0));
+    kin_assembly_free(flat);
+    if (!a) return NULL;
+    kin_options o = {.size = sizeof o};
+    kin_get_options(a, &o);
+    o.factorization = KIN_STEP_LU;
+    kin_set_options(a, &o);
+    if (bench_set_triangles(a) != KIN_OK) {
+        kin_assembly_free(a);
+        return NULL;
+    }
+    return a;
+}
+
 /* this thread's CPU seconds: what the single-threaded check costs, whatever
  * else the shared machine runs (a check preempted halfway is not charged for
  * the wait; the caches the other processes emptied meanwhile still are) */
