@@ -118,7 +118,7 @@ def _cpu() -> float:
 
 
 def scaling(args: argparse.Namespace) -> None:
-    from libkin.atlas import explorer, tasks
+    from libkin.atlas import directions, explorer, tasks
     from libkin.atlas.model import Node
     from libkin.atlas.store import Store
     from libkin.parallel import run_tasks
@@ -142,10 +142,10 @@ def scaling(args: argparse.Namespace) -> None:
         br, _ = ex.branches(node)
         work += [(len(ex.nodes) - 1, i, sg, b, dd) for i, sg, b, dd in br]
     enum = time.perf_counter() - t
-    shared = tasks.branch_lines(work)
+    lines, _ = directions.node_lines(work)  # each node's branch lines go whole with its tasks (few at depth 1)
     items = [{"model": ex.text, "coords": ex.nodes[nid].coords.tolist(), "rank_tol": ex._rank_tol(ex.nodes[nid]),
               "direction": dd.tolist(), "max_length": ex.max_length, "max_steps": ex.max_steps, "samples": 0,
-              "branches": shared.get(nid), "contact": False} for nid, _, _, _, dd in work]
+              "branches": np.array(lines[nid], dtype=float) if nid in lines else None, "contact": False} for nid, _, _, _, dd in work]
     print(f"load average at start: {load()}; {args.nodes} depth-1 orbits, {len(items)} directed branches "
           f"(enumerated here in {enum:.1f} s)", flush=True)
     rows = []

@@ -115,7 +115,10 @@ def follow(work: Sequence[Any], every: Sequence[Any], item: Callable[[int, Any],
     lines they carried ("lines", "lines_max") and their CPU seconds ("cpu_ms")."""
     lines, index = node_lines(every)
     limit = tasks.BRANCH_DIRECTIONS_MAX
-    whole = {nid: [list(map(float, d)) for d in L] for nid, L in lines.items() if len(L) * len(L[0]) <= limit}
+    # as arrays, not nested lists: Dask walks a task's nested lists element by element
+    # looking for futures (its client spent 30 ms a depth-1 task on them) and the store
+    # JSON-encoded them for the task's key (9 ms); an array is one object to both
+    whole = {nid: np.array(L, dtype=float) for nid, L in lines.items() if len(L) * len(L[0]) <= limit}
     with Sharing(executor) as sharing:
         many = {nid for nid, *_ in work if nid in lines and nid not in whole}
         refs = {nid: sharing.share(np.array(lines[nid], dtype=float)) for nid in sorted(many)}
@@ -125,7 +128,7 @@ def follow(work: Sequence[Any], every: Sequence[Any], item: Callable[[int, Any],
             if refs.get(nid) is not None:  # every line, the same array for all the node's tasks
                 it["branches"], it["own"] = refs[nid], index[(nid, sol)]
             else:
-                it["branches"] = whole.get(nid) or ([list(map(float, d))] if nid in lines else None)
+                it["branches"] = whole[nid] if nid in whole else (np.array([d], dtype=float) if nid in lines else None)
             items.append(it)
         results = run(items)
     big: Dict[int, _Lines] = {}
