@@ -146,6 +146,21 @@ static int polish_accept(const kin_assembly *a, double *x, const double *d, doub
     return 1;
 }
 
+/* A node's parameter along the path from base, z = t_base . (x - x_base),
+ * into h->z[h->n], and dx = dx/dz there (its tangent over t . t_base); 0
+ * where the tangent is at right angles to base's (no parameter). */
+static int node_parameter(hermite_ws *h, const kin_assembly *st, const kin_assembly *base, const double *x, double *dx)
+{
+    int nf = st->nf;
+    kin__gather(base, base->xyz, h->xs);
+    double z = 0.0, tt = kin__dot(nf, st->t, base->t);
+    for (int i = 0; i < nf; ++i) z += base->t[i] * (x[i] - h->xs[i]);
+    if (!(fabs(tt) > 0.0)) return 0;
+    for (int i = 0; i < nf; ++i) dx[i] = st->t[i] / tt;
+    h->z[h->n] = z;
+    return 1;
+}
+
 /* Chord corrections x -= sum_{i<r} u_i (w_i^T e) / v_i with factorization
  * f (made at or next to x), while the strain residual |e| decreases, at most
  * maxit times. xyz: full coordinates (fixed ones already in place), kept in
@@ -194,12 +209,7 @@ static int hermite_add(hermite_ws *h, const kin_assembly *st, const kin_assembly
     memcpy(h->xyz, st->xyz, sizeof(double) * (size_t)(st->nj * st->dim));
     double corr = chord_polish(st, f, k + 1, x, h->xyz, h->e, h->y, h->d, NODE_POLISH_ITER);
     double floor = DBL_EPSILON * st->rms_length;
-    kin__gather(base, base->xyz, h->xs);
-    double z = 0.0, tt = kin__dot(nf, st->t, base->t);
-    for (int i = 0; i < nf; ++i) z += base->t[i] * (x[i] - h->xs[i]);
-    if (!(fabs(tt) > 0.0)) return 0;
-    for (int i = 0; i < nf; ++i) dx[i] = st->t[i] / tt;
-    h->z[h->n] = z;
+    if (!node_parameter(h, st, base, x, dx)) return 0;
     h->v[h->n] = f->sv[k];
     h->dv[h->n] = kin__sv_derivative(st, f, st->xyz, dx, k, h->scratch);
     h->err[h->n] = fmax(corr, floor);
@@ -252,12 +262,7 @@ static int hermite_add_lu(hermite_ws *h, kin_assembly *st, const kin_assembly *b
     double corr = chord_polish_lu(st, x, h->xyz, h->e, h->y, h->d, NODE_POLISH_ITER);
     if (!isfinite(corr)) return -1;
     double floor = DBL_EPSILON * st->rms_length;
-    kin__gather(base, base->xyz, h->xs);
-    double z = 0.0, tt = kin__dot(nf, st->t, base->t);
-    for (int i = 0; i < nf; ++i) z += base->t[i] * (x[i] - h->xs[i]);
-    if (!(fabs(tt) > 0.0)) return 0;
-    for (int i = 0; i < nf; ++i) dx[i] = st->t[i] / tt;
-    h->z[h->n] = z;
+    if (!node_parameter(h, st, base, x, dx)) return 0;
     h->v[h->n] = v;
     h->dv[h->n] = kin__sv_derivative_uw(st, st->xyz, dx, h->uu, h->ww, h->scratch);
     h->err[h->n] = fmax(corr, floor);
