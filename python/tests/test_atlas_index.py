@@ -1,5 +1,6 @@
-"""atlas_index.ConfigIndex: the sorted-key window never loses a neighbour
-that a scan over every entry would find, and returns labels in order."""
+"""atlas.index.ConfigIndex: the grid never loses a neighbour that a scan
+over every entry would find, whatever the radius of a query, and returns
+labels in order."""
 import numpy as np
 import pytest
 
@@ -65,3 +66,26 @@ def test_grouped_window_per_accuracy():
         # the fine entries' window (1e-4) admits only a few of them
         assert sum(1 for c in cands if entries[c][1] < 1e-9) < 50
     assert len(idx) == 500
+
+
+@pytest.mark.parametrize("rigid", [False, True])
+def test_any_radius_gives_exactly_the_scan(rigid):
+    """Queries of radii from 1e-9 to 10 (the grids' levels made as they are
+    needed, in any order, entries added between queries) return exactly the
+    entries a scan of the features finds, in label order."""
+    rng = np.random.default_rng(11 + rigid)
+    shape = (7, 3)
+    idx = ConfigIndex(shape, rigid)
+    pts = []
+    for k in range(600):
+        base = pts[rng.integers(len(pts))] if pts and k % 3 else rng.normal(size=shape)
+        X = base + rng.normal(size=shape) * 10.0 ** rng.uniform(-9, 0)
+        pts.append(X)
+        idx.add(X, k)
+        if k % 4 == 0:
+            Y = pts[rng.integers(len(pts))] + rng.normal(size=shape) * 10.0 ** rng.uniform(-10, -1)
+            tol = 10.0 ** rng.uniform(-9, 1)
+            fy = idx._features(Y)
+            r = tol * idx.spread + 1e-12 * idx.spread * (float(np.abs(fy).max()) + 1.0)
+            truth = [i for i, X in enumerate(pts) if np.abs(idx._features(X) - fy).max() <= r]
+            assert idx.near(Y, tol) == truth
