@@ -253,8 +253,8 @@ class _Explorer:
         """work: [(node, solution, sign, beta, direction)] -> results in order; every: all their nodes' branches."""
         def item(nid: int, d: NDArray[np.float64]) -> Dict[str, Any]:
             n, rest = self.nodes[nid], {"max_steps": self.max_steps, "samples": self.samples, "contact": self.contact}
-            return {"model": self.text, "coords": n.coords.tolist(), "rank_tol": self._rank_tol(n),
-                    "direction": d.tolist(), "max_length": self.max_length, **rest}
+            return {"model": self.text, "coords": n.coords, "rank_tol": self._rank_tol(n),
+                    "direction": np.asarray(d, dtype=float), "max_length": self.max_length, **rest}
 
         def run(items: List[Any]) -> List[Any]:
             args = (tasks.follow_branch, items, self.executor, self.progress, "branches", self.deadline)
