@@ -178,11 +178,12 @@ class GroupedIndex:
         """Labels of every entry that can lie within window(g) of X, g the
         coarsest accuracy in the entry's group; sorted."""
         out: List[Any] = []
-        f = p = None
+        if not self.groups:
+            return out
+        first = next(iter(self.groups.values()))[0]
+        f = first._features(X)
+        p = first._w @ f  # the same features and projections in every group
         for idx, worst in self.groups.values():
-            if f is None:  # the same features and projections in every group
-                f = idx._features(X)
-                p = idx._w @ f
             out += idx.near_features(f, p, window(worst[0]))
         return sorted(out)
 
