@@ -94,3 +94,36 @@ def test_locate_rc_from_p1(method):
     np.testing.assert_allclose(a.coords[:2], [[1, 0], [2, 0]], atol=1e-9)
     with pytest.raises(libkin.errors.AtBifurcationError):
         a.locate()
+
+
+def test_current_analysis_is_the_last_one_while_it_holds():
+    """Assembly.current_analysis(): the last analysis while the configuration
+    and options are unchanged (no SVD made), None once either changes; after
+    following to a bifurcation, the follower's analysis of the end, the same
+    to the bit as analysing again (what atlas tasks read)."""
+    a = libkin.Assembly.threebar("RC")
+    assert a.current_analysis() is None  # nothing analysed yet
+    an = a.analyse()
+    cur = a.current_analysis()
+    assert cur is not None and (cur.rank, cur.m_internal, cur.s, cur.v_r, cur.v_max) == (
+        an.rank, an.m_internal, an.s, an.v_r, an.v_max)
+    np.testing.assert_array_equal(cur.singular_values, an.singular_values)
+    np.testing.assert_array_equal(cur.internal_mechanisms, an.internal_mechanisms)
+    xyz = a.coords
+    xyz[:2] = [[0.6, 0.8], [1.6, 0.8]]
+    a.coords = xyz
+    assert a.current_analysis() is None  # the configuration changed
+    a.analyse()
+    o = a.options
+    o.rank_tol = 1e-7
+    a.options = o
+    assert a.current_analysis() is None  # the options changed
+    b = libkin.Assembly.threebar("RC")
+    betas, _ = libkin.solve_quadrics(b.second_order())
+    ev = b.follow_event(b.analyse().internal_mechanisms @ betas[0])
+    assert ev.event == "bifurcation"
+    cur = b.current_analysis()
+    assert cur is not None
+    again = b.analyse()
+    assert (cur.m_internal, cur.m_rigid, cur.s, cur.v_r, cur.v_max) == (
+        again.m_internal, again.m_rigid, again.s, again.v_r, again.v_max)

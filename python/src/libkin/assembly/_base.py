@@ -257,6 +257,25 @@ class AssemblyBase:
         """
         an = new_struct("kin_analysis")
         self._check(lib.kin_analyse(self._h, an), "analyse")
+        return self._analysis(an)
+
+    def current_analysis(self) -> Optional[Analysis]:
+        """The last analysis, if it is still current (the configuration and
+        options unchanged since: kin_get_analysis), else None; no SVD is
+        made. After `follow_event` it is the follower's own analysis of the
+        end point (at the tolerance it located that point to).
+
+        Raises
+        ------
+        StateError
+            The assembly is closed.
+        """
+        an = new_struct("kin_analysis")
+        if lib.kin_get_analysis(self._h, an) != lib.KIN_OK:
+            return None
+        return self._analysis(an)
+
+    def _analysis(self, an: Any) -> Analysis:
         nf, nb = self.nfree, self.nbars
         sv = np.empty(min(nf, nb))
         rc = lib.kin_get_singular_values(self._h, write_ptr(sv, "double *"), sv.size)

@@ -174,12 +174,20 @@ def _pick_samples(recorded: Any, lengths: Any, total: float, n: int) -> list[Any
 
 
 def _end_state(a: Assembly, kind: str, rank_tol: Optional[float] = None) -> Dict[str, Any]:
-    if rank_tol is not None:
+    an = None
+    if rank_tol is not None and min(0.5, rank_tol) != a.options.rank_tol:
         # a point located only to a coarser v_r is analysed as the follower saw it
         o = a.options
         o.rank_tol = min(0.5, rank_tol)
         a.options = o
-    an = a.analyse()
+    elif kind != FAILURE:
+        # the follower's own analysis of the end, where current (0.3 ms a task saved, 4% of
+        # a branch): the same analysis to the bit where the rank tolerance is the handle's
+        # (399 of 400 flat-state branches; the other a bifurcation located to 1e-8, which
+        # the branch above analyses at 1e-7)
+        an = a.current_analysis()
+    if an is None:
+        an = a.analyse()
     return {"event": kind, "coords": a.coords.tolist(), "length": float(abs(a.path_length)),
             "m": int(an.m_internal), "m_rigid": int(an.m_rigid), "s": int(an.s),
             "v_r_rel": float(an.v_r / an.v_max) if an.v_max > 0 else 0.0}
