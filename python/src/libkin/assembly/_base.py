@@ -265,6 +265,11 @@ class AssemblyBase:
         made. After `follow_event` it is the follower's own analysis of the
         end point (at the tolerance it located that point to).
 
+        Returns
+        -------
+        Analysis or None
+            The current analysis, or None where there is none.
+
         Raises
         ------
         StateError
