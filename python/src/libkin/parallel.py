@@ -69,6 +69,54 @@ def terminate_on_sigterm() -> Iterator[None]:
         signal.signal(signal.SIGTERM, old)
 
 
+class _OneBlasThread:
+    """The BLAS libraries of the process on one thread while a task runs:
+    NumPy's own OpenBLAS, and the one libkin links (whose count the C side
+    otherwise sets to one and puts back around every call of its own,
+    model/blas_threads.c). In a 2-worker process pool on 2 cores the
+    default counts (one thread per core) cost the flat-state atlas's branch
+    tasks 3-10% more CPU and up to 2x the wall time of 2,000 tasks (6 runs,
+    alternately, load 5-7); serially in one process 1%. The counts are
+    process-wide, so they are set for the duration only: the first of nested
+    or concurrent uses sets one thread, the last one out restores what was
+    there (threadpoolctl; nothing happens without it). In a thread other
+    than the main one some OpenBLAS builds keep the count they had: pool
+    workers run their tasks in their main thread.
+    """
+
+    def __init__(self) -> None:
+        self.lock = threading.Lock()
+        self.depth = 0
+        self.controller: Any = None  # threadpoolctl.ThreadpoolController, made at the first use (False: none)
+        self.limiter: Any = None
+
+    @contextlib.contextmanager
+    def __call__(self) -> Iterator[None]:
+        with self.lock:
+            if self.depth == 0:
+                if self.controller is None:
+                    try:
+                        from threadpoolctl import ThreadpoolController  # type: ignore[import-untyped]
+                        self.controller = ThreadpoolController()  # the loaded libraries, looked up once
+                    except Exception:  # noqa: BLE001 - not installed, or no BLAS it knows: nothing to set
+                        self.controller = False
+                if self.controller:
+                    self.limiter = self.controller.limit(limits=1, user_api="blas")
+            self.depth += 1
+        try:
+            yield
+        finally:
+            with self.lock:
+                self.depth -= 1
+                if self.depth == 0 and self.limiter is not None:
+                    self.limiter.restore_original_limits()
+                    self.limiter = None
+
+
+#: with one_blas_thread(): NumPy's BLAS on one thread for the block (_OneBlasThread)
+one_blas_thread = _OneBlasThread()
+
+
 def _worker_init() -> None:
     """In each pool worker: SIGTERM kills it (not the parent's handler,
     inherited by fork) and Ctrl-C is the parent's to handle."""

@@ -101,6 +101,12 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     points its steps reach, up to SAMPLE_ROOM per sample asked for): for
     k = 1..n the recorded point whose path length is nearest k/(n+1) of the
     event's length; the branch is followed once."""
+    from ..parallel import one_blas_thread
+    with one_blas_thread():
+        return _follow_branch(task)
+
+
+def _follow_branch(task: Task) -> Dict[str, Any]:
     from ..errors import KinError
     cpu0 = time.process_time()
     a = rebuild(task)
