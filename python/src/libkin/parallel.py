@@ -88,16 +88,19 @@ class _OneBlasThread:
         self.lock = threading.Lock()
         self.depth = 0
         self.controller: Any = None  # threadpoolctl.ThreadpoolController, made at the first use (False: none)
+        self.modules = 0  # len(sys.modules) when it was made
         self.limiter: Any = None
 
     @contextlib.contextmanager
     def __call__(self) -> Iterator[None]:
         with self.lock:
             if self.depth == 0:
-                if self.controller is None:
+                if self.controller is None or self.modules != len(sys.modules):
+                    # the loaded libraries, looked up again after imports (which may load another BLAS)
+                    self.modules = len(sys.modules)
                     try:
                         from threadpoolctl import ThreadpoolController  # type: ignore[import-untyped]
-                        self.controller = ThreadpoolController()  # the loaded libraries, looked up once
+                        self.controller = ThreadpoolController()
                     except Exception:  # noqa: BLE001 - not installed, or no BLAS it knows: nothing to set
                         self.controller = False
                 if self.controller:
