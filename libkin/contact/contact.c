@@ -39,7 +39,7 @@ static void ct_release(struct kin_contact *c)
     free(c->poff), free(c->pj), free(c->rbar), free(c->tpan);
     free(c->prim_part), free(c->prim_v), free(c->prim_r), free(c->cen), free(c->lr), free(c->jpos);
     free(c->order), free(c->node), free(c->lp), free(c->leaf), free(c->ev_prev), free(c->ev_x), free(c->ev_xyz), free(c->stack), free(c->sgap), free(c->pts);
-    free(c->ev_box), free(c->ev_key);
+    free(c->ev_box), free(c->ev_key), free(c->ax), free(c->ax_call);
     free(c);
 }
 
@@ -79,6 +79,9 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->leaf = malloc(sizeof(kin__leafsoa) * (N / ((LEAF_MAX + 1) / 2) + 1));
     c->stack = malloc(sizeof(int) * 2 * (size_t)c->stack_cap);
     c->sgap = malloc(sizeof(double) * (size_t)c->stack_cap);
+    c->ax = malloc(sizeof(float) * 5 * KIN__OWN_AXES * (N ? N : 1));
+    c->ax_call = calloc(N ? N : 1, sizeof(unsigned));
+    c->call = 0;
     c->pts = malloc(sizeof(double) * 3 * (size_t)a->nj);
     c->ev_prev = malloc(sizeof(double) * ((size_t)a->nf + 1));
     c->ev_x = malloc(sizeof(double) * (2 * (size_t)a->nf + 1));
@@ -88,7 +91,7 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->ev_pair[0] = c->ev_pair[1] = -1;
     c->ev_tol = 1e-9;
     if (!c->prim_part || !c->prim_v || !c->prim_r || !c->cen || !c->lr || !c->jpos || !c->order || !c->node || !c->lp || !c->leaf ||
-        !c->stack || !c->sgap || !c->pts || !c->ev_prev || !c->ev_x || !c->ev_xyz || !c->ev_box || !c->ev_key)
+        !c->stack || !c->sgap || !c->ax || !c->ax_call || !c->pts || !c->ev_prev || !c->ev_x || !c->ev_xyz || !c->ev_box || !c->ev_key)
         return KIN_ENOMEM;
     int p = 0;
     for (int k = 0; k < a->nb; ++k, ++p) {
@@ -433,7 +436,7 @@ static void tree_build(const kin_assembly *a, struct kin_contact *c, const doubl
         for (int i = 0; i < LEAF_MAX; ++i) {
             const int *v = i < N->count ? c->lp[N->start + i].v : NULL;
             for (int k = 0; k < 3; ++k) S->v[k][i] = v ? (v[k] >= 0 ? v[k] : v[1]) : -1;
-            for (int k = 0; k < 3; ++k) S->lo[k][i] = FLT_MAX, S->hi[k][i] = -FLT_MAX;
+            for (int k = 0; k < 5; ++k) S->lo[k][i] = FLT_MAX, S->hi[k][i] = -FLT_MAX;
             for (int q = 0; q < 3; ++q)
                 for (int k = 0; k < 3; ++k) S->p[q][k][i] = 0.0f;
             S->r[i] = v ? c->lp[N->start + i].r : 0.0f;
@@ -441,6 +444,7 @@ static void tree_build(const kin_assembly *a, struct kin_contact *c, const doubl
     }
     load_points(a, c, xyz, 1);
     c->seed[0] = c->seed[1] = -1;
+    memset(c->ax_call, 0, sizeof(unsigned) * (size_t)c->nprim); /* tree positions renumbered */
     c->tree_ok = 1;
     c->fresh = 1;
 }
@@ -469,6 +473,17 @@ static double refit(struct kin_contact *c)
                     float h = f_up(dmax(dmax(x[k], y[k]), z[k]) + r[i]);
                     S->lo[k][i] = l, S->hi[k][i] = h;
                     lo[k] = l < lo[k] ? l : lo[k], hi[k] = h > hi[k] ? h : hi[k];
+                }
+                /* the slabs across x + y and x - y (see diag_lanes): each
+                 * sum, the radius term r sqrt 2 and the difference are
+                 * rounded relative to their own size; 2^-50 of |sum| + r
+                 * sqrt 2 covers them (the cancellation included) */
+                double rs = r[i] * 1.4142135623730951;
+                for (int d = 0; d < 2; ++d) {
+                    double sg = d ? -1.0 : 1.0, a = x[0] + sg * x[1], b = y[0] + sg * y[1], e = z[0] + sg * z[1];
+                    double l = dmin(dmin(a, b), e), h = dmax(dmax(a, b), e);
+                    S->lo[3 + d][i] = f_down(l - rs - 0x1p-50 * (fabs(l) + rs));
+                    S->hi[3 + d][i] = f_up(h + rs + 0x1p-50 * (fabs(h) + rs));
                 }
             }
         } else {
@@ -520,6 +535,10 @@ static inline int cannot_beat(double s2, double neg, double best)
  * lane i shares a joint with (v0, v1, v2). Lanes past the leaf's count are
  * masked by the caller. SSE2 (every x86-64) or plain C. */
 static inline float near_bound(double best) { return best >= 0.0 ? f_up(best) : 0.0f; }
+/* the bound on the x + y, x - y slabs (projections on (1, +-1, 0), of
+ * length sqrt 2): a float gap g > T2 there means a distance above
+ * g (1 - 2^-24) / sqrt 2 > best */
+static inline float near_bound2(double best) { return best >= 0.0 ? f_up(best * 1.4142135623730951 * (1.0 + 0x1p-20)) : 0.0f; }
 
 #if defined(__SSE2__)
 static inline unsigned near_lanes(const kin__leafsoa *S, const float *lo, const float *hi, float T)
@@ -535,6 +554,26 @@ static inline unsigned near_lanes(const kin__leafsoa *S, const float *lo, const 
         m |= (unsigned)(~_mm_movemask_ps(far) & 15) << h;
     }
     return m;
+}
+/* diag_lanes: bit i set when lane i's slab across x + y or x - y is more
+ * than T2 (near_bound2) apart from lo, hi (the row's slabs 3, 4); lanes
+ * outside cols are not tested. Long thin parts tilted in a nearly flat
+ * sheet (a sail) have boxes far larger than they are; these two slabs
+ * drop most of the pairs such boxes keep. */
+static inline unsigned diag_lanes(const kin__leafsoa *S, const float *lo, const float *hi, float T2, unsigned cols)
+{
+    const __m128 t = _mm_set1_ps(T2);
+    unsigned m = 0;
+    for (int h = 0; h < LEAF_MAX; h += 4) {
+        if (!((cols >> h) & 15u)) continue;
+        __m128 far = _mm_setzero_ps();
+        for (int k = 3; k < 5; ++k) {
+            far = _mm_or_ps(far, _mm_cmpgt_ps(_mm_sub_ps(_mm_loadu_ps(S->lo[k] + h), _mm_set1_ps(hi[k])), t));
+            far = _mm_or_ps(far, _mm_cmpgt_ps(_mm_sub_ps(_mm_set1_ps(lo[k]), _mm_loadu_ps(S->hi[k] + h)), t));
+        }
+        m |= (unsigned)_mm_movemask_ps(far) << h;
+    }
+    return m & cols;
 }
 static inline unsigned adjacent_lanes(const kin__leafsoa *S, int v0, int v1, int v2)
 {
@@ -558,6 +597,17 @@ static inline unsigned near_lanes(const kin__leafsoa *S, const float *lo, const 
         int far = 0;
         for (int k = 0; k < 3; ++k) far |= (S->lo[k][i] - hi[k] > T) | (lo[k] - S->hi[k][i] > T);
         m |= (unsigned)!far << i;
+    }
+    return m;
+}
+static inline unsigned diag_lanes(const kin__leafsoa *S, const float *lo, const float *hi, float T2, unsigned cols)
+{
+    unsigned m = 0;
+    for (int i = 0; i < LEAF_MAX; ++i) {
+        if (!((cols >> i) & 1u)) continue;
+        int far = 0;
+        for (int k = 3; k < 5; ++k) far |= (S->lo[k][i] - hi[k] > T2) | (lo[k] - S->hi[k][i] > T2);
+        m |= (unsigned)far << i;
     }
     return m;
 }
@@ -592,11 +642,12 @@ static inline void apart_row(const kin__leafsoa *X, int i, float cx[3], float xp
         for (int k = 0; k < 3; ++k) xp[q][k] = X->p[q][k][i];
 }
 #if defined(__SSE2__)
-static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], float xp[3][3], float thr0)
+static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], float xp[3][3], float thr0, unsigned cols)
 {
     const __m128 half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps();
     unsigned m = 0;
     for (int h = 0; h < LEAF_MAX; h += 4) {
+        if (!((cols >> h) & 15u)) continue;
         __m128 u[3];
         for (int k = 0; k < 3; ++k)
             u[k] = _mm_sub_ps(_mm_add_ps(_mm_mul_ps(half, _mm_loadu_ps(S->lo[k] + h)), _mm_mul_ps(half, _mm_loadu_ps(S->hi[k] + h))),
@@ -619,10 +670,11 @@ static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], flo
     return m;
 }
 #else
-static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], float xp[3][3], float thr0)
+static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], float xp[3][3], float thr0, unsigned cols)
 {
     unsigned m = 0;
     for (int j = 0; j < LEAF_MAX; ++j) {
+        if (!((cols >> j) & 1u)) continue;
         float u[3], lo1 = INFINITY, hi1 = -INFINITY, lo2 = INFINITY, hi2 = -INFINITY;
         for (int k = 0; k < 3; ++k) u[k] = (0.5f * S->lo[k][j] + 0.5f * S->hi[k][j]) - cx[k];
         for (int q = 0; q < 3; ++q) {
@@ -633,6 +685,113 @@ static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], flo
         float gap = lo2 - hi1 > lo1 - hi2 ? lo2 - hi1 : lo1 - hi2, thr = thr0 + S->r[j];
         float uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
         m |= (unsigned)(gap > 0.0f && gap * gap > thr * thr * uu) << j;
+    }
+    return m;
+}
+#endif
+
+/* own_lanes: bit j set when lane j of S is shown apart by more than T from
+ * the row's primitive along one of its own axes (ax: KIN__OWN_AXES unit
+ * axes, each with the interval of the row's primitive on it: made by
+ * own_axes); lanes outside cols are not tested. The axes are the ones
+ * prim_far finds separating most pairs that the box test and the line of
+ * the centres keep (long thin triangles side by side in a dome: the
+ * in-plane normals of their sides): one row's axes against 8 lanes in
+ * straight-line code cost less than the scalar bounds they save. Rounding:
+ * as apart_lanes (points rounded to float, float arithmetic, axes of length
+ * 1 to 2^-22: the slack in T covers it). A disabled axis (a degenerate
+ * primitive) has the interval (-inf, inf). */
+static void own_axes(const struct kin_contact *c, const kin__leafsoa *S, int i, const kin__leafprim *L, float *ax)
+{
+    const double *P = c->pts;
+    double u[KIN__OWN_AXES][3];
+    int ok[KIN__OWN_AXES] = {0};
+    const double *A = P + 3 * L->v[0], *B = P + 3 * L->v[1];
+    if (L->v[2] >= 0) {
+        const double *C = P + 3 * L->v[2];
+        double e[3][3], n[3];
+        for (int k = 0; k < 3; ++k) e[0][k] = B[k] - A[k], e[1][k] = C[k] - B[k], e[2][k] = A[k] - C[k];
+        n[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1];
+        n[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
+        n[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
+        for (int k = 0; k < 3; ++k) u[0][k] = n[k];
+        for (int s = 0; s < 3; ++s) {
+            u[s + 1][0] = e[s][1] * n[2] - e[s][2] * n[1];
+            u[s + 1][1] = e[s][2] * n[0] - e[s][0] * n[2];
+            u[s + 1][2] = e[s][0] * n[1] - e[s][1] * n[0];
+        }
+    } else {
+        /* across the bar: two perpendicular directions and their diagonals */
+        double d[3], w[3] = {0, 0, 0}, v1[3], v2[3];
+        for (int k = 0; k < 3; ++k) d[k] = B[k] - A[k];
+        int m = fabs(d[0]) <= fabs(d[1]) ? (fabs(d[0]) <= fabs(d[2]) ? 0 : 2) : (fabs(d[1]) <= fabs(d[2]) ? 1 : 2);
+        w[m] = 1.0;
+        v1[0] = d[1] * w[2] - d[2] * w[1], v1[1] = d[2] * w[0] - d[0] * w[2], v1[2] = d[0] * w[1] - d[1] * w[0];
+        double n1 = sqrt(v1[0] * v1[0] + v1[1] * v1[1] + v1[2] * v1[2]);
+        if (n1 > 0.0 && isfinite(n1))
+            for (int k = 0; k < 3; ++k) v1[k] /= n1;
+        v2[0] = d[1] * v1[2] - d[2] * v1[1], v2[1] = d[2] * v1[0] - d[0] * v1[2], v2[2] = d[0] * v1[1] - d[1] * v1[0];
+        double n2 = sqrt(v2[0] * v2[0] + v2[1] * v2[1] + v2[2] * v2[2]);
+        if (n2 > 0.0 && isfinite(n2))
+            for (int k = 0; k < 3; ++k) v2[k] /= n2;
+        for (int k = 0; k < 3; ++k) u[0][k] = v1[k], u[1][k] = v2[k], u[2][k] = v1[k] + v2[k], u[3][k] = v1[k] - v2[k];
+    }
+    for (int s = 0; s < KIN__OWN_AXES; ++s) {
+        double nn = sqrt(u[s][0] * u[s][0] + u[s][1] * u[s][1] + u[s][2] * u[s][2]);
+        ok[s] = nn > 0.0 && isfinite(nn);
+        float *a = ax + 5 * s;
+        for (int k = 0; k < 3; ++k) a[k] = ok[s] ? (float)(u[s][k] / nn) : 0.0f;
+        float lo = INFINITY, hi = -INFINITY;
+        for (int q = 0; q < 3; ++q) {
+            float t = a[0] * S->p[q][0][i] + a[1] * S->p[q][1][i] + a[2] * S->p[q][2][i];
+            lo = t < lo ? t : lo, hi = t > hi ? t : hi;
+        }
+        a[3] = ok[s] ? lo : -INFINITY, a[4] = ok[s] ? hi : INFINITY;
+    }
+}
+#if defined(__SSE2__)
+static inline unsigned own_lanes(const kin__leafsoa *S, const float *ax, float thr0, unsigned cols)
+{
+    unsigned m = 0;
+    for (int h = 0; h < LEAF_MAX; h += 4) {
+        if (!((cols >> h) & 15u)) continue;
+        __m128 p[3][3];
+        for (int q = 0; q < 3; ++q)
+            for (int k = 0; k < 3; ++k) p[q][k] = _mm_loadu_ps(S->p[q][k] + h);
+        __m128 thr = _mm_add_ps(_mm_set1_ps(thr0), _mm_loadu_ps(S->r + h)), apart = _mm_setzero_ps();
+        for (int s = 0; s < KIN__OWN_AXES; ++s) {
+            const float *a = ax + 5 * s;
+            __m128 a0 = _mm_set1_ps(a[0]), a1 = _mm_set1_ps(a[1]), a2 = _mm_set1_ps(a[2]), lo = lo, hi = hi;
+            for (int q = 0; q < 3; ++q) {
+                __m128 t = _mm_add_ps(_mm_add_ps(_mm_mul_ps(a0, p[q][0]), _mm_mul_ps(a1, p[q][1])), _mm_mul_ps(a2, p[q][2]));
+                lo = q ? _mm_min_ps(lo, t) : t, hi = q ? _mm_max_ps(hi, t) : t;
+            }
+            __m128 gap = _mm_max_ps(_mm_sub_ps(lo, _mm_set1_ps(a[4])), _mm_sub_ps(_mm_set1_ps(a[3]), hi));
+            apart = _mm_or_ps(apart, _mm_cmpgt_ps(gap, thr));
+        }
+        m |= (unsigned)_mm_movemask_ps(apart) << h;
+    }
+    return m & cols;
+}
+#else
+static inline unsigned own_lanes(const kin__leafsoa *S, const float *ax, float thr0, unsigned cols)
+{
+    unsigned m = 0;
+    for (int j = 0; j < LEAF_MAX; ++j) {
+        if (!((cols >> j) & 1u)) continue;
+        float thr = thr0 + S->r[j];
+        int apart = 0;
+        for (int s = 0; s < KIN__OWN_AXES; ++s) {
+            const float *a = ax + 5 * s;
+            float lo = INFINITY, hi = -INFINITY;
+            for (int q = 0; q < 3; ++q) {
+                float t = a[0] * S->p[q][0][j] + a[1] * S->p[q][1][j] + a[2] * S->p[q][2][j];
+                lo = t < lo ? t : lo, hi = t > hi ? t : hi;
+            }
+            float gap = lo - a[4] > a[3] - hi ? lo - a[4] : a[3] - hi;
+            apart |= gap > thr;
+        }
+        m |= (unsigned)apart << j;
     }
     return m;
 }
@@ -826,6 +985,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         c->quality0 = refit(c);
         c->fresh = 0;
     }
+    if (++c->call == 0) memset(c->ax_call, 0, sizeof(unsigned) * (size_t)c->nprim), c->call = 1;
     double best = cutoff, bp[3] = {0, 0, 0}, bq[3] = {0, 0, 0}, xp[3], xq[3];
     int ba = -1, bb = -1, top = 0;
     /* the last answer's pair first (when the tree is the same): an upper
@@ -875,15 +1035,22 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
             while (rows) {
                 int i = low_bit(rows);
                 rows &= rows - 1;
-                const float lo[3] = {SU->lo[0][i], SU->lo[1][i], SU->lo[2][i]};
-                const float hi[3] = {SU->hi[0][i], SU->hi[1][i], SU->hi[2][i]};
+                const float lo[5] = {SU->lo[0][i], SU->lo[1][i], SU->lo[2][i], SU->lo[3][i], SU->lo[4][i]};
+                const float hi[5] = {SU->hi[0][i], SU->hi[1][i], SU->hi[2][i], SU->hi[3][i], SU->hi[4][i]};
                 unsigned cols = near_lanes(SV, lo, hi, near_bound(best)) & lanes &
                                 ~adjacent_lanes(SV, SU->v[0][i], SU->v[1][i], SU->v[2][i]);
                 if (u == v) cols &= ~((2u << i) - 1); /* each pair once */
+                if (cols) cols &= ~diag_lanes(SV, lo, hi, near_bound2(best), cols);
                 if (cols) {
                     apart_row(SU, i, cx, rp);
                     float thr0 = near_bound(best) + SU->r[i] + slack; /* see apart_lanes */
-                    cols &= ~apart_lanes(SV, cx, rp, thr0);
+                    cols &= ~apart_lanes(SV, cx, rp, thr0, cols);
+                    if (cols) { /* the row's own axes, made once per call */
+                        int x = U->start + i;
+                        float *ax = c->ax + 5 * KIN__OWN_AXES * x;
+                        if (c->ax_call[x] != c->call) own_axes(c, SU, i, &lp[x], ax), c->ax_call[x] = c->call;
+                        cols &= ~own_lanes(SV, ax, thr0, cols);
+                    }
                 }
                 int x = U->start + i;
                 const kin__leafprim *Lp = &lp[x];
