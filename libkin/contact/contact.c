@@ -460,7 +460,8 @@ static double refit(struct kin_contact *c)
     double sum = 0.0;
     for (int id = c->nnode - 1; id >= 0; --id) {
         kin__bvh_node *N = &c->node[id];
-        float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        float lo[5] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
+        float hi[5] = {-INFINITY, -INFINITY, -INFINITY, -INFINITY, -INFINITY};
         if (N->left < 0) {
             /* its primitives' boxes (a bar's third joint is its second) */
             kin__leafsoa *S = &c->leaf[N->right];
@@ -482,17 +483,19 @@ static double refit(struct kin_contact *c)
                 for (int d = 0; d < 2; ++d) {
                     double sg = d ? -1.0 : 1.0, a = x[0] + sg * x[1], b = y[0] + sg * y[1], e = z[0] + sg * z[1];
                     double l = dmin(dmin(a, b), e), h = dmax(dmax(a, b), e);
-                    S->lo[3 + d][i] = f_down(l - rs - 0x1p-50 * (fabs(l) + rs));
-                    S->hi[3 + d][i] = f_up(h + rs + 0x1p-50 * (fabs(h) + rs));
+                    float fl = f_down(l - rs - 0x1p-50 * (fabs(l) + rs)), fh = f_up(h + rs + 0x1p-50 * (fabs(h) + rs));
+                    S->lo[3 + d][i] = fl, S->hi[3 + d][i] = fh;
+                    lo[3 + d] = fl < lo[3 + d] ? fl : lo[3 + d], hi[3 + d] = fh > hi[3 + d] ? fh : hi[3 + d];
                 }
             }
         } else {
             const kin__bvh_node *A = &c->node[N->left], *B = &c->node[N->right];
-            for (int k = 0; k < 3; ++k)
+            for (int k = 0; k < 5; ++k)
                 lo[k] = A->lo[k] < B->lo[k] ? A->lo[k] : B->lo[k], hi[k] = A->hi[k] > B->hi[k] ? A->hi[k] : B->hi[k];
         }
         double e[3];
-        for (int k = 0; k < 3; ++k) N->lo[k] = lo[k], N->hi[k] = hi[k], e[k] = dmax((double)hi[k] - lo[k], 0.0);
+        for (int k = 0; k < 5; ++k) N->lo[k] = lo[k], N->hi[k] = hi[k];
+        for (int k = 0; k < 3; ++k) e[k] = dmax((double)hi[k] - lo[k], 0.0);
         sum += e[0] * e[1] + e[1] * e[2] + e[2] * e[0];
     }
     const kin__bvh_node *R = &c->node[0];
@@ -503,13 +506,24 @@ static double refit(struct kin_contact *c)
 }
 
 /* squared gap of two float boxes (0 when they meet), in double: a lower
- * bound of the squared distance of anything inside them */
+ * bound of the squared distance of anything inside them; with their slabs
+ * across x + y and x - y (nodes): the larger of that and the squared gap
+ * of a slab over 2 (the slabs are projections on vectors of length sqrt 2) */
 static inline double gap2(const float *alo, const float *ahi, const float *blo, const float *bhi)
 {
     double s = 0.0;
     for (int k = 0; k < 3; ++k) {
         double g = dmax((double)alo[k] - bhi[k], (double)blo[k] - ahi[k]);
         if (g > 0.0) s += g * g;
+    }
+    return s;
+}
+static inline double gap2_node(const kin__bvh_node *A, const kin__bvh_node *B)
+{
+    double s = gap2(A->lo, A->hi, B->lo, B->hi);
+    for (int k = 3; k < 5; ++k) {
+        double g = dmax((double)A->lo[k] - B->hi[k], (double)B->lo[k] - A->hi[k]);
+        if (g > 0.0) s = dmax(s, 0.5 * g * g);
     }
     return s;
 }
@@ -1031,7 +1045,8 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
             const kin__leafsoa *SU = &c->leaf[U->right], *SV = &c->leaf[V->right];
             float cx[3], rp[3][3]; /* a row's box centre and points */
             unsigned rows = (1u << U->count) - 1, lanes = (1u << V->count) - 1;
-            if (u != v) rows &= near_lanes(SU, V->lo, V->hi, near_bound(best)); /* against the other node's box */
+            if (u != v) /* against the other node's box and slabs */
+                rows &= near_lanes(SU, V->lo, V->hi, near_bound(best)) & ~diag_lanes(SU, V->lo, V->hi, near_bound2(best), rows);
             while (rows) {
                 int i = low_bit(rows);
                 rows &= rows - 1;
@@ -1081,7 +1096,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         if (top + 3 > c->stack_cap) return kin__fail(a, KIN_ERANGE, "clearance: tree walk deeper than planned");
         if (u == v) {
             int l = U->left, r = U->right;
-            double g = gap2(node[l].lo, node[l].hi, node[r].lo, node[r].hi);
+            double g = gap2_node(&node[l], &node[r]);
             if (!cannot_beat(g, neg_node, best)) st[2 * top] = l, st[2 * top + 1] = r, sg[top] = g, ++top;
             st[2 * top] = r, st[2 * top + 1] = r, sg[top] = 0.0, ++top;
             st[2 * top] = l, st[2 * top + 1] = l, sg[top] = 0.0, ++top;
@@ -1091,7 +1106,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         int splitU = V->left < 0 || (U->left >= 0 && U->count >= V->count);
         int c1 = splitU ? U->left : V->left, c2 = splitU ? U->right : V->right, o = splitU ? v : u;
         const kin__bvh_node *O = &node[o], *C1 = &node[c1], *C2 = &node[c2];
-        double g1 = gap2(C1->lo, C1->hi, O->lo, O->hi), g2 = gap2(C2->lo, C2->hi, O->lo, O->hi);
+        double g1 = gap2_node(C1, O), g2 = gap2_node(C2, O);
         int near = g1 <= g2;
         if (!cannot_beat(near ? g2 : g1, neg_node, best))
             st[2 * top] = near ? c2 : c1, st[2 * top + 1] = o, sg[top] = near ? g2 : g1, ++top;

@@ -19,7 +19,7 @@
  * numbered in pre-order, which is the order of start). Nodes are in
  * pre-order: a node's children have larger indices than it has. */
 typedef struct kin__bvh_node {
-    float lo[3], hi[3];
+    float lo[5], hi[5]; /* x, y, z and the slabs across x + y, x - y */
     int left, right, start, count;
 } kin__bvh_node;
 
