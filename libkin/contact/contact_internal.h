@@ -12,8 +12,10 @@
 /* Primitives per leaf of the bounding-volume tree at most */
 #define KIN__LEAF_MAX 8
 
-/* A node of the bounding-volume tree: a box (lo[3], hi[3]; floats rounded
- * outward, so it contains the double box) and either two children (left,
+/* A node of the bounding-volume tree: a box (lo[0..2], hi[0..2]) and two
+ * slabs across x + y and x - y (lo[3..4], hi[3..4]: the projections on
+ * (1, 1, 0) and (1, -1, 0)), floats rounded outward, so they contain the
+ * double ones; and either two children (left,
  * right) or, for a leaf (left = -1), a run (start, count) of the primitives
  * in tree order whose boxes and joints are leaf block `right` (leaf blocks
  * numbered in pre-order, which is the order of start). Nodes are in
@@ -29,7 +31,9 @@ typedef struct kin__bvh_node {
  * boxes grown by their radii, floats rounded outward, and their joints in
  * tree order (a bar's third repeats its second), the joints' points and
  * the radii in float. Lanes past the leaf's count: empty boxes, joints -1,
- * points and radii 0. 608 bytes. */
+ * points and radii 0. The slabs across x + y and x - y bound a long part
+ * tilted in a nearly flat sheet (a sail) far tighter than its box does.
+ * 736 bytes. */
 typedef struct kin__leafsoa {
     float lo[5][KIN__LEAF_MAX], hi[5][KIN__LEAF_MAX]; /* x, y, z, x + y, x - y */
     int v[3][KIN__LEAF_MAX];
