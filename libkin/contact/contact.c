@@ -451,6 +451,66 @@ static void tree_build(const kin_assembly *a, struct kin_contact *c, const doubl
     c->fresh = 1;
 }
 
+/* The slabs across x + y and x - y of a leaf's count lanes (see
+ * diag_lanes), from their points and radii in float, 4 lanes at once; folded
+ * into the node's lo[3..4], hi[3..4]. Rounding: the points are within
+ * 2^-24 of the doubles (relative), and the sum, the radius term r sqrt 2
+ * (r rounded up, the constant above sqrt 2) and the two differences each
+ * round by 2^-24 relative to |x| + |y| + r sqrt 2 at most: a slack of 2^-20
+ * of that (and 2^-130 for subnormal points) keeps the slabs outward. Points
+ * beyond the float range give inf or NaN bounds, which no test drops. */
+#if defined(__SSE2__)
+static void leaf_slabs(kin__leafsoa *S, int count, float *lo, float *hi)
+{
+    const __m128 sq2 = _mm_set1_ps(1.4142136f), eps = _mm_set1_ps(0x1p-20f), tiny = _mm_set1_ps(0x1p-130f);
+    const __m128 sign = _mm_set1_ps(-0.0f);
+    for (int h = 0; h < LEAF_MAX; h += 4) {
+        __m128 rs = _mm_mul_ps(_mm_loadu_ps(S->r + h), sq2), big = _mm_setzero_ps();
+        __m128 l[2], u[2];
+        for (int q = 0; q < 3; ++q) {
+            __m128 x = _mm_loadu_ps(S->p[q][0] + h), y = _mm_loadu_ps(S->p[q][1] + h);
+            __m128 a = _mm_add_ps(x, y), b = _mm_sub_ps(x, y);
+            big = _mm_max_ps(big, _mm_add_ps(_mm_andnot_ps(sign, x), _mm_andnot_ps(sign, y)));
+            l[0] = q ? _mm_min_ps(l[0], a) : a, u[0] = q ? _mm_max_ps(u[0], a) : a;
+            l[1] = q ? _mm_min_ps(l[1], b) : b, u[1] = q ? _mm_max_ps(u[1], b) : b;
+        }
+        __m128 pad = _mm_add_ps(rs, _mm_add_ps(_mm_mul_ps(eps, _mm_add_ps(big, rs)), tiny));
+        const __m128 ninf = _mm_set1_ps(-INFINITY), pinf = _mm_set1_ps(INFINITY);
+        for (int d = 0; d < 2; ++d) { /* NaN (inf - inf): the whole line */
+            __m128 a = _mm_sub_ps(l[d], pad), b = _mm_add_ps(u[d], pad);
+            __m128 oka = _mm_cmpord_ps(a, a), okb = _mm_cmpord_ps(b, b);
+            _mm_storeu_ps(S->lo[3 + d] + h, _mm_or_ps(_mm_and_ps(oka, a), _mm_andnot_ps(oka, ninf)));
+            _mm_storeu_ps(S->hi[3 + d] + h, _mm_or_ps(_mm_and_ps(okb, b), _mm_andnot_ps(okb, pinf)));
+        }
+    }
+    for (int i = 0; i < LEAF_MAX; ++i)
+        for (int d = 3; d < 5; ++d) {
+            if (i >= count) S->lo[d][i] = FLT_MAX, S->hi[d][i] = -FLT_MAX;
+            lo[d] = S->lo[d][i] < lo[d] ? S->lo[d][i] : lo[d], hi[d] = S->hi[d][i] > hi[d] ? S->hi[d][i] : hi[d];
+        }
+}
+#else
+static void leaf_slabs(kin__leafsoa *S, int count, float *lo, float *hi)
+{
+    for (int i = 0; i < LEAF_MAX; ++i) {
+        float rs = S->r[i] * 1.4142136f, big = 0.0f, l[2] = {INFINITY, INFINITY}, u[2] = {-INFINITY, -INFINITY};
+        for (int q = 0; q < 3; ++q) {
+            float x = S->p[q][0][i], y = S->p[q][1][i], a = x + y, b = x - y, m = fabsf(x) + fabsf(y);
+            big = m > big ? m : big;
+            l[0] = a < l[0] ? a : l[0], u[0] = a > u[0] ? a : u[0], l[1] = b < l[1] ? b : l[1], u[1] = b > u[1] ? b : u[1];
+        }
+        float pad = rs + (0x1p-20f * (big + rs) + 0x1p-130f);
+        for (int d = 0; d < 2; ++d) {
+            float a = l[d] - pad, b = u[d] + pad; /* NaN (inf - inf): the whole line */
+            a = a == a ? a : -INFINITY, b = b == b ? b : INFINITY;
+            S->lo[3 + d][i] = i < count ? a : FLT_MAX, S->hi[3 + d][i] = i < count ? b : -FLT_MAX;
+            lo[3 + d] = S->lo[3 + d][i] < lo[3 + d] ? S->lo[3 + d][i] : lo[3 + d];
+            hi[3 + d] = S->hi[3 + d][i] > hi[3 + d] ? S->hi[3 + d][i] : hi[3 + d];
+        }
+    }
+}
+#endif
+
 /* The boxes of the leaves and nodes at the configuration c->pts, bottom up
  * (nodes are in pre-order). Returns the tree's quality measure: the summed
  * half surface areas of the node boxes over the root's (it grows as the
@@ -477,19 +537,8 @@ static double refit(struct kin_contact *c)
                     S->lo[k][i] = l, S->hi[k][i] = h;
                     lo[k] = l < lo[k] ? l : lo[k], hi[k] = h > hi[k] ? h : hi[k];
                 }
-                /* the slabs across x + y and x - y (see diag_lanes): each
-                 * sum, the radius term r sqrt 2 and the difference are
-                 * rounded relative to their own size; 2^-50 of |sum| + r
-                 * sqrt 2 covers them (the cancellation included) */
-                double rs = r[i] * 1.4142135623730951;
-                for (int d = 0; d < 2; ++d) {
-                    double sg = d ? -1.0 : 1.0, a = x[0] + sg * x[1], b = y[0] + sg * y[1], e = z[0] + sg * z[1];
-                    double l = dmin(dmin(a, b), e), h = dmax(dmax(a, b), e);
-                    float fl = f_down(l - rs - 0x1p-50 * (fabs(l) + rs)), fh = f_up(h + rs + 0x1p-50 * (fabs(h) + rs));
-                    S->lo[3 + d][i] = fl, S->hi[3 + d][i] = fh;
-                    lo[3 + d] = fl < lo[3 + d] ? fl : lo[3 + d], hi[3 + d] = fh > hi[3 + d] ? fh : hi[3 + d];
-                }
             }
+            leaf_slabs(S, N->count, lo, hi);
         } else {
             const kin__bvh_node *A = &c->node[N->left], *B = &c->node[N->right];
             for (int k = 0; k < 5; ++k)
