@@ -556,10 +556,11 @@ static double refit(struct kin_contact *c)
     return root > 0.0 && isfinite(sum) ? sum / root : 0.0;
 }
 
-/* squared gap of two float boxes (0 when they meet), in double: a lower
- * bound of the squared distance of anything inside them; with their slabs
- * across x + y and x - y (nodes): the larger of that and the squared gap
- * of a slab over 2 (the slabs are projections on vectors of length sqrt 2) */
+/* gap2: squared gap of two float boxes (0 when they meet), in double: a
+ * lower bound of the squared distance of anything inside them. gap2_node:
+ * of two nodes, with their slabs across x + y and x - y too: the larger of
+ * that and a slab's squared gap over 2 (the slabs are projections on
+ * vectors of length sqrt 2) */
 static inline double gap2(const float *alo, const float *ahi, const float *blo, const float *bhi)
 {
     double s = 0.0;
