@@ -1,7 +1,8 @@
 /* Panels, thickness and clearance (kin_contact.h): the exact cases on
  * purpose (exactly touching, parallel segments, coplanar triangles, a
  * zero-area panel, a bar through a panel), adjacency, thickness, 2D, the
- * tree against all pairs on a sail, clone, and every error path. */
+ * tree against all pairs on a sail and on a sheet of long tilted parts,
+ * clone, and every error path. */
 #include <math.h>
 #include <string.h>
 
@@ -340,6 +341,110 @@ static void sail_vs_all_pairs(void)
     kin_assembly_free(a);
 }
 
+/* long thin parts tilted in a nearly flat sheet (what the lane tests of
+ * the x + y and x - y slabs and of a primitive's own axes are for): long
+ * bars and slivers at many angles just above a grid of short bars, far
+ * from the origin (rounding of the slabs' sums), with and without
+ * thickness: the tree's answer equals the smallest over all pairs, with
+ * cutoffs at it, just above it and at a contact margin */
+static void sheet_vs_all_pairs(void)
+{
+    enum { G = 6, NL = 9, NS = 6 };
+    const double X0 = 3e5, Y0 = -7e5; /* |x + y| ~ 4e5, |x - y| ~ 1e6 */
+    int nj = (G + 1) * (G + 1) + 2 * NL + 3 * NS, nb = 2 * G * (G + 1) + NL + 3 * NS, np = NS;
+    double *xyz = malloc(sizeof(double) * 3 * (size_t)nj), *y = malloc(sizeof(double) * 3 * (size_t)nj);
+    int *bars = malloc(sizeof(int) * 2 * (size_t)nb), off[NS + 1], pj[3 * NS];
+    int j = 0, k = 0;
+    for (int r = 0; r <= G; ++r)
+        for (int q = 0; q <= G; ++q, ++j) xyz[3 * j] = X0 + q, xyz[3 * j + 1] = Y0 + r, xyz[3 * j + 2] = 0.0;
+    for (int r = 0; r <= G; ++r)
+        for (int q = 0; q < G; ++q) {
+            bars[2 * k] = r * (G + 1) + q, bars[2 * k + 1] = r * (G + 1) + q + 1, ++k;
+            bars[2 * k] = q * (G + 1) + r, bars[2 * k + 1] = (q + 1) * (G + 1) + r, ++k;
+        }
+    unsigned long long seed = 11;
+    double *ang = malloc(sizeof(double) * (NL + NS));
+    for (int m = 0; m < NL + NS; ++m) ang[m] = 3.14159265358979 * m / (NL + NS) + 0.01 * m;
+    off[0] = 0;
+    unsigned char *fixed = calloc(3 * (size_t)nj, 1);
+    int j0 = j;
+    (void)j0;
+    /* the long parts: placed in each trial below (two joints a bar, three a sliver) */
+    for (int m = 0; m < NL; ++m, j += 2) bars[2 * k] = j, bars[2 * k + 1] = j + 1, ++k;
+    for (int m = 0; m < NS; ++m, j += 3) {
+        bars[2 * k] = j, bars[2 * k + 1] = j + 1, ++k;
+        bars[2 * k] = j + 1, bars[2 * k + 1] = j + 2, ++k;
+        bars[2 * k] = j + 2, bars[2 * k + 1] = j, ++k;
+        pj[3 * m] = j, pj[3 * m + 1] = j + 1, pj[3 * m + 2] = j + 2, off[m + 1] = 3 * (m + 1);
+    }
+    CHECK(j == nj && k == nb);
+    for (int trial = 0; trial < 24; ++trial) {
+        double h = trial < 8 ? 0.002 : (trial < 16 ? 0.02 : 0.2); /* heights above the grid */
+        j = (G + 1) * (G + 1);
+        for (int m = 0; m < NL + NS; ++m) {
+            double a = ang[m] + 0.3 * trial, c = cos(a), sn = sin(a), L = 2.5 + 0.3 * m;
+            double cx = X0 + 0.5 * G + 0.7 * ((double)(kin__splitmix(&seed) >> 11) * 0x1p-53 - 0.5);
+            double cy = Y0 + 0.5 * G + 0.7 * ((double)(kin__splitmix(&seed) >> 11) * 0x1p-53 - 0.5);
+            double z = h * (1 + m % 3) * ((m + trial) % 2 ? 1 : -1);
+            double P[3][3] = {{cx - L * c, cy - L * sn, z}, {cx + L * c, cy + L * sn, z + 0.1 * h}, {cx + 0.05 * sn, cy - 0.05 * c, z}};
+            int nv = m < NL ? 2 : 3;
+            for (int q = 0; q < nv; ++q, ++j)
+                for (int d = 0; d < 3; ++d) xyz[3 * j + d] = P[q][d];
+        }
+        kin_assembly *a = NULL;
+        CHECK_RC(kin_assembly_create(3, nj, xyz, fixed, nb, bars, NULL, &a, NULL, 0), KIN_OK);
+        if (!a) break;
+        CHECK_RC(kin_set_panels(a, np, off, pj), KIN_OK);
+        if (trial % 2) CHECK_RC(kin_set_thickness(a, 0.5 * h, NULL, NULL), KIN_OK);
+        memcpy(y, xyz, sizeof(double) * 3 * (size_t)nj);
+        double c;
+        check_against_all(a, y, INFINITY, bars, pj, np, 1e6);
+        CHECK_RC(kin_clearance(a, y, INFINITY, &c, NULL, NULL), KIN_OK);
+        check_against_all(a, y, c, bars, pj, np, 1e6);
+        check_against_all(a, y, c + 0.01 * h, bars, pj, np, 1e6);
+        check_against_all(a, y, 0.004, bars, pj, np, 1e6);
+        /* the same at the origin, turned about z (tilts relative to the slabs) */
+        for (int q = 0; q < nj; ++q) {
+            double u = xyz[3 * q] - X0, v = xyz[3 * q + 1] - Y0, t = 0.4 + 0.1 * trial;
+            y[3 * q] = cos(t) * u - sin(t) * v, y[3 * q + 1] = sin(t) * u + cos(t) * v, y[3 * q + 2] = xyz[3 * q + 2];
+        }
+        check_against_all(a, y, INFINITY, bars, pj, np, 1.0);
+        CHECK_RC(kin_clearance(a, y, INFINITY, &c, NULL, NULL), KIN_OK);
+        check_against_all(a, y, c, bars, pj, np, 1.0);
+        check_against_all(a, y, 0.004, bars, pj, np, 1.0);
+        kin_assembly_free(a);
+    }
+    /* two bars along x - y, apart across it by d (to rounding), bare and
+     * with radius r: found at a cutoff just above d - 2 r, not just below
+     * it (1e-6: above the rounding of the bounds in double at coordinates
+     * of 1e6, below any rounding to float there); at x + y = 2^19 + 0.02 the two slabs' bounds are 0.3 and 0.8
+     * float ulps above a float (rounded to nearest, the gap between them
+     * would grow from 0.45 to 1 ulp and drop the pair); near the origin
+     * the slabs are fine enough to show the radius across them (r sqrt 2) */
+    for (int m = 0; m < 6; ++m) {
+        double d = 0.02, e = d / sqrt(2.0), r = m % 2 ? 0.002 : 0.0;
+        double bx = m < 2 ? X0 : (m < 4 ? 0x1p18 + 0.01 : 0.3), by = m < 2 ? Y0 : (m < 4 ? 0x1p18 + 0.01 : -0.2);
+        double x2[] = {bx, by, 0, bx + 4, by - 4, 0, bx + e, by + e, 0, bx + 4 + e, by - 4 + e, 0};
+        int b2[] = {0, 1, 2, 3};
+        kin_assembly *a = make(3, 4, x2, 2, b2);
+        if (!a) break;
+        CHECK_RC(kin_set_thickness(a, 2 * r, NULL, NULL), KIN_OK);
+        double c, cd;
+        CHECK_RC(kin_clearance(a, NULL, INFINITY, &cd, NULL, NULL), KIN_OK);
+        CHECK_CLOSE(cd, d - 2 * r, 1e6 * 16 * DBL_EPSILON);
+        /* the thickness set again: the tree is built afresh, without the
+         * last answer's pair to try first */
+        CHECK_RC(kin_set_thickness(a, 2 * r, NULL, NULL), KIN_OK);
+        CHECK_RC(kin_clearance(a, NULL, cd + 1e-6, &c, NULL, NULL), KIN_OK);
+        CHECK(c == cd);
+        CHECK_RC(kin_set_thickness(a, 2 * r, NULL, NULL), KIN_OK);
+        CHECK_RC(kin_clearance(a, NULL, cd - 1e-6, &c, NULL, NULL), KIN_OK);
+        CHECK(c == INFINITY);
+        kin_assembly_free(a);
+    }
+    free(xyz), free(y), free(bars), free(ang), free(fixed);
+}
+
 static void errors(void)
 {
     double x[] = {-1, 0, 0, 1, 0, 0, 0, -1, 1, 0, 1, 1};
@@ -553,6 +658,7 @@ int main(void)
     plane_cases();
     float_boxes();
     sail_vs_all_pairs();
+    sheet_vs_all_pairs();
     errors();
     TEST_REPORT("test_contact");
 }

@@ -8,15 +8,17 @@
  * (O(n): the boxes bottom up, the topology kept), and built again only when
  * the refitted boxes have grown by half against those right after its
  * build. Primitives and joints are stored in tree order and boxes as floats
- * rounded outward (24 bytes per primitive, a 608-byte block of 8 lanes per
- * leaf, 40 bytes per node), so the walk reads contiguous memory. The tree
- * is walked against itself, pairs of nodes nearer first, a pair dropped
- * when its boxes are no nearer than the best clearance found so far (the
+ * rounded outward (24 bytes per primitive, a 736-byte block of 8 lanes per
+ * leaf, 56 bytes per node), so the walk reads contiguous memory; leaves and
+ * nodes also carry the slabs across x + y and x - y. The tree is walked
+ * against itself, pairs of nodes nearer first, a pair dropped when its
+ * boxes or slabs are no nearer than the best clearance found so far (the
  * last call's closest pair, evaluated first, gives that bound from the
  * start); two leaves are tested a row at a time, 8 lanes at once without a
- * branch per pair (boxes, shared joints, one separating axis), and the
- * pairs left of parts that share no joint get the separating-axis bound
- * and the exact test of distance.c. */
+ * branch per pair (boxes, shared joints, then for the pairs left the
+ * slabs, the line of the box centres and the row primitive's own axes),
+ * and the pairs left of parts that share no joint get the separating-axis
+ * bound and the exact test of distance.c. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -39,7 +41,7 @@ static void ct_release(struct kin_contact *c)
     free(c->poff), free(c->pj), free(c->rbar), free(c->tpan);
     free(c->prim_part), free(c->prim_v), free(c->prim_r), free(c->cen), free(c->lr), free(c->jpos);
     free(c->order), free(c->node), free(c->lp), free(c->leaf), free(c->ev_prev), free(c->ev_x), free(c->ev_xyz), free(c->stack), free(c->sgap), free(c->pts);
-    free(c->ev_box), free(c->ev_key);
+    free(c->ev_box), free(c->ev_key), free(c->ax), free(c->ax_call);
     free(c);
 }
 
@@ -79,6 +81,9 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->leaf = malloc(sizeof(kin__leafsoa) * (N / ((LEAF_MAX + 1) / 2) + 1));
     c->stack = malloc(sizeof(int) * 2 * (size_t)c->stack_cap);
     c->sgap = malloc(sizeof(double) * (size_t)c->stack_cap);
+    c->ax = malloc(sizeof(float) * 5 * KIN__OWN_AXES * (N ? N : 1));
+    c->ax_call = calloc(N ? N : 1, sizeof(unsigned));
+    c->call = 0;
     c->pts = malloc(sizeof(double) * 3 * (size_t)a->nj);
     c->ev_prev = malloc(sizeof(double) * ((size_t)a->nf + 1));
     c->ev_x = malloc(sizeof(double) * (2 * (size_t)a->nf + 1));
@@ -88,7 +93,7 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->ev_pair[0] = c->ev_pair[1] = -1;
     c->ev_tol = 1e-9;
     if (!c->prim_part || !c->prim_v || !c->prim_r || !c->cen || !c->lr || !c->jpos || !c->order || !c->node || !c->lp || !c->leaf ||
-        !c->stack || !c->sgap || !c->pts || !c->ev_prev || !c->ev_x || !c->ev_xyz || !c->ev_box || !c->ev_key)
+        !c->stack || !c->sgap || !c->ax || !c->ax_call || !c->pts || !c->ev_prev || !c->ev_x || !c->ev_xyz || !c->ev_box || !c->ev_key)
         return KIN_ENOMEM;
     int p = 0;
     for (int k = 0; k < a->nb; ++k, ++p) {
@@ -433,7 +438,7 @@ static void tree_build(const kin_assembly *a, struct kin_contact *c, const doubl
         for (int i = 0; i < LEAF_MAX; ++i) {
             const int *v = i < N->count ? c->lp[N->start + i].v : NULL;
             for (int k = 0; k < 3; ++k) S->v[k][i] = v ? (v[k] >= 0 ? v[k] : v[1]) : -1;
-            for (int k = 0; k < 3; ++k) S->lo[k][i] = FLT_MAX, S->hi[k][i] = -FLT_MAX;
+            for (int k = 0; k < 5; ++k) S->lo[k][i] = FLT_MAX, S->hi[k][i] = -FLT_MAX;
             for (int q = 0; q < 3; ++q)
                 for (int k = 0; k < 3; ++k) S->p[q][k][i] = 0.0f;
             S->r[i] = v ? c->lp[N->start + i].r : 0.0f;
@@ -441,9 +446,70 @@ static void tree_build(const kin_assembly *a, struct kin_contact *c, const doubl
     }
     load_points(a, c, xyz, 1);
     c->seed[0] = c->seed[1] = -1;
+    memset(c->ax_call, 0, sizeof(unsigned) * (size_t)c->nprim); /* tree positions renumbered */
     c->tree_ok = 1;
     c->fresh = 1;
 }
+
+/* The slabs across x + y and x - y of a leaf's count lanes (see
+ * diag_lanes), from their points and radii in float, 4 lanes at once; folded
+ * into the node's lo[3..4], hi[3..4]. Rounding: the points are within
+ * 2^-24 of the doubles (relative), and the sum, the radius term r sqrt 2
+ * (r rounded up, the constant above sqrt 2) and the two differences each
+ * round by 2^-24 relative to |x| + |y| + r sqrt 2 at most: a slack of 2^-20
+ * of that (and 2^-130 for subnormal points) keeps the slabs outward. Points
+ * beyond the float range give inf or NaN bounds, which no test drops. */
+#if defined(__SSE2__)
+static void leaf_slabs(kin__leafsoa *S, int count, float *lo, float *hi)
+{
+    const __m128 sq2 = _mm_set1_ps(1.4142136f), eps = _mm_set1_ps(0x1p-20f), tiny = _mm_set1_ps(0x1p-130f);
+    const __m128 sign = _mm_set1_ps(-0.0f);
+    for (int h = 0; h < LEAF_MAX; h += 4) {
+        __m128 rs = _mm_mul_ps(_mm_loadu_ps(S->r + h), sq2), big = _mm_setzero_ps();
+        __m128 l[2], u[2];
+        for (int q = 0; q < 3; ++q) {
+            __m128 x = _mm_loadu_ps(S->p[q][0] + h), y = _mm_loadu_ps(S->p[q][1] + h);
+            __m128 a = _mm_add_ps(x, y), b = _mm_sub_ps(x, y);
+            big = _mm_max_ps(big, _mm_add_ps(_mm_andnot_ps(sign, x), _mm_andnot_ps(sign, y)));
+            l[0] = q ? _mm_min_ps(l[0], a) : a, u[0] = q ? _mm_max_ps(u[0], a) : a;
+            l[1] = q ? _mm_min_ps(l[1], b) : b, u[1] = q ? _mm_max_ps(u[1], b) : b;
+        }
+        __m128 pad = _mm_add_ps(rs, _mm_add_ps(_mm_mul_ps(eps, _mm_add_ps(big, rs)), tiny));
+        const __m128 ninf = _mm_set1_ps(-INFINITY), pinf = _mm_set1_ps(INFINITY);
+        for (int d = 0; d < 2; ++d) { /* NaN (inf - inf): the whole line */
+            __m128 a = _mm_sub_ps(l[d], pad), b = _mm_add_ps(u[d], pad);
+            __m128 oka = _mm_cmpord_ps(a, a), okb = _mm_cmpord_ps(b, b);
+            _mm_storeu_ps(S->lo[3 + d] + h, _mm_or_ps(_mm_and_ps(oka, a), _mm_andnot_ps(oka, ninf)));
+            _mm_storeu_ps(S->hi[3 + d] + h, _mm_or_ps(_mm_and_ps(okb, b), _mm_andnot_ps(okb, pinf)));
+        }
+    }
+    for (int i = 0; i < LEAF_MAX; ++i)
+        for (int d = 3; d < 5; ++d) {
+            if (i >= count) S->lo[d][i] = FLT_MAX, S->hi[d][i] = -FLT_MAX;
+            lo[d] = S->lo[d][i] < lo[d] ? S->lo[d][i] : lo[d], hi[d] = S->hi[d][i] > hi[d] ? S->hi[d][i] : hi[d];
+        }
+}
+#else
+static void leaf_slabs(kin__leafsoa *S, int count, float *lo, float *hi)
+{
+    for (int i = 0; i < LEAF_MAX; ++i) {
+        float rs = S->r[i] * 1.4142136f, big = 0.0f, l[2] = {INFINITY, INFINITY}, u[2] = {-INFINITY, -INFINITY};
+        for (int q = 0; q < 3; ++q) {
+            float x = S->p[q][0][i], y = S->p[q][1][i], a = x + y, b = x - y, m = fabsf(x) + fabsf(y);
+            big = m > big ? m : big;
+            l[0] = a < l[0] ? a : l[0], u[0] = a > u[0] ? a : u[0], l[1] = b < l[1] ? b : l[1], u[1] = b > u[1] ? b : u[1];
+        }
+        float pad = rs + (0x1p-20f * (big + rs) + 0x1p-130f);
+        for (int d = 0; d < 2; ++d) {
+            float a = l[d] - pad, b = u[d] + pad; /* NaN (inf - inf): the whole line */
+            a = a == a ? a : -INFINITY, b = b == b ? b : INFINITY;
+            S->lo[3 + d][i] = i < count ? a : FLT_MAX, S->hi[3 + d][i] = i < count ? b : -FLT_MAX;
+            lo[3 + d] = S->lo[3 + d][i] < lo[3 + d] ? S->lo[3 + d][i] : lo[3 + d];
+            hi[3 + d] = S->hi[3 + d][i] > hi[3 + d] ? S->hi[3 + d][i] : hi[3 + d];
+        }
+    }
+}
+#endif
 
 /* The boxes of the leaves and nodes at the configuration c->pts, bottom up
  * (nodes are in pre-order). Returns the tree's quality measure: the summed
@@ -456,7 +522,8 @@ static double refit(struct kin_contact *c)
     double sum = 0.0;
     for (int id = c->nnode - 1; id >= 0; --id) {
         kin__bvh_node *N = &c->node[id];
-        float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        float lo[5] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
+        float hi[5] = {-INFINITY, -INFINITY, -INFINITY, -INFINITY, -INFINITY};
         if (N->left < 0) {
             /* its primitives' boxes (a bar's third joint is its second) */
             kin__leafsoa *S = &c->leaf[N->right];
@@ -471,13 +538,15 @@ static double refit(struct kin_contact *c)
                     lo[k] = l < lo[k] ? l : lo[k], hi[k] = h > hi[k] ? h : hi[k];
                 }
             }
+            leaf_slabs(S, N->count, lo, hi);
         } else {
             const kin__bvh_node *A = &c->node[N->left], *B = &c->node[N->right];
-            for (int k = 0; k < 3; ++k)
+            for (int k = 0; k < 5; ++k)
                 lo[k] = A->lo[k] < B->lo[k] ? A->lo[k] : B->lo[k], hi[k] = A->hi[k] > B->hi[k] ? A->hi[k] : B->hi[k];
         }
         double e[3];
-        for (int k = 0; k < 3; ++k) N->lo[k] = lo[k], N->hi[k] = hi[k], e[k] = dmax((double)hi[k] - lo[k], 0.0);
+        for (int k = 0; k < 5; ++k) N->lo[k] = lo[k], N->hi[k] = hi[k];
+        for (int k = 0; k < 3; ++k) e[k] = dmax((double)hi[k] - lo[k], 0.0);
         sum += e[0] * e[1] + e[1] * e[2] + e[2] * e[0];
     }
     const kin__bvh_node *R = &c->node[0];
@@ -487,14 +556,26 @@ static double refit(struct kin_contact *c)
     return root > 0.0 && isfinite(sum) ? sum / root : 0.0;
 }
 
-/* squared gap of two float boxes (0 when they meet), in double: a lower
- * bound of the squared distance of anything inside them */
+/* gap2: squared gap of two float boxes (0 when they meet), in double: a
+ * lower bound of the squared distance of anything inside them. gap2_node:
+ * of two nodes, with their slabs across x + y and x - y too: the larger of
+ * that and a slab's squared gap over 2 (the slabs are projections on
+ * vectors of length sqrt 2) */
 static inline double gap2(const float *alo, const float *ahi, const float *blo, const float *bhi)
 {
     double s = 0.0;
     for (int k = 0; k < 3; ++k) {
         double g = dmax((double)alo[k] - bhi[k], (double)blo[k] - ahi[k]);
         if (g > 0.0) s += g * g;
+    }
+    return s;
+}
+static inline double gap2_node(const kin__bvh_node *A, const kin__bvh_node *B)
+{
+    double s = gap2(A->lo, A->hi, B->lo, B->hi);
+    for (int k = 3; k < 5; ++k) {
+        double g = dmax((double)A->lo[k] - B->hi[k], (double)B->lo[k] - A->hi[k]);
+        if (g > 0.0) s = dmax(s, 0.5 * g * g);
     }
     return s;
 }
@@ -520,6 +601,10 @@ static inline int cannot_beat(double s2, double neg, double best)
  * lane i shares a joint with (v0, v1, v2). Lanes past the leaf's count are
  * masked by the caller. SSE2 (every x86-64) or plain C. */
 static inline float near_bound(double best) { return best >= 0.0 ? f_up(best) : 0.0f; }
+/* the bound on the x + y, x - y slabs (projections on (1, +-1, 0), of
+ * length sqrt 2): a float gap g > T2 there means a distance above
+ * g (1 - 2^-24) / sqrt 2 > best */
+static inline float near_bound2(double best) { return best >= 0.0 ? f_up(best * 1.4142135623730951 * (1.0 + 0x1p-20)) : 0.0f; }
 
 #if defined(__SSE2__)
 static inline unsigned near_lanes(const kin__leafsoa *S, const float *lo, const float *hi, float T)
@@ -535,6 +620,26 @@ static inline unsigned near_lanes(const kin__leafsoa *S, const float *lo, const 
         m |= (unsigned)(~_mm_movemask_ps(far) & 15) << h;
     }
     return m;
+}
+/* diag_lanes: bit i set when lane i's slab across x + y or x - y is more
+ * than T2 (near_bound2) apart from lo, hi (the row's slabs 3, 4); lanes
+ * outside cols are not tested. Long thin parts tilted in a nearly flat
+ * sheet (a sail) have boxes far larger than they are; these two slabs
+ * drop most of the pairs such boxes keep. */
+static inline unsigned diag_lanes(const kin__leafsoa *S, const float *lo, const float *hi, float T2, unsigned cols)
+{
+    const __m128 t = _mm_set1_ps(T2);
+    unsigned m = 0;
+    for (int h = 0; h < LEAF_MAX; h += 4) {
+        if (!((cols >> h) & 15u)) continue;
+        __m128 far = _mm_setzero_ps();
+        for (int k = 3; k < 5; ++k) {
+            far = _mm_or_ps(far, _mm_cmpgt_ps(_mm_sub_ps(_mm_loadu_ps(S->lo[k] + h), _mm_set1_ps(hi[k])), t));
+            far = _mm_or_ps(far, _mm_cmpgt_ps(_mm_sub_ps(_mm_set1_ps(lo[k]), _mm_loadu_ps(S->hi[k] + h)), t));
+        }
+        m |= (unsigned)_mm_movemask_ps(far) << h;
+    }
+    return m & cols;
 }
 static inline unsigned adjacent_lanes(const kin__leafsoa *S, int v0, int v1, int v2)
 {
@@ -558,6 +663,17 @@ static inline unsigned near_lanes(const kin__leafsoa *S, const float *lo, const 
         int far = 0;
         for (int k = 0; k < 3; ++k) far |= (S->lo[k][i] - hi[k] > T) | (lo[k] - S->hi[k][i] > T);
         m |= (unsigned)!far << i;
+    }
+    return m;
+}
+static inline unsigned diag_lanes(const kin__leafsoa *S, const float *lo, const float *hi, float T2, unsigned cols)
+{
+    unsigned m = 0;
+    for (int i = 0; i < LEAF_MAX; ++i) {
+        if (!((cols >> i) & 1u)) continue;
+        int far = 0;
+        for (int k = 3; k < 5; ++k) far |= (S->lo[k][i] - hi[k] > T2) | (lo[k] - S->hi[k][i] > T2);
+        m |= (unsigned)far << i;
     }
     return m;
 }
@@ -592,11 +708,12 @@ static inline void apart_row(const kin__leafsoa *X, int i, float cx[3], float xp
         for (int k = 0; k < 3; ++k) xp[q][k] = X->p[q][k][i];
 }
 #if defined(__SSE2__)
-static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], float xp[3][3], float thr0)
+static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], float xp[3][3], float thr0, unsigned cols)
 {
     const __m128 half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps();
     unsigned m = 0;
     for (int h = 0; h < LEAF_MAX; h += 4) {
+        if (!((cols >> h) & 15u)) continue;
         __m128 u[3];
         for (int k = 0; k < 3; ++k)
             u[k] = _mm_sub_ps(_mm_add_ps(_mm_mul_ps(half, _mm_loadu_ps(S->lo[k] + h)), _mm_mul_ps(half, _mm_loadu_ps(S->hi[k] + h))),
@@ -619,10 +736,11 @@ static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], flo
     return m;
 }
 #else
-static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], float xp[3][3], float thr0)
+static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], float xp[3][3], float thr0, unsigned cols)
 {
     unsigned m = 0;
     for (int j = 0; j < LEAF_MAX; ++j) {
+        if (!((cols >> j) & 1u)) continue;
         float u[3], lo1 = INFINITY, hi1 = -INFINITY, lo2 = INFINITY, hi2 = -INFINITY;
         for (int k = 0; k < 3; ++k) u[k] = (0.5f * S->lo[k][j] + 0.5f * S->hi[k][j]) - cx[k];
         for (int q = 0; q < 3; ++q) {
@@ -633,6 +751,113 @@ static inline unsigned apart_lanes(const kin__leafsoa *S, const float cx[3], flo
         float gap = lo2 - hi1 > lo1 - hi2 ? lo2 - hi1 : lo1 - hi2, thr = thr0 + S->r[j];
         float uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
         m |= (unsigned)(gap > 0.0f && gap * gap > thr * thr * uu) << j;
+    }
+    return m;
+}
+#endif
+
+/* own_lanes: bit j set when lane j of S is shown apart by more than T from
+ * the row's primitive along one of its own axes (ax: KIN__OWN_AXES unit
+ * axes, each with the interval of the row's primitive on it: made by
+ * own_axes); lanes outside cols are not tested. The axes are the ones
+ * prim_far finds separating most pairs that the box test and the line of
+ * the centres keep (long thin triangles side by side in a dome: the
+ * in-plane normals of their sides): one row's axes against 8 lanes in
+ * straight-line code cost less than the scalar bounds they save. Rounding:
+ * as apart_lanes (points rounded to float, float arithmetic, axes of length
+ * 1 to 2^-22: the slack in T covers it). A disabled axis (a degenerate
+ * primitive) has the interval (-inf, inf). */
+static void own_axes(const struct kin_contact *c, const kin__leafsoa *S, int i, const kin__leafprim *L, float *ax)
+{
+    const double *P = c->pts;
+    double u[KIN__OWN_AXES][3];
+    int ok[KIN__OWN_AXES] = {0};
+    const double *A = P + 3 * L->v[0], *B = P + 3 * L->v[1];
+    if (L->v[2] >= 0) {
+        const double *C = P + 3 * L->v[2];
+        double e[3][3], n[3];
+        for (int k = 0; k < 3; ++k) e[0][k] = B[k] - A[k], e[1][k] = C[k] - B[k], e[2][k] = A[k] - C[k];
+        n[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1];
+        n[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
+        n[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
+        for (int k = 0; k < 3; ++k) u[0][k] = n[k];
+        for (int s = 0; s < 3; ++s) {
+            u[s + 1][0] = e[s][1] * n[2] - e[s][2] * n[1];
+            u[s + 1][1] = e[s][2] * n[0] - e[s][0] * n[2];
+            u[s + 1][2] = e[s][0] * n[1] - e[s][1] * n[0];
+        }
+    } else {
+        /* across the bar: two perpendicular directions and their diagonals */
+        double d[3], w[3] = {0, 0, 0}, v1[3], v2[3];
+        for (int k = 0; k < 3; ++k) d[k] = B[k] - A[k];
+        int m = fabs(d[0]) <= fabs(d[1]) ? (fabs(d[0]) <= fabs(d[2]) ? 0 : 2) : (fabs(d[1]) <= fabs(d[2]) ? 1 : 2);
+        w[m] = 1.0;
+        v1[0] = d[1] * w[2] - d[2] * w[1], v1[1] = d[2] * w[0] - d[0] * w[2], v1[2] = d[0] * w[1] - d[1] * w[0];
+        double n1 = sqrt(v1[0] * v1[0] + v1[1] * v1[1] + v1[2] * v1[2]);
+        if (n1 > 0.0 && isfinite(n1))
+            for (int k = 0; k < 3; ++k) v1[k] /= n1;
+        v2[0] = d[1] * v1[2] - d[2] * v1[1], v2[1] = d[2] * v1[0] - d[0] * v1[2], v2[2] = d[0] * v1[1] - d[1] * v1[0];
+        double n2 = sqrt(v2[0] * v2[0] + v2[1] * v2[1] + v2[2] * v2[2]);
+        if (n2 > 0.0 && isfinite(n2))
+            for (int k = 0; k < 3; ++k) v2[k] /= n2;
+        for (int k = 0; k < 3; ++k) u[0][k] = v1[k], u[1][k] = v2[k], u[2][k] = v1[k] + v2[k], u[3][k] = v1[k] - v2[k];
+    }
+    for (int s = 0; s < KIN__OWN_AXES; ++s) {
+        double nn = sqrt(u[s][0] * u[s][0] + u[s][1] * u[s][1] + u[s][2] * u[s][2]);
+        ok[s] = nn > 0.0 && isfinite(nn);
+        float *a = ax + 5 * s;
+        for (int k = 0; k < 3; ++k) a[k] = ok[s] ? (float)(u[s][k] / nn) : 0.0f;
+        float lo = INFINITY, hi = -INFINITY;
+        for (int q = 0; q < 3; ++q) {
+            float t = a[0] * S->p[q][0][i] + a[1] * S->p[q][1][i] + a[2] * S->p[q][2][i];
+            lo = t < lo ? t : lo, hi = t > hi ? t : hi;
+        }
+        a[3] = ok[s] ? lo : -INFINITY, a[4] = ok[s] ? hi : INFINITY;
+    }
+}
+#if defined(__SSE2__)
+static inline unsigned own_lanes(const kin__leafsoa *S, const float *ax, float thr0, unsigned cols)
+{
+    unsigned m = 0;
+    for (int h = 0; h < LEAF_MAX; h += 4) {
+        if (!((cols >> h) & 15u)) continue;
+        __m128 p[3][3];
+        for (int q = 0; q < 3; ++q)
+            for (int k = 0; k < 3; ++k) p[q][k] = _mm_loadu_ps(S->p[q][k] + h);
+        __m128 thr = _mm_add_ps(_mm_set1_ps(thr0), _mm_loadu_ps(S->r + h)), apart = _mm_setzero_ps();
+        for (int s = 0; s < KIN__OWN_AXES; ++s) {
+            const float *a = ax + 5 * s;
+            __m128 a0 = _mm_set1_ps(a[0]), a1 = _mm_set1_ps(a[1]), a2 = _mm_set1_ps(a[2]), lo = lo, hi = hi;
+            for (int q = 0; q < 3; ++q) {
+                __m128 t = _mm_add_ps(_mm_add_ps(_mm_mul_ps(a0, p[q][0]), _mm_mul_ps(a1, p[q][1])), _mm_mul_ps(a2, p[q][2]));
+                lo = q ? _mm_min_ps(lo, t) : t, hi = q ? _mm_max_ps(hi, t) : t;
+            }
+            __m128 gap = _mm_max_ps(_mm_sub_ps(lo, _mm_set1_ps(a[4])), _mm_sub_ps(_mm_set1_ps(a[3]), hi));
+            apart = _mm_or_ps(apart, _mm_cmpgt_ps(gap, thr));
+        }
+        m |= (unsigned)_mm_movemask_ps(apart) << h;
+    }
+    return m & cols;
+}
+#else
+static inline unsigned own_lanes(const kin__leafsoa *S, const float *ax, float thr0, unsigned cols)
+{
+    unsigned m = 0;
+    for (int j = 0; j < LEAF_MAX; ++j) {
+        if (!((cols >> j) & 1u)) continue;
+        float thr = thr0 + S->r[j];
+        int apart = 0;
+        for (int s = 0; s < KIN__OWN_AXES; ++s) {
+            const float *a = ax + 5 * s;
+            float lo = INFINITY, hi = -INFINITY;
+            for (int q = 0; q < 3; ++q) {
+                float t = a[0] * S->p[q][0][j] + a[1] * S->p[q][1][j] + a[2] * S->p[q][2][j];
+                lo = t < lo ? t : lo, hi = t > hi ? t : hi;
+            }
+            float gap = lo - a[4] > a[3] - hi ? lo - a[4] : a[3] - hi;
+            apart |= gap > thr;
+        }
+        m |= (unsigned)apart << j;
     }
     return m;
 }
@@ -826,6 +1051,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         c->quality0 = refit(c);
         c->fresh = 0;
     }
+    if (++c->call == 0) memset(c->ax_call, 0, sizeof(unsigned) * (size_t)c->nprim), c->call = 1;
     double best = cutoff, bp[3] = {0, 0, 0}, bq[3] = {0, 0, 0}, xp[3], xq[3];
     int ba = -1, bb = -1, top = 0;
     /* the last answer's pair first (when the tree is the same): an upper
@@ -871,19 +1097,27 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
             const kin__leafsoa *SU = &c->leaf[U->right], *SV = &c->leaf[V->right];
             float cx[3], rp[3][3]; /* a row's box centre and points */
             unsigned rows = (1u << U->count) - 1, lanes = (1u << V->count) - 1;
-            if (u != v) rows &= near_lanes(SU, V->lo, V->hi, near_bound(best)); /* against the other node's box */
+            if (u != v) /* against the other node's box and slabs */
+                rows &= near_lanes(SU, V->lo, V->hi, near_bound(best)) & ~diag_lanes(SU, V->lo, V->hi, near_bound2(best), rows);
             while (rows) {
                 int i = low_bit(rows);
                 rows &= rows - 1;
-                const float lo[3] = {SU->lo[0][i], SU->lo[1][i], SU->lo[2][i]};
-                const float hi[3] = {SU->hi[0][i], SU->hi[1][i], SU->hi[2][i]};
+                const float lo[5] = {SU->lo[0][i], SU->lo[1][i], SU->lo[2][i], SU->lo[3][i], SU->lo[4][i]};
+                const float hi[5] = {SU->hi[0][i], SU->hi[1][i], SU->hi[2][i], SU->hi[3][i], SU->hi[4][i]};
                 unsigned cols = near_lanes(SV, lo, hi, near_bound(best)) & lanes &
                                 ~adjacent_lanes(SV, SU->v[0][i], SU->v[1][i], SU->v[2][i]);
                 if (u == v) cols &= ~((2u << i) - 1); /* each pair once */
+                if (cols) cols &= ~diag_lanes(SV, lo, hi, near_bound2(best), cols);
                 if (cols) {
                     apart_row(SU, i, cx, rp);
                     float thr0 = near_bound(best) + SU->r[i] + slack; /* see apart_lanes */
-                    cols &= ~apart_lanes(SV, cx, rp, thr0);
+                    cols &= ~apart_lanes(SV, cx, rp, thr0, cols);
+                    if (cols) { /* the row's own axes, made once per call */
+                        int x = U->start + i;
+                        float *ax = c->ax + 5 * KIN__OWN_AXES * x;
+                        if (c->ax_call[x] != c->call) own_axes(c, SU, i, &lp[x], ax), c->ax_call[x] = c->call;
+                        cols &= ~own_lanes(SV, ax, thr0, cols);
+                    }
                 }
                 int x = U->start + i;
                 const kin__leafprim *Lp = &lp[x];
@@ -914,7 +1148,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         if (top + 3 > c->stack_cap) return kin__fail(a, KIN_ERANGE, "clearance: tree walk deeper than planned");
         if (u == v) {
             int l = U->left, r = U->right;
-            double g = gap2(node[l].lo, node[l].hi, node[r].lo, node[r].hi);
+            double g = gap2_node(&node[l], &node[r]);
             if (!cannot_beat(g, neg_node, best)) st[2 * top] = l, st[2 * top + 1] = r, sg[top] = g, ++top;
             st[2 * top] = r, st[2 * top + 1] = r, sg[top] = 0.0, ++top;
             st[2 * top] = l, st[2 * top + 1] = l, sg[top] = 0.0, ++top;
@@ -924,7 +1158,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         int splitU = V->left < 0 || (U->left >= 0 && U->count >= V->count);
         int c1 = splitU ? U->left : V->left, c2 = splitU ? U->right : V->right, o = splitU ? v : u;
         const kin__bvh_node *O = &node[o], *C1 = &node[c1], *C2 = &node[c2];
-        double g1 = gap2(C1->lo, C1->hi, O->lo, O->hi), g2 = gap2(C2->lo, C2->hi, O->lo, O->hi);
+        double g1 = gap2_node(C1, O), g2 = gap2_node(C2, O);
         int near = g1 <= g2;
         if (!cannot_beat(near ? g2 : g1, neg_node, best))
             st[2 * top] = near ? c2 : c1, st[2 * top + 1] = o, sg[top] = near ? g2 : g1, ++top;

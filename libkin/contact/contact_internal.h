@@ -5,17 +5,23 @@
 
 #include "model/internal.h"
 
+/* Separating axes of a primitive's own (a triangle: its normal and the
+ * in-plane normals of its sides; a bar: four directions across it) */
+#define KIN__OWN_AXES 4
+
 /* Primitives per leaf of the bounding-volume tree at most */
 #define KIN__LEAF_MAX 8
 
-/* A node of the bounding-volume tree: a box (lo[3], hi[3]; floats rounded
- * outward, so it contains the double box) and either two children (left,
+/* A node of the bounding-volume tree: a box (lo[0..2], hi[0..2]) and two
+ * slabs across x + y and x - y (lo[3..4], hi[3..4]: the projections on
+ * (1, 1, 0) and (1, -1, 0)), floats rounded outward, so they contain the
+ * double ones; and either two children (left,
  * right) or, for a leaf (left = -1), a run (start, count) of the primitives
  * in tree order whose boxes and joints are leaf block `right` (leaf blocks
  * numbered in pre-order, which is the order of start). Nodes are in
  * pre-order: a node's children have larger indices than it has. */
 typedef struct kin__bvh_node {
-    float lo[3], hi[3];
+    float lo[5], hi[5]; /* x, y, z and the slabs across x + y, x - y */
     int left, right, start, count;
 } kin__bvh_node;
 
@@ -25,9 +31,11 @@ typedef struct kin__bvh_node {
  * boxes grown by their radii, floats rounded outward, and their joints in
  * tree order (a bar's third repeats its second), the joints' points and
  * the radii in float. Lanes past the leaf's count: empty boxes, joints -1,
- * points and radii 0. 608 bytes. */
+ * points and radii 0. The slabs across x + y and x - y bound a long part
+ * tilted in a nearly flat sheet (a sail) far tighter than its box does.
+ * 736 bytes. */
 typedef struct kin__leafsoa {
-    float lo[3][KIN__LEAF_MAX], hi[3][KIN__LEAF_MAX];
+    float lo[5][KIN__LEAF_MAX], hi[5][KIN__LEAF_MAX]; /* x, y, z, x + y, x - y */
     int v[3][KIN__LEAF_MAX];
     float p[3][3][KIN__LEAF_MAX]; /* joint q's coordinate k, rounded to nearest */
     float r[KIN__LEAF_MAX];       /* radius, rounded up */
@@ -78,6 +86,12 @@ struct kin_contact {
     double quality0;   /* the refitted tree's quality measure just after its build */
     double rmax;       /* the largest radius */
     int seed[2];       /* tree positions of the last smallest pair found, or -1 */
+    /* each primitive's own separating axes (contact.c, own_axes), made when
+     * the walk first needs them in a call: KIN__OWN_AXES unit axes and the
+     * primitive's interval on each (5 floats an axis), by tree position */
+    float *ax;           /* 5 * KIN__OWN_AXES per primitive */
+    unsigned *ax_call;   /* the call that made them */
+    unsigned call;       /* calls of kin_clearance (never 0) */
     int *stack;        /* 2 * stack_cap node indices of the pair traversal */
     double *sgap;      /* stack_cap: the squared box gap of each pair on the stack */
     int stack_cap;
