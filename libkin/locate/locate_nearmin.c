@@ -39,6 +39,7 @@ typedef struct nm_ctx {
     kin_assembly *start, *trial;
     const double *x0, *t0, *x1, *d1; /* nf each: the ends and their tangents dx/dz */
     double *pred, *xs;              /* nf each */
+    double *sv;                     /* min(nf, nb): a trial's singular values */
     double z1, bad;                 /* the bracket's end; the value a failed trial gets */
     int nf, evals, failed;
 } nm_ctx;
@@ -67,14 +68,25 @@ static double trial_value(double z, void *user)
     c->evals++;
     path_at(c, z, c->pred);
     kin__copy_state(c->trial, c->start);
-    int rc = kin__step_predicted(c->trial, z, c->pred, NULL);
-    if (rc == KIN_OK && !kin__cur(c->trial)->valid) rc = kin__analyse(c->trial, NULL);
-    double jump = 0.0;
+    /* the LU mode's factors at the trial (the SVD where it is not regular),
+     * and its singular values alone (no vectors: a trial needs none) */
+    kin_assembly *w = c->trial;
+    w->opt.factorization = KIN_STEP_LU;
+    w->lu_inverse = w->lu_predicted = 1;
+    int rc = kin__step_predicted(w, z, c->pred, NULL);
+    w->opt.factorization = KIN_STEP_SVD;
+    w->lu_inverse = w->lu_predicted = 0;
+    double jump = 0.0, f = NAN;
     if (rc == KIN_OK) {
-        kin__gather(c->trial, c->trial->xyz, c->xs);
+        kin__gather(w, w->xyz, c->xs);
         for (int i = 0; i < c->nf; ++i) jump = fmax(jump, fabs(c->xs[i] - c->pred[i]));
+        if (kin__cur(w)->valid) {
+            f = rel_vr(w);
+        } else if ((rc = kin__singular_values(w, w->xyz, c->sv)) == KIN_OK) {
+            int k = kin__loc_vanishing_index(w);
+            f = k >= 0 && c->sv[0] > 0.0 ? c->sv[k] / c->sv[0] : NAN;
+        }
     }
-    double f = rc == KIN_OK ? rel_vr(c->trial) : NAN;
     if (rc != KIN_OK || jump > NEAR_MIN_JUMP * fabs(c->z1) || !isfinite(f)) {
         c->failed = 1;
         return c->bad;
@@ -105,7 +117,8 @@ int kin__locate_near_minimum(kin_assembly *a, kin__locate_ws *ws, kin__near_min 
     int nf = a->nf, rc;
     kin_assembly *st = ws->prev, *end = ws->work;
     if (!ws->probe && kin_assembly_clone(a, &ws->probe)) return kin__fail(a, KIN_ENOMEM, "near-miss minimum: a working copy");
-    if (!ws->near_buf && !(ws->near_buf = malloc(sizeof(double) * 6 * (size_t)nf)))
+    int mn = nf < a->nb ? nf : a->nb;
+    if (!ws->near_buf && !(ws->near_buf = malloc(sizeof(double) * (6 * (size_t)nf + (size_t)mn))))
         return kin__fail(a, KIN_ENOMEM, "near-miss minimum: workspace");
     if (!ws->near_min && !(ws->near_min = gsl_min_fminimizer_alloc(gsl_min_fminimizer_brent)))
         return kin__fail(a, KIN_ENOMEM, "near-miss minimum: the minimiser");
@@ -119,7 +132,7 @@ int kin__locate_near_minimum(kin_assembly *a, kin__locate_ws *ws, kin__near_min 
         cp[k]->lu_inverse = 0;
     }
     double *x0 = ws->near_buf, *x1 = x0 + nf, *d1 = x1 + nf;
-    nm_ctx c = {st, ws->probe, x0, st->t, x1, d1, d1 + nf, d1 + 2 * nf, 0.0, 0.0, nf, 0, 0};
+    nm_ctx c = {st, ws->probe, x0, st->t, x1, d1, d1 + nf, d1 + 2 * nf, d1 + 4 * nf, 0.0, 0.0, nf, 0, 0};
     double zm = NAN, fm = INFINITY, f0 = NAN, f1 = NAN, *xo = d1 + 3 * nf;
     int have_mid = 0; /* after a move: the old end inside the bracket, (zm, fm) */
     for (int ext = 0;; ++ext) {
@@ -191,6 +204,9 @@ int kin__locate_near_minimum(kin_assembly *a, kin__locate_ws *ws, kin__near_min 
     zm = gsl_min_fminimizer_x_minimum(s);
     fm = trial_value(zm, &c); /* the trial copy onto the minimum */
     if (c.failed && !(fm < c.bad)) return KIN_OK;
+    /* the end analysed in full, as the handle's points are (its value from that analysis) */
+    if (!kin__cur(c.trial)->valid && kin__analyse(c.trial, NULL) != KIN_OK) return KIN_OK;
+    fm = rel_vr(c.trial);
     kin__copy_state(a, c.trial); /* a keeps its own options */
     out->located = conv;
     out->z = zm;
