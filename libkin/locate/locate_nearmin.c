@@ -122,8 +122,9 @@ int kin__locate_near_minimum(kin_assembly *a, kin__locate_ws *ws, kin__near_min 
         return kin__fail(a, KIN_ENOMEM, "near-miss minimum: workspace");
     if (!ws->near_min && !(ws->near_min = gsl_min_fminimizer_alloc(gsl_min_fminimizer_brent)))
         return kin__fail(a, KIN_ENOMEM, "near-miss minimum: the minimiser");
-    /* the bracket's start (the handle) and end, and the trials: the
-     * handle's options, each point analysed by SVD */
+    /* the bracket's start (the handle), its end and the trial copy: the
+     * handle's options; the ends analysed by SVD, the trials in the LU mode
+     * for the duration of their forward calculation (trial_value) */
     kin__copy_state(st, a);
     kin_assembly *cp[3] = {st, end, ws->probe};
     for (int k = 0; k < 3; ++k) {

@@ -75,8 +75,8 @@ class _OneBlasThread:
     otherwise sets to one and puts back around every call of its own,
     model/blas_threads.c). In a 2-worker process pool on 2 cores the
     default counts (one thread per core) cost the flat-state atlas's branch
-    tasks 3-10% more CPU and up to 2x the wall time of 2,000 tasks (6 runs,
-    alternately, load 5-7); serially in one process 1%. The counts are
+    tasks 3-11% more CPU (2,000 tasks, 6 pairs of runs alternately, load
+    2.6-7; the wall time moved more, but noisily); serially in one process 1%. The counts are
     process-wide, so they are set for the duration only: the first of nested
     or concurrent uses sets one thread, the last one out restores what was
     there (threadpoolctl; nothing happens without it). In a thread other
@@ -116,7 +116,7 @@ class _OneBlasThread:
                     self.limiter = None
 
 
-#: with one_blas_thread(): NumPy's BLAS on one thread for the block (_OneBlasThread)
+#: with one_blas_thread(): the process's BLAS libraries on one thread for the block (_OneBlasThread)
 one_blas_thread = _OneBlasThread()
 
 

@@ -58,11 +58,12 @@ def branch_orbits(directions: Sequence[NDArray[np.float64]], P: Sequence[NDArray
     return out
 
 
-def mapped_result(res: Dict[str, Any], g: Any) -> Dict[str, Any]:
+def mapped_result(res: Dict[str, Any], g: Any, end: Optional[NDArray[np.float64]] = None) -> Dict[str, Any]:
     """The follower's result of a branch mapped by the symmetry g: the same
-    event, length and accuracies, the end and the samples moved by g."""
+    event, length and accuracies, the end and the samples moved by g (end:
+    g applied to the result's end, where already made)."""
     out = dict(res)
-    out["coords"] = g.apply(np.asarray(res["coords"], dtype=float)).tolist()
+    out["coords"] = (g.apply(np.asarray(res["coords"], dtype=float)) if end is None else end).tolist()
     out["samples"] = [g.apply(np.asarray(X, dtype=float)).tolist() for X in res.get("samples", [])]
     out["cpu_seconds"] = 0.0
     out["mapped"] = True
@@ -156,14 +157,7 @@ def _map_certain(res: Dict[str, Any], g: Any, bars: NDArray[np.int_], memo: Dict
     if not memo["ok"]:
         return None
     Y = g.apply(memo["X"])
-    if not _same_lengths(memo["L"], Y, bars):
-        return None
-    out = dict(res)
-    out["coords"] = Y.tolist()
-    out["samples"] = [g.apply(np.asarray(Z, dtype=float)).tolist() for Z in res.get("samples", [])]
-    out["cpu_seconds"] = 0.0
-    out["mapped"] = True
-    return out
+    return mapped_result(res, g, Y) if _same_lengths(memo["L"], Y, bars) else None
 
 
 def follow_level(work: List[Any], images: List[Optional[Tuple[int, int]]],
