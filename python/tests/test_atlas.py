@@ -312,3 +312,86 @@ def test_node_kind_does_not_depend_on_arrival_order():
     done.expanded = True
     done.arrived(atlas_mod.BIFURCATION, bif)
     assert (done.kind, done.m) == (atlas_mod.NEAR_MISS, 1)
+
+
+def _orbits_by_scan(dirs, P, tol):
+    """branch_orbits' rule by brute force: each representative's image under
+    P[j] claims the lowest-index unclaimed direction within tol."""
+    D = np.array([d / np.linalg.norm(d) for d in dirs])
+    out = [None] * len(D)
+    for k in range(len(D)):
+        if out[k] is None:
+            out[k] = (k, -1)
+            for j, Pj in enumerate(P):
+                img = Pj @ D[k]
+                for i in range(len(D)):
+                    if out[i] is None and np.abs(D[i] - img).max() <= tol:
+                        out[i] = (k, j)
+                        break
+    return out
+
+
+def test_branch_orbits_as_a_scan_with_near_duplicates():
+    # directions within SAME_DIRECTION of another (the k-d tree finds two in
+    # reach: every one is tried, lowest index first), just outside it, and
+    # images with no match: the same claims as a scan
+    from libkin.atlas.orbits import SAME_DIRECTION, branch_orbits
+    rng = np.random.default_rng(11)
+    P = [np.diag([1.0, 1.0, -1.0, 1.0]), np.array([[0, 1, 0, 0], [1, 0, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])]
+    dirs = []
+    for _ in range(6):
+        b = rng.normal(size=4)
+        dirs += [b, P[0] @ b]
+        u = P[1] @ b / np.linalg.norm(b)
+        dirs.append(u + 0.4 * SAME_DIRECTION * np.sign(rng.normal(size=4)))  # within reach of the image
+        dirs.append(u - 0.4 * SAME_DIRECTION * np.sign(rng.normal(size=4)))  # a second one within reach
+        dirs.append(u + 3.0 * SAME_DIRECTION)  # just outside
+    dirs = [dirs[i] for i in rng.permutation(len(dirs))]
+    got = branch_orbits(dirs, P)
+    assert got == _orbits_by_scan(dirs, P, SAME_DIRECTION)
+    D = np.array([d / np.linalg.norm(d) for d in dirs])
+    reach = [int((np.abs(D - Pj @ D[k]).max(axis=1) <= SAME_DIRECTION).sum()) for k, (r, j) in enumerate(got)
+             if j < 0 for Pj in P]
+    assert reach.count(2) >= 1 and reach.count(0) >= 1  # both kinds of image were met
+
+
+def test_follow_level_takes_each_result_once_in_a_fixed_order():
+    # results arrive in a scrambled order; take() sees the followed branches
+    # and the certain images in work order while the first pass runs, then
+    # the images not certain (followed in a second pass) in work order
+    from libkin.atlas.orbits import follow_level
+
+    class Mirror:
+        def apply(self, X):
+            return np.asarray(X) * np.array([-1.0, 1.0])
+    X = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
+    bars = np.array([[0, 1], [1, 2]])
+    # work k: a rep (even k) and its image (k + 1); the reps' events: loops are certain, budgets not
+    n = 12
+    work = [("w", k) for k in range(n)]
+    images = [None if k % 2 == 0 else (k - 1, 0) for k in range(n)]
+    events = {k: ("loop" if k % 4 == 0 else "budget") for k in range(0, n, 2)}
+    taken, passes = [], []
+
+    def follow(items, on_result):
+        passes.append([w[1] for w in items])
+        res = [{"event": events.get(w[1], "budget"), "coords": X.tolist(), "samples": [], "k": w[1]}
+               for w in items]
+        for j in reversed(range(len(items))):  # completes last-first
+            on_result(j, res[j])
+            if len(passes) == 1 and j == len(items) - 1:
+                assert taken == []  # nothing before the first branch is at hand
+        if len(passes) == 1:
+            assert taken[:2] == [0, 1]  # taken while this pass runs
+        return res
+
+    def take(k, res):
+        taken.append(k)
+        assert res is not None and (res.get("mapped") or res["k"] == k)
+    results, followed, mapped = follow_level(work, images, follow, [Mirror()], bars, take)
+    uncertain = [k for k in range(1, n, 2) if events[k - 1] == "budget"]
+    first = [k for k in range(n) if k not in uncertain]
+    assert passes == [list(range(0, n, 2)), uncertain]
+    assert taken == first + uncertain
+    assert followed == n // 2 + len(uncertain) and mapped == n // 2 - len(uncertain)
+    assert all(r is not None for r in results)

@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import argparse
 import math
-from typing import Callable, Optional
+import os
+from typing import Any, Callable, Dict, Optional, Union
 
 from .assembly import Assembly
 from .errors import InvalidArgumentError
@@ -91,3 +92,13 @@ def load_model_spec(spec: str, fold_dim: Optional[int] = None, resolution: Optio
         import dataclasses
         a.options = dataclasses.replace(a.options, coord_resolution=resolution)
     return a
+
+
+def as_assembly(model: Union[Assembly, str, "os.PathLike[str]", Dict[str, Any]]) -> Assembly:
+    """An Assembly as given, or one read from a JSON model (file path, text
+    or dict) or made from a built-in spec ("sail:6:2", "threebar:RC")."""
+    from .io.model_json import load_json
+    if isinstance(model, Assembly):
+        return model
+    return load_model_spec(model) if isinstance(model, str) and model.startswith(("threebar:", "sail:")) \
+        else load_json(model)

@@ -104,15 +104,19 @@ def node_lines(every: Sequence[Any]) -> Tuple[Dict[int, List[Any]], Dict[Tuple[i
 
 
 def follow(work: Sequence[Any], every: Sequence[Any], item: Callable[[int, Any], Dict[str, Any]],
-           run: Callable[[List[Dict[str, Any]]], List[Any]], record: Optional[Dict[str, int]] = None,
-           executor: Any = None) -> List[Any]:
+           run: Callable[..., List[Any]], record: Optional[Dict[str, int]] = None,
+           executor: Any = None, on_result: Optional[Callable[[int, Any], None]] = None) -> List[Any]:
     """The results of work's branches [(node, solution, sign, beta,
     direction)], each decided against all of its node's branch directions
     (from every: the level's work). item(node, direction) -> the task
-    without "branches"; run(tasks) -> results (None: not run); executor:
+    without "branches"; run(tasks[, on_result]) -> results (None: not run); executor:
     where run runs them (the many directions shared with its workers).
     record, if given, gains the counts of the tasks run again ("tasks"), the
-    lines they carried ("lines", "lines_max") and their CPU seconds ("cpu_ms")."""
+    lines they carried ("lines", "lines_max") and their CPU seconds ("cpu_ms").
+    on_result(k, result), if given: called for each final result as it
+    is at hand (any order, never for a task not run); run(tasks, on_result)
+    passes it on where no result can be decided again (every line reaches
+    its tasks), else it is called once all are final."""
     lines, index = node_lines(every)
     limit = tasks.BRANCH_DIRECTIONS_MAX
     # as arrays, not nested lists: Dask walks a task's nested lists element by element
@@ -130,7 +134,8 @@ def follow(work: Sequence[Any], every: Sequence[Any], item: Callable[[int, Any],
             else:
                 it["branches"] = whole[nid] if nid in whole else (np.array([d], dtype=float) if nid in lines else None)
             items.append(it)
-        results = run(items)
+        final = all(refs[nid] is not None for nid in refs)  # no loop is decided again
+        results = run(items, on_result) if final and on_result is not None else run(items)
     big: Dict[int, _Lines] = {}
     reach: Dict[int, float] = {}  # per task: every line outside its last subset is at least this far from dir
     margin = branch_margin()
@@ -166,6 +171,10 @@ def follow(work: Sequence[Any], every: Sequence[Any], item: Callable[[int, Any],
             again.append(k)
             subsets.append(L.raw[inside])
         if not again:
+            if on_result is not None and not final:
+                for k, res in enumerate(results):
+                    if res is not None:
+                        on_result(k, res)
             return results
         redo = []
         for k, S in zip(again, subsets):

@@ -36,6 +36,7 @@ if TYPE_CHECKING:
 Branch = Tuple[int, int, NDArray[np.float64], NDArray[np.float64]]
 Work = Tuple[int, int, int, NDArray[np.float64], NDArray[np.float64]]
 
+from ..cliargs import as_assembly
 from ..errors import InvalidArgumentError, KinError, LimitError
 from ..parallel import Progress, run_tasks
 from ..symmetry.automorphisms import same_symmetry, symmetries_at
@@ -52,16 +53,14 @@ from .stabiliser import fixing, mechanism_action, subspace_branches, useful_grou
 AUTO_MAX_S = 12
 
 
-class _Late(Exception):
-    """A node's complete solve abandoned: the time limit or a stop."""
+class _Late(Exception):  # a node's complete solve abandoned: the time limit or a stop
+    pass
 
 
 def _say(progress: Progress, msg: str) -> None:
     if progress is True:
         print(f"[explore] {msg}", file=sys.stderr, flush=True)
 
-
-# ---- the explorer ----------------------------------------------------------
 
 class _Explorer:
     def __init__(self, a: Assembly, symmetric: Union[bool, str], executor: Any, progress: Progress,
@@ -94,6 +93,7 @@ class _Explorer:
         self.P = [g.free_matrix(self.free_map) for g in self.syms]
         self.bars = np.asarray(a.bars, dtype=int)
         self.nodes: List[Node] = []
+        self.group_at: List[int] = []  # per node: the group's size when it was added (final_orbits)
         self.edges: List[Edge] = []
         self.rigid = a.analyse().m_rigid > 0
         # the nodes, and their images under each symmetry, by position
@@ -152,6 +152,7 @@ class _Explorer:
             n.image_of = {"node": img[0], "symmetry": img[1]}
             n.orbit = self.nodes[img[0]].orbit
         self.nodes.append(n)
+        self.group_at.append(len(self.syms))
         self._index_node(n)
         return i
 
@@ -174,8 +175,12 @@ class _Explorer:
 
     def final_orbits(self) -> None:
         """Orbits with the whole group found: node i joins the orbit of the
-        first node j < i that a symmetry maps onto it."""
+        first node j < i that a symmetry maps onto it (add_node's answer,
+        where the group has not grown since)."""
         for n in self.nodes:
+            if self.group_at[n.id] == len(self.syms):
+                n.orbit = n.id if n.image_of is None else self.nodes[n.image_of["node"]].orbit
+                continue
             n.orbit = n.id
             img = self.orbit_of(n.coords, n.located_tol, before=n.id)
             if img is not None:
@@ -184,16 +189,13 @@ class _Explorer:
                 if n.image_of is None and not n.expanded:
                     n.image_of = {"node": m.id, "symmetry": j}
 
-    def stabilizer(self, node: Node) -> List[int]:
-        """Indices of the symmetries (not the identity) that fix the node."""
+    def stabilizer(self, node: Node) -> List[int]:  # the symmetries (not the identity) that fix the node
         return fixing(self.syms, node.coords, self.pair_tol(node.located_tol, 0.0))
 
     def _assembly_at(self, node: Node) -> Assembly:
-        a = self.a.clone()
-        o = a.options
+        a, o = self.a.clone(), self.a.options
         o.rank_tol = self._rank_tol(node)
-        a.options = o
-        a.coords = node.coords
+        a.options, a.coords = o, node.coords
         return a
 
     def _rank_tol(self, node: Node) -> float:
@@ -249,17 +251,20 @@ class _Explorer:
         key = [Q.tolist(), self.shards, self.seed, self.threads] + ([] if group is None else [group.tolist()])
         return run() if self.store is None else self.store.cached("solve", key, run)
 
-    def follow_all(self, work: List[Work], every: Optional[List[Work]] = None) -> List[Any]:
-        """work: [(node, solution, sign, beta, direction)] -> results in order; every: all their nodes' branches."""
+    def follow_all(self, work: List[Work], every: Optional[List[Work]] = None,
+                   on_result: Optional[Callable[[int, Any], None]] = None) -> List[Any]:
+        """work: [(node, solution, sign, beta, direction)] -> results in order; every: all their nodes'
+        branches; on_result(k, result) as each is at hand (directions.follow)."""
         def item(nid: int, d: NDArray[np.float64]) -> Dict[str, Any]:
             n, rest = self.nodes[nid], {"max_steps": self.max_steps, "samples": self.samples, "contact": self.contact}
             return {"model": self.text, "coords": n.coords, "rank_tol": self._rank_tol(n),
                     "direction": np.asarray(d, dtype=float), "max_length": self.max_length, **rest}
 
-        def run(items: List[Any]) -> List[Any]:
+        def run(items: List[Any], on: Optional[Callable[[int, Any], None]] = None) -> List[Any]:
             args = (tasks.follow_branch, items, self.executor, self.progress, "branches", self.deadline)
-            return run_tasks(*args) if self.store is None else self.store.run_tasks(*args, self.stop)
-        return directions.follow(work, every if every is not None else work, item, run, self.redo, self.executor)
+            return run_tasks(*args, on_result=on) if self.store is None else self.store.run_tasks(*args, self.stop, on)
+        return directions.follow(work, every if every is not None else work, item, run, self.redo, self.executor,
+                                 on_result)
 
     def merge(self, nid: int, sol: int, sign: int, beta: NDArray[np.float64], res: Dict[str, Any],
               depth: int) -> int:
@@ -361,7 +366,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         An argument out of range (symmetric, depth, a budget, start's shape).
     """
     t0 = time.perf_counter()
-    a = _as_assembly(model)
+    a = as_assembly(model)
     if start is not None:
         a = a.clone()
         a.coords = np.asarray(start, dtype=float)
@@ -449,17 +454,21 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         todo = [k for k, im in enumerate(images) if im is None]
         _say(progress, f"level {level + 1}: {len(work)} directed branches from {len(frontier)} node(s)"
              + (f", {len(todo)} followed, the others their images by symmetry" if len(todo) < len(work) else ""))
-        results = ex.levels.follow(ex, lambda: follow_level(work, images, lambda w: ex.follow_all(w, work), ex.syms,
-                                                            ex.bars))
-        n_before = len(ex.nodes)
-        for (nid, i, sg, b, _), res in zip(work, results):
+        n_before, e_before, missed, order = len(ex.nodes), len(ex.edges), [], []  # type: int, int, List[int], List[int]
+        def take(k: int, res: Any) -> None:  # each end identified as it comes (follow_level's order)
             if res is None:  # not followed: the time limit ran out first, or the run was interrupted
-                cause = "interrupted" if stop is not None and stop() else "time_limit"
-                if "not followed" not in ex.nodes[nid].status:
-                    ex.nodes[nid].status += f"; some branches not followed: {causes[cause]}"
-                stopped = stopped or cause
-                continue
-            ex.merge(nid, i, sg, b, res, level + 1)
+                missed.append(work[k][0])
+            else:
+                ex.merge(*work[k][:4], res, level + 1)
+                order.append(k)
+        ex.levels.follow(ex, lambda: follow_level(work, images, lambda w, on: ex.follow_all(w, work, on), ex.syms,
+                                                  ex.bars, take))
+        for nid in missed:
+            cause = "interrupted" if stop is not None and stop() else "time_limit"
+            if "not followed" not in ex.nodes[nid].status:
+                ex.nodes[nid].status += f"; some branches not followed: {causes[cause]}"
+            stopped = stopped or cause
+        levels.work_order(ex.edges, e_before, order)
         ex.levels.end(ex.nodes, n_before)
         frontier = [n.id for n in ex.nodes[n_before:] if n.kind == BIFURCATION]
         if not frontier:
@@ -489,12 +498,3 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     stats.update(atlas.summary())
     return atlas
 
-
-def _as_assembly(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]]) -> Assembly:
-    from ..assembly import Assembly
-    from ..cliargs import load_model_spec
-    from ..io.model_json import load_json
-    if isinstance(model, Assembly):
-        return model
-    return load_model_spec(model) if isinstance(model, str) and model.startswith(("threebar:", "sail:")) \
-        else load_json(model)

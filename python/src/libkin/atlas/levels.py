@@ -6,8 +6,9 @@ of expanded ones, or were left by a bound), the directed branches, how many
 were followed and how many mapped by symmetry, the nodes the level added,
 and where the wall time went: enumerating the branches (the node's
 analysis, its symmetries and the complete solve: in the client, apart from
-the solver's shards), following them (the executor) and merging the ends
-(identification: in the client). by_depth() gives the per-depth table of a
+the solver's shards), following them (the executor; the client identifies
+the ends as they come in, orbits.follow_level) and what is left of the
+merge after that (counts, the next frontier). by_depth() gives the per-depth table of a
 finished atlas (events, new nodes and new orbits per depth) from its nodes
 and edges alone, so it also reads an atlas.json written before the rows
 existed.
@@ -53,6 +54,17 @@ class Levels:
         row["new_bifurcation_nodes"] = sum(1 for n in new if n.kind == "bifurcation")
         row["new_bifurcation_nodes_not_images"] = sum(1 for n in new if n.kind == "bifurcation"
                                                       and n.image_of is None)
+
+
+def work_order(edges: List[Any], start: int, order: Sequence[int]) -> None:
+    """The level's edges, edges[start:], appended in the order their ends
+    were identified (orbits.follow_level: the images whose mapping is not
+    certain last), order[i] the work index of edges[start + i]: put back
+    in the order of the work (node, solution, sign) and renumbered."""
+    level = [e for _, e in sorted(zip(order, edges[start:]), key=lambda p: p[0])]
+    edges[start:] = level
+    for i, e in enumerate(level, start):
+        e.id = i
 
 
 def by_depth(d: Dict[str, Any]) -> List[Dict[str, Any]]:

@@ -13,9 +13,9 @@ sail's flat state, where the mirror z -> -z maps each branch onto its
 opposite sense). differences() compares two atlases whatever the order of
 their nodes and edges, up to the orbit mapping.
 
-The branches are matched through index.ConfigIndex (a sorted scalar key
-of the unit directions), so n branches cost O(n log n) rather than n^2
-comparisons.
+The branches are matched through a k-d tree of the unit directions
+(branch_orbits) and the atlases' nodes through index.ConfigIndex, so n
+branches cost O(n log n) rather than n^2 comparisons.
 """
 from __future__ import annotations
 
@@ -32,27 +32,42 @@ from .index import ConfigIndex
 SAME_DIRECTION = 1e-6
 
 
-def branch_orbits(directions: Sequence[NDArray[np.float64]], P: Sequence[NDArray[np.float64]],
-                  seed: int = 20261123) -> List[Tuple[int, int]]:
+def branch_orbits(directions: Sequence[NDArray[np.float64]], P: Sequence[NDArray[np.float64]]) -> List[Tuple[int, int]]:
     """For every directed branch k: (rep, j) with direction k = P[j] @
     direction rep, rep the smallest index of its orbit; (k, -1) for a
     representative. P: the stabilizer's matrices on the free coordinates
-    (the identity may be among them)."""
+    (the identity may be among them).
+
+    Each P[j]'s images of all directions are matched at once (a k-d tree
+    of the directions, scipy.spatial.cKDTree, the nearest two within
+    SAME_DIRECTION in the max-norm); where two lie within it, every
+    direction within it is tried, lowest index first. 0.7 s against 1.35 s
+    with one ConfigIndex query per representative and symmetry on the
+    hexagonal flat state (59,656 directions, 6 symmetries)."""
+    from scipy.spatial import cKDTree
     if not len(directions):
         return []
-    D = np.array([d / np.linalg.norm(d) for d in directions])
-    index = ConfigIndex((D.shape[1], 1), rigid=False, seed=seed)
-    for i, d in enumerate(D):
-        index.add(d.reshape(-1, 1), i)
+    D = np.array(directions, dtype=float)
+    D /= np.linalg.norm(D, axis=1)[:, None]
+    tree = cKDTree(D)
+    near: List[List[Any]] = []  # per symmetry: per direction, the index of its image's match (-1: none, or a list)
+    for Pj in P:
+        img = D @ np.asarray(Pj, dtype=float).T
+        dist, idx = tree.query(img, k=2, p=np.inf, distance_upper_bound=2 * SAME_DIRECTION)
+        ok = dist[:, 0] <= SAME_DIRECTION
+        row: List[Any] = np.where(ok, idx[:, 0], -1).tolist()
+        for t in np.nonzero(ok & (dist[:, 1] <= SAME_DIRECTION))[0].tolist():
+            row[t] = [i for i in sorted(tree.query_ball_point(img[t], 2 * SAME_DIRECTION, p=np.inf))
+                      if np.abs(D[i] - img[t]).max() <= SAME_DIRECTION]
+        near.append(row)
     out: List[Any] = [None] * len(D)
     for k in range(len(D)):
         if out[k] is not None:
             continue
         out[k] = (k, -1)
-        for j, Pj in enumerate(P):
-            img = Pj @ D[k]
-            for i in index.near(img.reshape(-1, 1), SAME_DIRECTION):
-                if out[i] is None and np.abs(D[i] - img).max() <= SAME_DIRECTION:
+        for j, row in enumerate(near):
+            for i in (row[k] if isinstance(row[k], list) else [row[k]]):
+                if i >= 0 and out[i] is None:
                     out[i] = (k, j)
                     break
     return out
@@ -161,31 +176,83 @@ def _map_certain(res: Dict[str, Any], g: Any, bars: NDArray[np.int_], memo: Dict
 
 
 def follow_level(work: List[Any], images: List[Optional[Tuple[int, int]]],
-                 follow: Callable[[List[Any]], List[Any]], syms: Sequence[Any],
-                 bars: NDArray[np.int_]) -> Tuple[List[Any], int, int]:
+                 follow: Callable[[List[Any], Callable[[int, Any], None]], List[Any]], syms: Sequence[Any],
+                 bars: NDArray[np.int_],
+                 take: Optional[Callable[[int, Any], None]] = None) -> Tuple[List[Any], int, int]:
     """The results of a level's directed branches: work[k] is followed when
     images[k] is None, else it is the image by syms[j] of work[rep] for
-    images[k] = (rep, j), mapped where certain() and followed otherwise.
-    follow(list of work) -> results (None: not followed, the time limit or
-    a stop). Returns (results, followed, mapped)."""
-    results: List[Any] = [None] * len(work)
+    images[k] = (rep, j) (rep < k), mapped where certain() and followed
+    otherwise. follow(list of work, on_result) -> results (None: not
+    followed, the time limit or a stop), calling on_result(index, result)
+    as each is at hand. Returns (results, followed, mapped).
+
+    take(k, result), if given, is called once for every k, in a fixed
+    order and while the branches are followed: the followed branches and
+    the mapped images in the order of work as soon as all before them are
+    at hand (the first pass), then the images followed because their
+    mapping is not certain, in the order of work (the second pass). So the
+    explorer identifies the ends while the workers follow the next
+    branches, in an order that does not depend on which branch completes
+    first."""
+    n = len(work)
+    results: List[Any] = [None] * n
     todo = [k for k, im in enumerate(images) if im is None]
-    for k, res in zip(todo, follow([work[k] for k in todo])):
-        results[k] = res
-    again = []
-    mapped = 0
+    got: Dict[int, Any] = {}  # followed results at hand, not yet taken
+    again: List[int] = []
     memo: Dict[int, Dict[str, Any]] = {}  # per followed result, for its images
-    for k, im in enumerate(images):
-        if im is None or results[im[0]] is None:
-            continue
-        got = _map_certain(results[im[0]], syms[im[1]], bars, memo.setdefault(im[0], {}))
-        if got is not None:
-            results[k] = got
-            mapped += 1
-        else:
-            again.append(k)
-    for k, res in zip(again, follow([work[k] for k in again]) if again else []):
-        results[k] = res
+    cursor, mapped = 0, 0
+
+    def walk(final: bool) -> None:  # take what the results at hand decide, in order
+        nonlocal cursor, mapped
+        while cursor < n:
+            k, im = cursor, images[cursor]
+            if im is None:
+                if k not in got and not final:
+                    return
+                res = got.pop(k, None)
+            else:
+                res = results[im[0]]
+                if res is not None:
+                    res = _map_certain(res, syms[im[1]], bars, memo.setdefault(im[0], {}))
+                    if res is None:  # followed in the second pass
+                        again.append(k)
+                        cursor += 1
+                        continue
+                    mapped += 1
+            results[k] = res
+            cursor += 1
+            if take is not None:
+                take(k, res)
+
+    def feed(j: int, res: Any) -> None:
+        if todo[j] >= cursor:
+            got[todo[j]] = res
+            walk(False)
+    out = follow([work[k] for k in todo], feed)
+    for k, res in zip(todo, out):
+        if k >= cursor and res is not None:
+            got.setdefault(k, res)
+    walk(True)
+    done: Dict[int, Any] = {}
+    nxt = 0
+
+    def flush(final: bool) -> None:  # the second pass, taken in order
+        nonlocal nxt
+        while nxt < len(again) and (final or nxt in done):
+            k = again[nxt]
+            results[k] = done.pop(nxt, None)
+            nxt += 1
+            if take is not None:
+                take(k, results[k])
+
+    def feed2(j: int, res: Any) -> None:
+        if j >= nxt:
+            done[j] = res
+            flush(False)
+    for j, res in enumerate(follow([work[k] for k in again], feed2) if again else []):
+        if j >= nxt and res is not None:
+            done.setdefault(j, res)
+    flush(True)
     return results, len(todo) + len(again), mapped
 
 

@@ -179,10 +179,14 @@ class Store:
         return got
 
     def run_tasks(self, fn: Callable[[Any], Any], items: Sequence[Any], executor: Any, progress: Progress,
-                  what: str, deadline: Optional[float], stop: Optional[Callable[[], bool]] = None) -> List[Any]:
+                  what: str, deadline: Optional[float], stop: Optional[Callable[[], bool]] = None,
+                  on_result: Optional[Callable[[int, Any], None]] = None) -> List[Any]:
         """parallel.run_tasks(fn, items, ...) with each result recorded as it
         is taken (in the order of items, while the others run: the workers
         never wait for a batch) and recorded results taken from the store.
+        on_result(k, result): called for each result as it is at hand (those
+        from the store first, in order; then as they are taken), never for
+        a task not run.
         stop(): nothing more is started once it is true (those tasks give
         None); the tasks in flight complete and are recorded. A kill loses
         the tasks in flight and those finished after the oldest one still
@@ -205,7 +209,13 @@ class Store:
             out[i] = res
             done += 1
             tick(progress, done, len(items), what)
+            if on_result is not None and res is not None:
+                on_result(i, res)
 
+        if on_result is not None:
+            for i, res in enumerate(out):
+                if res is not None:
+                    on_result(i, res)
         if not todo or (stop is not None and stop()):
             return out
         if is_dask_client(executor):  # streamed in chunks: a kill loses at most the window in flight
