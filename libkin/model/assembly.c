@@ -138,8 +138,32 @@ EXT_KERNEL static double extensions_kernel(const kin_assembly *a, const double *
     return worst;
 }
 
+/* The same strain in plain double: accurate to about eps x L, not to a few
+ * ulps of e; for points where v_r is far from zero (a->plain_extensions:
+ * the follower's cheap stretches), where that rounding moves a corrected
+ * point by eps x L / v_r only. About 3x cheaper. */
+EXT_KERNEL static double extensions_plain(const kin_assembly *a, const double *xyz, double *e)
+{
+    double worst = 0.0;
+    for (int k = 0; k < a->nb; ++k) {
+        const double *pa = xyz + a->bars[2 * k] * a->dim;
+        const double *pb = xyz + a->bars[2 * k + 1] * a->dim;
+        double L0 = a->L0[k], L2 = 0.0;
+        for (int c = 0; c < a->dim; ++c) {
+            double d = pa[c] - pb[c];
+            L2 += d * d;
+        }
+        double L = sqrt(L2);
+        e[k] = (L2 - L0 * L0) / (L + L0);
+        double r = fabs(e[k]) / L0;
+        if (!(r <= worst)) worst = r;
+    }
+    return worst;
+}
+
 double kin__extensions(const kin_assembly *a, const double *xyz, double *e)
 {
+    if (a->plain_extensions) return extensions_plain(a, xyz, e);
     return extensions_kernel(a, xyz, e);
 }
 

@@ -145,6 +145,7 @@ struct kin_assembly {
     double *luw;             /* max(nf, nb + 1 + nrig) solve vector */
     double *luw2;            /* nf: the product with (J^T)^-1 */
     int lu_inverse;          /* LU mode: keep (J^T)^-1 with the factors (the follower's cheap stretches) */
+    int plain_extensions;    /* kin__extensions in plain double, not double-double (the follower's cheap stretches) */
     int lu_svd_start;        /* SVD mode: a point with current square LU-mode factors and no SVD starts a
                               * step with them (its chord corrector); the new point is analysed by SVD
                               * (the locator started where the follower's LU steps handed over) */

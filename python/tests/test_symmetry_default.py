@@ -13,7 +13,7 @@ import pytest
 import libkin
 import libkin.atlas.stabiliser as stabiliser
 from libkin.assembly import solve_quadrics
-from libkin.atlas.explorer import _as_assembly
+from libkin.cliargs import as_assembly
 from libkin.atlas.orbits import certain, differences
 from libkin.symmetry.automorphisms import symmetries_at
 
@@ -31,7 +31,7 @@ def same_roots(b1, b2, tol=1e-10):
 
 
 def _at(spec, coords=None, located_tol=0.0):
-    a = _as_assembly(spec).clone()
+    a = as_assembly(spec).clone()
     if coords is not None:
         o = a.options
         o.rank_tol = max(1e-9, 10.0 * located_tol)

@@ -454,13 +454,13 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         todo = [k for k, im in enumerate(images) if im is None]
         _say(progress, f"level {level + 1}: {len(work)} directed branches from {len(frontier)} node(s)"
              + (f", {len(todo)} followed, the others their images by symmetry" if len(todo) < len(work) else ""))
-        n_before, e_before, missed, order = len(ex.nodes), len(ex.edges), [], []  # type: int, int, List[int], List[int]
-        def take(k: int, res: Any) -> None:  # each end identified as it comes (follow_level's order)
+        n_before, missed = len(ex.nodes), []  # type: int, List[int]
+
+        def take(k: int, res: Any) -> None:  # each end identified as it comes, in the order of work
             if res is None:  # not followed: the time limit ran out first, or the run was interrupted
                 missed.append(work[k][0])
             else:
                 ex.merge(*work[k][:4], res, level + 1)
-                order.append(k)
         ex.levels.follow(ex, lambda: follow_level(work, images, lambda w, on: ex.follow_all(w, work, on), ex.syms,
                                                   ex.bars, take))
         for nid in missed:
@@ -468,7 +468,6 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
             if "not followed" not in ex.nodes[nid].status:
                 ex.nodes[nid].status += f"; some branches not followed: {causes[cause]}"
             stopped = stopped or cause
-        levels.work_order(ex.edges, e_before, order)
         ex.levels.end(ex.nodes, n_before)
         frontier = [n.id for n in ex.nodes[n_before:] if n.kind == BIFURCATION]
         if not frontier:

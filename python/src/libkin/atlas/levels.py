@@ -56,17 +56,6 @@ class Levels:
                                                       and n.image_of is None)
 
 
-def work_order(edges: List[Any], start: int, order: Sequence[int]) -> None:
-    """The level's edges, edges[start:], appended in the order their ends
-    were identified (orbits.follow_level: the images whose mapping is not
-    certain last), order[i] the work index of edges[start + i]: put back
-    in the order of the work (node, solution, sign) and renumbered."""
-    level = [e for _, e in sorted(zip(order, edges[start:]), key=lambda p: p[0])]
-    edges[start:] = level
-    for i, e in enumerate(level, start):
-        e.id = i
-
-
 def by_depth(d: Dict[str, Any]) -> List[Dict[str, Any]]:
     """Per depth of a finished atlas (its to_dict() / atlas.json): the
     directed branches out of the nodes one level up and their events, the

@@ -186,73 +186,59 @@ def follow_level(work: List[Any], images: List[Optional[Tuple[int, int]]],
     followed, the time limit or a stop), calling on_result(index, result)
     as each is at hand. Returns (results, followed, mapped).
 
-    take(k, result), if given, is called once for every k, in a fixed
-    order and while the branches are followed: the followed branches and
-    the mapped images in the order of work as soon as all before them are
-    at hand (the first pass), then the images followed because their
-    mapping is not certain, in the order of work (the second pass). So the
-    explorer identifies the ends while the workers follow the next
-    branches, in an order that does not depend on which branch completes
-    first."""
+    The images of a followed branch are mapped as soon as its result comes
+    in (the first pass); those not certain are followed in a second pass.
+    take(k, result), if given, is called once for every k in the order of
+    work, as soon as the results up to k are all at hand: the explorer
+    identifies the ends while the workers follow the next branches, in the
+    order a merge after the following would take (up to the first image
+    not certain, which waits for the second pass), so the atlas does not
+    depend on which branch completes first."""
     n = len(work)
     results: List[Any] = [None] * n
+    known = [False] * n  # results[k] is final (a result, or None: not followed)
     todo = [k for k, im in enumerate(images) if im is None]
-    got: Dict[int, Any] = {}  # followed results at hand, not yet taken
+    of: Dict[int, List[Tuple[int, int]]] = {}  # a followed branch's images: (work index, symmetry)
+    for k, im in enumerate(images):
+        if im is not None:
+            of.setdefault(im[0], []).append((k, im[1]))
     again: List[int] = []
-    memo: Dict[int, Dict[str, Any]] = {}  # per followed result, for its images
     cursor, mapped = 0, 0
 
-    def walk(final: bool) -> None:  # take what the results at hand decide, in order
-        nonlocal cursor, mapped
-        while cursor < n:
-            k, im = cursor, images[cursor]
-            if im is None:
-                if k not in got and not final:
-                    return
-                res = got.pop(k, None)
-            else:
-                res = results[im[0]]
-                if res is not None:
-                    res = _map_certain(res, syms[im[1]], bars, memo.setdefault(im[0], {}))
-                    if res is None:  # followed in the second pass
-                        again.append(k)
-                        cursor += 1
-                        continue
-                    mapped += 1
-            results[k] = res
+    def walk() -> None:  # take the results at hand, in order
+        nonlocal cursor
+        while cursor < n and known[cursor]:
+            if take is not None:
+                take(cursor, results[cursor])
             cursor += 1
-            if take is not None:
-                take(k, res)
 
-    def feed(j: int, res: Any) -> None:
-        if todo[j] >= cursor:
-            got[todo[j]] = res
-            walk(False)
-    out = follow([work[k] for k in todo], feed)
-    for k, res in zip(todo, out):
-        if k >= cursor and res is not None:
-            got.setdefault(k, res)
-    walk(True)
-    done: Dict[int, Any] = {}
-    nxt = 0
-
-    def flush(final: bool) -> None:  # the second pass, taken in order
-        nonlocal nxt
-        while nxt < len(again) and (final or nxt in done):
-            k = again[nxt]
-            results[k] = done.pop(nxt, None)
-            nxt += 1
-            if take is not None:
-                take(k, results[k])
+    def feed(j: int, res: Any) -> None:  # a followed result: it and its certain images known
+        nonlocal mapped
+        k = todo[j]
+        if known[k]:
+            return
+        results[k], known[k] = res, True
+        memo: Dict[str, Any] = {}
+        for i, g in of.get(k, []):
+            got = None if res is None else _map_certain(res, syms[g], bars, memo)
+            if got is not None:
+                results[i], known[i] = got, True
+                mapped += 1
+            elif res is None:
+                known[i] = True  # not followed either
+            else:
+                again.append(i)  # followed in the second pass
+        walk()
+    for j, res in enumerate(follow([work[k] for k in todo], feed)):
+        feed(j, res)  # those not fed while following (not run, or decided at the end)
+    again.sort()
 
     def feed2(j: int, res: Any) -> None:
-        if j >= nxt:
-            done[j] = res
-            flush(False)
+        if not known[again[j]]:
+            results[again[j]], known[again[j]] = res, True
+            walk()
     for j, res in enumerate(follow([work[k] for k in again], feed2) if again else []):
-        if j >= nxt and res is not None:
-            done.setdefault(j, res)
-    flush(True)
+        feed2(j, res)
     return results, len(todo) + len(again), mapped
 
 
