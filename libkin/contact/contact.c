@@ -1259,9 +1259,9 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
                 unsigned cols = near_lanes(SV, lo, hi, near_bound(best)) & lanes &
                                 ~adjacent_lanes(SV, SU->v[0][i], SU->v[1][i], SU->v[2][i]);
                 if (u == v) cols &= ~((2u << i) - 1); /* each pair once */
-                if (cols) cols &= ~diag_lanes(SV, lo, hi, near_bound2(best), cols);
                 float thr0 = near_bound(best) + SU->r[i] + slack; /* see apart_lanes */
                 if (cols) cols &= ~orient_lanes(vlo, vhi, SV->r, SU->olo[i], SU->ohi[i], thr0, cols);
+                if (cols) cols &= ~diag_lanes(SV, lo, hi, near_bound2(best), cols);
                 if (cols) {
                     apart_row(SU, i, cx, rp);
                     cols &= ~apart_lanes(SV, cx, rp, thr0, cols);
