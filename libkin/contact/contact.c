@@ -8,15 +8,17 @@
  * (O(n): the boxes bottom up, the topology kept), and built again only when
  * the refitted boxes have grown by half against those right after its
  * build. Primitives and joints are stored in tree order and boxes as floats
- * rounded outward (24 bytes per primitive, a 736-byte block of 8 lanes per
+ * rounded outward (24 bytes per primitive, an 816-byte block of 8 lanes per
  * leaf, 56 bytes per node), so the walk reads contiguous memory; leaves and
- * nodes also carry the slabs across x + y and x - y. The tree is walked
+ * nodes also carry the slabs across x + y and x - y, and each leaf its own
+ * axis across its parts (in their plane) with its lanes' intervals on it. The tree is walked
  * against itself, pairs of nodes nearer first, a pair dropped when its
  * boxes or slabs are no nearer than the best clearance found so far (the
  * last call's closest pair, evaluated first, gives that bound from the
  * start); two leaves are tested a row at a time, 8 lanes at once without a
  * branch per pair (boxes, shared joints, then for the pairs left the
- * slabs, the line of the box centres and the row primitive's own axes),
+ * first leaf's axis, the slabs, the line of the box centres and the row
+ * primitive's own axes),
  * and the pairs left of parts that share no joint get the separating-axis
  * bound and the exact test of distance.c. */
 #include <float.h>
