@@ -1,7 +1,8 @@
 /* Panels, thickness and clearance (kin_contact.h): the exact cases on
  * purpose (exactly touching, parallel segments, coplanar triangles, a
  * zero-area panel, a bar through a panel), adjacency, thickness, 2D, the
- * tree against all pairs on a sail and on a sheet of long tilted parts,
+ * tree against all pairs on a sail, on a sheet of long tilted parts and on
+ * two tilted sheets of long triangles side by side,
  * clone, and every error path. */
 #include <math.h>
 #include <string.h>
@@ -445,6 +446,86 @@ static void sheet_vs_all_pairs(void)
     free(xyz), free(y), free(bars), free(ang), free(fixed);
 }
 
+/* long thin triangles side by side in two parallel tilted sheets (a sail's
+ * outer loops: what each leaf's own axis, across its parts in their plane,
+ * is for): strips along a direction none of the fixed slabs follows, all
+ * 1 apart across the strips but two at d, and the other sheet h above;
+ * near the origin and far from it (rounding of the float projections), bare
+ * and thick: the tree's answer equals the smallest over all pairs, at
+ * cutoffs just above and just below the smallest clearance, with the tree
+ * built afresh (no last answer to try first), then refitted as the sheets
+ * move and the near pair changes from call to call */
+static void tilted_sheets(double *xyz, int nt, int ns, int near, double th, double tilt, double d, double h, double X0,
+                          double Y0, double dz)
+{
+    const double L = 20.0, wd = 0.05;
+    /* the strips' direction u (30 deg + a bit from x), the sheets' normal
+     * n (tilted), v = n x u across the strips in the plane */
+    double n[3] = {sin(tilt) * sin(th + 1.0), -sin(tilt) * cos(th + 1.0), cos(tilt)}, u0[3] = {cos(th), sin(th), 0};
+    double un = u0[0] * n[0] + u0[1] * n[1] + u0[2] * n[2], u[3], v[3], uu = 0.0;
+    for (int k = 0; k < 3; ++k) u[k] = u0[k] - un * n[k], uu += u[k] * u[k];
+    for (int k = 0; k < 3; ++k) u[k] /= sqrt(uu);
+    v[0] = n[1] * u[2] - n[2] * u[1], v[1] = n[2] * u[0] - n[0] * u[2], v[2] = n[0] * u[1] - n[1] * u[0];
+    for (int t = 0; t < nt; ++t) {
+        int sheet = t / ns, k = t % ns;
+        double s = k * (wd + 1.0) - (k > near ? 1.0 - d : 0.0) + 0.37 * sheet, z = sheet * h;
+        double a = 0.3 * (k % 3) - 0.3; /* along: staggered ends */
+        /* the sliver's third corner across it, to one side or the other */
+        double P[3][2] = {{a - 0.5 * L, s + (k % 2) * wd}, {a + 0.5 * L, s + (k % 2) * wd}, {a + 0.1 * L, s + (1 - k % 2) * wd}};
+        for (int q = 0; q < 3; ++q)
+            for (int c = 0; c < 3; ++c)
+                xyz[3 * (3 * t + q) + c] = (c == 0 ? X0 : c == 1 ? Y0 : 0.0) + P[q][0] * u[c] + P[q][1] * v[c] + z * n[c] +
+                                           (c == 2 ? dz * ((3 * t + q) % 5) : 0.0);
+    }
+}
+static void tilted_sheets_vs_all_pairs(void)
+{
+    enum { NS = 14 }; /* strips per sheet */
+    int nt = 2 * NS, nj = 3 * nt, nb = 3 * nt, np = nt;
+    double *xyz = malloc(sizeof(double) * 3 * (size_t)nj);
+    int *bars = malloc(sizeof(int) * 2 * (size_t)nb), *off = malloc(sizeof(int) * ((size_t)np + 1)),
+        *pj = malloc(sizeof(int) * 3 * (size_t)np);
+    unsigned char *fixed = calloc(3 * (size_t)nj, 1);
+    off[0] = 0;
+    for (int t = 0; t < nt; ++t) {
+        for (int q = 0; q < 3; ++q) {
+            pj[3 * t + q] = 3 * t + q;
+            bars[2 * (3 * t + q)] = 3 * t + q, bars[2 * (3 * t + q) + 1] = 3 * t + (q + 1) % 3;
+        }
+        off[t + 1] = 3 * (t + 1);
+    }
+    for (int trial = 0; trial < 24; ++trial) {
+        double th = 0.5236 + 0.05 * trial, tilt = 0.35 + 0.02 * trial, d = trial % 4 < 3 ? 0.01 + 0.001 * trial : 0.3;
+        double h = trial % 2 ? 0.6 : 5.0, r = trial % 8 < 4 ? 0.0 : 0.002;
+        double X0 = trial < 8 ? 0.0 : 3e5 + 0.37 * trial, Y0 = trial < 8 ? 0.0 : -2e5, scale = X0 > 0.0 ? 1e6 : 1.0;
+        double e1 = X0 > 0.0 ? 1e-6 : 1e-9; /* above the rounding in double there */
+        tilted_sheets(xyz, nt, NS, 6, th, tilt, d, h, X0, Y0, 0.0);
+        kin_assembly *a = NULL;
+        CHECK_RC(kin_assembly_create(3, nj, xyz, fixed, nb, bars, NULL, &a, NULL, 0), KIN_OK);
+        if (!a) break;
+        CHECK_RC(kin_set_panels(a, np, off, pj), KIN_OK);
+        CHECK_RC(kin_set_thickness(a, 2 * r, NULL, NULL), KIN_OK);
+        double c;
+        check_against_all(a, xyz, INFINITY, bars, pj, np, scale);
+        CHECK_RC(kin_clearance(a, xyz, INFINITY, &c, NULL, NULL), KIN_OK);
+        CHECK(c <= fmin(d + 0.05, h) - 2 * r + 1e-9 * scale); /* the slivers narrow away from their third corner */
+        double cut[] = {c + e1, c - e1, c + 1e-3, c - 1e-3, 0.004};
+        for (int e = 0; e < 5; ++e) {
+            CHECK_RC(kin_set_thickness(a, 2 * r, NULL, NULL), KIN_OK); /* a new tree: no pair to try first */
+            check_against_all(a, xyz, cut[e], bars, pj, np, scale);
+        }
+        /* moved a little each call, the near pair alternating between
+         * strips 6, 7 and 3, 4: refits, the last answer's pair no longer the nearest */
+        for (int m = 0; m < 8; ++m) {
+            tilted_sheets(xyz, nt, NS, m % 2 ? 3 : 6, th, tilt, d, h, X0, Y0, 0.002 * m);
+            double cm = m % 3 == 0 ? INFINITY : m % 3 == 1 ? fmin(d, h) - 2 * r + 1e-3 : 0.004;
+            check_against_all(a, xyz, cm, bars, pj, np, scale);
+        }
+        kin_assembly_free(a);
+    }
+    free(xyz), free(bars), free(off), free(pj), free(fixed);
+}
+
 static void errors(void)
 {
     double x[] = {-1, 0, 0, 1, 0, 0, 0, -1, 1, 0, 1, 1};
@@ -659,6 +740,7 @@ int main(void)
     float_boxes();
     sail_vs_all_pairs();
     sheet_vs_all_pairs();
+    tilted_sheets_vs_all_pairs();
     errors();
     TEST_REPORT("test_contact");
 }

@@ -8,15 +8,17 @@
  * (O(n): the boxes bottom up, the topology kept), and built again only when
  * the refitted boxes have grown by half against those right after its
  * build. Primitives and joints are stored in tree order and boxes as floats
- * rounded outward (24 bytes per primitive, a 736-byte block of 8 lanes per
+ * rounded outward (24 bytes per primitive, an 816-byte block of 8 lanes per
  * leaf, 56 bytes per node), so the walk reads contiguous memory; leaves and
- * nodes also carry the slabs across x + y and x - y. The tree is walked
+ * nodes also carry the slabs across x + y and x - y, and each leaf its own
+ * axis across its parts (in their plane) with its lanes' intervals on it. The tree is walked
  * against itself, pairs of nodes nearer first, a pair dropped when its
  * boxes or slabs are no nearer than the best clearance found so far (the
  * last call's closest pair, evaluated first, gives that bound from the
  * start); two leaves are tested a row at a time, 8 lanes at once without a
  * branch per pair (boxes, shared joints, then for the pairs left the
- * slabs, the line of the box centres and the row primitive's own axes),
+ * first leaf's axis, the slabs, the line of the box centres and the row
+ * primitive's own axes),
  * and the pairs left of parts that share no joint get the separating-axis
  * bound and the exact test of distance.c. */
 #include <float.h>
@@ -446,6 +448,7 @@ static void tree_build(const kin_assembly *a, struct kin_contact *c, const doubl
     }
     load_points(a, c, xyz, 1);
     c->seed[0] = c->seed[1] = -1;
+    c->ax_next = -1; /* every leaf's axis made at the refit */
     memset(c->ax_call, 0, sizeof(unsigned) * (size_t)c->nprim); /* tree positions renumbered */
     c->tree_ok = 1;
     c->fresh = 1;
@@ -511,6 +514,82 @@ static void leaf_slabs(kin__leafsoa *S, int count, float *lo, float *hi)
 }
 #endif
 
+/* The leaf's own axis w (see kin__leafsoa) from its count lanes' float
+ * points: across the sum of the primitives' longest sides (each turned to
+ * agree with the sum so far), in the plane normal to the sum of their
+ * triangles' normals (turned alike); for bars alone, or where those are
+ * parallel, any direction across the sides. A degenerate leaf gets w = 0,
+ * which separates nothing. Any axis gives the same answer (the test only
+ * drops pairs its bound shows apart): this is about speed only. */
+static void leaf_axis(kin__leafsoa *S, int count)
+{
+    double ns[3] = {0, 0, 0}, ls[3] = {0, 0, 0}, w[3];
+    for (int i = 0; i < count; ++i) {
+        double P[3][3], e[3][3], n[3];
+        for (int q = 0; q < 3; ++q)
+            for (int k = 0; k < 3; ++k) P[q][k] = S->p[q][k][i];
+        for (int k = 0; k < 3; ++k) e[0][k] = P[1][k] - P[0][k], e[1][k] = P[2][k] - P[1][k], e[2][k] = P[0][k] - P[2][k];
+        int m = 0;
+        double mm = -1.0;
+        for (int q = 0; q < 3; ++q) {
+            double l2 = e[q][0] * e[q][0] + e[q][1] * e[q][1] + e[q][2] * e[q][2];
+            if (l2 > mm) mm = l2, m = q;
+        }
+        double sl = e[m][0] * ls[0] + e[m][1] * ls[1] + e[m][2] * ls[2] < 0.0 ? -1.0 : 1.0;
+        n[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1];
+        n[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
+        n[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
+        double sn = n[0] * ns[0] + n[1] * ns[1] + n[2] * ns[2] < 0.0 ? -1.0 : 1.0;
+        for (int k = 0; k < 3; ++k) ls[k] += sl * e[m][k], ns[k] += sn * n[k];
+    }
+    w[0] = ns[1] * ls[2] - ns[2] * ls[1];
+    w[1] = ns[2] * ls[0] - ns[0] * ls[2];
+    w[2] = ns[0] * ls[1] - ns[1] * ls[0];
+    double nw = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]), nl = sqrt(ls[0] * ls[0] + ls[1] * ls[1] + ls[2] * ls[2]);
+    if (!(nw > 1e-6 * nl * sqrt(ns[0] * ns[0] + ns[1] * ns[1] + ns[2] * ns[2]))) {
+        /* no plane: across the sides, normal to their smallest coordinate axis */
+        double z[3] = {0, 0, 0};
+        int m = fabs(ls[0]) <= fabs(ls[1]) ? (fabs(ls[0]) <= fabs(ls[2]) ? 0 : 2) : (fabs(ls[1]) <= fabs(ls[2]) ? 1 : 2);
+        z[m] = 1.0;
+        w[0] = ls[1] * z[2] - ls[2] * z[1], w[1] = ls[2] * z[0] - ls[0] * z[2], w[2] = ls[0] * z[1] - ls[1] * z[0];
+        nw = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    }
+    int ok = nw > 0.0 && isfinite(nw);
+    for (int k = 0; k < 3; ++k) S->w[k] = ok ? (float)(w[k] / nw) : 0.0f;
+    S->w[3] = 0.0f;
+}
+
+/* each lane's interval on the leaf's axis w over its float points (lanes
+ * past count: empty). Rounding: as apart_lanes (the slack of the walk). */
+#if defined(__SSE2__)
+static void leaf_orient(kin__leafsoa *S, int count)
+{
+    const __m128 w0 = _mm_set1_ps(S->w[0]), w1 = _mm_set1_ps(S->w[1]), w2 = _mm_set1_ps(S->w[2]);
+    for (int h = 0; h < LEAF_MAX; h += 4) {
+        __m128 lo = _mm_setzero_ps(), hi = lo;
+        for (int q = 0; q < 3; ++q) {
+            __m128 t = _mm_add_ps(_mm_add_ps(_mm_mul_ps(w0, _mm_loadu_ps(S->p[q][0] + h)), _mm_mul_ps(w1, _mm_loadu_ps(S->p[q][1] + h))),
+                                  _mm_mul_ps(w2, _mm_loadu_ps(S->p[q][2] + h)));
+            lo = q ? _mm_min_ps(lo, t) : t, hi = q ? _mm_max_ps(hi, t) : t;
+        }
+        _mm_storeu_ps(S->olo + h, lo), _mm_storeu_ps(S->ohi + h, hi);
+    }
+    for (int i = count; i < LEAF_MAX; ++i) S->olo[i] = FLT_MAX, S->ohi[i] = -FLT_MAX;
+}
+#else
+static void leaf_orient(kin__leafsoa *S, int count)
+{
+    for (int i = 0; i < LEAF_MAX; ++i) {
+        float lo = INFINITY, hi = -INFINITY;
+        for (int q = 0; q < 3; ++q) {
+            float t = S->w[0] * S->p[q][0][i] + S->w[1] * S->p[q][1][i] + S->w[2] * S->p[q][2][i];
+            lo = t < lo ? t : lo, hi = t > hi ? t : hi;
+        }
+        S->olo[i] = i < count ? lo : FLT_MAX, S->ohi[i] = i < count ? hi : -FLT_MAX;
+    }
+}
+#endif
+
 /* The boxes of the leaves and nodes at the configuration c->pts, bottom up
  * (nodes are in pre-order). Returns the tree's quality measure: the summed
  * half surface areas of the node boxes over the root's (it grows as the
@@ -520,6 +599,11 @@ static double refit(struct kin_contact *c)
 {
     const double *P = c->pts;
     double sum = 0.0;
+    /* the leaves' axes: all after a build, else an eighth of them anew per
+     * call, in turn (they follow the configuration at little cost) */
+    int a0 = c->ax_next, a1 = a0 < 0 ? c->nleaf : a0 + c->nleaf / 8 + 1;
+    if (a0 < 0) a0 = 0;
+    c->ax_next = a1 >= c->nleaf ? 0 : a1;
     for (int id = c->nnode - 1; id >= 0; --id) {
         kin__bvh_node *N = &c->node[id];
         float lo[5] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
@@ -539,6 +623,8 @@ static double refit(struct kin_contact *c)
                 }
             }
             leaf_slabs(S, N->count, lo, hi);
+            if (N->right >= a0 && N->right < a1) leaf_axis(S, N->count);
+            leaf_orient(S, N->count);
         } else {
             const kin__bvh_node *A = &c->node[N->left], *B = &c->node[N->right];
             for (int k = 0; k < 5; ++k)
@@ -863,6 +949,64 @@ static inline unsigned own_lanes(const kin__leafsoa *S, const float *ax, float t
 }
 #endif
 
+/* project_lanes: the intervals (lo, hi) of S's 8 lanes' float points on
+ * the axis w (another leaf's; lanes past S's count are masked by the
+ * caller). orient_lanes: bit j set when lane j's interval (lo, hi) on a
+ * row's leaf axis is more than thr0 + its radius apart from the row's
+ * (rlo, rhi), thr0 as in apart_lanes (best, the row's radius and the
+ * slack); lanes outside cols are not tested. The leaf axis lies across a
+ * leaf's long parts in their plane, so it separates parallel long tilted
+ * parts side by side, which boxes and fixed slabs do not (a sail's outer
+ * loops). Rounding: as apart_lanes (a unit float axis, float points and
+ * arithmetic: the slack covers it). */
+#if defined(__SSE2__)
+static inline void project_lanes(const kin__leafsoa *S, const float *w, float *lo, float *hi)
+{
+    const __m128 w0 = _mm_set1_ps(w[0]), w1 = _mm_set1_ps(w[1]), w2 = _mm_set1_ps(w[2]);
+    for (int h = 0; h < LEAF_MAX; h += 4) {
+        __m128 l = _mm_setzero_ps(), u = l;
+        for (int q = 0; q < 3; ++q) {
+            __m128 t = _mm_add_ps(_mm_add_ps(_mm_mul_ps(w0, _mm_loadu_ps(S->p[q][0] + h)), _mm_mul_ps(w1, _mm_loadu_ps(S->p[q][1] + h))),
+                                  _mm_mul_ps(w2, _mm_loadu_ps(S->p[q][2] + h)));
+            l = q ? _mm_min_ps(l, t) : t, u = q ? _mm_max_ps(u, t) : t;
+        }
+        _mm_storeu_ps(lo + h, l), _mm_storeu_ps(hi + h, u);
+    }
+}
+static inline unsigned orient_lanes(const float *lo, const float *hi, const float *r, float rlo, float rhi, float thr0, unsigned cols)
+{
+    const __m128 a = _mm_set1_ps(rlo), b = _mm_set1_ps(rhi), t0 = _mm_set1_ps(thr0);
+    unsigned m = 0;
+    for (int h = 0; h < LEAF_MAX; h += 4) {
+        if (!((cols >> h) & 15u)) continue;
+        __m128 gap = _mm_max_ps(_mm_sub_ps(_mm_loadu_ps(lo + h), b), _mm_sub_ps(a, _mm_loadu_ps(hi + h)));
+        m |= (unsigned)_mm_movemask_ps(_mm_cmpgt_ps(gap, _mm_add_ps(t0, _mm_loadu_ps(r + h)))) << h;
+    }
+    return m & cols;
+}
+#else
+static inline void project_lanes(const kin__leafsoa *S, const float *w, float *lo, float *hi)
+{
+    for (int j = 0; j < LEAF_MAX; ++j) {
+        float l = INFINITY, u = -INFINITY;
+        for (int q = 0; q < 3; ++q) {
+            float t = w[0] * S->p[q][0][j] + w[1] * S->p[q][1][j] + w[2] * S->p[q][2][j];
+            l = t < l ? t : l, u = t > u ? t : u;
+        }
+        lo[j] = l, hi[j] = u;
+    }
+}
+static inline unsigned orient_lanes(const float *lo, const float *hi, const float *r, float rlo, float rhi, float thr0, unsigned cols)
+{
+    unsigned m = 0;
+    for (int j = 0; j < LEAF_MAX; ++j) {
+        float gap = lo[j] - rhi > rlo - hi[j] ? lo[j] - rhi : rlo - hi[j];
+        m |= (unsigned)(gap > thr0 + r[j]) << j;
+    }
+    return m & cols;
+}
+#endif
+
 /* the lowest set bit's index of m != 0 */
 static inline int low_bit(unsigned m)
 {
@@ -1079,6 +1223,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         /* far from 1 (float overflow, underflow): no lane is dropped so */
         slack = M > 0x1p-40 && M < 0x1p100 ? f_up(0x1p-16 * M) : INFINITY;
     }
+    const float rmax_f = f_up(c->rmax);
     const kin__bvh_node *node = c->node;
     const kin__leafprim *lp = c->lp;
     int *st = c->stack;
@@ -1097,8 +1242,17 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
             const kin__leafsoa *SU = &c->leaf[U->right], *SV = &c->leaf[V->right];
             float cx[3], rp[3][3]; /* a row's box centre and points */
             unsigned rows = (1u << U->count) - 1, lanes = (1u << V->count) - 1;
-            if (u != v) /* against the other node's box and slabs */
+            const float *vlo = SU->olo, *vhi = SU->ohi; /* V's lanes on U's axis */
+            float pl[LEAF_MAX], ph[LEAF_MAX];
+            if (u != v) { /* against the other node's box and slabs, and V's lanes on U's axis */
                 rows &= near_lanes(SU, V->lo, V->hi, near_bound(best)) & ~diag_lanes(SU, V->lo, V->hi, near_bound2(best), rows);
+                if (!rows) continue;
+                project_lanes(SV, SU->w, pl, ph);
+                float l = FLT_MAX, h = -FLT_MAX;
+                for (int j = 0; j < V->count; ++j) l = pl[j] < l ? pl[j] : l, h = ph[j] > h ? ph[j] : h;
+                rows &= ~orient_lanes(SU->olo, SU->ohi, SU->r, l, h, near_bound(best) + rmax_f + slack, rows);
+                vlo = pl, vhi = ph;
+            }
             while (rows) {
                 int i = low_bit(rows);
                 rows &= rows - 1;
@@ -1107,10 +1261,11 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
                 unsigned cols = near_lanes(SV, lo, hi, near_bound(best)) & lanes &
                                 ~adjacent_lanes(SV, SU->v[0][i], SU->v[1][i], SU->v[2][i]);
                 if (u == v) cols &= ~((2u << i) - 1); /* each pair once */
+                float thr0 = near_bound(best) + SU->r[i] + slack; /* see apart_lanes */
+                if (cols) cols &= ~orient_lanes(vlo, vhi, SV->r, SU->olo[i], SU->ohi[i], thr0, cols);
                 if (cols) cols &= ~diag_lanes(SV, lo, hi, near_bound2(best), cols);
                 if (cols) {
                     apart_row(SU, i, cx, rp);
-                    float thr0 = near_bound(best) + SU->r[i] + slack; /* see apart_lanes */
                     cols &= ~apart_lanes(SV, cx, rp, thr0, cols);
                     if (cols) { /* the row's own axes, made once per call */
                         int x = U->start + i;

@@ -33,12 +33,18 @@ typedef struct kin__bvh_node {
  * the radii in float. Lanes past the leaf's count: empty boxes, joints -1,
  * points and radii 0. The slabs across x + y and x - y bound a long part
  * tilted in a nearly flat sheet (a sail) far tighter than its box does.
- * 736 bytes. */
+ * The leaf's own axis w (a unit vector across its parts: in the plane of
+ * its triangles, across their long sides; contact.c, leaf_axis) and each
+ * lane's interval of w . p over its points (without the radius) follow the
+ * leaf's orientation, which no fixed direction does: a row is tested
+ * against another leaf's lanes projected on it (orient_lanes). 816 bytes. */
 typedef struct kin__leafsoa {
     float lo[5][KIN__LEAF_MAX], hi[5][KIN__LEAF_MAX]; /* x, y, z, x + y, x - y */
     int v[3][KIN__LEAF_MAX];
     float p[3][3][KIN__LEAF_MAX]; /* joint q's coordinate k, rounded to nearest */
     float r[KIN__LEAF_MAX];       /* radius, rounded up */
+    float olo[KIN__LEAF_MAX], ohi[KIN__LEAF_MAX]; /* the lanes' intervals on w */
+    float w[4];                   /* the leaf's axis (w[3]: 0); 0: none */
 } kin__leafsoa;
 
 /* A primitive as the exact tests use it, stored in tree order (the walk
@@ -82,6 +88,7 @@ struct kin_contact {
     double *lr;        /* nprim: their radii, in tree order */
     int *jpos;         /* nj: tree-order number of each joint */
     int tree_ok;       /* the tree (order, node, lp, leaf, jpos) exists: refit it */
+    int ax_next;       /* the next leaf whose axis the refit makes anew */
     int fresh;         /* built since the last call: its quality is the reference */
     double quality0;   /* the refitted tree's quality measure just after its build */
     double rmax;       /* the largest radius */
