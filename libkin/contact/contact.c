@@ -561,34 +561,12 @@ static void leaf_axis(kin__leafsoa *S, int count)
 
 /* each lane's interval on the leaf's axis w over its float points (lanes
  * past count: empty). Rounding: as apart_lanes (the slack of the walk). */
-#if defined(__SSE2__)
+static inline void project_lanes(const kin__leafsoa *S, const float *w, float *lo, float *hi);
 static void leaf_orient(kin__leafsoa *S, int count)
 {
-    const __m128 w0 = _mm_set1_ps(S->w[0]), w1 = _mm_set1_ps(S->w[1]), w2 = _mm_set1_ps(S->w[2]);
-    for (int h = 0; h < LEAF_MAX; h += 4) {
-        __m128 lo = _mm_setzero_ps(), hi = lo;
-        for (int q = 0; q < 3; ++q) {
-            __m128 t = _mm_add_ps(_mm_add_ps(_mm_mul_ps(w0, _mm_loadu_ps(S->p[q][0] + h)), _mm_mul_ps(w1, _mm_loadu_ps(S->p[q][1] + h))),
-                                  _mm_mul_ps(w2, _mm_loadu_ps(S->p[q][2] + h)));
-            lo = q ? _mm_min_ps(lo, t) : t, hi = q ? _mm_max_ps(hi, t) : t;
-        }
-        _mm_storeu_ps(S->olo + h, lo), _mm_storeu_ps(S->ohi + h, hi);
-    }
+    project_lanes(S, S->w, S->olo, S->ohi);
     for (int i = count; i < LEAF_MAX; ++i) S->olo[i] = FLT_MAX, S->ohi[i] = -FLT_MAX;
 }
-#else
-static void leaf_orient(kin__leafsoa *S, int count)
-{
-    for (int i = 0; i < LEAF_MAX; ++i) {
-        float lo = INFINITY, hi = -INFINITY;
-        for (int q = 0; q < 3; ++q) {
-            float t = S->w[0] * S->p[q][0][i] + S->w[1] * S->p[q][1][i] + S->w[2] * S->p[q][2][i];
-            lo = t < lo ? t : lo, hi = t > hi ? t : hi;
-        }
-        S->olo[i] = i < count ? lo : FLT_MAX, S->ohi[i] = i < count ? hi : -FLT_MAX;
-    }
-}
-#endif
 
 /* The boxes of the leaves and nodes at the configuration c->pts, bottom up
  * (nodes are in pre-order). Returns the tree's quality measure: the summed
