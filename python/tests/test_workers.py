@@ -36,17 +36,29 @@ def square_killing_always(item):
     return x * x
 
 
-def test_a_killed_worker_is_replaced_and_its_tasks_rerun(tmp_path):
+@pytest.mark.parametrize("chunk", [1, 3])
+def test_a_killed_worker_is_replaced_and_its_tasks_rerun(tmp_path, chunk):
+    # chunk 3: several items a task (parallel.chunks_for); the lost task's
+    # items, and those of the others in flight, run again
     items = [(x, str(tmp_path / "killed"), 5) for x in range(12)]
     serial = run_tasks(square_killing_once, [(x, None, 5) for x in range(12)])
     with ProcessPool(2) as pool:
-        assert run_tasks(square_killing_once, [(x, None, 5) for x in range(4)], pool) == serial[:4]
+        assert run_tasks(square_killing_once, [(x, None, 5) for x in range(4)], pool, chunk=chunk) == serial[:4]
         first = pool.pids()
-        got = run_tasks(square_killing_once, items, pool)
+        seen = []
+        got = run_tasks(square_killing_once, items, pool, chunk=chunk, on_result=lambda k, r: seen.append(k))
         assert got == serial and (tmp_path / "killed").exists()
+        assert sorted(seen) == list(range(12))  # each result taken once
         # the pool was renewed (new workers) and still serves
         assert first and not set(first) & set(pool.pids())
-        assert run_tasks(square_killing_once, items, pool) == serial
+        assert run_tasks(square_killing_once, items, pool, chunk=chunk) == serial
+
+
+def test_chunks_for_a_process_pool_only():
+    from libkin.parallel import POOL_CHUNK, chunks_for
+    with ProcessPool(2) as pool:
+        assert chunks_for(pool, 10000) == POOL_CHUNK and chunks_for(pool, 10) == 1
+    assert chunks_for(None, 10000) == 1
 
 
 def test_workers_dying_every_time_give_one_error_and_keep_what_completed():

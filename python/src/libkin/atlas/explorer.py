@@ -38,7 +38,7 @@ Work = Tuple[int, int, int, NDArray[np.float64], NDArray[np.float64]]
 
 from ..cliargs import as_assembly
 from ..errors import InvalidArgumentError, KinError, LimitError
-from ..parallel import Progress, run_tasks
+from ..parallel import Progress, chunks_for, run_tasks
 from ..symmetry.automorphisms import same_symmetry, symmetries_at
 from ..symmetry.procrustes import aligned_distance
 from . import directions, levels, tasks
@@ -262,7 +262,8 @@ class _Explorer:
 
         def run(items: List[Any], on: Optional[Callable[[int, Any], None]] = None) -> List[Any]:
             args = (tasks.follow_branch, items, self.executor, self.progress, "branches", self.deadline)
-            return run_tasks(*args, on_result=on) if self.store is None else self.store.run_tasks(*args, self.stop, on)
+            return self.store.run_tasks(*args, self.stop, on) if self.store is not None else \
+                run_tasks(*args, on_result=on, chunk=chunks_for(self.executor, len(items)))
         return directions.follow(work, every if every is not None else work, item, run, self.redo, self.executor,
                                  on_result)
 

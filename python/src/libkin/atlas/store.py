@@ -26,7 +26,7 @@ import time
 from typing import Any, Callable, Dict, List, Optional, Sequence, Union
 
 from ..errors import InvalidArgumentError
-from ..parallel import Progress, executor_width, is_dask_client, run_tasks, stream_dask, tick
+from ..parallel import Progress, chunks_for, executor_width, is_dask_client, run_tasks, stream_dask, tick
 from ..shared import Ref, content
 
 # on Dask, tasks in flight (submitted, not yet recorded) per worker: the next
@@ -190,7 +190,9 @@ class Store:
         stop(): nothing more is started once it is true (those tasks give
         None); the tasks in flight complete and are recorded. A kill loses
         the tasks in flight and those finished after the oldest one still
-        running (results are taken in order). On Dask the tasks are streamed
+        running (results are taken in order). On a process pool up to
+        POOL_CHUNK branches go in one task (parallel.chunks_for: the pool's
+        cost per task shared). On Dask the tasks are streamed
         in chunks (parallel.stream_dask: at most DASK_WINDOW x width chunks of up
         to DASK_CHUNK tasks in flight, the client's cost per Dask task shared)."""
         kind = getattr(fn, "__name__", "task")
@@ -223,5 +225,6 @@ class Store:
             chunk = max(1, min(DASK_CHUNK, len(todo) // (DASK_WINDOW * 4 * width)))
             stream_dask(fn, [items[i] for i in todo], executor, record, DASK_WINDOW * width, deadline, stop, chunk)
             return out
-        run_tasks(fn, [items[i] for i in todo], executor, None, what, deadline, on_result=record, stop=stop)
+        run_tasks(fn, [items[i] for i in todo], executor, None, what, deadline, on_result=record, stop=stop,
+                  chunk=chunks_for(executor, len(todo)))
         return out
