@@ -141,7 +141,7 @@ EXT_KERNEL static double extensions_kernel(const kin_assembly *a, const double *
 /* The same strain in plain double: accurate to about eps x L, not to a few
  * ulps of e; for points where v_r is far from zero (a->plain_extensions:
  * the follower's cheap stretches), where that rounding moves a corrected
- * point by eps x L / v_r only. About 3x cheaper. */
+ * point by eps x L / v_r only (docs/follow.md, "Round 30"). */
 EXT_KERNEL static double extensions_plain(const kin_assembly *a, const double *xyz, double *e)
 {
     double worst = 0.0;

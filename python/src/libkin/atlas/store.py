@@ -189,10 +189,10 @@ class Store:
         a task not run.
         stop(): nothing more is started once it is true (those tasks give
         None); the tasks in flight complete and are recorded. A kill loses
-        the tasks in flight and those finished after the oldest one still
-        running (results are taken in order). On a process pool up to
-        POOL_CHUNK branches go in one task (parallel.chunks_for: the pool's
-        cost per task shared). On Dask the tasks are streamed
+        the tasks in flight (results are recorded as they complete, in any
+        order). On a process pool up to POOL_CHUNK branches go in one task
+        (parallel.chunks_for: the pool's cost per task shared; a kill loses
+        those chunks). On Dask the tasks are streamed
         in chunks (parallel.stream_dask: at most DASK_WINDOW x width chunks of up
         to DASK_CHUNK tasks in flight, the client's cost per Dask task shared)."""
         kind = getattr(fn, "__name__", "task")
