@@ -79,6 +79,14 @@ static const int *only = NULL;    /* optional list of branch indices, -1 termina
 static int atlas(const char *name, kin_assembly *a, int want, int threads, int keep_m, kin_assembly **kept)
 {
     kin_analysis an = {.size = sizeof an};
+    if (getenv("BENCH_FOLLOW_STEP_FRACTION")) {
+        /* the largest step (kin_options.step_fraction) for this run */
+        kin_options ko;
+        kin_options_default(&ko);
+        if (kin_get_options(a, &ko)) return 1;
+        ko.step_fraction = atof(getenv("BENCH_FOLLOW_STEP_FRACTION"));
+        if (kin_set_options(a, &ko)) return 1;
+    }
     if (kin_analyse(a, &an)) return 1;
     int m = an.m_internal, s = 0, maxsol = 1 << an.s, nsol = 0, nf = kin_nfree(a);
     double *Q = malloc(sizeof(double) * (size_t)m * m * an.s), *betas = malloc(sizeof(double) * (size_t)m * maxsol);
@@ -129,6 +137,9 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
      * m, s, steps and end coordinates, one line each, to compare two builds
      * (bench/follow_dump_compare.py) */
     FILE *dump = getenv("BENCH_FOLLOW_DUMP") ? fopen(getenv("BENCH_FOLLOW_DUMP"), "w") : NULL;
+    /* BENCH_FOLLOW_CPU=file: per branch its event, steps (all, LU only),
+     * handovers and CPU seconds (where the time goes, by kind of branch) */
+    FILE *cpu_dump = getenv("BENCH_FOLLOW_CPU") ? fopen(getenv("BENCH_FOLLOW_CPU"), "w") : NULL;
     /* BENCH_FOLLOW_BRANCHES: returns to the start followed again with every
      * real branch direction (kin_follow_event_ex) */
     double *lines = NULL;
@@ -174,6 +185,8 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
             for (int j = 0; j < nc; ++j) fprintf(dump, " %.17g", xn[j]);
             fprintf(dump, "\n");
         }
+        if (cpu_dump)
+            fprintf(cpu_dump, "%d %d %d %d %d %.9g\n", k, fi.event, fi.steps, fi.cheap_steps, fi.handovers, cn[i]);
         double tb = cn[i];
         if (tb > worst) worst = tb;
         cheap += fi.cheap_steps;
@@ -255,6 +268,7 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
                cheap, 100.0 * cheap / (steps ? steps : 1), hand, (double)hand / n, same_steps, n);
     }
     if (dump) fclose(dump);
+    if (cpu_dump) fclose(cpu_dump);
     free(cn); free(co); free(xn); free(xo); free(x0);
     double t2 = now();
     printf("  events:");

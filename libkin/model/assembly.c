@@ -657,6 +657,8 @@ void kin__copy_state(kin_assembly *a, const kin_assembly *src)
         if (s->tq) memcpy(t->tq, s->tq, sizeof(double) * nf);
         t->inv = s->inv && s->Jinv && t->Jinv;
         if (t->inv) memcpy(t->Jinv, s->Jinv, sizeof(double) * nf * nf);
+        else if (s->inv) t->valid = 0; /* the inverse was its only factors */
+        t->det_sign = s->det_sign;
         memcpy(t->xyz, s->xyz, sizeof(double) * ncoord);
         memcpy(t->vr_vec, s->vr_vec, sizeof(double) * nf);
         memcpy(t->vmax_vec, s->vmax_vec, sizeof(double) * nf);

@@ -50,20 +50,24 @@ typedef struct kin_sparse_an {
  * when a step is accepted, like fac[]. */
 /* The LU mode keeps (J^T)^-1 with a point's factors (kin_lufactor.Jinv)
  * only up to this many free coordinates, and only where a->lu_inverse asks
- * (the follower, whose cheap stretches solve about 25 times per point):
- * measured with OpenBLAS, dgetri costs as much as 16 solves by dgetrs at 46
- * coordinates, 24 at 64, 43 at 100 (path/step_lu.c). */
+ * (the follower, whose cheap stretches solve about 15 times per point). It
+ * is made by Gauss-Jordan elimination (path/gauss_jordan.c), n^3
+ * multiply-adds less the zeros of J^T's bar columns: on the hexagonal
+ * sail's 46 x 46 J^T 6.7 us, less than dgetrf alone (10.2 us) and a quarter
+ * of dgetrf + dgetri; on a dense 46 x 46 matrix 14.7 us (bench_lu_point).
+ * The cost grows as n^3 while a solve by dgetrs grows as n^2. */
 enum { KIN__LU_INVERSE_MAX_NF = 64 };
 
 typedef struct kin_lufactor {
     int valid;        /* factors of a regular point (estimated m_internal = 1) */
     int rows;         /* nb + 1 + m_rigid */
     int sparse;       /* factors live in the KLU slot of the same index (sparse.c), not in JT */
-    double *JT;       /* nf x (nb + 1 + nrig) factors; NULL, like ipiv and tq, where no route applies */
+    double *JT;       /* nf x (nb + 1 + nrig) factors (unused where inv); NULL, like ipiv and tq, where no route applies */
     int *ipiv;        /* nf pivots (LU; NULL unless nf - nb - 1 is in 0..nrig) */
     double *tq;       /* nf Householder scalars (LQ; NULL unless nb + 1 + nrig > nf) */
-    double *Jinv;     /* nf x nf: (J^T)^-1 from the LU (NULL where LU does not apply), current where inv */
-    int inv;
+    double *Jinv;     /* nf x nf: (J^T)^-1 (NULL where LU does not apply), current where inv */
+    int inv;          /* Jinv holds the inverse; JT and ipiv then hold no factors (path/gauss_jordan.c) */
+    int det_sign;     /* sign of det(J^T) where rows == nf and the factors are valid; else 0 */
     double *xyz;      /* nj*dim configuration the factors belong to */
     double *vr_vec;   /* nf: inverse-iteration vector of v_r (unit) */
     double *vmax_vec; /* nf: power-iteration vector of v_max (unit) */

@@ -175,6 +175,7 @@ int kin__lu_newton_solve(kin_assembly *a, const double *xyz, const double *e, do
     T->valid = 0;
     T->sparse = 0;
     T->inv = 0;
+    T->det_sign = 0;
     *reusable = 0;
     int rc = kin__rigid_basis(a, xyz, a->luR, &mr);
     if (rc) return rc;
@@ -192,16 +193,31 @@ int kin__lu_newton_solve(kin_assembly *a, const double *xyz, const double *e, do
         *reusable = 1;
         return KIN_OK;
     }
-    double *JT = T->JT;
+    /* where the follower keeps inverses (factor_point), Newton's matrix is
+     * inverted the same way: Gauss-Jordan on the sparse J^T costs less than
+     * dgetrf alone (6.7 against 10.2 us on the hexagonal sail,
+     * bench_lu_point), and each reuse is a product (0.2 us, dgetrs 1.3) */
+    int gj = T->Jinv && a->lu_inverse;
+    double *JT = gj ? T->Jinv : T->JT;
     kin__build_H(a, xyz, JT, nf);
     memcpy(JT + (size_t)nb * nf, a->t, sizeof(double) * (size_t)nf);
     memcpy(JT + (size_t)(nb + 1) * nf, a->luR, sizeof(double) * (size_t)nf * (size_t)mr);
     a->nfact++;
+    for (int k = 0; k < nb; ++k) s[k] = -e[k];
+    for (int k = nb; k < nf; ++k) s[k] = 0.0;
+    if (gj) {
+        if (kin__gauss_jordan_inverse(nf, JT, T->ipiv, a->iwork, a->luw, &T->det_sign) != 0)
+            return kin__bordered_solve(a, xyz, a->t, e, s);
+        T->inv = 1;
+        T->rows = nf;
+        rc = lu_solve(a, T, 0, s);
+        if (rc) return rc;
+        *reusable = 1;
+        return KIN_OK;
+    }
     dgetrf_(&nf, &nf, JT, &nf, T->ipiv, &info);
     if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrf info = %d", info);
     if (info > 0) return kin__bordered_solve(a, xyz, a->t, e, s);
-    for (int k = 0; k < nb; ++k) s[k] = -e[k];
-    for (int k = nb; k < nf; ++k) s[k] = 0.0;
     dgetrs_("T", &nf, &one, JT, &nf, T->ipiv, s, &nf, &info, 1);
     if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrs info = %d", info);
     *reusable = 1;
@@ -217,9 +233,24 @@ int kin__lu_newton_reuse(kin_assembly *a, const double *e, double *s)
     for (int k = 0; k < nb; ++k) s[k] = -e[k];
     for (int k = nb; k < nf; ++k) s[k] = 0.0;
     if (T->sparse) return kin__sparse_solve(a, 1 - a->lu_cur, 0, s);
+    if (T->inv) return lu_solve(a, T, 0, s);
     dgetrs_("T", &nf, &one, T->JT, &nf, T->ipiv, s, &nf, &info, 1);
     if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrs info = %d", info);
     return KIN_OK;
+}
+
+/* sign of the determinant of an LU factorization (dgetrf: diagonal of U and
+ * row interchanges) */
+static int lu_sign(int n, const double *LU, const int *ipiv)
+{
+    int sg = 1;
+    for (int i = 0; i < n; ++i) {
+        double d = LU[i + (size_t)i * n];
+        if (d == 0.0) return 0;
+        if (d < 0.0) sg = -sg;
+        if (ipiv[i] != i + 1) sg = -sg;
+    }
+    return sg;
 }
 
 /* Factorize J = [C(xyz); b^T; R^T] (b = border, nf entries; R the rigid
@@ -238,6 +269,7 @@ static int factor_point(kin_assembly *a, const double *xyz, const double *border
     T->valid = 0;
     T->sparse = 0;
     T->inv = 0;
+    T->det_sign = 0;
     int rc = kin__rigid_basis(a, xyz, a->luR, &mr);
     if (rc) return rc;
     int rows = nb + 1 + mr;
@@ -262,9 +294,18 @@ static int factor_point(kin_assembly *a, const double *xyz, const double *border
         if (singular) return KIN_OK;
         T->sparse = 1;
     } else {
-        /* J^T = [H, b, R] (nf x rows, ld nf) */
+        /* J^T = [H, b, R] (nf x rows, ld nf). Where the follower asks
+         * (a->lu_inverse) and J is square and small (KIN__LU_INVERSE_MAX_NF),
+         * J^T is built straight into Jinv and inverted there (Gauss-Jordan,
+         * gauss_jordan.c): a point's factors serve some 15 solves (the
+         * tangent, the v_r estimate's passes, the next step's chord
+         * corrections; near events the slope's subspace iteration), and a
+         * product with the inverse costs 0.26 us against 1.1-1.3 us for a
+         * solve by dgetrs (46 coordinates). The inverse by Gauss-Jordan
+         * costs 15.6 us, dgetrf + dgetri 25.7 us. */
         if ((rc = kin__dense_ready(a)) != KIN_OK) return rc;
-        double *JT = T->JT;
+        int gj = rows == nf && T->Jinv && a->lu_inverse;
+        double *JT = gj ? T->Jinv : T->JT;
         kin__build_H(a, xyz, JT, nf);
         memcpy(JT + (size_t)nb * nf, border, sizeof(double) * (size_t)nf);
         memcpy(JT + (size_t)(nb + 1) * nf, a->luR, sizeof(double) * (size_t)nf * (size_t)mr);
@@ -275,25 +316,15 @@ static int factor_point(kin_assembly *a, const double *xyz, const double *border
         T->v_max = sqrt(nx);
         unit_or_ones(nf, x);
         a->nfact++;
-        if (rows == nf) {
+        if (gj) {
+            /* workspace: ipiv (nf), a->iwork (at least 8 nf, query_lwork), a->luw */
+            if (kin__gauss_jordan_inverse(nf, JT, T->ipiv, a->iwork, a->luw, &T->det_sign) != 0) return KIN_OK; /* singular */
+            T->inv = 1;
+        } else if (rows == nf) {
             dgetrf_(&nf, &nf, JT, &nf, T->ipiv, &info);
             if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrf info = %d", info);
             if (info > 0) return KIN_OK; /* exactly singular */
-            /* The inverse, once per point, where the follower asks
-             * (a->lu_inverse) and J is small (KIN__LU_INVERSE_MAX_NF): there
-             * a point's factors serve some 25 solves (the tangent, the v_r
-             * estimate's passes, the slope's subspace iteration, the next
-             * step's chord corrections), and a solve by dgetrs cost 1.8 us
-             * in place against 0.3 us for a product with the inverse (46
-             * coordinates), which costs 1.6 factorizations: 15% of a follow
-             * on the hexagonal sail. Plain LU steps solve about 14 times a
-             * point: no gain there. The solutions agree to the
-             * conditioning's rounding. */
-            if (T->Jinv && a->lu_inverse) {
-                memcpy(T->Jinv, JT, sizeof(double) * (size_t)nf * (size_t)nf);
-                dgetri_(&nf, T->Jinv, &nf, T->ipiv, a->work, &a->lwork, &info);
-                T->inv = info == 0;
-            }
+            T->det_sign = lu_sign(nf, JT, T->ipiv);
         } else {
             dgelqf_(&nf, &rows, JT, &nf, T->tq, a->work, &a->lwork, &info);
             if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgelqf info = %d", info);
@@ -418,28 +449,14 @@ int kin__lu_start(kin_assembly *a, int *started)
 
 /* ---- the cheap stretches of a follow (path.h) ---- */
 
-/* sign of the determinant of an LU factorization (dgetrf: diagonal of U and
- * row interchanges) */
-static int lu_sign(int n, const double *LU, const int *ipiv)
-{
-    int sg = 1;
-    for (int i = 0; i < n; ++i) {
-        double d = LU[i + (size_t)i * n];
-        if (d == 0.0) return 0;
-        if (d < 0.0) sg = -sg;
-        if (ipiv[i] != i + 1) sg = -sg;
-    }
-    return sg;
-}
-
 void kin__lu_det_sign(const kin_assembly *a, const double *t_prev, int *sign)
 {
     const kin_lufactor *F = &a->lu[a->lu_cur];
     *sign = 0;
-    if (!kin__lu_current(a) || F->sparse || F->rows != a->nf || !F->ipiv) return;
+    if (!kin__lu_current(a) || F->sparse || F->rows != a->nf) return;
     double c = kin__dot(a->nf, t_prev, a->t);
     if (c == 0.0) return;
-    *sign = lu_sign(a->nf, F->JT, F->ipiv) * (c > 0.0 ? 1 : -1);
+    *sign = F->det_sign * (c > 0.0 ? 1 : -1);
 }
 
 int kin__border_det_sign(kin_assembly *a, int *sign)

@@ -32,4 +32,11 @@ int kin__lu_new_point(kin_assembly *a, const double *xyz, int *regular);
  * can go on from these factors; 0: the caller analyses by SVD. */
 int kin__lu_start(kin_assembly *a, int *started);
 
+/* A := A^-1 in place (n x n, column major) by Gauss-Jordan elimination with
+ * partial pivoting (gauss_jordan.c); perm and cols (n ints each) and col (n
+ * doubles) are workspace. Returns 0 and *sign = the sign of det(A), or
+ * k + 1 when the k-th pivot is exactly zero or not finite (A is then
+ * overwritten, *sign 0). */
+int kin__gauss_jordan_inverse(int n, double *A, int *perm, int *cols, double *col, int *sign);
+
 #endif /* KIN_STEP_LU_H */
