@@ -164,6 +164,10 @@ typedef struct follow_ctx {
      * v_r / v_max at the last two SVD points */
     int watch, svd_steps, resume_after;
     double resume_len, rho_prev, rho_cur;
+    /* a handover on a sign change the SVD locator would bracket at once
+     * (cheap_stretch): the handle left at the bracket's end, kept[1] its
+     * start; direct_newer: the kept point the usual handover goes back to */
+    int direct, direct_newer;
     /* progress: the caller's callback, fed cumulative counts */
     kin_progress_fn user_fn;
     void *user_data;
@@ -606,7 +610,23 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
              * of the last step, the SVD stepping has reached its end */
             c->resume_len = c->length - 0.5 * (c->length - c->len_pp);
             c->resume_after = RESUME_AFTER;
-            back_to_kept(c, !turned);
+            /* A sign change over the last step that the SVD locator, stepping
+             * over the same points again (to rounding), would bracket on
+             * this very step: tau's sign flipped between two LU points
+             * (one internal mechanism at both), v_r rises at the later one
+             * (no look-ahead past the flip) and, where the handover goes
+             * back two points, still falls at the earlier one (no turn of
+             * v_r within the step before). Both slopes are the SVD
+             * detector's own (converged singular vectors), with signs
+             * clear of SLOPE_ZERO. The locator then locates on the LU
+             * points' bracket without stepping over it again by SVD (two
+             * SVD steps saved); where that fails, the usual handover. */
+            double flat = SLOPE_ZERO * vm / c->scale;
+            c->direct = sg0 != 0 && sg != 0 && sg != sg0 && si.m_internal == 1 && !kin__cur(a)->valid &&
+                        c->nkept == 2 && c->kept[1].has_border && c->kept[1].index == c->p - 1 && sl1 > flat &&
+                        (!turned || sl0 < -flat);
+            c->direct_newer = !turned;
+            if (!c->direct) back_to_kept(c, !turned);
             c->watch = 1;
             c->svd_steps = 0;
             c->rho_prev = c->rho_cur = -INFINITY;
@@ -864,7 +884,20 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
         lo.max_steps = left;
         kin_locate_info li = {.size = sizeof li};
         lws.nonzero_min = 0.0;
-        rc = kin__locate_hooked(a, &lo, &li, after_step, &c, &lws);
+        rc = KIN__LOCATE_DIRECT_FAILED;
+        if (c.direct) {
+            /* the bracket the LU steps stepped over (cheap_stretch) */
+            c.direct = 0;
+            lws.direct_prev = &c.kept[1].p;
+            lws.direct_border = c.kept[1].border;
+            rc = kin__locate_hooked(a, &lo, &li, after_step, &c, &lws);
+            if (rc == KIN__LOCATE_DIRECT_FAILED) {
+                back_to_kept(&c, c.direct_newer);
+                li = (kin_locate_info){.size = sizeof li};
+                lws.nonzero_min = 0.0;
+            }
+        }
+        if (rc == KIN__LOCATE_DIRECT_FAILED) rc = kin__locate_hooked(a, &lo, &li, after_step, &c, &lws);
         int resume = c.reason == REASON_RESUME;
         if (resume) c.reason = 0;
         resync(&c);

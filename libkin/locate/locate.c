@@ -125,6 +125,24 @@ static void free_ctx(loc_ctx *c, const kin__locate_ws *ws)
     kin__hermite_free(c->hw);
 }
 
+/* a location succeeded (the located point in c->work, the last regular
+ * point in c->prev): eq. 26's check that the move from the last regular
+ * point continues its tangent (else the search slid onto a neighbouring
+ * path), and the caller's handle moved onto the located point */
+static void take_located(loc_ctx *c, kin_assembly *a, kin_locate_info *info)
+{
+    double *ch = kin__hermite_scratch(c->hw), *x1 = ch + a->nf; /* 2 nj dim doubles */
+    kin__gather(a, c->prev->xyz, ch);
+    kin__gather(a, c->work->xyz, x1);
+    for (int i = 0; i < a->nf; ++i) ch[i] = x1[i] - ch[i];
+    double n = kin__norm(a->nf, ch);
+    info->path_kept = n == 0.0 || fabs(kin__dot(a->nf, ch, c->prev->t)) >= KIN__PATH_KEPT_COS * n;
+    double dist = 0.0;
+    for (int i = 0; i < a->nj * a->dim; ++i) dist += (c->work->xyz[i] - a->xyz[i]) * (c->work->xyz[i] - a->xyz[i]);
+    info->distance = sqrt(dist);
+    kin__copy_state(a, c->work);
+}
+
 static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,
                        void *hook_user, kin__locate_ws *ws)
 {
@@ -139,6 +157,12 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
      * regular point: one internal mechanism) and the first step's chord
      * corrector with them; else (or where the slope's iteration does not
      * converge) its SVD analysis as always */
+    /* a bracket the follower's LU steps already stepped over (locate.h) */
+    const kin__path_point *direct_prev = ws ? ws->direct_prev : NULL;
+    const double *direct_border = ws ? ws->direct_border : NULL;
+    if (ws) ws->direct_prev = NULL, ws->direct_border = NULL;
+    if (direct_prev && !(ws->lu_nodes && !kin__cur(a)->valid && kin__lu_square_current(a) && a->have_t && !a->t_chosen))
+        return KIN__LOCATE_DIRECT_FAILED;
     int lu_start = ws && ws->lu_nodes && !kin__cur(a)->valid && kin__lu_square_current(a) && a->have_t && !a->t_chosen;
     int rc = kin__cur(a)->valid || lu_start ? KIN_OK : kin__analyse(a, NULL);
     if (rc) return rc;
@@ -171,8 +195,38 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
     }
     double dir = o.delta < 0.0 ? -1.0 : 1.0, tb_delta = 0.0, tb_tau0 = 0.0, tb_tau1 = 0.0;
     int pending = 0, stopped = 0;
-    double tau0 = 0.0, tau1, hl[4], hv[4], v0 = 0.0, sl0 = 0.0;
+    double tau0 = 0.0, tau1 = 0.0, hl[4], hv[4], v0 = 0.0, sl0 = 0.0;
     int nh = 0;
+    kin_step_info si = {.size = sizeof si};
+    long fa = 0, fw = 0, fp = 0, fpv = 0;
+    if (direct_prev) {
+        /* the bracket's start from the follower's kept point, its LU
+         * factors made again (as the follower's own handover does); the
+         * handle is the bracket's end, where the step to it left it */
+        int regular = 0;
+        kin__path_restore(c.prev, direct_prev);
+        c.prev->lu_inverse = 1;
+        rc = kin__lu_refactor(c.prev, direct_border, &regular);
+        c.prev->lu_inverse = 0;
+        fa = a->nfact;
+        fw = c.work->nfact;
+        fpv = c.prev->nfact;
+        if (rc == KIN_OK && regular && kin__lu_square_current(c.prev) && a->fault != KIN__FAULT_LOCATE_DIRECT) {
+            info->steps = 0; /* the step to the end was the caller's */
+            info->event = KIN_EVENT_SIGN_CHANGE;
+            rc = kin__locate_hermite(&c);
+            TRACE(" direct bracket: hermite returned %d\n", rc);
+        } else {
+            rc = KIN__HERMITE_NO_BRACKET;
+        }
+        if (rc != KIN_OK) {
+            a->opt = user;
+            free_ctx(&c, ws);
+            return rc == KIN_ECANCELLED || rc == KIN_ENOMEM ? rc : KIN__LOCATE_DIRECT_FAILED;
+        }
+        take_located(&c, a, info);
+        goto classify;
+    }
     if (lu_start && !kin__hermite_lu_vanishing(c.hw, a, dir, &v0, &sl0)) {
         lu_start = 0;
         if ((rc = kin__analyse(a, NULL)) != KIN_OK || kin__cur(a)->an.m_internal != 1) {
@@ -195,8 +249,6 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
         hv[nh] = kin__cur(a)->an.v_r;
     }
     hl[nh++] = a->l;
-    kin_step_info si = {.size = sizeof si};
-    long fa = 0, fw = 0, fp = 0, fpv = 0;
     while (rc == KIN_OK && info->steps < o.max_steps) {
         if (kin__loc_cancelled(&c)) {
             rc = KIN_ECANCELLED;
@@ -327,19 +379,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
             rc = nh >= 2 ? kin__locate_paper(&c, hl, hv, nh, step) : kin__fail(a, KIN_ENOTFOUND, "too little history");
         }
         if (rc == KIN_OK) {
-            /* eq. 26: the move from the last regular point must continue its
-             * tangent, or the search slid onto a neighbouring path */
-            double *ch = kin__hermite_scratch(c.hw), *x1 = ch + a->nf; /* 2 nj dim doubles */
-            kin__gather(a, c.prev->xyz, ch);
-            kin__gather(a, c.work->xyz, x1);
-            for (int i = 0; i < a->nf; ++i) ch[i] = x1[i] - ch[i];
-            double n = kin__norm(a->nf, ch);
-            info->path_kept = n == 0.0 || fabs(kin__dot(a->nf, ch, c.prev->t)) >= KIN__PATH_KEPT_COS * n;
-            /* move the caller's assembly onto the located point */
-            double dist = 0.0;
-            for (int i = 0; i < a->nj * a->dim; ++i) dist += (c.work->xyz[i] - a->xyz[i]) * (c.work->xyz[i] - a->xyz[i]);
-            info->distance = sqrt(dist);
-            kin__copy_state(a, c.work);
+            take_located(&c, a, info);
         } else if (rc == KIN_ENOTFOUND || rc == KIN_ECANCELLED) {
             /* a turn of v_r without a zero: the bracket's end kept for
              * kin__locate_near_minimum (the working copy is free now) */
@@ -353,6 +393,7 @@ static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locat
     }
     if (rc == KIN_OK && info->event == KIN_EVENT_LANDED)
         info->path_kept = 1; /* an ordinary step landed there: its direction check applied */
+classify:
     /* count m and s at the final point from its factorization (no new one):
      * at a located point with the rank tolerance the location supports (the
      * vanishing singular values are only down to vr_tol there), elsewhere

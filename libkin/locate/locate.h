@@ -44,7 +44,25 @@ typedef struct kin__locate_ws {
     /* kin__locate_near_minimum's workspace, made at its first call */
     double *near_buf;
     void *near_min; /* gsl_min_fminimizer */
+    /* in (the follower's cheap steps): a sign-change bracket the LU steps
+     * already stepped over, so that the locator need not step over it
+     * again by SVD. Where direct_prev is not NULL the handle is at the
+     * bracket's end (an LU point: factors, tangent, no SVD) and
+     * direct_prev (with direct_border, its factors' border row) is the
+     * point one step before it; the caller has checked that the SVD
+     * locator, stepping there, would stop on this very step with a sign
+     * change and locate on it (kin_follow's cheap_stretch). The locator
+     * then locates on that bracket at once (the Hermite method, its nodes
+     * from the LU factors); where that does not succeed it returns
+     * KIN__LOCATE_DIRECT_FAILED, the handle's position unchanged, and the
+     * caller steps over the bracket by SVD as usual. Reset to NULL by the
+     * call. */
+    const struct kin__path_point *direct_prev;
+    const double *direct_border;
 } kin__locate_ws;
+/* kin__locate_hooked with kin__locate_ws.direct_prev: no location on the
+ * given bracket (a private code, not a kin_status) */
+enum { KIN__LOCATE_DIRECT_FAILED = -2 };
 void kin__locate_ws_free(kin__locate_ws *ws);
 /* ws: NULL (copies made and freed in the call) or the caller's, as above */
 int kin__locate_hooked(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,

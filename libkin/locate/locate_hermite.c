@@ -438,7 +438,16 @@ int kin__locate_hermite(loc_ctx *c)
         if (rc) return rc;
     }
     if (added < 0) added = hermite_add(h, prev, prev);
-    if (!added || !hermite_add(h, c->a, prev)) return KIN__HERMITE_NO_BRACKET;
+    if (!added) return KIN__HERMITE_NO_BRACKET;
+    /* the bracket's end: the SVD locator's step analysed it; the
+     * follower's own LU step to it (kin__locate_ws.direct_prev) did not */
+    int added_end = kin__cur(c->a)->valid || !c->lu_nodes ? -1 : hermite_add_lu(h, c->a, prev);
+    if (added_end < 0 && !kin__cur(c->a)->valid) {
+        int rc = kin__analyse(c->a, NULL);
+        if (rc) return rc;
+    }
+    if (added_end < 0) added_end = hermite_add(h, c->a, prev);
+    if (!added_end) return KIN__HERMITE_NO_BRACKET;
     double width0 = fabs(h->z[1] - h->z[0]);
     double err_ok = NODE_ERROR_FRACTION * c->o->vr_tol * prev->rms_length;
     for (int i = 0; i < HERMITE_MAX_NODES; ++i) all[i] = 1;

@@ -198,7 +198,11 @@ enum kin__fault { KIN__FAULT_NONE = 0, KIN__FAULT_SVD_ARG, KIN__FAULT_SVD_CONV, 
                   KIN__FAULT_SYM_NOT_ORTHOGONAL,
                   /* sparse.c: every capacitance of the bordering is judged
                    * ill-conditioned (each point factorized with the dense rows) */
-                  KIN__FAULT_SPARSE_CAPACITANCE };
+                  KIN__FAULT_SPARSE_CAPACITANCE,
+                  /* locate.c: a location on the bracket the follower's LU
+                   * steps hand over (kin__locate_ws.direct_prev) fails, as
+                   * if the Hermite method had not converged there */
+                  KIN__FAULT_LOCATE_DIRECT };
 void kin__set_fault(kin_assembly *a, int fault);
 
 /* Fault injection for the tests (io/model_io.c, not exported): the nth
