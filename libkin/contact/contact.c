@@ -1129,9 +1129,18 @@ static int prim_far(const struct kin_contact *c, const kin__leafprim *Lp, const 
 /* (a1, b1) before (a2, b2) */
 static inline int pair_less(int a1, int b1, int a2, int b2) { return a1 < a2 || (a1 == a2 && b1 < b2); }
 
-/* exact clearance of leaves x, y (centre distance minus radii) */
+/* exact clearance of leaves x, y (centre distance minus radii), closest
+ * points cp on x, cq on y. Symmetric: the two primitives are taken in the
+ * order of their numbers (prim_part's, which no tree changes), so a pair's
+ * clearance and points are the same bits whichever tree hands it in
+ * whichever order (the radii are subtracted in that order too) */
 static double prim_clearance(const struct kin_contact *c, int x, int y, double *cp, double *cq)
 {
+    if (c->order[x] > c->order[y]) {
+        int t = x;
+        double *tp = cp;
+        x = y, y = t, cp = cq, cq = tp;
+    }
     const double *P = c->pts;
     const int *vp = c->lp[x].v, *vq = c->lp[y].v;
     double d;
@@ -1176,6 +1185,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
     if (++c->call == 0) memset(c->ax_call, 0, sizeof(unsigned) * (size_t)c->nprim), c->call = 1;
     double best = cutoff, bp[3] = {0, 0, 0}, bq[3] = {0, 0, 0}, xp[3], xq[3];
     int ba = -1, bb = -1, top = 0;
+    int bxa = -1, bxb = -1; /* the primitives (numbers) of the best pair, as ba, bb */
     /* the last answer's pair first (when the tree is the same): an upper
      * bound that prunes from the start */
     if (c->seed[0] >= 0) {
@@ -1185,6 +1195,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         if (d < best) {
             best = d;
             ba = sw ? pb : pa, bb = sw ? pa : pb;
+            bxa = c->order[sw ? y : x], bxb = c->order[sw ? x : y];
             memcpy(bp, sw ? xq : xp, sizeof bp);
             memcpy(bq, sw ? xp : xq, sizeof bq);
         }
@@ -1267,9 +1278,13 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
                     if ((x == sx && y == sy) || (x == sy && y == sx)) continue; /* done first */
                     double d = prim_clearance(c, x, y, xp, xq);
                     int pa = Lp->part, pb = Lq->part, sw = pa > pb;
-                    if (d < best || (d == best && ba >= 0 && pair_less(sw ? pb : pa, sw ? pa : pb, ba, bb))) {
+                    int fa = sw ? pb : pa, fb = sw ? pa : pb;
+                    int qa = c->order[sw ? y : x], qb = c->order[sw ? x : y];
+                    /* ties: the smallest pair of parts, then of primitives */
+                    if (d < best || (d == best && ba >= 0 &&
+                                     (pair_less(fa, fb, ba, bb) || (fa == ba && fb == bb && pair_less(qa, qb, bxa, bxb))))) {
                         best = d;
-                        ba = sw ? pb : pa, bb = sw ? pa : pb;
+                        ba = fa, bb = fb, bxa = qa, bxb = qb;
                         memcpy(bp, sw ? xq : xp, sizeof bp);
                         memcpy(bq, sw ? xp : xq, sizeof bq);
                         c->seed[0] = x, c->seed[1] = y;
