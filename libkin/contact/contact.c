@@ -36,6 +36,7 @@
 /* the split's fixed directions: x, y, z and the slabs' x + y, x - y */
 #define NDIR 5
 #define CEN (3 * NDIR) /* doubles per primitive in cen */
+#define SPLIT_SAMPLE 256 /* primitives a split tries its directions on, at most */
 static const double split_dir[NDIR][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {1, -1, 0}};
 
 static inline double dmin(double x, double y) { return x < y ? x : y; }
@@ -76,7 +77,7 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->prim_v = malloc(sizeof(int) * 3 * N);
     c->prim_r = malloc(sizeof(double) * N);
     c->cen = malloc(sizeof(double) * CEN * N);
-    c->scratch = malloc(sizeof(int) * (N ? N : 1));
+    c->scratch = malloc(sizeof(int) * 2 * (N ? N : 1));
     c->skey = malloc(sizeof(double) * 2 * (N ? N : 1));
     c->lr = malloc(sizeof(double) * (N ? N : 1));
     c->jpos = malloc(sizeof(int) * ((size_t)a->nj + 1));
@@ -356,38 +357,21 @@ static void select_nth(int *idx, int n, int m, const double *key, int stride, in
     }
 }
 
-/* area and perimeter of the rectangle lo[0..1]..hi[0..1] (x, y) cut by the
- * slabs lo[3] <= x + y <= hi[3], lo[4] <= x - y <= hi[4] (what a node's
- * box and slabs leave of the plane) */
+/* area and perimeter of the rectangle lo[0..1]..hi[0..1] (x, y) with its
+ * corners cut by the slabs lo[3] <= x + y <= hi[3], lo[4] <= x - y <=
+ * hi[4] (what a node's box and slabs leave of the plane): each corner cut
+ * is a right isosceles triangle, its legs clamped to the shorter side (an
+ * estimate where two cuts overlap, which is all a split's cost needs) */
 static void octagon(const double *lo, const double *hi, double *area, double *perim)
 {
-    double P[2][16][2];
-    int n = 4;
-    P[0][0][0] = lo[0], P[0][0][1] = lo[1], P[0][1][0] = hi[0], P[0][1][1] = lo[1];
-    P[0][2][0] = hi[0], P[0][2][1] = hi[1], P[0][3][0] = lo[0], P[0][3][1] = hi[1];
-    int cur = 0;
-    for (int h = 0; h < 4; ++h) { /* keep a*x + b*y <= e */
-        double sg = h % 2 ? 1 : -1, a = sg, b = h < 2 ? sg : -sg;
-        double e = h == 0 ? -lo[3] : h == 1 ? hi[3] : h == 2 ? -lo[4] : hi[4];
-        int m = 0;
-        for (int i = 0; i < n; ++i) {
-            const double *p = P[cur][i], *q = P[cur][(i + 1) % n];
-            double fp = a * p[0] + b * p[1] - e, fq = a * q[0] + b * q[1] - e;
-            if (fp <= 0) P[!cur][m][0] = p[0], P[!cur][m][1] = p[1], ++m;
-            if ((fp < 0 && fq > 0) || (fp > 0 && fq < 0)) {
-                double t = fp / (fp - fq);
-                P[!cur][m][0] = p[0] + t * (q[0] - p[0]), P[!cur][m][1] = p[1] + t * (q[1] - p[1]), ++m;
-            }
-        }
-        n = m, cur = !cur;
+    double ex = dmax(hi[0] - lo[0], 0.0), ey = dmax(hi[1] - lo[1], 0.0), e = dmin(ex, ey);
+    double t[4] = {lo[3] - (lo[0] + lo[1]), (hi[0] + hi[1]) - hi[3], lo[4] - (lo[0] - hi[1]), (hi[0] - lo[1]) - hi[4]};
+    double A = ex * ey, L = 2.0 * (ex + ey);
+    for (int k = 0; k < 4; ++k) {
+        double d = dmin(dmax(t[k], 0.0), e);
+        A -= 0.5 * d * d, L -= (2.0 - 1.4142135623730951) * d;
     }
-    double A = 0, L = 0;
-    for (int i = 0; i < n; ++i) {
-        const double *p = P[cur][i], *q = P[cur][(i + 1) % n];
-        A += p[0] * q[1] - q[0] * p[1];
-        L += sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]));
-    }
-    *area = fabs(0.5 * A), *perim = L;
+    *area = dmax(A, 0.0), *perim = L;
 }
 
 /* the surface measure of two halves idx[0..m), idx[m..n): each half's
@@ -410,17 +394,17 @@ static double split_cost(const struct kin_contact *c, const int *idx, int n, int
     return cost;
 }
 
-/* a node's own directions (primitives order[start .. start+count), points
+/* a node's own directions (primitives idx[0 .. count), points
  * c->pts by joint number): dirs[0] along its parts (the sum of their
  * longest sides, each turned to agree with the sum so far), dirs[1] across
  * them in their plane (the sum of the triangles' normals, turned so too,
  * crossed with dirs[0]; 0 for bars alone). Unnormalized: only the order of
  * the projections matters */
-static void node_dirs(const struct kin_contact *c, int start, int count, double dirs[2][3])
+static void node_dirs(const struct kin_contact *c, const int *idx, int count, double dirs[2][3])
 {
     double sd[3] = {0, 0, 0}, nd[3] = {0, 0, 0};
-    for (int q = start; q < start + count; ++q) {
-        const int *v = c->prim_v + 3 * c->order[q];
+    for (int q = 0; q < count; ++q) {
+        const int *v = c->prim_v + 3 * idx[q];
         const double *A = c->pts + 3 * v[0], *B = c->pts + 3 * v[1];
         double e[3][3];
         int lk = 0;
@@ -470,28 +454,38 @@ static int build(struct kin_contact *c, int start, int count, int *nn)
     int half = count / 2;
     if (count > 2 * LEAF_MAX) half = (half + LEAF_MAX / 2) / LEAF_MAX * LEAF_MAX; /* full leaves on the left */
     /* the least surface measure among the fixed directions (the widest
-     * first: it keeps ties) and the node's own two */
-    int *w = c->scratch;
+     * first: it keeps ties) and the node's own two, tried on at most
+     * SPLIT_SAMPLE of its primitives (every s-th) */
+    int *w = c->scratch, *smp = c->scratch + count;
+    int s = count / SPLIT_SAMPLE + 1, ns = (count + s - 1) / s, hs = (int)((long long)ns * half / count);
+    for (int q = 0; q < ns; ++q) smp[q] = c->order[start + q * s];
     double best = INFINITY, dirs[2][3];
     int bax = ax;
+    node_dirs(c, smp, ns, dirs);
     for (int k = 0; k < NDIR + 2; ++k) {
         int kk = k == 0 ? ax : (k <= ax ? k - 1 : k);
-        if (kk == NDIR) node_dirs(c, start, count, dirs);
         if (kk >= NDIR) {
             const double *u = dirs[kk - NDIR];
-            for (int q = start; q < start + count; ++q) {
-                const double *C = c->cen + CEN * c->order[q];
-                c->skey[2 * c->order[q] + kk - NDIR] = C[0] * u[0] + C[1] * u[1] + C[2] * u[2];
+            for (int q = 0; q < ns; ++q) {
+                const double *C = c->cen + CEN * smp[q];
+                c->skey[2 * smp[q] + kk - NDIR] = C[0] * u[0] + C[1] * u[1] + C[2] * u[2];
             }
         }
-        memcpy(w, c->order + start, sizeof(int) * (size_t)count);
-        if (kk < NDIR) select_nth(w, count, half, c->cen, CEN, kk);
-        else select_nth(w, count, half, c->skey, 2, kk - NDIR);
-        double cost = split_cost(c, w, count, half);
+        memcpy(w, smp, sizeof(int) * (size_t)ns);
+        if (kk < NDIR) select_nth(w, ns, hs, c->cen, CEN, kk);
+        else select_nth(w, ns, hs, c->skey, 2, kk - NDIR);
+        double cost = split_cost(c, w, ns, hs);
         if (cost < best) best = cost, bax = kk;
     }
     if (bax < NDIR) select_nth(c->order + start, count, half, c->cen, CEN, bax);
-    else select_nth(c->order + start, count, half, c->skey, 2, bax - NDIR);
+    else {
+        const double *u = dirs[bax - NDIR];
+        for (int q = start; q < start + count; ++q) {
+            const double *C = c->cen + CEN * c->order[q];
+            c->skey[2 * c->order[q] + bax - NDIR] = C[0] * u[0] + C[1] * u[1] + C[2] * u[2];
+        }
+        select_nth(c->order + start, count, half, c->skey, 2, bax - NDIR);
+    }
     int l = build(c, start, half, nn);
     int r = build(c, start + half, count - half, nn);
     N = &c->node[id];

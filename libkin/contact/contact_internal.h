@@ -81,7 +81,7 @@ struct kin_contact {
     double *cen;       /* 15 per primitive, for the split: the centres of its
                           extents along x, y, z, x + y, x - y, then the
                           extents' low ends and high ends (with the radius) */
-    int *scratch;      /* nprim: the split's trials */
+    int *scratch;      /* 2 nprim: the split's trials */
     double *skey;      /* 2 per primitive: its centre on the node's own
                           directions, for the split */
     int *order;        /* nprim primitive indices, grouped by leaf */
