@@ -3,8 +3,10 @@
  *
  * The clearance: every bar is one primitive (a segment), every panel the
  * fan of its triangles; each primitive's box is grown by its radius. A
- * bounding-volume tree (split of the box centres along the widest axis at
- * the median, moved to a multiple of 8 so that the leaves are full) is built at the first call and then refitted to each configuration
+ * bounding-volume tree (split at the median, moved to a multiple of 8 so
+ * that the leaves are full, of the box centres along whichever of x, y, z,
+ * x + y, x - y and the node's own two directions, along its parts and
+ * across them, gives the two halves the least surface measure) is built at the first call and then refitted to each configuration
  * (O(n): the boxes bottom up, the topology kept), and built again only when
  * the refitted boxes have grown by half against those right after its
  * build. Primitives and joints are stored in tree order and boxes as floats
@@ -765,7 +767,8 @@ static inline double gap2_node(const kin__bvh_node *A, const kin__bvh_node *B)
 }
 
 /* 1 if a pair in boxes s2 (squared gap) apart cannot have clearance at or
- * below best (a tie is kept: ties go to the smallest pair of parts, so
+ * below best (a tie is kept: ties go to the smallest pair of parts, then
+ * of primitives, so
  * the answer does not depend on the order of the walk): boxes apart by
  * g > 0 give clearance >= g; boxes that meet give clearance >= neg */
 static inline int cannot_beat(double s2, double neg, double best)
