@@ -1,7 +1,8 @@
 /* Panels, thickness and clearance (kin_contact.h): the exact cases on
  * purpose (exactly touching, parallel segments, coplanar triangles, a
  * zero-area panel, a bar through a panel), adjacency, thickness, 2D, the
- * tree against all pairs on a sail, on a sheet of long tilted parts and on
+ * tree against all pairs on a sail, the same answer bit for bit from trees
+ * built at different configurations, on a sheet of long tilted parts and on
  * two tilted sheets of long triangles side by side,
  * clone, and every error path. */
 #include <math.h>
@@ -275,6 +276,28 @@ static void check_against_all(kin_assembly *a, const double *y, double cutoff, c
     }
 }
 
+/* a sail's bar triangles as panels (np of them: offsets *off, joints *pj,
+ * allocated here) */
+static void sail_triangles(int nb, const int *bars, int *npan, int **offp, int **pjp)
+{
+    int cap = 4 * nb, np = 0;
+    int *off = malloc(sizeof(int) * ((size_t)cap + 1)), *pj = malloc(sizeof(int) * 3 * (size_t)cap);
+    off[0] = 0;
+    for (int k = 0; k < nb; ++k)
+        for (int m = k + 1; m < nb; ++m) {
+            int p0 = bars[2 * k], p1 = bars[2 * k + 1], q0 = bars[2 * m], q1 = bars[2 * m + 1];
+            int shared = p0 == q0 || p0 == q1 ? p0 : (p1 == q0 || p1 == q1 ? p1 : -1);
+            if (shared < 0) continue;
+            int u = p0 == shared ? p1 : p0, v = q0 == shared ? q1 : q0;
+            if (u > shared || v > shared || u >= v) continue; /* each triangle once: shared the largest */
+            for (int r = 0; r < nb; ++r)
+                if ((bars[2 * r] == u && bars[2 * r + 1] == v) || (bars[2 * r] == v && bars[2 * r + 1] == u)) {
+                    if (np < cap) pj[3 * np] = u, pj[3 * np + 1] = v, pj[3 * np + 2] = shared, off[np + 1] = 3 * (np + 1), ++np;
+                }
+        }
+    *npan = np, *offp = off, *pjp = pj;
+}
+
 /* on a folded-ish sail: the tree's answer equals the smallest over all
  * pairs, call after call on one handle (the tree is refitted, and built
  * again when the configuration has moved far), along a path of small moves,
@@ -293,21 +316,8 @@ static void sail_vs_all_pairs(void)
     kin_get_bars(a, bars);
     kin_get_coords(a, xyz);
     /* panels: the bar triangles */
-    int cap = 4 * nb, np = 0;
-    int *off = malloc(sizeof(int) * ((size_t)cap + 1)), *pj = malloc(sizeof(int) * 3 * (size_t)cap);
-    off[0] = 0;
-    for (int k = 0; k < nb; ++k)
-        for (int m = k + 1; m < nb; ++m) {
-            int p0 = bars[2 * k], p1 = bars[2 * k + 1], q0 = bars[2 * m], q1 = bars[2 * m + 1];
-            int shared = p0 == q0 || p0 == q1 ? p0 : (p1 == q0 || p1 == q1 ? p1 : -1);
-            if (shared < 0) continue;
-            int u = p0 == shared ? p1 : p0, v = q0 == shared ? q1 : q0;
-            if (u > shared || v > shared || u >= v) continue; /* each triangle once: shared the largest */
-            for (int r = 0; r < nb; ++r)
-                if ((bars[2 * r] == u && bars[2 * r + 1] == v) || (bars[2 * r] == v && bars[2 * r + 1] == u)) {
-                    if (np < cap) pj[3 * np] = u, pj[3 * np + 1] = v, pj[3 * np + 2] = shared, off[np + 1] = 3 * (np + 1), ++np;
-                }
-        }
+    int np = 0, *off = NULL, *pj = NULL;
+    sail_triangles(nb, bars, &np, &off, &pj);
     CHECK(np > 0);
     CHECK_RC(kin_set_panels(a, np, off, pj), KIN_OK);
     unsigned long long seed = 7;
@@ -526,6 +536,73 @@ static void tilted_sheets_vs_all_pairs(void)
     free(xyz), free(bars), free(off), free(pj), free(fixed);
 }
 
+/* the answer does not depend on the tree: on sail members (crumpled out of
+ * their plane, every bar and panel of its own thickness), the answer at a
+ * configuration from a tree built at another one and refitted equals, bit
+ * for bit (clearance, parts, closest points), the answer from a tree built
+ * there, which hands the pairs' primitives to the exact test in other
+ * orders (so a pair's exact test must not depend on that order: the radii
+ * subtracted in another order can change the last bit); and the tree's
+ * split (by the least surface measure, along the node's own directions
+ * too) keeps the answer of all pairs */
+static void tree_independent_answers(void)
+{
+    const int members[][2] = {{6, 5}, {8, 4}};
+    unsigned long long seed = 11;
+    int differ = 0; /* trials where the two trees differ (the test is not void) */
+    for (int m = 0; m < 2; ++m) {
+        kin_sail_params p;
+        kin_sail_params_default(&p, members[m][0], members[m][1]);
+        kin_assembly *a = NULL;
+        CHECK_RC(kin_model_sail(&p, &a, NULL, 0), KIN_OK);
+        if (!a) return;
+        int nb = kin_nbars(a), nj = kin_njoints(a), np = 0;
+        int *bars = malloc(sizeof(int) * 2 * (size_t)nb), *off = NULL, *pj = NULL;
+        double *xyz = malloc(sizeof(double) * 3 * (size_t)nj), *x1 = malloc(sizeof(double) * 3 * (size_t)nj),
+               *x2 = malloc(sizeof(double) * 3 * (size_t)nj);
+        kin_get_bars(a, bars);
+        kin_get_coords(a, xyz);
+        sail_triangles(nb, bars, &np, &off, &pj);
+        CHECK(np > 0);
+        CHECK_RC(kin_set_panels(a, np, off, pj), KIN_OK);
+        double *rb = malloc(sizeof(double) * (size_t)nb), *tp = malloc(sizeof(double) * (size_t)np);
+        /* radii of many sizes: (d - r1) - r2 and (d - r2) - r1 often differ in the last bit */
+        for (int k = 0; k < nb; ++k) rb[k] = 0.001 + 0.1 * ((double)(kin__splitmix(&seed) >> 11) / 9007199254740992.0);
+        for (int k = 0; k < np; ++k) tp[k] = 0.002 + 0.2 * ((double)(kin__splitmix(&seed) >> 11) / 9007199254740992.0);
+        for (int trial = 0; trial < 16; ++trial) {
+            for (int i = 0; i < 3 * nj; ++i) {
+                double amp = i % 3 == 2 ? 0.4 : 0.03;
+                double u1 = (double)(kin__splitmix(&seed) >> 11) / 9007199254740992.0 - 0.5;
+                double u2 = (double)(kin__splitmix(&seed) >> 11) / 9007199254740992.0 - 0.5;
+                x1[i] = xyz[i] + amp * u1, x2[i] = xyz[i] + amp * (trial % 2 ? u2 : 0.9 * u1 + 0.1 * u2);
+            }
+            double cut = INFINITY;
+            for (int e = 0; e < 2; ++e) {
+                double c1, c2, p1[6], p2[6], c0;
+                int q1[4], q2[4];
+                CHECK_RC(kin_set_thickness(a, 0.0, rb, tp), KIN_OK); /* a new tree */
+                CHECK_RC(kin_clearance(a, x1, INFINITY, &c0, NULL, NULL), KIN_OK); /* built at x1 */
+                CHECK_RC(kin_clearance(a, x2, cut, &c1, q1, p1), KIN_OK);          /* refitted to x2 */
+                size_t no = sizeof(int) * (size_t)a->ct->nprim;
+                int *o1 = malloc(no);
+                memcpy(o1, a->ct->order, no);
+                CHECK_RC(kin_set_thickness(a, 0.0, rb, tp), KIN_OK);
+                CHECK_RC(kin_clearance(a, x2, cut, &c2, q2, p2), KIN_OK); /* built at x2 */
+                differ += memcmp(o1, a->ct->order, no) != 0; /* another tree */
+                free(o1);
+                CHECK(memcmp(&c1, &c2, sizeof c1) == 0);
+                CHECK(memcmp(q1, q2, sizeof q1) == 0);
+                if (c1 < INFINITY) CHECK(memcmp(p1, p2, sizeof p1) == 0);
+                if (e == 0) check_against_all(a, x2, INFINITY, bars, pj, np, 1.0);
+                cut = c2 + 0.01; /* then a contact margin above it */
+            }
+        }
+        free(bars), free(off), free(pj), free(xyz), free(x1), free(x2), free(rb), free(tp);
+        kin_assembly_free(a);
+    }
+    CHECK(differ > 0);
+}
+
 static void errors(void)
 {
     double x[] = {-1, 0, 0, 1, 0, 0, 0, -1, 1, 0, 1, 1};
@@ -739,6 +816,7 @@ int main(void)
     plane_cases();
     float_boxes();
     sail_vs_all_pairs();
+    tree_independent_answers();
     sheet_vs_all_pairs();
     tilted_sheets_vs_all_pairs();
     errors();

@@ -97,7 +97,9 @@ KIN_API int kin_has_contact_model(const kin_assembly *a);
  * triangles, built at the first call and refitted to each later
  * configuration in O(n) (built again when it has grown loose), prunes
  * pairs. Of several pairs at exactly the smallest clearance, the smallest
- * pair of parts (first, then second) is named, whatever the calls before.
+ * pair of parts (first, then second) is named, and the points of its
+ * smallest pair of primitives (bars, then panels' fan triangles, in
+ * order), whatever the calls before and whatever the tree.
  * No allocation (the workspace is made by kin_set_panels or
  * kin_set_thickness, or here, the first time, for a model that has
  * neither).

@@ -3,8 +3,10 @@
  *
  * The clearance: every bar is one primitive (a segment), every panel the
  * fan of its triangles; each primitive's box is grown by its radius. A
- * bounding-volume tree (split of the box centres along the widest axis at
- * the median, moved to a multiple of 8 so that the leaves are full) is built at the first call and then refitted to each configuration
+ * bounding-volume tree (split at the median, moved to a multiple of 8 so
+ * that the leaves are full, of the box centres along whichever of x, y, z,
+ * x + y, x - y and the node's own two directions, along its parts and
+ * across them, gives the two halves the least surface measure) is built at the first call and then refitted to each configuration
  * (O(n): the boxes bottom up, the topology kept), and built again only when
  * the refitted boxes have grown by half against those right after its
  * build. Primitives and joints are stored in tree order and boxes as floats
@@ -33,6 +35,11 @@
 #endif
 
 #define LEAF_MAX KIN__LEAF_MAX
+/* the split's fixed directions: x, y, z and the slabs' x + y, x - y */
+#define NDIR 5
+#define CEN (3 * NDIR) /* doubles per primitive in cen */
+#define SPLIT_SAMPLE 256 /* primitives a split tries its directions on, at most */
+static const double split_dir[NDIR][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {1, -1, 0}};
 
 static inline double dmin(double x, double y) { return x < y ? x : y; }
 static inline double dmax(double x, double y) { return x > y ? x : y; }
@@ -41,7 +48,7 @@ static void ct_release(struct kin_contact *c)
 {
     if (!c) return;
     free(c->poff), free(c->pj), free(c->rbar), free(c->tpan);
-    free(c->prim_part), free(c->prim_v), free(c->prim_r), free(c->cen), free(c->lr), free(c->jpos);
+    free(c->prim_part), free(c->prim_v), free(c->prim_r), free(c->cen), free(c->scratch), free(c->skey), free(c->lr), free(c->jpos);
     free(c->order), free(c->node), free(c->lp), free(c->leaf), free(c->ev_prev), free(c->ev_x), free(c->ev_xyz), free(c->stack), free(c->sgap), free(c->pts);
     free(c->ev_box), free(c->ev_key), free(c->ax), free(c->ax_call);
     free(c);
@@ -71,7 +78,9 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->prim_part = malloc(sizeof(int) * N);
     c->prim_v = malloc(sizeof(int) * 3 * N);
     c->prim_r = malloc(sizeof(double) * N);
-    c->cen = malloc(sizeof(double) * 3 * N);
+    c->cen = malloc(sizeof(double) * CEN * N);
+    c->scratch = malloc(sizeof(int) * 2 * (N ? N : 1));
+    c->skey = malloc(sizeof(double) * 2 * (N ? N : 1));
     c->lr = malloc(sizeof(double) * (N ? N : 1));
     c->jpos = malloc(sizeof(int) * ((size_t)a->nj + 1));
     c->order = malloc(sizeof(int) * N);
@@ -94,7 +103,7 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->ev_key = malloc(sizeof(kin__sweepkey) * ((size_t)a->nb + 1));
     c->ev_pair[0] = c->ev_pair[1] = -1;
     c->ev_tol = 1e-9;
-    if (!c->prim_part || !c->prim_v || !c->prim_r || !c->cen || !c->lr || !c->jpos || !c->order || !c->node || !c->lp || !c->leaf ||
+    if (!c->prim_part || !c->prim_v || !c->prim_r || !c->cen || !c->scratch || !c->skey || !c->lr || !c->jpos || !c->order || !c->node || !c->lp || !c->leaf ||
         !c->stack || !c->sgap || !c->ax || !c->ax_call || !c->pts || !c->ev_prev || !c->ev_x || !c->ev_xyz || !c->ev_box || !c->ev_key)
         return KIN_ENOMEM;
     int p = 0;
@@ -328,16 +337,16 @@ int kin_last_contact(const kin_assembly *a, double *clearance, int *parts, doubl
 static inline float f_down(double x) { return (float)dmin(x - fabs(x) * 0x1p-23 - 0x1p-140, FLT_MAX); }
 static inline float f_up(double x) { return (float)dmax(x + fabs(x) * 0x1p-23 + 0x1p-140, -FLT_MAX); }
 
-/* partial sort of idx[0..n) by cen[3*idx + ax] so that idx[m] is in place */
-static void select_nth(int *idx, int n, int m, const double *cen, int ax)
+/* partial sort of idx[0..n) by key[stride * idx + ax] so that idx[m] is in place */
+static void select_nth(int *idx, int n, int m, const double *key, int stride, int ax)
 {
     int lo = 0, hi = n - 1;
     while (hi > lo) {
-        double piv = cen[3 * idx[(lo + hi) / 2] + ax];
+        double piv = key[stride * idx[(lo + hi) / 2] + ax];
         int i = lo, j = hi;
         while (i <= j) {
-            while (cen[3 * idx[i] + ax] < piv) ++i;
-            while (cen[3 * idx[j] + ax] > piv) --j;
+            while (key[stride * idx[i] + ax] < piv) ++i;
+            while (key[stride * idx[j] + ax] > piv) --j;
             if (i <= j) {
                 int t = idx[i];
                 idx[i] = idx[j], idx[j] = t;
@@ -350,9 +359,82 @@ static void select_nth(int *idx, int n, int m, const double *cen, int ax)
     }
 }
 
+/* area and perimeter of the rectangle lo[0..1]..hi[0..1] (x, y) with its
+ * corners cut by the slabs lo[3] <= x + y <= hi[3], lo[4] <= x - y <=
+ * hi[4] (what a node's box and slabs leave of the plane): each corner cut
+ * is a right isosceles triangle, its legs clamped to the shorter side (an
+ * estimate where two cuts overlap, which is all a split's cost needs) */
+static void octagon(const double *lo, const double *hi, double *area, double *perim)
+{
+    double ex = dmax(hi[0] - lo[0], 0.0), ey = dmax(hi[1] - lo[1], 0.0), e = dmin(ex, ey);
+    double t[4] = {lo[3] - (lo[0] + lo[1]), (hi[0] + hi[1]) - hi[3], lo[4] - (lo[0] - hi[1]), (hi[0] - lo[1]) - hi[4]};
+    double A = ex * ey, L = 2.0 * (ex + ey);
+    for (int k = 0; k < 4; ++k) {
+        double d = dmin(dmax(t[k], 0.0), e);
+        A -= 0.5 * d * d, L -= (2.0 - 1.4142135623730951) * d;
+    }
+    *area = dmax(A, 0.0), *perim = L;
+}
+
+/* the surface measure of two halves idx[0..m), idx[m..n): each half's
+ * bound as a node has it (box and slabs, of its primitives' extents: an
+ * octagonal prism) surface area over 2, times its primitives */
+static double split_cost(const struct kin_contact *c, const int *idx, int n, int m)
+{
+    const double *cen = c->cen;
+    double cost = 0.0;
+    for (int h = 0; h < 2; ++h) {
+        double lo[5] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY}, hi[5] = {-INFINITY, -INFINITY, -INFINITY, -INFINITY, -INFINITY};
+        for (int q = h ? m : 0; q < (h ? n : m); ++q) {
+            const double *x = cen + CEN * idx[q];
+            for (int k = 0; k < 5; ++k) lo[k] = dmin(lo[k], x[NDIR + k]), hi[k] = dmax(hi[k], x[2 * NDIR + k]);
+        }
+        double A, L;
+        octagon(lo, hi, &A, &L);
+        cost += (A + 0.5 * L * (hi[2] - lo[2])) * (h ? n - m : m);
+    }
+    return cost;
+}
+
+/* a node's own directions (primitives idx[0 .. count), points
+ * c->pts by joint number): dirs[0] along its parts (the sum of their
+ * longest sides, each turned to agree with the sum so far), dirs[1] across
+ * them in their plane (the sum of the triangles' normals, turned so too,
+ * crossed with dirs[0]; 0 for bars alone). Unnormalized: only the order of
+ * the projections matters */
+static void node_dirs(const struct kin_contact *c, const int *idx, int count, double dirs[2][3])
+{
+    double sd[3] = {0, 0, 0}, nd[3] = {0, 0, 0};
+    for (int q = 0; q < count; ++q) {
+        const int *v = c->prim_v + 3 * idx[q];
+        const double *A = c->pts + 3 * v[0], *B = c->pts + 3 * v[1];
+        double e[3][3];
+        int lk = 0;
+        for (int k = 0; k < 3; ++k) e[0][k] = B[k] - A[k];
+        if (v[2] >= 0) {
+            const double *C = c->pts + 3 * v[2];
+            for (int k = 0; k < 3; ++k) e[1][k] = C[k] - B[k], e[2][k] = A[k] - C[k];
+            double n[3] = {e[0][1] * e[1][2] - e[0][2] * e[1][1], e[0][2] * e[1][0] - e[0][0] * e[1][2],
+                           e[0][0] * e[1][1] - e[0][1] * e[1][0]};
+            double sg = n[0] * nd[0] + n[1] * nd[1] + n[2] * nd[2] < 0.0 ? -1.0 : 1.0;
+            for (int k = 0; k < 3; ++k) nd[k] += sg * n[k];
+            double l0 = 0.0, l1 = 0.0, l2 = 0.0;
+            for (int k = 0; k < 3; ++k) l0 += e[0][k] * e[0][k], l1 += e[1][k] * e[1][k], l2 += e[2][k] * e[2][k];
+            lk = l0 >= l1 && l0 >= l2 ? 0 : (l1 >= l2 ? 1 : 2);
+        }
+        double sg = e[lk][0] * sd[0] + e[lk][1] * sd[1] + e[lk][2] * sd[2] < 0.0 ? -1.0 : 1.0;
+        for (int k = 0; k < 3; ++k) sd[k] += sg * e[lk][k];
+    }
+    for (int k = 0; k < 3; ++k) dirs[0][k] = sd[k];
+    dirs[1][0] = nd[1] * sd[2] - nd[2] * sd[1];
+    dirs[1][1] = nd[2] * sd[0] - nd[0] * sd[2];
+    dirs[1][2] = nd[0] * sd[1] - nd[1] * sd[0];
+}
+
 /* the subtree of order[start .. start+count) into node *nn (split of
- * the box centres along their widest axis); returns its index. Boxes are
- * set by refit. */
+ * the box centres at the median, along whichever of x, y, z, x + y and
+ * x - y gives the two halves the least summed surface measure); returns its
+ * index. Boxes are set by refit. */
 static int build(struct kin_contact *c, int start, int count, int *nn)
 {
     int id = (*nn)++;
@@ -365,7 +447,7 @@ static int build(struct kin_contact *c, int start, int count, int *nn)
     }
     double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int q = start; q < start + count; ++q) {
-        const double *x = c->cen + 3 * c->order[q];
+        const double *x = c->cen + CEN * c->order[q];
         for (int k = 0; k < 3; ++k) clo[k] = dmin(clo[k], x[k]), chi[k] = dmax(chi[k], x[k]);
     }
     int ax = 0;
@@ -373,7 +455,39 @@ static int build(struct kin_contact *c, int start, int count, int *nn)
         if (chi[k] - clo[k] > chi[ax] - clo[ax]) ax = k;
     int half = count / 2;
     if (count > 2 * LEAF_MAX) half = (half + LEAF_MAX / 2) / LEAF_MAX * LEAF_MAX; /* full leaves on the left */
-    select_nth(c->order + start, count, half, c->cen, ax);
+    /* the least surface measure among the fixed directions (the widest
+     * first: it keeps ties) and the node's own two, tried on at most
+     * SPLIT_SAMPLE of its primitives (every s-th) */
+    int *w = c->scratch, *smp = c->scratch + count;
+    int s = count / SPLIT_SAMPLE + 1, ns = (count + s - 1) / s, hs = (int)((long long)ns * half / count);
+    for (int q = 0; q < ns; ++q) smp[q] = c->order[start + q * s];
+    double best = INFINITY, dirs[2][3];
+    int bax = ax;
+    node_dirs(c, smp, ns, dirs);
+    for (int k = 0; k < NDIR + 2; ++k) {
+        int kk = k == 0 ? ax : (k <= ax ? k - 1 : k);
+        if (kk >= NDIR) {
+            const double *u = dirs[kk - NDIR];
+            for (int q = 0; q < ns; ++q) {
+                const double *C = c->cen + CEN * smp[q];
+                c->skey[2 * smp[q] + kk - NDIR] = C[0] * u[0] + C[1] * u[1] + C[2] * u[2];
+            }
+        }
+        memcpy(w, smp, sizeof(int) * (size_t)ns);
+        if (kk < NDIR) select_nth(w, ns, hs, c->cen, CEN, kk);
+        else select_nth(w, ns, hs, c->skey, 2, kk - NDIR);
+        double cost = split_cost(c, w, ns, hs);
+        if (cost < best) best = cost, bax = kk;
+    }
+    if (bax < NDIR) select_nth(c->order + start, count, half, c->cen, CEN, bax);
+    else {
+        const double *u = dirs[bax - NDIR];
+        for (int q = start; q < start + count; ++q) {
+            const double *C = c->cen + CEN * c->order[q];
+            c->skey[2 * c->order[q] + bax - NDIR] = C[0] * u[0] + C[1] * u[1] + C[2] * u[2];
+        }
+        select_nth(c->order + start, count, half, c->skey, 2, bax - NDIR);
+    }
     int l = build(c, start, half, nn);
     int r = build(c, start + half, count - half, nn);
     N = &c->node[id];
@@ -401,10 +515,18 @@ static void tree_build(const kin_assembly *a, struct kin_contact *c, const doubl
     for (int p = 0; p < c->nprim; ++p) {
         const int *v = c->prim_v + 3 * p;
         int nv = v[2] >= 0 ? 3 : 2;
-        for (int k = 0; k < 3; ++k) {
+        double *C = c->cen + CEN * p, r = c->prim_r[p];
+        for (int k = 0; k < NDIR; ++k) {
             double lo = INFINITY, hi = -INFINITY;
-            for (int q = 0; q < nv; ++q) lo = dmin(lo, c->pts[3 * v[q] + k]), hi = dmax(hi, c->pts[3 * v[q] + k]);
-            c->cen[3 * p + k] = 0.5 * lo + 0.5 * hi;
+            const double *u = split_dir[k];
+            for (int q = 0; q < nv; ++q) {
+                const double *x = c->pts + 3 * v[q];
+                double t = x[0] * u[0] + x[1] * u[1] + x[2] * u[2];
+                lo = dmin(lo, t), hi = dmax(hi, t);
+            }
+            double rr = r * sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+            C[k] = 0.5 * lo + 0.5 * hi;
+            C[NDIR + k] = lo - rr, C[2 * NDIR + k] = hi + rr;
         }
         c->order[p] = p;
     }
@@ -645,7 +767,8 @@ static inline double gap2_node(const kin__bvh_node *A, const kin__bvh_node *B)
 }
 
 /* 1 if a pair in boxes s2 (squared gap) apart cannot have clearance at or
- * below best (a tie is kept: ties go to the smallest pair of parts, so
+ * below best (a tie is kept: ties go to the smallest pair of parts, then
+ * of primitives, so
  * the answer does not depend on the order of the walk): boxes apart by
  * g > 0 give clearance >= g; boxes that meet give clearance >= neg */
 static inline int cannot_beat(double s2, double neg, double best)
@@ -1129,9 +1252,18 @@ static int prim_far(const struct kin_contact *c, const kin__leafprim *Lp, const 
 /* (a1, b1) before (a2, b2) */
 static inline int pair_less(int a1, int b1, int a2, int b2) { return a1 < a2 || (a1 == a2 && b1 < b2); }
 
-/* exact clearance of leaves x, y (centre distance minus radii) */
+/* exact clearance of leaves x, y (centre distance minus radii), closest
+ * points cp on x, cq on y. Symmetric: the two primitives are taken in the
+ * order of their numbers (prim_part's, which no tree changes), so a pair's
+ * clearance and points are the same bits whichever tree hands it in
+ * whichever order (the radii are subtracted in that order too) */
 static double prim_clearance(const struct kin_contact *c, int x, int y, double *cp, double *cq)
 {
+    if (c->order[x] > c->order[y]) {
+        int t = x;
+        double *tp = cp;
+        x = y, y = t, cp = cq, cq = tp;
+    }
     const double *P = c->pts;
     const int *vp = c->lp[x].v, *vq = c->lp[y].v;
     double d;
@@ -1176,6 +1308,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
     if (++c->call == 0) memset(c->ax_call, 0, sizeof(unsigned) * (size_t)c->nprim), c->call = 1;
     double best = cutoff, bp[3] = {0, 0, 0}, bq[3] = {0, 0, 0}, xp[3], xq[3];
     int ba = -1, bb = -1, top = 0;
+    int bxa = -1, bxb = -1; /* the primitives (numbers) of the best pair, as ba, bb */
     /* the last answer's pair first (when the tree is the same): an upper
      * bound that prunes from the start */
     if (c->seed[0] >= 0) {
@@ -1185,6 +1318,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         if (d < best) {
             best = d;
             ba = sw ? pb : pa, bb = sw ? pa : pb;
+            bxa = c->order[sw ? y : x], bxb = c->order[sw ? x : y];
             memcpy(bp, sw ? xq : xp, sizeof bp);
             memcpy(bq, sw ? xp : xq, sizeof bq);
         }
@@ -1267,9 +1401,13 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
                     if ((x == sx && y == sy) || (x == sy && y == sx)) continue; /* done first */
                     double d = prim_clearance(c, x, y, xp, xq);
                     int pa = Lp->part, pb = Lq->part, sw = pa > pb;
-                    if (d < best || (d == best && ba >= 0 && pair_less(sw ? pb : pa, sw ? pa : pb, ba, bb))) {
+                    int fa = sw ? pb : pa, fb = sw ? pa : pb;
+                    int qa = c->order[sw ? y : x], qb = c->order[sw ? x : y];
+                    /* ties: the smallest pair of parts, then of primitives */
+                    if (d < best || (d == best && ba >= 0 &&
+                                     (pair_less(fa, fb, ba, bb) || (fa == ba && fb == bb && pair_less(qa, qb, bxa, bxb))))) {
                         best = d;
-                        ba = sw ? pb : pa, bb = sw ? pa : pb;
+                        ba = fa, bb = fb, bxa = qa, bxb = qb;
                         memcpy(bp, sw ? xq : xp, sizeof bp);
                         memcpy(bq, sw ? xp : xq, sizeof bq);
                         c->seed[0] = x, c->seed[1] = y;

@@ -78,7 +78,12 @@ struct kin_contact {
     int *prim_part;    /* part of each primitive (bar k, or nb + panel) */
     int *prim_v;       /* 3 joints per primitive (a bar's third is -1) */
     double *prim_r;    /* radius (half thickness) of each primitive */
-    double *cen;       /* 3 per primitive: box centre, for the split */
+    double *cen;       /* 15 per primitive, for the split: the centres of its
+                          extents along x, y, z, x + y, x - y, then the
+                          extents' low ends and high ends (with the radius) */
+    int *scratch;      /* 2 nprim: the split's trials */
+    double *skey;      /* 2 per primitive: its centre on the node's own
+                          directions, for the split */
     int *order;        /* nprim primitive indices, grouped by leaf */
     kin__bvh_node *node; /* up to 2 * (nprim / ((LEAF_MAX + 1) / 2) + 1) */
     int nnode;         /* nodes of the current tree */
