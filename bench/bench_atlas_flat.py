@@ -110,6 +110,18 @@ def run(args: argparse.Namespace) -> None:
     with open(os.path.join(args.out, "summary.json"), "w") as f:
         json.dump(s, f, indent=1)
     print(json.dumps(s, indent=1))
+    if args.model == "sail:6:2":
+        # issue 24's numbers for this atlas on 2 idle cores, and its targets
+        before, target = (ISSUE24_SYMMETRIC_S, TARGET_SYMMETRIC_S) if args.symmetry else (ISSUE24_FULL_S, TARGET_FULL_S)
+        print(f"against issue 24: {wall:.1f} s wall = 1/{before / wall:.1f} of its {before:.0f} s, "
+              f"{wall / target:.2f} of its {target:.0f} s target")
+
+
+# issue 24's atlas of the hexagonal flat state on 2 idle cores: every branch
+# followed 27.5 min, one branch per orbit (--follow-orbits) 4.4 min; its
+# targets 3 min and, with symmetry, 1 min
+ISSUE24_FULL_S, ISSUE24_SYMMETRIC_S = 27.5 * 60, 4.4 * 60
+TARGET_FULL_S, TARGET_SYMMETRIC_S = 180.0, 60.0
 
 
 def chart(args: argparse.Namespace) -> None:
