@@ -532,8 +532,8 @@ static int cheap_stretch(follow_ctx *c, kin_follow_info *info, double r_before, 
      * steps would (to rounding), so that the SVD locator, started from any
      * of them, continues exactly as the SVD follower would have */
     a->opt.step_control = KIN_STEP_CONTROL_SHARED;
-    /* small J: solves by products with (J^T)^-1, kept with each point's
-     * factors (path/step_lu.c): some 25 solves a point here */
+    /* small J: solves by products with (J^T)^-1, kept with each point
+     * (path/step_lu.c): some 15 solves a point here, more near events */
     a->lu_inverse = 1;
     /* the strain in plain double (model/assembly.c): on a cheap stretch v_r
      * is above the LU mode's margin, so its rounding (eps x L) moves a

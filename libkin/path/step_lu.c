@@ -300,9 +300,10 @@ static int factor_point(kin_assembly *a, const double *xyz, const double *border
          * gauss_jordan.c): a point's factors serve some 15 solves (the
          * tangent, the v_r estimate's passes, the next step's chord
          * corrections; near events the slope's subspace iteration), and a
-         * product with the inverse costs 0.26 us against 1.1-1.3 us for a
-         * solve by dgetrs (46 coordinates). The inverse by Gauss-Jordan
-         * costs 15.6 us, dgetrf + dgetri 25.7 us. */
+         * product with the inverse costs 0.2 us against 1.3 us for a solve
+         * by dgetrs (46 coordinates). The inverse by Gauss-Jordan costs
+         * 6.7 us on the sail's J^T, dgetrf + dgetri 25.3 us
+         * (bench_lu_point). */
         if ((rc = kin__dense_ready(a)) != KIN_OK) return rc;
         int gj = rows == nf && T->Jinv && a->lu_inverse;
         double *JT = gj ? T->Jinv : T->JT;
