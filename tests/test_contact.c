@@ -3,7 +3,8 @@
  * zero-area panel, a bar through a panel), adjacency, thickness, 2D, the
  * tree against all pairs on a sail, the same answer bit for bit from trees
  * built at different configurations, on a sheet of long tilted parts and on
- * two tilted sheets of long triangles side by side,
+ * two tilted sheets of long triangles side by side, the near-pair list
+ * of checks with a cutoff (moves, jumps, a growing cutoff, its cap met),
  * clone, and every error path. */
 #include <math.h>
 #include <string.h>
@@ -603,6 +604,149 @@ static void tree_independent_answers(void)
     CHECK(differ > 0);
 }
 
+/* the near-pair list (contact.c, near_list_holds): checks with a cutoff
+ * reuse the leaf pairs listed at an earlier configuration while no leaf has
+ * moved more than its skin. Its answers equal the smallest over all pairs:
+ * along a path of small moves (the list serves most checks), when one joint
+ * jumps onto a far part (a list that ignored the moves would miss it), when
+ * the cutoff grows past the one the list was made for (it would miss the
+ * pairs between), and when the walk meets more leaf pairs than the list
+ * holds (no list, the walk alone) */
+static void near_list_cases(void)
+{
+    kin_sail_params p;
+    kin_sail_params_default(&p, 6, 2);
+    kin_assembly *a = NULL;
+    CHECK_RC(kin_model_sail(&p, &a, NULL, 0), KIN_OK);
+    if (!a) return;
+    int nb = kin_nbars(a), nj = kin_njoints(a), np = 0, *off = NULL, *pj = NULL;
+    int *bars = malloc(sizeof(int) * 2 * (size_t)nb);
+    double *xyz = malloc(sizeof(double) * 3 * (size_t)nj), *y = malloc(sizeof(double) * 3 * (size_t)nj),
+           *dir = malloc(sizeof(double) * 3 * (size_t)nj);
+    kin_get_bars(a, bars);
+    kin_get_coords(a, xyz);
+    sail_triangles(nb, bars, &np, &off, &pj);
+    CHECK_RC(kin_set_panels(a, np, off, pj), KIN_OK);
+    unsigned long long seed = 23;
+    for (int i = 0; i < 3 * nj; ++i) {
+        double u = (double)(kin__splitmix(&seed) >> 11) / 9007199254740992.0 - 0.5;
+        xyz[i] += i % 3 == 2 ? 0.3 * u : 0.02 * u; /* out of the plane: parts near, not adjacent */
+        dir[i] = (double)(kin__splitmix(&seed) >> 11) / 9007199254740992.0 - 0.5;
+    }
+    /* a path of small moves, with and without thickness */
+    for (int th = 0; th < 2; ++th) {
+        CHECK_RC(kin_set_thickness(a, 0.02 * th, NULL, NULL), KIN_OK);
+        unsigned long used = a->ct ? a->ct->vl_used : 0;
+        for (int t = 0; t <= 80; ++t) {
+            for (int i = 0; i < 3 * nj; ++i) y[i] = xyz[i] + 0.002 * t * dir[i];
+            check_against_all(a, y, 0.05, bars, pj, np, 1.0);
+            check_against_all(a, y, 0.05, bars, pj, np, 1.0); /* the same point again: the list holds */
+        }
+        CHECK(a->ct->vl_used - used >= 81); /* the list served (the test is not void) */
+    }
+    /* a joint jumps onto a bar some way off, with the list in force: the
+     * tree is only refitted (no leaf pair of the two is listed), the list
+     * must not serve */
+    CHECK(a->ct->vl_ok);
+    int j = bars[0], far = -1;
+    double dfar = INFINITY;
+    for (int k = 0; k < nb; ++k) {
+        double d = 0.0;
+        for (int q = 0; q < 3; ++q) {
+            double m = 0.5 * (y[3 * bars[2 * k] + q] + y[3 * bars[2 * k + 1] + q]) - y[3 * j + q];
+            d += m * m;
+        }
+        d = sqrt(d);
+        if (d > 1.5 && d < dfar) dfar = d, far = k; /* the nearest bar beyond 1.5 */
+    }
+    CHECK(far >= 0);
+    if (far < 0) far = 0;
+    size_t no = sizeof(int) * (size_t)a->ct->nprim;
+    int *o1 = malloc(no);
+    memcpy(o1, a->ct->order, no);
+    unsigned long used = a->ct->vl_used;
+    for (int q = 0; q < 3; ++q) y[3 * j + q] = 0.5 * (y[3 * bars[2 * far] + q] + y[3 * bars[2 * far + 1] + q]);
+    double c;
+    CHECK_RC(kin_clearance(a, y, 0.05, &c, NULL, NULL), KIN_OK);
+    CHECK(memcmp(o1, a->ct->order, no) == 0); /* the same tree */
+    CHECK(a->ct->vl_used == used);
+    free(o1);
+    CHECK(c <= 0.0);
+    check_against_all(a, y, 0.05, bars, pj, np, 1.0);
+    /* the list's cap met: no list, the same answers */
+    for (int i = 0; i < 3 * nj; ++i) y[i] = xyz[i];
+    CHECK_RC(kin_set_thickness(a, 0.0, NULL, NULL), KIN_OK);
+    int cap = a->ct->vl_cap;
+    a->ct->vl_cap = 1;
+    check_against_all(a, y, 0.05, bars, pj, np, 1.0);
+    CHECK(!a->ct->vl_ok);
+    check_against_all(a, y, 0.05, bars, pj, np, 1.0);
+    a->ct->vl_cap = cap;
+    free(bars), free(xyz), free(y), free(dir), free(off), free(pj);
+    kin_assembly_free(a);
+
+    /* bars on a grid, each drifting its own way (leaves apart, so the skins
+     * decide which leaf pairs are listed): pairs come within the cutoff
+     * while the list holds, and must be found */
+    {
+        enum { G = 16, NG = G * G };
+        double *Z = malloc(sizeof(double) * 6 * NG), *V = malloc(sizeof(double) * 6 * NG), *Y = malloc(sizeof(double) * 6 * NG);
+        int *GB = malloc(sizeof(int) * 2 * NG);
+        for (int k = 0; k < NG; ++k) {
+            double th = 6.283185307179586 * ((double)(kin__splitmix(&seed) >> 11) / 9007199254740992.0);
+            double cx = k % G, cy = k / G, cz = 0.1 * ((double)(kin__splitmix(&seed) >> 11) / 9007199254740992.0);
+            double f = (k % G) < G / 2 ? 0.2 : 1.0; /* one half slower: leaves' skins differ */
+            double vx = f * ((double)(kin__splitmix(&seed) >> 11) / 9007199254740992.0 - 0.5);
+            double vy = f * ((double)(kin__splitmix(&seed) >> 11) / 9007199254740992.0 - 0.5);
+            for (int e = 0; e < 2; ++e) {
+                double sgn = e ? 0.45 : -0.45;
+                Z[6 * k + 3 * e] = cx + sgn * cos(th), Z[6 * k + 3 * e + 1] = cy + sgn * sin(th), Z[6 * k + 3 * e + 2] = cz;
+                V[6 * k + 3 * e] = vx, V[6 * k + 3 * e + 1] = vy, V[6 * k + 3 * e + 2] = 0.0;
+            }
+            GB[2 * k] = 2 * k, GB[2 * k + 1] = 2 * k + 1;
+        }
+        kin_assembly *g = make(3, 2 * NG, Z, NG, GB);
+        if (g) {
+            int found = 0, served = 0;
+            for (int t = 0; t <= 60; ++t) {
+                for (int i = 0; i < 6 * NG; ++i) Y[i] = Z[i] + 0.015 * t * V[i];
+                unsigned long u0 = g->ct ? g->ct->vl_used : 0;
+                check_against_all(g, Y, 0.1, GB, NULL, 0, 1.0);
+                CHECK_RC(kin_clearance(g, Y, 0.1, &c, NULL, NULL), KIN_OK);
+                served += g->ct->vl_used - u0 == 2, found += g->ct->vl_used - u0 == 2 && c < 0.1;
+            }
+            CHECK(served >= 20 && found >= 10); /* the list served, with pairs within the cutoff */
+            kin_assembly_free(g);
+        }
+        free(Z), free(V), free(Y), free(GB);
+    }
+
+    /* a cutoff above the list's: 24 parallel bars in a row, 1 apart but
+     * 0.5 between the 8th and 9th (the first leaf's 8 and the next); no
+     * two are within 0.25, so a list made for 0.25 holds no two leaves; at
+     * a cutoff of 2 the answer is that pair */
+    enum { NR = 24 };
+    double X[4 * NR * 3] = {0};
+    int B[2 * NR];
+    for (int k = 0; k < NR; ++k) {
+        double x = k < 8 ? k : k - 0.5;
+        X[6 * k] = x, X[6 * k + 1] = 0.0, X[6 * k + 3] = x, X[6 * k + 4] = 1.0;
+        B[2 * k] = 2 * k, B[2 * k + 1] = 2 * k + 1;
+    }
+    kin_assembly *r = make(3, 2 * NR, X, NR, B);
+    if (!r) return;
+    int parts[4];
+    for (int rep = 0; rep < 2; ++rep) {
+        CHECK_RC(kin_clearance(r, NULL, 0.25, &c, parts, NULL), KIN_OK);
+        CHECK(c == INFINITY);
+    }
+    CHECK(r->ct->vl_ok);
+    CHECK_RC(kin_clearance(r, NULL, 2.0, &c, parts, NULL), KIN_OK);
+    CHECK_CLOSE(c, 0.5, TOL);
+    CHECK(parts[1] == 7 && parts[3] == 8);
+    kin_assembly_free(r);
+}
+
 static void errors(void)
 {
     double x[] = {-1, 0, 0, 1, 0, 0, 0, -1, 1, 0, 1, 1};
@@ -819,6 +963,7 @@ int main(void)
     tree_independent_answers();
     sheet_vs_all_pairs();
     tilted_sheets_vs_all_pairs();
+    near_list_cases();
     errors();
     TEST_REPORT("test_contact");
 }

@@ -35,6 +35,9 @@
 #endif
 
 #define LEAF_MAX KIN__LEAF_MAX
+/* a leaf's skin in the near-pair list at most, a fraction of its box's
+ * largest side (see near_list_skins) */
+#define NEAR_SKIN_MAX 0.4
 /* the split's fixed directions: x, y, z and the slabs' x + y, x - y */
 #define NDIR 5
 #define CEN (3 * NDIR) /* doubles per primitive in cen */
@@ -50,7 +53,7 @@ static void ct_release(struct kin_contact *c)
     free(c->poff), free(c->pj), free(c->rbar), free(c->tpan);
     free(c->prim_part), free(c->prim_v), free(c->prim_r), free(c->cen), free(c->scratch), free(c->skey), free(c->lr), free(c->jpos);
     free(c->order), free(c->node), free(c->lp), free(c->leaf), free(c->ev_prev), free(c->ev_x), free(c->ev_xyz), free(c->stack), free(c->sgap), free(c->pts);
-    free(c->ev_box), free(c->ev_key), free(c->ax), free(c->ax_call);
+    free(c->ev_box), free(c->ev_key), free(c->ax), free(c->ax_call), free(c->vl), free(c->vl_x0), free(c->vl_sk), free(c->vl_dl), free(c->vl_dj);
     free(c);
 }
 
@@ -96,6 +99,15 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->ax_call = calloc(N ? N : 1, sizeof(unsigned));
     c->call = 0;
     c->pts = malloc(sizeof(double) * 3 * (size_t)a->nj);
+    /* the near-pair list: 16 leaf pairs a leaf (a sheet's leaf meets
+     * a handful); a walk that meets more makes no list */
+    c->vl_cap = 16 * (int)(N / ((LEAF_MAX + 1) / 2) + 1);
+    c->vl_nocut = INFINITY;
+    c->vl = malloc(sizeof(int) * 2 * (size_t)c->vl_cap);
+    c->vl_x0 = malloc(sizeof(double) * 3 * ((size_t)a->nj + 1));
+    c->vl_sk = malloc(sizeof(double) * (2 * (N / ((LEAF_MAX + 1) / 2) + 1)));
+    c->vl_dl = malloc(sizeof(double) * (2 * (N / ((LEAF_MAX + 1) / 2) + 1)));
+    c->vl_dj = malloc(sizeof(double) * ((size_t)a->nj + 1));
     c->ev_prev = malloc(sizeof(double) * ((size_t)a->nf + 1));
     c->ev_x = malloc(sizeof(double) * (2 * (size_t)a->nf + 1));
     c->ev_xyz = malloc(sizeof(double) * 2 * (size_t)a->nj * (size_t)a->dim);
@@ -104,7 +116,7 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
     c->ev_pair[0] = c->ev_pair[1] = -1;
     c->ev_tol = 1e-9;
     if (!c->prim_part || !c->prim_v || !c->prim_r || !c->cen || !c->scratch || !c->skey || !c->lr || !c->jpos || !c->order || !c->node || !c->lp || !c->leaf ||
-        !c->stack || !c->sgap || !c->ax || !c->ax_call || !c->pts || !c->ev_prev || !c->ev_x || !c->ev_xyz || !c->ev_box || !c->ev_key)
+        !c->stack || !c->sgap || !c->ax || !c->ax_call || !c->pts || !c->vl || !c->vl_x0 || !c->vl_sk || !c->vl_dl || !c->vl_dj || !c->ev_prev || !c->ev_x || !c->ev_xyz || !c->ev_box || !c->ev_key)
         return KIN_ENOMEM;
     int p = 0;
     for (int k = 0; k < a->nb; ++k, ++p) {
@@ -574,6 +586,9 @@ static void tree_build(const kin_assembly *a, struct kin_contact *c, const doubl
     memset(c->ax_call, 0, sizeof(unsigned) * (size_t)c->nprim); /* tree positions renumbered */
     c->tree_ok = 1;
     c->fresh = 1;
+    c->vl_ok = 0; /* the list names leaves of the old tree */
+    c->vl_first = 1;
+    c->vl_nocut = INFINITY;
 }
 
 /* The slabs across x + y and x - y of a leaf's count lanes (see
@@ -1279,6 +1294,153 @@ static double prim_clearance(const struct kin_contact *c, int x, int y, double *
     return d - c->lr[x] - c->lr[y];
 }
 
+/* One call's pair search: the best pair so far (clearance best, parts ba <
+ * bb, their primitives' numbers bxa, bxb, closest points bp, bq), the
+ * seed pair tested first (tree positions sx, sy) and the walk's float
+ * slacks */
+typedef struct pair_search {
+    kin_assembly *a;
+    struct kin_contact *c;
+    double best, bp[3], bq[3];
+    int ba, bb, bxa, bxb, sx, sy;
+    float slack, rmax_f;
+} pair_search;
+
+/* leaf node u against leaf node v (u == v: the leaf against itself): a row
+ * of pairs at a time, box and joint tests of all 8 lanes at once, then the
+ * exact tests of the pairs left in row order (the same pairs, in the same
+ * order, as one pair at a time) */
+static void leaf_pair(pair_search *w, int u, int v)
+{
+    struct kin_contact *c = w->c;
+    const kin__bvh_node *U = &c->node[u], *V = &c->node[v];
+    const kin__leafprim *lp = c->lp;
+    const kin__leafsoa *SU = &c->leaf[U->right], *SV = &c->leaf[V->right];
+    const float slack = w->slack, rmax_f = w->rmax_f;
+    double xp[3], xq[3];
+    float cx[3], rp[3][3]; /* a row's box centre and points */
+    unsigned rows = (1u << U->count) - 1, lanes = (1u << V->count) - 1;
+    const float *vlo = SU->olo, *vhi = SU->ohi; /* V's lanes on U's axis */
+    float pl[LEAF_MAX], ph[LEAF_MAX];
+    if (u != v) { /* against the other node's box and slabs, and V's lanes on U's axis */
+        rows &= near_lanes(SU, V->lo, V->hi, near_bound(w->best)) & ~diag_lanes(SU, V->lo, V->hi, near_bound2(w->best), rows);
+        if (!rows) return;
+        project_lanes(SV, SU->w, pl, ph);
+        float l = FLT_MAX, h = -FLT_MAX;
+        for (int j = 0; j < V->count; ++j) l = pl[j] < l ? pl[j] : l, h = ph[j] > h ? ph[j] : h;
+        rows &= ~orient_lanes(SU->olo, SU->ohi, SU->r, l, h, near_bound(w->best) + rmax_f + slack, rows);
+        vlo = pl, vhi = ph;
+    }
+    while (rows) {
+        int i = low_bit(rows);
+        rows &= rows - 1;
+        const float lo[5] = {SU->lo[0][i], SU->lo[1][i], SU->lo[2][i], SU->lo[3][i], SU->lo[4][i]};
+        const float hi[5] = {SU->hi[0][i], SU->hi[1][i], SU->hi[2][i], SU->hi[3][i], SU->hi[4][i]};
+        unsigned cols = near_lanes(SV, lo, hi, near_bound(w->best)) & lanes &
+                        ~adjacent_lanes(SV, SU->v[0][i], SU->v[1][i], SU->v[2][i]);
+        if (u == v) cols &= ~((2u << i) - 1); /* each pair once */
+        float thr0 = near_bound(w->best) + SU->r[i] + slack; /* see apart_lanes */
+        if (cols) cols &= ~orient_lanes(vlo, vhi, SV->r, SU->olo[i], SU->ohi[i], thr0, cols);
+        if (cols) cols &= ~diag_lanes(SV, lo, hi, near_bound2(w->best), cols);
+        if (cols) {
+            apart_row(SU, i, cx, rp);
+            cols &= ~apart_lanes(SV, cx, rp, thr0, cols);
+            if (cols) { /* the row's own axes, made once per call */
+                int x = U->start + i;
+                float *ax = c->ax + 5 * KIN__OWN_AXES * x;
+                if (c->ax_call[x] != c->call) own_axes(c, SU, i, &lp[x], ax), c->ax_call[x] = c->call;
+                cols &= ~own_lanes(SV, ax, thr0, cols);
+            }
+        }
+        int x = U->start + i;
+        const kin__leafprim *Lp = &lp[x];
+        while (cols) {
+            int j = low_bit(cols);
+            cols &= cols - 1;
+            int y = V->start + j;
+            const kin__leafprim *Lq = &lp[y];
+            if (cannot_beat(lane_gap2(SU, i, SV, j), -(double)Lp->r - Lq->r, w->best)) continue;
+            /* joints shared were dropped above; parts with more
+             * joints than the primitives have are compared whole */
+            if (!(Lp->own && Lq->own) && adjacent_parts(w->a, Lp->part, Lq->part)) continue;
+            if (prim_far(c, Lp, Lq, c->lr[x] + c->lr[y], w->best)) continue;
+            if ((x == w->sx && y == w->sy) || (x == w->sy && y == w->sx)) continue; /* done first */
+            double d = prim_clearance(c, x, y, xp, xq);
+            int pa = Lp->part, pb = Lq->part, sw = pa > pb;
+            int fa = sw ? pb : pa, fb = sw ? pa : pb;
+            int qa = c->order[sw ? y : x], qb = c->order[sw ? x : y];
+            /* ties: the smallest pair of parts, then of primitives */
+            if (d < w->best || (d == w->best && w->ba >= 0 &&
+                                (pair_less(fa, fb, w->ba, w->bb) ||
+                                 (fa == w->ba && fb == w->bb && pair_less(qa, qb, w->bxa, w->bxb))))) {
+                w->best = d;
+                w->ba = fa, w->bb = fb, w->bxa = qa, w->bxb = qb;
+                memcpy(w->bp, sw ? xq : xp, sizeof w->bp);
+                memcpy(w->bq, sw ? xp : xq, sizeof w->bq);
+                c->seed[0] = x, c->seed[1] = y;
+            }
+        }
+    }
+}
+
+/* The near-pair list (a Verlet list, as molecular dynamics keeps one): the
+ * leaf pairs (U, V) whose boxes were within cutoff + s_U + s_V of each other
+ * when it was made, at the joints vl_x0, for a cutoff of vl_cut, with a
+ * skin s_U for each leaf (near_list_skins). While no leaf's joints have
+ * moved more than its skin, two parts not on the list are still more than
+ * the cutoff apart (a point of a part moves no more than its corners do),
+ * so a check of that cutoff or less needs only the pairs on the list: no
+ * walk of the tree, whose cost per primitive grows with the tree's depth
+ * and with the memory it hops over. 1 if the list holds at the current
+ * joints (c->pts): each joint's move computed in double and taken a little
+ * larger than its rounding can make it; each leaf's largest move is kept
+ * (vl_dl) for the next list's skins. */
+static int near_list_holds(struct kin_contact *c, int nj, double cutoff)
+{
+    if (!c->vl_ok || !(cutoff >= 0.0) || !(cutoff <= c->vl_cut)) return 0;
+    const double *P = c->pts, *Q = c->vl_x0;
+    double *dj = c->vl_dj;
+    for (int j = 0; j < nj; ++j) {
+        double dx = P[3 * j] - Q[3 * j], dy = P[3 * j + 1] - Q[3 * j + 1], dz = P[3 * j + 2] - Q[3 * j + 2];
+        dj[j] = sqrt(dx * dx + dy * dy + dz * dz) * (1.0 + 0x1p-40);
+    }
+    int ok = 1;
+    for (int id = 0; id < c->nnode; ++id) {
+        const kin__bvh_node *N = &c->node[id];
+        if (N->left >= 0) continue;
+        const kin__leafsoa *S = &c->leaf[N->right];
+        double m = 0.0;
+        for (int i = 0; i < N->count; ++i)
+            for (int q = 0; q < 3; ++q) m = dj[S->v[q][i]] > m ? dj[S->v[q][i]] : m;
+        c->vl_dl[id] = m;
+        ok &= m <= c->vl_sk[id];
+    }
+    return ok;
+}
+
+/* each node's skin for a new near-pair list (c->vl_sk): a leaf's, twice
+ * the largest move of its joints over the last list's life (vl_dl; none for
+ * the first list, or after a check the list could not serve), so that the
+ * next list lasts about twice as long where the structure keeps moving as
+ * it did, and a part that does not move adds no pairs; at most
+ * NEAR_SKIN_MAX times its box's largest side (wider skins list more pairs
+ * than they save walking); an inner node's, the largest of its leaves'
+ * (nodes are in pre-order: children after their parent) */
+static void near_list_skins(struct kin_contact *c)
+{
+    for (int id = c->nnode - 1; id >= 0; --id) {
+        const kin__bvh_node *N = &c->node[id];
+        if (N->left < 0) {
+            double e = 0.0;
+            for (int k = 0; k < 3; ++k) e = dmax(e, (double)N->hi[k] - N->lo[k]);
+            double s = c->vl_first ? 0.0 : 2.0 * c->vl_dl[id];
+            s = dmin(s, NEAR_SKIN_MAX * e);
+            c->vl_sk[id] = isfinite(s) ? s : 0.0;
+        } else
+            c->vl_sk[id] = dmax(c->vl_sk[N->left], c->vl_sk[N->right]);
+    }
+}
+
 int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *clearance, int *parts, double *points)
 {
     if (!a || !clearance) return a ? kin__fail(a, KIN_ENULL, "clearance is NULL") : KIN_ENULL;
@@ -1306,146 +1468,106 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         c->fresh = 0;
     }
     if (++c->call == 0) memset(c->ax_call, 0, sizeof(unsigned) * (size_t)c->nprim), c->call = 1;
-    double best = cutoff, bp[3] = {0, 0, 0}, bq[3] = {0, 0, 0}, xp[3], xq[3];
-    int ba = -1, bb = -1, top = 0;
-    int bxa = -1, bxb = -1; /* the primitives (numbers) of the best pair, as ba, bb */
+    pair_search W = {.a = a, .c = c, .best = cutoff, .ba = -1, .bb = -1, .bxa = -1, .bxb = -1};
     /* the last answer's pair first (when the tree is the same): an upper
      * bound that prunes from the start */
     if (c->seed[0] >= 0) {
         int x = c->seed[0], y = c->seed[1];
+        double xp[3], xq[3];
         double d = prim_clearance(c, x, y, xp, xq);
         int pa = c->lp[x].part, pb = c->lp[y].part, sw = pa > pb;
-        if (d < best) {
-            best = d;
-            ba = sw ? pb : pa, bb = sw ? pa : pb;
-            bxa = c->order[sw ? y : x], bxb = c->order[sw ? x : y];
-            memcpy(bp, sw ? xq : xp, sizeof bp);
-            memcpy(bq, sw ? xp : xq, sizeof bq);
+        if (d < W.best) {
+            W.best = d;
+            W.ba = sw ? pb : pa, W.bb = sw ? pa : pb;
+            W.bxa = c->order[sw ? y : x], W.bxb = c->order[sw ? x : y];
+            memcpy(W.bp, sw ? xq : xp, sizeof W.bp);
+            memcpy(W.bq, sw ? xp : xq, sizeof W.bq);
         }
     }
-    int sx = c->seed[0], sy = c->seed[1];
-    /* the pair walk, nearer pairs first; each pair on the stack with the
-     * squared gap of its boxes (0 for a node against itself), tested again
-     * when it is taken (best may have come down since) */
-    const double neg_node = -2.0 * c->rmax;
-    float slack;
+    W.sx = c->seed[0], W.sy = c->seed[1];
     {
         double M = 0.0;
         for (int k = 0; k < 3; ++k) M = dmax(M, dmax(fabs((double)c->node[0].lo[k]), fabs((double)c->node[0].hi[k])));
         /* far from 1 (float overflow, underflow): no lane is dropped so */
-        slack = M > 0x1p-40 && M < 0x1p100 ? f_up(0x1p-16 * M) : INFINITY;
+        W.slack = M > 0x1p-40 && M < 0x1p100 ? f_up(0x1p-16 * M) : INFINITY;
     }
-    const float rmax_f = f_up(c->rmax);
-    const kin__bvh_node *node = c->node;
-    const kin__leafprim *lp = c->lp;
-    int *st = c->stack;
-    double *sg = c->sgap;
-    st[0] = 0, st[1] = 0, sg[0] = 0.0, top = 1;
-    while (top > 0) {
-        --top;
-        int u = st[2 * top], v = st[2 * top + 1];
-        if (u != v && cannot_beat(sg[top], neg_node, best)) continue;
-        const kin__bvh_node *U = &node[u], *V = &node[v];
-        if (U->left < 0 && V->left < 0) {
-            /* leaf against leaf: a row of pairs at a time, box and joint
-             * tests of all 8 lanes at once, then the exact tests of the
-             * pairs left in row order (the same pairs, in the same order,
-             * as one pair at a time) */
-            const kin__leafsoa *SU = &c->leaf[U->right], *SV = &c->leaf[V->right];
-            float cx[3], rp[3][3]; /* a row's box centre and points */
-            unsigned rows = (1u << U->count) - 1, lanes = (1u << V->count) - 1;
-            const float *vlo = SU->olo, *vhi = SU->ohi; /* V's lanes on U's axis */
-            float pl[LEAF_MAX], ph[LEAF_MAX];
-            if (u != v) { /* against the other node's box and slabs, and V's lanes on U's axis */
-                rows &= near_lanes(SU, V->lo, V->hi, near_bound(best)) & ~diag_lanes(SU, V->lo, V->hi, near_bound2(best), rows);
-                if (!rows) continue;
-                project_lanes(SV, SU->w, pl, ph);
-                float l = FLT_MAX, h = -FLT_MAX;
-                for (int j = 0; j < V->count; ++j) l = pl[j] < l ? pl[j] : l, h = ph[j] > h ? ph[j] : h;
-                rows &= ~orient_lanes(SU->olo, SU->ohi, SU->r, l, h, near_bound(best) + rmax_f + slack, rows);
-                vlo = pl, vhi = ph;
-            }
-            while (rows) {
-                int i = low_bit(rows);
-                rows &= rows - 1;
-                const float lo[5] = {SU->lo[0][i], SU->lo[1][i], SU->lo[2][i], SU->lo[3][i], SU->lo[4][i]};
-                const float hi[5] = {SU->hi[0][i], SU->hi[1][i], SU->hi[2][i], SU->hi[3][i], SU->hi[4][i]};
-                unsigned cols = near_lanes(SV, lo, hi, near_bound(best)) & lanes &
-                                ~adjacent_lanes(SV, SU->v[0][i], SU->v[1][i], SU->v[2][i]);
-                if (u == v) cols &= ~((2u << i) - 1); /* each pair once */
-                float thr0 = near_bound(best) + SU->r[i] + slack; /* see apart_lanes */
-                if (cols) cols &= ~orient_lanes(vlo, vhi, SV->r, SU->olo[i], SU->ohi[i], thr0, cols);
-                if (cols) cols &= ~diag_lanes(SV, lo, hi, near_bound2(best), cols);
-                if (cols) {
-                    apart_row(SU, i, cx, rp);
-                    cols &= ~apart_lanes(SV, cx, rp, thr0, cols);
-                    if (cols) { /* the row's own axes, made once per call */
-                        int x = U->start + i;
-                        float *ax = c->ax + 5 * KIN__OWN_AXES * x;
-                        if (c->ax_call[x] != c->call) own_axes(c, SU, i, &lp[x], ax), c->ax_call[x] = c->call;
-                        cols &= ~own_lanes(SV, ax, thr0, cols);
-                    }
-                }
-                int x = U->start + i;
-                const kin__leafprim *Lp = &lp[x];
-                while (cols) {
-                    int j = low_bit(cols);
-                    cols &= cols - 1;
-                    int y = V->start + j;
-                    const kin__leafprim *Lq = &lp[y];
-                    if (cannot_beat(lane_gap2(SU, i, SV, j), -(double)Lp->r - Lq->r, best)) continue;
-                    /* joints shared were dropped above; parts with more
-                     * joints than the primitives have are compared whole */
-                    if (!(Lp->own && Lq->own) && adjacent_parts(a, Lp->part, Lq->part)) continue;
-                    if (prim_far(c, Lp, Lq, c->lr[x] + c->lr[y], best)) continue;
-                    if ((x == sx && y == sy) || (x == sy && y == sx)) continue; /* done first */
-                    double d = prim_clearance(c, x, y, xp, xq);
-                    int pa = Lp->part, pb = Lq->part, sw = pa > pb;
-                    int fa = sw ? pb : pa, fb = sw ? pa : pb;
-                    int qa = c->order[sw ? y : x], qb = c->order[sw ? x : y];
-                    /* ties: the smallest pair of parts, then of primitives */
-                    if (d < best || (d == best && ba >= 0 &&
-                                     (pair_less(fa, fb, ba, bb) || (fa == ba && fb == bb && pair_less(qa, qb, bxa, bxb))))) {
-                        best = d;
-                        ba = fa, bb = fb, bxa = qa, bxb = qb;
-                        memcpy(bp, sw ? xq : xp, sizeof bp);
-                        memcpy(bq, sw ? xp : xq, sizeof bq);
-                        c->seed[0] = x, c->seed[1] = y;
-                    }
-                }
-            }
-            continue;
+    W.rmax_f = f_up(c->rmax);
+    int holds = near_list_holds(c, a->nj, cutoff);
+    if (holds) {
+        for (int k = 0; k < c->vl_n; ++k) leaf_pair(&W, c->vl[2 * k], c->vl[2 * k + 1]);
+        ++c->vl_used;
+    } else {
+        /* the pair walk, nearer pairs first; each pair on the stack with
+         * the squared gap of its boxes (0 for a node against itself),
+         * tested again when it is taken (best may have come down since).
+         * A cutoff of 0 or more makes a new near-pair list on the way: the
+         * walk then keeps every pair of nodes within the cutoff plus their
+         * skins, not only those within best, and lists the leaf pairs it
+         * meets */
+        int collect = cutoff >= 0.0 && cutoff < c->vl_nocut;
+        const double *sk = c->vl_sk;
+        if (collect) {
+            /* the moves seen hold only when the list was checked here */
+            if (!(c->vl_ok && cutoff >= 0.0 && cutoff <= c->vl_cut)) c->vl_first = 1;
+            near_list_skins(c);
+            c->vl_ok = 0, c->vl_n = 0, c->vl_first = 0;
         }
-        if (top + 3 > c->stack_cap) return kin__fail(a, KIN_ERANGE, "clearance: tree walk deeper than planned");
-        if (u == v) {
-            int l = U->left, r = U->right;
-            double g = gap2_node(&node[l], &node[r]);
-            if (!cannot_beat(g, neg_node, best)) st[2 * top] = l, st[2 * top + 1] = r, sg[top] = g, ++top;
-            st[2 * top] = r, st[2 * top + 1] = r, sg[top] = 0.0, ++top;
-            st[2 * top] = l, st[2 * top + 1] = l, sg[top] = 0.0, ++top;
-            continue;
+        const double neg_node = -2.0 * c->rmax;
+        const kin__bvh_node *node = c->node;
+        int *st = c->stack, top;
+        double *sg = c->sgap;
+        st[0] = 0, st[1] = 0, sg[0] = 0.0, top = 1;
+        while (top > 0) {
+            --top;
+            int u = st[2 * top], v = st[2 * top + 1];
+            double bound = collect ? cutoff + sk[u] + sk[v] : W.best;
+            if (u != v && cannot_beat(sg[top], neg_node, bound)) continue;
+            const kin__bvh_node *U = &node[u], *V = &node[v];
+            if (U->left < 0 && V->left < 0) {
+                if (collect) {
+                    if (c->vl_n < c->vl_cap) c->vl[2 * c->vl_n] = u, c->vl[2 * c->vl_n + 1] = v, ++c->vl_n;
+                    else /* more than the list holds: no list, nor for this cutoff or more until the tree is new */
+                        collect = 0, c->vl_nocut = cutoff;
+                }
+                leaf_pair(&W, u, v);
+                continue;
+            }
+            if (top + 3 > c->stack_cap) return kin__fail(a, KIN_ERANGE, "clearance: tree walk deeper than planned");
+            if (u == v) {
+                int l = U->left, r = U->right;
+                double g = gap2_node(&node[l], &node[r]);
+                if (!cannot_beat(g, neg_node, collect ? cutoff + sk[l] + sk[r] : W.best)) st[2 * top] = l, st[2 * top + 1] = r, sg[top] = g, ++top;
+                st[2 * top] = r, st[2 * top + 1] = r, sg[top] = 0.0, ++top;
+                st[2 * top] = l, st[2 * top + 1] = l, sg[top] = 0.0, ++top;
+                continue;
+            }
+            /* split the larger (or the inner) node; the nearer child pair last (popped first) */
+            int splitU = V->left < 0 || (U->left >= 0 && U->count >= V->count);
+            int c1 = splitU ? U->left : V->left, c2 = splitU ? U->right : V->right, o = splitU ? v : u;
+            const kin__bvh_node *O = &node[o], *C1 = &node[c1], *C2 = &node[c2];
+            double g1 = gap2_node(C1, O), g2 = gap2_node(C2, O);
+            int near = g1 <= g2;
+            double b1 = collect ? cutoff + sk[c1] + sk[o] : W.best, b2 = collect ? cutoff + sk[c2] + sk[o] : W.best;
+            if (!cannot_beat(near ? g2 : g1, neg_node, near ? b2 : b1))
+                st[2 * top] = near ? c2 : c1, st[2 * top + 1] = o, sg[top] = near ? g2 : g1, ++top;
+            if (!cannot_beat(near ? g1 : g2, neg_node, near ? b1 : b2))
+                st[2 * top] = near ? c1 : c2, st[2 * top + 1] = o, sg[top] = near ? g1 : g2, ++top;
         }
-        /* split the larger (or the inner) node; the nearer child pair last (popped first) */
-        int splitU = V->left < 0 || (U->left >= 0 && U->count >= V->count);
-        int c1 = splitU ? U->left : V->left, c2 = splitU ? U->right : V->right, o = splitU ? v : u;
-        const kin__bvh_node *O = &node[o], *C1 = &node[c1], *C2 = &node[c2];
-        double g1 = gap2_node(C1, O), g2 = gap2_node(C2, O);
-        int near = g1 <= g2;
-        if (!cannot_beat(near ? g2 : g1, neg_node, best))
-            st[2 * top] = near ? c2 : c1, st[2 * top + 1] = o, sg[top] = near ? g2 : g1, ++top;
-        if (!cannot_beat(near ? g1 : g2, neg_node, best))
-            st[2 * top] = near ? c1 : c2, st[2 * top + 1] = o, sg[top] = near ? g1 : g2, ++top;
+        if (collect) {
+            c->vl_ok = 1, c->vl_cut = cutoff;
+            memcpy(c->vl_x0, c->pts, sizeof(double) * 3 * (size_t)a->nj);
+        }
     }
-    *clearance = ba >= 0 ? best : INFINITY;
-    if (ba >= 0) {
+    *clearance = W.ba >= 0 ? W.best : INFINITY;
+    if (W.ba >= 0) {
         if (parts) {
-            parts[0] = ba < a->nb ? KIN_PART_BAR : KIN_PART_PANEL;
-            parts[1] = ba < a->nb ? ba : ba - a->nb;
-            parts[2] = bb < a->nb ? KIN_PART_BAR : KIN_PART_PANEL;
-            parts[3] = bb < a->nb ? bb : bb - a->nb;
+            parts[0] = W.ba < a->nb ? KIN_PART_BAR : KIN_PART_PANEL;
+            parts[1] = W.ba < a->nb ? W.ba : W.ba - a->nb;
+            parts[2] = W.bb < a->nb ? KIN_PART_BAR : KIN_PART_PANEL;
+            parts[3] = W.bb < a->nb ? W.bb : W.bb - a->nb;
         }
         if (points)
-            for (int k = 0; k < dim; ++k) points[k] = bp[k], points[dim + k] = bq[k];
+            for (int k = 0; k < dim; ++k) points[k] = W.bp[k], points[dim + k] = W.bq[k];
     }
     return KIN_OK;
 }

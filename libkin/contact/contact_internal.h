@@ -108,6 +108,20 @@ struct kin_contact {
     double *sgap;      /* stack_cap: the squared box gap of each pair on the stack */
     int stack_cap;
     double *pts;       /* nj*3 points of the configuration, joints in tree order */
+    /* the near-pair list (contact.c, near_list_holds): leaf node pairs
+     * (u, v) whose boxes were within vl_cut + their skins at the joints
+     * vl_x0 */
+    int *vl;           /* 2 * vl_cap */
+    int vl_cap, vl_n;
+    int vl_ok;         /* the list holds for the current tree */
+    unsigned long vl_used; /* checks the list has served (tests read it) */
+    double vl_nocut;   /* no list for cutoffs at or above (one overflowed) */
+    double vl_cut;     /* the cutoff it was made for */
+    double *vl_sk;     /* per node: its skin (a leaf's), or its leaves' largest */
+    double *vl_dl;     /* per node: its leaf's largest move at the last check of the list */
+    int vl_first;      /* no moves seen for the next list's skins */
+    double *vl_dj;     /* nj scratch: each joint's move since vl_x0 */
+    double *vl_x0;     /* 3 nj: the joints (tree order) when the list was made */
     /* contact as an event of kin_follow_event (branches/contact_event.c) */
     int ev_on;         /* kin_set_contact_events */
     double ev_tol;     /* location tolerance, a fraction of the RMS rest length */
