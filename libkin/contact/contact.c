@@ -22,7 +22,10 @@
  * first leaf's axis, the slabs, the line of the box centres and the row
  * primitive's own axes),
  * and the pairs left of parts that share no joint get the separating-axis
- * bound and the exact test of distance.c. */
+ * bound and the exact test of distance.c. A check with a cutoff lists the
+ * leaf pairs its walk meets (with a skin for each leaf) and later checks
+ * test only those while no leaf has moved more than its skin (the
+ * near-pair list, near_list_holds). */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -587,7 +590,6 @@ static void tree_build(const kin_assembly *a, struct kin_contact *c, const doubl
     c->tree_ok = 1;
     c->fresh = 1;
     c->vl_ok = 0; /* the list names leaves of the old tree */
-    c->vl_first = 1;
     c->vl_nocut = INFINITY;
 }
 
@@ -1394,10 +1396,11 @@ static void leaf_pair(pair_search *w, int u, int v)
  * and with the memory it hops over. 1 if the list holds at the current
  * joints (c->pts): each joint's move computed in double and taken a little
  * larger than its rounding can make it; each leaf's largest move is kept
- * (vl_dl) for the next list's skins. */
+ * (vl_dl) for the next list's skins. 0 if it does not hold there (vl_dl
+ * made), -1 if there is no list for this cutoff (vl_dl not made). */
 static int near_list_holds(struct kin_contact *c, int nj, double cutoff)
 {
-    if (!c->vl_ok || !(cutoff >= 0.0) || !(cutoff <= c->vl_cut)) return 0;
+    if (!c->vl_ok || !(cutoff >= 0.0) || !(cutoff <= c->vl_cut)) return -1;
     const double *P = c->pts, *Q = c->vl_x0;
     double *dj = c->vl_dj;
     for (int j = 0; j < nj; ++j) {
@@ -1419,21 +1422,22 @@ static int near_list_holds(struct kin_contact *c, int nj, double cutoff)
 }
 
 /* each node's skin for a new near-pair list (c->vl_sk): a leaf's, twice
- * the largest move of its joints over the last list's life (vl_dl; none for
- * the first list, or after a check the list could not serve), so that the
+ * the largest move of its joints over the last list's life (vl_dl, where
+ * moves: none for the first list of a tree, or after a cutoff above the
+ * last list's), so that the
  * next list lasts about twice as long where the structure keeps moving as
  * it did, and a part that does not move adds no pairs; at most
  * NEAR_SKIN_MAX times its box's largest side (wider skins list more pairs
  * than they save walking); an inner node's, the largest of its leaves'
  * (nodes are in pre-order: children after their parent) */
-static void near_list_skins(struct kin_contact *c)
+static void near_list_skins(struct kin_contact *c, int moves)
 {
     for (int id = c->nnode - 1; id >= 0; --id) {
         const kin__bvh_node *N = &c->node[id];
         if (N->left < 0) {
             double e = 0.0;
             for (int k = 0; k < 3; ++k) e = dmax(e, (double)N->hi[k] - N->lo[k]);
-            double s = c->vl_first ? 0.0 : 2.0 * c->vl_dl[id];
+            double s = moves ? 2.0 * c->vl_dl[id] : 0.0;
             s = dmin(s, NEAR_SKIN_MAX * e);
             c->vl_sk[id] = isfinite(s) ? s : 0.0;
         } else
@@ -1493,7 +1497,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
     }
     W.rmax_f = f_up(c->rmax);
     int holds = near_list_holds(c, a->nj, cutoff);
-    if (holds) {
+    if (holds > 0) {
         for (int k = 0; k < c->vl_n; ++k) leaf_pair(&W, c->vl[2 * k], c->vl[2 * k + 1]);
         ++c->vl_used;
     } else {
@@ -1506,12 +1510,7 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
          * meets */
         int collect = cutoff >= 0.0 && cutoff < c->vl_nocut;
         const double *sk = c->vl_sk;
-        if (collect) {
-            /* the moves seen hold only when the list was checked here */
-            if (!(c->vl_ok && cutoff >= 0.0 && cutoff <= c->vl_cut)) c->vl_first = 1;
-            near_list_skins(c);
-            c->vl_ok = 0, c->vl_n = 0, c->vl_first = 0;
-        }
+        if (collect) near_list_skins(c, holds == 0), c->vl_ok = 0, c->vl_n = 0;
         const double neg_node = -2.0 * c->rmax;
         const kin__bvh_node *node = c->node;
         int *st = c->stack, top;

@@ -119,7 +119,6 @@ struct kin_contact {
     double vl_cut;     /* the cutoff it was made for */
     double *vl_sk;     /* per node: its skin (a leaf's), or its leaves' largest */
     double *vl_dl;     /* per node: its leaf's largest move at the last check of the list */
-    int vl_first;      /* no moves seen for the next list's skins */
     double *vl_dj;     /* nj scratch: each joint's move since vl_x0 */
     double *vl_x0;     /* 3 nj: the joints (tree order) when the list was made */
     /* contact as an event of kin_follow_event (branches/contact_event.c) */
