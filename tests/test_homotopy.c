@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "homotopy/homotopy_track.h" /* the endpoint checker (private) */
+#include "homotopy/track/homotopy_track.h" /* the endpoint checker (private) */
 #include "model/internal.h"       /* kin__splitmix */
 #include "libkin.h"
 #include "sail_states.h"

@@ -11,7 +11,7 @@
 
 #include "check.h"
 #include "libkin.h"
-#include "homotopy/homotopy_pool.h"
+#include "homotopy/solver/homotopy_pool.h"
 
 enum { N = 2000, MAXT = 4 };
 

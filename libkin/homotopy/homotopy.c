@@ -21,8 +21,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy/homotopy_equi.h"
-#include "homotopy/homotopy_track.h"
+#include "homotopy/symmetric/homotopy_equi.h"
+#include "homotopy/track/homotopy_track.h"
 #include "model/internal.h"
 
 int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads, double *betas,

@@ -14,8 +14,8 @@
 #ifndef KIN_HOMOTOPY_EQUI_H
 #define KIN_HOMOTOPY_EQUI_H
 
-#include "homotopy/homotopy_sym.h"
-#include "homotopy/homotopy_track.h"
+#include "homotopy/symmetric/homotopy_sym.h"
+#include "homotopy/track/homotopy_track.h"
 
 /* the change of coordinates and equations */
 typedef struct hom_equi {

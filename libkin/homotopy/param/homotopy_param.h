@@ -11,7 +11,7 @@
 #ifndef KIN_HOMOTOPY_PARAM_H
 #define KIN_HOMOTOPY_PARAM_H
 
-#include "homotopy/homotopy_track.h"
+#include "homotopy/track/homotopy_track.h"
 
 typedef struct hpar_problem {
     int m, s;

@@ -20,8 +20,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy/homotopy_control.h" /* MAX_STEPS */
-#include "homotopy/homotopy_track.h"
+#include "homotopy/track/homotopy_control.h" /* MAX_STEPS */
+#include "homotopy/track/homotopy_track.h"
 #include "model/internal.h"
 
 /* First tracking pass. The predictor error target is the smaller of

@@ -5,7 +5,7 @@
 
 #include <stddef.h>
 
-#include "homotopy/homotopy_param.h"
+#include "homotopy/param/homotopy_param.h"
 
 /* The group acting on beta: its projectively distinct elements (R_g and
  * -R_g act alike on P^s and on the quadrics), with the matrices S_g of

@@ -55,7 +55,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy/homotopy_kernels.h"
+#include "homotopy/track/homotopy_kernels.h"
 
 /* Refinement at t = 1 stops when the correction is below REFINE_TOL |z|
  * or stops shrinking by at least REFINE_RATE per iteration. */
