@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "homotopy/solver/homotopy_solver.h"
 #include "homotopy/track/homotopy_control.h"
 #include "model/internal.h"
 #include "libkin.h"

@@ -21,8 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy/symmetric/homotopy_equi.h"
-#include "homotopy/track/homotopy_track.h"
+#include "homotopy/solver/homotopy_solver.h"
 #include "model/internal.h"
 
 int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads, double *betas,
@@ -58,23 +57,6 @@ static int homotopy_impl(int m, int s, const double *Q, const kin_homotopy_optio
         *nsol = 0;
     }
     kin__hom_solver_free(&H);
-    return rc;
-}
-
-int kin__hom_solve(hom_solver *H, const int *list, int n, const kin_homotopy_options *o, double *betas, int maxsol,
-                   int *nsol, int *multiplicity, kin_homotopy_info *info, long *tracked)
-{
-    hom_endset E = {NULL, NULL, NULL};
-    hom_report R = {o->progress, o->user, 0.0, (double)n, 0.0, 0};
-    int rc = kin__hom_endset_alloc(&E, H->npaths, H->P.m);
-    if (!rc) {
-        kin__hom_report_start(&R);
-        if (!R.cancelled) rc = kin__hom_run(H, &kin__hom_base_settings, list, 0, n, 0, E.ends, E.zr, E.zi, &R);
-        if (!rc && R.cancelled) rc = KIN_ECANCELLED;
-        if (!rc) rc = kin__hom_merge(H, E.ends, E.zr, E.zi, &R, betas, maxsol, nsol, multiplicity, info);
-    }
-    *tracked = (long)R.base;
-    kin__hom_endset_free(&E);
     return rc;
 }
 

@@ -23,8 +23,7 @@
 #include <unistd.h>
 
 #include "homotopy/solver/homotopy_pool.h"
-#include "homotopy/symmetric/homotopy_equi.h"
-#include "homotopy/track/homotopy_track.h"
+#include "homotopy/solver/homotopy_solver.h"
 #include "model/internal.h"
 
 /* Paths are handed out in chunks of PATH_CHUNK, so a thread slowed down by

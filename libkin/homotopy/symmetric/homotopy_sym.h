@@ -6,6 +6,7 @@
 #include <stddef.h>
 
 #include "homotopy/param/homotopy_param.h"
+#include "homotopy/solver/homotopy_solver.h"
 
 /* The group acting on beta: its projectively distinct elements (R_g and
  * -R_g act alike on P^s and on the quadrics), with the matrices S_g of
