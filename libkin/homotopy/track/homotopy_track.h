@@ -1,7 +1,18 @@
-/* Private: the path tracker and endpoint certificate behind
- * kin_quadrics_homotopy (homotopy.c). Complex vectors are kept as separate
- * real and imaginary arrays (the matrices Q_j are real, so Q x costs two
- * real matrix-vector products and no complex arithmetic library calls). */
+/* Private: homotopy/track/, one path of the complete solver's total-degree
+ * homotopy and what every tracker of homotopy/ shares, the lowest of its
+ * subfolders (it uses no other): the one-path tracker and the endpoint
+ * certificate (homotopy_track.c, the reference), its kernels with the one
+ * complex LU (homotopy_kernels.c, homotopy_lu.h), the step control
+ * (homotopy_control.h), the rational predictor (homotopy_pade.c) and the
+ * lockstep tracker, HOM_BATCH paths at once, each bit for bit as the
+ * one-path tracker follows it (homotopy_batch.c, kernels homotopy_lanes.c).
+ * The parameter trackers (param/) reuse its LU, predictor and lane
+ * kernels; the solver (solver/) runs its trackers on the threads.
+ *
+ * This header: the path tracker and endpoint certificate behind
+ * kin_quadrics_homotopy. Complex vectors are kept as separate real and
+ * imaginary arrays (the matrices Q_j are real, so Q x costs two real
+ * matrix-vector products and no complex arithmetic library calls). */
 #ifndef KIN_HOMOTOPY_TRACK_H
 #define KIN_HOMOTOPY_TRACK_H
 
