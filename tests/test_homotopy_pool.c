@@ -1,4 +1,4 @@
-/* The complete solvers' thread pool (libkin/homotopy/homotopy_pool.c):
+/* The complete solvers' thread pool (libkin/homotopy/solver/homotopy_pool.c):
  * every item handed out exactly once, in increasing order from the shared
  * counter, whatever the thread count and chunk size; progress reports and
  * the cancel only on the calling thread; a cancel mid-run stops the counter
