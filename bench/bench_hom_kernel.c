@@ -20,7 +20,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "homotopy/homotopy_track.h"
+#include "homotopy/solver/homotopy_solver.h"
 #include "model/internal.h"
 #include "libkin.h"
 #include "bench_common.h"

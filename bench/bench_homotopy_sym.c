@@ -18,7 +18,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "homotopy/homotopy_sym.h"
+#include "homotopy/symmetric/homotopy_sym.h"
 #include "libkin.h"
 #include "bench_common.h"
 #include "sail_states.h"

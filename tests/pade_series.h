@@ -9,7 +9,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "homotopy/homotopy_track.h"
+#include "homotopy/track/homotopy_track.h"
 
 /* cr, ci rows 0..order: the Taylor coefficients of x at h = 0 (the other
  * entries of those rows zero) */

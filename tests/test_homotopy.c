@@ -10,8 +10,8 @@
 #include <string.h>
 
 #include "check.h"
-#include "homotopy/homotopy_track.h" /* the endpoint checker (private) */
-#include "model/internal.h"       /* kin__splitmix */
+#include "homotopy/solver/homotopy_solver.h" /* the endpoint checker (private) */
+#include "model/internal.h"                  /* kin__splitmix */
 #include "libkin.h"
 #include "sail_states.h"
 

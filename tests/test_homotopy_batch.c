@@ -9,7 +9,8 @@
 #include <string.h>
 
 #include "check.h"
-#include "homotopy/homotopy_control.h"
+#include "homotopy/solver/homotopy_solver.h"
+#include "homotopy/track/homotopy_control.h"
 #include "model/internal.h"
 #include "libkin.h"
 #include "sail_states.h"

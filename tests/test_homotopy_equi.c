@@ -11,8 +11,8 @@
 #include <string.h>
 
 #include "check.h"
-#include "homotopy/homotopy_equi.h"
-#include "homotopy/homotopy_sym.h"
+#include "homotopy/symmetric/homotopy_equi.h"
+#include "homotopy/symmetric/homotopy_sym.h"
 #include "model/internal.h"
 #include "libkin.h"
 

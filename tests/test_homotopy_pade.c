@@ -11,7 +11,7 @@
 
 #include "check.h"
 #include "pade_series.h"
-#include "homotopy/homotopy_control.h"
+#include "homotopy/track/homotopy_control.h"
 
 enum { M = 5, K = HOM_ORDER };
 

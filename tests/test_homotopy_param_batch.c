@@ -15,7 +15,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "homotopy/homotopy_param.h"
+#include "homotopy/param/homotopy_param.h"
 #include "model/internal.h"
 #include "libkin.h"
 #include "sail_states.h"

@@ -14,8 +14,8 @@
 
 #include "check.h"
 #include "pade_series.h"
-#include "homotopy/homotopy_control.h"
-#include "homotopy/homotopy_param_control.h"
+#include "homotopy/track/homotopy_control.h"
+#include "homotopy/param/homotopy_param_control.h"
 
 enum { M = 4, K = HPAR_ORDER };
 

@@ -1,4 +1,4 @@
-/* The complete solvers' thread pool (libkin/homotopy/homotopy_pool.c):
+/* The complete solvers' thread pool (libkin/homotopy/solver/homotopy_pool.c):
  * every item handed out exactly once, in increasing order from the shared
  * counter, whatever the thread count and chunk size; progress reports and
  * the cancel only on the calling thread; a cancel mid-run stops the counter
@@ -11,7 +11,7 @@
 
 #include "check.h"
 #include "libkin.h"
-#include "homotopy/homotopy_pool.h"
+#include "homotopy/solver/homotopy_pool.h"
 
 enum { N = 2000, MAXT = 4 };
 

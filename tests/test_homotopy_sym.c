@@ -14,7 +14,7 @@
 #include "libkin.h"
 #include "sail_states.h"
 #include "root_match.h"
-#include "homotopy/homotopy_sym.h"
+#include "homotopy/symmetric/homotopy_sym.h"
 
 enum { MAXM = 8 };
 

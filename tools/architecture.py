@@ -2,17 +2,19 @@
 """The layers of libkin, checked against the code (docs/architecture.md).
 
   architecture.py check [--build DIR]   fail on a circle between files or a
-                                        dependency that goes up a layer
+                                        dependency that goes up a layer (or,
+                                        inside a folder, up a sub-layer)
   architecture.py stats [--build DIR]   folders, largest files, depth, circles
   architecture.py picture OUT.png       the layer picture of docs/architecture.md
 
-C: a file depends on another when it includes one of its folder's headers
-(from the sources) or calls a function the other defines (from the symbols
-of the built objects, `nm`, when --build is given: an include alone misses a
-call declared in a shared header). Python: a module depends on every module
-it imports, at the top or inside a function (a lazy import that closes a
-circle is still a circle). Standard library only, but for the picture
-(matplotlib).
+C: a file depends on another when it includes one of its headers (from the
+sources) or calls a function the other defines (from the symbols of the
+built objects, `nm`, when --build is given: an include alone misses a call
+declared in a shared header). A large folder is split into subfolders
+(libkin/homotopy/track/), layered in their turn (C_SUBLAYERS). Python: a
+module depends on every module it imports, at the top or inside a function
+(a lazy import that closes a circle is still a circle). Standard library
+only, but for the picture (matplotlib).
 """
 import argparse
 import ast
@@ -36,6 +38,19 @@ C_LAYERS = [
     ["locate"],                               # detection and location (4)
     ["branches"],                             # second order, branch paths, follow to event (3.3-3.4, 5)
 ]
+# The layers inside a folder split into subfolders, lowest first: a file of
+# a subfolder may use only files of its own subfolder or of a lower
+# sub-layer; TOP stands for the files directly in the folder (its entry
+# points), the highest. docs/architecture.md explains each subfolder.
+TOP = ""
+C_SUBLAYERS = {
+    "homotopy": [
+        ["track"],             # the one-path tracker and certificate, its kernels, LU, Pade, lockstep lanes
+        ["param", "solver"],   # the parameter tracker (and its lanes) | set-up, thread pool, runs, checks, merge
+        ["symmetric"],         # the symmetric solver: group, equivariant start, monodromy (uses both above)
+        [TOP],                 # homotopy/*.c: the entry points (plain, symmetric, orbit ranges)
+    ],
+}
 # The Python layers, lowest first, by subpackage (or top-level module) of
 # the libkin package: a module may import from its own layer or below, never
 # above, and no two modules may import each other, even through others.
@@ -62,17 +77,37 @@ def layer_of(layers, group):
 # ---------------------------------------------------------------- C ----
 
 def c_files():
-    """the library's sources, "folder/file" (a file directly in libkin/, as in
-    the flat layout before 0.3, is "./file")"""
+    """the library's sources, "folder/file" or "folder/subfolder/file" (a file
+    directly in libkin/, as in the flat layout before 0.3, is "./file")"""
     base = os.path.join(ROOT, "libkin")
     out = []
     for folder in sorted(os.listdir(base)):
         d = os.path.join(base, folder)
         if os.path.isdir(d):
-            out += [f"{folder}/{f}" for f in sorted(os.listdir(d)) if f.endswith((".c", ".h"))]
+            for sub, dirs, names in os.walk(d):
+                dirs.sort()
+                rel = os.path.relpath(sub, base).replace(os.sep, "/")
+                out += [f"{rel}/{f}" for f in sorted(names) if f.endswith((".c", ".h"))]
         elif folder.endswith((".c", ".h")):
             out.append(f"./{folder}")
-    return out
+    return sorted(out)
+
+
+def c_folder(f):
+    """the top folder of a source ("homotopy" for "homotopy/track/x.c")"""
+    return f.split("/")[0]
+
+
+def c_subfolder(f):
+    """the subfolder of a source within its folder ("track" for
+    "homotopy/track/x.c"), TOP for a file directly in the folder"""
+    parts = f.split("/")
+    return parts[1] if len(parts) > 2 else TOP
+
+
+def c_subfolders():
+    """every subfolder that holds sources, "folder/subfolder" """
+    return sorted({"/".join(f.split("/")[:2]) for f in c_files() if len(f.split("/")) > 2})
 
 
 def c_graph(build):
@@ -82,11 +117,13 @@ def c_graph(build):
     files = c_files()
     edges = collections.defaultdict(set)
     why = collections.defaultdict(set)
-    inc = re.compile(r'#\s*include\s+"(?:([a-z_]+)/)?([A-Za-z0-9_]+\.h)"')
+    # a private header by its path from libkin/ ("homotopy/track/x.h"), or
+    # by its bare name from its own folder
+    inc = re.compile(r'#\s*include\s+"((?:[a-z_]+/)*)([A-Za-z0-9_]+\.h)"')
     for f in files:
         with open(os.path.join(ROOT, "libkin", f), encoding="utf-8") as fh:
             for m in inc.finditer(fh.read()):
-                to = f"{m.group(1) or os.path.dirname(f)}/{m.group(2)}"
+                to = f"{m.group(1).rstrip('/') or os.path.dirname(f)}/{m.group(2)}"
                 if to != f and to in files:
                     edges[f].add(to)
                     why[(f, to)].add("#include")
@@ -298,16 +335,17 @@ def check(build):
     for comp in circles({u: edges.get(u, set()) for u in units}):
         problems.append("C circle: " + " <-> ".join(comp))
     for u in units:
-        folder = u.split("/")[0]
+        folder = c_folder(u)
         lu = layer_of(C_LAYERS, folder)
         if lu is None:
             problems.append(f"C folder libkin/{folder}/ is in no layer (tools/architecture.py C_LAYERS)")
             continue
         for v in edges.get(u, ()):
-            fv = v.split("/")[0]
+            fv = c_folder(v)
             lv = layer_of(C_LAYERS, fv)
             if fv != folder and (lv is None or lv >= lu):
                 problems.append(f"C {u} (layer {lu}) uses {v} (layer {lv}): {sorted(why[(u, v)])[:4]}")
+    problems += sublayer_problems(units, edges, why)
     if SRC.is_dir():
         pedges = import_graph(SRC)
         names = sorted(pedges)
@@ -333,6 +371,38 @@ def check(build):
     return 1 if problems else 0
 
 
+def sublayer_problems(units, edges, why):
+    """inside a folder of C_SUBLAYERS: every subfolder in a sub-layer, and
+    no file using (including, calling) a file of its own sub-layer's other
+    subfolders or of a higher one; a folder with subfolders needs sub-layers"""
+    out = []
+    for sf in c_subfolders():
+        folder, sub = sf.split("/")
+        if folder not in C_SUBLAYERS:
+            out.append(f"C folder libkin/{folder}/ has subfolders but no sub-layers "
+                       "(tools/architecture.py C_SUBLAYERS)")
+        elif layer_of(C_SUBLAYERS[folder], sub) is None:
+            out.append(f"C subfolder libkin/{sf}/ is in no sub-layer (tools/architecture.py C_SUBLAYERS)")
+    for u in units:
+        folder = c_folder(u)
+        layers = C_SUBLAYERS.get(folder)
+        if layers is None:
+            continue
+        su = c_subfolder(u)
+        lu = layer_of(layers, su)
+        if lu is None:
+            continue
+        for v in edges.get(u, ()):
+            sv = c_subfolder(v)
+            if c_folder(v) != folder or sv == su:
+                continue
+            lv = layer_of(layers, sv)
+            if lv is None or lv >= lu:
+                out.append(f"C {u} (sub-layer {lu} of {folder}/) uses {v} (sub-layer {lv}): "
+                           f"{sorted(why[(u, v)])[:4]}")
+    return out
+
+
 def doc_problems():
     """docs/architecture.md must match the tree: it names every C folder
     and Python subpackage of the layers, and every source path it names
@@ -343,14 +413,17 @@ def doc_problems():
     with open(doc_path, encoding="utf-8") as fh:
         doc = fh.read()
     out = []
-    for folder in sorted({f.split("/")[0] for f in c_files()}):
+    for folder in sorted({c_folder(f) for f in c_files()}):
         if f"libkin/{folder}/" not in doc:
             out.append(f"docs/architecture.md does not name the C folder libkin/{folder}/")
+    for sf in c_subfolders():
+        if f"libkin/{sf}/" not in doc:
+            out.append(f"docs/architecture.md does not name the C subfolder libkin/{sf}/")
     if SRC.is_dir():
         for g in sorted({py_group(m) for m in modules(SRC)} - {"__init__"}):
             if f"libkin.{g}" not in doc:
                 out.append(f"docs/architecture.md does not name the Python package libkin.{g}")
-    folders = {f.split("/")[0] for f in c_files()}
+    folders = {c_folder(f) for f in c_files()}
     for ref in sorted(set(re.findall(r"[A-Za-z0-9_./]+\.(?:c|h|py)\b", doc))):
         if ref.startswith(("python/", "include/", "tools/", "tests/", "bench/")):
             cand = [ref]
@@ -358,8 +431,9 @@ def doc_problems():
             cand = [ref, f"python/src/{ref}"]
         elif ref.split("/")[0] in folders:
             cand = [f"libkin/{ref}"]
-        elif "/" in ref:
-            cand = [f"python/src/libkin/{ref}", f"libkin/{ref}"]
+        elif "/" in ref:   # the package's, or a C path from within its folder ("track/homotopy_lu.h")
+            cand = [f"python/src/libkin/{ref}", f"libkin/{ref}"] + [f"libkin/{f}" for f in c_files()
+                                                                   if f.endswith("/" + ref)]
         else:   # a bare file name: somewhere in libkin/, the public headers or the package
             cand = [f"libkin/{f}" for f in c_files() if f.endswith("/" + ref)] + [f"include/libkin/{ref}"]
             if SRC.is_dir():
@@ -377,11 +451,22 @@ def file_lines(path):
 def stats(build):
     units, edges, _ = c_graph(build)
     cfiles = c_files()
-    folders = sorted({f.split("/")[0] for f in cfiles})
+    folders = sorted({c_folder(f) for f in cfiles})
     lines = {f: file_lines(os.path.join(ROOT, "libkin", f)) for f in cfiles}
     print(f"C: {len(cfiles)} files in {len(folders)} folders ({', '.join(folders)}), "
           f"{sum(lines.values())} lines; largest: " +
           ", ".join(f"{f} {n}" for f, n in sorted(lines.items(), key=lambda x: -x[1])[:3]))
+    per = collections.Counter(c_folder(f) for f in cfiles)
+    subs = collections.Counter((c_folder(f), c_subfolder(f)) for f in cfiles)
+    parts = []
+    for folder in folders:
+        inner = sorted(sb for (fd, sb) in subs if fd == folder and sb != TOP)
+        detail = ""
+        if inner:
+            detail = (f" ({subs[(folder, TOP)]} at the top; "
+                      + ", ".join(f"{sb}/ {subs[(folder, sb)]}" for sb in inner) + ")")
+        parts.append(f"{folder}/ {per[folder]}{detail}")
+    print("C: files (.c and .h) per folder: " + ", ".join(parts))
     print(f"C: dependency depth {depth(units, edges)} files; "
           f"circles: {circles({u: edges.get(u, set()) for u in units}) or 'none'}")
     pedges = import_graph(SRC)

@@ -1,6 +1,5 @@
 /* The complete solver's public entry points: kin_quadrics_homotopy,
- * kin_quadrics_homotopy_ex and kin_quadrics_homotopy_range, and
- * kin__hom_solve (the first pass and the merge) for the symmetric routes.
+ * kin_quadrics_homotopy_ex and kin_quadrics_homotopy_range.
  * A complete solver for beta^T Q_j beta = 0 (j < s), beta in P^s:
  * total-degree homotopy continuation. Every one of the 2^s paths from the
  * start system x_j^2 - x_0^2 = 0 is tracked in a random complex affine
@@ -9,20 +8,28 @@
  * and its endpoint certified and classified: real, complex, singular (a
  * multiple root, a point of a positive-dimensional component, Figure
  * 5(c)-(d), or a root too ill-conditioned to certify), or failed. The tracker
- * and the certificate are in homotopy_track.c; the set-up and the runs of
- * paths on the threads (each thread HOM_BATCH paths at a time in lockstep,
- * homotopy_batch.c) in homotopy_solver.c; the checks of the endpoints
- * against what total-degree homotopy guarantees, the re-tracks and the
- * accounting in homotopy_merge.c.
+ * and the certificate are in track/homotopy_track.c; the set-up and the
+ * runs of paths on the threads (each thread HOM_BATCH paths at a time in
+ * lockstep, track/homotopy_batch.c) in solver/homotopy_solver.c; the checks
+ * of the endpoints against what total-degree homotopy guarantees, the
+ * re-tracks and the accounting in solver/homotopy_merge.c, with
+ * kin__hom_solve (the first pass and the merge, the symmetric routes' too).
  *
  * Files call downwards only: homotopy.c -> homotopy_merge.c ->
- * homotopy_solver.c -> homotopy_pool.c, homotopy_batch.c, homotopy_track.c. */
+ * homotopy_solver.c -> homotopy_pool.c, homotopy_batch.c, homotopy_track.c.
+ *
+ * The folder: the files directly in homotopy/ are its entry points (this
+ * one; homotopy_sym_route.c, the solver with symmetry; homotopy_orbit_range.c,
+ * the equivariant form and orbit ranges for shards), above its subfolders,
+ * lowest first: track/ (one path), then param/ (parameter homotopies) and
+ * solver/ (set-up, threads, checks, merge), then symmetric/ (the solver with
+ * a symmetry group). Each subfolder's main header says what it holds; no
+ * file uses a higher subfolder (tools/architecture.py, C_SUBLAYERS). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy/homotopy_equi.h"
-#include "homotopy/homotopy_track.h"
+#include "homotopy/solver/homotopy_solver.h"
 #include "model/internal.h"
 
 int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads, double *betas,
@@ -58,23 +65,6 @@ static int homotopy_impl(int m, int s, const double *Q, const kin_homotopy_optio
         *nsol = 0;
     }
     kin__hom_solver_free(&H);
-    return rc;
-}
-
-int kin__hom_solve(hom_solver *H, const int *list, int n, const kin_homotopy_options *o, double *betas, int maxsol,
-                   int *nsol, int *multiplicity, kin_homotopy_info *info, long *tracked)
-{
-    hom_endset E = {NULL, NULL, NULL};
-    hom_report R = {o->progress, o->user, 0.0, (double)n, 0.0, 0};
-    int rc = kin__hom_endset_alloc(&E, H->npaths, H->P.m);
-    if (!rc) {
-        kin__hom_report_start(&R);
-        if (!R.cancelled) rc = kin__hom_run(H, &kin__hom_base_settings, list, 0, n, 0, E.ends, E.zr, E.zi, &R);
-        if (!rc && R.cancelled) rc = KIN_ECANCELLED;
-        if (!rc) rc = kin__hom_merge(H, E.ends, E.zr, E.zi, &R, betas, maxsol, nsol, multiplicity, info);
-    }
-    *tracked = (long)R.base;
-    kin__hom_endset_free(&E);
     return rc;
 }
 

@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy/homotopy_equi.h"
-#include "homotopy/homotopy_sym.h"
+#include "homotopy/symmetric/homotopy_equi.h"
+#include "homotopy/symmetric/homotopy_sym.h"
 #include "model/internal.h"
 
 /* Qt is equivariant under perm within this (relative to its largest entry) */

@@ -5,7 +5,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "homotopy/homotopy_sym.h"
+#include "homotopy/symmetric/homotopy_sym.h"
 #include "model/internal.h"
 
 static int sym_impl(int route, int m, int s, const double *Q, int ngroup, const double *R,

@@ -22,9 +22,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "homotopy/homotopy_equi.h"
-#include "homotopy/homotopy_pool.h"
-#include "homotopy/homotopy_track.h"
+#include "homotopy/solver/homotopy_pool.h"
+#include "homotopy/solver/homotopy_solver.h"
 #include "model/internal.h"
 
 /* Paths are handed out in chunks of PATH_CHUNK, so a thread slowed down by

@@ -4,7 +4,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "homotopy/homotopy_param_lanes.h"
+#include "homotopy/param/homotopy_param_lanes.h"
 
 #if defined(HOM_LANES_VECTOR)
 

@@ -7,7 +7,7 @@
 #ifndef KIN_HOMOTOPY_LU_H
 #define KIN_HOMOTOPY_LU_H
 
-#include "homotopy/homotopy_track.h"
+#include "homotopy/track/homotopy_track.h"
 
 enum { HOM_MM = HOM_MAX_M * HOM_MAX_M };
 

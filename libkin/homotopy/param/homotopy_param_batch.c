@@ -26,7 +26,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy/homotopy_param_lanes.h"
+#include "homotopy/param/homotopy_param_lanes.h"
 
 #if defined(HOM_LANES_VECTOR)
 

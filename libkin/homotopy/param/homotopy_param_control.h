@@ -7,8 +7,8 @@
 
 #include <math.h>
 
-#include "homotopy/homotopy_pade.h"
-#include "homotopy/homotopy_param.h"
+#include "homotopy/param/homotopy_param.h"
+#include "homotopy/track/homotopy_pade.h"
 
 enum {
     HPAR_ORDER = 6,                     /* Taylor order of the predictor */

@@ -33,8 +33,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy/homotopy_pool.h"
-#include "homotopy/homotopy_sym.h"
+#include "homotopy/solver/homotopy_pool.h"
+#include "homotopy/symmetric/homotopy_sym.h"
 #include "model/internal.h"
 
 enum { RETRACK_ROUNDS = 3, BUDGET_PER_ORBIT = 40, BUDGET_EXTRA = 1000 };

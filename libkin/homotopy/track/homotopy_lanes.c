@@ -3,7 +3,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "homotopy/homotopy_lanes.h"
+#include "homotopy/track/homotopy_lanes.h"
 
 #if defined(HOM_LANES_VECTOR)
 

@@ -19,8 +19,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy/homotopy_equi.h"
-#include "homotopy/homotopy_sym.h"
+#include "homotopy/symmetric/homotopy_equi.h"
+#include "homotopy/symmetric/homotopy_sym.h"
 #include "model/internal.h"
 
 /* the real solutions x -> beta = U x, unit and with the largest entry

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <time.h>
 
-#include "homotopy/homotopy_pool.h"
+#include "homotopy/solver/homotopy_pool.h"
 
 typedef struct hom_worker {
     hom_pool *P;

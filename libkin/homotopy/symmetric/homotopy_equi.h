@@ -14,8 +14,9 @@
 #ifndef KIN_HOMOTOPY_EQUI_H
 #define KIN_HOMOTOPY_EQUI_H
 
-#include "homotopy/homotopy_sym.h"
-#include "homotopy/homotopy_track.h"
+#include "homotopy/solver/homotopy_solver.h"
+#include "homotopy/symmetric/homotopy_sym.h"
+#include "homotopy/track/homotopy_track.h"
 
 /* the change of coordinates and equations */
 typedef struct hom_equi {
@@ -34,20 +35,9 @@ typedef struct hom_equi {
 int kin__equi_plan(hom_equi *E, int m, int s, const double *Qr, const sym_group *G, unsigned long long seed);
 void kin__equi_free(hom_equi *E);
 
-/* The orbits of the 2^s start roots under P (path b's bit j - 1 is the
- * sign of x_j; P maps it to path next[b]). */
-struct hom_orbits {
-    int npaths, nreps, m;
-    int perm[HOM_MAX_M];
-    int *next;           /* the path P maps b to */
-    int *rep;            /* the orbit's representative: its smallest path */
-    int *reps;           /* the representatives, ascending (nreps) */
-    int *list;           /* kin__hom_run's scratch: npaths */
-    unsigned char *mark; /* kin__hom_run's scratch: npaths */
-    int *slot;           /* NULL: path p's endpoint is stored at index p; else at slot[p] (a
-                            range of orbits stored compactly, kin_quadrics_homotopy_orbit_range) */
-};
-/* KIN_OK or KIN_ENOMEM (O then empty) */
+/* The orbits of the 2^s start roots under P (hom_orbits,
+ * solver/homotopy_solver.h: path b's bit j - 1 is the sign of x_j; P maps
+ * it to path next[b]). KIN_OK or KIN_ENOMEM (O then empty) */
 int kin__orbits_init(hom_orbits *O, int m, const int *perm);
 /* the number of orbits without the table (Burnside's count; perm of
  * order k) */

@@ -5,9 +5,9 @@
 #ifndef KIN_HOMOTOPY_CONTROL_H
 #define KIN_HOMOTOPY_CONTROL_H
 
-#include "homotopy/homotopy_lu.h"
-#include "homotopy/homotopy_pade.h"
-#include "homotopy/homotopy_track.h"
+#include "homotopy/track/homotopy_lu.h"
+#include "homotopy/track/homotopy_pade.h"
+#include "homotopy/track/homotopy_track.h"
 
 /* The hottest kernels are compiled twice where the compiler and the
  * platform support function multiversioning (GCC or Clang on x86-64 ELF):

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy/homotopy_sym.h"
+#include "homotopy/symmetric/homotopy_sym.h"
 #include "model/internal.h"
 #include "model/lapack.h"
 

@@ -5,8 +5,8 @@
 #ifndef KIN_HOMOTOPY_KERNELS_H
 #define KIN_HOMOTOPY_KERNELS_H
 
-#include "homotopy/homotopy_control.h"
-#include "homotopy/homotopy_lu.h"
+#include "homotopy/track/homotopy_control.h"
+#include "homotopy/track/homotopy_lu.h"
 
 /* a point with Q x, H and the LU factors of J */
 typedef struct hom_point {

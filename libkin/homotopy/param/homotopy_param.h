@@ -1,4 +1,13 @@
-/* Private: a path tracker for parameter homotopies of quadrics,
+/* Private: homotopy/param/, the parameter homotopies of the symmetric
+ * complete solver (symmetric/): one root of M(t)[x, x] = 0 followed from
+ * t = 0 to 1, one path at a time (homotopy_param.c, the reference, with the
+ * step control of homotopy_param_control.h) or HOM_BATCH paths in lockstep,
+ * each bit for bit as the one-path tracker follows it
+ * (homotopy_param_batch.c, kernels homotopy_param_lanes.c). It uses track/
+ * (the complex LU, the rational predictor, the lane kernels) and nothing
+ * of solver/, its peer.
+ *
+ * This header: a path tracker for parameter homotopies of quadrics,
  *     H(x, t) = M(t)[x, x] = (A + t D)[x, x] = 0,  j < s, x in P^s,
  * with complex symmetric A and D = B - A (kin_quadrics_homotopy_sym:
  * monodromy between random members of an equivariant family and the last
@@ -11,7 +20,7 @@
 #ifndef KIN_HOMOTOPY_PARAM_H
 #define KIN_HOMOTOPY_PARAM_H
 
-#include "homotopy/homotopy_track.h"
+#include "homotopy/track/homotopy_track.h"
 
 typedef struct hpar_problem {
     int m, s;

@@ -20,8 +20,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy/homotopy_control.h" /* MAX_STEPS */
-#include "homotopy/homotopy_track.h"
+#include "homotopy/solver/homotopy_solver.h"
+#include "homotopy/track/homotopy_control.h" /* MAX_STEPS */
 #include "model/internal.h"
 
 /* First tracking pass. The predictor error target is the smaller of
@@ -263,6 +263,26 @@ cancelled:
     rc = KIN_ECANCELLED;
 done:
     free(paired), free(size), free(list), free(parent), free(keys);
+    return rc;
+}
+
+/* the first pass, then the merge (homotopy_solver.h): the whole solve of
+ * kin_quadrics_homotopy_ex and of the symmetric solver's equivariant and
+ * plain routes */
+int kin__hom_solve(hom_solver *H, const int *list, int n, const kin_homotopy_options *o, double *betas, int maxsol,
+                   int *nsol, int *multiplicity, kin_homotopy_info *info, long *tracked)
+{
+    hom_endset E = {NULL, NULL, NULL};
+    hom_report R = {o->progress, o->user, 0.0, (double)n, 0.0, 0};
+    int rc = kin__hom_endset_alloc(&E, H->npaths, H->P.m);
+    if (!rc) {
+        kin__hom_report_start(&R);
+        if (!R.cancelled) rc = kin__hom_run(H, &kin__hom_base_settings, list, 0, n, 0, E.ends, E.zr, E.zi, &R);
+        if (!rc && R.cancelled) rc = KIN_ECANCELLED;
+        if (!rc) rc = kin__hom_merge(H, E.ends, E.zr, E.zi, &R, betas, maxsol, nsol, multiplicity, info);
+    }
+    *tracked = (long)R.base;
+    kin__hom_endset_free(&E);
     return rc;
 }
 

@@ -11,8 +11,8 @@
 #ifndef KIN_HOMOTOPY_PARAM_LANES_H
 #define KIN_HOMOTOPY_PARAM_LANES_H
 
-#include "homotopy/homotopy_lanes.h"
-#include "homotopy/homotopy_param_control.h"
+#include "homotopy/param/homotopy_param_control.h"
+#include "homotopy/track/homotopy_lanes.h"
 
 #if defined(HOM_LANES_VECTOR)
 

@@ -13,7 +13,7 @@
 #ifndef KIN_HOMOTOPY_LANES_H
 #define KIN_HOMOTOPY_LANES_H
 
-#include "homotopy/homotopy_control.h"
+#include "homotopy/track/homotopy_control.h"
 
 #if defined(__GNUC__)
 #define HOM_LANES_VECTOR 1

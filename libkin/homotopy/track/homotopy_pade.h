@@ -7,7 +7,7 @@
 #ifndef KIN_HOMOTOPY_PADE_H
 #define KIN_HOMOTOPY_PADE_H
 
-#include "homotopy/homotopy_track.h"
+#include "homotopy/track/homotopy_track.h"
 
 /* Where the rational predictor is good enough the step may grow past the
  * Taylor predictor's, by factors of PADE_GROW up to PADE_REACH times the

@@ -30,7 +30,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy/homotopy_lanes.h"
+#include "homotopy/track/homotopy_lanes.h"
 
 #if defined(HOM_LANES_VECTOR)
 

@@ -26,7 +26,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy/homotopy_equi.h"
+#include "homotopy/symmetric/homotopy_equi.h"
 #include "model/internal.h"
 #include "model/lapack.h"
 

@@ -6,7 +6,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "homotopy/homotopy_kernels.h"
+#include "homotopy/track/homotopy_kernels.h"
 
 double kin__hom_vnorm(int n, const double *xr, const double *xi)
 {

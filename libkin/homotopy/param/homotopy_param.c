@@ -30,8 +30,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy/homotopy_lu.h"
-#include "homotopy/homotopy_param_control.h"
+#include "homotopy/param/homotopy_param_control.h"
+#include "homotopy/track/homotopy_lu.h"
 
 /* the kernels are simple loops over contiguous arrays: let GCC vectorise
  * them (at -O2 its cost model leaves loops with a remainder scalar) */

@@ -55,7 +55,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "homotopy/homotopy_kernels.h"
+#include "homotopy/track/homotopy_kernels.h"
 
 /* Refinement at t = 1 stops when the correction is below REFINE_TOL |z|
  * or stops shrinking by at least REFINE_RATE per iteration. */
@@ -68,7 +68,7 @@ static const double H_CERT = 0.25;
  * times m |z|^2 bounds it with a margin of 2. */
 static const double EVAL_ROUNDING = 2.0 * DBL_EPSILON;
 /* A certificate must also localise the root to R_MINUS_MAX |z|: the
- * duplicate search (homotopy.c) compares endpoints at 1e-6 and relies on
+ * duplicate search (homotopy_merge.c) compares endpoints at 1e-6 and relies on
  * existence balls far smaller than that. */
 static const double R_MINUS_MAX = 1e-8;
 

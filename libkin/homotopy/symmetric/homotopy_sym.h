@@ -1,11 +1,26 @@
-/* Private: the symmetry group and the root sets of the symmetric complete
- * solver (homotopy_sym.c, homotopy_sym_group.c). */
+/* Private: homotopy/symmetric/, the complete solver for a system with a
+ * symmetry group (kin_quadrics_homotopy_sym; its entry point and the choice
+ * of route are homotopy/homotopy_sym_route.c): the group and the root sets
+ * (homotopy_sym_group.c); the monodromy route, which finds the roots of a
+ * random equivariant start system by loops of parameter homotopies and
+ * tracks one root per orbit to the caller's system (homotopy_sym.c, start
+ * systems homotopy_sym_start.c, on param/'s trackers); the equivariant
+ * route, the plain solver's homotopy with one path per orbit of start roots
+ * in coordinates where a cyclic subgroup permutes coordinates and equations
+ * alike (homotopy_equi.c, homotopy_sym_equi.c, on solver/'s runs), and the
+ * plain route. Every route ends in solver/'s certificate, checks and
+ * accounting. Above param/, solver/ and track/; below the entry points.
+ *
+ * This header: the symmetry group and the root sets of the symmetric
+ * complete solver (homotopy_sym.c, homotopy_sym_group.c), its state and
+ * routes. */
 #ifndef KIN_HOMOTOPY_SYM_H
 #define KIN_HOMOTOPY_SYM_H
 
 #include <stddef.h>
 
-#include "homotopy/homotopy_param.h"
+#include "homotopy/param/homotopy_param.h"
+#include "homotopy/solver/homotopy_solver.h"
 
 /* The group acting on beta: its projectively distinct elements (R_g and
  * -R_g act alike on P^s and on the quadrics), with the matrices S_g of
@@ -19,7 +34,7 @@ typedef struct sym_group {
 
 /* Check the caller's ngroup matrices R (orthogonal, a group up to sign, the
  * system q_j(b) = b^T Q_j b equivariant; Qr: the scaled symmetric rows of
- * homotopy_track.h) and set up G. KIN_OK, KIN_EINVAL (with a message in
+ * homotopy_solver.h) and set up G. KIN_OK, KIN_EINVAL (with a message in
  * err), KIN_ENOMEM. */
 int kin__sym_group_init(sym_group *G, int m, int s, const double *Qr, int ngroup, const double *R, char *err,
                         size_t errlen);

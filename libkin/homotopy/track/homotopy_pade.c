@@ -18,7 +18,7 @@
  * formulas. */
 #include <math.h>
 
-#include "homotopy/homotopy_control.h"
+#include "homotopy/track/homotopy_control.h"
 
 /* h^(K - 1) by multiplications (pow is costly, and this is exact enough: a
  * few roundings) */
