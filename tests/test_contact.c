@@ -604,7 +604,7 @@ static void tree_independent_answers(void)
     CHECK(differ > 0);
 }
 
-/* the near-pair list (contact.c, near_list_holds): checks with a cutoff
+/* the near-pair list (contact/near_list.c): checks with a cutoff
  * reuse the leaf pairs listed at an earlier configuration while no leaf has
  * moved more than its skin. Its answers equal the smallest over all pairs:
  * along a path of small moves (the list serves most checks), when one joint

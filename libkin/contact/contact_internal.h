@@ -1,5 +1,7 @@
 /* Private to libkin/contact/: the contact workspace and the exact distance
- * tests (distance.c). Points are 3-vectors (2D models have z = 0). */
+ * tests (distance.c), shared with branches/contact_event.c; what the
+ * clearance's own files share is clearance.h. Points are 3-vectors (2D
+ * models have z = 0). */
 #ifndef KIN_CONTACT_INTERNAL_H
 #define KIN_CONTACT_INTERNAL_H
 
@@ -27,14 +29,14 @@ typedef struct kin__bvh_node {
 
 /* A leaf's primitives side by side (one lane each, lane i = primitive
  * start + i), so that a primitive is tested against all of another leaf's
- * in straight-line code (contact.c, near_lanes and adjacent_lanes): their
+ * in straight-line code (lanes.h, near_lanes and adjacent_lanes): their
  * boxes grown by their radii, floats rounded outward, and their joints in
  * tree order (a bar's third repeats its second), the joints' points and
  * the radii in float. Lanes past the leaf's count: empty boxes, joints -1,
  * points and radii 0. The slabs across x + y and x - y bound a long part
  * tilted in a nearly flat sheet (a sail) far tighter than its box does.
  * The leaf's own axis w (a unit vector across its parts: in the plane of
- * its triangles, across their long sides; contact.c, leaf_axis) and each
+ * its triangles, across their long sides; tree.c, leaf_axis) and each
  * lane's interval of w . p over its points (without the radius) follow the
  * leaf's orientation, which no fixed direction does: a row is tested
  * against another leaf's lanes projected on it (orient_lanes). 816 bytes. */
@@ -98,7 +100,7 @@ struct kin_contact {
     double quality0;   /* the refitted tree's quality measure just after its build */
     double rmax;       /* the largest radius */
     int seed[2];       /* tree positions of the last smallest pair found, or -1 */
-    /* each primitive's own separating axes (contact.c, own_axes), made when
+    /* each primitive's own separating axes (walk.c, own_axes), made when
      * the walk first needs them in a call: KIN__OWN_AXES unit axes and the
      * primitive's interval on each (5 floats an axis), by tree position */
     float *ax;           /* 5 * KIN__OWN_AXES per primitive */
@@ -108,7 +110,7 @@ struct kin_contact {
     double *sgap;      /* stack_cap: the squared box gap of each pair on the stack */
     int stack_cap;
     double *pts;       /* nj*3 points of the configuration, joints in tree order */
-    /* the near-pair list (contact.c, near_list_holds): leaf node pairs
+    /* the near-pair list (near_list.c): leaf node pairs
      * (u, v) whose boxes were within vl_cut + their skins at the joints
      * vl_x0 */
     int *vl;           /* 2 * vl_cap */

@@ -1,4 +1,4 @@
-/* The exact distance tests of the clearance (contact.c): point-segment,
+/* The exact distance tests of the clearance (primitives.c): point-segment,
  * segment-segment, point-triangle, segment-triangle and triangle-triangle,
  * each returning the distance and the two closest points.
  *

@@ -1,0 +1,252 @@
+/* What the follower (kin_follow_event, follow.c) checks after every
+ * accepted step, in the cheap stretches (follow_cheap.c) and in the SVD
+ * locator alike, which calls kin__follow_after_step as its hook: the path
+ * length by chords, the samples the caller asked for, a return to the
+ * start and whether it is a closed loop (with the start's branch
+ * directions if given: is_loop), the length budget, a contact, and after a
+ * handover whether LU steps may resume; and, after the locator returns,
+ * the length and points from where it left the handle (kin__follow_resync).
+ * A new kind of event belongs in kin__follow_after_step (a stop with its
+ * own reason) and in follow.c's classification of how the path ended. */
+#include <math.h>
+#ifdef KIN_FOLLOW_TRACE
+#include <stdio.h>
+#endif
+#include <string.h>
+
+#include "branches/contact_event.h"
+#include "branches/follow_internal.h"
+#include "locate/locate.h"
+
+/* distance from point p to the segment [x0, x1] (n entries); *s the
+ * parameter of the nearest point */
+static double segment_distance(int n, const double *x0, const double *x1, const double *p, double *sp)
+{
+    double dd = 0.0, dp = 0.0;
+    for (int i = 0; i < n; ++i) {
+        dd += (x1[i] - x0[i]) * (x1[i] - x0[i]);
+        dp += (x1[i] - x0[i]) * (p[i] - x0[i]);
+    }
+    double s = dd > 0.0 ? dp / dd : 0.0, r = 0.0;
+    if (s < 0.0) s = 0.0;
+    if (s > 1.0) s = 1.0;
+    for (int i = 0; i < n; ++i) {
+        double v = x0[i] + s * (x1[i] - x0[i]) - p[i];
+        r += v * v;
+    }
+    if (sp) *sp = s;
+    return sqrt(r);
+}
+
+double kin__follow_distance(int n, const double *x, const double *y)
+{
+    double r = 0.0;
+    for (int i = 0; i < n; ++i) r += (x[i] - y[i]) * (x[i] - y[i]);
+    return sqrt(r);
+}
+
+/* angle (radians, in [0, pi/2]) between the lines of u and v (n entries):
+ * atan2 of the sine and |cosine|, accurate for nearly parallel lines */
+static double line_angle(int n, const double *u, const double *v)
+{
+    double uu = kin__dot(n, u, u), vv = kin__dot(n, v, v), uv = kin__dot(n, u, v);
+    if (!(uu > 0.0 && vv > 0.0)) return HALF_PI;
+    double s2 = 0.0, k = uv / vv;
+    for (int i = 0; i < n; ++i) s2 += (u[i] - k * v[i]) * (u[i] - k * v[i]);
+    return atan2(sqrt(s2 / uu), fabs(uv) / sqrt(uu * vv));
+}
+
+/* the branch nearest the line of t: its index, angle, and the gap to the
+ * next nearest (INFINITY with one branch) */
+int kin__follow_nearest_branch(const follow_ctx *c, const double *t, double *angle, double *gap)
+{
+    int nf = c->a->nf, best = -1;
+    double b1 = INFINITY, b2 = INFINITY;
+    for (int j = 0; j < c->x->nbranch; ++j) {
+        double g = line_angle(nf, t, c->x->branches + (size_t)j * nf);
+        if (g < b1) {
+            b2 = b1;
+            b1 = g;
+            best = j;
+        } else if (g < b2) {
+            b2 = g;
+        }
+    }
+    *angle = b1;
+    *gap = b2 - b1;
+    return best;
+}
+
+/* SAMPLES. The points of the path's steps, by index p (the start 0): the
+ * record keeps those whose index is a multiple of `stride`, doubling the
+ * stride (and keeping every second point) when it is full. A point stepped
+ * over again (after a handover, or a location that gave up) replaces the
+ * record from its index on. At the end, with P the last step's index
+ * before the end, the caller gets the multiples of the smallest power of
+ * two S with at most `capacity` multiples in 1..P: a function of the path
+ * alone (the SVD follower gives the same, and so do mirror-image branches),
+ * not of where the LU steps handed over. The record's room (2 capacity + 4)
+ * keeps its stride at most S although steps may have gone a few past P. */
+static void record_sample(follow_ctx *c, const kin_assembly *a)
+{
+    follow_extra *x = (follow_extra *)c->x;
+    if (x->capacity <= 0) return;
+    size_t nc = (size_t)(a->nj * a->dim);
+    while (c->nrec > 0 && x->rec_idx[c->nrec - 1] >= c->p) c->nrec--;
+    if (c->p % c->stride) return;
+    if (c->nrec == x->rec_room) {
+        int k = 0;
+        for (int i = 0; i < c->nrec; ++i)
+            if (x->rec_idx[i] % (2 * c->stride) == 0) {
+                memmove(x->rec + (size_t)k * nc, x->rec + (size_t)i * nc, sizeof(double) * nc);
+                x->rec_len[k] = x->rec_len[i];
+                x->rec_idx[k++] = x->rec_idx[i];
+            }
+        c->nrec = k;
+        c->stride *= 2;
+        if (c->p % c->stride) return;
+    }
+    memcpy(x->rec + (size_t)c->nrec * nc, a->xyz, sizeof(double) * nc);
+    x->rec_len[c->nrec] = c->length;
+    x->rec_idx[c->nrec++] = c->p;
+}
+
+/* the caller's samples from the record (SAMPLES above); returns their count */
+int kin__follow_deliver_samples(const follow_ctx *c)
+{
+    const follow_extra *x = c->x;
+    if (x->capacity <= 0) return 0;
+    int P = c->p - 1, S = 1, n = 0;
+    while (P / S > x->capacity) S *= 2;
+    size_t nc = (size_t)(c->a->nj * c->a->dim);
+    for (int i = 0; i < c->nrec && n < x->capacity; ++i) {
+        int q = x->rec_idx[i];
+        if (q < 1 || q > P || q % S || !(x->rec_len[i] < c->length)) continue;
+        if (x->samples) memcpy(x->samples + (size_t)n * nc, x->rec + (size_t)i * nc, sizeof(double) * nc);
+        if (x->sample_length) x->sample_length[n] = x->rec_len[i];
+        ++n;
+    }
+    return n;
+}
+
+/* A return to the start (the last chord passes within loop_tol of it): is
+ * it a closed loop? Without branch directions: the tangent parallel to the
+ * start's. With them (or the caller's o->return_fn): the direction the path
+ * comes back along, measured at the point of the path nearest the start (a
+ * step back from the chord's end, on a copy), is nearest dir's own branch
+ * by branch_margin. -1: return_fn failed (c->hook_rc). */
+static int is_loop(follow_ctx *c, const kin_assembly *a, double s)
+{
+    int nf = a->nf;
+    if (!c->at_bif || c->own < 0)
+        return fabs(kin__dot(nf, a->t, c->ts)) >= LOOP_TANGENT_COS;
+    const double *t = a->t;
+    kin_assembly *b = c->probe; /* made at the start of the call */
+    double back = (1.0 - s) * kin__follow_distance(nf, c->xp, c->xq);
+    if (back > 0.0 && b) {
+        kin__copy_state(b, a);
+        b->opt = a->opt;
+        b->opt.factorization = KIN_STEP_SVD;
+        kin_step_info si = {.size = sizeof si};
+        if (kin_step(b, -back, &si) == KIN_OK && si.m_internal == 1) t = b->t;
+    }
+    double ang = 0.0, gap = 0.0;
+    int j;
+    if (c->o->return_fn) {
+        ang = gap = NAN;
+        j = c->o->return_fn(c->o->return_user, t, nf, &ang, &gap);
+        if (j < 0) {
+            c->hook_rc = kin__fail(c->a, KIN_ECANCELLED, "follow: return_fn stopped the follow (returned %d)", j);
+            return -1;
+        }
+        if (!(ang >= 0.0 && ang <= HALF_PI * (1.0 + 1e-12)) || !(gap >= 0.0)) {
+            c->hook_rc = kin__fail(c->a, KIN_EINVAL, "follow: return_fn gave angle %g, gap %g", ang, gap);
+            return -1;
+        }
+    } else {
+        j = kin__follow_nearest_branch(c, t, &ang, &gap);
+    }
+    c->info->return_branch = j;
+    c->info->return_angle = ang;
+    c->info->return_gap = gap;
+    return j == c->own && gap >= c->o->branch_margin;
+}
+
+/* the vanishing singular value of an SVD point is well separated from the
+ * SLOPE_BLOCK-th above it (the slope's subspace iteration with LU factors
+ * converges at their ratio squared: fast there), and a little from the next
+ * one (RESUME_PAIR_GAP). With one vector this was the next singular value
+ * (RESUME_GAP): the flat state's close pairs kept the SVD stepping (5.2 SVD
+ * steps per handover); the subspace resumes over them (measured: the same
+ * events and located points on the 200-branch benchmark, rb and R^C) */
+static int separated(const kin_assembly *a)
+{
+    const kin_factor *f = kin__cur(a);
+    int k = a->nf - 2 - f->an.m_rigid, mn = a->nf < a->nb ? a->nf : a->nb, j = k - SLOPE_BLOCK;
+    return f->valid && j >= 0 && k < mn && f->sv[k] <= RESUME_GAP * f->sv[j] && f->sv[k] <= RESUME_PAIR_GAP * f->sv[k - 1];
+}
+
+/* after every accepted step: count the chord, keep a sample, stop on a
+ * return to the start or at the length budget */
+int kin__follow_after_step(void *user, const kin_assembly *a)
+{
+    follow_ctx *c = user;
+    int nf = a->nf;
+    kin__gather(a, a->xyz, c->xq);
+    c->len_pp = c->length;
+    memcpy(c->xpp, c->xp, sizeof(double) * (size_t)nf);
+    c->length += kin__follow_distance(nf, c->xp, c->xq);
+    c->p++;
+    record_sample(c, a);
+    double tol = c->o->loop_tol * c->scale, s = 0.0;
+    int stop = 0, was_away = c->left; /* away from the start before this chord */
+    if (kin__follow_distance(nf, c->xq, c->xs) > 2.0 * tol) c->left = 1;
+    int loop = was_away && segment_distance(nf, c->xp, c->xq, c->xs, &s) <= tol ? is_loop(c, a, s) : 0;
+    if (loop) {
+        c->reason = loop < 0 ? KIN_FOLLOW_FAILED : KIN_FOLLOW_CLOSED_LOOP;
+        stop = 1;
+    } else if (c->o->max_length > 0.0 && c->length >= c->o->max_length) {
+        c->reason = KIN_FOLLOW_LENGTH_LIMIT;
+        stop = 1;
+    } else if (kin__contact_event_check(c->a, c->xp)) {
+        c->reason = KIN_FOLLOW_CONTACT;
+        stop = 1;
+    }
+    memcpy(c->xp, c->xq, sizeof(double) * (size_t)nf);
+    if (stop) return KIN__HOOK_STOP;
+    if (c->watch) {
+        /* the SVD locator after a handover: back to LU steps once it has
+         * stepped over the suspect stretch, unless v_r is small and falling */
+        double r = kin__lu_rel_estimate(a);
+        c->rho_prev = c->rho_cur;
+        c->rho_cur = r;
+        if (++c->svd_steps >= c->resume_after && c->length > c->resume_len && r > 0.0 &&
+            (r >= CHEAP_NEAR_FACTOR * c->o->switch_eps || separated(a))) {
+            c->reason = REASON_RESUME;
+#ifdef KIN_FOLLOW_TRACE
+            fprintf(stderr, "resume after %d svd steps r %.3g\n", c->svd_steps, r);
+#endif
+            return KIN__HOOK_STOP_IDLE;
+        }
+    }
+    return KIN__HOOK_GO;
+}
+
+/* After the locator returns: the assembly is at the last step's point, the
+ * located point within the last step, or (location gave up) the point
+ * before the last step. The length is the one at the point before the last
+ * step plus the distance from there; that point starts the next attempt. */
+void kin__follow_resync(follow_ctx *c)
+{
+    int nf = c->a->nf;
+    kin__gather(c->a, c->a->xyz, c->xq);
+    double back = kin__follow_distance(nf, c->xpp, c->xq);
+    if (back == 0.0 && c->p > 0) c->p--; /* at the point before the last step */
+    c->length = c->len_pp + back;
+    c->len_pp = c->length;
+    memcpy(c->xp, c->xq, sizeof(double) * (size_t)nf);
+    memcpy(c->xpp, c->xq, sizeof(double) * (size_t)nf);
+    /* the locator may have moved back towards the start: the next chord
+     * counts for a return only if this point is away from it */
+    c->left = kin__follow_distance(nf, c->xq, c->xs) > 2.0 * c->o->loop_tol * c->scale;
+}

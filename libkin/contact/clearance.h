@@ -1,0 +1,75 @@
+/* Private to the clearance (kin_clearance) of libkin/contact/: what its
+ * files share. A check fits the bounding-volume tree to the configuration
+ * (tree.c) and asks the pair walk for the closest pair (walk.c); the walk
+ * tests two leaves a row at a time against 8 lanes (lanes.h), walks only
+ * the near-pair list where that holds (near_list.c), and hands the pairs
+ * the lanes keep to the exact primitive tests (primitives.c, which uses
+ * distance.c). Calls go one way only, so that no two files call each
+ * other: contact.c -> tree.c, walk.c; walk.c -> near_list.c, primitives.c;
+ * primitives.c -> distance.c. Not for branches/ (contact_internal.h is). */
+#ifndef KIN_CONTACT_CLEARANCE_H
+#define KIN_CONTACT_CLEARANCE_H
+
+#include <float.h>
+#include <math.h>
+
+#include "contact/contact_internal.h"
+
+/* the split's fixed directions (tree.c): x, y, z and the slabs' x + y,
+ * x - y; c->cen holds 3 doubles a direction for each primitive */
+#define KIN__SPLIT_NDIR 5
+#define KIN__CEN (3 * KIN__SPLIT_NDIR)
+
+static inline double dmin(double x, double y) { return x < y ? x : y; }
+static inline double dmax(double x, double y) { return x > y ? x : y; }
+
+/* A double bound rounded outward to float: lo down, hi up. The slack
+ * (2^-23 relative, 2^-140 absolute) is more than the rounding to nearest of
+ * the conversion and of the double arithmetic before it; the clamp keeps a
+ * bound beyond the float range on its own side (lo <= FLT_MAX, hi >=
+ * -FLT_MAX), so box gaps are never inf - inf. */
+static inline float f_down(double x) { return (float)dmin(x - fabs(x) * 0x1p-23 - 0x1p-140, FLT_MAX); }
+static inline float f_up(double x) { return (float)dmax(x + fabs(x) * 0x1p-23 + 0x1p-140, -FLT_MAX); }
+
+/* One call's pair search (walk.c): the best pair so far (clearance best,
+ * parts ba < bb, their primitives' numbers bxa, bxb, closest points bp,
+ * bq), the seed pair tested first (tree positions sx, sy) and the walk's
+ * float slacks */
+typedef struct kin__pair_search {
+    kin_assembly *a;
+    struct kin_contact *c;
+    double best, bp[3], bq[3];
+    int ba, bb, bxa, bxb, sx, sy;
+    float slack, rmax_f;
+} kin__pair_search;
+
+/* tree.c: the tree fitted to the configuration xyz (njoints*dim), its
+ * joints loaded into c->pts in tree order */
+void kin__tree_fit(const kin_assembly *a, struct kin_contact *c, const double *xyz);
+
+/* walk.c: the closest pair of parts that share no joint with clearance at
+ * most cutoff (w->ba < 0: none) at the points c->pts of the fitted tree;
+ * KIN_OK, or KIN_ERANGE (kin__fail) where the walk went deeper than planned */
+int kin__closest_pair(kin_assembly *a, struct kin_contact *c, double cutoff, kin__pair_search *w);
+
+/* near_list.c: whether the near-pair list holds at c->pts for this cutoff
+ * (1), does not (0), or there is none for it (-1); a walk's list: start
+ * (returns whether this walk makes one; moves: the last check computed the
+ * leaves' moves, kin__near_list_holds returned 0), add a leaf pair (returns
+ * 0 when the list is full: no list, nor for this cutoff or more until the
+ * tree is new), done (the list holds from here) */
+int kin__near_list_holds(struct kin_contact *c, int nj, double cutoff);
+int kin__near_list_start(struct kin_contact *c, double cutoff, int moves);
+int kin__near_list_add(struct kin_contact *c, int u, int v, double cutoff);
+void kin__near_list_done(struct kin_contact *c, double cutoff, int nj);
+
+/* primitives.c: parts pa and pb share a joint (or are one part); a cheap
+ * bound shows primitives Lp and Lq (radii sum rr) apart by more than best;
+ * the exact clearance of the primitives at tree positions x, y and their
+ * closest points */
+int kin__adjacent_parts(const kin_assembly *a, int pa, int pb);
+int kin__prim_far(const struct kin_contact *c, const kin__leafprim *Lp, const kin__leafprim *Lq, double rr,
+                  double best);
+double kin__prim_clearance(const struct kin_contact *c, int x, int y, double *cp, double *cq);
+
+#endif /* KIN_CONTACT_CLEARANCE_H */
