@@ -35,7 +35,8 @@ def test_follow_reports_both_bifurcations_of_a_turn(tmp_path):
     a = libkin.Assembly.from_json(parallelogram(tmp_path / "p.json"))
     an = a.analyse()
     steps = int(0.99 * TURN / 0.1)
-    ls, _, frames, passed = cli.follow_path(a, an, steps, delta=0.1)
+    path = cli.follow_path(a, an, steps, delta=0.1)
+    ls, frames, passed = path.lengths, path.frames, path.passed
     assert len(ls) == steps + 1 and abs(ls[-1]) < TURN
     assert len(passed) == 2
     for k, l0, l1 in passed:

@@ -13,7 +13,7 @@ import argparse
 import os
 import pathlib
 import sys
-from typing import Any, List, NoReturn, Optional, Tuple
+from typing import Any, List, NamedTuple, NoReturn, Optional, Tuple
 
 import numpy as np
 
@@ -26,7 +26,7 @@ from .errors import InvalidArgumentError, KinError, NotFoundError
 from .parallel import Terminated, terminate_on_sigterm
 from .studies import cli as studies_cli
 
-__all__ = ["main", "follow_path", "EXIT_ERROR", "EXIT_USAGE", "EXIT_STUDY_FAILED", "EXIT_PARTIAL",
+__all__ = ["main", "follow_path", "FollowedPath", "EXIT_ERROR", "EXIT_USAGE", "EXIT_STUDY_FAILED", "EXIT_PARTIAL",
            "EXIT_INTERRUPTED"]
 
 
@@ -75,6 +75,10 @@ def _regular_start(args: argparse.Namespace) -> Tuple[Optional[Assembly], Option
     if an.m_internal >= 2 and args.branch is not None:
         args.direction = _branch_direction(a, args)
         return a, an
+    if an.m_internal == 0:
+        print(f"{a.name} is rigid here (no internal mechanism; {an.m_rigid} rigid-body mechanisms): "
+              "there is no path to follow", file=sys.stderr)
+        return None, None
     if an.m_internal != 1:
         print(f"{a.name} has {an.m_internal} internal mechanisms here: it is at a bifurcation; "
               "choose a branch (--branch K) or start from a regular configuration (--perturb)", file=sys.stderr)
@@ -88,13 +92,20 @@ def cmd_follow(args: argparse.Namespace) -> int:
         return EXIT_USAGE
     if args.direction is not None:
         a.set_direction(args.direction)
-    ls, svs, frames, passed = follow_path(a, an, args.steps, args.delta, not args.quiet)
+    path = follow_path(a, an, args.steps, args.delta, not args.quiet, direction=args.direction)
+    ls, svs, frames, passed = path.lengths, path.singular_values, path.frames, path.passed
     stopped = len(ls) - 1 < args.steps  # fewer frames than asked: the exit status says so
+    k = int(np.argmin(path.v_r))
+    # v_r as the library defines it (kin_analysis.v_r, what `libkin analyse` and
+    # `libkin locate` report), printed to the last bit
     print(f"{len(ls) - 1} steps, path length {ls[-1]:.6g}, max strain {a.max_strain:.3g}, "
-          f"smallest v_r {min(s[s > 0].min() for s in svs):.3g}")
+          f"smallest v_r {float(path.v_r[k])!r} (v_r / v_max {path.v_r[k] / path.v_max[k]:.3g}, step {k})")
+    if path.detector_stop:
+        print(f"bifurcations counted up to path length {path.detector_stop[0]:.6g} only: the detector stopped "
+              f"there ({path.detector_stop[1]})", file=sys.stderr)
     if passed:
-        print(f"passed {len(passed)} bifurcation{'s' if len(passed) > 1 else ''} (the test function changed sign, or "
-              "a step ended on one; `libkin locate` converges onto the next one):")
+        print(f"passed {len(passed)} bifurcation{'s' if len(passed) > 1 else ''} (located by the library's "
+              "detector, as `libkin locate` and `libkin explore` find them):")
         print(f"  {'step':>6}  {'path length from':>16}  {'to':>12}")
         for k, l0, l1 in passed:
             print(f"  {k:>6}  {l0:>16.6g}  {l1:>12.6g}")
@@ -114,29 +125,153 @@ def cmd_follow(args: argparse.Namespace) -> int:
     return EXIT_PARTIAL if stopped else 0
 
 
-def follow_path(a: Assembly, an: Analysis, steps: int, delta: float = 0.0, progress: bool = False
-                ) -> Tuple[List[float], List[np.ndarray], List[np.ndarray], List[Tuple[int, float, float]]]:
-    """Follow up to `steps` steps from a regular point (analysis `an`): the
-    path lengths, singular values and configurations (start included), and
-    each bifurcation passed as (step, path length before, after): a step
-    over which the signed test function changed sign, or that ended at a
-    point with several internal mechanisms. A libkin error stops the path
-    with a line on stderr; what was reached stands."""
+class FollowedPath(NamedTuple):
+    """What `follow_path` followed (start included in every list).
+
+    Attributes
+    ----------
+    lengths : list of float
+        Path length at each frame.
+    singular_values : list of ndarray
+        The singular values of H at each frame.
+    frames : list of ndarray, shape (njoints, dim)
+        The configurations.
+    passed : list of (int, float, float)
+        Each bifurcation passed, as (k, path length at frame k - 1, at frame
+        k): located by the library's detector (kin_follow_event, as `libkin
+        locate` and `libkin explore` locate them) between frames k - 1 and k,
+        or at frame k.
+    v_r, v_max : ndarray, shape (frames,)
+        The library's v_r (lowest non-zero singular value, kin_analysis) and
+        v_max at each frame.
+    detector_stop : tuple of (float, str), or None
+        Where and why the detector stopped before the last frame (a libkin
+        error); bifurcations are counted up to there.
+    """
+
+    lengths: List[float]
+    singular_values: List[np.ndarray]
+    frames: List[np.ndarray]
+    passed: List[Tuple[int, float, float]]
+    v_r: np.ndarray
+    v_max: np.ndarray
+    detector_stop: Optional[Tuple[float, str]] = None
+
+
+def follow_path(a: Assembly, an: Analysis, steps: int, delta: float = 0.0, progress: bool = False,
+                direction: Optional[np.ndarray] = None) -> FollowedPath:
+    """Follow up to `steps` steps from a regular point (analysis `an`), or
+    out of a bifurcation along `direction` (already set on `a`), and count
+    the bifurcations passed with the library's detector (`_bifurcations_passed`).
+    A libkin error stops the path with a line on stderr; what was reached
+    stands."""
+    start = a.clone()  # the detector's handle, at the start
     ls, svs, frames = [0.0], [an.singular_values], [a.coords]
-    passed: List[Tuple[int, float, float]] = []
-    tau: Optional[float] = a.test_function()
+    vr, vmax = [an.v_r], [an.v_max]
+    tangents: List[Optional[np.ndarray]] = [np.asarray(direction, float) if direction is not None else _tangent(a)]
+    regular = [an.m_internal == 1]
     try:
         for info in a.follow(steps=steps, delta=delta, progress=progress):
+            here = a.analyse()
             ls.append(info.l)
-            svs.append(a.analyse().singular_values)
+            svs.append(here.singular_values)
             frames.append(a.coords)
-            t = a.test_function() if info.m_internal == 1 else None
-            if t is None or (tau is not None and t * tau < 0.0):
-                passed.append((len(ls) - 1, ls[-2], ls[-1]))
-            tau = t
+            vr.append(here.v_r)
+            vmax.append(here.v_max)
+            tangents.append(_tangent(a))
+            regular.append(here.m_internal == 1)
     except KinError as exc:
         print(f"stopped after {len(ls) - 1} of {steps} steps: {exc}", file=sys.stderr)
-    return ls, svs, frames, passed
+    passed, stop = _bifurcations_passed(start, ls, frames, tangents, regular, delta)
+    return FollowedPath(ls, svs, frames, passed, np.array(vr), np.array(vmax), stop)
+
+
+def _tangent(a: Assembly) -> Optional[np.ndarray]:
+    """The oriented tangent the next step from here takes (None where there
+    is none: a step landed on a bifurcation)."""
+    try:
+        return a.tangent()
+    except KinError:
+        return None
+
+
+def _bifurcations_passed(start: Assembly, ls: List[float], frames: List[np.ndarray],
+                         tangents: List[Optional[np.ndarray]], regular: List[bool], delta: float
+                         ) -> Tuple[List[Tuple[int, float, float]], Optional[Tuple[float, str]]]:
+    """The bifurcations on the followed path (frames 0 .. n), found by the
+    library's detector: kin_follow_event (`Assembly.follow_event`, what
+    `libkin locate` and `libkin explore` use: the signed test function, the
+    turn of v_r, then location, which must bring v_r to zero) on a copy of
+    the start. Each event is placed between two frames by where the copy
+    stands; the copy then goes on from the first regular frame past it (so
+    the detector follows the frames' own path through each bifurcation).
+    Only located bifurcations count: a sign change of the test function
+    alone is not one (nor a near miss, a closed loop). Returns the
+    bifurcations as (k, ls[k - 1], ls[k]) and, if the detector failed, the
+    path length it reached and why."""
+    n = len(frames) - 1
+    passed: List[Tuple[int, float, float]] = []
+    if n == 0:
+        return passed, None
+    d = start.clone()
+    sgn = 1.0 if ls[n] >= ls[0] else -1.0
+    steps = [abs(ls[k] - ls[k - 1]) for k in range(1, n + 1)]
+    slack = max(steps)  # the detector does not look at the step that ends at its length budget
+    i = 0
+    while i < n:
+        t = tangents[i]
+        if t is None or not (regular[i] or i == 0):
+            i += 1
+            continue
+        d.coords = frames[i]
+        d.reset_path()
+        ev = d.follow_event(t, delta=delta, max_length=abs(ls[n] - ls[i]) + slack, max_steps=max(1000, 10 * n))
+        k, u = _place(frames, ls, i, ls[i] + sgn * ev.length, d.coords, sgn)
+        if ev.event == "failed":
+            return passed, (ls[i] + sgn * ev.length, ev.message or ev.status)
+        if k > n:
+            break  # past the last frame
+        if ev.event == "bifurcation":
+            passed.append((k, ls[k - 1], ls[k]))
+        elif ev.event == "length-limit":
+            break
+        # go on from the first regular frame past the event
+        i = k if u < 1.0 - _AT_FRAME else k + 1
+        while i < n and (not regular[i] or tangents[i] is None):
+            i += 1
+    return passed, None
+
+
+#: an event this close to a frame (relative to the step's chord) is at that frame
+_AT_FRAME = 1e-9
+
+
+def _place(frames: List[np.ndarray], ls: List[float], i: int, l_e: float, x: np.ndarray, sgn: float
+           ) -> Tuple[int, float]:
+    """Between which frames k - 1 and k (i < k <= n; n + 1: past the last)
+    the configuration x lies, found near path length l_e (the detector's
+    length, which counts its own chords): (k, u) with u the position of x's
+    projection on the chord from frame k - 1 to frame k (0 at k - 1, 1 at k)."""
+    n = len(frames) - 1
+    k = next((j for j in range(i + 1, n + 1) if sgn * (ls[j] - l_e) >= 0.0), n)
+
+    def u_of(j: int) -> float:
+        c = (frames[j] - frames[j - 1]).ravel()
+        cc = float(c @ c)
+        return float(c @ (x - frames[j - 1]).ravel()) / cc if cc > 0.0 else 1.0
+
+    u = u_of(k)
+    for _ in range(n):
+        if u < 0.0 and k > i + 1:
+            k -= 1
+        elif u > 1.0 + _AT_FRAME and k < n:
+            k += 1
+        else:
+            break
+        u = u_of(k)
+    if k == n and u > 1.0 + _AT_FRAME:
+        return n + 1, u
+    return k, u
 
 
 def _generic_start(a: Assembly, args: argparse.Namespace) -> None:
@@ -232,8 +367,9 @@ def cmd_fold_export(args: argparse.Namespace) -> int:
     if args.follow:
         an = a.analyse()
         if an.m_internal != 1:
-            print(f"{a.name} has {an.m_internal} internal mechanisms here: not on a single path, "
-                  "nothing to follow", file=sys.stderr)
+            what = ("is rigid here (no internal mechanism)" if an.m_internal == 0 else
+                    f"has {an.m_internal} internal mechanisms here: not on a single path")
+            print(f"{a.name} {what}; nothing to follow", file=sys.stderr)
             return EXIT_USAGE
         try:
             for _ in a.follow(steps=args.follow, delta=args.delta, progress=not args.quiet):
