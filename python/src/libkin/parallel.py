@@ -1,14 +1,48 @@
 """Running plain-data tasks: serially, on a concurrent.futures executor or on
-a Dask cluster (run_tasks), and the executor a command line names
-(executor). Used by the explorer (libkin.atlas) and the sharded complete
-solver (libkin.homotopy); of libkin it imports only libkin.errors.
+a Dask cluster (run_tasks, stream_dask), and the executor a command line
+names (executor). Used by the explorer (libkin.atlas), its run store and
+the sharded complete solver (libkin.homotopy); of libkin it imports only
+libkin.errors.
 
-Workers come and go: the process pool of executor() (ProcessPool) is
-renewed when a worker dies (a task killed by the OOM killer, a SIGKILL) and
-run_tasks resubmits the tasks not yet completed, up to RETRIES times, then
-raises WorkersLostError (one line). terminate_on_sigterm() turns SIGTERM
-into the orderly stop of Ctrl-C (Terminated, a KeyboardInterrupt), and
-leaving executor() by an exception terminates and joins the pool's workers.
+The executors are maintained ones: concurrent.futures' (ProcessPoolExecutor
+with its initializer, forked workers; any Executor a caller gives) and
+Dask's (LocalCluster, Client: submit, gather, cancel, wait; it reschedules a
+lost worker's tasks itself). Kept here, part by part, as no executor gives it:
+
+- ProcessPool + run_tasks' resubmission (worker renewal): a
+  ProcessPoolExecutor whose worker died is broken for good, its futures in
+  flight failed, and no executor reruns them. ProcessPool puts a new pool
+  under the caller's one object; run_tasks resubmits the lost chunks up to
+  RETRIES times, then raises WorkersLostError with the results so far. loky
+  renews a broken pool too (get_reusable_executor), without the rerun, and
+  its workers are new interpreters (1.7 s to the first result of 2 workers
+  importing libkin here, 0.03 s forked; it refuses fork).
+- ProcessPool.terminate(): a stop ends the workers of running tasks
+  (SIGTERM, then SIGKILL); shutdown(cancel_futures=True) lets them run on
+  (terminate_workers() comes with Python 3.14).
+- run_tasks' window and halt: at most WINDOW_PER_WORKER tasks a worker in
+  flight, each result taken as it completes (on_result: the store records
+  it), a deadline or stop() cancelling what has not started in one sweep,
+  the results in the items' order. Executor.map submits all at once, yields
+  in order only, has no deadline or stop; as_completed() takes no new future.
+- stream_dask (the store's streaming; run_tasks on Dask): the same window,
+  the finished tasks gathered in one call per wait (a round trip to the
+  scheduler per wait, not per task). distributed.as_completed takes new
+  futures, but its next() returns only with a result (its timeout is the
+  whole run's: no stop() meanwhile) and it fetches results one by one.
+- chunks_for, run_chunk: several items a task within the window (chunksize
+  is Executor.map's only).
+- one_blas_thread: threadpoolctl sets the limit; ours is the count of uses
+  nested or overlapping in one process (serial, a thread pool): the first in
+  sets one thread, the last out restores (a threadpoolctl limit restores
+  what was there at its own start). No executor limits BLAS in the caller's
+  process (Dask does in its own worker processes only).
+- terminate_on_sigterm, Terminated, _worker_init: the signals of the parent
+  and of the workers; no executor makes SIGTERM the orderly stop of Ctrl-C.
+- executor(): the command line's choice (ProcessPool, a LocalCluster's
+  Client); on an exception it ends the workers, or silences Dask's logs.
+- for_dask, tick, executor_width: the Dask form of libkin.shared's arrays,
+  progress, how many tasks an executor runs at once.
 """
 from __future__ import annotations
 
@@ -31,13 +65,8 @@ RETRIES = 3
 class WorkersLostError(KinError, concurrent.futures.BrokenExecutor):
     """Worker processes died (killed) more often than run_tasks retries
     (also a concurrent.futures.BrokenExecutor, as BrokenProcessPool is).
-
-    Attributes
-    ----------
-    partial : list
-        The results of run_tasks received before, in the order of the items
-        (None for the tasks not completed).
-    """
+    partial: the results of run_tasks received before, in the order of the
+    items (None for the tasks not completed)."""
 
     def __init__(self, message: str, partial: Optional[List[Any]] = None) -> None:
         super().__init__(message)
@@ -174,6 +203,7 @@ class ProcessPool(concurrent.futures.Executor):
                     p.kill()
                     p.join(grace)
 
+
 #: progress of run_tasks and libkin.explore: None/False (quiet), True
 #: (messages on stderr) or a callable getting (done, total, what)
 Progress = Union[None, bool, Callable[[int, int, str], Any]]
@@ -198,14 +228,14 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
     At most a window of tasks (WINDOW_PER_WORKER times the executor's width)
     is in flight; each result is taken as it completes, in any order, and
     the next task submitted, so no worker waits behind a slow task and a
-    cancel has few futures to sweep. on_result(k, result) is called in
-    this thread as task k's result is taken (None for a task not run), so a
-    caller can record results while the others run.
+    cancel has few futures to sweep (on Dask: stream_dask). on_result(k,
+    result) is called in this thread as task k's result is taken (None for
+    a task not run), so a caller can record results while the others run.
 
-    deadline (a time.perf_counter() value) or stop() (checked at least every
-    0.1 s while waiting): once past / true, nothing more is started and the
-    tasks in flight but not started are cancelled in one sweep; those, and
-    the tasks never submitted, give None. The grace is the tasks running:
+    deadline (a time.perf_counter() value) or stop() (checked every POLL s
+    while waiting): once past / true, nothing more is started and the tasks
+    in flight but not started are cancelled in one sweep; those, and the
+    tasks never submitted, give None. The grace is the tasks running:
     serially the one running, on a concurrent.futures pool those its
     workers run (each bounded by its own budget); on Dask, at the deadline
     none (running tasks are cancelled too: their results are dropped), on
@@ -222,10 +252,11 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
     n = len(items)
     out: List[Any] = [None] * n
     taken = 0
+    seen = [False] * n
 
     def take(k: int, res: Any) -> None:
         nonlocal taken
-        out[k] = res
+        out[k], seen[k] = res, True
         taken += 1
         if on_result is not None:
             on_result(k, res)
@@ -238,35 +269,37 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
         for k, it in enumerate(items):
             take(k, None if halted() else fn(it))
         return out
-    dask = is_dask_client(executor)
-    window = WINDOW_PER_WORKER * _width(executor, dask)
+    window = WINDOW_PER_WORKER * executor_width(executor)
     chunk = max(1, int(chunk))
-    inflight: Dict[Any, List[int]] = {}  # future -> the items it runs
+    if is_dask_client(executor):
+        stream_dask(fn, items, executor, take, window, deadline, stop, chunk, what)
+        for k in (k for k in range(n) if not seen[k]):  # not run (halted)
+            take(k, None)
+        return out
+    inflight: Dict["concurrent.futures.Future[Any]", List[int]] = {}  # future -> the items it runs
     nxt = 0
     deaths = 0
     expired = False
 
     def submit(ks: List[int]) -> None:
-        its = [for_dask(items[k]) if dask else items[k] for k in ks]
-        args = (fn, its[0]) if chunk == 1 else (run_chunk, fn, its)
-        inflight[executor.submit(*args, pure=False) if dask else executor.submit(*args)] = ks
+        args = (fn, items[ks[0]]) if chunk == 1 else (run_chunk, fn, [items[k] for k in ks])
+        inflight[executor.submit(*args)] = ks
 
     while nxt < n or inflight:
         if not expired and halted():
             expired = True
-            # at the deadline, Dask's running tasks are cancelled too; on
-            # stop() (a signal) the tasks in flight complete, as documented
-            if not dask or (deadline is not None and time.perf_counter() > deadline):
-                _cancel_pending(executor, list(inflight), dask)
+            for f in inflight:  # in one sweep, in order: a pool's feeder takes the next from the front
+                f.cancel()
         while not expired and nxt < n and len(inflight) < window:
             submit(list(range(nxt, min(n, nxt + chunk))))  # the next chunk of items
             nxt = min(n, nxt + chunk)
         if not inflight:
             break
-        timeout = None if (deadline is None and stop is None) or expired else 0.1
+        timeout = None if (deadline is None and stop is None) or expired else POLL
         if deadline is not None and timeout is not None:
             timeout = max(0.0, min(timeout, deadline - time.perf_counter()))
-        for f in _first_done(list(inflight), timeout, dask):
+        done = concurrent.futures.wait(inflight, timeout=timeout, return_when=concurrent.futures.FIRST_COMPLETED)[0]
+        for f in [f for f in inflight if f in done]:  # in submission order
             if f not in inflight:  # resubmitted after a lost worker below
                 continue
             ks = inflight.pop(f)
@@ -292,15 +325,6 @@ def run_tasks(fn: Callable[[Any], Any], items: Sequence[Any], executor: Any = No
                     else:
                         submit(lost[i:i + chunk])
                 break  # the set of done futures is stale
-            except Exception as exc:
-                if type(exc).__name__ == "CancelledError" and (dask or expired):
-                    for k in ks:  # Dask: cancelled after the halt (running tasks too)
-                        take(k, None)
-                    continue
-                if type(exc).__name__ != "KilledWorker":  # Dask: a task's workers died too often
-                    raise
-                raise WorkersLostError(f"Dask workers died running one task; {taken} of {n} {what} completed",
-                                       out) from None
             for k, r in zip(ks, res if chunk > 1 else [res]):
                 take(k, r)
     for k in range(nxt, n):  # never submitted: halted
@@ -318,13 +342,13 @@ def for_dask(item: Any) -> Any:
 
 
 def run_chunk(fn: Callable[[Any], Any], items: Sequence[Any]) -> List[Any]:
-    """[fn(item) for item in items]: one Dask task for several items."""
+    """[fn(item) for item in items]: one task for several items."""
     return [fn(it) for it in items]
 
 
 def stream_dask(fn: Callable[[Any], Any], items: Sequence[Any], client: Any, record: Callable[[int, Any], None],
                 window: int, deadline: Optional[float] = None, stop: Optional[Callable[[], bool]] = None,
-                chunk: int = 1) -> List[Any]:
+                chunk: int = 1, what: str = "tasks") -> List[Any]:
     """fn(item) for every item on a dask.distributed.Client, `chunk` items
     a task (run_chunk: the client's cost per task, about 5 ms of its CPU,
     shared by the chunk), at most `window` tasks submitted and not yet
@@ -334,14 +358,16 @@ def stream_dask(fn: Callable[[Any], Any], items: Sequence[Any], client: Any, rec
     while the client receives and records: the finished ones are gathered
     in one call per wait, so a round trip to the scheduler is paid per
     wait, not per task, and no task waits for a batch's slowest. Once
-    stop() is true nothing more is submitted and the tasks in flight
-    complete (recorded); past the deadline they are cancelled too (Dask
-    cancels running tasks). The tasks not run give None. A task's error is raised; workers
-    killed running one task: WorkersLostError."""
+    stop() is true (checked at least every POLL seconds) nothing more is
+    submitted and the tasks in flight complete (recorded); past the
+    deadline they are cancelled too (Dask cancels running tasks). The
+    tasks not run give None (not recorded). A task's error is raised;
+    workers killed running one task: WorkersLostError."""
     from distributed import wait as dask_wait
     n, nxt, chunk = len(items), 0, max(1, int(chunk))
     out: List[Any] = [None] * n
     pending: Dict[str, Any] = {}  # future key -> (future, first item index)
+    got_n = 0
 
     stopping = False
     while True:
@@ -356,8 +382,8 @@ def stream_dask(fn: Callable[[Any], Any], items: Sequence[Any], client: Any, rec
             nxt += chunk
         if not pending:
             return out
-        left = 1.0 if deadline is None else min(1.0, max(0.0, deadline - time.perf_counter()))
-        try:  # at most a second, so that stop() is seen
+        left = POLL if deadline is None else min(POLL, max(0.0, deadline - time.perf_counter()))
+        try:  # at most POLL seconds, so that stop() and the deadline are seen
             done = dask_wait([f for f, _ in pending.values()], timeout=left, return_when="FIRST_COMPLETED").done
         except (TimeoutError, asyncio.TimeoutError):
             continue
@@ -367,21 +393,23 @@ def stream_dask(fn: Callable[[Any], Any], items: Sequence[Any], client: Any, rec
                 try:
                     f.result()
                 except Exception as exc:
-                    if type(exc).__name__ == "KilledWorker":
+                    if type(exc).__name__ == "KilledWorker":  # a task's workers died too often
                         raise WorkersLostError(f"Dask workers died running one task; "
-                                               f"{sum(r is not None for r in out)} of {n} completed", out) from None
+                                               f"{got_n} of {n} {what} completed", out) from None
                     raise
         for f, got in zip(finished, client.gather(finished) if finished else []):
             first = pending.pop(f.key)[1]
             for k, res in enumerate(got, first):
                 out[k] = res
+                got_n += 1
                 record(k, res)
 
 
 #: tasks in flight per worker of the executor (run_tasks): enough that a
 #: worker finds the next task queued when it finishes one; at most
-#: POOL_CHUNK items in one process-pool task (chunks_for)
-WINDOW_PER_WORKER, POOL_CHUNK = 4, 4
+#: POOL_CHUNK items in one process-pool task (chunks_for); POLL: seconds
+#: between looks at stop() and the deadline while waiting
+WINDOW_PER_WORKER, POOL_CHUNK, POLL = 4, 4, 0.1
 
 
 def chunks_for(executor: Any, n: int) -> int:
@@ -391,53 +419,21 @@ def chunks_for(executor: Any, n: int) -> int:
     up to POOL_CHUNK there while that leaves 4 windows of tasks; 1 elsewhere."""
     if not isinstance(executor, (ProcessPool, concurrent.futures.ProcessPoolExecutor)):
         return 1
-    return max(1, min(POOL_CHUNK, n // (4 * WINDOW_PER_WORKER * _width(executor, False))))
+    return max(1, min(POOL_CHUNK, n // (4 * WINDOW_PER_WORKER * executor_width(executor))))
 
 
 def executor_width(executor: Any) -> int:
-    """How many tasks the executor runs at once (1 serially)."""
-    return 1 if executor is None else _width(executor, is_dask_client(executor))
-
-
-def _width(executor: Any, dask: bool) -> int:
-    """How many tasks the executor runs at once (a guess of 4 for an
-    executor that does not say)."""
+    """How many tasks the executor runs at once: 1 serially, a guess of 4
+    for an executor that does not say."""
+    if executor is None:
+        return 1
     n: Any = None
-    if dask:
+    if is_dask_client(executor):
         with contextlib.suppress(Exception):
             n = sum(executor.nthreads().values())
     else:
         n = getattr(executor, "workers", None) or getattr(executor, "_max_workers", None)
     return max(1, int(n or 4))
-
-
-def _first_done(futures: List[Any], timeout: Optional[float], dask: bool) -> List[Any]:
-    """The futures done once at least one is, or the timeout passes
-    (possibly none), in submission order."""
-    if dask:
-        end = None if timeout is None else time.perf_counter() + timeout
-        pause = 0.0005
-        while True:  # Dask futures: poll their state (no blocking wait on a set without a timeout error)
-            done = [f for f in futures if f.done()]
-            if done or (end is not None and time.perf_counter() >= end):
-                return done
-            time.sleep(pause)
-            pause = min(0.02, 2 * pause)
-    finished = concurrent.futures.wait(futures, timeout=timeout, return_when=concurrent.futures.FIRST_COMPLETED)[0]
-    return [f for f in futures if f in finished]
-
-
-def _cancel_pending(executor: Any, futures: Sequence[Any], dask: bool) -> None:
-    """Cancel every future not done, in one sweep, in order (a pool's
-    feeder takes the next from the front, so it finds them cancelled).
-    Dask cancels running tasks too."""
-    if dask:
-        pending = [f for f in futures if not f.done()]
-        if pending:
-            executor.cancel(pending)
-        return
-    for f in futures:
-        f.cancel()
 
 
 def _succeeded(f: "concurrent.futures.Future[Any]") -> bool:
@@ -452,7 +448,6 @@ def tick(progress: Progress, done: int, total: int, what: str) -> None:
         progress(done, total, what)
     elif done == total or done % max(1, total // 4) == 0:
         print(f"[explore] {what}: {done}/{total}", file=sys.stderr, flush=True)
-
 
 
 @contextlib.contextmanager

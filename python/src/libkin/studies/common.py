@@ -5,7 +5,7 @@ import sys
 
 import numpy as np
 
-from libkin import KinError
+from libkin.errors import KinError
 
 # Bifurcations are located to v_r / v_max <= 1e-10 by the follower
 # (kin_follow_event: the fast method, relaxed towards 1e-6 only where 1e-10 is

@@ -3,7 +3,7 @@
 The path map (sailmap.py) is the explorer's symmetric atlas with parts that
 pass through each other, as the paper lets them. Here the same atlas is
 explored again with the membrane as panels (every bar triangle and the hub
-polygon, contactstudy.sail_panels), bars of radius t/2 and panels of
+polygon, sailmeasure.sail_panels), bars of radius t/2 and panels of
 thickness t, and contact events on (explore(contact=True), docs/contact.md):
 every branch stops at its first contact of two parts that share no joint.
 Each of the map's nodes then says how many of its paths reach their next
@@ -17,12 +17,13 @@ tables read side by side.
 """
 import re
 import time
-from typing import Any, Dict, List, Optional
+from typing import Any, Dict, List
 
 from libkin.atlas import explore
 
 from .common import say
-from .contactstudy import part_name, sail_panels
+from .contactreport import contact_map_md  # noqa: F401 - the report's section on it
+from .sailmeasure import part_name, sail_panels
 
 _PARTS = re.compile(r"(bar|panel) (\d+)")
 
@@ -84,30 +85,3 @@ def contact_map(a: Any, smap: Any, depth: int, thickness: float = 0.0, executor:
     say(progress, f"[contact map] {res['paths']} paths: {ev.get('contact', 0)} end in contact, {res['free']} "
                   f"reach their next event free of it ({res['seconds']} s)")
     return res
-
-
-def contact_map_md(cm: Dict[str, Any], plain_paths: Optional[int] = None, picture: Optional[str] = None) -> List[str]:
-    """The report's section on the contact map (lines of markdown)."""
-    L = ["## Which mapped paths a membrane can follow\n"]
-    ev = cm["edge_events"]
-    L.append(f"The path map above lets parts pass through each other, as the paper does. Explored again with "
-             f"the membrane as {cm['panels']} panels (every bar triangle and the hub), thickness t/a = "
-             f"{cm['thickness']:g}, and contact as an event (`libkin study --contact`; docs/contact.md), every "
-             f"path stops at the first contact of two parts that share no joint: of its {cm['paths']} directed "
-             f"paths (depth {cm['depth']}) **{ev.get('contact', 0)} end in contact** and **{cm['free']} reach their "
-             f"next event free of it**" + (f" (the map without contact has {plain_paths} paths: a path that "
-                                          "touches stops, so what lies beyond it is not reached)"
-                                          if plain_paths is not None else "") + ".\n")
-    L.append("| from | paths | end in contact | free to their next event | first contacts (parts: paths, shortest path length in a) |")
-    L.append("|---|---|---|---|---|")
-    for r in cm["by_node"]:
-        cs = "; ".join(f"{c['parts']}: {c['paths']}, l = {c['l_min']:.4f}" for c in r["contacts"][:4])
-        if len(r["contacts"]) > 4:
-            cs += f"; and {len(r['contacts']) - 4} more pairs"
-        L.append(f"| {r['node']} | {r['paths']} | {r['contact']} | {r['free']} | {cs or '-'} |")
-    L.append("")
-    if picture:
-        L.append(f"![contact map]({picture})\n")
-        L.append("*The contact map as the explorer draws it: the paths that end in contact in their own colour, "
-                 "the others to the bifurcation they reach.*\n")
-    return L

@@ -1,12 +1,15 @@
-"""The interference study's chart and report (contactstudy.py).
+"""The contact studies' reports: the interference study's (contactstudy.py)
+and the contact map's section of the hexagonal study's (contactmap.py).
 
 interference_chart(): how far each member folds before its first contact,
 against the membrane's thickness, one curve per member; interference_md():
-the tables behind it and the paper's two claims, checked member by member.
+the tables behind it and the paper's two claims, checked member by member;
+contact_map_md(): the hexagonal study report's section on its contact map
+(contactmap.py).
 """
 import json
 import pathlib
-from typing import Any, Dict, List
+from typing import Any, Dict, List, Optional
 
 from libkin.atomic import replacing, staged_folder, write_text
 from libkin.plot import pyplot
@@ -58,10 +61,10 @@ def contact_figure(member: Dict[str, Any], path: Any) -> bool:
     import numpy as np
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-    from libkin import Assembly
+    from libkin.assembly import Assembly
     from libkin.plot import draw3d
 
-    from .contactstudy import sail_panels
+    from .sailmeasure import sail_panels
     rows = [c for c in member["contacts"] if c["contact"]]
     if not rows:
         return False
@@ -155,3 +158,30 @@ def write_interference(study: Dict[str, Any], out: Any) -> None:
         write_text(stage / "report.md", "# libkin: sail interference study\n\n" + interference_md(study)
                    + "\n### The first contacts in 3D\n\n" + "\n".join(views))
         write_text(stage / "summary.json", json.dumps(study, indent=1, default=jsonable) + "\n")
+
+
+def contact_map_md(cm: Dict[str, Any], plain_paths: Optional[int] = None, picture: Optional[str] = None) -> List[str]:
+    """The report's section on the contact map (lines of markdown)."""
+    L = ["## Which mapped paths a membrane can follow\n"]
+    ev = cm["edge_events"]
+    L.append(f"The path map above lets parts pass through each other, as the paper does. Explored again with "
+             f"the membrane as {cm['panels']} panels (every bar triangle and the hub), thickness t/a = "
+             f"{cm['thickness']:g}, and contact as an event (`libkin study --contact`; docs/contact.md), every "
+             f"path stops at the first contact of two parts that share no joint: of its {cm['paths']} directed "
+             f"paths (depth {cm['depth']}) **{ev.get('contact', 0)} end in contact** and **{cm['free']} reach their "
+             f"next event free of it**" + (f" (the map without contact has {plain_paths} paths: a path that "
+                                          "touches stops, so what lies beyond it is not reached)"
+                                          if plain_paths is not None else "") + ".\n")
+    L.append("| from | paths | end in contact | free to their next event | first contacts (parts: paths, shortest path length in a) |")
+    L.append("|---|---|---|---|---|")
+    for r in cm["by_node"]:
+        cs = "; ".join(f"{c['parts']}: {c['paths']}, l = {c['l_min']:.4f}" for c in r["contacts"][:4])
+        if len(r["contacts"]) > 4:
+            cs += f"; and {len(r['contacts']) - 4} more pairs"
+        L.append(f"| {r['node']} | {r['paths']} | {r['contact']} | {r['free']} | {cs or '-'} |")
+    L.append("")
+    if picture:
+        L.append(f"![contact map]({picture})\n")
+        L.append("*The contact map as the explorer draws it: the paths that end in contact in their own colour, "
+                 "the others to the bifurcation they reach.*\n")
+    return L

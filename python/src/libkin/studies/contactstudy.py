@@ -27,21 +27,20 @@ recorded steps is a sum of chords, a little shorter than the arc; ARC_MARGIN
 covers that.
 """
 import time
-from typing import Any, Dict, List, Optional, Sequence, Set, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from libkin import KinError
+from libkin.errors import KinError
 
 from .common import say
+from .sailmeasure import TOUCH, part_name, sail_panels  # the membrane: sailmeasure.py
 from .sequential import sequential_fold
 
 # the panel thicknesses of the study, in hub sides a (0: bare intersection)
 THICKNESSES = (0.0, 0.001, 0.003, 0.01, 0.03)
 # a first contact is located along the path to this (hub sides)
 S_TOL = 1e-7
-# zero thickness: parts this close count as touching (hub sides)
-TOUCH = 1e-9
 # the sum of chords between two recorded points, times this, bounds the arc
 ARC_MARGIN = 1.01
 # how fast the clearance can change per unit path length: the closest
@@ -50,35 +49,6 @@ ARC_MARGIN = 1.01
 LIPSCHITZ = 2.0 ** 0.5 * ARC_MARGIN
 # the members of the study
 MEMBERS = tuple((n, k) for n in (6, 8) for k in (1, 2, 3, 4))
-
-
-def sail_panels(a: Any) -> List[List[int]]:
-    """The membrane of a sail built by Assembly.sail: every triangle of its
-    bar graph (the centre node C, a device of the model, excluded) and the
-    hub polygon V0, V1, ..."""
-    labels = list(a.labels)
-    centre = [i for i, lab in enumerate(labels) if lab == "C"]
-    adj: Dict[int, Set[int]] = {i: set() for i in range(a.njoints)}
-    for i, j in np.asarray(a.bars):
-        adj[int(i)].add(int(j))
-        adj[int(j)].add(int(i))
-    tris = []
-    for i in range(a.njoints):
-        for j in adj[i]:
-            if j <= i:
-                continue
-            for k in adj[i] & adj[j]:
-                if k > j and not {i, j, k} & set(centre):
-                    tris.append([i, j, k])
-    hub = [i for i, lab in enumerate(labels) if lab.startswith("V")]
-    return tris + [hub]
-
-
-def part_name(a: Any, panels: Sequence[Sequence[int]], kind: str, index: int) -> str:
-    """A part by its joints' labels: bar 'A0-A1', panel 'A0-A1-V0'."""
-    labels = list(a.labels)
-    joints = list(np.asarray(a.bars)[index]) if kind == "bar" else panels[index]
-    return f"{kind} " + "-".join(labels[int(j)] for j in joints)
 
 
 class _Search:

@@ -18,8 +18,8 @@ from typing import Any, Dict, Optional, Tuple, Union
 
 import numpy as np
 
-import libkin
-from libkin import solve_quadrics
+from libkin import __version__  # defined by the package root itself (the loaded C library's version)
+from libkin.assembly import solve_quadrics
 from libkin.atomic import write_text
 
 SEED = 1  # the complete solver's (homotopy start system)
@@ -33,7 +33,7 @@ def cache_path(out: Union[str, "os.PathLike[str]"]) -> pathlib.Path:
 
 def _key(a: Any, Q: Any, group: Any) -> str:
     h = hashlib.sha256()
-    h.update(json.dumps({"model": a.to_json(), "solver": {"solver": "homotopy", "seed": SEED}, "version": libkin.__version__},
+    h.update(json.dumps({"model": a.to_json(), "solver": {"solver": "homotopy", "seed": SEED}, "version": __version__},
                         sort_keys=True, default=str).encode())
     for arr in (Q, group):
         arr = np.ascontiguousarray(np.asarray(arr, dtype=float))

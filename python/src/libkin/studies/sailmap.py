@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike
 from libkin.atlas import BIFURCATION, LOCATION_FACTOR, SAME_TOL, Atlas, Edge, Node, explore
 
 if TYPE_CHECKING:
-    from libkin import Assembly
+    from libkin.assembly import Assembly
 
 # levels of the atlas: the flat state's branches, then every bifurcation they
 # reach (R^B and R^C are among them for the hexagonal sail)

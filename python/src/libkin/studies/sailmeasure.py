@@ -2,7 +2,8 @@
 (x-y extent, height), the angle of each fold line to the hub plane, the
 hub's flatness; and what each bar of the model is (hub edge, spoke, fold,
 ring, diagonal), read from the joint labels Assembly.sail gives
-(C, V0.., A0.., B0..).
+(C, V0.., A0.., B0..); and its membrane (sail_panels: the panels of the
+contact studies, part_name: a part by its joints' labels).
 
 Lengths are in the model's unit, the hub side a (Assembly.sail(side=1)).
 The hub plane is z = 0: the plane of the fixed hub vertices V0, V2, ...
@@ -10,12 +11,14 @@ The hub plane is z = 0: the plane of the fixed hub vertices V0, V2, ...
 from __future__ import annotations
 
 import re
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Set, Tuple
 
 import numpy as np
 import numpy.typing as npt
 
 BAR_KINDS = ("hub edge", "spoke", "fold", "ring", "diagonal")
+# zero thickness: parts this close count as touching (hub sides)
+TOUCH = 1e-9
 _LABEL = re.compile(r"^([A-Z]+)(\d*)$")
 
 
@@ -96,3 +99,31 @@ def measures(x: npt.NDArray[np.float64], labels: Sequence[str], n_sides: int, n_
         "fold_angle_odd": [a[1] for a in ang],
     }
 
+
+def sail_panels(a: Any) -> List[List[int]]:
+    """The membrane of a sail built by Assembly.sail: every triangle of its
+    bar graph (the centre node C, a device of the model, excluded) and the
+    hub polygon V0, V1, ..."""
+    labels = list(a.labels)
+    centre = [i for i, lab in enumerate(labels) if lab == "C"]
+    adj: Dict[int, Set[int]] = {i: set() for i in range(a.njoints)}
+    for i, j in np.asarray(a.bars):
+        adj[int(i)].add(int(j))
+        adj[int(j)].add(int(i))
+    tris = []
+    for i in range(a.njoints):
+        for j in adj[i]:
+            if j <= i:
+                continue
+            for k in adj[i] & adj[j]:
+                if k > j and not {i, j, k} & set(centre):
+                    tris.append([i, j, k])
+    hub = [i for i, lab in enumerate(labels) if lab.startswith("V")]
+    return tris + [hub]
+
+
+def part_name(a: Any, panels: Sequence[Sequence[int]], kind: str, index: int) -> str:
+    """A part by its joints' labels: bar 'A0-A1', panel 'A0-A1-V0'."""
+    labels = list(a.labels)
+    joints = list(np.asarray(a.bars)[index]) if kind == "bar" else panels[index]
+    return f"{kind} " + "-".join(labels[int(j)] for j in joints)

@@ -24,7 +24,7 @@ import time
 
 import numpy as np
 
-from libkin import Assembly
+from libkin.assembly import Assembly
 from libkin.atomic import replacing, staged_folder, write_text
 from libkin.symmetry import mechanism_group, sail_rotation
 

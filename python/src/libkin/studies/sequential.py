@@ -26,7 +26,7 @@ from typing import Any, Dict, List, Optional
 
 import numpy as np
 
-from libkin import Assembly
+from libkin.assembly import Assembly
 from libkin.symmetry import sail_rotation
 
 from .common import follow_to_bifurcation, say

@@ -7,7 +7,7 @@ import time
 
 import numpy as np
 
-from libkin import Assembly
+from libkin.assembly import Assembly
 from libkin.atomic import staged_folder, write_text
 
 from .common import SAME_CONFIG_TOL, accounting_words, follow_to_bifurcation, jsonable, say

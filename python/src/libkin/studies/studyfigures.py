@@ -31,7 +31,7 @@ class Model:
     """The sail's bars, their kinds and supports, shared by the figures."""
 
     def __init__(self, n_sides, n_loops):
-        from libkin import Assembly
+        from libkin.assembly import Assembly
         a = Assembly.sail(n_sides, n_loops)
         self.a = a
         self.labels = a.labels
@@ -424,7 +424,7 @@ def animation(M, res, track, out, n_frames=48):
     # where they touch or pass through each other
     highlight, note = None, None
     if "interference" in res:
-        from .contactstudy import TOUCH, sail_panels
+        from .sailmeasure import TOUCH, sail_panels
         model = M.a.clone()
         panels = sail_panels(M.a)
         model.panels = panels

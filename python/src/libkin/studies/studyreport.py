@@ -249,7 +249,7 @@ def _write_hex_md(res, out, M, figs):
                  "directed paths). A node and its mirror image z -> -z share a marker.*\n")
         fig_no += 1
     if "contact_map" in res:
-        from .contactmap import contact_map_md
+        from .contactreport import contact_map_md
         L += contact_map_md(res["contact_map"], res.get("map", {}).get("atlas", {}).get("edges"),
                             figs.get("contact_map"))
     L.append("## The paper's three questions\n")
