@@ -55,13 +55,13 @@ C_SUBLAYERS = {
 # the libkin package: a module may import from its own layer or below, never
 # above, and no two modules may import each other, even through others.
 PY_LAYERS = [
-    ["_native", "errors", "_compat", "parallel", "shared", "atomic", "_bounded"],  # cffi, exceptions, executors,
+    ["_native", "errors", "_compat", "parallel", "shared", "atomic", "_bounded", "version"],  # cffi, exceptions, executors,
     # arrays shared with the workers, writes, reads
     ["assembly"],                                   # Assembly: analysis, paths, location, branches
     ["io", "homotopy", "symmetry", "plot", "cliargs"],
     ["atlas"],                                      # libkin.explore
+    ["studies"],                                    # the sail study application (public modules only, never the root)
     ["__init__"],                                   # the package root: the public API
-    ["studies"],                                    # the sail study application (public API only)
     ["cli"],
     ["__main__"],
 ]
@@ -325,6 +325,77 @@ def depth(nodes, edges, weight=lambda v: 1):
     return max((d(v) for v in nodes), default=0)
 
 
+# ------------------------------------------------------- functions ----
+# A newcomer reads a function whole: none of the library's is longer than
+# MAX_FUNCTION_LINES. The few written before this limit are listed with the
+# length they may not exceed (a ratchet: each may only shrink, and leaves
+# the list when split); the check fails on any other long function and on a
+# listed one that grew.
+MAX_FUNCTION_LINES = 120
+LONG_FUNCTIONS = {
+    "locate/locate.c:locate_impl": 277,
+    "locate/locate_hermite.c:kin__locate_hermite": 195,
+    "homotopy/track/homotopy_batch.c:kin__hom_track_batch": 180,
+    "path/sparse.c:kin__sparse_prepare": 160,
+    "path/path.c:attempt": 155,
+    "symmetry/symmetry_graph.c:kin__graph_automorphisms": 142,
+    "homotopy/track/homotopy_track.c:kin__hom_track": 139,
+    "path/path.c:step_impl": 129,
+}
+
+
+def _strip_c(src):
+    """comments, strings and character constants blanked, lines kept"""
+    src = re.sub(r"/\*.*?\*/", lambda m: "\n" * m.group(0).count("\n"), src, flags=re.S)
+    src = re.sub(r"//[^\n]*", "", src)
+    src = re.sub(r'"(\\.|[^"\\\n])*"', '""', src)
+    return re.sub(r"'(\\.|[^'\\\n])*'", "''", src)
+
+
+def c_functions(text):
+    """(name, first line, lines) of every function defined at file scope in
+    C source `text`: a body is a brace block at depth 0 whose head ends in
+    ')' (a struct, enum or initializer is not a function)"""
+    s = _strip_c(text)
+    out, depth, head_start, start = [], 0, 0, None
+    line = 1
+    for i, ch in enumerate(s):
+        if ch == "\n":
+            line += 1
+        elif ch == "{":
+            if depth == 0:
+                head = s[head_start:i].rstrip()
+                names = re.findall(r"([A-Za-z_]\w*)\s*\(", head)
+                start = (names[-1], line) if head.endswith(")") and names else None
+            depth += 1
+        elif ch == "}":
+            depth -= 1
+            if depth == 0:
+                if start:
+                    out.append((start[0], start[1], line - start[1] + 1))
+                start = None
+                head_start = i + 1
+        elif ch == ";" and depth == 0:
+            head_start = i + 1
+    return out
+
+
+def long_functions(root=None):
+    """'folder/file.c:name: N lines' for every function over the limit that
+    is not listed, or listed and longer than its cap"""
+    base = os.path.join(root or ROOT, "libkin")
+    out = []
+    for f in c_files():
+        with open(os.path.join(base, f), encoding="utf-8", errors="replace") as fh:
+            text = fh.read()
+        for name, _, n in c_functions(text):
+            key = f"{f}:{name}"
+            cap = LONG_FUNCTIONS.get(key, MAX_FUNCTION_LINES)
+            if n > cap:
+                out.append(f"{key}: {n} lines (at most {cap})")
+    return out
+
+
 # ------------------------------------------------------------ check ----
 
 def check(build):
@@ -364,6 +435,7 @@ def check(build):
                 # modules is checked above); never a higher layer
                 if gb != ga and (lb is None or lb > la):
                     problems.append(f"Python {a} (layer {la}) imports {b} (layer {lb})")
+    problems += [f"C function too long: {x}" for x in long_functions()]
     problems += doc_problems()
     for p in problems:
         print(p)

@@ -51,7 +51,7 @@ typedef struct kin__locate_ws {
      * direct_prev (with direct_border, its factors' border row) is the
      * point one step before it; the caller has checked that the SVD
      * locator, stepping there, would stop on this very step with a sign
-     * change and locate on it (kin_follow's cheap_stretch). The locator
+     * change and locate on it (kin_follow's cheap stretches, kin__follow_cheap_stretch). The locator
      * then locates on that bracket at once (the Hermite method, its nodes
      * from the LU factors); where that does not succeed it returns
      * KIN__LOCATE_DIRECT_FAILED, the handle's position unchanged, and the

@@ -56,6 +56,16 @@ def test_studies_use_the_public_api_only():
     assert private_uses(SRC) == []
 
 
+def test_studies_do_not_import_the_package_root():
+    # each name from the public module that defines it (libkin.assembly,
+    # libkin.version, ...), never `libkin` itself: the root imports
+    # everything, so an import of it puts the whole package under a study
+    graph = import_graph(SRC)
+    studies = [m for m in graph if m == "libkin.studies" or m.startswith("libkin.studies.")]
+    assert len(studies) > 10
+    assert [m for m in studies if "libkin" in graph[m]] == []
+
+
 # where the code of each old flat module went (kept here independently of the table)
 MOVED = {
     "model_json": "io.model_json", "fold": "io.fold", "atlas_index": "atlas.index", "atlas_tasks": "atlas.tasks",
@@ -157,3 +167,20 @@ def test_checker_finds_private_uses(tmp_path):
     })
     bad = private_uses(src, "pkg")
     assert len(bad) == 4 and all(b.startswith("pkg.studies.bad:") for b in bad)
+
+
+def test_checker_measures_c_functions():
+    body = "    x += 1;\n" * 130
+    text = ("/* a comment { with braces } */\nstruct s { int a; };\nstatic const int t[] = {1, 2};\n"
+            "static int short_one(int x)\n{\n    const char *c = \"}{\";\n    return x + '{';\n}\n"
+            "int long_one(int x)\n{\n" + body + "    return x;\n}\n")
+    found = {name: (line, n) for name, line, n in architecture.c_functions(text)}
+    assert set(found) == {"short_one", "long_one"}
+    assert found["short_one"] == (5, 4) and found["long_one"] == (10, 133)
+
+
+def test_no_long_c_function():
+    # the limit and the ratchet of tools/architecture.py (ctest `architecture` checks it too)
+    assert architecture.long_functions() == []
+    follow = (pathlib.Path(architecture.ROOT) / "libkin" / "branches" / "follow.c").read_text()
+    assert max(n for _, _, n in architecture.c_functions(follow)) <= architecture.MAX_FUNCTION_LINES

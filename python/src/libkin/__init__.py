@@ -25,16 +25,13 @@ except ImportError as _exc:  # no usable C library: the command line says so in 
 
     exit_if_command(_exc)
     raise
-from ._native._lib import c_string as _c_string
 from .assembly import (Analysis, Assembly, BranchPath, Branches, FollowEvent, LocateInfo, Options, StepInfo,
                        solve_quadrics)
 from .errors import KinError, ModelFormatError
 from .io.model_json import load_json, load_model, to_json
 from .atlas import Atlas, explore
 
-#: The version of the loaded C library (``kin_version_string()``), which is
-#: also the version of this package.
-__version__: str = _c_string(lib.kin_version_string())
+from .version import __version__
 
 __all__ = ["Assembly", "Analysis", "Options", "StepInfo", "Branches", "BranchPath", "LocateInfo", "FollowEvent",
            "solve_quadrics", "KinError", "ModelFormatError", "errors", "load_json", "load_model", "to_json", "lib",

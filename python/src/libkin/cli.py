@@ -17,7 +17,7 @@ from typing import Any, List, NamedTuple, NoReturn, Optional, Tuple
 
 import numpy as np
 
-from . import __version__
+from .version import __version__
 from .assembly import Analysis, Assembly, FollowEvent, solve_quadrics
 from .atlas import cli as atlas_cli
 from .cliargs import (EXIT_ERROR, EXIT_INTERRUPTED, EXIT_PARTIAL, EXIT_STUDY_FAILED, EXIT_USAGE, add_input_arguments,

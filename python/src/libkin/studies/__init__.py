@@ -2,8 +2,8 @@
 libkin that uses only its public API, each name from the public module or
 subpackage that provides it (libkin.assembly, libkin.atlas, libkin.errors,
 libkin.symmetry, libkin.plot, libkin.io, libkin.atomic, libkin.cliargs,
-libkin.parallel); of the package root only __version__, which only the root
-defines (flatcache.py's key).
+libkin.parallel, libkin.version), never the package root: the layer check
+(tools/architecture.py) places the studies below it.
 
 sailstudy.hexagonal_study() and squarestudy.square_study() run the studies;
 common.py holds what they share, sailmap.py reads the explorer's atlas as the

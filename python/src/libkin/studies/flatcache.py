@@ -18,7 +18,7 @@ from typing import Any, Dict, Optional, Tuple, Union
 
 import numpy as np
 
-from libkin import __version__  # defined by the package root itself (the loaded C library's version)
+from libkin.version import __version__
 from libkin.assembly import solve_quadrics
 from libkin.atomic import write_text
 
