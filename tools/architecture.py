@@ -398,6 +398,28 @@ def long_functions(root=None):
 
 # ------------------------------------------------------------ check ----
 
+def layer_problems(kind, nodes, edges, group_of, layers, why):
+    """A node (a C file, a Python module) may use its own group (folder,
+    subpackage) and the groups of lower layers, never a peer group of C's
+    layer (C folders of one layer are independent) or a higher layer. Peers
+    of one Python layer may import each other: no circle between modules is
+    checked apart."""
+    out = []
+    for u in nodes:
+        gu = group_of(u)
+        lu = layer_of(layers, gu)
+        if lu is None:
+            out.append(f"{kind} {u}: {gu} is in no layer (tools/architecture.py "
+                       f"{'C_LAYERS' if kind == 'C' else 'PY_LAYERS'})")
+            continue
+        for v in edges.get(u, ()):
+            gv = group_of(v)
+            lv = layer_of(layers, gv)
+            if gv != gu and (lv is None or (lv >= lu if kind == "C" else lv > lu)):
+                out.append(f"{kind} {u} (layer {lu}) uses {v} (layer {lv})" + (f": {why(u, v)}" if why else ""))
+    return out
+
+
 def check(build):
     problems = []
     units, edges, why = c_graph(build)
@@ -405,36 +427,14 @@ def check(build):
         print("architecture: no --build: includes only (calls between files not checked)")
     for comp in circles({u: edges.get(u, set()) for u in units}):
         problems.append("C circle: " + " <-> ".join(comp))
-    for u in units:
-        folder = c_folder(u)
-        lu = layer_of(C_LAYERS, folder)
-        if lu is None:
-            problems.append(f"C folder libkin/{folder}/ is in no layer (tools/architecture.py C_LAYERS)")
-            continue
-        for v in edges.get(u, ()):
-            fv = c_folder(v)
-            lv = layer_of(C_LAYERS, fv)
-            if fv != folder and (lv is None or lv >= lu):
-                problems.append(f"C {u} (layer {lu}) uses {v} (layer {lv}): {sorted(why[(u, v)])[:4]}")
+    problems += layer_problems("C", units, edges, c_folder, C_LAYERS, lambda u, v: sorted(why[(u, v)])[:4])
     problems += sublayer_problems(units, edges, why)
     if SRC.is_dir():
         pedges = import_graph(SRC)
         names = sorted(pedges)
         for comp in circles(pedges):
             problems.append("Python circle: " + " <-> ".join(comp))
-        for a in names:
-            ga = py_group(a)
-            la = layer_of(PY_LAYERS, ga)
-            if la is None:
-                problems.append(f"Python {a}: {ga} is in no layer (tools/architecture.py PY_LAYERS)")
-                continue
-            for b in pedges.get(a, ()):
-                gb = py_group(b)
-                lb = layer_of(PY_LAYERS, gb)
-                # peers of one layer may use each other (no circle between
-                # modules is checked above); never a higher layer
-                if gb != ga and (lb is None or lb > la):
-                    problems.append(f"Python {a} (layer {la}) imports {b} (layer {lb})")
+        problems += layer_problems("Python", names, pedges, py_group, PY_LAYERS, None)
     problems += [f"C function too long: {x}" for x in long_functions()]
     problems += doc_problems()
     for p in problems:
