@@ -45,7 +45,8 @@ from ..symmetry.automorphisms import same_symmetry, symmetries_at
 from ..symmetry.procrustes import aligned_distance
 from . import directions, levels, tasks
 from .index import GroupedIndex
-from .model import BIFURCATION, SAME_TOL, Atlas, Edge, Node, arrival_rank, node_kind, pair_window
+from .merge import merge_level
+from .model import BIFURCATION, SAME_TOL, Atlas, Edge, Node, node_kind, pair_window
 from .orbits import branch_orbits, follow_level
 from .solving import complete_solve, solve_system
 from .stabiliser import fixing, mechanism_action, subspace_branches, useful_group
@@ -270,72 +271,6 @@ class _Explorer:
         return directions.follow(work, every if every is not None else work, item, run, self.redo, self.executor,
                                  on_result)
 
-    def merge_level(self, work: List[Work], got: Dict[int, Any], depth: int) -> None:
-        """Identify the ends of one level's branches (got: work index ->
-        result, in any order: the order results arrived in) and add the
-        level's edges, in work order. The result depends only on the set
-        of results (docs/atlas.md "Identification"):
-
-        - the ends are taken in a canonical order (model.arrival_rank: the
-          node kind they give, bifurcation first, then the located
-          accuracy, then the coordinates), each joining the first earlier
-          node within pair_tol of it (in id order: the nodes of the earlier
-          levels, whose points are final), else the first of this level's
-          new nodes within it (in that order), else starting a new one; so
-          every new node's point, kind and analysis are those of its
-          best-ranked end, whichever arrived first;
-        - the new nodes get their ids in the order of their first branch
-          in work order (node, solution, sign), as before;
-        - a located bifurcation at an earlier node first reached as a near
-          miss and not expanded makes it a bifurcation (Node.arrived), the
-          best-ranked such end's analysis.
-        A node's point is final once its level is merged: later levels only
-        add edges to it (its branches were followed from that point)."""
-        target: Dict[int, Any] = {}
-        ends = []
-        for k, res in got.items():
-            self.follow_cpu += float(res.get("cpu_seconds", 0.0))
-            if res["event"] == tasks.LOOP:
-                target[k] = work[k][0]
-                continue
-            kind = node_kind(res["event"], res)
-            ends.append((arrival_rank(kind, res), k, kind))
-        ends.sort(key=lambda e: (e[0], e[1]))
-        fresh = GroupedIndex(self.a.coords.shape, self.rigid)  # this level's new nodes, by rank
-        lead: List[Tuple[int, str, NDArray[np.float64], float]] = []  # per new node: (k, kind, point, located)
-        for _, k, kind in ends:
-            res = got[k]
-            X, located = np.asarray(res["coords"], dtype=float), float(res.get("vr_tol", 0.0))
-            found = self.find(X, located)
-            if found is not None:
-                target[k] = self.nodes[found].arrived(kind, res)
-                continue
-            c = next((c for c in fresh.near(X, lambda worst: self.pair_tol(located, worst))
-                      if self._distance(X, lead[c][2]) <= self.pair_tol(located, lead[c][3])), None)
-            if c is None:
-                c = len(lead)
-                lead.append((k, kind, X, located))
-                fresh.add(X, c, located)
-            target[k] = ("new", c)
-        first: Dict[int, int] = {}
-        for k in sorted(got):
-            t = target[k]
-            if isinstance(t, tuple):
-                first.setdefault(t[1], k)
-        ids: Dict[int, int] = {}
-        for c in sorted(first, key=first.__getitem__):  # new nodes in the order of their first branch
-            k, kind, X, _ = lead[c]
-            X = X.copy()  # a mapped end (g applied) has its supports' coordinates to rounding only
-            X[self.fixed] = self.a.coords[self.fixed]
-            ids[c] = self.add_node(X, kind, got[k], depth)
-        for k in sorted(got):
-            nid, sol, sign, beta = work[k][:4]
-            res, t = got[k], target[k]
-            t = ids[t[1]] if isinstance(t, tuple) else t
-            self.edges.append(Edge(len(self.edges), nid, t, int(sol), int(sign), [float(v) for v in beta],
-                                   res["event"], float(res["length"]), float(res["accuracy"]), res["samples"],
-                                   res["message"], int(res.get("steps", 0)), float(res.get("vr_tol", 0.0))))
-
 
 def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start: Optional[ArrayLike] = None,
             depth: int = 1, max_nodes: int = 200, max_length: Optional[float] = None,
@@ -522,7 +457,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                 got[k] = res
         ex.levels.follow(ex, lambda: follow_level(work, images, lambda w, on: ex.follow_all(w, work, on), ex.syms,
                                                   ex.bars, take))
-        ex.merge_level(work, got, level + 1)
+        merge_level(ex, work, got, level + 1)
         for nid in missed:
             cause = "interrupted" if stop is not None and stop() else "time_limit"
             if "not followed" not in ex.nodes[nid].status:

@@ -8,7 +8,7 @@ import dataclasses
 import json
 import math
 import os
-from typing import TYPE_CHECKING, Any, Dict, List, Optional, Union
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 from numpy.typing import NDArray
@@ -61,7 +61,7 @@ def pair_window(scale: float, located_a: float, located_b: float) -> float:
 _KIND_RANK = {BIFURCATION: 0, NEAR_MISS: 1, MULTI_DOF: 2, RIGID: 2, REGULAR: 2, FAILURE: 3}
 
 
-def arrival_rank(kind: str, res: Dict[str, Any]) -> tuple:
+def arrival_rank(kind: str, res: Dict[str, Any]) -> Tuple[int, float, float, Tuple[float, ...]]:
     """The canonical order of the branch ends that reach one node: the first
     is the node's point (explorer.merge_level). Its kind's rank, the located
     accuracy (v_r / v_max where located: smaller is better), the tolerance
