@@ -217,6 +217,12 @@ def test_follow_orbits_gives_the_same_atlas():
     mapped by the symmetry: the same nodes and edges as following all."""
     full = libkin.explore("sail:4:1", depth=1, samples=1, follow_orbits=False)
     fast = libkin.explore("sail:4:1", depth=1, samples=1)  # follow_orbits: the default with symmetry
+    # a node's point is its best-located end (docs/atlas.md "Identification"): the square sail's
+    # supports leave rigid-body mechanisms, so the two may hold ends a rigid motion apart
+    from libkin.symmetry.procrustes import aligned_distance
+    for a, b in zip(full.nodes, fast.nodes):
+        assert aligned_distance(a.coords, b.coords) <= 1e-9
+        b.coords = a.coords
     assert full.same_as(fast, tol=1e-7)
     assert fast.stats["branches_followed"] < full.stats["branches_followed"] == len(full.edges)
     assert fast.stats["branches_followed"] + fast.stats["branches_mapped"] == len(fast.edges)

@@ -12,10 +12,12 @@ allow) or images of each other under the structure's symmetries
 (libkin.symmetry.automorphisms), and recurses from the new bifurcations, level by level,
 bounded by depth, node count, path length and time.
 
-Determinism: the branches of a level are tasks whose results are merged in
-the order of (node, solution index, sign), whatever order they complete in;
-node ids follow that order. So the atlas is the same serially, on a process
-pool or on a Dask cluster (time_limit aside: a time-limited atlas is partial).
+Determinism: the branches of a level are tasks whose results are merged
+once all are in, in a canonical order (model.arrival_rank: a node's point is
+its best-located end, merge_level), whatever order they complete or are
+handed over in; node ids follow the order (node, solution index, sign) of
+their first branch. So the atlas is the same serially, on a process pool or
+on a Dask cluster (time_limit aside: a time-limited atlas is partial).
 """
 from __future__ import annotations
 
@@ -43,7 +45,8 @@ from ..symmetry.automorphisms import same_symmetry, symmetries_at
 from ..symmetry.procrustes import aligned_distance
 from . import directions, levels, tasks
 from .index import GroupedIndex
-from .model import BIFURCATION, LOCATION_FACTOR, SAME_TOL, Atlas, Edge, Node, node_kind
+from .merge import merge_level
+from .model import BIFURCATION, SAME_TOL, Atlas, Edge, Node, node_kind, pair_window
 from .orbits import branch_orbits, follow_level
 from .solving import complete_solve, solve_system
 from .stabiliser import fixing, mechanism_action, subspace_branches, useful_group
@@ -71,6 +74,7 @@ class _Explorer:
         self.doc = to_json(a)
         self.text = json.dumps(self.doc)
         self.free_map = a.free_map()
+        self.fixed = self.free_map < 0  # the supports' coordinates
         self.scale = max(1.0, float(np.abs(a.coords - a.coords.mean(axis=0)).max()))
         self.tol = SAME_TOL * self.scale
         self.symmetric, self.executor, self.progress = symmetric, executor, progress
@@ -112,10 +116,10 @@ class _Explorer:
 
     def pair_tol(self, located_a: float, located_b: float) -> float:
         """How close two points must be to be one node: SAME_TOL times the
-        model size, or more for points located only to a coarse v_r: at a
-        tangency v_r ~ |l - l*|^2, so a point located to v_r <= tau v_max
-        is only within about sqrt(tau) (relative) of the true one."""
-        return self.scale * max(SAME_TOL, LOCATION_FACTOR * math.sqrt(max(located_a, located_b, 0.0)))
+        model size plus the error bound of each (model.pair_window: a point
+        located only to a coarse v_r <= tau v_max is known to about
+        sqrt(tau), relative, of the true one)."""
+        return pair_window(self.scale, located_a, located_b)
 
     def find(self, X: NDArray[np.float64], located: float = 0.0) -> Optional[int]:
         """The first node (in id order) that is the configuration X."""
@@ -266,19 +270,6 @@ class _Explorer:
                 run_tasks(*args, on_result=on, chunk=chunks_for(self.executor, len(items)))
         return directions.follow(work, every if every is not None else work, item, run, self.redo, self.executor,
                                  on_result)
-
-    def merge(self, nid: int, sol: int, sign: int, beta: NDArray[np.float64], res: Dict[str, Any],
-              depth: int) -> int:
-        ev = res["event"]
-        self.follow_cpu += float(res.get("cpu_seconds", 0.0))
-        X = np.asarray(res["coords"])
-        found = nid if ev == tasks.LOOP else self.find(X, float(res.get("vr_tol", 0.0)))
-        kind = node_kind(ev, res)
-        target = self.nodes[found].arrived(kind, res) if found is not None else self.add_node(X, kind, res, depth)
-        self.edges.append(Edge(len(self.edges), nid, target, int(sol), int(sign), [float(v) for v in beta], ev,
-                               float(res["length"]), float(res["accuracy"]), res["samples"], res["message"],
-                               int(res.get("steps", 0)), float(res.get("vr_tol", 0.0))))
-        return target
 
 
 def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start: Optional[ArrayLike] = None,
@@ -457,13 +448,16 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
              + (f", {len(todo)} followed, the others their images by symmetry" if len(todo) < len(work) else ""))
         n_before, missed = len(ex.nodes), []  # type: int, List[int]
 
-        def take(k: int, res: Any) -> None:  # each end identified as it comes, in the order of work
+        got: Dict[int, Any] = {}  # the level's results as they come (any order: merge_level sorts them)
+
+        def take(k: int, res: Any) -> None:
             if res is None:  # not followed: the time limit ran out first, or the run was interrupted
                 missed.append(work[k][0])
             else:
-                ex.merge(*work[k][:4], res, level + 1)
+                got[k] = res
         ex.levels.follow(ex, lambda: follow_level(work, images, lambda w, on: ex.follow_all(w, work, on), ex.syms,
                                                   ex.bars, take))
+        merge_level(ex, work, got, level + 1)
         for nid in missed:
             cause = "interrupted" if stop is not None and stop() else "time_limit"
             if "not followed" not in ex.nodes[nid].status:

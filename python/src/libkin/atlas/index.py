@@ -154,8 +154,8 @@ class ConfigIndex:
 class GroupedIndex:
     """ConfigIndex entries grouped by how coarsely each point is known.
 
-    Two points are one node within a tolerance that grows with the coarser
-    of their location accuracies (atlas.py, pair_tol). One index queried with
+    Two points are one node within a tolerance that grows with their
+    location accuracies (model.pair_window, the explorer's pair_tol). One index queried with
     the coarsest accuracy in the atlas would make a single point located to
     1e-6 widen every query a hundredfold; grouping the entries by decade of
     their accuracy lets each group be queried with its own widest tolerance.

@@ -8,7 +8,7 @@ import dataclasses
 import json
 import math
 import os
-from typing import TYPE_CHECKING, Any, Dict, List, Optional, Union
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,9 +30,48 @@ NODE_KINDS = (BIFURCATION, REGULAR, NEAR_MISS, MULTI_DOF, RIGID, FAILURE)
 
 # two configurations are one node when they agree to this times the model size
 SAME_TOL = 1e-6
-# points located to v_r <= tau v_max are one node within LOCATION_FACTOR
-# sqrt(tau) times the model size (see _Explorer.pair_tol)
+# a point located to v_r <= tau v_max is known to within LOCATION_FACTOR
+# sqrt(tau) times the model size (its error bound, location_error); two
+# points are one node within SAME_TOL plus both error bounds (pair_window)
 LOCATION_FACTOR = 10.0
+
+
+def location_error(located: float) -> float:
+    """The error bound of a point located to v_r <= located v_max, relative
+    to the model size: at a tangency v_r ~ |l - l*|^2, so such a point is
+    within about sqrt(located) of the true one (times LOCATION_FACTOR: the
+    arrivals at the hexagonal sail's m = 4, s = 3 nodes located to 1e-7 lie
+    up to 9.7 sqrt(1e-7) x the model size from the best-located arrival at
+    1e-8, docs/atlas.md "Identification"). 0 for a point not located (a
+    near miss, a budget end, the start: known to the follower's rounding)."""
+    return LOCATION_FACTOR * math.sqrt(max(located, 0.0))
+
+
+def pair_window(scale: float, located_a: float, located_b: float) -> float:
+    """How close two points located to located_a and located_b (their
+    vr_tol) must be to be one node: scale x (SAME_TOL + the error bound of
+    each), symmetric in a and b and the same whichever arrived first."""
+    lo, hi = sorted((location_error(located_a), location_error(located_b)))  # the same sum either way round
+    return scale * (SAME_TOL + lo + hi)
+
+
+# the rank of a branch end as its node's point: the node kinds in this order
+# (a located bifurcation before a near miss at the same point: the node is
+# then a bifurcation whichever arrived first), then the better located
+_KIND_RANK = {BIFURCATION: 0, NEAR_MISS: 1, MULTI_DOF: 2, RIGID: 2, REGULAR: 2, FAILURE: 3}
+
+
+def arrival_rank(kind: str, res: Dict[str, Any]) -> Tuple[int, float, float, Tuple[float, ...]]:
+    """The canonical order of the branch ends that reach one node: the first
+    is the node's point (explorer.merge_level). Its kind's rank, the located
+    accuracy (v_r / v_max where located: smaller is better), the tolerance
+    it was located to, then the end's coordinates themselves: a key of the
+    result alone, never of the order results arrive in or of the branch's
+    number."""
+    acc = float(res.get("accuracy", math.inf))
+    acc = acc if math.isfinite(acc) else math.inf
+    X = np.asarray(res["coords"], dtype=float).ravel()
+    return (_KIND_RANK.get(kind, 3), acc, float(res.get("vr_tol", 0.0)), tuple(X.tolist()))
 
 
 @dataclasses.dataclass

@@ -17,7 +17,8 @@ from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from libkin.atlas import BIFURCATION, LOCATION_FACTOR, SAME_TOL, Atlas, Edge, Node, explore
+from libkin.atlas import BIFURCATION, Atlas, Edge, Node, explore
+from libkin.atlas.model import pair_window
 
 if TYPE_CHECKING:
     from libkin.assembly import Assembly
@@ -53,8 +54,8 @@ class SailMap:
 
     # -- which node a configuration is
     def _tol(self, located_a: float, located_b: float) -> float:
-        # as the explorer identifies points (libkin.atlas.explorer: _Explorer.pair_tol)
-        return self.scale * max(SAME_TOL, LOCATION_FACTOR * math.sqrt(max(located_a, located_b, 0.0)))
+        # as the explorer identifies points (libkin.atlas.model.pair_window)
+        return pair_window(self.scale, located_a, located_b)
 
     def node_at(self, X: ArrayLike, located: float = RUN_VR_TOL) -> Optional[int]:
         """The id of the node at configuration X (None if none is)."""
