@@ -6,8 +6,9 @@
  * a binary built before the sized forms calls) and to every call that writes
  * into a caller's struct. The guards must stay untouched and the fields the
  * host has must be set. Also: the sized *_init() forms accept exactly the
- * published layout sizes, and a first-layout kin_options whose tail padding
- * holds garbage is read as that layout (step_control keeps its default). */
+ * published layout sizes, and a first-layout kin_options carries
+ * step_control in its tail padding (a 0.3.0 host's): honoured when valid,
+ * refused when garbage. */
 #include <math.h>
 #include <string.h>
 
@@ -146,18 +147,55 @@ static void sized_init(void)
 }
 #endif
 
-/* a layout-1 kin_options whose tail padding holds garbage: only its fields count */
+/* kin_options as the 0.3.0 headers of 2026-11-23 to 2026-11-26 had it
+ * (117529c..c185a3e), written out here, not taken from the generated header:
+ * step_control appended after factorization, inside layout 1's tail padding,
+ * so such a host passes layout 1's size with step_control set. */
+struct host030_options {
+    size_t size;
+    double rank_tol;
+    double corrector_tol;
+    int corrector_max_iter;
+    double step_fraction;
+    int max_halvings;
+    double direction_tol;
+    double max_correction;
+    int factorization;
+    int step_control;
+};
+
+/* layout 1's tail padding: step_control of a 0.3.0 host is honoured, zero
+ * (the earlier 0.3.0 headers, whose padding kin_options_default() zeroes) is
+ * the default, anything else is refused (KIN_EINVAL, nothing changes), never
+ * silently dropped */
 static void tail_padding(kin_assembly *a)
 {
+    CHECK(sizeof(struct host030_options) == sizeof(kin__kin_options_layout1));
+    CHECK(offsetof(struct host030_options, step_control) == offsetof(kin_options, step_control));
     guarded g;
-    kin_options *p = fresh(&g, sizeof(kin__kin_options_layout1));
-    (kin_options_default)(p);
-    size_t end = offsetof(kin__kin_options_layout1, factorization) + sizeof(int);
-    memset(g.bytes + end, 0x7F, sizeof(kin__kin_options_layout1) - end);
-    CHECK_RC(kin_set_options(a, p), KIN_OK);
+    struct host030_options *h = fresh(&g, sizeof(struct host030_options));
+    (kin_options_default)((kin_options *)h);
+    CHECK(untouched(&g, sizeof *h) && h->step_control == KIN_STEP_CONTROL_MODE);
+    h->step_control = KIN_STEP_CONTROL_SHARED;
+    h->factorization = KIN_STEP_LU;
+    CHECK_RC(kin_set_options(a, (kin_options *)h), KIN_OK);
     kin_options full = {.size = sizeof full};
     CHECK_RC(kin_get_options(a, &full), KIN_OK);
-    CHECK(full.step_control == KIN_STEP_CONTROL_MODE && full.rank_tol == 1e-9);
+    CHECK(full.step_control == KIN_STEP_CONTROL_SHARED && full.factorization == KIN_STEP_LU);
+    h = fresh(&g, sizeof(struct host030_options));
+    CHECK_RC(kin_get_options(a, (kin_options *)h), KIN_OK);
+    CHECK(untouched(&g, sizeof *h) && h->step_control == KIN_STEP_CONTROL_SHARED);
+
+    (kin_options_default)((kin_options *)h);
+    size_t end = offsetof(kin__kin_options_layout1, factorization) + sizeof(int);
+    memset(g.bytes + end, 0x7F, sizeof(kin__kin_options_layout1) - end); /* garbage: refused */
+    CHECK_RC(kin_set_options(a, (kin_options *)h), KIN_EINVAL);
+    CHECK_RC(kin_get_options(a, &full), KIN_OK);
+    CHECK(full.step_control == KIN_STEP_CONTROL_SHARED && full.factorization == KIN_STEP_LU);
+    memset(g.bytes + end, 0, sizeof(kin__kin_options_layout1) - end); /* zero: the default */
+    CHECK_RC(kin_set_options(a, (kin_options *)h), KIN_OK);
+    CHECK_RC(kin_get_options(a, &full), KIN_OK);
+    CHECK(full.step_control == KIN_STEP_CONTROL_MODE && full.factorization == KIN_STEP_SVD && full.rank_tol == 1e-9);
 }
 
 /* a regular point of the three-bar linkage: the parallelogram at 1 rad */

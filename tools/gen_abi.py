@@ -9,6 +9,12 @@ comment line starting `/* layout N` (N = 2, 3, ...) marks where the fields
 appended for layout N begin; the fields before the first marker are layout 1,
 the first size-prefixed layout. Every layout ever published stays accepted.
 
+A field that a published header had inside an older layout's tail padding
+(TAIL_PADDING below) belongs to that layout too: a host of that header
+passes the older layout's size with the field's value in those bytes, so the
+library reads and writes it there (the size cannot tell the two headers
+apart; the field's own range check refuses padding garbage).
+
 Written from that:
   libkin/model/abi_layouts.h  each older layout as a struct (what a host
                               compiled against it has), the layout table the
@@ -36,6 +42,13 @@ DOC = ROOT / "docs" / "abi.md"
 DOC_BEGIN = "<!-- gen_abi: begin (tools/gen_abi.py writes this list from the headers) -->"
 DOC_END = "<!-- gen_abi: end -->"
 MARKER = re.compile(r"/\*\s*layout\s+(\d+)\b")
+# {struct: {layout: [fields of the next layout that published headers had in
+# this layout's tail padding]}}. kin_options.step_control: the 0.3.0 headers
+# of 2026-11-23 to 2026-11-26 (commits 117529c..c185a3e) appended it after
+# factorization, where it fits in layout 1's 4 bytes of tail padding
+# (sizeof 72 either way); layout 2 (80 bytes) was made larger only later.
+# Such a host passes size 72 with step_control set (docs/abi.md).
+TAIL_PADDING = {"kin_options": {1: ["step_control"]}}
 
 
 def _strip_comments(text):
@@ -87,8 +100,25 @@ def structs(include=INCLUDE):
                 if not fields:
                     raise SystemExit(f"gen_abi: {name}: layout {num} has no fields")
                 layouts.append(fields)
+            for k, moved in TAIL_PADDING.get(name, {}).items():
+                later = layouts[k]
+                if [ns for _, ns in later[:len(moved)]] != [[n] for n in moved]:
+                    raise SystemExit(f"gen_abi: {name}: TAIL_PADDING {moved} must open layout {k + 1}")
+                layouts[k - 1] = layouts[k - 1] + later[:len(moved)]
+                layouts[k] = later[len(moved):]
+                if not layouts[k]:
+                    raise SystemExit(f"gen_abi: {name}: layout {k + 1} has no fields beyond TAIL_PADDING")
             found.append((h, name, layouts))
     return found
+
+
+def _padded(name, k):
+    """The fields layout k of name has in its tail padding ([] mostly)."""
+    return TAIL_PADDING.get(name, {}).get(k, [])
+
+
+def _layout_type(name, k, layouts):
+    return name if k == len(layouts) else f"struct kin__{name}_{k}"
 
 
 def gen_header(found):
@@ -104,6 +134,12 @@ def gen_header(found):
             L.append(f"struct kin__{name}_{k} {{")
             L += [f"    {d};" for d, _ in acc]
             L.append("};")
+            pad = _padded(name, k)
+            if pad:
+                L.append(f"/* the same without what published headers put in its tail padding ({', '.join(pad)}) */")
+                L.append(f"struct kin__{name}_{k}_unpadded {{")
+                L += [f"    {d};" for d, ns in acc if ns[0] not in pad]
+                L.append("};")
     L.append("")
     L.append("/* each struct as a host compiled against its first layout has it */")
     for _, name, layouts in found:
@@ -144,10 +180,27 @@ def gen_header(found):
             nxt = f"struct kin__{name}_{k + 1}" if k + 1 < len(layouts) else name
             cur = f"struct kin__{name}_{k}"
             L.append(f"typedef char kin__abi_grows_{name}_{k}[sizeof({cur}) < sizeof({nxt}) ? 1 : -1];")
+            if _padded(name, k):
+                L.append(f"typedef char kin__abi_padding_{name}_{k}"
+                         f"[sizeof({cur}) == sizeof({cur}_unpadded) ? 1 : -1];")
             for _, names in acc:
                 for n in names:
                     L.append(f"typedef char kin__abi_prefix_{name}_{k}_{n}"
                              f"[offsetof({cur}, {n}) == offsetof({nxt}, {n}) ? 1 : -1];")
+    L.append("")
+    L.append("/* every field of every layout: X(struct, layout, the layout's type, field),")
+    L.append(" * per struct and all together; the old-host test sets each through its")
+    L.append(" * layout (tests/test_abi_fields.c) */")
+    for _, name, layouts in found:
+        acc, xs = [], []
+        for k, fields in enumerate(layouts, start=1):
+            acc += fields
+            xs += [f"    X({name}, {k}, {_layout_type(name, k, layouts)}, {n})"
+                   for _, ns in acc for n in ns if n != "size"]
+        L.append(f"#define KIN__ABI_FIELDS_{name}(X) \\")
+        L.append(" \\\n".join(xs))
+    L.append("#define KIN__ABI_FIELDS(X) \\")
+    L.append(" \\\n".join(f"    KIN__ABI_FIELDS_{name}(X)" for _, name, _ in found))
     L += ["", "#endif /* KIN_MODEL_ABI_LAYOUTS_H */", ""]
     return "\n".join(L)
 
@@ -176,7 +229,11 @@ def gen_doc_list(found):
     for h, name, layouts in found:
         later = "; ".join(f"{k}: " + ", ".join(f"`{n}`" for _, ns in fields for n in ns)
                           for k, fields in enumerate(layouts[1:], start=2)) or "-"
-        L.append(f"| `{name}` | `include/{h}` | `{layouts[0][-1][1][-1]}` | {later} |")
+        pad = _padded(name, 1)
+        end = f"`{layouts[0][-1][1][-1]}`"
+        if pad:
+            end = f"`{layouts[0][-1 - len(pad)][1][-1]}` (+ " + ", ".join(f"`{n}`" for n in pad) + " in its tail padding)"
+        L.append(f"| `{name}` | `include/{h}` | {end} | {later} |")
     L += ["", DOC_END]
     return "\n".join(L)
 

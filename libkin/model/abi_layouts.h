@@ -18,6 +18,19 @@ struct kin__kin_options_1 {
     double direction_tol;
     double max_correction;
     int factorization;
+    int step_control;
+};
+/* the same without what published headers put in its tail padding (step_control) */
+struct kin__kin_options_1_unpadded {
+    size_t size;
+    double rank_tol;
+    double corrector_tol;
+    int corrector_max_iter;
+    double step_fraction;
+    int max_halvings;
+    double direction_tol;
+    double max_correction;
+    int factorization;
 };
 /* kin_step_info as a host compiled against layout 1 has it */
 struct kin__kin_step_info_1 {
@@ -163,7 +176,7 @@ enum kin__abi_id {
  * the last layout is the struct of today's header */
 #define KIN__ABI_TABLE \
     {"kin_analysis", 1, {sizeof(kin_analysis)}, {sizeof(kin_analysis)}}, \
-    {"kin_options", 2, {sizeof(struct kin__kin_options_1), sizeof(kin_options)}, {offsetof(struct kin__kin_options_1, factorization) + sizeof(((struct kin__kin_options_1 *)0)->factorization), sizeof(kin_options)}}, \
+    {"kin_options", 2, {sizeof(struct kin__kin_options_1), sizeof(kin_options)}, {offsetof(struct kin__kin_options_1, step_control) + sizeof(((struct kin__kin_options_1 *)0)->step_control), sizeof(kin_options)}}, \
     {"kin_step_info", 2, {sizeof(struct kin__kin_step_info_1), sizeof(kin_step_info)}, {offsetof(struct kin__kin_step_info_1, m_internal) + sizeof(((struct kin__kin_step_info_1 *)0)->m_internal), sizeof(kin_step_info)}}, \
     {"kin_sail_params", 1, {sizeof(kin_sail_params)}, {sizeof(kin_sail_params)}}, \
     {"kin_solve_info", 1, {sizeof(kin_solve_info)}, {sizeof(kin_solve_info)}}, \
@@ -182,6 +195,7 @@ enum kin__abi_id {
  * previous one's tail padding and a host's size could not tell the two
  * apart; then append a member (e.g. `int reserved;`) to the new layout. */
 typedef char kin__abi_grows_kin_options_1[sizeof(struct kin__kin_options_1) < sizeof(kin_options) ? 1 : -1];
+typedef char kin__abi_padding_kin_options_1[sizeof(struct kin__kin_options_1) == sizeof(struct kin__kin_options_1_unpadded) ? 1 : -1];
 typedef char kin__abi_prefix_kin_options_1_size[offsetof(struct kin__kin_options_1, size) == offsetof(kin_options, size) ? 1 : -1];
 typedef char kin__abi_prefix_kin_options_1_rank_tol[offsetof(struct kin__kin_options_1, rank_tol) == offsetof(kin_options, rank_tol) ? 1 : -1];
 typedef char kin__abi_prefix_kin_options_1_corrector_tol[offsetof(struct kin__kin_options_1, corrector_tol) == offsetof(kin_options, corrector_tol) ? 1 : -1];
@@ -191,6 +205,7 @@ typedef char kin__abi_prefix_kin_options_1_max_halvings[offsetof(struct kin__kin
 typedef char kin__abi_prefix_kin_options_1_direction_tol[offsetof(struct kin__kin_options_1, direction_tol) == offsetof(kin_options, direction_tol) ? 1 : -1];
 typedef char kin__abi_prefix_kin_options_1_max_correction[offsetof(struct kin__kin_options_1, max_correction) == offsetof(kin_options, max_correction) ? 1 : -1];
 typedef char kin__abi_prefix_kin_options_1_factorization[offsetof(struct kin__kin_options_1, factorization) == offsetof(kin_options, factorization) ? 1 : -1];
+typedef char kin__abi_prefix_kin_options_1_step_control[offsetof(struct kin__kin_options_1, step_control) == offsetof(kin_options, step_control) ? 1 : -1];
 typedef char kin__abi_grows_kin_step_info_1[sizeof(struct kin__kin_step_info_1) < sizeof(kin_step_info) ? 1 : -1];
 typedef char kin__abi_prefix_kin_step_info_1_size[offsetof(struct kin__kin_step_info_1, size) == offsetof(kin_step_info, size) ? 1 : -1];
 typedef char kin__abi_prefix_kin_step_info_1_l[offsetof(struct kin__kin_step_info_1, l) == offsetof(kin_step_info, l) ? 1 : -1];
@@ -286,5 +301,262 @@ typedef char kin__abi_prefix_kin_follow_info_2_samples[offsetof(struct kin__kin_
 typedef char kin__abi_prefix_kin_follow_info_2_return_branch[offsetof(struct kin__kin_follow_info_2, return_branch) == offsetof(kin_follow_info, return_branch) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_info_2_return_angle[offsetof(struct kin__kin_follow_info_2, return_angle) == offsetof(kin_follow_info, return_angle) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_info_2_return_gap[offsetof(struct kin__kin_follow_info_2, return_gap) == offsetof(kin_follow_info, return_gap) ? 1 : -1];
+
+/* every field of every layout: X(struct, layout, the layout's type, field),
+ * per struct and all together; the old-host test sets each through its
+ * layout (tests/test_abi_fields.c) */
+#define KIN__ABI_FIELDS_kin_analysis(X) \
+    X(kin_analysis, 1, kin_analysis, rank) \
+    X(kin_analysis, 1, kin_analysis, m) \
+    X(kin_analysis, 1, kin_analysis, m_rigid) \
+    X(kin_analysis, 1, kin_analysis, m_internal) \
+    X(kin_analysis, 1, kin_analysis, s) \
+    X(kin_analysis, 1, kin_analysis, v_max) \
+    X(kin_analysis, 1, kin_analysis, v_r)
+#define KIN__ABI_FIELDS_kin_options(X) \
+    X(kin_options, 1, struct kin__kin_options_1, rank_tol) \
+    X(kin_options, 1, struct kin__kin_options_1, corrector_tol) \
+    X(kin_options, 1, struct kin__kin_options_1, corrector_max_iter) \
+    X(kin_options, 1, struct kin__kin_options_1, step_fraction) \
+    X(kin_options, 1, struct kin__kin_options_1, max_halvings) \
+    X(kin_options, 1, struct kin__kin_options_1, direction_tol) \
+    X(kin_options, 1, struct kin__kin_options_1, max_correction) \
+    X(kin_options, 1, struct kin__kin_options_1, factorization) \
+    X(kin_options, 1, struct kin__kin_options_1, step_control) \
+    X(kin_options, 2, kin_options, rank_tol) \
+    X(kin_options, 2, kin_options, corrector_tol) \
+    X(kin_options, 2, kin_options, corrector_max_iter) \
+    X(kin_options, 2, kin_options, step_fraction) \
+    X(kin_options, 2, kin_options, max_halvings) \
+    X(kin_options, 2, kin_options, direction_tol) \
+    X(kin_options, 2, kin_options, max_correction) \
+    X(kin_options, 2, kin_options, factorization) \
+    X(kin_options, 2, kin_options, step_control) \
+    X(kin_options, 2, kin_options, coord_resolution)
+#define KIN__ABI_FIELDS_kin_step_info(X) \
+    X(kin_step_info, 1, struct kin__kin_step_info_1, l) \
+    X(kin_step_info, 1, struct kin__kin_step_info_1, delta) \
+    X(kin_step_info, 1, struct kin__kin_step_info_1, v_r) \
+    X(kin_step_info, 1, struct kin__kin_step_info_1, residual) \
+    X(kin_step_info, 1, struct kin__kin_step_info_1, cos_turn) \
+    X(kin_step_info, 1, struct kin__kin_step_info_1, iterations) \
+    X(kin_step_info, 1, struct kin__kin_step_info_1, halvings) \
+    X(kin_step_info, 1, struct kin__kin_step_info_1, factorizations) \
+    X(kin_step_info, 1, struct kin__kin_step_info_1, m_internal) \
+    X(kin_step_info, 2, kin_step_info, l) \
+    X(kin_step_info, 2, kin_step_info, delta) \
+    X(kin_step_info, 2, kin_step_info, v_r) \
+    X(kin_step_info, 2, kin_step_info, residual) \
+    X(kin_step_info, 2, kin_step_info, cos_turn) \
+    X(kin_step_info, 2, kin_step_info, iterations) \
+    X(kin_step_info, 2, kin_step_info, halvings) \
+    X(kin_step_info, 2, kin_step_info, factorizations) \
+    X(kin_step_info, 2, kin_step_info, m_internal) \
+    X(kin_step_info, 2, kin_step_info, strain_floor) \
+    X(kin_step_info, 2, kin_step_info, tol_used)
+#define KIN__ABI_FIELDS_kin_sail_params(X) \
+    X(kin_sail_params, 1, kin_sail_params, n_sides) \
+    X(kin_sail_params, 1, kin_sail_params, n_loops) \
+    X(kin_sail_params, 1, kin_sail_params, side) \
+    X(kin_sail_params, 1, kin_sail_params, widths) \
+    X(kin_sail_params, 1, kin_sail_params, support) \
+    X(kin_sail_params, 1, kin_sail_params, diagonal)
+#define KIN__ABI_FIELDS_kin_solve_info(X) \
+    X(kin_solve_info, 1, kin_solve_info, starts) \
+    X(kin_solve_info, 1, kin_solve_info, converged) \
+    X(kin_solve_info, 1, kin_solve_info, distinct) \
+    X(kin_solve_info, 1, kin_solve_info, gsl_errors) \
+    X(kin_solve_info, 1, kin_solve_info, max_residual)
+#define KIN__ABI_FIELDS_kin_homotopy_info(X) \
+    X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, paths) \
+    X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, real) \
+    X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, real_distinct) \
+    X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, nonreal) \
+    X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, singular) \
+    X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, failed) \
+    X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, uncertified) \
+    X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, retracked) \
+    X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, duplicates) \
+    X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, unpaired) \
+    X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, steps) \
+    X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, rejected) \
+    X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, max_residual) \
+    X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, max_cond) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, paths) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, real) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, real_distinct) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, nonreal) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, singular) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, failed) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, uncertified) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, retracked) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, duplicates) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, unpaired) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, steps) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, rejected) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, max_residual) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, max_cond) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, steps_total) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, rejected_total) \
+    X(kin_homotopy_info, 2, kin_homotopy_info, rechecks_failed)
+#define KIN__ABI_FIELDS_kin_homotopy_options(X) \
+    X(kin_homotopy_options, 1, kin_homotopy_options, seed) \
+    X(kin_homotopy_options, 1, kin_homotopy_options, nthreads) \
+    X(kin_homotopy_options, 1, kin_homotopy_options, max_paths) \
+    X(kin_homotopy_options, 1, kin_homotopy_options, progress) \
+    X(kin_homotopy_options, 1, kin_homotopy_options, user)
+#define KIN__ABI_FIELDS_kin_homotopy_sym_info(X) \
+    X(kin_homotopy_sym_info, 1, kin_homotopy_sym_info, group) \
+    X(kin_homotopy_sym_info, 1, kin_homotopy_sym_info, orbits) \
+    X(kin_homotopy_sym_info, 1, kin_homotopy_sym_info, found) \
+    X(kin_homotopy_sym_info, 1, kin_homotopy_sym_info, monodromy_paths) \
+    X(kin_homotopy_sym_info, 1, kin_homotopy_sym_info, final_paths) \
+    X(kin_homotopy_sym_info, 1, kin_homotopy_sym_info, monodromy_steps) \
+    X(kin_homotopy_sym_info, 1, kin_homotopy_sym_info, monodromy_rejected)
+#define KIN__ABI_FIELDS_kin_branch_path(X) \
+    X(kin_branch_path, 1, kin_branch_path, beta) \
+    X(kin_branch_path, 1, kin_branch_path, sign) \
+    X(kin_branch_path, 1, kin_branch_path, exists) \
+    X(kin_branch_path, 1, kin_branch_path, tangent_ok) \
+    X(kin_branch_path, 1, kin_branch_path, path_id) \
+    X(kin_branch_path, 1, kin_branch_path, length) \
+    X(kin_branch_path, 1, kin_branch_path, tangent_cos)
+#define KIN__ABI_FIELDS_kin_locate_options(X) \
+    X(kin_locate_options, 1, kin_locate_options, method) \
+    X(kin_locate_options, 1, kin_locate_options, vr_tol) \
+    X(kin_locate_options, 1, kin_locate_options, switch_eps) \
+    X(kin_locate_options, 1, kin_locate_options, delta) \
+    X(kin_locate_options, 1, kin_locate_options, max_steps) \
+    X(kin_locate_options, 1, kin_locate_options, max_iter) \
+    X(kin_locate_options, 1, kin_locate_options, use_switch_rule)
+#define KIN__ABI_FIELDS_kin_locate_info(X) \
+    X(kin_locate_info, 1, kin_locate_info, event) \
+    X(kin_locate_info, 1, kin_locate_info, located) \
+    X(kin_locate_info, 1, kin_locate_info, steps) \
+    X(kin_locate_info, 1, kin_locate_info, factorizations) \
+    X(kin_locate_info, 1, kin_locate_info, forward) \
+    X(kin_locate_info, 1, kin_locate_info, v_r) \
+    X(kin_locate_info, 1, kin_locate_info, v_r_rel) \
+    X(kin_locate_info, 1, kin_locate_info, distance) \
+    X(kin_locate_info, 1, kin_locate_info, path_kept) \
+    X(kin_locate_info, 1, kin_locate_info, m_internal) \
+    X(kin_locate_info, 1, kin_locate_info, s) \
+    X(kin_locate_info, 1, kin_locate_info, zero_order)
+#define KIN__ABI_FIELDS_kin_follow_options(X) \
+    X(kin_follow_options, 1, struct kin__kin_follow_options_1, vr_tol) \
+    X(kin_follow_options, 1, struct kin__kin_follow_options_1, vr_floor) \
+    X(kin_follow_options, 1, struct kin__kin_follow_options_1, switch_eps) \
+    X(kin_follow_options, 1, struct kin__kin_follow_options_1, delta) \
+    X(kin_follow_options, 1, struct kin__kin_follow_options_1, max_steps) \
+    X(kin_follow_options, 1, struct kin__kin_follow_options_1, max_iter) \
+    X(kin_follow_options, 1, struct kin__kin_follow_options_1, max_length) \
+    X(kin_follow_options, 1, struct kin__kin_follow_options_1, loop_tol) \
+    X(kin_follow_options, 1, struct kin__kin_follow_options_1, first_step) \
+    X(kin_follow_options, 1, struct kin__kin_follow_options_1, branch_cos) \
+    X(kin_follow_options, 2, struct kin__kin_follow_options_2, vr_tol) \
+    X(kin_follow_options, 2, struct kin__kin_follow_options_2, vr_floor) \
+    X(kin_follow_options, 2, struct kin__kin_follow_options_2, switch_eps) \
+    X(kin_follow_options, 2, struct kin__kin_follow_options_2, delta) \
+    X(kin_follow_options, 2, struct kin__kin_follow_options_2, max_steps) \
+    X(kin_follow_options, 2, struct kin__kin_follow_options_2, max_iter) \
+    X(kin_follow_options, 2, struct kin__kin_follow_options_2, max_length) \
+    X(kin_follow_options, 2, struct kin__kin_follow_options_2, loop_tol) \
+    X(kin_follow_options, 2, struct kin__kin_follow_options_2, first_step) \
+    X(kin_follow_options, 2, struct kin__kin_follow_options_2, branch_cos) \
+    X(kin_follow_options, 2, struct kin__kin_follow_options_2, steps_mode) \
+    X(kin_follow_options, 2, struct kin__kin_follow_options_2, branch_margin) \
+    X(kin_follow_options, 3, kin_follow_options, vr_tol) \
+    X(kin_follow_options, 3, kin_follow_options, vr_floor) \
+    X(kin_follow_options, 3, kin_follow_options, switch_eps) \
+    X(kin_follow_options, 3, kin_follow_options, delta) \
+    X(kin_follow_options, 3, kin_follow_options, max_steps) \
+    X(kin_follow_options, 3, kin_follow_options, max_iter) \
+    X(kin_follow_options, 3, kin_follow_options, max_length) \
+    X(kin_follow_options, 3, kin_follow_options, loop_tol) \
+    X(kin_follow_options, 3, kin_follow_options, first_step) \
+    X(kin_follow_options, 3, kin_follow_options, branch_cos) \
+    X(kin_follow_options, 3, kin_follow_options, steps_mode) \
+    X(kin_follow_options, 3, kin_follow_options, branch_margin) \
+    X(kin_follow_options, 3, kin_follow_options, return_fn) \
+    X(kin_follow_options, 3, kin_follow_options, return_user) \
+    X(kin_follow_options, 3, kin_follow_options, return_own)
+#define KIN__ABI_FIELDS_kin_follow_info(X) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, event) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, status) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, steps) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, forward) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, factorizations) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, attempts) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, length) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, vr_tol_used) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, v_r_rel) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, m_internal) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, s) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, zero_order) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, path_kept) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, at_start) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, start_distance) \
+    X(kin_follow_info, 1, struct kin__kin_follow_info_1, tangent_cos) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, event) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, status) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, steps) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, forward) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, factorizations) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, attempts) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, length) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, vr_tol_used) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, v_r_rel) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, m_internal) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, s) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, zero_order) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, path_kept) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, at_start) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, start_distance) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, tangent_cos) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, cheap_steps) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, handovers) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, samples) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, return_branch) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, return_angle) \
+    X(kin_follow_info, 2, struct kin__kin_follow_info_2, return_gap) \
+    X(kin_follow_info, 3, kin_follow_info, event) \
+    X(kin_follow_info, 3, kin_follow_info, status) \
+    X(kin_follow_info, 3, kin_follow_info, steps) \
+    X(kin_follow_info, 3, kin_follow_info, forward) \
+    X(kin_follow_info, 3, kin_follow_info, factorizations) \
+    X(kin_follow_info, 3, kin_follow_info, attempts) \
+    X(kin_follow_info, 3, kin_follow_info, length) \
+    X(kin_follow_info, 3, kin_follow_info, vr_tol_used) \
+    X(kin_follow_info, 3, kin_follow_info, v_r_rel) \
+    X(kin_follow_info, 3, kin_follow_info, m_internal) \
+    X(kin_follow_info, 3, kin_follow_info, s) \
+    X(kin_follow_info, 3, kin_follow_info, zero_order) \
+    X(kin_follow_info, 3, kin_follow_info, path_kept) \
+    X(kin_follow_info, 3, kin_follow_info, at_start) \
+    X(kin_follow_info, 3, kin_follow_info, start_distance) \
+    X(kin_follow_info, 3, kin_follow_info, tangent_cos) \
+    X(kin_follow_info, 3, kin_follow_info, cheap_steps) \
+    X(kin_follow_info, 3, kin_follow_info, handovers) \
+    X(kin_follow_info, 3, kin_follow_info, samples) \
+    X(kin_follow_info, 3, kin_follow_info, return_branch) \
+    X(kin_follow_info, 3, kin_follow_info, return_angle) \
+    X(kin_follow_info, 3, kin_follow_info, return_gap) \
+    X(kin_follow_info, 3, kin_follow_info, min_width) \
+    X(kin_follow_info, 3, kin_follow_info, min_located) \
+    X(kin_follow_info, 3, kin_follow_info, min_evals)
+#define KIN__ABI_FIELDS(X) \
+    KIN__ABI_FIELDS_kin_analysis(X) \
+    KIN__ABI_FIELDS_kin_options(X) \
+    KIN__ABI_FIELDS_kin_step_info(X) \
+    KIN__ABI_FIELDS_kin_sail_params(X) \
+    KIN__ABI_FIELDS_kin_solve_info(X) \
+    KIN__ABI_FIELDS_kin_homotopy_info(X) \
+    KIN__ABI_FIELDS_kin_homotopy_options(X) \
+    KIN__ABI_FIELDS_kin_homotopy_sym_info(X) \
+    KIN__ABI_FIELDS_kin_branch_path(X) \
+    KIN__ABI_FIELDS_kin_locate_options(X) \
+    KIN__ABI_FIELDS_kin_locate_info(X) \
+    KIN__ABI_FIELDS_kin_follow_options(X) \
+    KIN__ABI_FIELDS_kin_follow_info(X)
 
 #endif /* KIN_MODEL_ABI_LAYOUTS_H */

@@ -5,6 +5,9 @@ written (one line on stderr, no traceback); 2 a usage error (argparse, or a
 model that is not a valid start for the command); 3 a study that stopped
 early; 4 a path that stopped before the steps asked (`follow`,
 `fold-export`: what was reached is written, fewer frames than asked);
+5 the run's store cannot be used (`explore`: not a store, damaged or
+truncated, a failed write such as a full disk under it; one line naming the
+store and what to do, atlas/store.py StoreError);
 130 interrupted (Ctrl-C or SIGTERM: workers ended, one line on stderr).
 """
 from __future__ import annotations
@@ -20,14 +23,15 @@ import numpy as np
 from .version import __version__
 from .assembly import Analysis, Assembly, FollowEvent, solve_quadrics
 from .atlas import cli as atlas_cli
-from .cliargs import (EXIT_ERROR, EXIT_INTERRUPTED, EXIT_PARTIAL, EXIT_STUDY_FAILED, EXIT_USAGE, add_input_arguments,
-                      count, finite, load_model_spec, positive)
+from .atlas.store import StoreError
+from .cliargs import (EXIT_ERROR, EXIT_INTERRUPTED, EXIT_PARTIAL, EXIT_STORE, EXIT_STUDY_FAILED, EXIT_USAGE,
+                      add_input_arguments, count, finite, load_model_spec, positive)
 from .errors import InvalidArgumentError, KinError, NotFoundError
 from .parallel import Terminated, terminate_on_sigterm
 from .studies import cli as studies_cli
 
 __all__ = ["main", "follow_path", "FollowedPath", "EXIT_ERROR", "EXIT_USAGE", "EXIT_STUDY_FAILED", "EXIT_PARTIAL",
-           "EXIT_INTERRUPTED"]
+           "EXIT_STORE", "EXIT_INTERRUPTED"]
 
 
 def _load(args: argparse.Namespace) -> Assembly:
@@ -396,7 +400,8 @@ def _parser() -> argparse.ArgumentParser:
         "Kinematic analysis of pin-jointed bar assemblies. MODEL is a JSON model file "
         "(schema: python/README.md) or a built-in: threebar:RA|RB|RC, sail:N_SIDES:N_LOOPS."),
         epilog="exit status: 0 success, 1 libkin or file error, 2 usage error, 3 study stopped early, "
-               "4 path stopped early (fewer frames than asked), 130 interrupted")
+               "4 path stopped early (fewer frames than asked), 5 explore's store unusable (damaged, full disk), "
+               "130 interrupted")
     p.add_argument("--version", action="version", version=f"libkin {__version__}")
     sub = p.add_subparsers(dest="cmd", required=True, parser_class=_OneLineParser)
     s = sub.add_parser("analyse", help="first-order analysis: rank, mechanisms, self-stresses")
@@ -484,6 +489,9 @@ def main(argv: Optional[List[str]] = None) -> int:
         # the interpreter's final flush from failing again
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_ERROR
+    except StoreError as exc:
+        print(_one_line(exc), file=sys.stderr)
+        return EXIT_STORE
     except (KinError, OSError, ImportError, ValueError) as exc:
         print(_one_line(exc), file=sys.stderr)
         return EXIT_ERROR

@@ -17,6 +17,7 @@ EXIT_ERROR = 1
 EXIT_USAGE = 2
 EXIT_STUDY_FAILED = 3
 EXIT_PARTIAL = 4  # a path stopped before the steps asked: fewer frames written than asked
+EXIT_STORE = 5  # the run's store cannot be used (not a store, damaged, truncated, a write failed: a full disk)
 EXIT_INTERRUPTED = 130
 
 

@@ -93,6 +93,10 @@ def _run(args: argparse.Namespace, assembly: Assembly) -> int:
     kinds = ", ".join(f"{v} {k}" for k, v in sorted(s["edge_events"].items())) or "none"
     print(f"{s['nodes']} nodes, {s['edges']} directed paths ({kinds}); wrote {pathlib.Path(args.out) / 'atlas.json'}, "
           f"atlas.graphml, atlas_map.png, {'atlas.html, ' if args.html else ''}{rep}")
+    bad = at.stats.get("store", {}).get("recomputed", 0)
+    if bad:
+        print(f"store: {bad} recorded result{'s' if bad > 1 else ''} failed the check (edited, damaged or "
+              f"written before checksums) and {'were' if bad > 1 else 'was'} recomputed")
     if str(at.settings.get("symmetries", "")).startswith("not detected"):
         print(f"symmetries {at.settings['symmetries']}: explored as if the structure had none")
     if not signalled and not at.stats.get("partial") and args.store is None:

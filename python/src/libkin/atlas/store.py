@@ -11,11 +11,25 @@ from it, the others computed and recorded, and the atlas is the one an
 uninterrupted run gives. A store of another model or other settings is
 refused (StoreMismatchError). Results are JSON (floats round-trip exactly).
 
+The store is verified, never trusted: each record carries a SHA-256 digest
+of its key, its kind and its JSON text (_digest). A record whose digest does
+not match (an edited value, key or kind, garbage), or that has none (a
+store written before digests, libkin 0.3.0 of before issue 39: the column
+is added and those records are recomputed), is recomputed and recorded
+again, and counted (`recomputed` in the run's stats["store"], and a line of
+`libkin explore`). A store that cannot be used (not an SQLite file, a
+damaged or truncated one, a failed write such as a full disk under it, a
+table that is not a store's) raises StoreError, one line naming the store
+and what to do: `libkin explore` exits with EXIT_STORE (5), never with a
+traceback. A resumed run checks the file first (PRAGMA quick_check).
+
 LIBKIN_STORE_KILL_AFTER=k (a test hook): the process kills itself with
 SIGKILL right after the k-th result it records.
 """
 from __future__ import annotations
 
+import contextlib
+import errno
 import hashlib
 import json
 import os
@@ -23,9 +37,9 @@ import pathlib
 import signal
 import sqlite3
 import time
-from typing import Any, Callable, Dict, List, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Union
 
-from ..errors import InvalidArgumentError
+from ..errors import InvalidArgumentError, KinError
 from ..parallel import Progress, chunks_for, executor_width, is_dask_client, run_tasks, stream_dask, tick
 from ..shared import Ref, content
 
@@ -37,15 +51,35 @@ DASK_WINDOW = 4
 # of its CPU (bench/bench_atlas_depth.py scaling), shared by the chunk
 DASK_CHUNK = 16
 
-__all__ = ["Store", "StoreMismatchError", "fingerprint", "default_path", "open_store", "remove_store"]
+__all__ = ["Store", "StoreError", "StoreMismatchError", "fingerprint", "default_path", "open_store", "remove_store"]
 
 _SCHEMA = ("CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL)",
            "CREATE TABLE IF NOT EXISTS results (key TEXT PRIMARY KEY, kind TEXT NOT NULL, "
-           "seq INTEGER NOT NULL, value TEXT NOT NULL)")
+           "seq INTEGER NOT NULL, value TEXT NOT NULL, digest TEXT)")
+_COLUMNS = {"meta": ["key", "value"], "results": ["key", "kind", "seq", "value", "digest"]}
 
 
 class StoreMismatchError(InvalidArgumentError):
     """The store was written by a run of another model or other settings."""
+
+
+class StoreError(KinError):
+    """The store cannot be used: not a store, damaged or truncated, or a
+    write failed (a full disk under it). `libkin explore` exits 5."""
+
+
+def _digest(key: str, kind: str, text: str) -> str:
+    """A record's checksum: its key, kind and JSON text, serialized as one
+    JSON list (canonical: the three strings as stored)."""
+    return hashlib.sha256(json.dumps([key, kind, text]).encode()).hexdigest()
+
+
+def _store_error(path: pathlib.Path, what: str, exc: BaseException) -> StoreError:
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    full = "full" in text.lower() or getattr(exc, "errno", None) == errno.ENOSPC
+    todo = ("free space under it and continue with --resume (what was recorded is kept)" if full else
+            "remove it (a run without --resume starts afresh) or give another --store")
+    return StoreError(f"the store {path} cannot be used: {what}: {text}; {todo}")
 
 
 def _hash(data: Any) -> str:
@@ -102,37 +136,73 @@ class Store:
 
     def __init__(self, path: Union[str, "os.PathLike[str]"], fingerprint: str, resume: bool = False) -> None:
         self.path = pathlib.Path(path)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        self.db = sqlite3.connect(str(self.path), isolation_level=None)
+        self.db: Optional[sqlite3.Connection] = None
         try:
-            self.db.execute("PRAGMA journal_mode=WAL")
-            self.db.execute("PRAGMA synchronous=NORMAL")
-            for s in _SCHEMA:
-                self.db.execute(s)
-            row = self.db.execute("SELECT value FROM meta WHERE key = 'fingerprint'").fetchone()
-            if row is not None and row[0] != fingerprint:
-                raise StoreMismatchError(f"the store {self.path} belongs to another run (another model or "
-                                         "other settings); give another --store or the same model and settings")
-            with self.db:
-                self.db.execute("BEGIN IMMEDIATE")
-                if not resume:
-                    self.db.execute("DELETE FROM results")
-                self.db.execute("INSERT OR REPLACE INTO meta VALUES ('fingerprint', ?)", (fingerprint,))
-        except BaseException:
-            self.db.close()
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self.db = sqlite3.connect(str(self.path), isolation_level=None)
+            self._open(fingerprint, resume)
+        except StoreMismatchError:
+            self.close()
             raise
-        self.seq = int(self.db.execute("SELECT COUNT(*) FROM results").fetchone()[0])
+        except (sqlite3.Error, OSError) as exc:
+            self.close()
+            raise _store_error(self.path, "opening it", exc) from None
+        except BaseException:
+            self.close()
+            raise
         self.reused = 0      # results taken from the store in this run
         self.recorded = 0    # results computed and recorded in this run
+        self.recomputed = 0  # records that failed their digest (or had none): computed again
         kill = os.environ.get("LIBKIN_STORE_KILL_AFTER")
         self.kill_after = int(kill) if kill else None
 
+    def _open(self, fingerprint: str, resume: bool) -> None:
+        db = self.db
+        assert db is not None
+        if resume:
+            bad = [r[0] for r in db.execute("PRAGMA quick_check").fetchall()]
+            if bad != ["ok"]:
+                raise sqlite3.DatabaseError("damaged (" + "; ".join(map(str, bad[:3])) + ")")
+        db.execute("PRAGMA journal_mode=WAL")
+        db.execute("PRAGMA synchronous=NORMAL")
+        for stmt in _SCHEMA:
+            db.execute(stmt)
+        cols = {t: [r[1] for r in db.execute(f"PRAGMA table_info({t})")] for t in _COLUMNS}
+        if cols["results"] == _COLUMNS["results"][:-1]:  # before digests: its records are recomputed
+            db.execute("ALTER TABLE results ADD COLUMN digest TEXT")
+            cols["results"] = _COLUMNS["results"]
+        if cols != _COLUMNS:
+            raise sqlite3.DatabaseError(f"its tables are not a libkin store's ({cols})")
+        row = db.execute("SELECT value FROM meta WHERE key = 'fingerprint'").fetchone()
+        if row is not None and row[0] != fingerprint:
+            raise StoreMismatchError(f"the store {self.path} belongs to another run (another model or "
+                                     "other settings); give another --store or the same model and settings")
+        with db:
+            db.execute("BEGIN IMMEDIATE")
+            if not resume:
+                db.execute("DELETE FROM results")
+            db.execute("INSERT OR REPLACE INTO meta VALUES ('fingerprint', ?)", (fingerprint,))
+        self.seq = int(db.execute("SELECT COUNT(*) FROM results").fetchone()[0])
+
+    @contextlib.contextmanager
+    def _guard(self, what: str) -> Iterator[sqlite3.Connection]:
+        """The connection, with SQLite's and the system's errors as StoreError."""
+        if self.db is None:
+            raise StoreError(f"the store {self.path} is closed")
+        try:
+            yield self.db
+        except (sqlite3.Error, OSError) as exc:
+            raise _store_error(self.path, what, exc) from None
+
     def close(self) -> None:
-        self.db.close()
+        if self.db is not None:
+            self.db.close()
+            self.db = None
 
     def finish(self, close: bool) -> Dict[str, Any]:
         """What this run took from the store and recorded (closed if close)."""
-        rec = {"path": str(self.path), "reused": self.reused, "recorded": self.recorded}
+        rec = {"path": str(self.path), "reused": self.reused, "recorded": self.recorded,
+               "recomputed": self.recomputed}
         if close:
             self.close()
         return rec
@@ -144,14 +214,30 @@ class Store:
         self.close()
 
     def __len__(self) -> int:
-        return int(self.db.execute("SELECT COUNT(*) FROM results").fetchone()[0])
+        with self._guard("counting its records") as db:
+            return int(db.execute("SELECT COUNT(*) FROM results").fetchone()[0])
 
     def get(self, key: str) -> Any:
-        row = self.db.execute("SELECT value FROM results WHERE key = ?", (key,)).fetchone()
+        """The recorded result of key; None when there is none or when the
+        record fails its digest (then counted in recomputed: the caller
+        computes it and put() replaces the record)."""
+        with self._guard("reading a record") as db:
+            row = db.execute("SELECT kind, value, digest FROM results WHERE key = ?", (key,)).fetchone()
         if row is None:
             return None
+        kind, text, digest = row
+        value = None
+        if (isinstance(kind, str) and isinstance(text, str) and key.startswith(kind + ":")
+                and digest == _digest(key, kind, text)):
+            try:
+                value = json.loads(text)
+            except ValueError:
+                value = None
+        if value is None:
+            self.recomputed += 1
+            return None
         self.reused += 1
-        return json.loads(row[0])
+        return value
 
     def put(self, kind: str, key: str, value: Any, text: Optional[str] = None) -> None:
         """Record one result (one committed transaction; text: its JSON, if
@@ -159,10 +245,11 @@ class Store:
         through a kill; it costs 0.18 ms (11 s of the client's CPU in the
         hexagonal sail's full atlas, 59,656 results: batching the commits was
         measured and not kept, since a kill would then lose finished work)."""
-        with self.db:
-            self.db.execute("BEGIN IMMEDIATE")
-            self.db.execute("INSERT OR REPLACE INTO results VALUES (?, ?, ?, ?)",
-                            (key, kind, self.seq, json.dumps(value) if text is None else text))
+        text = json.dumps(value) if text is None else text
+        with self._guard("recording a result") as db, db:
+            db.execute("BEGIN IMMEDIATE")
+            db.execute("INSERT OR REPLACE INTO results VALUES (?, ?, ?, ?, ?)",
+                       (key, kind, self.seq, text, _digest(key, kind, text)))
         self.seq += 1
         self.recorded += 1
         if self.kill_after is not None and self.recorded >= self.kill_after:
