@@ -175,10 +175,13 @@ def test_sigterm_stops_explore_and_leaves_no_worker(tmp_path, kind):
             workers |= _descendants(p.pid)
             time.sleep(0.1)
         workers |= _descendants(p.pid)
-        t0 = time.monotonic()
+        # how promptly the run stops, in work rather than seconds (a time
+        # bound grows with the machine's load): the branches recorded after
+        # the signal, against what 10 s of following records unloaded (about
+        # 4,000 on 2 cores); the wait only guards against a hang
+        before = _branches_recorded(store)
         p.send_signal(signal.SIGTERM)
-        p.wait(timeout=20)
-        took = time.monotonic() - t0
+        p.wait(timeout=120)
     finally:
         if p.poll() is None:
             p.kill()
@@ -191,7 +194,8 @@ def test_sigterm_stops_explore_and_leaves_no_worker(tmp_path, kind):
     left = [w for w in workers if _alive(w)]
     for w in left:  # the old code's orphans: not left running after the test
         os.kill(w, signal.SIGKILL)
-    assert p.returncode != 0 and took < 10, (p.returncode, took)
+    after = _branches_recorded(store)
+    assert p.returncode != 0 and after - before <= 4000, (p.returncode, before, after)
     assert err.count("\n") == 1 and err.startswith("libkin: ") and "Traceback" not in err, err
     assert not left, "workers left behind"
 
