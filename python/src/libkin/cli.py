@@ -295,7 +295,7 @@ def _add_start_arguments(s: argparse.ArgumentParser) -> None:
     s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
     s.add_argument("--branch", type=count(0), default=None, metavar="K",
                    help="at a bifurcation: leave along directed branch K (real second-order solution K // 2 of the "
-                        "complete solver, sign + for even K, - for odd)")
+                        "complete solver in their canonical order, the same on every machine; sign + for even K, - for odd)")
     s.add_argument("--sign", type=int, default=None, choices=[1, -1], help="the sign of --branch's direction")
     add_input_arguments(s)
 
