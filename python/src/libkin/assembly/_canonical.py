@@ -38,7 +38,7 @@ as before. A tie that survives every key is broken by the solver's order
 from __future__ import annotations
 
 from functools import lru_cache
-from typing import Optional, Tuple
+from typing import List, Optional, Tuple
 
 import numpy as np
 import numpy.typing as npt
@@ -75,18 +75,18 @@ def generic_vectors(n: int, count: int = KEYS) -> FloatArray:
     return W
 
 
-def _order(keys: FloatArray, idx: npt.NDArray[np.intp], k: int) -> list:
+def _order(keys: FloatArray, idx: npt.NDArray[np.intp], k: int) -> List[int]:
     """idx ordered by keys[:, k], runs closer than ORDER_TOL by the next key."""
     idx = idx[np.argsort(keys[idx, k], kind="stable")]
     if k + 1 >= keys.shape[1] or len(idx) < 2:
-        return list(idx)
-    out: list = []
+        return [int(i) for i in idx]
+    out: List[int] = []
     gaps = np.diff(keys[idx, k]) > ORDER_TOL
     start = 0
     for j in range(1, len(idx) + 1):
         if j == len(idx) or gaps[j - 1]:
             run = idx[start:j]
-            out.extend(_order(keys, run, k + 1) if len(run) > 1 else run)
+            out.extend(_order(keys, run, k + 1) if len(run) > 1 else [int(run[0])])
             start = j
     return out
 

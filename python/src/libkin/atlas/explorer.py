@@ -36,7 +36,6 @@ if TYPE_CHECKING:
 Branch = Tuple[int, int, NDArray[np.float64], NDArray[np.float64]]
 Work = Tuple[int, int, int, NDArray[np.float64], NDArray[np.float64]]
 
-from ..assembly._canonical import canonical
 from ..cliargs import as_assembly
 from ..errors import InvalidArgumentError, KinError, LimitError
 from ..parallel import Progress, chunks_for, run_tasks
@@ -46,7 +45,7 @@ from . import directions, levels, tasks
 from .index import GroupedIndex
 from .model import BIFURCATION, LOCATION_FACTOR, SAME_TOL, Atlas, Edge, Node, node_kind
 from .orbits import branch_orbits, follow_level
-from .solving import complete_solve, solve_system
+from .solving import complete_solve, numbered, solve_system
 from .stabiliser import fixing, mechanism_action, subspace_branches, useful_group
 
 # symmetric="auto" uses the symmetric subspace when the complete solver would
@@ -212,8 +211,7 @@ class _Explorer:
         if m == 0:
             return [], {"mode": "none", "reason": "no internal mechanism (rigid)"}
         if m == 1:
-            b = canonical(np.array([[1.0]]), U)[0]  # the sign of U's one column is the SVD's: not kept
-            return [(0, sg, b, sg * (U @ b)) for sg in (1, -1)], {"mode": "regular", "solutions": 1}
+            return numbered(np.array([[1.0]]), U), {"mode": "regular", "solutions": 1}  # U's sign is the SVD's
         if s == 0:
             return [], {"mode": "none", "reason": f"m = {m} internal mechanisms and no self-stress: "
                                                   "a mechanism of several freedoms, not a bifurcation"}
@@ -233,9 +231,7 @@ class _Explorer:
             rec.update(more)
         if betas_or_none is None:
             return [], rec
-        # numbered and signed by the directions U b (assembly._canonical), not by U's or the solver's choices
-        betas = canonical(betas_or_none, U)
-        return [(i, sg, b, sg * (U @ b)) for i, b in enumerate(betas) for sg in (1, -1)], rec
+        return numbered(betas_or_none, U), rec
 
     def solve_system(self, Q: NDArray[np.float64], k: int,
                      group: Optional[NDArray[np.float64]] = None) -> Tuple[Optional[NDArray[np.float64]], Dict[str, Any]]:
