@@ -68,6 +68,11 @@ static void blas_threads(kin_assembly *a, const double *dir)
     CHECK_RC(kin_follow_event(b, dir, NULL, &fi), KIN_OK);
     printf("BLAS threads: 3 before, %d while following, %d after\n", threads_inside, get_threads());
     CHECK(threads_inside == 1 && get_threads() == 3);
+    /* kin_analyse too: its SVD (the mechanism basis) on one thread, whatever the caller's count */
+    threads_inside = -1;
+    CHECK_RC(kin_analyse(b, NULL), KIN_OK);
+    printf("BLAS threads: 3 before, %d while analysing, %d after\n", threads_inside, get_threads());
+    CHECK(threads_inside == 1 && get_threads() == 3);
     set_threads(before);
     kin_assembly_free(b);
 }

@@ -118,7 +118,20 @@ static int analysis_out_ok(const kin_analysis *out)
  * stops with KIN_ECANCELLED (the current analysis untouched) where the
  * callback asks; the library's own loops call it without reports (their
  * own progress counts steps) */
+static int analyse_pinned(kin_assembly *a, kin_analysis *out, int report);
+
 static int analyse(kin_assembly *a, kin_analysis *out, int report)
+{
+    /* small matrices: one BLAS thread for the SVD (model/blas_threads.c), as
+     * follow and locate do, the caller's setting restored: the same
+     * singular vectors (the mechanism basis) with any OPENBLAS_NUM_THREADS */
+    int token = kin__blas_threads_small(a);
+    int rc = analyse_pinned(a, out, report);
+    kin__blas_threads_restore(token);
+    return rc;
+}
+
+static int analyse_pinned(kin_assembly *a, kin_analysis *out, int report)
 {
     if (out) {
         if (analysis_out_ok(out)) return a ? kin__fail(a, KIN_EINVAL, "out->size = %zu: set it to sizeof(kin_analysis)",

@@ -20,9 +20,13 @@ from libkin.shared import Sharing
 SCAN = 240      # branches scanned (in a fixed spread over the start's) for returns to the start
 RETURNS = 8     # of which this many returns are kept, with NON_RETURNS others
 NON_RETURNS = 2
-# a branch that returns along its own branch: solution 5113 (with its C3 images 10243 and 17244
-# the only loops of the flat state's atlas, bench/atlas_flat_symmetry_summary_directions.json)
-OWN_LOOP = 2 * 5113
+# a branch that returns along its own branch (with its C3 images the only loops of the flat state's
+# atlas, bench/atlas_flat_symmetry_summary_directions.json): found by its direction in joint
+# coordinates (x, y, z of each free joint; it moves them out of plane), the line nearest this one,
+# never by a solution index (the solver's numbering; docs/atlas.md)
+LOOP_DIRECTION = [0.021425, 0, 0, 0.008875, 0, 0, -0.051725, 0, 0, -0.051725, 0, 0, 0.043728, 0, 0,
+                  0.118589, 0, 0, -0.036452, 0, 0, -0.029369, 0, 0, 0.277902, 0, 0, -0.081998, 0, 0,
+                  -0.448966, 0, 0, 0.550543, 0, 0, -0.252879, 0, 0, 0.005356, 0, 0, 0.372074, 0, 0, -0.430009]
 KEYS = ("event", "coords", "length", "steps", "accuracy", "vr_tol", "m", "s", "at_start")
 
 
@@ -38,6 +42,12 @@ def flat():
     work = [(0, i, sg, b, d) for i, sg, b, d in br]
     lines = np.array([d for _, _, sg, _, d in work if sg == 1])
     assert lines.shape == (29828, 46) and lines.size > tasks.BRANCH_DIRECTIONS_MAX
+    # the loop: the line nearest LOOP_DIRECTION (its 6 decimals: cos 1 - 1e-11), far nearer than any other
+    loop = np.asarray(LOOP_DIRECTION) / np.linalg.norm(LOOP_DIRECTION)
+    cos = np.abs(lines @ loop) / np.linalg.norm(lines, axis=1)
+    near = np.argsort(cos)[::-1]
+    assert cos[near[0]] > 1 - 1e-9 and cos[near[1]] < 0.999, (cos[near[0]], cos[near[1]])
+    own_loop = [k for k, (_, _, sg, _, _) in enumerate(work) if sg == 1][near[0]]  # its sign +1 branch
 
     def item(nid, d):
         return {"model": ex.text, "coords": ex.nodes[nid].coords.tolist(), "rank_tol": 1e-9,
@@ -51,7 +61,7 @@ def flat():
         if len(returns) >= RETURNS:
             break
     assert len(returns) >= min(3, RETURNS)  # the flat state's branches often come back to it
-    return {"work": work, "lines": lines, "item": item, "sample": [OWN_LOOP] + returns + others[:NON_RETURNS],
+    return {"work": work, "lines": lines, "item": item, "sample": [own_loop] + returns + others[:NON_RETURNS],
             "start": a.coords}
 
 

@@ -58,13 +58,14 @@ def _branch_direction(a: Assembly, args: argparse.Namespace) -> np.ndarray:
     """U_m beta for --branch K at a bifurcation: the real second-order
     solutions of the complete solver, K // 2 the solution, the sign by K's
     parity (even +, odd -) unless --sign gives it."""
-    betas, _ = solve_quadrics(a.second_order())
+    U = a.analyse().internal_mechanisms
+    betas, _ = solve_quadrics(a.second_order(), basis=U)  # numbered and signed by the directions U beta
     if not 0 <= args.branch < 2 * len(betas):
         raise InvalidArgumentError(f"--branch {args.branch}: this bifurcation has {2 * len(betas)} directed branches "
                                    f"(0 .. {2 * len(betas) - 1}: {len(betas)} real second-order solutions, two signs)")
     sign = args.sign if args.sign is not None else (1 if args.branch % 2 == 0 else -1)
     print(f"branch {args.branch}: second-order solution {args.branch // 2} of {len(betas)}, sign {sign:+d}")
-    return float(sign) * (a.analyse().internal_mechanisms @ betas[args.branch // 2])
+    return float(sign) * (U @ betas[args.branch // 2])
 
 
 def _regular_start(args: argparse.Namespace) -> Tuple[Optional[Assembly], Optional[Analysis]]:
@@ -298,7 +299,7 @@ def _add_start_arguments(s: argparse.ArgumentParser) -> None:
     s.add_argument("--seed", type=int, default=1, help="seed of --perturb")
     s.add_argument("--branch", type=count(0), default=None, metavar="K",
                    help="at a bifurcation: leave along directed branch K (real second-order solution K // 2 of the "
-                        "complete solver, sign + for even K, - for odd)")
+                        "complete solver in their canonical order, the same on every machine; sign + for even K, - for odd)")
     s.add_argument("--sign", type=int, default=None, choices=[1, -1], help="the sign of --branch's direction")
     add_input_arguments(s)
 

@@ -4,7 +4,8 @@
 methods in its own body: the handle, model and first-order analysis
 (`_base.AssemblyBase`, `Analysis`), path following (`_path.PathMixin`,
 `Options`, `StepInfo`), the paths out of a bifurcation
-(`_branching.BranchingMixin`, `Branches`, `BranchPath`, `solve_quadrics`)
+(`_branching.BranchingMixin`, `Branches`, `BranchPath`, `solve_quadrics`;
+the canonical order and sign of the solutions, `_canonical.canonical_order`)
 and locating bifurcations (`_locating.LocatingMixin`, `LocateInfo`,
 `FollowEvent`, `BranchLines`); its JSON form is `_json.py`.
 
@@ -14,9 +15,10 @@ formats (`libkin.io`) and everything else build on it.
 from ._base import Analysis
 from ._branch_lines import BranchLines
 from ._branching import BranchPath, Branches, solve_quadrics
+from ._canonical import canonical, canonical_order
 from ._locating import FollowEvent, LocateInfo
 from ._path import Options, StepInfo
 from .core import Assembly
 
 __all__ = ["Assembly", "Analysis", "StepInfo", "Options", "BranchPath", "Branches", "LocateInfo", "FollowEvent",
-           "solve_quadrics", "BranchLines"]
+           "solve_quadrics", "BranchLines", "canonical", "canonical_order"]

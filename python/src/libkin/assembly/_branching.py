@@ -14,6 +14,7 @@ import numpy.typing as npt
 
 from .._native._arrays import read_ptr, write_ptr
 from ._base import AssemblyBase, FloatArray
+from ._canonical import canonical
 from .._native._lib import default_struct, ffi, lib, new_struct
 from .._native._progress import Progress, reporting
 from ..errors import InvalidArgumentError, StateError, check
@@ -63,7 +64,8 @@ class Branches:
     Attributes
     ----------
     betas : ndarray, shape (nsol, m_internal)
-        Real second-order solutions (unit vectors).
+        Real second-order solutions (unit vectors), in the canonical order
+        and sign of their directions (`libkin.assembly.canonical_order`).
     directions : ndarray, shape (nsol, nfree)
         Their first-order directions ``U_m @ beta``.
     paths : list of BranchPath
@@ -109,7 +111,8 @@ def equivariant_order(Q: FloatArray, R: FloatArray, seed: int = 1) -> int:
 def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 1024, seed: int = 1,
                    threads: int = 2, progress: Progress = None,
                    max_paths: Optional[int] = None,
-                   group: Optional[npt.ArrayLike] = None) -> Tuple[FloatArray, Dict[str, int]]:
+                   group: Optional[npt.ArrayLike] = None,
+                   basis: Optional[npt.ArrayLike] = None) -> Tuple[FloatArray, Dict[str, int]]:
     """Real solutions of the second-order equations ``beta^T Q_j beta = 0``, ``|beta| = 1``.
 
     Parameters
@@ -146,11 +149,19 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
         to Q) with the same certified accounting of all 2^s roots; the
         accounting gains 'group', 'orbits', 'found', 'monodromy_paths' (0 on
         the first route) and 'final_paths'.
+    basis : array_like, shape (n, m), optional
+        The mechanism basis U the system is written in
+        (``analyse().internal_mechanisms``): the solutions are then ordered
+        and signed by their physical directions U beta (`canonical_order`),
+        the same on every machine whatever basis the SVD gave. None: by
+        beta itself (the same for this Q whatever the solver's route,
+        threads or path order).
 
     Returns
     -------
     betas : ndarray, shape (nsol, m)
-        The real solutions, one of each ``+-beta`` pair.
+        The real solutions, one of each ``+-beta`` pair, in the canonical
+        order and with the canonical sign (`libkin.assembly.canonical_order`).
     accounting : dict
         'homotopy': paths, real, real_distinct, nonreal, singular, failed,
         duplicates, unpaired, retracked; 'scan': starts, converged, distinct.
@@ -192,8 +203,9 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
     if group is not None:
         if solver != "homotopy":
             raise InvalidArgumentError("group: only with solver='homotopy'")
-        return _solve_symmetric(Qc, np.asarray(group, dtype=np.float64), seed, threads, progress, max_paths,
-                                betas, nsol)
+        found, accounting = _solve_symmetric(Qc, np.asarray(group, dtype=np.float64), seed, threads, progress,
+                                             max_paths, betas, nsol)
+        return canonical(found, basis), accounting
     if solver == "scan":
         info: Any = new_struct("kin_solve_info")
         check(lib.kin_quadrics_scan(m, s, read_ptr(Qc, "double *"), int(starts), int(seed),
@@ -213,7 +225,7 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
         check(rc, what="homotopy")
         accounting = {k: getattr(info, k) for k in ("paths", "real", "real_distinct", "nonreal", "singular",
                                                     "failed", "duplicates", "unpaired", "retracked")}
-    return betas[: nsol[0]].copy(), accounting
+    return canonical(betas[: nsol[0]], basis), accounting
 
 
 def _solve_symmetric(Qc: FloatArray, R: FloatArray, seed: int, threads: int, progress: Progress,
@@ -340,8 +352,9 @@ class BranchingMixin(AssemblyBase):
         Q = self.second_order(weighting=weighting)
         if group is None and symmetry and solver == "homotopy":
             group = self.solver_group(Q, seed)
-        betas, accounting = solve_quadrics(Q, solver, starts, seed, threads,
-                                           progress=progress, max_paths=max_paths, group=group)
+        betas, accounting = solve_quadrics(Q, solver, starts, seed, threads, progress=progress,
+                                           max_paths=max_paths, group=group,
+                                           basis=self.analyse().internal_mechanisms)
         return self.follow_branches(betas, length=length, accounting=accounting, progress=progress)
 
     def solver_group(self, Q: FloatArray, seed: int = 1) -> Optional[FloatArray]:

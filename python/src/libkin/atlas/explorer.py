@@ -48,7 +48,7 @@ from .index import GroupedIndex
 from .merge import merge_level
 from .model import BIFURCATION, SAME_TOL, Atlas, Edge, Node, node_kind, pair_window
 from .orbits import branch_orbits, follow_level
-from .solving import complete_solve, solve_system
+from .solving import complete_solve, numbered, solve_system
 from .stabiliser import fixing, mechanism_action, subspace_branches, useful_group
 
 # symmetric="auto" uses the symmetric subspace when the complete solver would
@@ -215,8 +215,7 @@ class _Explorer:
         if m == 0:
             return [], {"mode": "none", "reason": "no internal mechanism (rigid)"}
         if m == 1:
-            b = np.array([1.0])
-            return [(0, sg, b, sg * U[:, 0]) for sg in (1, -1)], {"mode": "regular", "solutions": 1}
+            return numbered(np.array([[1.0]]), U), {"mode": "regular", "solutions": 1}  # U's sign is the SVD's
         if s == 0:
             return [], {"mode": "none", "reason": f"m = {m} internal mechanisms and no self-stress: "
                                                   "a mechanism of several freedoms, not a bifurcation"}
@@ -236,7 +235,7 @@ class _Explorer:
             rec.update(more)
         if betas_or_none is None:
             return [], rec
-        return [(i, sg, b, sg * (U @ b)) for i, b in enumerate(betas_or_none) for sg in (1, -1)], rec
+        return numbered(betas_or_none, U), rec
 
     def solve_system(self, Q: NDArray[np.float64], k: int,
                      group: Optional[NDArray[np.float64]] = None) -> Tuple[Optional[NDArray[np.float64]], Dict[str, Any]]:

@@ -4,11 +4,12 @@ and systems with more equations than the solvers take (solve_system).
 """
 from __future__ import annotations
 
-from typing import Any, Callable, Dict, Optional, Tuple
+from typing import Any, Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 from numpy.typing import NDArray
 
+from ..assembly._canonical import canonical
 from ..homotopy import shards as homotopy_shards
 from ..parallel import run_tasks
 from . import tasks
@@ -24,6 +25,16 @@ LOCAL_PATHS = 64
 # an overdetermined system's candidate solves every equation to this
 # (relative residual |beta^T Q_j beta| / |Q_j|_F, unit beta)
 OVERDETERMINED_TOL = 1e-8
+
+
+def numbered(betas: NDArray[np.float64], U: NDArray[np.float64]) -> List[Tuple[int, int, NDArray[np.float64],
+                                                                               NDArray[np.float64]]]:
+    """A node's directed branches [(solution index, sign, beta, sign U beta)]
+    from its solutions betas (n, m) in U's coordinates: numbered and signed
+    by the physical directions U beta (assembly._canonical), not by the
+    basis U that the SVD returned nor the solver's order, so the atlas is
+    the same with any BLAS kernel or thread count (docs/branches.md)."""
+    return [(i, sg, b, sg * (U @ b)) for i, b in enumerate(canonical(betas, U)) for sg in (1, -1)]
 
 
 def solve_system(Q: NDArray[np.float64], k: int, solve: Callable[[NDArray[np.float64]], Dict[str, Any]],

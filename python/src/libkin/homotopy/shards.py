@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InvalidArgumentError, StateError, check
+from ..assembly._canonical import canonical
 
 ACCOUNTING = ("paths", "real", "real_distinct", "nonreal", "singular", "failed", "duplicates", "unpaired",
               "retracked")
@@ -208,7 +209,8 @@ def solve_sharded(Q: ArrayLike, executor: Optional[Any] = None, shards: int = 4,
         for p in sorted(parts, key=lambda p: p["first"]):
             buf[p["first"] * rec:(p["first"] + p["count"]) * rec] = p["ends"]
             z[2 * m * p["first"]:2 * m * (p["first"] + p["count"])] = np.frombuffer(p["z"], dtype=np.float64)
-        return _merge(Q, m, s, seed, threads, ends, z)
+        betas, acc = _merge(Q, m, s, seed, threads, ends, z)
+        return canonical(betas), acc  # solve_quadrics's order and signs
     Qt, U, perm, order, norbits = form
     items = [{"Qt": Qt.tolist(), "perm": perm.tolist(), "order": order, "seed": seed, "threads": threads,
               "first": f, "count": c} for f, c in _split(norbits, shards)]
@@ -237,10 +239,8 @@ def solve_sharded(Q: ArrayLike, executor: Optional[Any] = None, shards: int = 4,
     x, acc = _merge(Qt, m, s, seed, threads, ends, z)
     betas = x @ U.T  # beta = U x, row by row
     betas /= np.linalg.norm(betas, axis=1, keepdims=True)
-    big = np.argmax(np.abs(betas), axis=1)
-    betas *= np.sign(betas[np.arange(len(betas)), big])[:, None]
     acc.update({"order": order, "orbits": norbits})
-    return betas, acc
+    return canonical(betas), acc  # solve_quadrics's order and signs
 
 
 def symmetric_task(task: Dict[str, Any]) -> Dict[str, Any]:

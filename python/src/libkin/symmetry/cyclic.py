@@ -160,7 +160,7 @@ def symmetric_solutions(a: "Assembly", P: FloatArray, threads: int = 2,
         Fewer than 2 symmetric mechanisms, or a restricted system the
         solvers cannot take (they need k - 1 equations).
     """
-    from ..assembly import solve_quadrics
+    from ..assembly import canonical, solve_quadrics
     an = a.analyse()
     G = symmetric_subspace(an.internal_mechanisms, P)
     k = G.shape[1]
@@ -171,4 +171,5 @@ def symmetric_solutions(a: "Assembly", P: FloatArray, threads: int = 2,
         raise StateError(f"restricted system has {Qs.shape[0]} equations in {k} unknowns; "
                          "the solvers need k - 1")
     gam, acc = solve_quadrics(Qs, "homotopy", seed=seed, threads=threads)
-    return gam @ G.T, acc, k, Qs.shape[0]
+    # in the canonical order and sign of the directions U beta, not of G's basis
+    return canonical(gam @ G.T, an.internal_mechanisms), acc, k, Qs.shape[0]
