@@ -434,8 +434,9 @@ def recover(out: PathLike) -> None:
     for probe in parent.glob(f".{glob.escape(name)}.probe-*"):
         shutil.rmtree(probe, ignore_errors=True)
     if out.is_dir():
-        with contextlib.suppress(OSError):
-            os.unlink(out / STAGED)  # its staging folder is gone
+        if not any(parent.glob(f".{glob.escape(name)}.staging-*")):  # else kept: it names the one left
+            with contextlib.suppress(OSError):
+                os.unlink(out / STAGED)
         for stale in out.glob(".*.tmp-*"):
             with contextlib.suppress(OSError):
                 stale.unlink()
