@@ -2,7 +2,7 @@
 a Dask cluster (run_tasks, stream_dask), and the executor a command line
 names (executor). Used by the explorer (libkin.atlas), its run store and
 the sharded complete solver (libkin.homotopy); of libkin it imports only
-libkin.errors.
+libkin.errors and libkin._lifeline.
 
 The executors are maintained ones: concurrent.futures' (ProcessPoolExecutor
 with its initializer, forked workers; any Executor a caller gives) and
@@ -38,7 +38,8 @@ lost worker's tasks itself). Kept here, part by part, as no executor gives it:
   what was there at its own start). No executor limits BLAS in the caller's
   process (Dask does in its own worker processes only).
 - terminate_on_sigterm, Terminated, _worker_init: the signals of the parent
-  and of the workers; no executor makes SIGTERM the orderly stop of Ctrl-C.
+  and of the workers; no executor makes SIGTERM the orderly stop of Ctrl-C
+  (nor ends workers with a killed parent: libkin._lifeline).
 - executor(): the command line's choice (ProcessPool, a LocalCluster's
   Client); on an exception it ends the workers, or silences Dask's logs.
 - for_dask, tick, executor_width: the Dask form of libkin.shared's arrays,
@@ -56,6 +57,7 @@ import time
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any, Callable, Dict, Iterator, List, Optional, Sequence, Union
 
+from ._lifeline import die_with_parent
 from .errors import KinError
 
 #: times run_tasks renews a ProcessPool whose workers died before giving up
@@ -151,9 +153,11 @@ one_blas_thread = _OneBlasThread()
 
 def _worker_init() -> None:
     """In each pool worker: SIGTERM kills it (not the parent's handler,
-    inherited by fork) and Ctrl-C is the parent's to handle."""
+    inherited by fork), Ctrl-C is the parent's to handle, it dies with its
+    parent (libkin._lifeline); the --out lock is not inherited (libkin.atomic)."""
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    die_with_parent()
 
 
 class ProcessPool(concurrent.futures.Executor):

@@ -43,9 +43,10 @@ def write(atlas: _atlas.Atlas, out: Union[str, os.PathLike[str]], map_png: str =
           json_name: str = "atlas.json", html: Optional[str] = None) -> pathlib.Path:
     """Write json_name, graphml, the PNGs, report.md and (if html names it)
     the viewer page (atlas/html.py, needs plotly) into the folder out,
-    committed whole: written into a staging folder next to out that then
-    takes out's place in one step (out's other files are kept); on a failure
-    out is as it was (libkin.atomic.staged_folder). Returns the path of report.md. ImportError (nothing written) without
+    committed whole: written aside and made out's outputs in one step (a
+    staging folder swapped with out, or in place the switch of a link; out's
+    other files and folders are kept); on a failure out is as it was
+    (libkin.atomic.staged_folder). Returns the path of report.md. ImportError (nothing written) without
     networkx or matplotlib."""
     require_output_modules()
     if html:
