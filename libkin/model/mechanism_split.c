@@ -214,7 +214,11 @@ static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um
             }
         }
     }
-    double drop = fmax(kin__rank_tolerance(a), GS_ROUNDING_UNITS * rounding) * sqrt((double)a->nj);
+    /* the rank's scale (above): a displacement is what it resolves when it
+     * exceeds rank_tol times the shortest bar; the candidates are in units
+     * of rho */
+    double tol = kin__rank_tolerance(a), floor_ = GS_ROUNDING_UNITS * rounding * sqrt((double)a->nj);
+    double unit = a->min_length > 0.0 ? rho / a->min_length : 1.0;
     int cap = Um ? m : nf, left = nnull;
     while (kept < cap && left > 0) {
         /* pivot: the candidate with the most left after the kept directions */
@@ -234,8 +238,9 @@ static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um
         if (best != left) memcpy(C + (size_t)best * nf, C + (size_t)left * nf, sizeof(double) * (size_t)nf);
         /* a second pass against the kept directions (the candidates had
          * one, below) makes the remaining norm accurate to rounding */
-        double ratio = kin__gs_column(nf, R, nf, kept, v);
-        if (!(ratio * bestn > drop)) break; /* nothing larger remains */
+        double ratio = kin__gs_column(nf, R, nf, kept, v), big = 0.0;
+        for (int i = 0; i < nf; ++i) big = fmax(big, fabs(v[i]));
+        if (!(ratio * bestn > floor_ && ratio * bestn * big * unit > tol)) break; /* nothing larger remains */
         ++kept;
         for (int q = 0; q < left; ++q) {
             double *c = C + (size_t)q * nf, p = kin__dot(nf, v, c);
