@@ -12,10 +12,15 @@
  * nothing (KIN_ENOTFOUND, event NONE); kin_follow_event, with SVD steps
  * and with its cheap LU steps, ends in a closed loop or its step budget (a
  * free body's path need not come back to the same place: it may come back
- * rotated), never in a bifurcation or a near miss. */
+ * rotated), never in a bifurcation or a near miss; the LU modes' border
+ * determinant (kin__border_det_sign: [C; t^T; R^T] with the pivoted
+ * Gram-Schmidt basis of the rigid fields) keeps its sign too, so the cheap
+ * steps never hand a stretch over to the SVD locator. */
 #include <string.h>
 
 #include "check.h"
+#include "model/internal.h"
+#include "path/path.h"
 #include "libkin.h"
 
 typedef struct {
@@ -55,7 +60,7 @@ static void tau_keeps_sign(const free_model *m)
     CHECK(an.m_internal == 1);
     double tau0 = 0.0, tau1 = 0.0;
     CHECK_RC(kin_test_function(a, &tau0), KIN_OK);
-    int flips = 0, steps = 0;
+    int flips = 0, steps = 0, lu0 = 0, lu1 = 0, lu_flips = 0;
     for (int k = 0; k < 120; ++k) {
         kin_step_info si = {.size = sizeof si};
         if (kin_step(a, 0.05, &si) != KIN_OK) break;
@@ -64,10 +69,17 @@ static void tau_keeps_sign(const free_model *m)
         CHECK_RC(kin_test_function(a, &tau1), KIN_OK);
         if ((tau0 > 0.0) != (tau1 > 0.0)) ++flips;
         tau0 = tau1;
+        CHECK_RC(kin__border_det_sign(a, &lu1), KIN_OK);
+        CHECK(lu1 != 0);
+        if (lu0 && lu1 != lu0) ++lu_flips;
+        lu0 = lu1;
     }
-    if (flips) fprintf(stderr, "%s: tau changed sign %d times in %d steps\n", m->name, flips, steps);
+    if (flips || lu_flips)
+        fprintf(stderr, "%s: tau changed sign %d times, the LU border's determinant %d times, in %d steps\n",
+                m->name, flips, lu_flips, steps);
     CHECK(steps == 120);
     CHECK(flips == 0);
+    CHECK(lu_flips == 0);
     kin_assembly_free(a);
 }
 
@@ -101,8 +113,8 @@ static void follow_finds_nothing(const free_model *m, int steps_mode)
     int rc = kin_follow_event(a, NULL, &o, &info);
     int ok = info.event == KIN_FOLLOW_CLOSED_LOOP || info.event == KIN_FOLLOW_STEP_LIMIT;
     if (!ok)
-        fprintf(stderr, "%s (%s steps): follow ends in event %d (%s)\n", m->name, steps_mode ? "cheap" : "SVD",
-                info.event, kin_status_name(rc));
+        fprintf(stderr, "%s (%s steps): follow ends in event %d (%s), %d handovers\n", m->name,
+                steps_mode ? "cheap" : "SVD", info.event, kin_status_name(rc), info.handovers);
     CHECK_RC(rc, KIN_OK);
     CHECK(ok);
     kin_assembly_free(a);
