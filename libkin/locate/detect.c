@@ -11,6 +11,39 @@
 #include "model/lapack.h"
 #include "locate/locate_internal.h"
 
+/* The sign of det(P^T R) for two orthonormal bases P (the previous point's
+ * rigid mechanisms, as oriented there) and R (this point's, as the SVD gave
+ * them) of nearby mr-dimensional spans: +1 when R has P's orientation, -1
+ * when it has the other one, 0 when the spans are too far apart to tell.
+ *
+ * Why a determinant and not column-by-column signs: det [C; t^T; R^T]
+ * becomes det(Q) det [C; t^T; R^T] when R is replaced by R Q, so the test
+ * function's sign depends on R only through the orientation of the rigid
+ * span, never on which basis of it the SVD returns. With several rigid
+ * mechanisms (a free body in 3D has 6) the SVD's basis turns freely inside
+ * the span from one point to the next, so matching columns one by one
+ * (the sign of each dot product) flips the orientation where nothing
+ * happens. det(P^T R) is exactly the orientation of R relative to P: its
+ * sign is that of the rotation the orthogonal Procrustes problem (carrying
+ * P forward as the polar factor of P^T R) would pick, since the polar
+ * decomposition P^T R = W S has det S > 0; carrying the basis forward would
+ * only add a re-orthonormalisation and its rounding. For mr = 1 it is the
+ * sign of the one dot product, as before. */
+static int rigid_orientation(int nf, int mr, const double *P, const double *R)
+{
+    double M[36];
+    int piv[6], info = 0, sg = 1;
+    for (int i = 0; i < mr; ++i)
+        for (int j = 0; j < mr; ++j) M[i + j * mr] = kin__dot(nf, P + (size_t)i * nf, R + (size_t)j * nf);
+    dgetrf_(&mr, &mr, M, &mr, piv, &info);
+    if (info != 0) return 0;
+    for (int i = 0; i < mr; ++i) {
+        if (M[i + i * mr] < 0.0) sg = -sg;
+        if (piv[i] != i + 1) sg = -sg;
+    }
+    return sg;
+}
+
 int kin_test_function(kin_assembly *a, double *tau)
 {
     if (!a || !tau) return KIN_ENULL;
@@ -29,12 +62,11 @@ int kin_test_function(kin_assembly *a, double *tau)
     if (kin_get_tangent(a, t, nf) != KIN_OK) memcpy(t, f->Uint, sizeof(double) * (size_t)nf);
     /* rigid mechanisms, oriented continuously against the previous ones */
     double *R = a->Rref;
-    for (int c = 0; c < mr; ++c) {
-        const double *r = f->Urig + (size_t)c * nf;
-        double sg = a->have_Rref && kin__dot(nf, r, R + (size_t)c * nf) < 0.0 ? -1.0 : 1.0;
-        for (int i = 0; i < nf; ++i) R[i + (size_t)c * nf] = sg * r[i];
-    }
-    a->have_Rref = 1;
+    int flip = mr > 0 && a->have_Rref == mr + 1 && rigid_orientation(nf, mr, R, f->Urig) < 0;
+    memcpy(R, f->Urig, sizeof(double) * (size_t)nf * (size_t)mr);
+    if (flip)
+        for (int i = 0; i < nf; ++i) R[i] = -R[i];
+    a->have_Rref = mr + 1;
     if (nb + 1 + mr != nf) {
         /* redundant bars on the path (s > 0): no square border, no sign */
         *tau = f->an.v_r;

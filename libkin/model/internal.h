@@ -137,7 +137,7 @@ struct kin_assembly {
 
     /* locator: continuously oriented rigid mechanisms for the test function */
     double *Rref;            /* nf x 6 */
-    int have_Rref;
+    int have_Rref;           /* columns of Rref + 1 (0: none yet) */
 
     /* test hook: makes LAPACK report failures (enum kin__fault) */
     int fault;

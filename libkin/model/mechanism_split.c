@@ -171,18 +171,25 @@ static int support_nullspace(kin_assembly *a, const double *xyz, const double *c
  * restricted to the free coordinates, projected on the columns of Um (nf x
  * m, ld nf) when Um is not NULL, and reduced to an orthonormal basis R (nf x
  * *mr, ld nf) by Gram-Schmidt with column pivoting (the largest remaining
- * candidate first). A candidate counts only while what remains of it exceeds
- * rank_tol times the size of a rigid generator, sqrt(nj) (how far a unit
- * translation moves the joints in all; a unit rotation about the centroid
- * moves them as far in RMS, coordinates being in units of the RMS radius):
- * the rank test's tolerance, so a rotation that moves joints by more than
- * the rank resolves (e.g. about a line the supports are on, joints a little
- * off it) is rigid wherever the rank counts those joints' offset, and one
- * that moves them by less is no motion, as the rank sees them on the line.
+ * candidate first). A candidate counts only while what remains of it moves
+ * some coordinate by more than rank_tol times the shortest bar (the
+ * candidates are in units of the RMS radius rho: |c_i| rho / min_length >
+ * rank_tol). That is the rank test's scale: moving a joint by d turns its
+ * bars by d / L, which changes H by as much, and the rank counts a change of
+ * H when it exceeds rank_tol times v_max (a few units for a bar framework).
+ * So a rotation about a line the supports are on, joints a little off it,
+ * is rigid wherever the rank counts those joints' offset, and no motion
+ * where it moves them by less, as the rank sees them on the line. Measured
+ * against the RMS radius instead (as before issue 36), the two scales part
+ * with the number of joints: on a chain of n joints along the line the rank
+ * resolves offsets ~n times smaller than the radius-based test, and the
+ * rotation came out as an internal mechanism (1 and 2 of 75 chains at
+ * n = 48 and 100; python/tests/test_chain_near_line.py).
  * Relative to the candidate's own norm the test would depend on rounding
  * luck: a rotation about a line through every joint moves nothing, and its
  * candidate is rounding noise that normalises to any direction; below
- * GS_ROUNDING_UNITS rounding units no candidate counts.
+ * GS_ROUNDING_UNITS rounding units (of the generator's size sqrt(nj)) no
+ * candidate counts.
  * Scratch: a->Gs (support null space, candidates) and, to project, m
  * doubles of proj. */
 static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um, int m, double *R,
@@ -214,8 +221,12 @@ static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um
             }
         }
     }
-    double drop = fmax(kin__rank_tolerance(a), GS_ROUNDING_UNITS * rounding) * sqrt((double)a->nj);
-    int cap = Um ? m : nf, left = nnull;
+    /* the rank's scale (above): a displacement counts when it exceeds
+     * rank_tol times the shortest bar; the candidates are in units of rho */
+    double tol = kin__rank_tolerance(a), floor_ = GS_ROUNDING_UNITS * rounding * sqrt((double)a->nj);
+    double unit = a->min_length > 0.0 ? rho / a->min_length : 1.0;
+    int cap = Um ? m : nf, left = nnull, idx[6], order[6];
+    for (int q = 0; q < nnull; ++q) idx[q] = q;
     while (kept < cap && left > 0) {
         /* pivot: the candidate with the most left after the kept directions */
         int best = 0;
@@ -231,11 +242,14 @@ static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um
         memcpy(v, C + (size_t)best * nf, sizeof(double) * (size_t)nf);
         /* the pivot leaves the candidate list (the last one takes its place) */
         --left;
+        order[kept] = idx[best];
+        idx[best] = idx[left];
         if (best != left) memcpy(C + (size_t)best * nf, C + (size_t)left * nf, sizeof(double) * (size_t)nf);
         /* a second pass against the kept directions (the candidates had
          * one, below) makes the remaining norm accurate to rounding */
-        double ratio = kin__gs_column(nf, R, nf, kept, v);
-        if (!(ratio * bestn > drop)) break; /* nothing larger remains */
+        double ratio = kin__gs_column(nf, R, nf, kept, v), big = 0.0;
+        for (int i = 0; i < nf; ++i) big = fmax(big, fabs(v[i]));
+        if (!(ratio * bestn > floor_ && ratio * bestn * big * unit > tol)) break; /* nothing larger remains */
         ++kept;
         for (int q = 0; q < left; ++q) {
             double *c = C + (size_t)q * nf, p = kin__dot(nf, v, c);
@@ -243,6 +257,21 @@ static int rigid_mechanisms(kin_assembly *a, const double *xyz, const double *Um
         }
     }
     *mr = kept;
+    if (!Um && a->nfix == 0 && kept == nnull) {
+        /* A free structure's basis for the LU modes' border, oriented as the
+         * rigid fields in their fixed order (translations, rotations),
+         * which change continuously with the configuration: Gram-Schmidt
+         * keeps the orientation of the candidates in pivot order, so the
+         * pivot order's parity is the basis's orientation. Without this the
+         * pivoting (three translations of equal norm, rotations whose
+         * norms cross) turned the border's determinant over where nothing
+         * happens (issue 36 item 1). */
+        int odd = 0;
+        for (int i = 0; i < kept; ++i)
+            for (int j = i + 1; j < kept; ++j) odd ^= order[i] > order[j];
+        if (odd)
+            for (int i = 0; i < nf; ++i) R[i] = -R[i];
+    }
     return KIN_OK;
 }
 
