@@ -4,7 +4,11 @@
 #   2. the Python suite (pytest in the virtual environment build/venv),
 #   3. the C suite again under every BLAS/LAPACK variant (tools/check_blas.sh),
 #   4. the C suite built with clang in build-clang (tools/build_clang.sh; the
-#      ABI check runs once, in 1).
+#      ABI check runs once, in 1),
+#   5. the Python tests an SVD basis or arrival order could decide, the main
+#      job's --quick study and a symmetric explore under OpenBLAS's Prescott,
+#      Haswell and SkylakeX kernels and one thread, compared with each other
+#      (tools/check_blas_python.sh).
 # A suite that fails does not stop the others; the script fails if any did
 # and says which.
 set -uo pipefail
@@ -12,7 +16,7 @@ cd "$(dirname "$0")/.."
 bash tools/build.sh || { echo "run_tests: the build failed; no suite ran"; exit 1; }
 
 declare -A result
-order=(C Python BLAS-variants C-clang)
+order=(C Python BLAS-variants C-clang Python-BLAS)
 
 echo "== C suite (make check) =="
 if cmake --build build --target check; then result[C]=passed; else result[C]=FAILED; fi
@@ -42,6 +46,10 @@ if bash tools/build_clang.sh; then
 else
   result[C-clang]="FAILED (the clang build failed)"
 fi
+
+echo "== Python under BLAS settings, compared (tools/check_blas_python.sh) =="
+if [ -x build/venv/bin/python ] && bash tools/check_blas_python.sh build; then result[Python-BLAS]=passed
+else result[Python-BLAS]=FAILED; fi
 
 echo
 echo "== Summary =="

@@ -1,0 +1,91 @@
+#!/usr/bin/env python3
+"""Compare the JSON results of one model run under several BLAS settings
+(tools/check_blas_python.sh): the study's summary.json, an explorer's
+atlas.json. What a user reads must be the same: every count, label, choice,
+node and edge exactly; every number to the digits it is reported with.
+
+  compare_runs.py A.json B.json [C.json ...]   exit 1 on a difference
+
+Left out, with the reason:
+- wall and CPU times, load averages (the machine);
+- work counts that depend on rounding inside a converging iteration
+  (refinement steps, factorizations) while the point they reach agrees;
+- which of several parts touching at clearance 0 (within rounding) is named
+  as the first contact at zero thickness: a tie at R^B, where the
+  membrane's panels meet along whole edges (docs/sail_study.md);
+- an edge's `beta`: its second-order solution in the coordinates of its
+  node's mechanism basis, which is an SVD's choice (the edge's solution
+  number, sign, event, length and target, which are compared, come from the
+  physical direction U beta; docs/branches.md); storing U beta instead is
+  open (issue 35);
+- the path of the run's store (each run has its own folder).
+Numbers are compared as |a - b| <= 1e-5 max(1, |a|, |b|) in relative terms
+above 1 and 1e-5 absolute below: the reports print lengths to 4-6 digits,
+singular values below the rank tolerance as "0" up to their first digits.
+"""
+import json
+import math
+import re
+import sys
+
+SKIP = re.compile(r"(seconds|wall|load|cpu|refinement_steps|factorizations|_steps_taken|time)"
+                  r"|^/interference/contacts\[0\]/(parts|part_ids)|^/edges\[[0-9]+\]/beta|^/stats/store/path")
+# singular values relative to v_max below this are rounding: compared only as "below"
+FLOOR = 1e-8
+
+
+def same(a, b):
+    if isinstance(a, bool) or isinstance(b, bool) or not isinstance(a, (int, float)) or not isinstance(b, (int, float)):
+        return a == b
+    if isinstance(a, int) and isinstance(b, int):
+        return a == b
+    if math.isnan(a) or math.isnan(b):
+        return math.isnan(a) and math.isnan(b)
+    if abs(a) < FLOOR and abs(b) < FLOOR:
+        return True
+    return abs(a - b) <= 1e-5 * max(1.0, abs(a), abs(b))
+
+
+def walk(a, b, path, out):
+    if SKIP.search(path):
+        return
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in sorted(set(a) | set(b)):
+            if k not in a or k not in b:
+                if not SKIP.search(f"{path}/{k}"):
+                    out.append(f"{path}/{k}: only in one run")
+                continue
+            walk(a[k], b[k], f"{path}/{k}", out)
+    elif isinstance(a, list) and isinstance(b, list):
+        if len(a) != len(b):
+            out.append(f"{path}: {len(a)} against {len(b)} entries")
+            return
+        for i, (x, y) in enumerate(zip(a, b)):
+            walk(x, y, f"{path}[{i}]", out)
+    elif not same(a, b):
+        out.append(f"{path}: {str(a)[:60]} against {str(b)[:60]}")
+
+
+def main(argv):
+    if len(argv) < 2:
+        print(__doc__)
+        return 2
+    runs = []
+    for p in argv:
+        with open(p) as fh:
+            runs.append(json.load(fh))
+    bad = 0
+    for p, r in zip(argv[1:], runs[1:]):
+        out = []
+        walk(runs[0], r, "", out)
+        for line in out[:20]:
+            print(f"compare_runs: {argv[0]} / {p}: {line}")
+        if len(out) > 20:
+            print(f"compare_runs: ... {len(out) - 20} more")
+        bad += bool(out)
+    print(f"compare_runs: {len(argv)} runs, {'all the same' if not bad else f'{bad} differ from the first'}")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
