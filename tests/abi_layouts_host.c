@@ -147,22 +147,8 @@ static void sized_init(void)
 }
 #endif
 
-/* kin_options as the 0.3.0 headers of 2026-11-23 to 2026-11-26 had it
- * (117529c..c185a3e), written out here, not taken from the generated header:
- * step_control appended after factorization, inside layout 1's tail padding,
- * so such a host passes layout 1's size with step_control set. */
-struct host030_options {
-    size_t size;
-    double rank_tol;
-    double corrector_tol;
-    int corrector_max_iter;
-    double step_fraction;
-    int max_halvings;
-    double direction_tol;
-    double max_correction;
-    int factorization;
-    int step_control;
-};
+#include "abi_host030.h"
+
 
 /* layout 1's tail padding: step_control of a 0.3.0 host is honoured, zero
  * (the earlier 0.3.0 headers, whose padding kin_options_default() zeroes) is

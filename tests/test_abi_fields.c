@@ -98,32 +98,19 @@ static int generated(void)
 }
 
 /* published layouts written out as their hosts had them (not derived from
- * today's headers): kin_options of the 0.3.0 headers of 2026-11-23 to
- * 2026-11-26, step_control in layout 1's tail padding (sizeof 72, as the
- * earlier 0.3.0 headers without it) */
-struct published_options_030 {
-    size_t size;
-    double rank_tol;
-    double corrector_tol;
-    int corrector_max_iter;
-    double step_fraction;
-    int max_halvings;
-    double direction_tol;
-    double max_correction;
-    int factorization;
-    int step_control;
-};
+ * today's headers): kin_options of the 0.3.0 headers (abi_host030.h) */
+#include "abi_host030.h"
 
 #define PUBLISHED(X)                                                       \
-    X(kin_options, 1, struct published_options_030, rank_tol)               \
-    X(kin_options, 1, struct published_options_030, corrector_tol)          \
-    X(kin_options, 1, struct published_options_030, corrector_max_iter)     \
-    X(kin_options, 1, struct published_options_030, step_fraction)          \
-    X(kin_options, 1, struct published_options_030, max_halvings)           \
-    X(kin_options, 1, struct published_options_030, direction_tol)          \
-    X(kin_options, 1, struct published_options_030, max_correction)         \
-    X(kin_options, 1, struct published_options_030, factorization)          \
-    X(kin_options, 1, struct published_options_030, step_control)
+    X(kin_options, 1, struct host030_options, rank_tol)               \
+    X(kin_options, 1, struct host030_options, corrector_tol)          \
+    X(kin_options, 1, struct host030_options, corrector_max_iter)     \
+    X(kin_options, 1, struct host030_options, step_fraction)          \
+    X(kin_options, 1, struct host030_options, max_halvings)           \
+    X(kin_options, 1, struct host030_options, direction_tol)          \
+    X(kin_options, 1, struct host030_options, max_correction)         \
+    X(kin_options, 1, struct host030_options, factorization)          \
+    X(kin_options, 1, struct host030_options, step_control)
 
 static void published(void) { PUBLISHED(FIELD) }
 

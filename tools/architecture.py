@@ -55,7 +55,7 @@ C_SUBLAYERS = {
 # the libkin package: a module may import from its own layer or below, never
 # above, and no two modules may import each other, even through others.
 PY_LAYERS = [
-    ["_native", "errors", "_compat", "parallel", "shared", "atomic", "_bounded", "version"],  # cffi, exceptions, executors,
+    ["_native", "errors", "_compat", "parallel", "shared", "atomic", "_bounded", "version", "_lifeline"],  # cffi, exceptions, executors,
     # arrays shared with the workers, writes, reads
     ["assembly"],                                   # Assembly: analysis, paths, location, branches
     ["io", "homotopy", "symmetry", "plot", "cliargs"],
