@@ -33,6 +33,7 @@ from libkin.assembly import Assembly
 from libkin.atlas import report as atlas_report
 from libkin.cli import main
 from libkin.io.fold import write_fold
+from subprocess_env import libkin_env as _env  # noqa: E402
 
 FAULTS: collections.Counter = collections.Counter()
 
@@ -240,11 +241,6 @@ def test_commit_without_an_atomic_exchange(tmp_path, monkeypatch, atlases):
     assert sorted(os.listdir(tmp_path)) == [".atl.lock", "atl"]
 
 
-def _env():
-    env = dict(os.environ)
-    src = str(pathlib.Path(libkin.__file__).resolve().parents[1])
-    env["PYTHONPATH"] = src + os.pathsep + env.get("PYTHONPATH", "")
-    return env
 
 
 KILL_AT = """

@@ -29,15 +29,9 @@ import libkin
 from libkin import atomic
 from libkin.atlas import report as atlas_report
 from libkin.atlas.model import Atlas
+from subprocess_env import libkin_env as _env  # noqa: E402
 
 
-def _env(**extra):
-    env = dict(os.environ)
-    src = str(pathlib.Path(libkin.__file__).resolve().parents[1])
-    env["PYTHONPATH"] = src + os.pathsep + env.get("PYTHONPATH", "")
-    env.pop("LIBKIN_STORE_KILL_AFTER", None)
-    env.update(extra)
-    return env
 
 
 @pytest.fixture(scope="module")

@@ -19,17 +19,11 @@ import libkin
 from libkin.atlas import explorer, store as atlas_store
 from libkin.atlas.model import Atlas
 from libkin.cli import main
+from subprocess_env import libkin_env as _env  # noqa: E402
 
 MODEL = "sail:4:1"  # depth 1: 4 nodes, 32 directed paths (1 solve, 32 branches recorded), seconds
 
 
-def _env(**extra):
-    env = dict(os.environ)
-    src = str(pathlib.Path(libkin.__file__).resolve().parents[1])
-    env["PYTHONPATH"] = src + os.pathsep + env.get("PYTHONPATH", "")
-    env.pop("LIBKIN_STORE_KILL_AFTER", None)
-    env.update(extra)
-    return env
 
 
 def _cmd(out, store, *more, depth=1):
