@@ -68,12 +68,12 @@ def _run_blocked(blocked, *argv, cwd):
 
 def test_study_refuses_before_any_work_naming_every_missing_extra(tmp_path):
     out = tmp_path / "study"
-    r = _run_blocked({"matplotlib", "plotly"}, "study", "--quick", "--map-depth", "1", "--out", str(out),
-                     cwd=tmp_path)
+    r = _run_blocked({"matplotlib", "distributed"}, "study", "--quick", "--map-depth", "1", "--executor", "dask",
+                     "--out", str(out), cwd=tmp_path)
     assert r.returncode != 0
     err = r.stderr.strip().splitlines()
     assert len(err) == 1, r.stderr  # one message
-    assert "matplotlib" in err[0] and "plotly" in err[0] and "plot" in err[0] and "viewer" in err[0]
+    assert "matplotlib" in err[0] and "distributed" in err[0] and "plot" in err[0] and "dask" in err[0]
     assert "[map]" not in r.stdout + r.stderr  # no work started
     assert not out.exists() and list(tmp_path.iterdir()) == []  # nothing written, not even the lock
 

@@ -83,10 +83,10 @@ def _interference(args: argparse.Namespace) -> int:
 
 
 def needed_modules(args: argparse.Namespace) -> List[str]:
-    """The optional modules this study will need: matplotlib for its figures,
-    plotly for the path map's atlas.html (the hexagonal-type study),
-    distributed for --executor dask."""
-    return (["matplotlib"] + (["plotly"] if not args.interference and args.hub != 4 else [])
+    """The optional modules this study cannot run without: matplotlib for its
+    figures, distributed for --executor dask. plotly is not among them: without
+    it the study writes everything but the path map's atlas.html, and says so."""
+    return (["matplotlib"]
             + (["distributed"] if args.executor == "dask" and (args.interference or args.hub != 4) else []))
 
 
