@@ -6,12 +6,12 @@ build on it; it imports none of them.
 from __future__ import annotations
 
 import argparse
+import importlib
 import math
 import os
-from typing import Any, Callable, Dict, Optional, Union
+from typing import Any, Callable, Dict, Iterable, Optional, Union
 
 from .assembly import Assembly
-from .errors import InvalidArgumentError
 
 EXIT_ERROR = 1
 EXIT_USAGE = 2
@@ -19,6 +19,27 @@ EXIT_STUDY_FAILED = 3
 EXIT_PARTIAL = 4  # a path stopped before the steps asked: fewer frames written than asked
 EXIT_STORE = 5  # the run's store cannot be used (not a store, damaged, truncated, a write failed: a full disk)
 EXIT_INTERRUPTED = 130
+
+
+#: the optional modules a command may need -> the extra of the package that brings each (pyproject.toml)
+EXTRAS = {"matplotlib": "plot", "networkx": "atlas", "plotly": "viewer", "distributed": "dask", "tqdm": "progress"}
+
+
+def require_extras(what: str, modules: Iterable[str]) -> None:
+    """Check up front that every optional module `what` (a command, or the
+    files it writes) will need can be imported: one ImportError naming all
+    the missing ones and the extras that bring them, before any work (the
+    command line prints it and exits 1, nothing written)."""
+    missing = []
+    for mod in dict.fromkeys(modules):
+        try:
+            importlib.import_module(mod)
+        except ImportError:
+            missing.append(mod)
+    if missing:
+        extras = ",".join(sorted({EXTRAS.get(m, m) for m in missing}))
+        raise ImportError(f"{what} needs {' and '.join(missing)}, not installed: pip install 'libkin[{extras}]' "
+                          f"(or pip install {' '.join(missing)})")
 
 
 def finite(text: str) -> float:
@@ -78,13 +99,9 @@ def load_model_spec(spec: str, fold_dim: Optional[int] = None, resolution: Optio
     sheet with faces; `resolution` of its coordinates if given, else from
     its decimals). `resolution` given sets `Options.coord_resolution` of any
     model."""
-    if spec.startswith("threebar:"):
-        return Assembly.threebar(spec.split(":", 1)[1])
-    if spec.startswith("sail:"):
-        parts = spec.split(":")
-        if len(parts) not in (2, 3) or not all(p.isdigit() for p in parts[1:]):
-            raise InvalidArgumentError(f"MODEL {spec!r}: expected sail:N_SIDES or sail:N_SIDES:N_LOOPS")
-        return Assembly.sail(int(parts[1]), int(parts[2]) if len(parts) > 2 else 1)
+    from .io.model_json import BUILTIN_PREFIXES, load_builtin
+    if spec.startswith(BUILTIN_PREFIXES):
+        return load_builtin(spec)
     if spec.endswith(".fold"):
         from .io.fold import read_fold
         return read_fold(spec, dim=fold_dim, resolution=resolution)
@@ -101,5 +118,6 @@ def as_assembly(model: Union[Assembly, str, "os.PathLike[str]", Dict[str, Any]])
     from .io.model_json import load_json
     if isinstance(model, Assembly):
         return model
-    return load_model_spec(model) if isinstance(model, str) and model.startswith(("threebar:", "sail:")) \
+    from .io.model_json import BUILTIN_PREFIXES
+    return load_model_spec(model) if isinstance(model, str) and model.startswith(BUILTIN_PREFIXES) \
         else load_json(model)

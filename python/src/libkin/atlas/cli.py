@@ -11,7 +11,7 @@ import threading
 from typing import TYPE_CHECKING, Any, Iterator, List
 
 from ..atomic import folder_lock
-from ..cliargs import count, load_model_spec, positive
+from ..cliargs import count, load_model_spec, positive, require_extras
 from ..parallel import executor
 
 if TYPE_CHECKING:
@@ -63,10 +63,21 @@ def add_arguments(s: argparse.ArgumentParser) -> None:
                    help="continue the interrupted run recorded in the store (same model and options)")
     s.add_argument("--html", action="store_true",
                    help="also write atlas.html: the atlas to walk in a browser, offline (needs plotly)")
-    s.add_argument("--quiet", action="store_true", help="no progress messages")
+    s.add_argument("--quiet", action="store_true",
+                   help="no progress messages (the lines saying which limit stopped the run are still printed)")
+
+
+def needed_modules(args: argparse.Namespace) -> List[str]:
+    """The optional modules this run will need: its files (report.OUTPUT_MODULES),
+    plotly for --html, distributed for --executor dask."""
+    from .report import OUTPUT_MODULES
+    return (list(OUTPUT_MODULES) + (["plotly"] if args.html else [])
+            + (["distributed"] if args.executor == "dask" else []))
 
 
 def run(args: argparse.Namespace, assembly: Assembly) -> int:
+    # every missing extra named at once, before any work or any file (ImportError)
+    require_extras("libkin explore", needed_modules(args))
     # one run per --out at a time: a second fails at once (FolderInUseError)
     with folder_lock(args.out):
         return _run(args, assembly)
@@ -75,10 +86,6 @@ def run(args: argparse.Namespace, assembly: Assembly) -> int:
 def _run(args: argparse.Namespace, assembly: Assembly) -> int:
     from . import report as atlas_report
     from .explorer import explore
-    atlas_report.require_output_modules()  # refuse before any work, not after it
-    if args.html:
-        from .html import require_plotly
-        require_plotly()
     from .store import default_path, remove_store
     sym: bool | str = {"true": True, "false": False}.get(args.symmetric, "auto")
     store = args.store or default_path(args.out)
@@ -101,9 +108,10 @@ def _run(args: argparse.Namespace, assembly: Assembly) -> int:
         print(f"symmetries {at.settings['symmetries']}: explored as if the structure had none")
     if not signalled and not at.stats.get("partial") and args.store is None:
         remove_store(store)  # the default store of a complete run: nothing left to resume
-    if not signalled and at.stats.get("stopped_by") == "time_limit":
-        print(f"libkin: time limit reached: the atlas so far is written (partial); continue with --resume "
-              f"(store {store})", file=sys.stderr)
+    if not signalled:  # which limit stopped the run, and how to lift it (even with --quiet)
+        for limit, text in atlas_report.limits_hit(at).items():
+            print(f"libkin explore: {text}" + (f" (store {store})" if limit == "time_limit" else ""),
+                  file=sys.stderr)
     if signalled:
         print(f"libkin: interrupted by signal {signalled[0]}: the atlas so far is written (partial); "
               f"continue with --resume (store {store})", file=sys.stderr)

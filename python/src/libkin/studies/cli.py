@@ -6,7 +6,7 @@ import pathlib
 import sys
 
 from libkin.atomic import folder_lock
-from libkin.cliargs import EXIT_STUDY_FAILED, EXIT_USAGE, count
+from libkin.cliargs import EXIT_STUDY_FAILED, EXIT_USAGE, count, require_extras
 from libkin.parallel import executor
 
 
@@ -82,6 +82,14 @@ def _interference(args: argparse.Namespace) -> int:
     return 0
 
 
+def needed_modules(args: argparse.Namespace) -> List[str]:
+    """The optional modules this study cannot run without: matplotlib for its
+    figures, distributed for --executor dask. plotly is not among them: without
+    it the study writes everything but the path map's atlas.html, and says so."""
+    return (["matplotlib"]
+            + (["distributed"] if args.executor == "dask" and (args.interference or args.hub != 4) else []))
+
+
 def cmd_study(args: argparse.Namespace) -> int:
     if args.contact is not None:
         if not (0.0 <= args.contact < 1.0):
@@ -91,12 +99,14 @@ def cmd_study(args: argparse.Namespace) -> int:
             print("--contact maps the hexagonal-type study's paths (--hub 6, 8, ...; not with --interference "
                   "or --hub 4)", file=sys.stderr)
             return EXIT_USAGE
+    if args.hub == 4 and args.loops != 1 and not args.interference:
+        print("the square-hub study is the paper's one-loop sail (--loops 1)", file=sys.stderr)
+        return EXIT_USAGE
+    # every missing extra named at once, before any work or any file (ImportError: exit 1)
+    require_extras("libkin study", needed_modules(args))
     if args.interference:
         with folder_lock(args.out):
             return _interference(args)
-    if args.hub == 4 and args.loops != 1:
-        print("the square-hub study is the paper's one-loop sail (--loops 1)", file=sys.stderr)
-        return EXIT_USAGE
     with folder_lock(args.out):  # one run per --out at a time: a second fails at once (FolderInUseError)
         return _study(args)
 
