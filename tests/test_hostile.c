@@ -322,6 +322,30 @@ static void gsl_handler(void)
     CHECK(gsl_calls == 0);      /* and never raised an error through it */
 }
 
+/* two joints in 3D, a bar off the axes: the fit leaves Q free about the
+ * bar, and the identity must still come first, exactly (it was missing:
+ * KIN_OK with no symmetry, or 8 without the identity) */
+static void symmetry_two_joints(void)
+{
+    const double xyz[6] = {-4.57424, -4.39533, -2.70921, -4.3799, -3.39662, -0.327001};
+    const int bar01[2] = {0, 1};
+    unsigned char fixed[6] = {1, 0, 0, 0, 0, 1}; /* joint 0's x, joint 1's z */
+    for (int sup = 0; sup < 2; ++sup) {
+        kin_assembly *a = NULL;
+        CHECK_RC(kin_assembly_create(3, 2, xyz, sup ? fixed : NULL, 1, bar01, NULL, &a, NULL, 0), KIN_OK);
+        int perm[2 * 16], nsym = -1;
+        double Q[9 * 16], t[3 * 16];
+        memset(perm, 0xFF, sizeof perm);
+        CHECK_RC(kin_symmetries(a, 16, perm, Q, t, &nsym), KIN_OK);
+        CHECK(nsym >= 1 && nsym <= 8);
+        CHECK(perm[0] == 0 && perm[1] == 1);
+        for (int k = 0; k < 9; ++k) CHECK(Q[k] == (k % 4 == 0 ? 1.0 : 0.0));
+        for (int k = 0; k < 3; ++k) CHECK(t[k] == 0.0);
+        if (!sup) CHECK(nsym == 8); /* the reflections through the two missing directions, times the swap */
+        kin_assembly_free(a);
+    }
+}
+
 int main(void)
 {
     absurd_sizes();
@@ -331,5 +355,6 @@ int main(void)
     branch_paths();
     sail_params();
     gsl_handler();
+    symmetry_two_joints();
     TEST_REPORT("test_hostile");
 }
