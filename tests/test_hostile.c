@@ -346,6 +346,44 @@ static void symmetry_two_joints(void)
     }
 }
 
+/* names that are not UTF-8: refused as such, not as out of memory */
+static void non_utf8_names(void)
+{
+    const char *model = "{\"name\": \"%s\", \"dimension\": 2, \"joints\": ["
+                        "{\"index\": 0, \"xyz\": [0, 0], \"free\": [false, false]},"
+                        "{\"index\": 1, \"xyz\": [1, 0], \"free\": [true, true]}],"
+                        " \"bars\": [{\"index\": 0, \"joints\": [0, 1]}]}";
+    /* a stray byte, a truncated sequence, an overlong '/', a surrogate */
+    const char *bad[4] = {"ab\xff", "ab\xc3", "\xc0\xaf", "\xed\xa0\x80"};
+    char text[512], msg[256];
+    for (int k = 0; k < 4; ++k) {
+        kin_assembly *a = (kin_assembly *)&a;
+        snprintf(text, sizeof text, model, bad[k]);
+        msg[0] = '\0';
+        CHECK_RC(kin_assembly_load_string(text, strlen(text), &a, msg, sizeof msg), KIN_EFORMAT);
+        CHECK(a == NULL);
+        CHECK(strstr(msg, "not valid UTF-8") != NULL);
+    }
+    const char *good = "caf\xc3\xa9 \xe2\x9c\x93 \xf0\x9d\x84\x9e"; /* café ✓ and U+1D11E */
+    kin_assembly *a = NULL, *b = NULL;
+    snprintf(text, sizeof text, model, good);
+    CHECK_RC(kin_assembly_load_string(text, strlen(text), &a, msg, sizeof msg), KIN_OK);
+    char *out = NULL;
+    CHECK_RC(kin_assembly_save_string(a, good, &out, NULL, msg, sizeof msg), KIN_OK);
+    CHECK(out && strstr(out, "caf") != NULL);
+    CHECK_RC(kin_assembly_load_string(out, strlen(out), &b, msg, sizeof msg), KIN_OK);
+    kin_free_string(out);
+    kin_assembly_free(b);
+    for (int k = 0; k < 4; ++k) {
+        out = (char *)&out;
+        msg[0] = '\0';
+        CHECK_RC(kin_assembly_save_string(a, bad[k], &out, NULL, msg, sizeof msg), KIN_EINVAL);
+        CHECK(out == NULL);
+        CHECK(strstr(msg, "name is not valid UTF-8") != NULL);
+    }
+    kin_assembly_free(a);
+}
+
 int main(void)
 {
     absurd_sizes();
@@ -356,5 +394,6 @@ int main(void)
     sail_params();
     gsl_handler();
     symmetry_two_joints();
+    non_utf8_names();
     TEST_REPORT("test_hostile");
 }
