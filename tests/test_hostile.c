@@ -384,6 +384,41 @@ static void non_utf8_names(void)
     kin_assembly_free(a);
 }
 
+/* kin_clearance at huge coordinates: right up to kin_assembly_create's
+ * bound 1e150, refused beyond it (squared distances overflowed there, and
+ * the answer was "no pair", +INFINITY, with KIN_OK) */
+static void clearance_far(void)
+{
+    /* a triangle panel 0-1-2 in z = 0, a bar 3-4 at z = 1 over it, a bar
+     * 4-5 going up; the triangle's bars */
+    const double xyz[18] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 0.25, 0.25, 1, 1, 0.25, 1, 1, 0.25, 3};
+    const int bars[10] = {0, 1, 1, 2, 2, 0, 3, 4, 4, 5};
+    const int off[2] = {0, 3}, pj[3] = {0, 1, 2};
+    kin_assembly *a = NULL;
+    CHECK_RC(kin_assembly_create(3, 6, xyz, NULL, 5, bars, NULL, &a, NULL, 0), KIN_OK);
+    CHECK_RC(kin_set_panels(a, 1, off, pj), KIN_OK);
+    const double scales[6] = {1.0, 1e100, 3e149, 1e-100, 1e160, 1e300};
+    for (int k = 0; k < 6; ++k) {
+        double x[18], c = -1.0;
+        int parts[4];
+        for (int i = 0; i < 18; ++i) x[i] = xyz[i] * scales[k];
+        CHECK_RC(kin_clearance(a, x, INFINITY, &c, parts, NULL), k < 4 ? KIN_OK : KIN_EGEOM);
+        if (k < 4) {
+            CHECK_CLOSE(c / scales[k], 1.0, 1e-12); /* the bar 3-4 over the panel */
+            CHECK(parts[0] == KIN_PART_BAR && parts[1] == 3 && parts[2] == KIN_PART_PANEL && parts[3] == 0);
+            /* the bar 3-4 moved to pierce the panel: clearance 0 */
+            x[9] = x[10] = 0.25 * scales[k], x[11] = -scales[k];
+            x[12] = x[13] = 0.25 * scales[k];
+            CHECK_RC(kin_clearance(a, x, INFINITY, &c, parts, NULL), KIN_OK);
+            CHECK(c == 0.0 && parts[1] == 3 && parts[2] == KIN_PART_PANEL);
+        } else {
+            CHECK(c == INFINITY && parts[0] == -1);
+            CHECK(strstr(kin_last_error(a), "beyond") != NULL);
+        }
+    }
+    kin_assembly_free(a);
+}
+
 int main(void)
 {
     absurd_sizes();
@@ -395,5 +430,6 @@ int main(void)
     gsl_handler();
     symmetry_two_joints();
     non_utf8_names();
+    clearance_far();
     TEST_REPORT("test_hostile");
 }
