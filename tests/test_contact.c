@@ -233,7 +233,15 @@ static double all_pairs(const kin_assembly *a, const double *y, const int *bars,
     double best = INFINITY, cp[3], cq[3];
     double r0, *rb = malloc(sizeof(double) * (size_t)nb), *tp = malloc(sizeof(double) * (size_t)np);
     kin_get_thickness(a, &r0, rb, tp);
-    int npart = nb + np;
+    int npart = nb + np, nj = kin_njoints(a);
+    /* the distances on y scaled by a power of two to a unit size (exact; at
+     * 1e-300 their products of four lengths underflow, as kin_clearance's
+     * own tests scale them too), scaled back */
+    double m = 0.0, *ys = malloc(sizeof(double) * 3 * (size_t)nj);
+    for (int i = 0; i < 3 * nj; ++i) m = fmax(m, fabs(y[i]));
+    int k = m > 0.0 ? ilogb(m) : 0;
+    for (int i = 0; i < 3 * nj; ++i) ys[i] = ldexp(y[i], -k);
+    y = ys;
     for (int s = 0; s < npart; ++s)
         for (int t = s + 1; t < npart; ++t) {
             const int *js = s < nb ? bars + 2 * s : pj + 3 * (s - nb);
@@ -248,11 +256,12 @@ static double all_pairs(const kin_assembly *a, const double *y, const int *bars,
             if (ns == 2 && nt == 2) d = kin__dist_seg_seg(S[0], S[1], T[0], T[1], cp, cq);
             else if (ns == 2) d = kin__dist_seg_tri(S[0], S[1], T[0], T[1], T[2], cp, cq);
             else d = kin__dist_tri_tri(S, T, cp, cq);
+            d = ldexp(d, k);
             d -= (s < nb ? rb[s] : 0.5 * tp[s - nb]) + (t < nb ? rb[t] : 0.5 * tp[t - nb]);
             best = fmin(best, d);
             if (s == pa && t == pb) *dab = d;
         }
-    free(rb), free(tp);
+    free(rb), free(tp), free(ys);
     return best;
 }
 

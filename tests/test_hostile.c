@@ -322,6 +322,103 @@ static void gsl_handler(void)
     CHECK(gsl_calls == 0);      /* and never raised an error through it */
 }
 
+/* two joints in 3D, a bar off the axes: the fit leaves Q free about the
+ * bar, and the identity must still come first, exactly (it was missing:
+ * KIN_OK with no symmetry, or 8 without the identity) */
+static void symmetry_two_joints(void)
+{
+    const double xyz[6] = {-4.57424, -4.39533, -2.70921, -4.3799, -3.39662, -0.327001};
+    const int bar01[2] = {0, 1};
+    unsigned char fixed[6] = {1, 0, 0, 0, 0, 1}; /* joint 0's x, joint 1's z */
+    for (int sup = 0; sup < 2; ++sup) {
+        kin_assembly *a = NULL;
+        CHECK_RC(kin_assembly_create(3, 2, xyz, sup ? fixed : NULL, 1, bar01, NULL, &a, NULL, 0), KIN_OK);
+        int perm[2 * 16], nsym = -1;
+        double Q[9 * 16], t[3 * 16];
+        memset(perm, 0xFF, sizeof perm);
+        CHECK_RC(kin_symmetries(a, 16, perm, Q, t, &nsym), KIN_OK);
+        CHECK(nsym >= 1 && nsym <= 8);
+        CHECK(perm[0] == 0 && perm[1] == 1);
+        for (int k = 0; k < 9; ++k) CHECK(Q[k] == (k % 4 == 0 ? 1.0 : 0.0));
+        for (int k = 0; k < 3; ++k) CHECK(t[k] == 0.0);
+        if (!sup) CHECK(nsym == 8); /* the reflections through the two missing directions, times the swap */
+        kin_assembly_free(a);
+    }
+}
+
+/* names that are not UTF-8: refused as such, not as out of memory */
+static void non_utf8_names(void)
+{
+    const char *model = "{\"name\": \"%s\", \"dimension\": 2, \"joints\": ["
+                        "{\"index\": 0, \"xyz\": [0, 0], \"free\": [false, false]},"
+                        "{\"index\": 1, \"xyz\": [1, 0], \"free\": [true, true]}],"
+                        " \"bars\": [{\"index\": 0, \"joints\": [0, 1]}]}";
+    /* a stray byte, a truncated sequence, an overlong '/', a surrogate */
+    const char *bad[4] = {"ab\xff", "ab\xc3", "\xc0\xaf", "\xed\xa0\x80"};
+    char text[512], msg[256];
+    for (int k = 0; k < 4; ++k) {
+        kin_assembly *a = (kin_assembly *)&a;
+        snprintf(text, sizeof text, model, bad[k]);
+        msg[0] = '\0';
+        CHECK_RC(kin_assembly_load_string(text, strlen(text), &a, msg, sizeof msg), KIN_EFORMAT);
+        CHECK(a == NULL);
+        CHECK(strstr(msg, "not valid UTF-8") != NULL);
+    }
+    const char *good = "caf\xc3\xa9 \xe2\x9c\x93 \xf0\x9d\x84\x9e"; /* café ✓ and U+1D11E */
+    kin_assembly *a = NULL, *b = NULL;
+    snprintf(text, sizeof text, model, good);
+    CHECK_RC(kin_assembly_load_string(text, strlen(text), &a, msg, sizeof msg), KIN_OK);
+    char *out = NULL;
+    CHECK_RC(kin_assembly_save_string(a, good, &out, NULL, msg, sizeof msg), KIN_OK);
+    CHECK(out && strstr(out, "caf") != NULL);
+    CHECK_RC(kin_assembly_load_string(out, strlen(out), &b, msg, sizeof msg), KIN_OK);
+    kin_free_string(out);
+    kin_assembly_free(b);
+    for (int k = 0; k < 4; ++k) {
+        out = (char *)&out;
+        msg[0] = '\0';
+        CHECK_RC(kin_assembly_save_string(a, bad[k], &out, NULL, msg, sizeof msg), KIN_EINVAL);
+        CHECK(out == NULL);
+        CHECK(strstr(msg, "name is not valid UTF-8") != NULL);
+    }
+    kin_assembly_free(a);
+}
+
+/* kin_clearance at huge coordinates: right up to kin_assembly_create's
+ * bound 1e150, refused beyond it (squared distances overflowed there, and
+ * the answer was "no pair", +INFINITY, with KIN_OK) */
+static void clearance_far(void)
+{
+    /* a triangle panel 0-1-2 in z = 0, a bar 3-4 at z = 1 over it, a bar
+     * 4-5 going up; the triangle's bars */
+    const double xyz[18] = {0, 0, 0, 2, 0, 0, 0, 2, 0, 0.25, 0.25, 1, 1, 0.25, 1, 1, 0.25, 3};
+    const int bars[10] = {0, 1, 1, 2, 2, 0, 3, 4, 4, 5};
+    const int off[2] = {0, 3}, pj[3] = {0, 1, 2};
+    kin_assembly *a = NULL;
+    CHECK_RC(kin_assembly_create(3, 6, xyz, NULL, 5, bars, NULL, &a, NULL, 0), KIN_OK);
+    CHECK_RC(kin_set_panels(a, 1, off, pj), KIN_OK);
+    const double scales[6] = {1.0, 1e100, 3e149, 1e-100, 1e160, 1e300};
+    for (int k = 0; k < 6; ++k) {
+        double x[18], c = -1.0;
+        int parts[4];
+        for (int i = 0; i < 18; ++i) x[i] = xyz[i] * scales[k];
+        CHECK_RC(kin_clearance(a, x, INFINITY, &c, parts, NULL), k < 4 ? KIN_OK : KIN_EGEOM);
+        if (k < 4) {
+            CHECK_CLOSE(c / scales[k], 1.0, 1e-12); /* the bar 3-4 over the panel */
+            CHECK(parts[0] == KIN_PART_BAR && parts[1] == 3 && parts[2] == KIN_PART_PANEL && parts[3] == 0);
+            /* the bar 3-4 moved to pierce the panel: clearance 0 */
+            x[9] = x[10] = 0.25 * scales[k], x[11] = -scales[k];
+            x[12] = x[13] = 0.25 * scales[k];
+            CHECK_RC(kin_clearance(a, x, INFINITY, &c, parts, NULL), KIN_OK);
+            CHECK(c == 0.0 && parts[1] == 3 && parts[2] == KIN_PART_PANEL);
+        } else {
+            CHECK(c == INFINITY && parts[0] == -1);
+            CHECK(strstr(kin_last_error(a), "beyond") != NULL);
+        }
+    }
+    kin_assembly_free(a);
+}
+
 int main(void)
 {
     absurd_sizes();
@@ -331,5 +428,8 @@ int main(void)
     branch_paths();
     sail_params();
     gsl_handler();
+    symmetry_two_joints();
+    non_utf8_names();
+    clearance_far();
     TEST_REPORT("test_hostile");
 }

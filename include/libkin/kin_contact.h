@@ -104,7 +104,8 @@ KIN_API int kin_has_contact_model(const kin_assembly *a);
  * kin_set_thickness, or here, the first time, for a model that has
  * neither).
  * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (cutoff NaN), KIN_EGEOM (a
- * non-finite coordinate), KIN_ENOMEM (first call only). */
+ * non-finite coordinate, or |x| > 1e150, the range kin_assembly_create
+ * accepts), KIN_ENOMEM (first call only). */
 KIN_API int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *clearance, int *parts,
                           double *points);
 

@@ -76,7 +76,8 @@ KIN_API int kin_assembly_load_string(const char *text, size_t len, kin_assembly 
  * path is left as it was. (A path that is a device, e.g. /dev/stdout, is
  * written in place.)
  * Returns KIN_OK, KIN_ENULL (a or path NULL), KIN_EIO, KIN_ENOMEM, KIN_EGEOM
- * (a non-finite coordinate or length, which a valid handle never holds). */
+ * (a non-finite coordinate or length, which a valid handle never holds),
+ * KIN_EINVAL (name is not valid UTF-8). */
 KIN_API int kin_assembly_save(const kin_assembly *a, const char *name, const char *path,
                               char *errbuf, size_t errlen);
 
@@ -84,7 +85,8 @@ KIN_API int kin_assembly_save(const kin_assembly *a, const char *name, const cha
  *  text  receives the string (NULL on failure); the caller releases it with
  *        kin_free_string().
  *  len   optional (may be NULL): receives strlen(*text).
- * Returns KIN_OK, KIN_ENULL (a or text NULL), KIN_ENOMEM, KIN_EGEOM. */
+ * Returns KIN_OK, KIN_ENULL (a or text NULL), KIN_ENOMEM, KIN_EGEOM, KIN_EINVAL
+ * (name is not valid UTF-8). */
 KIN_API int kin_assembly_save_string(const kin_assembly *a, const char *name, char **text,
                                      size_t *len, char *errbuf, size_t errlen);
 

@@ -310,6 +310,10 @@ int kin_last_contact(const kin_assembly *a, double *clearance, int *parts, doubl
     return KIN_OK;
 }
 
+/* the largest |coordinate| of a configuration given to kin_clearance, as
+ * kin_assembly_create's bound (kin_assembly.h) */
+static const double CLEARANCE_COORD_MAX = 1e150;
+
 int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *clearance, int *parts, double *points)
 {
     if (!a || !clearance) return a ? kin__fail(a, KIN_ENULL, "clearance is NULL") : KIN_ENULL;
@@ -318,8 +322,15 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
     if (isnan(cutoff)) return kin__fail(a, KIN_EINVAL, "clearance: cutoff is NaN");
     if (!xyz) xyz = a->xyz;
     int dim = a->dim;
-    for (int i = 0; i < a->nj * dim; ++i)
+    for (int i = 0; i < a->nj * dim; ++i) {
         if (!isfinite(xyz[i])) return kin__fail(a, KIN_EGEOM, "joint %d: non-finite coordinate", i / dim);
+        /* the range kin_assembly_create accepts: the squared distances of
+         * the exact tests stay finite (beyond it they overflowed, and every
+         * pair looked infinitely far) */
+        if (!(fabs(xyz[i]) <= CLEARANCE_COORD_MAX))
+            return kin__fail(a, KIN_EGEOM, "clearance: joint %d: coordinate %g beyond +-%g", i / dim, xyz[i],
+                             CLEARANCE_COORD_MAX);
+    }
     int rc = kin__contact_ensure(a);
     if (rc) return rc;
     struct kin_contact *c = a->ct;

@@ -57,17 +57,53 @@ static double axis_gap(const double *P, const int *v, int nv, const int *w, int 
     return uu > 0.0 ? g / sqrt(uu) : 0.0;
 }
 
+/* The points of the primitives v, w (3 joints each; a bar's third -1) of
+ * P copied into Q (v's at 0-2, w's at 3-5) with their indices into Q (vq,
+ * wq), scaled by 2^-k, k returned: 0 (an exact copy, the same bits as on P)
+ * while the largest |coordinate| is within 2^-200..2^200, else such that it
+ * is about 1. The tests below multiply up to four lengths (cross products,
+ * their projections, the normal equations' determinants): at 1e150 these
+ * overflowed (a panel missed or pruned, its clearance wrong) and at 1e-100
+ * underflowed (a triangle taken for a zero-area one); scaled by a power of
+ * two they are exact, and scale back exactly. */
+static int gather(const double *P, const int *v, const int *w, double *Q, int *vq, int *wq)
+{
+    double m = 0.0;
+    for (int i = 0; i < 6; ++i) {
+        int j = i < 3 ? v[i] : w[i - 3];
+        int *o = i < 3 ? vq + i : wq + i - 3;
+        *o = j >= 0 ? i : -1;
+        for (int a = 0; a < 3; ++a) {
+            Q[3 * i + a] = j >= 0 ? P[3 * j + a] : 0.0;
+            m = fmax(m, fabs(Q[3 * i + a]));
+        }
+    }
+    if (!(m > 0x1p200 || (m < 0x1p-200 && m > 0.0))) return 0;
+    int k = ilogb(m);
+    for (int i = 0; i < 18; ++i) Q[i] = ldexp(Q[i], -k);
+    return k;
+}
+
+static double prim_distance(const double *P, const int *vp, const int *vq, double *cp, double *cq);
+static int prim_far(const double *P, const int *vp, const int *vq, double rr, double best);
+
+int kin__prim_far(const struct kin_contact *c, const kin__leafprim *Lp, const kin__leafprim *Lq, double rr,
+                  double best)
+{
+    if (-rr > best) return 1; /* the distance is >= 0 */
+    double P[18];
+    int vp[3], vq[3], k = gather(c->pts, Lp->v, Lq->v, P, vp, vq);
+    /* the bounds scale with the points: compare rr and best in P's unit */
+    return prim_far(P, vp, vq, ldexp(rr, -k), ldexp(best, -k));
+}
+
 /* 1 if a cheap lower bound shows that leaves p and q (radii sum rr) have
  * clearance above best: separating axes (the line of their centroids; for
  * a triangle its normal and the in-plane normals of its sides; then the
  * cross products of their sides), stopping at the first that shows it, so that most pairs near each other but apart
  * never reach the exact test */
-int kin__prim_far(const struct kin_contact *c, const kin__leafprim *Lp, const kin__leafprim *Lq, double rr,
-                  double best)
+static int prim_far(const double *P, const int *vp, const int *vq, double rr, double best)
 {
-    if (-rr > best) return 1; /* the distance is >= 0 */
-    const double *P = c->pts;
-    const int *vp = Lp->v, *vq = Lq->v;
     int np = vp[2] >= 0 ? 3 : 2, nq = vq[2] >= 0 ? 3 : 2;
     double u[3]; /* the line of the centroids: np * nq times their difference */
     for (int k = 0; k < 3; ++k) {
@@ -140,8 +176,19 @@ double kin__prim_clearance(const struct kin_contact *c, int x, int y, double *cp
         double *tp = cp;
         x = y, y = t, cp = cq, cq = tp;
     }
-    const double *P = c->pts;
-    const int *vp = c->lp[x].v, *vq = c->lp[y].v;
+    double P[18];
+    int vp[3], vq[3], k = gather(c->pts, c->lp[x].v, c->lp[y].v, P, vp, vq);
+    double d = prim_distance(P, vp, vq, cp, cq);
+    if (k) {
+        d = ldexp(d, k);
+        for (int i = 0; i < 3; ++i) cp[i] = ldexp(cp[i], k), cq[i] = ldexp(cq[i], k);
+    }
+    return d - c->lr[x] - c->lr[y];
+}
+
+/* the distance of the primitives vp, vq of P, closest points cp, cq */
+static double prim_distance(const double *P, const int *vp, const int *vq, double *cp, double *cq)
+{
     double d;
     int tp = vp[2] >= 0, tq = vq[2] >= 0;
     if (!tp && !tq) d = kin__dist_seg_seg(P + 3 * vp[0], P + 3 * vp[1], P + 3 * vq[0], P + 3 * vq[1], cp, cq);
@@ -152,5 +199,5 @@ double kin__prim_clearance(const struct kin_contact *c, int x, int y, double *cp
         const double *B[3] = {P + 3 * vq[0], P + 3 * vq[1], P + 3 * vq[2]};
         d = kin__dist_tri_tri(A, B, cp, cq);
     }
-    return d - c->lr[x] - c->lr[y];
+    return d;
 }

@@ -341,12 +341,51 @@ static int depth_ok(json_t *v, int depth)
     return 1;
 }
 
+/* The offset of the first byte of s[0..n) that is not valid UTF-8 (RFC
+ * 3629: no overlong forms, surrogates or code points past U+10FFFF, the
+ * rules jansson applies), or n when all of it is. */
+static size_t utf8_invalid_at(const unsigned char *s, size_t n)
+{
+    size_t i = 0;
+    while (i < n) {
+        unsigned c = s[i];
+        size_t k;
+        unsigned lo = 0x80, hi = 0xBF; /* the second byte's range */
+        if (c < 0x80) {
+            ++i;
+            continue;
+        } else if (c >= 0xC2 && c <= 0xDF) {
+            k = 1;
+        } else if (c >= 0xE0 && c <= 0xEF) {
+            k = 2;
+            if (c == 0xE0) lo = 0xA0;
+            if (c == 0xED) hi = 0x9F;
+        } else if (c >= 0xF0 && c <= 0xF4) {
+            k = 3;
+            if (c == 0xF0) lo = 0x90;
+            if (c == 0xF4) hi = 0x8F;
+        } else {
+            return i;
+        }
+        if (n - i <= k || s[i + 1] < lo || s[i + 1] > hi) return i;
+        for (size_t j = 2; j <= k; ++j)
+            if ((s[i + j] & 0xC0) != 0x80) return i;
+        i += k + 1;
+    }
+    return n;
+}
+
 /* Parse text, check it, create the assembly. */
 static int load_text(const io_err *e, const char *text, size_t len, kin_assembly **out)
 {
     json_error_t jerr;
     /* JSON_ALLOW_NUL: a "\u0000" inside a label is valid JSON (Python reads it) */
     json_t *doc = json_loadb(text, len, JSON_ALLOW_NUL, &jerr);
+    size_t bad = doc ? len : utf8_invalid_at((const unsigned char *)text, len);
+    if (!doc && bad < len)
+        return io_fail(e, KIN_EFORMAT,
+                       "JSON text is not valid UTF-8 (byte 0x%02x at offset %zu, line %d): a name or any other "
+                       "string must be UTF-8", (unsigned)(unsigned char)text[bad], bad, jerr.line);
     if (!doc)
         return io_fail(e, KIN_EFORMAT, "JSON syntax: line %d, column %d: %s", jerr.line,
                        jerr.column, jerr.text);
@@ -629,6 +668,10 @@ static int render(const io_err *e, const kin_assembly *a, const char *name, text
     kin_get_bars(a, bars);
     kin_get_rest_lengths(a, L0);
     int rc = KIN_OK;
+    size_t nlen = name ? strlen(name) : 0, bad = name ? utf8_invalid_at((const unsigned char *)name, nlen) : 0;
+    if (name && bad < nlen)
+        rc = io_fail(e, KIN_EINVAL, "name is not valid UTF-8 (byte 0x%02x at offset %zu)",
+                     (unsigned)(unsigned char)name[bad], bad);
     /* a valid handle holds finite numbers only; json_real refuses others */
     for (size_t i = 0; i < (size_t)nj * dim + nb && rc == KIN_OK; ++i)
         if (!isfinite(xyz[i]))

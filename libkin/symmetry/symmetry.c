@@ -198,6 +198,30 @@ static int keeps_configuration(const sym_ctx *x, const int *perm, const double *
     return 1;
 }
 
+/* Q = Q (I - N N^T) + N N^T for the missing directions N: the fit fixes Q
+ * on the joints' span only, and on the rest dgesvd's bases are arbitrary
+ * (two joints in 3D: any rotation about the bar), so the products of
+ * reflections below would miss the identity. Identity there, they give it. */
+static void fix_null_space(const sym_ctx *x, double *Q)
+{
+    int d = x->d;
+    if (x->nnull == 0) return;
+    double P[9], T[9]; /* P = N N^T */
+    for (int r = 0; r < d; ++r)
+        for (int c = 0; c < d; ++c) {
+            double v = 0.0;
+            for (int b = 0; b < x->nnull; ++b) v += x->null[b * d + r] * x->null[b * d + c];
+            P[r + c * d] = v;
+        }
+    for (int r = 0; r < d; ++r)
+        for (int c = 0; c < d; ++c) {
+            double v = P[r + c * d];
+            for (int k = 0; k < d; ++k) v += Q[r + k * d] * ((k == c) - P[k + c * d]);
+            T[r + c * d] = v;
+        }
+    memcpy(Q, T, sizeof(double) * (size_t)d * d);
+}
+
 /* The symmetries realising the candidate perm: the Procrustes fit Q = V U^T
  * of H = Xc^T Yc = U S V^T (Yc = Xc Q^T when it fits), times each product
  * of reflections through the missing directions. */
@@ -217,6 +241,7 @@ static int test_candidate(sym_ctx *x, const int *perm, sym_list *out)
             for (int k = 0; k < d; ++k) v += VT[k + r * d] * U[c + k * d];
             Q[r + c * d] = v;
         }
+    fix_null_space(x, Q);
     for (int j = 0; j < nj; ++j) /* Xc Q^T = Yc ? */
         for (int r = 0; r < d; ++r) {
             double y = 0.0;
@@ -398,6 +423,10 @@ int kin_symmetries(kin_assembly *a, int max_sym, int *perm, double *Q, double *t
         rc = kin__fail(a, KIN_ERANGE, "kin_symmetries: the assembly has %d symmetries, max_sym = %d", L.n, max_sym);
         *nsym = L.n;
     } else {
+        if (L.n == 0) { /* never: the identity always fits; no memcpy from NULL */
+            sym_list_free(&L);
+            return kin__fail(a, KIN_ESTATE, "kin_symmetries: the identity did not fit the configuration");
+        }
         if (perm) memcpy(perm, L.perm, sizeof(int) * (size_t)L.n * nj);
         if (Q) memcpy(Q, L.Q, sizeof(double) * (size_t)L.n * d * d);
         if (t) memcpy(t, L.t, sizeof(double) * (size_t)L.n * d);
