@@ -118,11 +118,13 @@ def cmd_follow(args: argparse.Namespace) -> int:
         print("passed no bifurcation")
     if args.plot:
         from . import plot
-        plot.singular_values(ls, np.array(svs), path=args.plot, count=args.count)
+        plot.follow.path_singular_values(ls, np.array(svs), path.v_r, path.v_max, count=args.count, passed=passed,
+                                         path=args.plot, title=f"{a.name}: singular values of H along the path")
         print("wrote", args.plot)
     if args.gif:
         from . import plot
-        plot.animate(frames[:: max(1, len(frames) // 60)], a.bars, args.gif, plane=args.plane)
+        k = max(1, len(frames) // 60)
+        plot.follow.animate_path(frames[::k], a.bars, args.gif, fixed=a.fixed, lengths=ls[::k], name=a.name or "")
         print("wrote", args.gif)
     if args.out:
         a.to_json(args.out)
@@ -414,10 +416,10 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("model")
     s.add_argument("--steps", type=count(1), default=50, help="number of steps (default 50)")
     s.add_argument("--delta", type=finite, default=0.0, help="step amplitude (0 = largest allowed)")
-    s.add_argument("--plot", help="write the singular values along the path to this PNG")
+    s.add_argument("--plot", help="write the singular values along the path (v_r, v_max, bifurcations) to this PNG")
     s.add_argument("--count", type=count(1), default=15, help="how many of the lowest singular values to plot")
-    s.add_argument("--gif", help="write an animation of the path to this GIF")
-    s.add_argument("--plane", default="xy", choices=["xy", "xz", "yz"], help="projection of 3D models")
+    s.add_argument("--gif", help="write an animation of the path to this GIF (3D models in 3D, supports, legend)")
+    s.add_argument("--plane", default="xy", choices=["xy", "xz", "yz"], help="unused: the GIF draws 3D models in 3D")
     s.add_argument("--out", help="write the final configuration as a JSON model")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     _add_start_arguments(s)
