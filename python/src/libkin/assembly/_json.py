@@ -26,7 +26,7 @@ import numpy.typing as npt
 
 from ..atomic import write_text
 from .._bounded import decode_utf8, read_bounded
-from ..errors import ModelFormatError
+from ..errors import ModelFormatError, OutOfMemoryError
 from ._base import AssemblyBase
 
 #: What `parse` returns: name, coords, bars, fixed, lengths (or None), labels.
@@ -183,6 +183,46 @@ def _problems(doc: Any) -> List[_Problem]:
     return out
 
 
+#: The C library's bound on every dense matrix of the analysis (INT_MAX
+#: entries, libkin/model/assembly.c check_matrix_sizes): with nf free
+#: coordinates and nb bars, nf*nf, nb*nb and nf*(nb + 1 + 3 or 6) must all fit,
+#: so at most 46 340 bars and 46 340 free coordinates.
+_INT_MAX = 2**31 - 1
+
+#: A JSON text longer than this (bytes) is checked by the C loader
+#: (kin_assembly_load_string: about 30 ms a MB) instead of jsonschema (about
+#: 1 s a MB): validation and parsing stay bounded in time and memory.
+LARGE_TEXT = 2 * 1024 * 1024
+
+
+def _check_counts(doc: Any) -> None:
+    """Refuse, before any per-field check, a model whose joint and bar counts
+    alone exceed the C library's matrix limits (what kin_assembly_create
+    would refuse only after the whole model was read and checked):
+    OutOfMemoryError naming the counts, as the C loader's KIN_ENOMEM. Counts
+    of a document too malformed to count are left to the schema."""
+    if not isinstance(doc, dict):
+        return
+    dim, joints, bars = doc.get("dimension"), doc.get("joints"), doc.get("bars")
+    if dim not in (2, 3) or isinstance(dim, bool) or not isinstance(joints, list) or not isinstance(bars, list):
+        return
+    nb, cols = len(bars), len(bars) + 1 + (3 if dim == 2 else 6)
+
+    def over(nf: int) -> bool:
+        return nf * nf > _INT_MAX or nb * nb > _INT_MAX or nf * cols > _INT_MAX
+
+    if not over(len(joints) * dim):
+        return  # nf <= njoints*dim: within the limits whatever is free
+    nf = 0
+    for j in joints:
+        free = j.get("free") if isinstance(j, dict) else None
+        nf += sum(1 for f in free if f is True) if isinstance(free, list) else dim
+    if over(nf):
+        raise OutOfMemoryError(f"model of {len(joints)} joints ({nf} free coordinates) and {nb} bars: a dense "
+                               "matrix of the analysis would have more than INT_MAX entries (at most 46340 bars "
+                               "and 46340 free coordinates); refused before the model was checked")
+
+
 def parse(doc: Any) -> ParsedModel:
     """Validate a model dict against the format (schema() and the rules a
     schema cannot say, docs/model_format.md).
@@ -205,10 +245,16 @@ def parse(doc: Any) -> ParsedModel:
         (of the first problem, in the order of the document's parts, the
         joints and the bars, each field in turn).
     """
+    _check_counts(doc)
     problems = _problems(doc)
     if problems:
         _, where, msg = min(problems, key=lambda p: p[0])
         _fail(where, msg)
+    return _build(doc)
+
+
+def _build(doc: Dict[str, Any]) -> ParsedModel:
+    """parse()'s result from a model already found valid."""
     dim, joints, bars_doc = doc["dimension"], doc["joints"], doc["bars"]
     coords = np.array([j["xyz"] for j in joints], dtype=float).reshape(len(joints), dim)
     fixed = np.array([[not f for f in j.get("free", [True] * dim)] for j in joints], dtype=bool).reshape(-1, dim)
@@ -299,14 +345,38 @@ def _parse_text(text: Any) -> ParsedModel:
     rebuilds its model from one text in every task, and the schema check
     (jsonschema) costs milliseconds. The arrays are only read (Assembly
     copies them into the C handle)."""
+    data = text if isinstance(text, bytes) else text.encode("utf-8", "surrogatepass") if isinstance(text, str) else None
+    large = data is not None and len(data) > LARGE_TEXT
+    if large and data is not None:
+        _c_check(data)  # raises the C loader's verdict: before Python builds a single object
     try:
         doc = json.loads(text)
     except json.JSONDecodeError as exc:
         raise ModelFormatError(f"JSON syntax: line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
     except RecursionError:
         _fail("JSON text", f"lists or objects nested deeper than {MAX_DEPTH}")
+    if large:
+        try:  # the C loader checked the same rules (docs/model_format.md): no schema pass
+            return _build(doc)
+        except (KeyError, TypeError, ValueError, IndexError, AttributeError):
+            pass  # the loaders disagree: the Python loader's own verdict
     _check_text(doc)
     return parse(doc)
+
+
+def _c_check(data: bytes) -> None:
+    """Check a JSON model text with the C loader (kin_assembly_load_string:
+    the same rules, in bounded time and memory) and raise its verdict (a
+    KinError: ModelFormatError, OutOfMemoryError for counts over the
+    library's limits, ...); nothing if the model is valid."""
+    from .._native._lib import c_string, ffi, lib
+    from ..errors import error_class
+    out, err = ffi.new("kin_assembly **"), ffi.new("char[512]")
+    rc = lib.kin_assembly_load_string(data, len(data), out, err, 512)
+    if out[0] != ffi.NULL:
+        lib.kin_assembly_free(out[0])
+    if rc:
+        raise error_class(rc)(c_string(err), rc)
 
 
 def to_json(self: AssemblyBase, path: Union[str, "os.PathLike[str]", None] = None) -> Dict[str, Any]:
