@@ -2,13 +2,12 @@
 stderr which limit stopped the run and how to lift it; `libkin study` refuses
 before any work, naming every missing extra at once; libkin.load_model takes
 the built-in names the command line takes."""
-import os
-import pathlib
 import subprocess
 import sys
 
 import libkin
 from libkin.cli import main
+from subprocess_env import libkin_env  # noqa: E402
 
 MODEL = "sail:4:1"
 
@@ -59,10 +58,7 @@ sys.exit(main(sys.argv[1:]))
 
 
 def _run_blocked(blocked, *argv, cwd):
-    env = dict(os.environ)
-    src = str(pathlib.Path(libkin.__file__).resolve().parents[1])
-    env["PYTHONPATH"] = src + os.pathsep + env.get("PYTHONPATH", "")
-    return subprocess.run([sys.executable, "-c", _BLOCKED.format(blocked=set(blocked)), *argv], env=env, cwd=cwd,
+    return subprocess.run([sys.executable, "-c", _BLOCKED.format(blocked=set(blocked)), *argv], env=libkin_env(), cwd=cwd,
                           capture_output=True, text=True, timeout=120)
 
 
