@@ -321,7 +321,10 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     max_steps : int
         Step budget of one branch.
     samples : int
-        Configurations recorded along each branch (besides its end), from its one follow.
+        Configurations recorded along each branch (besides its end), from its
+        one follow: at least this many, evenly spread by path length, and more
+        of the points the follower recorded where the viewer's curve through
+        them would stretch a bar by more than 1 % (atlas/frames.py); 0: none.
     shards : int, optional
         The complete solver's paths are tracked in this many tasks (default:
         about SHARD_PATHS paths a shard with an executor, one task without).

@@ -8,14 +8,17 @@ and viewer.css next to this module) and the atlas itself as data:
 - the graph: per node its place on the map (computed here, layout()), kind,
   m, s, depth, orbit, v_r and status; per edge its ends, event, length,
   solution and sign;
-- the configurations (every node's, and the samples along every edge) as
-  16-bit integers on one grid (about 3e-5 of the model's extent), in base64;
+- the configurations (every node's, and the samples along every edge, with
+  the edge's own end where it reached a rigidly moved copy of its target
+  node, Edge.end, flagged own_end) as 16-bit integers on one grid (about 3e-5 of the model's extent), in base64;
   the page decodes only what a click needs.
 
 The map is drawn with WebGL (plotly's scattergl), so tens of thousands of
 nodes and paths pan and zoom smoothly; a click on a node draws its
 configuration in 3D (rotatable), a click on a path animates the structure
-along it, from the source through the edge's samples to the target.
+along it, from the source through the edge's samples to the target (or
+to its own end), on the curve frames.py describes; the 3D box is fitted
+to every frame of that curve.
 """
 from __future__ import annotations
 
@@ -123,6 +126,65 @@ def layout(atlas: _atlas.Atlas) -> Tuple[NDArray[np.float64], NDArray[np.float64
     return x, y
 
 
+# a node whose smallest clearance between parts sharing no joint is at most
+# this times the RMS bar length is in contact (as the follower's contact events)
+CONTACT_TOL = 1e-6
+# clearances are resolved up to this times the model size (kin_clearance's
+# cutoff: much cheaper); larger ones are shown as "over" it
+CLEARANCE_CUTOFF = 0.25
+
+
+def shape(atlas: _atlas.Atlas) -> Dict[str, List[Optional[float]]]:
+    """Per node (by position): "xy_extent" (the largest distance between two
+    joints seen from above, on the x-y plane), "height" (the z extent; 0 for
+    a plane model), "clearance" (the smallest clearance between parts that
+    share no joint, kin_clearance, None where above CLEARANCE_CUTOFF times
+    the model size or not measurable) and "contact" (1 where the clearance
+    is within CONTACT_TOL of the RMS bar length or a path ended there in
+    contact)."""
+    from ..assembly import Assembly
+    from ..errors import KinError
+    from scipy.spatial.distance import pdist
+    nodes = atlas.nodes
+    contact_in = {e.target for e in atlas.edges if e.event == tasks.CONTACT}
+    try:
+        a: Optional[Assembly] = Assembly.from_json(atlas.model)
+    except (KinError, ValueError, TypeError, KeyError):
+        a = None
+    rms = float(np.sqrt(np.mean(a.rest_lengths ** 2))) if a is not None and a.nbars else 0.0
+    size = 1.0
+    if nodes:
+        c0 = np.asarray(nodes[0].coords, dtype=float)
+        size = max(1e-300, float(np.abs(c0 - c0.mean(axis=0)).max()))
+    out: Dict[str, List[Optional[float]]] = {"xy_extent": [], "height": [], "clearance": [], "contact": []}
+    for n in nodes:
+        X = np.asarray(n.coords, dtype=float)
+        xy = X[:, :2]
+        out["xy_extent"].append(float(pdist(xy).max()) if len(X) > 1 and np.isfinite(xy).all() else None)
+        out["height"].append(float(np.ptp(X[:, 2])) if X.shape[1] > 2 and np.isfinite(X).all() else 0.0)
+        c: Optional[float] = None
+        if a is not None and np.isfinite(X).all():
+            try:
+                v = a.clearance(X, cutoff=CLEARANCE_CUTOFF * size).value
+                c = float(v) if math.isfinite(v) else None
+            except KinError:
+                c = None
+        out["clearance"].append(c)
+        touching = n.id in contact_in or (c is not None and c <= CONTACT_TOL * max(rms, 1e-300))
+        out["contact"].append(1.0 if touching else 0.0)
+    return out
+
+
+def reach(atlas: _atlas.Atlas) -> Dict[str, Any]:
+    """How deep the run went and why it stopped there: "depth" asked for,
+    "reached" (the deepest node's depth), "stopped" (limits.limits_hit's
+    sentences: which limit stopped it and how to lift it; empty when none
+    did)."""
+    from .limits import limits_hit
+    return {"depth": atlas.settings.get("depth"), "reached": max((n.depth for n in atlas.nodes), default=0),
+            "stopped": list(limits_hit(atlas).values())}
+
+
 def _quantise(arrays: Sequence[NDArray[np.float64]], centre: NDArray[np.float64], step: float) -> bytes:
     if not arrays:
         return b""
@@ -134,10 +196,11 @@ def _quantise(arrays: Sequence[NDArray[np.float64]], centre: NDArray[np.float64]
 def _samples_kept(edges: Sequence[_atlas.Edge], per_config: int, budget: int) -> int:
     """How many samples per edge fit the budget (the most any edge has if all fit)."""
     most = max((len(e.samples) for e in edges), default=0)
-    total = sum(len(e.samples) for e in edges) * per_config
+    total = sum(len(e.samples) + (e.end is not None) for e in edges) * per_config
     if total <= budget:
         return most
-    return int(budget // max(1, len(edges) * per_config))
+    ends = sum(e.end is not None for e in edges) * per_config  # always kept
+    return int(max(0, budget - ends) // max(1, len(edges) * per_config))
 
 
 def payload(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: Optional[str] = None,
@@ -154,10 +217,14 @@ def payload(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: 
     samples: List[NDArray[np.float64]] = []
     s_start: List[int] = []
     s_count: List[int] = []
+    own_end: List[int] = []
     for e in edges:
         ss = e.samples
         if len(ss) > keep:
             ss = [ss[int(i)] for i in np.round(np.linspace(0, len(ss) - 1, keep))] if keep else []
+        if e.end is not None:  # the path went to a rigidly moved copy of its node: drawn to where it went
+            ss = list(ss) + [e.end]
+        own_end.append(int(e.end is not None))
         s_start.append(len(samples))
         s_count.append(len(ss))
         samples.extend(np.asarray(s, dtype=np.float64) for s in ss)
@@ -205,7 +272,9 @@ def payload(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: 
             "v_r": [num(n.v_r_rel, 3) for n in nodes],
             "expanded": [1 if n.expanded else 0 for n in nodes],
             "status": [statuses.setdefault(n.status, len(statuses)) for n in nodes],
+            **{k: [num(v, 4) if v is not None else None for v in vs] for k, vs in shape(atlas).items()},
         },
+        "reach": reach(atlas),
         "statuses": list(statuses),
         "edges": {
             "id": [e.id for e in edges],
@@ -213,10 +282,10 @@ def payload(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: 
             "event": [events.index(e.event) for e in edges],
             "length": [num(e.length) for e in edges],
             "solution": [int(e.solution) for e in edges], "sign": [int(e.sign) for e in edges],
-            "sample_start": s_start, "samples": s_count,
+            "sample_start": s_start, "samples": s_count, "own_end": own_end,
         },
         "grid": {"centre": [float(v) for v in centre], "step": step,
-                 "samples_dropped": sum(len(e.samples) for e in edges) - len(samples)},
+                 "samples_dropped": sum(len(e.samples) + (e.end is not None) for e in edges) - len(samples)},
     }
     return data, _quantise(configs, centre, step), _quantise(samples, centre, step)
 

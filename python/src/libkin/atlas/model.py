@@ -126,6 +126,10 @@ class Edge:
     message: str = ""
     steps: int = 0
     vr_tol: float = 0.0  # BIFURCATION: the tolerance it was located to
+    # the configuration the path reached where it is not the target node's
+    # own coordinates (an end identified with the node up to a rigid motion
+    # the supports allow): the viewer draws the path to where it went
+    end: Optional[List[Any]] = None
 
     def to_dict(self) -> Dict[str, Any]:
         return dataclasses.asdict(self)

@@ -13,6 +13,7 @@ from ..atomic import staged_folder, write_text
 from ..cliargs import require_extras
 from . import model as _atlas
 from . import tasks
+from .limits import limits_hit  # noqa: F401 - `libkin explore` prints them
 
 
 def _f(v: Any, fmt: str = ".4g") -> str:
@@ -30,33 +31,6 @@ def require_output_modules() -> None:
     the PNGs matplotlib); ImportError naming the extras if not, before
     anything is done."""
     require_extras("the atlas's files", OUTPUT_MODULES)
-
-
-def limits_hit(atlas: _atlas.Atlas) -> Dict[str, str]:
-    """Where the run's limits bit: for each of max_nodes, time_limit and
-    max_length that stopped part of the run, one sentence saying how far it
-    got and which option lifts it (`libkin explore` prints them on stderr)."""
-    se, nodes, out = atlas.settings, atlas.nodes, {}
-    deepest = f" of {se['depth']}" if se.get("depth") is not None else ""
-    found = f"{len(nodes):,} node{'s' if len(nodes) != 1 else ''} found"
-    skipped = [n for n in nodes if n.status == "not expanded: max_nodes reached"]
-    if skipped:
-        d = min(n.depth for n in skipped)
-        out["max_nodes"] = (f"stopped at depth {d}{deepest}: --max-nodes {se.get('max_nodes')} reached ({found}; "
-                            f"{len(skipped):,} bifurcation{'s' if len(skipped) > 1 else ''} not expanded); "
-                            f"raise --max-nodes to go deeper")
-    late = [n for n in nodes if "time limit reached" in n.status]
-    if late or atlas.stats.get("stopped_by") == "time_limit":
-        d = min((n.depth for n in late), default=max((n.depth for n in nodes), default=0))
-        out["time_limit"] = (f"stopped at depth {d}{deepest}: --time-limit {_f(se.get('time_limit'), 'g')} s "
-                             f"reached ({found}; {len(late):,} not expanded or not all followed); the atlas so far "
-                             f"is partial: raise --time-limit, or continue with --resume")
-    budget = sum(1 for e in atlas.edges if e.event == tasks.BUDGET)
-    if budget:
-        out["max_length"] = (f"{budget:,} of {len(atlas.edges):,} paths ended at the path-length budget "
-                             f"(--max-length {_f(se.get('max_length'))}) before any event; raise --max-length to "
-                             f"follow them further")
-    return out
 
 
 def write(atlas: _atlas.Atlas, out: Union[str, os.PathLike[str]], map_png: str = "atlas_map.png",
