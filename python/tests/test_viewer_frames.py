@@ -36,7 +36,8 @@ def drawn_strains(atlas, rest):
     out = []
     for e in range(len(E["id"])):
         a, n = E["sample_start"][e], E["samples"][e]
-        fr = [conf[E["source"][e]]] + list(samp[a:a + n]) + ([] if E["own_end"][e] else [conf[E["target"][e]]])
+        own = E.get("own_end", [0] * len(E["id"]))[e]
+        fr = [conf[E["source"][e]]] + list(samp[a:a + n]) + ([] if own else [conf[E["target"][e]]])
         out.append(frames.strain(np.stack(fr), bars, rest))
     return np.asarray(out)
 

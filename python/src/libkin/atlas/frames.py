@@ -57,8 +57,8 @@ def segment_strain(frames: ArrayLike, bars: ArrayLike, rest: ArrayLike) -> NDArr
     k = np.arange(K)
     p0, p1, p2, p3 = f[np.maximum(k - 1, 0)], f[k], f[k + 1], f[np.minimum(k + 2, K)]
     # the bars' end points only: (segments, bars in use, 2 ends, dim) per control point
-    pick = lambda p: p[:, b[use]]  # noqa: E731
-    p0, p1, p2, p3 = pick(p0), pick(p1), pick(p2), pick(p3)
+    ub = b[use]
+    p0, p1, p2, p3 = p0[:, ub], p1[:, ub], p2[:, ub], p3[:, ub]
     t = ((np.arange(STRAIN_POINTS) + 0.5) / STRAIN_POINTS)[:, None, None, None, None]
     x = 0.5 * (2 * p1 + (-p0 + p2) * t + (2 * p0 - 5 * p1 + 4 * p2 - p3) * t * t
                + (-p0 + 3 * p1 - 3 * p2 + p3) * t * t * t)  # (points, segments, bars, 2, dim)

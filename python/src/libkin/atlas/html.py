@@ -134,14 +134,14 @@ CONTACT_TOL = 1e-6
 CLEARANCE_CUTOFF = 0.25
 
 
-def shape(atlas: _atlas.Atlas) -> Dict[str, List[Optional[float]]]:
+def shape(atlas: _atlas.Atlas, progress: bool = False) -> Dict[str, List[Optional[float]]]:
     """Per node (by position): "xy_extent" (the largest distance between two
     joints seen from above, on the x-y plane), "height" (the z extent; 0 for
     a plane model), "clearance" (the smallest clearance between parts that
     share no joint, kin_clearance, None where above CLEARANCE_CUTOFF times
     the model size or not measurable) and "contact" (1 where the clearance
     is within CONTACT_TOL of the RMS bar length or a path ended there in
-    contact)."""
+    contact). progress: a tqdm bar over the nodes on stderr (if installed)."""
     from ..assembly import Assembly
     from ..errors import KinError
     from scipy.spatial.distance import pdist
@@ -157,7 +157,10 @@ def shape(atlas: _atlas.Atlas) -> Dict[str, List[Optional[float]]]:
         c0 = np.asarray(nodes[0].coords, dtype=float)
         size = max(1e-300, float(np.abs(c0 - c0.mean(axis=0)).max()))
     out: Dict[str, List[Optional[float]]] = {"xy_extent": [], "height": [], "clearance": [], "contact": []}
+    bar = _bar(progress, len(nodes), "viewer: nodes' shape and clearance")
     for n in nodes:
+        if bar is not None:
+            bar.update(1)
         X = np.asarray(n.coords, dtype=float)
         xy = X[:, :2]
         out["xy_extent"].append(float(pdist(xy).max()) if len(X) > 1 and np.isfinite(xy).all() else None)
@@ -172,7 +175,20 @@ def shape(atlas: _atlas.Atlas) -> Dict[str, List[Optional[float]]]:
         out["clearance"].append(c)
         touching = n.id in contact_in or (c is not None and c <= CONTACT_TOL * max(rms, 1e-300))
         out["contact"].append(1.0 if touching else 0.0)
+    if bar is not None:
+        bar.close()
     return out
+
+
+def _bar(progress: bool, total: int, desc: str) -> Any:
+    """A tqdm bar on stderr where asked for and tqdm is installed, else None."""
+    if not progress:
+        return None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None
+    return tqdm(total=total, desc=desc, unit="node", mininterval=1.0)
 
 
 def reach(atlas: _atlas.Atlas) -> Dict[str, Any]:
@@ -204,7 +220,7 @@ def _samples_kept(edges: Sequence[_atlas.Edge], per_config: int, budget: int) ->
 
 
 def payload(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: Optional[str] = None,
-            max_sample_values: int = MAX_SAMPLE_VALUES) -> Tuple[Dict[str, Any], bytes, bytes]:
+            max_sample_values: int = MAX_SAMPLE_VALUES, progress: bool = False) -> Tuple[Dict[str, Any], bytes, bytes]:
     """(data, node configurations, edge samples): the page's JSON payload
     and the two binary blocks (little-endian int16, config after config,
     each joints x dimension values: coordinate = centre + step * value)."""
@@ -272,7 +288,7 @@ def payload(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: 
             "v_r": [num(n.v_r_rel, 3) for n in nodes],
             "expanded": [1 if n.expanded else 0 for n in nodes],
             "status": [statuses.setdefault(n.status, len(statuses)) for n in nodes],
-            **{k: [num(v, 4) if v is not None else None for v in vs] for k, vs in shape(atlas).items()},
+            **{k: [num(v, 4) if v is not None else None for v in vs] for k, vs in shape(atlas, progress).items()},
         },
         "reach": reach(atlas),
         "statuses": list(statuses),
@@ -300,11 +316,11 @@ def _script_safe(text: str) -> str:
 
 
 def page(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: Optional[str] = None,
-         max_sample_values: int = MAX_SAMPLE_VALUES) -> str:
+         max_sample_values: int = MAX_SAMPLE_VALUES, progress: bool = False) -> str:
     """The whole HTML page as text (see write())."""
     require_plotly()
     from plotly.offline import get_plotlyjs
-    data, node_bytes, sample_bytes = payload(atlas, names, title, max_sample_values)
+    data, node_bytes, sample_bytes = payload(atlas, names, title, max_sample_values, progress)
     # "<" written as its JSON escape: no text of the atlas can open or close a tag
     text = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("<", "\\u003c")
     plotly_js = get_plotlyjs()
@@ -327,10 +343,11 @@ def page(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: Opt
 
 
 def write(atlas: _atlas.Atlas, path: Union[str, os.PathLike[str]], names: Optional[Dict[int, str]] = None,
-          title: Optional[str] = None, max_sample_values: int = MAX_SAMPLE_VALUES) -> None:
+          title: Optional[str] = None, max_sample_values: int = MAX_SAMPLE_VALUES, progress: bool = False) -> None:
     """Write the viewer page of atlas to path, whole or not at all
     (libkin.atomic). names: {node id: name} to show instead of N<id> (the
     sail study's R^A, R^B, ...); max_sample_values: how many sample
-    coordinates the page may carry (MAX_SAMPLE_VALUES). ImportError
-    without plotly, ValueError for an atlas without nodes."""
-    write_text(path, page(atlas, names, title, max_sample_values))
+    coordinates the page may carry (MAX_SAMPLE_VALUES); progress: a bar
+    over the nodes on stderr (tqdm). ImportError without plotly,
+    ValueError for an atlas without nodes."""
+    write_text(path, page(atlas, names, title, max_sample_values, progress))

@@ -9,6 +9,12 @@ from typing import Any, Dict
 from . import model as _atlas
 from . import tasks
 
+# the default node limit: the depth bounds a run (no documented run comes
+# near it: the hexagonal sail's whole graph, to depth 6, has about 27,000
+# nodes); before, 200 stopped `libkin explore sail:6:2 --depth 2` at depth 1
+MAX_NODES = 1_000_000
+
+
 
 def _f(v: Any, fmt: str = ".4g") -> str:
     if v is None or (isinstance(v, float) and not math.isfinite(v)):
