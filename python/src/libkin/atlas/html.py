@@ -135,8 +135,10 @@ CLEARANCE_CUTOFF = 0.25
 
 
 def shape(atlas: _atlas.Atlas, progress: bool = False) -> Dict[str, List[Optional[float]]]:
-    """Per node (by position): "xy_extent" (the largest distance between two
-    joints seen from above, on the x-y plane), "height" (the z extent; 0 for
+    """Per node (by position): "xy_extent" (the radius of the package seen
+    from above: the largest distance of a joint from the vertical axis
+    through the start's x-y centroid, as the sail study measures it: its
+    hub is there), "height" (the z extent; 0 for
     a plane model), "clearance" (the smallest clearance between parts that
     share no joint, kin_clearance, None where above CLEARANCE_CUTOFF times
     the model size or not measurable) and "contact" (1 where the clearance
@@ -144,7 +146,6 @@ def shape(atlas: _atlas.Atlas, progress: bool = False) -> Dict[str, List[Optiona
     contact). progress: a tqdm bar over the nodes on stderr (if installed)."""
     from ..assembly import Assembly
     from ..errors import KinError
-    from scipy.spatial.distance import pdist
     nodes = atlas.nodes
     contact_in = {e.target for e in atlas.edges if e.event == tasks.CONTACT}
     try:
@@ -152,10 +153,11 @@ def shape(atlas: _atlas.Atlas, progress: bool = False) -> Dict[str, List[Optiona
     except (KinError, ValueError, TypeError, KeyError):
         a = None
     rms = float(np.sqrt(np.mean(a.rest_lengths ** 2))) if a is not None and a.nbars else 0.0
-    size = 1.0
+    size, axis = 1.0, np.zeros(2)
     if nodes:
         c0 = np.asarray(nodes[0].coords, dtype=float)
         size = max(1e-300, float(np.abs(c0 - c0.mean(axis=0)).max()))
+        axis = c0[:, :2].mean(axis=0)
     out: Dict[str, List[Optional[float]]] = {"xy_extent": [], "height": [], "clearance": [], "contact": []}
     bar = _bar(progress, len(nodes), "viewer: nodes' shape and clearance")
     for n in nodes:
@@ -163,7 +165,7 @@ def shape(atlas: _atlas.Atlas, progress: bool = False) -> Dict[str, List[Optiona
             bar.update(1)
         X = np.asarray(n.coords, dtype=float)
         xy = X[:, :2]
-        out["xy_extent"].append(float(pdist(xy).max()) if len(X) > 1 and np.isfinite(xy).all() else None)
+        out["xy_extent"].append(float(np.hypot(*(xy - axis).T).max()) if np.isfinite(xy).all() else None)
         out["height"].append(float(np.ptp(X[:, 2])) if X.shape[1] > 2 and np.isfinite(X).all() else 0.0)
         c: Optional[float] = None
         if a is not None and np.isfinite(X).all():
