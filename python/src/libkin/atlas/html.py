@@ -6,8 +6,10 @@ package, never from a network), the viewer's own script and style (viewer.js
 and viewer.css next to this module) and the atlas itself as data:
 
 - the graph: per node its place on the map (computed here, layout()), kind,
-  m, s, depth, orbit, v_r and status; per edge its ends, event, length,
-  solution and sign;
+  m, s, depth, orbit, v_r, status, and its compactness and contact (shape():
+  x-y extent, height, clearance, contact); per edge its ends, event,
+  length, solution and sign; how deep the run went and why it stopped
+  (reach());
 - the configurations (every node's, and the samples along every edge, with
   the edge's own end where it reached a rigidly moved copy of its target
   node, Edge.end, flagged own_end) as 16-bit integers on one grid (about 3e-5 of the model's extent), in base64;
@@ -28,6 +30,8 @@ import html as _html
 import json
 import math
 import os
+import sys
+import time
 from importlib import resources
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
@@ -143,7 +147,7 @@ def shape(atlas: _atlas.Atlas, progress: bool = False) -> Dict[str, List[Optiona
     share no joint, kin_clearance, None where above CLEARANCE_CUTOFF times
     the model size or not measurable) and "contact" (1 where the clearance
     is within CONTACT_TOL of the RMS bar length or a path ended there in
-    contact). progress: a tqdm bar over the nodes on stderr (if installed)."""
+    contact). progress: a line on stderr every few seconds (how many are done)."""
     from ..assembly import Assembly
     from ..errors import KinError
     nodes = atlas.nodes
@@ -159,10 +163,9 @@ def shape(atlas: _atlas.Atlas, progress: bool = False) -> Dict[str, List[Optiona
         size = max(1e-300, float(np.abs(c0 - c0.mean(axis=0)).max()))
         axis = c0[:, :2].mean(axis=0)
     out: Dict[str, List[Optional[float]]] = {"xy_extent": [], "height": [], "clearance": [], "contact": []}
-    bar = _bar(progress, len(nodes), "viewer: nodes' shape and clearance")
-    for n in nodes:
-        if bar is not None:
-            bar.update(1)
+    bar = _Ticker(progress, len(nodes), "the viewer's nodes measured (shape, clearance)")
+    for k, n in enumerate(nodes):
+        bar.update(k)
         X = np.asarray(n.coords, dtype=float)
         xy = X[:, :2]
         out["xy_extent"].append(float(np.hypot(*(xy - axis).T).max()) if np.isfinite(xy).all() else None)
@@ -177,30 +180,41 @@ def shape(atlas: _atlas.Atlas, progress: bool = False) -> Dict[str, List[Optiona
         out["clearance"].append(c)
         touching = n.id in contact_in or (c is not None and c <= CONTACT_TOL * max(rms, 1e-300))
         out["contact"].append(1.0 if touching else 0.0)
-    if bar is not None:
-        bar.close()
+    bar.close()
     return out
 
 
-def _bar(progress: bool, total: int, desc: str) -> Any:
-    """A tqdm bar on stderr where asked for and tqdm is installed, else None."""
-    if not progress:
-        return None
-    try:
-        from tqdm import tqdm
-    except ImportError:
-        return None
-    return tqdm(total=total, desc=desc, unit="node", mininterval=1.0)
+class _Ticker:
+    """Lines on stderr while a loop over many items runs: "k of N" at most
+    every TICK seconds (none for a loop that ends sooner), then the last."""
+    TICK = 5.0
+
+    def __init__(self, on: bool, total: int, what: str) -> None:
+        self.on, self.total, self.what = on, total, what
+        self.t = time.perf_counter()
+        self.said = False
+
+    def update(self, k: int) -> None:
+        if self.on and time.perf_counter() - self.t >= self.TICK:
+            print(f"[write] {self.what}: {k:,} of {self.total:,}", file=sys.stderr, flush=True)
+            self.t, self.said = time.perf_counter(), True
+
+    def close(self) -> None:
+        if self.on and self.said:
+            print(f"[write] {self.what}: {self.total:,} of {self.total:,}", file=sys.stderr, flush=True)
 
 
 def reach(atlas: _atlas.Atlas) -> Dict[str, Any]:
     """How deep the run went and why it stopped there: "depth" asked for,
     "reached" (the deepest node's depth), "stopped" (limits.limits_hit's
-    sentences: which limit stopped it and how to lift it; empty when none
-    did)."""
+    sentences: which limit stopped it and how to lift it, and whether it
+    was interrupted; empty when nothing did)."""
     from .limits import limits_hit
+    stopped = list(limits_hit(atlas).values())
+    if atlas.stats.get("stopped_by") == "interrupted":  # a signal or a stop: no limit sentence says it
+        stopped.append("interrupted: the atlas so far (partial); continue with --resume")
     return {"depth": atlas.settings.get("depth"), "reached": max((n.depth for n in atlas.nodes), default=0),
-            "stopped": list(limits_hit(atlas).values())}
+            "stopped": stopped}
 
 
 def _quantise(arrays: Sequence[NDArray[np.float64]], centre: NDArray[np.float64], step: float) -> bytes:
@@ -349,7 +363,7 @@ def write(atlas: _atlas.Atlas, path: Union[str, os.PathLike[str]], names: Option
     """Write the viewer page of atlas to path, whole or not at all
     (libkin.atomic). names: {node id: name} to show instead of N<id> (the
     sail study's R^A, R^B, ...); max_sample_values: how many sample
-    coordinates the page may carry (MAX_SAMPLE_VALUES); progress: a bar
-    over the nodes on stderr (tqdm). ImportError without plotly,
+    coordinates the page may carry (MAX_SAMPLE_VALUES); progress: lines
+    on stderr while it measures the nodes. ImportError without plotly,
     ValueError for an atlas without nodes."""
     write_text(path, page(atlas, names, title, max_sample_values, progress))

@@ -598,7 +598,7 @@
     (D.grid.samples_dropped ? "; " + D.grid.samples_dropped.toLocaleString() + " samples left out of the page (size)" : "");
   // why it stopped there: the limits that bit (limits.py), or that nothing was left to expand
   $("stopped").textContent = (RE.stopped || []).length ? RE.stopped.join("; ") :
-    (RE.depth !== undefined && RE.depth !== null && RE.reached < RE.depth ? "stopped: no bifurcation left to expand" :
+    (RE.depth !== undefined && RE.depth !== null && RE.reached < RE.depth ? "complete: no new node past depth " + RE.reached :
       RE.depth !== undefined && RE.depth !== null ? "complete to the depth asked for" : "");
   $("stopped").classList.toggle("limit", (RE.stopped || []).length > 0);
   draw(true).then(function () {
