@@ -246,17 +246,23 @@ def test_a_turn_is_drawn_whole_and_the_shape_filters(driver, shots, tmp_path):
     import libkin
     from test_cli_reports import parallelogram
     a = libkin.Assembly.from_json(parallelogram(tmp_path / "p.json"))
-    at = libkin.explore(a, depth=3, max_nodes=2)
+    # the header: the depth reached and the limit that stopped it there
+    cut = libkin.explore(a, depth=3, max_nodes=2)
+    page = tmp_path / "cut.html"
+    atlas_html.write(cut, page)
+    got = _open(driver, page)
+    assert got["drawn"] == len(cut.nodes) and not got["errors"]
+    head = driver.execute_script("return [document.getElementById('summary').textContent,"
+                                 " document.getElementById('stopped').textContent]")
+    reached = max(n.depth for n in cut.nodes)
+    assert reached < 3 and f"reached depth {reached} of 3" in head[0] and "--max-nodes" in head[1]
+    # the whole atlas to depth 3: paths of whole turns
+    at = libkin.explore(a, depth=3)
     page = tmp_path / "turn.html"
     atlas_html.write(at, page)
     got = _open(driver, page)
     assert got["drawn"] == len(at.nodes) and not got["errors"]
     assert driver.execute_script("return +document.body.dataset.namesDrawn") == len(at.nodes)
-    # the header: reached depth and the limit that stopped it (max_nodes 2 here)
-    head = driver.execute_script("return [document.getElementById('summary').textContent,"
-                                 " document.getElementById('stopped').textContent]")
-    reached = max(n.depth for n in at.nodes)
-    assert f"reached depth {reached} of 3" in head[0] and "--max-nodes" in head[1]
     # every frame of every path's animation in its box
     for e, edge in enumerate(at.edges):
         driver.execute_script("libkinViewer.selectEdge(arguments[0])", e)
