@@ -24,7 +24,7 @@ bifurcations are the R^C candidates.
 import dataclasses
 import itertools
 import math
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -58,7 +58,7 @@ _FREE_EDGES = ((2, 3), (3, 4), (4, 5), (5, 0))
 _HUB_CHORDS = ((0, 3), (0, 4), (1, 3), (1, 4), (1, 5), (2, 4), (2, 5), (3, 5))
 
 
-def _consecutive(pair):
+def _consecutive(pair: Tuple[Tuple[int, int], ...]) -> Reading:
     names = "-".join(f"V{i}V{j}" for i, j in pair)
     return Reading(f"consecutive-{names}", (0, 1, 2), _FREE_EDGES + tuple(pair),
                    what=f"V0, V1, V2 fixed, spokes C-V3, C-V4, C-V5, hub edges V2-V3 to V5-V0, hub bars "
@@ -153,7 +153,7 @@ def _analysis(a: Assembly) -> Dict[str, int]:
     return {"r": int(an.rank), "m": int(an.m_internal), "m_rigid": int(an.m_rigid), "s": int(an.s)}
 
 
-def _follow(start: Assembly, d: np.ndarray, max_length: float = 0.0):
+def _follow(start: Assembly, d: np.ndarray, max_length: float = 0.0) -> Tuple[Assembly, Any]:
     c = start.clone()
     fe = c.follow_event(d, max_steps=800, max_length=max_length)
     return c, fe
@@ -164,7 +164,7 @@ def _mech_direction(a: Assembly, v: np.ndarray) -> np.ndarray:
     return U @ (U.T @ v)
 
 
-def _paths_from_rb(rb: Assembly, flat: np.ndarray, threads: int):
+def _paths_from_rb(rb: Assembly, flat: np.ndarray, threads: int) -> Tuple[Any, List[Dict[str, Any]]]:
     """Every directed path out of R^B followed to its next event."""
     br = rb.branches(solver="homotopy", length=0.5, threads=threads)
     out = []
@@ -173,7 +173,7 @@ def _paths_from_rb(rb: Assembly, flat: np.ndarray, threads: int):
             continue
         d = br.directions[p.beta] * p.sign
         end, fe = _follow(rb, d)
-        rec = {"beta": int(p.beta), "sign": int(p.sign), "d": d, "event": fe.event, "l": float(fe.length),
+        rec: Dict[str, Any] = {"beta": int(p.beta), "sign": int(p.sign), "d": d, "event": fe.event, "l": float(fe.length),
                "steps": int(fe.steps), "axisym": axisymmetry(p.final_coords) < GEOM_TOL,
                "centre_dz": float(p.final_coords[0, 2] - rb.coords[0, 2]), "end": end,
                "xy_at_half": float(np.hypot(p.final_coords[:, 0], p.final_coords[:, 1]).max())}
@@ -188,7 +188,7 @@ def _paths_from_rb(rb: Assembly, flat: np.ndarray, threads: int):
 
 
 def _return_steps(rc: Assembly, arrival_from: Assembly, d_in: np.ndarray, l_in: float, rb: Assembly,
-                  threads: int):
+                  threads: int) -> Dict[str, Any]:
     """From R^C back along the arrival path: the R^C path most nearly
     opposite to the arrival chord, followed to its next event."""
     pre, _ = _follow(arrival_from, d_in, max_length=max(l_in - 0.05, 0.5 * l_in))
@@ -201,7 +201,7 @@ def _return_steps(rc: Assembly, arrival_from: Assembly, d_in: np.ndarray, l_in: 
     if not dirs:
         return {"stopped": "no path out of R^C"}
     cos = [float(v @ chord) / (np.linalg.norm(v) * np.linalg.norm(chord)) for v in dirs]
-    out = {"real_solutions": len(br.betas), "back_at_RB": False}
+    out: Dict[str, Any] = {"real_solutions": len(br.betas), "back_at_RB": False}
     # the arrival path is among the paths nearly opposite to the arrival
     # chord; where several are, the first (most opposite) back at R^B
     for i in sorted(range(len(dirs)), key=lambda i: cos[i]):
@@ -230,7 +230,7 @@ def kinematic(a: Assembly) -> Assembly:
     (such a bar is a zero column of H, a self-stress of its own), which the
     path's corrector needs (with the zero columns it diverges at the first
     step out of R^B: a libkin limitation, reported)."""
-    f = a.fixed.all(axis=1)
+    f = [bool(np.all(row)) for row in np.asarray(a.fixed)]
     keep = [i for i, (u, v) in enumerate(a.bars) if not (f[u] and f[v])]
     if len(keep) == a.nbars:
         return a
@@ -238,11 +238,12 @@ def kinematic(a: Assembly) -> Assembly:
                     name=a.name)
 
 
-def evaluate(reading: Reading, threads: int = 2) -> dict:
+def evaluate(reading: Reading, threads: int = 2) -> Dict[str, Any]:
     """Every statement of Section 6.2, measured on this reading."""
     full = build(reading)
     flat = full.coords
-    row = {"reading": reading.name, "what": reading.what, "H": [full.nfree, full.nbars], "RA": _analysis(full)}
+    row: Dict[str, Any] = {"reading": reading.name, "what": reading.what, "H": [full.nfree, full.nbars],
+                           "RA": _analysis(full)}
     x = rb_coords(full)
     if x is None:
         row["RB"] = {"exists": False}
@@ -302,15 +303,16 @@ def evaluate(reading: Reading, threads: int = 2) -> dict:
     return row
 
 
-def _pick_rc(folds: Sequence[dict]) -> Optional[dict]:
+def _pick_rc(folds: Sequence[Dict[str, Any]]) -> Optional[Dict[str, Any]]:
     """The reading's R^C: of the paths out of R^B that reach a bifurcation
     other than the flat state, an axisymmetric one with the paper's R^C
     (hub planar, three values vanishing) if any, else an axisymmetric one,
     else any; of those, the one that leaves the sail most compact (x-y
     extent at l = 0.5 from R^B), the main job's choice."""
-    def paper(p):
+    def paper(p: Dict[str, Any]) -> bool:
         return p["hub_out"] < GEOM_TOL and p["m"] == 4 and p["s"] == 3
-    for keep in (lambda p: p["axisym"] and paper(p), paper, lambda p: p["axisym"], lambda p: True):
+    rules: List[Any] = [lambda p: p["axisym"] and paper(p), paper, lambda p: p["axisym"], lambda p: True]
+    for keep in rules:
         c = [p for p in folds if keep(p)]
         if c:
             return min(c, key=lambda p: round(p["xy_at_half"], 9))  # the first on ties, as the main job
@@ -333,7 +335,7 @@ STATEMENTS: List[Tuple[str, str]] = [
 ]
 
 
-def judge(row: dict) -> Dict[str, Optional[bool]]:
+def judge(row: Dict[str, Any]) -> Dict[str, Optional[bool]]:
     """Each statement of STATEMENTS on one evaluated row (None: not reached)."""
     rb, rc = row.get("RB", {}), row.get("RC")
     ret = (rc or {}).get("return", {})
@@ -354,17 +356,17 @@ def judge(row: dict) -> Dict[str, Optional[bool]]:
     }
 
 
-def _steps(row: dict) -> Dict[str, Optional[int]]:
+def _steps(row: Dict[str, Any]) -> Dict[str, Optional[int]]:
     leg1, rc = row.get("leg1", {}), row.get("RC") or {}
     return {"RB_fold": leg1.get("steps_RA_to_RB") if leg1.get("reaches_RB") else None, "RC_fold": rc.get("steps"),
             "RB_deploy": (rc.get("return") or {}).get("steps"), "RA_deploy": leg1.get("steps_RB_to_RA")}
 
 
-def score(row: dict) -> int:
+def score(row: Dict[str, Any]) -> int:
     return sum(1 for v in judge(row).values() if v)
 
 
-def readings_table(names: Optional[Sequence[str]] = None, threads: int = 2) -> List[dict]:
+def readings_table(names: Optional[Sequence[str]] = None, threads: int = 2) -> List[Dict[str, Any]]:
     """Every reading (or `names`) evaluated, with its verdicts and score."""
     rows = []
     for name in names or list(READINGS):
@@ -376,7 +378,16 @@ def readings_table(names: Optional[Sequence[str]] = None, threads: int = 2) -> L
     return rows
 
 
-def best_reading(rows: Sequence[dict]) -> str:
+def best_reading(rows: Sequence[Dict[str, Any]]) -> str:
     """The reading that satisfies the most statements (ties: the order of READINGS)."""
     order = list(READINGS)
     return max(rows, key=lambda r: (r["score"], -order.index(r["reading"])))["reading"]
+
+
+def reading_record(name: str = MAIN_READING, threads: int = 2) -> Dict[str, Any]:
+    """One reading for a study's summary: its measurements, each statement's
+    verdict and the statements it misses."""
+    row = readings_table([name], threads=threads)[0]
+    row["of"] = len(STATEMENTS)
+    row["missed"] = [text for text, key in STATEMENTS if not row["verdicts"][key]]
+    return row

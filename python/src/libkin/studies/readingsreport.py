@@ -3,7 +3,7 @@ the side-by-side table, one reading's statements with what was measured,
 and `libkin study --reading NAME|all`'s report."""
 import json
 import pathlib
-from typing import Dict, List, Optional, Sequence
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 from libkin.atomic import staged_folder, write_text
 
@@ -12,11 +12,11 @@ from .readings import MAIN_READING, PAPER_STEPS, READINGS, STATEMENTS, best_read
 _MARK = {True: "yes", False: "**no**", None: "not reached"}
 
 
-def _ms(d: Optional[dict]) -> str:
+def _ms(d: Optional[Dict[str, Any]]) -> str:
     return "" if not d or "m" not in d else f"{d['m']} / {d['s']}"
 
 
-def measured(row: dict) -> Dict[str, str]:
+def measured(row: Dict[str, Any]) -> Dict[str, str]:
     """What was measured for each statement of STATEMENTS, in words."""
     rb, rc, leg1 = row.get("RB", {}), row.get("RC") or {}, row.get("leg1", {})
     ret = rc.get("return") or {}
@@ -47,7 +47,7 @@ def measured(row: dict) -> Dict[str, str]:
     }
 
 
-def statements_md(row: dict) -> List[str]:
+def statements_md(row: Dict[str, Any]) -> List[str]:
     """One reading's statements as a table: the paper's, measured, verdict."""
     v, m = row["verdicts"], measured(row)
     L = ["| the paper says | measured | holds |", "|---|---|---|"]
@@ -55,12 +55,12 @@ def statements_md(row: dict) -> List[str]:
     return L
 
 
-def missed(row: dict) -> List[str]:
+def missed(row: Dict[str, Any]) -> List[str]:
     """The paper's statements this reading does not reproduce."""
     return [text for text, key in STATEMENTS if not row["verdicts"][key]]
 
 
-def _cells(row: dict) -> List[str]:
+def _cells(row: Dict[str, Any]) -> List[str]:
     rb, rc, leg1 = row.get("RB", {}), row.get("RC") or {}, row.get("leg1", {})
     ret = rc.get("return") or {}
     planar = [c for c in row.get("RC_candidates", []) if c["hub_out"] < 1e-6 and (c["m"], c["s"]) == (4, 3)]
@@ -82,14 +82,14 @@ def _cells(row: dict) -> List[str]:
     ]
 
 
-def table_md(rows: Sequence[dict]) -> List[str]:
+def table_md(rows: Sequence[Dict[str, Any]]) -> List[str]:
     """The readings side by side; readings whose every cell agrees are one row."""
     head = ("| reading | H | R^A m / s | general m / s | R^B m / s | R^B real solutions of 2^s | axisymmetric "
             "folding paths out of R^B (centre node) | leg 1 l | R^C: l from R^B, m / s, hub z | hub-planar "
             "m = 4, s = 3 bifurcations next after R^B (l) | return retraces R^C - R^B | steps (paper 35 / 26 / "
             "58 / 149) | statements met |")
     L = [head, "|" + "---|" * 13]
-    groups: Dict[tuple, List[str]] = {}
+    groups: Dict[Tuple[str, ...], List[str]] = {}
     for r in rows:
         groups.setdefault(tuple(_cells(r)), []).append(r["reading"])
     for cells, names in groups.items():
@@ -97,7 +97,7 @@ def table_md(rows: Sequence[dict]) -> List[str]:
     return L
 
 
-def readings_md(rows: Sequence[dict]) -> str:
+def readings_md(rows: Sequence[Dict[str, Any]]) -> str:
     """`libkin study --reading ...`'s report.md."""
     best = best_reading(rows) if len(rows) > 1 else None
     L = ["# Readings of the paper's hexagonal sail (Section 6.2)\n",
@@ -113,7 +113,7 @@ def readings_md(rows: Sequence[dict]) -> str:
     return "\n".join(L) + "\n"
 
 
-def write_readings(rows: Sequence[dict], out) -> None:
+def write_readings(rows: Sequence[Dict[str, Any]], out: Any) -> None:
     """report.md and readings.json into the folder `out`, committed whole."""
     out = pathlib.Path(out)
     with staged_folder(out) as stage:
@@ -123,3 +123,32 @@ def write_readings(rows: Sequence[dict], out) -> None:
 
 def reading_names() -> List[str]:
     return list(READINGS) + ["all"]
+
+
+def paper_rc_steps(ev: Optional[Dict[str, Any]]) -> str:
+    """The paper's 26 steps to R^C, said as what they are when this R^C is
+    not the paper's (hub planar, three values vanishing: m = 4, s = 3)."""
+    if ev and ev["hub_out_of_plane"] < 1e-6 and (ev["m"], ev["s"]) == (4, 3):
+        return "26"
+    return "26, to its own R^C (hub planar, m = 4, s = 3): not this point"
+
+
+def reading_md(rec: Optional[Dict[str, Any]]) -> List[str]:
+    """The main job's section: which model it runs and which of the paper's
+    statements that model reproduces and misses."""
+    if not rec:
+        return []
+    L = ["## The model and the paper's statements\n",
+         f"The paper's Figure 12 is missing and its text allows several models (docs/sail_study.md, "
+         f"'Readings'; `libkin study --reading all` measures all {len(READINGS)} side by side). This run is "
+         f"reading **{rec['reading']}**: {rec['what']}. It reproduces {rec['score']} of the paper's "
+         f"{rec['of']} statements, the most of any reading:\n",
+         "\n".join(statements_md(rec)), ""]
+    if rec["missed"]:
+        L.append("It misses: " + "; ".join(rec["missed"]) + "."
+                 + ("" if rec["verdicts"]["RC_paper"] else
+                    " So this run's R^C is not the paper's R^C: the paper's has the hub planar and three singular "
+                    "values vanishing; this run's, the next bifurcation after R^B along the fold, does not, and "
+                    "nothing measured at it (the step count above included) is a measurement of the paper's.")
+                 + "\n")
+    return L
