@@ -226,10 +226,12 @@ def _distance(x: np.ndarray, y: np.ndarray) -> float:
 
 
 def kinematic(a: Assembly) -> Assembly:
-    """a without its bars between two fully fixed joints: the same motions
-    (such a bar is a zero column of H, a self-stress of its own), which the
-    path's corrector needs (with the zero columns it diverges at the first
-    step out of R^B: a libkin limitation, reported)."""
+    """a without its bars between two fully fixed joints: the same motions.
+    Such a bar is a zero column of H and a self-stress of its own, whose
+    second-order equation is 0 = 0; kept, the complete solver at R^B returns
+    directions that are no paths (each stops 2e-6 out, its corrector
+    diverging), so the paths are sought on this model, where R^B turns out
+    to have m = 4, s = 1: not isolated (the solvers need m = s + 1)."""
     f = [bool(np.all(row)) for row in np.asarray(a.fixed)]
     keep = [i for i, (u, v) in enumerate(a.bars) if not (f[u] and f[v])]
     if len(keep) == a.nbars:
