@@ -26,7 +26,8 @@ case "$flags" in *avx2*) settings+=("Haswell|OPENBLAS_CORETYPE=Haswell");; esac
 case "$flags" in *avx512f*) settings+=("SkylakeX|OPENBLAS_CORETYPE=SkylakeX");; esac
 settings+=("one thread|OPENBLAS_NUM_THREADS=1")
 tests=(python/tests/test_atlas_directions.py python/tests/test_sail_study.py
-       python/tests/test_canonical_solutions.py python/tests/test_atlas_arrival_order.py)
+       python/tests/test_canonical_solutions.py python/tests/test_atlas_arrival_order.py
+       python/tests/test_readings.py)
 out="$build/blas_python"
 rm -rf "$out"
 mkdir -p "$out"

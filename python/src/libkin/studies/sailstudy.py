@@ -36,6 +36,7 @@ from .common import (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, accounting_word
 from .flatcache import flat_solve
 from .contactmap import contact_map
 from .sailmap import MAP_DEPTH, SailMap, explore_symmetric
+from .readings import MAIN_READING, reading_record
 from .sailmeasure import measures
 from .squarestudy import square_study as square_study
 
@@ -329,6 +330,12 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     res["closure"] = float(np.abs(ra.coords - flat).max())
     say(progress, f"[R^A] back after {steps} steps: m = {ev['m']}, s = {ev['s']}, {ev['factorizations']} "
          f"factorizations ({ev['method']}), closure error {res['closure']:.2e}")
+    if (n_sides, n_loops) == (6, 2):
+        # which of the paper's statements this model reproduces (readings.py)
+        say(progress, "[reading] the paper's statements on this model ...")
+        res["reading"] = reading_record(MAIN_READING, threads)
+        say(progress, f"[reading] {MAIN_READING}: {res['reading']['score']} of {res['reading']['of']} statements; "
+            f"misses: {'; '.join(res['reading']['missed']) or 'none'}")
     if interference:
         # the paper's open question on this member: the first contact of its
         # membrane along the radially sequential fold (contactstudy.py)
