@@ -8,8 +8,11 @@ node and edge exactly; every number to the digits it is reported with.
   compare_runs.py A.md B.md [C.md ...]         the same for a report's text
 
 A report (.md) is compared line by line with its times masked (a number
-followed by s, ms or min), and every other number in it to the same 1e-5
-as the JSON's, so it says the same words, candidates, choice and map.
+followed by s, ms or min) and the bifurcation table's work counts masked
+("6 (1 forward)": factorizations to locate, which like the JSON's
+`factorizations` depend on where a converging iteration crosses its
+tolerance), and every other number in it to the same 1e-5 as the JSON's, so
+it says the same words, candidates, choice and map.
 
 Left out, with the reason:
 - wall and CPU times, load averages (the machine);
@@ -66,11 +69,16 @@ def walk(a, b, path, out):
             return
         for i, (x, y) in enumerate(zip(a, b)):
             walk(x, y, f"{path}[{i}]", out)
+    elif isinstance(a, str) and isinstance(b, str) and a != b:
+        i = next(k for k in range(min(len(a), len(b)) + 1) if k == min(len(a), len(b)) or a[k] != b[k])
+        lo = max(0, i - 30)
+        out.append(f"{path}: ...{a[lo:i + 40]}... against ...{b[lo:i + 40]}...")
     elif not same(a, b):
         out.append(f"{path}: {str(a)[:60]} against {str(b)[:60]}")
 
 
 TIME = re.compile(r"\b[0-9]+(\.[0-9]+)? ?(s|ms|min)\b")
+WORK = re.compile(r"\b[0-9]+ \([0-9]+ forward\)")
 NUMBER = re.compile(r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?")
 
 
@@ -79,7 +87,7 @@ def report_lines(text):
     (so they are compared as numbers, to the digits printed)."""
     out = []
     for line in text.splitlines():
-        line = TIME.sub("<time>", line)
+        line = WORK.sub("<work>", TIME.sub("<time>", line))
         nums = [float(x) if any(c in x for c in ".eE") else int(x) for x in NUMBER.findall(line)]
         out.append({"words": NUMBER.sub("#", line), "numbers": nums})
     return out
