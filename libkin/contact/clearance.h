@@ -34,12 +34,14 @@ static inline float f_up(double x) { return (float)dmax(x + fabs(x) * 0x1p-23 + 
 /* One call's pair search (walk.c): the best pair so far (clearance best,
  * parts ba < bb, their primitives' numbers bxa, bxb, closest points bp,
  * bq), the seed pair tested first (tree positions sx, sy) and the walk's
- * float slacks */
+ * float slacks. naming: best is a fixed bound and the search keeps the
+ * smallest pair (parts, then primitives) with clearance at most best, its
+ * clearance in named (kin__name_pair). */
 typedef struct kin__pair_search {
     kin_assembly *a;
     struct kin_contact *c;
-    double best, bp[3], bq[3];
-    int ba, bb, bxa, bxb, sx, sy;
+    double best, named, bp[3], bq[3];
+    int ba, bb, bxa, bxb, sx, sy, naming;
     float slack, rmax_f;
 } kin__pair_search;
 
@@ -51,6 +53,14 @@ void kin__tree_fit(const kin_assembly *a, struct kin_contact *c, const double *x
  * most cutoff (w->ba < 0: none) at the points c->pts of the fitted tree;
  * KIN_OK, or KIN_ERANGE (kin__fail) where the walk went deeper than planned */
 int kin__closest_pair(kin_assembly *a, struct kin_contact *c, double cutoff, kin__pair_search *w);
+
+/* walk.c: of the pairs of parts that share no joint with clearance at most
+ * bound, the smallest pair of parts (then of primitives), whatever the walk
+ * (w->ba < 0: none); its clearance in w->named. Makes no near-pair list
+ * (uses one that holds). kin_clearance names its pair so, with bound its
+ * closest clearance plus rounding, so that pairs tied up to rounding are
+ * named the same on every machine. KIN_OK or KIN_ERANGE as above */
+int kin__name_pair(kin_assembly *a, struct kin_contact *c, double bound, kin__pair_search *w);
 
 /* near_list.c: whether the near-pair list holds at c->pts for this cutoff
  * (1), does not (0), or there is none for it (-1); a walk's list: start

@@ -10,6 +10,7 @@
  * (walk.c: the leaf tests of lanes.h, the near-pair list of near_list.c
  * for checks with a cutoff, the exact tests of primitives.c and
  * distance.c); clearance.h is what those files share. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -322,8 +323,10 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
     if (isnan(cutoff)) return kin__fail(a, KIN_EINVAL, "clearance: cutoff is NaN");
     if (!xyz) xyz = a->xyz;
     int dim = a->dim;
+    double xmax = 0.0; /* the largest |coordinate|: the scale of the distances' rounding */
     for (int i = 0; i < a->nj * dim; ++i) {
         if (!isfinite(xyz[i])) return kin__fail(a, KIN_EGEOM, "joint %d: non-finite coordinate", i / dim);
+        xmax = fmax(xmax, fabs(xyz[i]));
         /* the range kin_assembly_create accepts: the squared distances of
          * the exact tests stay finite (beyond it they overflowed, and every
          * pair looked infinitely far) */
@@ -338,6 +341,18 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
     kin__pair_search W;
     if ((rc = kin__closest_pair(a, c, cutoff, &W)) != KIN_OK) return rc;
     *clearance = W.ba >= 0 ? W.best : INFINITY;
+    if (W.ba >= 0 && (parts || points)) {
+        /* several pairs at the closest clearance up to rounding (parts that
+         * touch along a common edge, a symmetric structure's images): which
+         * one the walk met first depends on the last bits of the coordinates,
+         * so the pair named is the smallest of those within 4 eps x the
+         * largest |coordinate| of it (the rounding of a distance computed
+         * from such coordinates), found by a second walk bounded there */
+        kin__pair_search N;
+        double bound = W.best + 4.0 * DBL_EPSILON * fmax(xmax, fabs(W.best));
+        if ((rc = kin__name_pair(a, c, bound, &N)) != KIN_OK) return rc;
+        if (N.ba >= 0) W.ba = N.ba, W.bb = N.bb, memcpy(W.bp, N.bp, sizeof W.bp), memcpy(W.bq, N.bq, sizeof W.bq);
+    }
     if (W.ba >= 0) {
         if (parts) {
             parts[0] = W.ba < a->nb ? KIN_PART_BAR : KIN_PART_PANEL;

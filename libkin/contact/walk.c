@@ -186,15 +186,18 @@ static void leaf_pair(kin__pair_search *w, int u, int v)
             int pa = Lp->part, pb = Lq->part, sw = pa > pb;
             int fa = sw ? pb : pa, fb = sw ? pa : pb;
             int qa = c->order[sw ? y : x], qb = c->order[sw ? x : y];
-            /* ties: the smallest pair of parts, then of primitives */
-            if (d < w->best || (d == w->best && w->ba >= 0 &&
-                                (pair_less(fa, fb, w->ba, w->bb) ||
-                                 (fa == w->ba && fb == w->bb && pair_less(qa, qb, w->bxa, w->bxb))))) {
-                w->best = d;
+            /* ties: the smallest pair of parts, then of primitives (naming:
+             * every pair within the bound is a tie) */
+            int smaller = w->ba >= 0 && (pair_less(fa, fb, w->ba, w->bb) ||
+                                         (fa == w->ba && fb == w->bb && pair_less(qa, qb, w->bxa, w->bxb)));
+            if (w->naming ? d <= w->best && (w->ba < 0 || smaller)
+                          : d < w->best || (d == w->best && smaller)) {
+                if (!w->naming) w->best = d;
+                w->named = d;
                 w->ba = fa, w->bb = fb, w->bxa = qa, w->bxb = qb;
                 memcpy(w->bp, sw ? xq : xp, sizeof w->bp);
                 memcpy(w->bq, sw ? xp : xq, sizeof w->bq);
-                c->seed[0] = x, c->seed[1] = y;
+                if (!w->naming) c->seed[0] = x, c->seed[1] = y; /* the closest pair: the next call's bound */
             }
         }
     }
@@ -253,11 +256,38 @@ static int tree_walk(kin__pair_search *w, double cutoff, int moves)
     return KIN_OK;
 }
 
+/* the walk's float slacks, from the root box */
+static void search_slacks(kin__pair_search *w)
+{
+    const struct kin_contact *c = w->c;
+    double M = 0.0;
+    for (int k = 0; k < 3; ++k) M = dmax(M, dmax(fabs((double)c->node[0].lo[k]), fabs((double)c->node[0].hi[k])));
+    /* far from 1 (float overflow, underflow): no lane is dropped so */
+    w->slack = M > 0x1p-40 && M < 0x1p100 ? f_up(0x1p-16 * M) : INFINITY;
+    w->rmax_f = f_up(c->rmax);
+}
+
+/* the pairs within the bound, by the near-pair list where it holds for it,
+ * else by a walk that makes no list (clearance.h) */
+int kin__name_pair(kin_assembly *a, struct kin_contact *c, double bound, kin__pair_search *w)
+{
+    if (++c->call == 0) memset(c->ax_call, 0, sizeof(unsigned) * (size_t)c->nprim), c->call = 1;
+    *w = (kin__pair_search){.a = a, .c = c, .best = bound, .named = INFINITY, .ba = -1, .bb = -1, .bxa = -1,
+                            .bxb = -1, .sx = -1, .sy = -1, .naming = 1};
+    search_slacks(w);
+    if (bound >= 0.0 && kin__near_list_holds(c, a->nj, bound) > 0) {
+        for (int k = 0; k < c->vl_n; ++k) leaf_pair(w, c->vl[2 * k], c->vl[2 * k + 1]);
+        return KIN_OK;
+    }
+    return tree_walk(w, -1.0, 0);
+}
+
 /* the seed pair, then the near-pair list or the walk (clearance.h) */
 int kin__closest_pair(kin_assembly *a, struct kin_contact *c, double cutoff, kin__pair_search *w)
 {
     if (++c->call == 0) memset(c->ax_call, 0, sizeof(unsigned) * (size_t)c->nprim), c->call = 1;
-    *w = (kin__pair_search){.a = a, .c = c, .best = cutoff, .ba = -1, .bb = -1, .bxa = -1, .bxb = -1};
+    *w = (kin__pair_search){.a = a, .c = c, .best = cutoff, .named = INFINITY, .ba = -1, .bb = -1, .bxa = -1,
+                            .bxb = -1};
     /* the last answer's pair first (when the tree is the same): an upper
      * bound that prunes from the start */
     if (c->seed[0] >= 0) {
@@ -266,7 +296,7 @@ int kin__closest_pair(kin_assembly *a, struct kin_contact *c, double cutoff, kin
         double d = kin__prim_clearance(c, x, y, xp, xq);
         int pa = c->lp[x].part, pb = c->lp[y].part, sw = pa > pb;
         if (d < w->best) {
-            w->best = d;
+            w->best = w->named = d;
             w->ba = sw ? pb : pa, w->bb = sw ? pa : pb;
             w->bxa = c->order[sw ? y : x], w->bxb = c->order[sw ? x : y];
             memcpy(w->bp, sw ? xq : xp, sizeof w->bp);
@@ -274,13 +304,7 @@ int kin__closest_pair(kin_assembly *a, struct kin_contact *c, double cutoff, kin
         }
     }
     w->sx = c->seed[0], w->sy = c->seed[1];
-    {
-        double M = 0.0;
-        for (int k = 0; k < 3; ++k) M = dmax(M, dmax(fabs((double)c->node[0].lo[k]), fabs((double)c->node[0].hi[k])));
-        /* far from 1 (float overflow, underflow): no lane is dropped so */
-        w->slack = M > 0x1p-40 && M < 0x1p100 ? f_up(0x1p-16 * M) : INFINITY;
-    }
-    w->rmax_f = f_up(c->rmax);
+    search_slacks(w);
     int holds = kin__near_list_holds(c, a->nj, cutoff);
     if (holds > 0) {
         for (int k = 0; k < c->vl_n; ++k) leaf_pair(w, c->vl[2 * k], c->vl[2 * k + 1]);

@@ -172,11 +172,10 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     sym = res["flat"]["symmetric"]
     say(progress, f"[R^A] {n_sides // 2}-fold symmetric motions: {sym['k']} mechanisms, {sym['s']} equations, "
          f"{sym['accounting']['real_distinct']} real solutions of {sym['accounting']['paths']}")
-    U = a.analyse().internal_mechanisms
     followed = []  # (solution, sign, direction, target node or None)
     cands = []
     for e, t in smap.paths_from(0):
-        d = e.sign * (U @ np.asarray(e.beta))
+        d = np.asarray(e.direction)
         tn = smap.nodes[t] if t is not None and e.event == "bifurcation" else None
         followed.append((e.solution, e.sign, d, t))
         if tn is None or tn.kind != "bifurcation":
