@@ -339,7 +339,9 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
     struct kin_contact *c = a->ct;
     kin__tree_fit(a, c, xyz);
     kin__pair_search W;
-    if ((rc = kin__closest_pair(a, c, cutoff, &W)) != KIN_OK) return rc;
+    /* the rounding of a distance computed from coordinates up to xmax */
+    double band = 4.0 * DBL_EPSILON * xmax;
+    if ((rc = kin__closest_pair(a, c, cutoff, parts || points ? band : 0.0, &W)) != KIN_OK) return rc;
     *clearance = W.ba >= 0 ? W.best : INFINITY;
     if (W.ba >= 0 && (parts || points)) {
         /* several pairs at the closest clearance up to rounding (parts that
@@ -347,11 +349,19 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
          * one the walk met first depends on the last bits of the coordinates,
          * so the pair named is the smallest of those within 4 eps x the
          * largest |coordinate| of it (the rounding of a distance computed
-         * from such coordinates), found by a second walk bounded there */
-        kin__pair_search N;
-        double bound = W.best + 4.0 * DBL_EPSILON * fmax(xmax, fabs(W.best));
-        if ((rc = kin__name_pair(a, c, bound, &N)) != KIN_OK) return rc;
-        if (N.ba >= 0) W.ba = N.ba, W.bb = N.bb, memcpy(W.bp, N.bp, sizeof W.bp), memcpy(W.bq, N.bq, sizeof W.bq);
+         * from such coordinates): the first walk met them all and kept
+         * them (or, when there were too many to keep, a second walk bounded
+         * there finds it) */
+        double bound = fmin(W.best + band, cutoff);
+        int k = W.tie_full ? -1 : kin__tie_name(&W, bound);
+        if (k >= 0) {
+            const kin__tie *t = &W.ties[k];
+            W.ba = t->fa, W.bb = t->fb, memcpy(W.bp, t->p, sizeof W.bp), memcpy(W.bq, t->q, sizeof W.bq);
+        } else if (W.tie_full) {
+            kin__pair_search N;
+            if ((rc = kin__name_pair(a, c, bound, &N)) != KIN_OK) return rc;
+            if (N.ba >= 0) W.ba = N.ba, W.bb = N.bb, memcpy(W.bp, N.bp, sizeof W.bp), memcpy(W.bq, N.bq, sizeof W.bq);
+        }
     }
     if (W.ba >= 0) {
         if (parts) {
