@@ -218,6 +218,7 @@ static void split_table(int old)
 
 int main(int argc, char **argv)
 {
+    print_blas();
     const char *what = argc > 1 ? argv[1] : "all";
     int old = argc > 2 && strcmp(argv[2], "--old") == 0;
     int all = strcmp(what, "all") == 0;

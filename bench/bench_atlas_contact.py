@@ -24,6 +24,8 @@ from libkin.io.fold.writer import graph_triangles
 
 
 def main() -> None:
+    from libkin.version import blas_line
+    print(blas_line(), flush=True)  # the kernel the figures below ran on
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--model", default="6:2", help="sail n_sides:n_loops (default 6:2)")
     p.add_argument("--thickness", type=float, default=0.0, help="t / hub side (default 0)")

@@ -257,6 +257,8 @@ def table(args: argparse.Namespace) -> None:
 
 
 def main(argv: Optional[List[str]] = None) -> None:
+    from libkin.version import blas_line
+    print(blas_line(), flush=True)  # the kernel the figures below ran on
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="cmd", required=True)
     r = sub.add_parser("run")

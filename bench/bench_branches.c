@@ -39,6 +39,7 @@ static void scan(FILE *csv, const char *name, kin_assembly *a, int max_log2, int
 
 int main(int argc, char **argv)
 {
+    print_blas();
     const char *dir = argc > 1 ? argv[1] : ".";
     int max_log2 = argc > 2 ? atoi(argv[2]) : 14;
     char path[1024];

@@ -50,6 +50,7 @@ static double median(double *t, int n)
 
 int main(void)
 {
+    print_blas();
     const int members[][2] = {{6, 5}, {8, 4}, {6, 10}, {8, 8}, {6, 20}, {8, 15}, {6, 40}, {8, 30}, {6, 60}, {8, 61}};
     const int nm = (int)(sizeof members / sizeof members[0]);
     double lx[16], ly[9][16], last_ratio = NAN; /* margin after step / step, the last member */

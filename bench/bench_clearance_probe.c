@@ -53,6 +53,7 @@ static void pollute(unsigned char *buf, int br, unsigned long long *st)
 
 int main(int argc, char **argv)
 {
+    print_blas();
     int members[16][2] = {{6, 5}, {8, 4}, {6, 10}, {8, 8}, {6, 20}, {8, 15}, {6, 40}, {8, 30}, {6, 60}, {8, 61}};
     int nm = 10, reps = argc > 1 ? atoi(argv[1]) : 60;
     if (reps < 1) reps = 1;

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
+#include <dlfcn.h>
 
 #include "model/internal.h"
 
@@ -23,6 +24,31 @@ static inline void print_load(const char *when)
         fclose(f);
     }
     printf("[load average %s: %.2f %.2f %.2f]\n", when, l[0], l[1], l[2]);
+}
+
+/* the BLAS the program runs on, printed with its figures: times (and the
+ * last digits of results) depend on OpenBLAS's kernel and threads
+ * (OPENBLAS_CORETYPE, OPENBLAS_NUM_THREADS), so a table says which it had.
+ * Looked up at run time, so the same program reports the reference BLAS
+ * (no kernel) when update-alternatives or LD_LIBRARY_PATH selects it. */
+static inline void print_blas(void)
+{
+    void *h = dlopen(NULL, RTLD_NOW);
+    void *core = h ? dlsym(h, "openblas_get_corename") : NULL;
+    void *config = h ? dlsym(h, "openblas_get_config") : NULL;
+    void *threads = h ? dlsym(h, "openblas_get_num_threads") : NULL;
+    if (core) {
+        char *(*corename)(void), *(*cfg)(void);
+        int (*nth)(void);
+        *(void **)&corename = core;
+        *(void **)&cfg = config;
+        *(void **)&nth = threads;
+        printf("[BLAS: OpenBLAS, kernel %s, %d thread(s)%s%s]\n", corename(), nth ? nth() : -1,
+               cfg ? "; " : "", cfg ? cfg() : "");
+    } else {
+        printf("[BLAS: not OpenBLAS (reference BLAS or another: no kernel name)]\n");
+    }
+    if (h) dlclose(h);
 }
 
 static inline double now(void)

@@ -110,6 +110,8 @@ def inprocess(Q: np.ndarray, threads: int, sym: libkin.Assembly | None = None) -
 
 
 def main() -> None:
+    from libkin.version import blas_line
+    print(blas_line(), flush=True)  # the kernel the figures below ran on
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("mode", choices=["scaling", "full", "inprocess"])
     p.add_argument("--hub", type=int, default=8)

@@ -15,6 +15,7 @@
 
 int main(int argc, char **argv)
 {
+    print_blas();
     double l = argc > 1 ? atof(argv[1]) : 0.1;
     int threads = argc > 2 ? atoi(argv[2]) : 2;
     kin_assembly *a = test_sail(6, 2);

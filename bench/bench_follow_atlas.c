@@ -302,6 +302,7 @@ static int atlas(const char *name, kin_assembly *a, int want, int threads, int k
 
 int main(int argc, char **argv)
 {
+    print_blas();
     const char *mode = argc > 1 ? argv[1] : "rb";
     if (!strcmp(mode, "rb")) {
         kin_assembly *a = test_sail(6, 2), *rc = NULL;

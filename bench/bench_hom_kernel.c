@@ -45,6 +45,7 @@ static double *sail_system(int hexrb, int sides, int *m, int *s)
 
 int main(int argc, char **argv)
 {
+    print_blas();
     if (argc < 4) {
         fprintf(stderr, "usage: bench_hom_kernel rand<s>|hexflat|hexrb|oct first n [write|compare file]\n");
         return 2;

@@ -237,6 +237,7 @@ static FILE *open_csv(const char *dir, const char *file, const char *head)
 
 int main(int argc, char **argv)
 {
+    print_blas();
     const char *dir = argc > 1 ? argv[1] : ".";
     int smax = argc > 2 ? atoi(argv[2]) : 15, hexruns = argc > 3 ? atoi(argv[3]) : 1;
     int scanmax = argc > 4 ? atoi(argv[4]) : 14;

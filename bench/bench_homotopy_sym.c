@@ -32,6 +32,7 @@ static int match(int m, int n, const double *a, const double *b) { return unmatc
 
 int main(int argc, char **argv)
 {
+    print_blas();
     int sides = argc > 1 ? atoi(argv[1]) : 6, loops = argc > 2 ? atoi(argv[2]) : 2;
     int runs = argc > 3 ? atoi(argv[3]) : 1;
     int route = argc > 4 && !strcmp(argv[4], "monodromy") ? KIN__SYM_MONODROMY : KIN__SYM_AUTO;

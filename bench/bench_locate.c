@@ -91,6 +91,7 @@ static double locate_seconds(const kin_assembly *pre, const kin_locate_options *
 
 int main(int argc, char **argv)
 {
+    print_blas();
     const char *dir = argc > 1 ? argv[1] : ".";
     char path[1024];
     snprintf(path, sizeof path, "%s/bench_locate.csv", dir);

@@ -19,6 +19,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench_common.h"
 #include "libkin.h"
 #include "model/internal.h"
 #include "model/lapack.h"
@@ -126,6 +127,7 @@ static int run(int n, int rounds, const char *label, const double *A, double *F,
 
 int main(int argc, char **argv)
 {
+    print_blas();
     int n = argc > 1 ? atoi(argv[1]) : 46, rounds = argc > 2 ? atoi(argv[2]) : 5;
     if (n < 2 || n > 2000 || rounds < 1 || rounds > 1000) {
         fprintf(stderr, "usage: bench_lu_point [N (2..2000) [ROUNDS (1..1000)]]\n");

@@ -37,6 +37,8 @@ from libkin.shared import Sharing
 
 
 def main() -> None:
+    from libkin.version import blas_line
+    print(blas_line(), flush=True)  # the kernel the figures below ran on
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--store", required=True)
     p.add_argument("--model", default="sail:6:2")

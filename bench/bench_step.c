@@ -486,6 +486,7 @@ static void pareto(FILE *csv, int reps, int quick)
 
 int main(int argc, char **argv)
 {
+    print_blas();
     const char *dir = argc > 1 ? argv[1] : ".";
     const char *what = argc > 3 ? argv[3] : "all";
     int reps = argc > 2 ? atoi(argv[2]) : 3, quick = strcmp(what, "quick") == 0;

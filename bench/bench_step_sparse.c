@@ -627,6 +627,7 @@ static void masts(FILE *csv, int quick)
 
 int main(int argc, char **argv)
 {
+    print_blas();
     const char *dir = argc > 1 ? argv[1] : ".";
     const char *what = argc > 2 ? argv[2] : "all";
     int quick = strcmp(what, "quick") == 0, all = quick || strcmp(what, "all") == 0;

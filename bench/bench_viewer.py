@@ -69,6 +69,8 @@ def open_page(page: pathlib.Path, shot: "pathlib.Path | None", edge: int = -1) -
 
 
 def main() -> None:
+    from libkin.version import blas_line
+    print(blas_line(), flush=True)  # the kernel the figures below ran on
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--atlas", default=str(ROOT / "examples" / "atlas" / "square_sail" / "atlas.json"))
     ap.add_argument("--nodes", default="1000,5000,23359")

@@ -958,8 +958,58 @@ static void crossing_cases(void)
     kin_assembly_free(a);
 }
 
+/* pairs tied up to rounding are named canonically: npairs pairs of
+ * parallel bars at the same distance d, far apart along x; coordinates moved
+ * by a few ulps (as another BLAS kernel or thread count moves a located
+ * point) make another pair the exact minimum, and the pair named must be
+ * the smallest, (0, 1), every time, with the clearance the exact minimum.
+ * 2 pairs: the ties the walk keeps; 40: more than it keeps (KIN__TIES_MAX),
+ * named by the second walk */
+static void ties_named_canonically(int npairs)
+{
+    const double d = 0.3;
+    int nj = 4 * npairs, nb = 2 * npairs;
+    double *x0 = malloc(sizeof(double) * 3 * (size_t)nj), *x = malloc(sizeof(double) * 3 * (size_t)nj);
+    int *b = malloc(sizeof(int) * 2 * (size_t)nb);
+    for (int k = 0; k < npairs; ++k) {
+        const double u[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 0, d}, {1, 0, d}};
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 3; ++i) x0[3 * (4 * k + j) + i] = u[j][i] + (i == 0 ? 5.0 * k : 0.0);
+        b[4 * k] = 4 * k, b[4 * k + 1] = 4 * k + 1, b[4 * k + 2] = 4 * k + 2, b[4 * k + 3] = 4 * k + 3;
+    }
+    kin_assembly *a = make(3, nj, x0, nb, b);
+    unsigned long long seed = 5;
+    int other_exact = 0; /* trials where another pair is the exact minimum: the test is not void */
+    for (int trial = 0; a && trial < 64; ++trial) {
+        for (int i = 0; i < 3 * nj; ++i) {
+            int k = (int)(kin__splitmix(&seed) % 5) - 2;
+            x[i] = x0[i] + ldexp((double)k, -52) * fmax(fabs(x0[i]), 1.0);
+        }
+        double c, pts[6], m0 = INFINITY, mo = INFINITY;
+        int parts[4];
+        CHECK_RC(kin_clearance(a, x, INFINITY, &c, parts, pts), KIN_OK);
+        /* the exact minimum of each pair (parallel bars: at an end) */
+        for (int k = 0; k < npairs; ++k)
+            for (int e = 0; e < 2; ++e)
+                for (int f = 0; f < 2; ++f) {
+                    const double *p = x + 3 * (4 * k + e), *q = x + 3 * (4 * k + 2 + f);
+                    double dk = kin__dist_seg_seg(p, p, q, q, pts, pts + 3);
+                    if (k == 0) m0 = fmin(m0, dk);
+                    else mo = fmin(mo, dk);
+                }
+        other_exact += mo < m0;
+        CHECK(parts[0] == KIN_PART_BAR && parts[1] == 0 && parts[2] == KIN_PART_BAR && parts[3] == 1);
+        CHECK_CLOSE(c, fmin(m0, mo), 16 * DBL_EPSILON * 5.0 * npairs);
+    }
+    CHECK(other_exact > 0);
+    kin_assembly_free(a);
+    free(x0), free(x), free(b);
+}
+
 int main(void)
 {
+    ties_named_canonically(2);
+    ties_named_canonically(40);
     crossing_cases();
     follow_cases();
     json_cases();

@@ -5,10 +5,13 @@
 #   1. the tests whose answers an SVD basis or the arrival order could decide
 #      (atlas directions, the sail study against its stored runs, canonical
 #      solutions, arrival order),
-#   2. the main job's --quick study, and
+#   2. the main job itself (`libkin study --contact`, what tools/run_main.sh
+#      runs: the complete solve, the fold, the path map, contact), and
 #   3. a symmetric depth-2 explore of sail:6:2,
-# then compare 2 and 3 across the settings with tools/compare_runs.py (every
-# count, label, choice, node and edge; numbers to the digits reported).
+# then compare 2 and 3 across the settings with tools/compare_runs.py: the
+# main job's summary.json, its path map's atlas.json and its report.md (times
+# masked), and the explorer's atlas (every count, label, choice, node and
+# edge; numbers to the digits reported).
 # Prints a table; exits non-zero if a setting fails or two settings differ.
 #
 # usage: tools/check_blas_python.sh [BUILD_DIR]   (default: build, built, with build/venv)
@@ -26,16 +29,19 @@ case "$flags" in *avx2*) settings+=("Haswell|OPENBLAS_CORETYPE=Haswell");; esac
 case "$flags" in *avx512f*) settings+=("SkylakeX|OPENBLAS_CORETYPE=SkylakeX");; esac
 settings+=("one thread|OPENBLAS_NUM_THREADS=1")
 tests=(python/tests/test_atlas_directions.py python/tests/test_sail_study.py
-       python/tests/test_canonical_solutions.py python/tests/test_atlas_arrival_order.py)
+       python/tests/test_canonical_solutions.py python/tests/test_atlas_arrival_order.py
+       python/tests/test_readings.py)
 out="$build/blas_python"
 rm -rf "$out"
 mkdir -p "$out"
 export LIBKIN_LIBRARY="$PWD/$build/libkin.so" PYTHONPATH="$PWD/python/src"
 
-printf '\n| setting | OpenBLAS core | tests | study --quick | explore sail:6:2 depth 2 | time |\n'
+printf '\n| setting | OpenBLAS core | tests | main job (study --contact) | explore sail:6:2 depth 2 | time |\n'
 printf '|---|---|---|---|---|---|\n'
 fails=0
 studies=()
+maps=()
+reports=()
 atlases=()
 for s in "${settings[@]}"; do
   name=${s%%|*}
@@ -47,8 +53,12 @@ for s in "${settings[@]}"; do
   rc=$?
   tres=$(tail -1 "$out/$tag.tests.log")
   [ $rc -eq 0 ] || { fails=$((fails + 1)); tres="FAILED: $tres"; }
-  env $envs "$py" -m libkin study --quick --out "$out/$tag.study" > "$out/$tag.study.log" 2>&1
-  if [ $? -eq 0 ]; then sres=done; studies+=("$out/$tag.study/summary.json")
+  env $envs "$py" -m libkin study --contact --out "$out/$tag.study" > "$out/$tag.study.log" 2>&1
+  if [ $? -eq 0 ]; then
+    sres=done
+    studies+=("$out/$tag.study/summary.json")
+    maps+=("$out/$tag.study/atlas.json")
+    reports+=("$out/$tag.study/report.md")
   else sres=FAILED; fails=$((fails + 1)); fi
   env $envs "$py" -m libkin explore sail:6:2 --depth 2 --symmetric --quiet --out "$out/$tag.explore" \
     > "$out/$tag.explore.log" 2>&1
@@ -64,6 +74,8 @@ for f in "$out"/*.tests.log; do
 done
 if [ ${#studies[@]} -gt 1 ]; then
   "$py" tools/compare_runs.py "${studies[@]}" || fails=$((fails + 1))
+  "$py" tools/compare_runs.py "${maps[@]}" || fails=$((fails + 1))
+  "$py" tools/compare_runs.py "${reports[@]}" || fails=$((fails + 1))
 fi
 if [ ${#atlases[@]} -gt 1 ]; then
   "$py" tools/compare_runs.py "${atlases[@]}" || fails=$((fails + 1))

@@ -5,6 +5,14 @@ atlas.json. What a user reads must be the same: every count, label, choice,
 node and edge exactly; every number to the digits it is reported with.
 
   compare_runs.py A.json B.json [C.json ...]   exit 1 on a difference
+  compare_runs.py A.md B.md [C.md ...]         the same for a report's text
+
+A report (.md) is compared line by line with its times masked (a number
+followed by s, ms or min) and the bifurcation table's work counts masked
+("6 (1 forward)": factorizations to locate, which like the JSON's
+`factorizations` depend on where a converging iteration crosses its
+tolerance), and every other number in it to the same 1e-5 as the JSON's, so
+it says the same words, candidates, choice and map.
 
 Left out, with the reason:
 - wall and CPU times, load averages (the machine);
@@ -32,7 +40,7 @@ import re
 import sys
 
 SKIP = re.compile(r"(seconds|wall|load|cpu|refinement_steps|factorizations|_steps_taken|time)"
-                  r"|^/interference/contacts\[0\]/(parts|part_ids)|^/edges\[[0-9]+\]/beta|^/stats/store/path")
+                  r"|^/interference/contacts\[0\]/(parts|part_ids)|^/stats/store/path")
 
 
 def same(a, b):
@@ -61,18 +69,40 @@ def walk(a, b, path, out):
             return
         for i, (x, y) in enumerate(zip(a, b)):
             walk(x, y, f"{path}[{i}]", out)
+    elif isinstance(a, str) and isinstance(b, str) and a != b:
+        i = next(k for k in range(min(len(a), len(b)) + 1) if k == min(len(a), len(b)) or a[k] != b[k])
+        lo = max(0, i - 30)
+        out.append(f"{path}: ...{a[lo:i + 40]}... against ...{b[lo:i + 40]}...")
     elif not same(a, b):
         out.append(f"{path}: {str(a)[:60]} against {str(b)[:60]}")
+
+
+TIME = re.compile(r"\b[0-9]+(\.[0-9]+)? ?(s|ms|min)\b")
+WORK = re.compile(r"\b[0-9]+ \([0-9]+ forward\)")
+NUMBER = re.compile(r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?")
+
+
+def report_lines(text):
+    """A report as [(words, numbers)] per line: times masked, numbers apart
+    (so they are compared as numbers, to the digits printed)."""
+    out = []
+    for line in text.splitlines():
+        line = WORK.sub("<work>", TIME.sub("<time>", line))
+        nums = [float(x) if any(c in x for c in ".eE") else int(x) for x in NUMBER.findall(line)]
+        out.append({"words": NUMBER.sub("#", line), "numbers": nums})
+    return out
+
+
+def load(p):
+    with open(p) as fh:
+        return report_lines(fh.read()) if p.endswith(".md") else json.load(fh)
 
 
 def main(argv):
     if len(argv) < 2:
         print(__doc__)
         return 2
-    runs = []
-    for p in argv:
-        with open(p) as fh:
-            runs.append(json.load(fh))
+    runs = [load(p) for p in argv]
     bad = 0
     for p, r in zip(argv[1:], runs[1:]):
         out = []

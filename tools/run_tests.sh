@@ -6,7 +6,7 @@
 #   4. the C suite built with clang in build-clang (tools/build_clang.sh; the
 #      ABI check runs once, in 1),
 #   5. the Python tests an SVD basis or arrival order could decide, the main
-#      job's --quick study and a symmetric explore under OpenBLAS's Prescott,
+#      job (`study --contact`: summary, map and report) and a symmetric explore under OpenBLAS's Prescott,
 #      Haswell and SkylakeX kernels and one thread, compared with each other
 #      (tools/check_blas_python.sh).
 # A suite that fails does not stop the others; the script fails if any did

@@ -96,10 +96,13 @@ KIN_API int kin_has_contact_model(const kin_assembly *a);
  * triangle-triangle distances); a bounding-volume tree over bars and panel
  * triangles, built at the first call and refitted to each later
  * configuration in O(n) (built again when it has grown loose), prunes
- * pairs. Of several pairs at exactly the smallest clearance, the smallest
- * pair of parts (first, then second) is named, and the points of its
- * smallest pair of primitives (bars, then panels' fan triangles, in
- * order), whatever the calls before and whatever the tree.
+ * pairs. Of the pairs within rounding of the smallest clearance (at most
+ * 4 DBL_EPSILON x the largest |coordinate| above it), the smallest pair of
+ * parts (first, then second) is named, with the points of its smallest
+ * pair of primitives (bars, then panels' fan triangles, in order), whatever
+ * the calls before, the tree and the last bits of xyz; clearance is the
+ * smallest itself. (Naming costs a second, bounded walk, only when parts
+ * or points is given.)
  * No allocation (the workspace is made by kin_set_panels or
  * kin_set_thickness, or here, the first time, for a model that has
  * neither).

@@ -31,15 +31,28 @@ static inline double dmax(double x, double y) { return x > y ? x : y; }
 static inline float f_down(double x) { return (float)dmin(x - fabs(x) * 0x1p-23 - 0x1p-140, FLT_MAX); }
 static inline float f_up(double x) { return (float)dmax(x + fabs(x) * 0x1p-23 + 0x1p-140, -FLT_MAX); }
 
+/* a pair of parts (fa < fb, primitives qa, qb, closest points p, q) at
+ * clearance d, kept as a possible tie for the name (kin__tie_name) */
+typedef struct kin__tie {
+    double d, p[3], q[3];
+    int fa, fb, qa, qb;
+} kin__tie;
+#define KIN__TIES_MAX 32
+
 /* One call's pair search (walk.c): the best pair so far (clearance best,
  * parts ba < bb, their primitives' numbers bxa, bxb, closest points bp,
  * bq), the seed pair tested first (tree positions sx, sy) and the walk's
- * float slacks */
+ * float slacks. Pairs are pruned above prune = min(best + band, cutoff),
+ * so every pair within band of the closest is met, and kept in ties
+ * (while there is room: tie_full when not). naming: best is a fixed bound and the search keeps the smallest
+ * pair (parts, then primitives) with clearance at most best, its clearance
+ * in named (kin__name_pair). */
 typedef struct kin__pair_search {
     kin_assembly *a;
     struct kin_contact *c;
-    double best, bp[3], bq[3];
-    int ba, bb, bxa, bxb, sx, sy;
+    double best, prune, cutoff, band, named, bp[3], bq[3];
+    int ba, bb, bxa, bxb, sx, sy, naming, nties, tie_full;
+    kin__tie ties[KIN__TIES_MAX];
     float slack, rmax_f;
 } kin__pair_search;
 
@@ -48,9 +61,22 @@ typedef struct kin__pair_search {
 void kin__tree_fit(const kin_assembly *a, struct kin_contact *c, const double *xyz);
 
 /* walk.c: the closest pair of parts that share no joint with clearance at
- * most cutoff (w->ba < 0: none) at the points c->pts of the fitted tree;
- * KIN_OK, or KIN_ERANGE (kin__fail) where the walk went deeper than planned */
-int kin__closest_pair(kin_assembly *a, struct kin_contact *c, double cutoff, kin__pair_search *w);
+ * most cutoff (w->ba < 0: none) at the points c->pts of the fitted tree,
+ * meeting every pair within band of it (w->second); KIN_OK, or KIN_ERANGE
+ * (kin__fail) where the walk went deeper than planned */
+int kin__closest_pair(kin_assembly *a, struct kin_contact *c, double cutoff, double band, kin__pair_search *w);
+
+/* walk.c: of the pairs of parts that share no joint with clearance at most
+ * bound, the smallest pair of parts (then of primitives), whatever the walk
+ * (w->ba < 0: none); its clearance in w->named. Makes no near-pair list
+ * (uses one that holds). kin_clearance names its pair so, with bound its
+ * closest clearance plus rounding, so that pairs tied up to rounding are
+ * named the same on every machine. KIN_OK or KIN_ERANGE as above */
+int kin__name_pair(kin_assembly *a, struct kin_contact *c, double bound, kin__pair_search *w);
+
+/* walk.c: of a search's ties (w->tie_full == 0) with clearance at most
+ * bound, the one kin__name_pair would name: its index, or -1 if none */
+int kin__tie_name(const kin__pair_search *w, double bound);
 
 /* near_list.c: whether the near-pair list holds at c->pts for this cutoff
  * (1), does not (0), or there is none for it (-1); a walk's list: start

@@ -10,6 +10,7 @@
  * (walk.c: the leaf tests of lanes.h, the near-pair list of near_list.c
  * for checks with a cutoff, the exact tests of primitives.c and
  * distance.c); clearance.h is what those files share. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -322,8 +323,10 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
     if (isnan(cutoff)) return kin__fail(a, KIN_EINVAL, "clearance: cutoff is NaN");
     if (!xyz) xyz = a->xyz;
     int dim = a->dim;
+    double xmax = 0.0; /* the largest |coordinate|: the scale of the distances' rounding */
     for (int i = 0; i < a->nj * dim; ++i) {
         if (!isfinite(xyz[i])) return kin__fail(a, KIN_EGEOM, "joint %d: non-finite coordinate", i / dim);
+        xmax = fmax(xmax, fabs(xyz[i]));
         /* the range kin_assembly_create accepts: the squared distances of
          * the exact tests stay finite (beyond it they overflowed, and every
          * pair looked infinitely far) */
@@ -336,8 +339,30 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
     struct kin_contact *c = a->ct;
     kin__tree_fit(a, c, xyz);
     kin__pair_search W;
-    if ((rc = kin__closest_pair(a, c, cutoff, &W)) != KIN_OK) return rc;
+    /* the rounding of a distance computed from coordinates up to xmax */
+    double band = 4.0 * DBL_EPSILON * xmax;
+    if ((rc = kin__closest_pair(a, c, cutoff, parts || points ? band : 0.0, &W)) != KIN_OK) return rc;
     *clearance = W.ba >= 0 ? W.best : INFINITY;
+    if (W.ba >= 0 && (parts || points)) {
+        /* several pairs at the closest clearance up to rounding (parts that
+         * touch along a common edge, a symmetric structure's images): which
+         * one the walk met first depends on the last bits of the coordinates,
+         * so the pair named is the smallest of those within 4 eps x the
+         * largest |coordinate| of it (the rounding of a distance computed
+         * from such coordinates): the first walk met them all and kept
+         * them (or, when there were too many to keep, a second walk bounded
+         * there finds it) */
+        double bound = fmin(W.best + band, cutoff);
+        int k = W.tie_full ? -1 : kin__tie_name(&W, bound);
+        if (k >= 0) {
+            const kin__tie *t = &W.ties[k];
+            W.ba = t->fa, W.bb = t->fb, memcpy(W.bp, t->p, sizeof W.bp), memcpy(W.bq, t->q, sizeof W.bq);
+        } else if (W.tie_full) {
+            kin__pair_search N;
+            if ((rc = kin__name_pair(a, c, bound, &N)) != KIN_OK) return rc;
+            if (N.ba >= 0) W.ba = N.ba, W.bb = N.bb, memcpy(W.bp, N.bp, sizeof W.bp), memcpy(W.bq, N.bq, sizeof W.bq);
+        }
+    }
     if (W.ba >= 0) {
         if (parts) {
             parts[0] = W.ba < a->nb ? KIN_PART_BAR : KIN_PART_PANEL;

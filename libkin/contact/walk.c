@@ -68,6 +68,44 @@ static inline double lane_gap2(const kin__leafsoa *S, int i, const kin__leafsoa 
 /* (a1, b1) before (a2, b2) */
 static inline int pair_less(int a1, int b1, int a2, int b2) { return a1 < a2 || (a1 == a2 && b1 < b2); }
 
+/* a pair met within prune (best + band) kept as a tie for kin_clearance's
+ * name (kin__tie_name); those that best has since left behind are dropped
+ * when the list fills, and a list still full is given up (w->tie_full:
+ * kin_clearance then names by a second walk) */
+static void note_tie(kin__pair_search *w, double d, int fa, int fb, int qa, int qb, const double *p, const double *q)
+{
+    if (w->tie_full || !(d <= w->prune)) return;
+    if (w->nties == KIN__TIES_MAX) {
+        int k = 0;
+        for (int i = 0; i < w->nties; ++i)
+            if (w->ties[i].d <= w->prune) w->ties[k++] = w->ties[i];
+        w->nties = k;
+        if (k == KIN__TIES_MAX) {
+            w->tie_full = 1;
+            return;
+        }
+    }
+    kin__tie *t = &w->ties[w->nties++];
+    t->d = d, t->fa = fa, t->fb = fb, t->qa = qa, t->qb = qb;
+    memcpy(t->p, p, sizeof t->p);
+    memcpy(t->q, q, sizeof t->q);
+}
+
+int kin__tie_name(const kin__pair_search *w, double bound)
+{
+    int k = -1;
+    for (int i = 0; i < w->nties; ++i) {
+        const kin__tie *t = &w->ties[i];
+        if (!(t->d <= bound)) continue;
+        if (k < 0) { k = i; continue; }
+        const kin__tie *b = &w->ties[k];
+        if (pair_less(t->fa, t->fb, b->fa, b->fb) ||
+            (t->fa == b->fa && t->fb == b->fb && pair_less(t->qa, t->qb, b->qa, b->qb)))
+            k = i;
+    }
+    return k;
+}
+
 /* own_axes: the KIN__OWN_AXES unit axes of the row's primitive (leaf S's
  * lane i, L) for own_lanes (lanes.h: why these, and the rounding), each
  * with the primitive's interval on it (5 floats an axis): a triangle's
@@ -140,12 +178,12 @@ static void leaf_pair(kin__pair_search *w, int u, int v)
     const float *vlo = SU->olo, *vhi = SU->ohi; /* V's lanes on U's axis */
     float pl[LEAF_MAX], ph[LEAF_MAX];
     if (u != v) { /* against the other node's box and slabs, and V's lanes on U's axis */
-        rows &= near_lanes(SU, V->lo, V->hi, near_bound(w->best)) & ~diag_lanes(SU, V->lo, V->hi, near_bound2(w->best), rows);
+        rows &= near_lanes(SU, V->lo, V->hi, near_bound(w->prune)) & ~diag_lanes(SU, V->lo, V->hi, near_bound2(w->prune), rows);
         if (!rows) return;
         project_lanes(SV, SU->w, pl, ph);
         float l = FLT_MAX, h = -FLT_MAX;
         for (int j = 0; j < V->count; ++j) l = pl[j] < l ? pl[j] : l, h = ph[j] > h ? ph[j] : h;
-        rows &= ~orient_lanes(SU->olo, SU->ohi, SU->r, l, h, near_bound(w->best) + rmax_f + slack, rows);
+        rows &= ~orient_lanes(SU->olo, SU->ohi, SU->r, l, h, near_bound(w->prune) + rmax_f + slack, rows);
         vlo = pl, vhi = ph;
     }
     while (rows) {
@@ -153,12 +191,12 @@ static void leaf_pair(kin__pair_search *w, int u, int v)
         rows &= rows - 1;
         const float lo[5] = {SU->lo[0][i], SU->lo[1][i], SU->lo[2][i], SU->lo[3][i], SU->lo[4][i]};
         const float hi[5] = {SU->hi[0][i], SU->hi[1][i], SU->hi[2][i], SU->hi[3][i], SU->hi[4][i]};
-        unsigned cols = near_lanes(SV, lo, hi, near_bound(w->best)) & lanes &
+        unsigned cols = near_lanes(SV, lo, hi, near_bound(w->prune)) & lanes &
                         ~adjacent_lanes(SV, SU->v[0][i], SU->v[1][i], SU->v[2][i]);
         if (u == v) cols &= ~((2u << i) - 1); /* each pair once */
-        float thr0 = near_bound(w->best) + SU->r[i] + slack; /* see apart_lanes */
+        float thr0 = near_bound(w->prune) + SU->r[i] + slack; /* see apart_lanes */
         if (cols) cols &= ~orient_lanes(vlo, vhi, SV->r, SU->olo[i], SU->ohi[i], thr0, cols);
-        if (cols) cols &= ~diag_lanes(SV, lo, hi, near_bound2(w->best), cols);
+        if (cols) cols &= ~diag_lanes(SV, lo, hi, near_bound2(w->prune), cols);
         if (cols) {
             apart_row(SU, i, cx, rp);
             cols &= ~apart_lanes(SV, cx, rp, thr0, cols);
@@ -176,25 +214,30 @@ static void leaf_pair(kin__pair_search *w, int u, int v)
             cols &= cols - 1;
             int y = V->start + j;
             const kin__leafprim *Lq = &lp[y];
-            if (cannot_beat(lane_gap2(SU, i, SV, j), -(double)Lp->r - Lq->r, w->best)) continue;
+            if (cannot_beat(lane_gap2(SU, i, SV, j), -(double)Lp->r - Lq->r, w->prune)) continue;
             /* joints shared were dropped above; parts with more
              * joints than the primitives have are compared whole */
             if (!(Lp->own && Lq->own) && kin__adjacent_parts(w->a, Lp->part, Lq->part)) continue;
-            if (kin__prim_far(c, Lp, Lq, c->lr[x] + c->lr[y], w->best)) continue;
+            if (kin__prim_far(c, Lp, Lq, c->lr[x] + c->lr[y], w->prune)) continue;
             if ((x == w->sx && y == w->sy) || (x == w->sy && y == w->sx)) continue; /* done first */
             double d = kin__prim_clearance(c, x, y, xp, xq);
             int pa = Lp->part, pb = Lq->part, sw = pa > pb;
             int fa = sw ? pb : pa, fb = sw ? pa : pb;
             int qa = c->order[sw ? y : x], qb = c->order[sw ? x : y];
-            /* ties: the smallest pair of parts, then of primitives */
-            if (d < w->best || (d == w->best && w->ba >= 0 &&
-                                (pair_less(fa, fb, w->ba, w->bb) ||
-                                 (fa == w->ba && fb == w->bb && pair_less(qa, qb, w->bxa, w->bxb))))) {
-                w->best = d;
+            /* ties: the smallest pair of parts, then of primitives (naming:
+             * every pair within the bound is a tie) */
+            int smaller = w->ba >= 0 && (pair_less(fa, fb, w->ba, w->bb) ||
+                                         (fa == w->ba && fb == w->bb && pair_less(qa, qb, w->bxa, w->bxb)));
+            int wins = w->naming ? d <= w->best && (w->ba < 0 || smaller)
+                                 : d < w->best || (d == w->best && smaller);
+            if (wins && !w->naming) w->best = d, w->prune = fmin(d + w->band, w->cutoff);
+            if (!w->naming && w->band > 0.0) note_tie(w, d, fa, fb, qa, qb, sw ? xq : xp, sw ? xp : xq);
+            if (wins) {
+                w->named = d;
                 w->ba = fa, w->bb = fb, w->bxa = qa, w->bxb = qb;
                 memcpy(w->bp, sw ? xq : xp, sizeof w->bp);
                 memcpy(w->bq, sw ? xp : xq, sizeof w->bq);
-                c->seed[0] = x, c->seed[1] = y;
+                if (!w->naming) c->seed[0] = x, c->seed[1] = y; /* the closest pair: the next call's bound */
             }
         }
     }
@@ -220,7 +263,7 @@ static int tree_walk(kin__pair_search *w, double cutoff, int moves)
     while (top > 0) {
         --top;
         int u = st[2 * top], v = st[2 * top + 1];
-        double bound = collect ? cutoff + sk[u] + sk[v] : w->best;
+        double bound = collect ? cutoff + sk[u] + sk[v] : w->prune;
         if (u != v && cannot_beat(sg[top], neg_node, bound)) continue;
         const kin__bvh_node *U = &node[u], *V = &node[v];
         if (U->left < 0 && V->left < 0) {
@@ -232,7 +275,7 @@ static int tree_walk(kin__pair_search *w, double cutoff, int moves)
         if (u == v) {
             int l = U->left, r = U->right;
             double g = gap2_node(&node[l], &node[r]);
-            if (!cannot_beat(g, neg_node, collect ? cutoff + sk[l] + sk[r] : w->best)) st[2 * top] = l, st[2 * top + 1] = r, sg[top] = g, ++top;
+            if (!cannot_beat(g, neg_node, collect ? cutoff + sk[l] + sk[r] : w->prune)) st[2 * top] = l, st[2 * top + 1] = r, sg[top] = g, ++top;
             st[2 * top] = r, st[2 * top + 1] = r, sg[top] = 0.0, ++top;
             st[2 * top] = l, st[2 * top + 1] = l, sg[top] = 0.0, ++top;
             continue;
@@ -243,7 +286,7 @@ static int tree_walk(kin__pair_search *w, double cutoff, int moves)
         const kin__bvh_node *O = &node[o], *C1 = &node[c1], *C2 = &node[c2];
         double g1 = gap2_node(C1, O), g2 = gap2_node(C2, O);
         int near = g1 <= g2;
-        double b1 = collect ? cutoff + sk[c1] + sk[o] : w->best, b2 = collect ? cutoff + sk[c2] + sk[o] : w->best;
+        double b1 = collect ? cutoff + sk[c1] + sk[o] : w->prune, b2 = collect ? cutoff + sk[c2] + sk[o] : w->prune;
         if (!cannot_beat(near ? g2 : g1, neg_node, near ? b2 : b1))
             st[2 * top] = near ? c2 : c1, st[2 * top + 1] = o, sg[top] = near ? g2 : g1, ++top;
         if (!cannot_beat(near ? g1 : g2, neg_node, near ? b1 : b2))
@@ -253,11 +296,38 @@ static int tree_walk(kin__pair_search *w, double cutoff, int moves)
     return KIN_OK;
 }
 
-/* the seed pair, then the near-pair list or the walk (clearance.h) */
-int kin__closest_pair(kin_assembly *a, struct kin_contact *c, double cutoff, kin__pair_search *w)
+/* the walk's float slacks, from the root box */
+static void search_slacks(kin__pair_search *w)
+{
+    const struct kin_contact *c = w->c;
+    double M = 0.0;
+    for (int k = 0; k < 3; ++k) M = dmax(M, dmax(fabs((double)c->node[0].lo[k]), fabs((double)c->node[0].hi[k])));
+    /* far from 1 (float overflow, underflow): no lane is dropped so */
+    w->slack = M > 0x1p-40 && M < 0x1p100 ? f_up(0x1p-16 * M) : INFINITY;
+    w->rmax_f = f_up(c->rmax);
+}
+
+/* the pairs within the bound, by the near-pair list where it holds for it,
+ * else by a walk that makes no list (clearance.h) */
+int kin__name_pair(kin_assembly *a, struct kin_contact *c, double bound, kin__pair_search *w)
 {
     if (++c->call == 0) memset(c->ax_call, 0, sizeof(unsigned) * (size_t)c->nprim), c->call = 1;
-    *w = (kin__pair_search){.a = a, .c = c, .best = cutoff, .ba = -1, .bb = -1, .bxa = -1, .bxb = -1};
+    *w = (kin__pair_search){.a = a, .c = c, .best = bound, .prune = bound, .cutoff = bound, .named = INFINITY,
+                            .ba = -1, .bb = -1, .bxa = -1, .bxb = -1, .sx = -1, .sy = -1, .naming = 1};
+    search_slacks(w);
+    if (bound >= 0.0 && kin__near_list_holds(c, a->nj, bound) > 0) {
+        for (int k = 0; k < c->vl_n; ++k) leaf_pair(w, c->vl[2 * k], c->vl[2 * k + 1]);
+        return KIN_OK;
+    }
+    return tree_walk(w, -1.0, 0);
+}
+
+/* the seed pair, then the near-pair list or the walk (clearance.h) */
+int kin__closest_pair(kin_assembly *a, struct kin_contact *c, double cutoff, double band, kin__pair_search *w)
+{
+    if (++c->call == 0) memset(c->ax_call, 0, sizeof(unsigned) * (size_t)c->nprim), c->call = 1;
+    *w = (kin__pair_search){.a = a, .c = c, .best = cutoff, .prune = cutoff, .cutoff = cutoff, .band = band,
+                            .named = INFINITY, .ba = -1, .bb = -1, .bxa = -1, .bxb = -1};
     /* the last answer's pair first (when the tree is the same): an upper
      * bound that prunes from the start */
     if (c->seed[0] >= 0) {
@@ -266,21 +336,17 @@ int kin__closest_pair(kin_assembly *a, struct kin_contact *c, double cutoff, kin
         double d = kin__prim_clearance(c, x, y, xp, xq);
         int pa = c->lp[x].part, pb = c->lp[y].part, sw = pa > pb;
         if (d < w->best) {
-            w->best = d;
+            w->best = w->named = d;
+            w->prune = fmin(d + band, cutoff);
             w->ba = sw ? pb : pa, w->bb = sw ? pa : pb;
             w->bxa = c->order[sw ? y : x], w->bxb = c->order[sw ? x : y];
             memcpy(w->bp, sw ? xq : xp, sizeof w->bp);
             memcpy(w->bq, sw ? xp : xq, sizeof w->bq);
+            if (band > 0.0) note_tie(w, d, w->ba, w->bb, w->bxa, w->bxb, w->bp, w->bq);
         }
     }
     w->sx = c->seed[0], w->sy = c->seed[1];
-    {
-        double M = 0.0;
-        for (int k = 0; k < 3; ++k) M = dmax(M, dmax(fabs((double)c->node[0].lo[k]), fabs((double)c->node[0].hi[k])));
-        /* far from 1 (float overflow, underflow): no lane is dropped so */
-        w->slack = M > 0x1p-40 && M < 0x1p100 ? f_up(0x1p-16 * M) : INFINITY;
-    }
-    w->rmax_f = f_up(c->rmax);
+    search_slacks(w);
     int holds = kin__near_list_holds(c, a->nj, cutoff);
     if (holds > 0) {
         for (int k = 0; k < c->vl_n; ++k) leaf_pair(w, c->vl[2 * k], c->vl[2 * k + 1]);

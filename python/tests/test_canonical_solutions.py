@@ -183,6 +183,11 @@ def _same_atlas(a, b, tol=1e-7):
     for e, f in zip(a.edges, b.edges):
         assert (e.source, e.target, e.solution, e.sign, e.event) == (f.source, f.target, f.solution, f.sign, f.event), e.id
         assert e.event == "failure" or abs(e.length - f.length) <= near[e.target] * max(1.0, e.length), e.id
+        # the stored first direction is physical (sign U beta), so a turned basis leaves it
+        # alone up to the solver's last digits (it was beta, in the turned basis's coordinates)
+        assert len(e.direction) == len(f.direction) > 0, e.id
+        assert np.abs(np.asarray(e.direction) - np.asarray(f.direction)).max() <= 1e-8, e.id
+        assert abs(np.linalg.norm(e.direction) - 1.0) <= 64 * np.finfo(float).eps, e.id
 
 
 def test_study_summary_is_the_same_in_any_basis(rotated, tmp_path):

@@ -227,3 +227,17 @@ def test_family_member_study():
     assert all(ev[k]["v_r_rel"] <= 1e-10 for k in ("RB_fold", "RC_fold", "RB_deploy", "RA_deploy"))
     assert (ev["RA_deploy"]["m"], ev["RA_deploy"]["s"]) == (21, 20)
     assert res["closure"] < 1e-9 and res["max_strain"] < 1e-12
+
+
+def test_hex_study_says_which_paper_statements_its_model_misses(hex_run):
+    """The main job runs the reading that satisfies the most of the paper's
+    statements (test_readings.py) and its report says which it misses: R^C
+    (not the paper's: hub out of plane, m = 6, s = 5) and the step counts."""
+    from libkin.studies.readings import MAIN_READING
+    res, out = hex_run
+    rec = res["reading"]
+    assert rec["reading"] == MAIN_READING
+    assert [k for k, ok in rec["verdicts"].items() if not ok] == ["RC_paper", "steps"]
+    ev = res["events"]["RC_fold"]
+    assert ev["hub_out_of_plane"] > 0.4 and (ev["m"], ev["s"]) == (6, 5)
+    assert "## The model and the paper's statements" in (out / "report.md").read_text()

@@ -96,7 +96,7 @@ def fragile_branches(plain, sym):
     two. Only those may differ; the test then compares everything else
     (also bench/bench_symmetry_default.py's)."""
     def ends(at):
-        return [(e.sign * np.asarray(e.beta), e.event, at.nodes[e.target].coords, e.length) for e in at.edges
+        return [(np.asarray(e.direction), e.event, at.nodes[e.target].coords, e.length) for e in at.edges
                 if e.source == 0]
     theirs = ends(sym)
     out = []
@@ -110,7 +110,7 @@ def fragile_branches(plain, sym):
 def excluding(fragile):
     """differences()' exclude: the start's branches in fragile."""
     def exclude(e):
-        d = e.sign * np.asarray(e.beta)
+        d = np.asarray(e.direction)
         return e.source == 0 and any(np.abs(d - f[0]).max() <= 1e-6 for f in fragile)
     return exclude
 

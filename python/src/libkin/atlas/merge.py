@@ -86,12 +86,12 @@ def merge_level(ex: Any, work: List[Any], got: Dict[int, Any], depth: int) -> No
         X[ex.fixed] = ex.a.coords[ex.fixed]
         ids[c] = ex.add_node(X, kind, got[k], depth)
     for k in sorted(got):
-        nid, sol, sign, beta = work[k][:4]
+        nid, sol, sign, _beta, direction = work[k][:5]
         res, t = got[k], target[k]
         t = ids[t[1]] if isinstance(t, tuple) else t
         X = np.asarray(res["coords"], dtype=float)
         own = np.abs(X - ex.nodes[t].coords).max() <= END_SAME * ex.scale
-        ex.edges.append(Edge(len(ex.edges), nid, t, int(sol), int(sign), [float(v) for v in beta],
+        ex.edges.append(Edge(len(ex.edges), nid, t, int(sol), int(sign), [float(v) for v in direction],
                                res["event"], float(res["length"]), float(res["accuracy"]), res["samples"],
                                res["message"], int(res.get("steps", 0)), float(res.get("vr_tol", 0.0)),
                                None if own else X.tolist()))

@@ -112,6 +112,18 @@ class Node:
         return d
 
 
+def _edge_fields(e: Dict[str, Any]) -> Dict[str, Any]:
+    """An edge record as Edge's fields. An atlas written before issue 35
+    stored `beta` (in its node's mechanism basis, which it did not store) in
+    place of `direction`: that beta cannot be turned into a direction, so it is
+    dropped and the direction left empty."""
+    if "direction" in e or "beta" not in e:
+        return e
+    e = {k: v for k, v in e.items() if k != "beta"}
+    e["direction"] = []
+    return e
+
+
 @dataclasses.dataclass
 class Edge:
     id: int
@@ -119,7 +131,10 @@ class Edge:
     target: int
     solution: int        # index of beta among the node's solutions (0 at a regular point)
     sign: int            # +1 / -1: which sense of U_m beta
-    beta: List[float]
+    # sign * U_m beta: the branch's unit first direction in the node's free
+    # coordinates. Physical, so the same on every machine; beta itself is in
+    # the coordinates of an SVD's mechanism basis, which is not (issue 35).
+    direction: List[float]
     event: str           # tasks.EVENT_KINDS
     length: float
     accuracy: float
@@ -158,7 +173,7 @@ class Atlas:
     def to_json(self, path: Union[None, str, os.PathLike[str]] = None) -> str:
         """The atlas as JSON text (and written to path, whole or not at all):
         indented one space a level, but each node's coordinates and each
-        edge's beta, samples and end on one line (the configurations are
+        edge's direction, samples and end on one line (the configurations are
         most of a large atlas: one number a line took 1.5x the room)."""
         d = self.to_dict()
         held: List[str] = []
@@ -170,7 +185,7 @@ class Atlas:
         for n in d["nodes"]:
             n["coords"] = hold(n["coords"])
         for e in d["edges"]:
-            for k in ("beta", "samples", "end"):
+            for k in ("direction", "samples", "end"):
                 e[k] = hold(e[k])
         text = json.dumps(d, indent=1, default=_jsonable, allow_nan=True) + "\n"
         quoted = json.dumps(mark)[:-1]  # the mark as json.dumps writes it, without the closing quote
@@ -183,7 +198,7 @@ class Atlas:
     def from_dict(cls, d: Dict[str, Any]) -> Atlas:
         from ..symmetry.automorphisms import Symmetry
         nodes = [Node(**dict(n, coords=np.asarray(n["coords"]))) for n in d["nodes"]]
-        edges = [Edge(**e) for e in d["edges"]]
+        edges = [Edge(**_edge_fields(e)) for e in d["edges"]]
         syms = [Symmetry(tuple(g["perm"]), np.asarray(g["Q"]), np.asarray(g["t"])) for g in d["symmetries"]]
         return cls(d["model"], nodes, edges, syms, d["settings"], d["stats"])
 
@@ -199,7 +214,7 @@ class Atlas:
             G.add_edge(self.node_name(e.source), self.node_name(e.target), key=e.id, solution=e.solution,
                        sign=e.sign, event=e.event, length=e.length,
                        accuracy=e.accuracy if math.isfinite(e.accuracy) else -1.0,
-                       beta=json.dumps(e.beta), samples=json.dumps(e.samples), message=e.message,
+                       direction=json.dumps(e.direction), samples=json.dumps(e.samples), message=e.message,
                        end=json.dumps(e.end))
         return G
 
@@ -221,7 +236,7 @@ class Atlas:
     def same_as(self, other: Atlas, tol: float = 1e-9) -> bool:
         """True if other has the same nodes (kind, m, s, orbit, coordinates to
         tol times the model size) and edges (endpoints, solution, sign, event,
-        length to tol)."""
+        length to tol, first direction to max(tol, 1e-8) where both have one)."""
         if len(self.nodes) != len(other.nodes) or len(self.edges) != len(other.edges):
             return False
         for a, b in zip(self.nodes, other.nodes):
@@ -233,6 +248,11 @@ class Atlas:
             if (e.source, e.target, e.solution, e.sign, e.event) != (f.source, f.target, f.solution, f.sign, f.event):
                 return False
             if abs(e.length - f.length) > tol * max(1.0, e.length):
+                return False
+            # first directions (unit vectors) where both atlases stored them; two
+            # complete solves agree to their last digits (1e-13), not to tol's 1e-9
+            if e.direction and f.direction and \
+                    np.abs(np.asarray(e.direction) - np.asarray(f.direction)).max() > max(tol, 1e-8):
                 return False
         return True
 

@@ -27,6 +27,11 @@ def register(sub):
                    help="where the path map's branches are followed (libkin explore's --executor)")
     s.add_argument("--workers", type=count(1), default=2, help="workers of --executor process|dask (default 2)")
     s.add_argument("--quiet", action="store_true", help="no progress messages")
+    s.add_argument("--reading", default=None, metavar="NAME",
+                   help="which model of the paper's hexagonal sail (Section 6.2 allows several; docs/sail_study.md "
+                        "'Readings'): the main job's ('alternating', the default) runs the study; another name "
+                        "measures that reading against every statement the paper makes (report.md in --out); 'all' "
+                        "tabulates every reading side by side")
     s.add_argument("--contact", nargs="?", type=float, const=0.0, default=None, metavar="T",
                    help="also explore the path map with contact as an event (membrane thickness t/a = T, default "
                         "0: the bare membrane) and report which mapped paths reach their next event free of "
@@ -90,7 +95,31 @@ def needed_modules(args: argparse.Namespace) -> List[str]:
             + (["distributed"] if args.executor == "dask" and (args.interference or args.hub != 4) else []))
 
 
+def _reading(args: argparse.Namespace) -> int:
+    from .readings import readings_table
+    from .readingsreport import write_readings
+    names = None if args.reading == "all" else [args.reading]
+    rows = readings_table(names, threads=args.threads)
+    write_readings(rows, args.out)
+    print(f"report: {pathlib.Path(args.out) / 'report.md'}")
+    return 0
+
+
 def cmd_study(args: argparse.Namespace) -> int:
+    if args.reading is not None:
+        from .readings import MAIN_READING
+        from .readingsreport import reading_names
+        if args.reading not in reading_names():
+            print(f"--reading: unknown reading {args.reading!r}; one of: {', '.join(reading_names())}",
+                  file=sys.stderr)
+            return EXIT_USAGE
+        if args.hub != 6 or args.loops != 2 or args.interference or args.contact is not None:
+            print("--reading reads the paper's hexagonal sail (--hub 6 --loops 2, without --interference or "
+                  "--contact)", file=sys.stderr)
+            return EXIT_USAGE
+        if args.reading != MAIN_READING:
+            with folder_lock(args.out):
+                return _reading(args)
     if args.contact is not None:
         if not (0.0 <= args.contact < 1.0):
             print("--contact: the thickness t/a must be in [0, 1)", file=sys.stderr)

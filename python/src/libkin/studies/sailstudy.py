@@ -36,6 +36,7 @@ from .common import (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, accounting_word
 from .flatcache import flat_solve
 from .contactmap import contact_map
 from .sailmap import MAP_DEPTH, SailMap, explore_symmetric
+from .readings import MAIN_READING, reading_record
 from .sailmeasure import measures
 from .squarestudy import square_study as square_study
 
@@ -171,11 +172,10 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     sym = res["flat"]["symmetric"]
     say(progress, f"[R^A] {n_sides // 2}-fold symmetric motions: {sym['k']} mechanisms, {sym['s']} equations, "
          f"{sym['accounting']['real_distinct']} real solutions of {sym['accounting']['paths']}")
-    U = a.analyse().internal_mechanisms
     followed = []  # (solution, sign, direction, target node or None)
     cands = []
     for e, t in smap.paths_from(0):
-        d = e.sign * (U @ np.asarray(e.beta))
+        d = np.asarray(e.direction)
         tn = smap.nodes[t] if t is not None and e.event == "bifurcation" else None
         followed.append((e.solution, e.sign, d, t))
         if tn is None or tn.kind != "bifurcation":
@@ -329,6 +329,12 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
     res["closure"] = float(np.abs(ra.coords - flat).max())
     say(progress, f"[R^A] back after {steps} steps: m = {ev['m']}, s = {ev['s']}, {ev['factorizations']} "
          f"factorizations ({ev['method']}), closure error {res['closure']:.2e}")
+    if (n_sides, n_loops) == (6, 2):
+        # which of the paper's statements this model reproduces (readings.py)
+        say(progress, "[reading] the paper's statements on this model ...")
+        res["reading"] = reading_record(MAIN_READING, threads)
+        say(progress, f"[reading] {MAIN_READING}: {res['reading']['score']} of {res['reading']['of']} statements; "
+            f"misses: {'; '.join(res['reading']['missed']) or 'none'}")
     if interference:
         # the paper's open question on this member: the first contact of its
         # membrane along the radially sequential fold (contactstudy.py)

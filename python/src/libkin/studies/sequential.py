@@ -113,14 +113,13 @@ def _extent(x: np.ndarray) -> float:
 def _first_leg(a: Assembly, labels: List[str], n_sides: int, executor: Any, threads: int) -> Optional[np.ndarray]:
     """The direction of leg 1 (None if no symmetric path wraps loop 1)."""
     smap = SailMap(explore_symmetric(a, 1, executor=executor, threads=threads))
-    U = a.analyse().internal_mechanisms
     best = None
     for e, t in smap.paths_from(0):
         if e.event != "bifurcation" or t is None:
             continue
         if not wraps_loop1(smap.nodes[t].coords, labels, n_sides):
             continue
-        d = e.sign * (U @ np.asarray(e.beta))
+        d = np.asarray(e.direction)
         key = (round(e.length, 6), d[0] > 0)  # shortest; then the centre moving down
         if best is None or key < best[0]:
             best = (key, d)

@@ -5,6 +5,7 @@ from libkin.atomic import write_text
 from libkin.plot import draw, pyplot
 
 from .common import branch_words
+from .readingsreport import paper_rc_steps, reading_md
 
 
 def _fmt(v, nd=3):
@@ -209,7 +210,7 @@ def _write_hex_md(res, out, M, figs):
              "| hub max abs z (a) | paper's method here (tol 1e-6): factorizations, v_r | paper (steps) |")
     L.append("|---|---|---|---|---|---|---|---|---|---|")
     L.append(_event_row("R^B (folding)", ev.get("RB_fold"), 35))
-    L.append(_event_row("R^C (folding)", ev.get("RC_fold"), 26))
+    L.append(_event_row("R^C (folding)", ev.get("RC_fold"), paper_rc_steps(ev.get("RC_fold"))))
     L.append(_event_row("R^B (deploying)", ev.get("RB_deploy"), 58))
     L.append(_event_row("R^A (deploying)", ev.get("RA_deploy"), 149))
     L.append("\nEach leg is followed by the library's follower (kin_follow_event, the explorer's): 'steps' "
@@ -267,6 +268,7 @@ def _write_hex_md(res, out, M, figs):
         from .contactreport import contact_map_md
         L += contact_map_md(res["contact_map"], res.get("map", {}).get("atlas", {}).get("edges"),
                             figs.get("contact_map"))
+    L += reading_md(res.get("reading"))
     L.append("## The paper's three questions\n")
     cont = "failed" not in res
     L.append(f"1. **Continuous strain-free motion from open to folded?** "

@@ -1,0 +1,99 @@
+"""The readings of the paper's hexagonal sail (studies/readings.py, issue 37
+item 1): every model Section 6.2's text allows has H 46 x 45 and the flat
+state's m = 16, s = 15; R^B as the text describes it exists only with the
+forward diagonals and the loop width a tan(pi/6); the main job's reading is
+the one that satisfies the most statements, and it misses exactly R^C and the
+step counts. Also the docs' check that a hub held planar leaves R^B rigid."""
+import json
+import math
+import pathlib
+
+import numpy as np
+import pytest
+
+from libkin.assembly import Assembly
+from libkin.cli import main
+from libkin.studies import readings as R
+
+STORED = pathlib.Path(__file__).resolve().parents[2] / "examples" / "sail_study" / "readings" / "readings.json"
+
+
+@pytest.mark.parametrize("name", list(R.READINGS))
+def test_every_reading_is_46_by_45_with_the_flat_counts(name):
+    a = R.build(R.READINGS[name])
+    an = a.analyse()
+    assert (a.nfree, a.nbars) == (46, 45)
+    assert (an.m_internal, an.m_rigid, an.s) == (16, 0, 15)
+
+
+@pytest.mark.parametrize("name", list(R.READINGS))
+def test_rb_as_the_text_describes_it(name):
+    """Hub planar, A_k over V_k alternately: strain-free (to rounding) with
+    m = 4, s = 3 for every forward-diagonal reading, impossible backward."""
+    r = R.READINGS[name]
+    a = R.build(r)
+    x = R.rb_coords(a)
+    if r.diagonal == "backward":
+        assert x is None
+        return
+    rb = a.clone()
+    rb.coords = x
+    an = rb.analyse()
+    assert rb.max_strain <= 64 * np.finfo(float).eps
+    assert R.hub_out_of_plane(x) == 0.0
+    assert R.axisymmetry(x) < 1e-12
+    assert (an.m_internal, an.s) == (4, 3)
+
+
+def test_the_loop_width_is_forced():
+    w = math.tan(math.pi / 6)
+    assert R.rb_width_residual(w) <= 16 * np.finfo(float).eps
+    for other in (0.5, 0.7, 1.0):
+        assert R.rb_width_residual(other) > 1e-2
+
+
+def test_the_main_reading_fits_best_and_misses_rc_and_steps():
+    rows = R.readings_table()
+    assert R.best_reading(rows) == R.MAIN_READING
+    main_row = next(r for r in rows if r["reading"] == R.MAIN_READING)
+    others = [r["score"] for r in rows if r["reading"] != R.MAIN_READING]
+    assert main_row["score"] > max(others)
+    v = main_row["verdicts"]
+    assert [k for k, ok in v.items() if not ok] == ["RC_paper", "steps"]
+    rc = main_row["RC"]
+    assert (rc["m"], rc["s"]) == (6, 5) and rc["hub_out"] > 0.4
+    # no reading's R^C is the paper's with the rest of its statements: every
+    # reading with a hub-planar m = 4, s = 3 R^C misses R^B's axisymmetric paths
+    for r in rows:
+        if r["verdicts"]["RC_paper"]:
+            assert not r["verdicts"]["RB_axisym"]
+    # the stored table (`libkin study --reading all`, docs/sail_study.md's) is this one
+    stored = json.loads(STORED.read_text())
+    assert [r["reading"] for r in stored] == [r["reading"] for r in rows]
+    for got, exp in zip(rows, stored):
+        assert (got["verdicts"], got["steps"], got["score"]) == (exp["verdicts"], exp["steps"], exp["score"])
+        for key in ("leg1", "RC"):
+            if key in exp:
+                assert abs(got[key]["l"] - exp[key]["l"]) <= 1e-6 * max(1.0, exp[key]["l"])
+
+
+def test_hub_held_planar_leaves_rb_rigid():
+    """docs/sail_study.md: with the hub (and C) held, R^B has no mechanism
+    at all (r = 36, m = 0, s = 9), so there is no leg 2."""
+    a = R.build(R.READINGS[R.MAIN_READING])
+    x = R.rb_coords(a)
+    fixed = a.fixed.copy()
+    fixed[:7] = True
+    held = Assembly(x, a.bars, fixed=fixed, lengths=a.rest_lengths)
+    an = held.analyse()
+    assert (an.rank, an.m_internal, an.m_rigid, an.s) == (36, 0, 0, 9)
+
+
+def test_cli_reading(tmp_path, capsys):
+    out = tmp_path / "r"
+    assert main(["study", "--reading", "consecutive-V0V4-V2V4", "--out", str(out), "--quiet"]) == 0
+    rows = json.loads((out / "readings.json").read_text())
+    assert [r["reading"] for r in rows] == ["consecutive-V0V4-V2V4"]
+    assert "| the paper says | measured | holds |" in (out / "report.md").read_text()
+    assert main(["study", "--reading", "no-such-reading", "--out", str(tmp_path / "x")]) != 0
+    assert main(["study", "--reading", "alternating-backward", "--hub", "8", "--out", str(tmp_path / "y")]) != 0
