@@ -88,6 +88,19 @@ static void check_bifurcation(void)
            ap.m_internal, ap.s, ap.s_trivial, aa.rank, aa.m_internal, aa.s, aa.s_trivial);
     CHECK(ap.rank == 2 && ap.m_internal == 2 && ap.s == 1 && ap.s_trivial == 0);
     CHECK(aa.rank == 2 && aa.m_internal == 2 && aa.s == 2 && aa.s_trivial == 1);
+    {
+        /* the sparse mode's analysis counts them alike */
+        kin_assembly *c = NULL;
+        kin_options o = {.size = sizeof o};
+        kin_analysis as = {.size = sizeof as};
+        CHECK_RC(kin_assembly_clone(a, &c), KIN_OK);
+        CHECK_RC(kin_get_options(c, &o), KIN_OK);
+        o.factorization = KIN_STEP_SPARSE;
+        CHECK_RC(kin_set_options(c, &o), KIN_OK);
+        CHECK_RC(kin_analyse(c, &as), KIN_OK);
+        CHECK(as.rank == 2 && as.m_internal == 2 && as.s == 2 && as.s_trivial == 1);
+        kin_assembly_free(c);
+    }
 
     /* one equation, not one per self-stress, with or without normalisation */
     double Q[8];
