@@ -127,7 +127,7 @@ static void layout(void)
            "  implicit none\n  integer :: failures = 0\n");
     BEGIN(kin_analysis) F(kin_analysis, size) F(kin_analysis, rank) F(kin_analysis, m)
         F(kin_analysis, m_rigid) F(kin_analysis, m_internal) F(kin_analysis, s)
-        F(kin_analysis, v_max) F(kin_analysis, v_r) end();
+        F(kin_analysis, v_max) F(kin_analysis, v_r) F(kin_analysis, s_trivial) end();
     BEGIN(kin_options) F(kin_options, size) F(kin_options, rank_tol) F(kin_options, corrector_tol)
         F(kin_options, corrector_max_iter) F(kin_options, step_fraction)
         F(kin_options, max_halvings) F(kin_options, direction_tol) F(kin_options, max_correction)

@@ -30,6 +30,7 @@ module libkin
     integer(c_size_t) :: size = KIN_SIZEOF_ANALYSIS
     integer(c_int) :: rank = 0, m = 0, m_rigid = 0, m_internal = 0, s = 0
     real(c_double) :: v_max = 0, v_r = 0
+    integer(c_int) :: s_trivial = 0
   end type
 
   type, bind(C), public :: kin_options

@@ -154,6 +154,12 @@ typedef struct kin_analysis {
     int s;          /* nbars - r: states of self-stress */
     double v_max;   /* largest singular value */
     double v_r;     /* lowest non-zero singular value (v_r of the paper) */
+    /* layout 2 (docs/abi.md): a host compiled without this field does not get it */
+    int s_trivial;  /* of the s, those of the bars with no free coordinate at
+                       either end (each alone in tension, a zero column of H
+                       at every configuration): the second order, branches and
+                       the path's classification use the s - s_trivial others
+                       (docs/generality.md, "Bars between fixed joints") */
 } kin_analysis;
 
 /* Factorize H at the current configuration (LAPACK dgesdd, falling back to

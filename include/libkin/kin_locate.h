@@ -4,8 +4,10 @@
  * below a threshold and decreasing) and a signed test function that a step
  * cannot jump over:
  *     tau = sign(det [C; t^T; R^T]) * v_r,
- * C = H^T, t the oriented tangent, R the rigid-body mechanisms (oriented
- * continuously). The bordered matrix is square and regular on a path; its
+ * C = H^T without the rows of bars between fixed joints (zero at every
+ * point: kin_analysis.s_trivial), t the oriented tangent, R the rigid-body
+ * mechanisms (oriented continuously). Where it is not square (redundant
+ * bars on the path) tau = v_r, unsigned. The bordered matrix is square and regular on a path; its
  * determinant changes sign where the path crosses another one at a simple
  * bifurcation (one extra singular value through zero). Cost: one LU
  * factorization (dgetrf) per step, about a sixth of an SVD. */

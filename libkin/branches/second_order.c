@@ -12,35 +12,74 @@
  * The printed eq. 14/17 omit the 1/L_i (harmless for the three-bar linkage,
  * whose bars all have L = 1). */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "model/internal.h"
+#include "model/lapack.h"
 
-/* A matrix whose norm drops below this fraction after orthogonalisation is
- * a combination of the previous ones (two Gram-Schmidt passes). */
+/* A matrix whose part outside the span of the previous ones is below this
+ * fraction of the largest Q_j is a combination of them (two Gram-Schmidt
+ * passes). Measured against the largest, not against Q_j's own norm: every
+ * Q_j comes from a unit self-stress, so their rounding is that of the
+ * largest, and a Q_j that is zero but for rounding (a self-stress whose
+ * bars do not stretch at second order) is noise, not an equation. */
 static const double Q_DEPENDENT_TOL = 1e-10;
+/* the projected self-stresses' singular values are 1 (kinematic) or 0
+ * (trivial) but for rounding: the midpoint decides */
+static const double KINEMATIC_SV_CUT = 0.5;
 
-int kin_second_order(const kin_assembly *a, int weighting, int normalise, double *Q, int nq,
-                     int *s_out)
+/* The self-stresses the second order uses, into W (nb x *sk, ld nb): with
+ * no fixed bars, the analysis' W_s itself; with fixed bars, an orthonormal
+ * basis of the self-stresses with no force in them (W_s with those rows
+ * zeroed, then its left singular vectors of value 1). The self-stress
+ * space is the orthogonal sum of the fixed bars' unit vectors and these,
+ * so the second-order equations lose nothing: a fixed bar's own equation
+ * is 0 = 0 at every order. A status; W is allocated here (*W_out, the
+ * caller frees it). */
+static int kinematic_self_stresses(const kin_assembly *a, const kin_factor *f, double **W_out, int *sk)
 {
-    if (s_out) *s_out = 0;
-    if (!a || !Q || !s_out) return KIN_ENULL;
-    const kin_factor *f = kin__cur(a);
-    if (!f->valid && kin__sparse_an_current(a))
-        return kin__fail((kin_assembly *)a, KIN_ESTATE,
-                         "the current analysis is the sparse mode's (no singular vectors of H): the second order "
-                         "needs the SVD analysis (KIN_STEP_SVD, or kin_locate_next)");
-    if (!f->valid) return KIN_ESTATE;
-    if (weighting != KIN_Q_EXACT && weighting != KIN_Q_PAPER_EQ17) return KIN_EINVAL;
-    int m = f->an.m_internal, s = f->an.s, nf = a->nf, nb = a->nb, d = a->dim, r = f->an.rank;
-    if (m < 2 || s < 1) return KIN_EINVAL;
-    /* m^2 s can pass INT_MAX for a large enough structure: counted in size_t */
-    size_t need;
-    if (nq < 0 || !kin__mul_size3((size_t)m * (size_t)m, (size_t)s, sizeof(double), &need) ||
-        need / sizeof(double) > (size_t)nq)
-        return KIN_ERANGE;
-    memset(Q, 0, need);
+    int nb = a->nb, s = f->an.s, r = f->an.rank, info = 0, lwork = -1;
+    *W_out = NULL;
+    *sk = 0;
+    size_t bytes;
+    double *W = kin__mul_size3((size_t)nb, (size_t)s, sizeof(double), &bytes) ? malloc(bytes) : NULL;
+    if (!W) return KIN_ENOMEM;
+    for (int j = 0; j < s; ++j)
+        for (int i = 0; i < nb; ++i)
+            W[i + (size_t)j * nb] = kin__bar_fixed(a, i) ? 0.0 : f->VT[(r + j) + (size_t)i * nb];
+    *W_out = W;
+    if (f->an.s_trivial == 0) {
+        *sk = s;
+        return KIN_OK;
+    }
+    int mn = nb < s ? nb : s;
+    double q = 0.0, dummy = 0.0;
+    double *sv = malloc(sizeof(double) * (size_t)mn), *U = malloc(bytes), *work = NULL;
+    dgesvd_("S", "N", &nb, &s, W, &nb, sv, U, &nb, &dummy, &s, &q, &lwork, &info, 1, 1);
+    lwork = info == 0 && q < 1e9 ? (int)q + 1 : 0;
+    if (!sv || !U || lwork == 0 || !(work = malloc(sizeof(double) * (size_t)lwork))) {
+        free(sv), free(U), free(work);
+        return info ? KIN_ELAPACK_ARG : KIN_ENOMEM;
+    }
+    dgesvd_("S", "N", &nb, &s, W, &nb, sv, U, &nb, &dummy, &s, work, &lwork, &info, 1, 1);
+    int kept = 0;
+    while (info == 0 && kept < mn && sv[kept] > KINEMATIC_SV_CUT) ++kept;
+    memcpy(W, U, sizeof(double) * (size_t)nb * (size_t)kept);
+    free(sv), free(U), free(work);
+    if (info < 0) return KIN_ELAPACK_ARG;
+    if (info > 0) return KIN_ELAPACK_CONV;
+    *sk = kept;
+    return KIN_OK;
+}
+
+/* Q_j (m x m, j < sk) from the self-stresses W (nb x sk) */
+static void build_q(const kin_assembly *a, const kin_factor *f, int weighting, const double *W, int sk,
+                    double *Q)
+{
+    int m = f->an.m_internal, nf = a->nf, nb = a->nb, d = a->dim;
     for (int i = 0; i < nb; ++i) {
+        if (kin__bar_fixed(a, i)) continue; /* D_i = 0 */
         int ja = a->bars[2 * i], jb = a->bars[2 * i + 1];
         double w = weighting == KIN_Q_EXACT ? 1.0 / a->L0[i] : 1.0;
         /* G = D_i^T D_i (m x m), added to each Q_j with weight t_ij * w */
@@ -56,21 +95,56 @@ int kin_second_order(const kin_assembly *a, int weighting, int normalise, double
                     g += dp * dq;
                 }
                 if (g == 0.0) continue;
-                for (int j = 0; j < s; ++j) {
-                    double t = f->VT[(r + j) + (size_t)i * nb]; /* W_s(i, j) */
-                    double v = t * w * g;
+                for (int j = 0; j < sk; ++j) {
+                    double v = W[i + (size_t)j * nb] * w * g; /* t_ij w g */
                     Q[(size_t)j * m * m + p + (size_t)q * m] += v;
                     if (p != q) Q[(size_t)j * m * m + q + (size_t)p * m] += v;
                 }
             }
     }
+}
+
+int kin_second_order(const kin_assembly *a, int weighting, int normalise, double *Q, int nq,
+                     int *s_out)
+{
+    if (s_out) *s_out = 0;
+    if (!a || !Q || !s_out) return KIN_ENULL;
+    const kin_factor *f = kin__cur(a);
+    if (!f->valid && kin__sparse_an_current(a))
+        return kin__fail((kin_assembly *)a, KIN_ESTATE,
+                         "the current analysis is the sparse mode's (no singular vectors of H): the second order "
+                         "needs the SVD analysis (KIN_STEP_SVD, or kin_locate_next)");
+    if (!f->valid) return KIN_ESTATE;
+    if (weighting != KIN_Q_EXACT && weighting != KIN_Q_PAPER_EQ17) return KIN_EINVAL;
+    int m = f->an.m_internal, s = f->an.s - f->an.s_trivial;
+    if (m < 2 || s < 1)
+        return kin__fail((kin_assembly *)a, KIN_EINVAL,
+                         "not a bifurcation: m_internal = %d, s = %d of which %d of bars between fixed joints", m,
+                         f->an.s, f->an.s_trivial);
+    /* m^2 s can pass INT_MAX for a large enough structure: counted in size_t */
+    size_t need;
+    if (nq < 0 || !kin__mul_size3((size_t)m * (size_t)m, (size_t)s, sizeof(double), &need) ||
+        need / sizeof(double) > (size_t)nq)
+        return KIN_ERANGE;
+    double *W = NULL;
+    int rc = kinematic_self_stresses(a, f, &W, &s);
+    if (rc) {
+        free(W);
+        return kin__fail((kin_assembly *)a, rc, "second order: the self-stresses without the fixed bars' (%s)",
+                         rc == KIN_ENOMEM ? "memory" : "dgesvd");
+    }
+    memset(Q, 0, sizeof(double) * (size_t)m * (size_t)m * (size_t)s);
+    build_q(a, f, weighting, W, s, Q);
+    free(W);
     *s_out = s;
     if (!normalise) return KIN_OK;
     /* eq. 18: orthonormalise vec(Q_j) */
     int mm = m * m, kept = 0; /* m <= nfree and nfree^2 <= INT_MAX (kin_assembly_create) */
+    double qmax = 0.0;
+    for (int j = 0; j < s; ++j) qmax = fmax(qmax, kin__norm(mm, Q + (size_t)j * mm));
     for (int j = 0; j < s; ++j) {
-        double *v = Q + (size_t)j * mm;
-        if (kin__gs_column(mm, Q, mm, kept, v) < Q_DEPENDENT_TOL) continue;
+        double *v = Q + (size_t)j * mm, before = kin__norm(mm, v);
+        if (!(kin__gs_column(mm, Q, mm, kept, v) * before > Q_DEPENDENT_TOL * qmax)) continue;
         memmove(Q + (size_t)kept * mm, v, sizeof(double) * (size_t)mm);
         ++kept;
     }

@@ -67,7 +67,11 @@ int kin_test_function(kin_assembly *a, double *tau)
     if (flip)
         for (int i = 0; i < nf; ++i) R[i] = -R[i];
     a->have_Rref = mr + 1;
-    if (nb + 1 + mr != nf) {
+    /* the bars between fixed joints are zero rows of H^T at every point:
+     * left out, the border is the one of the structure without them (the
+     * same sign, the same detection) */
+    int nbk = nb - a->nfixed_bars;
+    if (nbk + 1 + mr != nf) {
         /* redundant bars on the path (s > 0): no square border, no sign */
         *tau = f->an.v_r;
         return KIN_OK;
@@ -75,11 +79,14 @@ int kin_test_function(kin_assembly *a, double *tau)
     double *B = a->mwork;
     int *ipiv = a->iwork, info = 0;
     kin__build_H(a, a->xyz, a->H, nf);
-    for (int k = 0; k < nb; ++k)
-        for (int i = 0; i < nf; ++i) B[k + (size_t)i * nf] = a->H[i + (size_t)k * nf];
-    for (int i = 0; i < nf; ++i) B[nb + (size_t)i * nf] = t[i];
+    for (int k = 0, row = 0; k < nb; ++k)
+        if (!kin__bar_fixed(a, k)) {
+            for (int i = 0; i < nf; ++i) B[row + (size_t)i * nf] = a->H[i + (size_t)k * nf];
+            ++row;
+        }
+    for (int i = 0; i < nf; ++i) B[nbk + (size_t)i * nf] = t[i];
     for (int c = 0; c < mr; ++c)
-        for (int i = 0; i < nf; ++i) B[nb + 1 + c + (size_t)i * nf] = R[i + (size_t)c * nf];
+        for (int i = 0; i < nf; ++i) B[nbk + 1 + c + (size_t)i * nf] = R[i + (size_t)c * nf];
     a->nfact++;
     dgetrf_(&nf, &nf, B, &nf, ipiv, &info);
     if (info < 0) return kin__fail(a, KIN_ELAPACK_ARG, "dgetrf info = %d", info);

@@ -7,6 +7,17 @@
 
 #include "libkin.h"
 
+/* kin_analysis as a host compiled against layout 1 has it */
+struct kin__kin_analysis_1 {
+    size_t size;
+    int rank;
+    int m;
+    int m_rigid;
+    int m_internal;
+    int s;
+    double v_max;
+    double v_r;
+};
 /* kin_options as a host compiled against layout 1 has it */
 struct kin__kin_options_1 {
     size_t size;
@@ -139,7 +150,7 @@ struct kin__kin_follow_info_2 {
 };
 
 /* each struct as a host compiled against its first layout has it */
-typedef kin_analysis kin__kin_analysis_layout1;
+typedef struct kin__kin_analysis_1 kin__kin_analysis_layout1;
 typedef struct kin__kin_options_1 kin__kin_options_layout1;
 typedef struct kin__kin_step_info_1 kin__kin_step_info_layout1;
 typedef kin_sail_params kin__kin_sail_params_layout1;
@@ -175,7 +186,7 @@ enum kin__abi_id {
 /* {name, layouts, {sizeof each layout}, {where its fields end}}, oldest first;
  * the last layout is the struct of today's header */
 #define KIN__ABI_TABLE \
-    {"kin_analysis", 1, {sizeof(kin_analysis)}, {sizeof(kin_analysis)}}, \
+    {"kin_analysis", 2, {sizeof(struct kin__kin_analysis_1), sizeof(kin_analysis)}, {offsetof(struct kin__kin_analysis_1, v_r) + sizeof(((struct kin__kin_analysis_1 *)0)->v_r), sizeof(kin_analysis)}}, \
     {"kin_options", 2, {sizeof(struct kin__kin_options_1), sizeof(kin_options)}, {offsetof(struct kin__kin_options_1, step_control) + sizeof(((struct kin__kin_options_1 *)0)->step_control), sizeof(kin_options)}}, \
     {"kin_step_info", 2, {sizeof(struct kin__kin_step_info_1), sizeof(kin_step_info)}, {offsetof(struct kin__kin_step_info_1, m_internal) + sizeof(((struct kin__kin_step_info_1 *)0)->m_internal), sizeof(kin_step_info)}}, \
     {"kin_sail_params", 1, {sizeof(kin_sail_params)}, {sizeof(kin_sail_params)}}, \
@@ -194,6 +205,15 @@ enum kin__abi_id {
  * the one before: if it is not, fields appended to a layout fit in the
  * previous one's tail padding and a host's size could not tell the two
  * apart; then append a member (e.g. `int reserved;`) to the new layout. */
+typedef char kin__abi_grows_kin_analysis_1[sizeof(struct kin__kin_analysis_1) < sizeof(kin_analysis) ? 1 : -1];
+typedef char kin__abi_prefix_kin_analysis_1_size[offsetof(struct kin__kin_analysis_1, size) == offsetof(kin_analysis, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_analysis_1_rank[offsetof(struct kin__kin_analysis_1, rank) == offsetof(kin_analysis, rank) ? 1 : -1];
+typedef char kin__abi_prefix_kin_analysis_1_m[offsetof(struct kin__kin_analysis_1, m) == offsetof(kin_analysis, m) ? 1 : -1];
+typedef char kin__abi_prefix_kin_analysis_1_m_rigid[offsetof(struct kin__kin_analysis_1, m_rigid) == offsetof(kin_analysis, m_rigid) ? 1 : -1];
+typedef char kin__abi_prefix_kin_analysis_1_m_internal[offsetof(struct kin__kin_analysis_1, m_internal) == offsetof(kin_analysis, m_internal) ? 1 : -1];
+typedef char kin__abi_prefix_kin_analysis_1_s[offsetof(struct kin__kin_analysis_1, s) == offsetof(kin_analysis, s) ? 1 : -1];
+typedef char kin__abi_prefix_kin_analysis_1_v_max[offsetof(struct kin__kin_analysis_1, v_max) == offsetof(kin_analysis, v_max) ? 1 : -1];
+typedef char kin__abi_prefix_kin_analysis_1_v_r[offsetof(struct kin__kin_analysis_1, v_r) == offsetof(kin_analysis, v_r) ? 1 : -1];
 typedef char kin__abi_grows_kin_options_1[sizeof(struct kin__kin_options_1) < sizeof(kin_options) ? 1 : -1];
 typedef char kin__abi_padding_kin_options_1[sizeof(struct kin__kin_options_1) == sizeof(struct kin__kin_options_1_unpadded) ? 1 : -1];
 typedef char kin__abi_prefix_kin_options_1_size[offsetof(struct kin__kin_options_1, size) == offsetof(kin_options, size) ? 1 : -1];
@@ -306,13 +326,21 @@ typedef char kin__abi_prefix_kin_follow_info_2_return_gap[offsetof(struct kin__k
  * per struct and all together; the old-host test sets each through its
  * layout (tests/test_abi_fields.c) */
 #define KIN__ABI_FIELDS_kin_analysis(X) \
-    X(kin_analysis, 1, kin_analysis, rank) \
-    X(kin_analysis, 1, kin_analysis, m) \
-    X(kin_analysis, 1, kin_analysis, m_rigid) \
-    X(kin_analysis, 1, kin_analysis, m_internal) \
-    X(kin_analysis, 1, kin_analysis, s) \
-    X(kin_analysis, 1, kin_analysis, v_max) \
-    X(kin_analysis, 1, kin_analysis, v_r)
+    X(kin_analysis, 1, struct kin__kin_analysis_1, rank) \
+    X(kin_analysis, 1, struct kin__kin_analysis_1, m) \
+    X(kin_analysis, 1, struct kin__kin_analysis_1, m_rigid) \
+    X(kin_analysis, 1, struct kin__kin_analysis_1, m_internal) \
+    X(kin_analysis, 1, struct kin__kin_analysis_1, s) \
+    X(kin_analysis, 1, struct kin__kin_analysis_1, v_max) \
+    X(kin_analysis, 1, struct kin__kin_analysis_1, v_r) \
+    X(kin_analysis, 2, kin_analysis, rank) \
+    X(kin_analysis, 2, kin_analysis, m) \
+    X(kin_analysis, 2, kin_analysis, m_rigid) \
+    X(kin_analysis, 2, kin_analysis, m_internal) \
+    X(kin_analysis, 2, kin_analysis, s) \
+    X(kin_analysis, 2, kin_analysis, v_max) \
+    X(kin_analysis, 2, kin_analysis, v_r) \
+    X(kin_analysis, 2, kin_analysis, s_trivial)
 #define KIN__ABI_FIELDS_kin_options(X) \
     X(kin_options, 1, struct kin__kin_options_1, rank_tol) \
     X(kin_options, 1, struct kin__kin_options_1, corrector_tol) \

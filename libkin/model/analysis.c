@@ -99,6 +99,10 @@ int kin__reclassify(kin_assembly *a, const double *xyz, int idx)
         if (f->sv[i] > tol * an->v_max) an->rank++;
     an->m = nf - an->rank;
     an->s = nb - an->rank;
+    /* a zero column of H adds nothing to the rank: each fixed bar is one of
+     * the s self-stresses (the min guards a rank decision that counted a
+     * rounding-level singular value of a zero column) */
+    an->s_trivial = a->nfixed_bars < an->s ? a->nfixed_bars : an->s;
     an->v_r = an->rank > 0 ? f->sv[an->rank - 1] : 0.0;
     int rc = split_mechanisms(a, xyz, f);
     if (rc) return rc;

@@ -704,6 +704,7 @@ int kin__analyse_sparse(kin_assembly *a, int report)
     r->an.rank = nf - m;
     r->an.m = m;
     r->an.s = s;
+    r->an.s_trivial = a->nfixed_bars < s ? a->nfixed_bars : s; /* as the dense analysis (analysis.c) */
     r->an.v_max = vmax;
     int mr = 0;
     double *sw = malloc(sizeof(double) * kin__split_work(nf, m));

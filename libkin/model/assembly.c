@@ -589,6 +589,7 @@ int kin_assembly_create(int dim, int nj, const double *xyz, const unsigned char 
         a->free_index[i] = a->fixed[i] ? -1 : r;
         if (!a->fixed[i]) a->free_coord[r++] = i;
     }
+    for (int k = 0; k < nb; ++k) a->nfixed_bars += kin__bar_fixed(a, k);
     double ss = 0.0;
     a->min_length = INFINITY;
     for (int k = 0; k < nb; ++k) {

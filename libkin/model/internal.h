@@ -104,6 +104,9 @@ struct kin_assembly {
     long nfact;              /* factorizations made by this handle, ever */
     int nrig;                /* 3 (2D) or 6 (3D) rigid motions */
     int nfix;                /* number of fixed coordinates */
+    int nfixed_bars;         /* bars with no free coordinate at either end (kin__bar_fixed): a zero
+                                column of H at every configuration, a self-stress of its own
+                                (kin_analysis.s_trivial) */
     double *G;               /* (nj*dim) x nrig rigid motions (ld nj*dim) */
     double *Gs;              /* small scratch: nrig*nrig + nrig + nrig*nf */
     /* mechanism_split.c: the supports admit no rigid motion, measured at
@@ -265,6 +268,18 @@ const kin_sparse_an *kin__sparse_an_current(const kin_assembly *a);
  * doubles. */
 int kin__split_basis(kin_assembly *a, const double *xyz, const double *Um, int m, double *Urig, double *Uint,
                      int *mr, double *work);
+/* Bar k has no free coordinate at either end: its length never changes,
+ * its column of H is zero at every configuration and it adds nothing to
+ * the second-order equations (docs/generality.md, "Bars between fixed
+ * joints"). */
+static inline int kin__bar_fixed(const kin_assembly *a, int k)
+{
+    int ja = a->bars[2 * k], jb = a->bars[2 * k + 1];
+    for (int c = 0; c < a->dim; ++c)
+        if (a->free_index[ja * a->dim + c] >= 0 || a->free_index[jb * a->dim + c] >= 0) return 0;
+    return 1;
+}
+
 static inline size_t kin__split_work(int nf, int m) { return (size_t)m * 8 + (size_t)nf + 16; }
 /* kin_analyse without progress reports, for the library's own loops (whose
  * callbacks count steps, not phases of one analysis) */

@@ -174,7 +174,7 @@ int kin_get_tangent(const kin_assembly *a, double *t, int n)
         memcpy(t, f->Uint, sizeof(double) * (size_t)n);
         return KIN_OK;
     }
-    return f->an.m_internal == 0 ? KIN_ENOMECH : f->an.s == 0 ? KIN_EMULTIDOF : KIN_EBIFURCATION;
+    return f->an.m_internal == 0 ? KIN_ENOMECH : f->an.s == f->an.s_trivial ? KIN_EMULTIDOF : KIN_EBIFURCATION;
 }
 
 /* Chord correction with the current factor: d = sum_{i<r} u_i (w_i^T e)/v_i */
@@ -418,11 +418,11 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
         if (rc) return rc;
         if (f->an.m_internal == 0) return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");
         if (f->an.m_internal >= 2 && !a->t_chosen) {
-            /* no self-stress: H^T has full row rank, the strain-free set is
-             * smooth here with m_internal internal degrees of freedom (a
-             * multi-DOF mechanism, not a bifurcation); with self-stresses the
+            /* no self-stress but fixed bars': the strain-free set is smooth
+             * here with m_internal internal degrees of freedom (a multi-DOF
+             * mechanism, not a bifurcation); with self-stresses the
              * first-order analysis cannot tell the two apart */
-            if (f->an.s == 0)
+            if (f->an.s == f->an.s_trivial)
                 return kin__fail(a, KIN_EMULTIDOF, "%d internal mechanisms, no self-stress (set one with "
                                  "kin_path_set_direction())", f->an.m_internal);
             return kin__fail(a, KIN_EBIFURCATION,
@@ -447,7 +447,7 @@ static int step_impl(kin_assembly *a, double delta, const double *pred, kin_step
     /* the start point's factorization serves as the chord corrector where
      * H^T keeps its rank nearby: a regular point of a path or of a multi-DOF
      * mechanism (no self-stress); at a bifurcation, Newton */
-    int use_chord = lu_point || f->an.m_internal == 1 || f->an.s == 0;
+    int use_chord = lu_point || f->an.m_internal == 1 || f->an.s == f->an.s_trivial;
     int start_mi = lu_point ? 1 : f->an.m_internal;
     attempt_result res = {0};
     int h, tries = pred ? 0 : a->opt.max_halvings, chord_only_failed = 0;

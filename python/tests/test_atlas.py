@@ -116,6 +116,23 @@ def test_threebar_and_regular_start(tmp_path):
     assert any(at2.nodes[e.target].kind == atlas_mod.BIFURCATION for e in at2.edges)
 
 
+def test_a_bar_between_the_supports_changes_no_branch():
+    """The three-bar linkage with a fourth bar between its two supports
+    (docs/generality.md, "Bars between fixed joints"): s counts that bar's
+    self-stress (s = 2, s_trivial = 1), and the atlas is the linkage's."""
+    p = libkin.Assembly.threebar("RC")
+    a = libkin.Assembly(p.coords, np.vstack([p.bars, [[2, 3]]]), fixed=p.fixed,
+                        lengths=np.append(p.rest_lengths, 1.0))
+    assert (a.analyse().s, a.analyse().s_trivial) == (2, 1)
+    ap, aa = libkin.explore(p, depth=2), libkin.explore(a, depth=2)
+    assert [(n.kind, n.m, n.s) for n in aa.nodes] == [(n.kind, n.m, n.s + 1) for n in ap.nodes]
+    assert all(n.branches.get("s_trivial") == 1 and n.branches["s"] == 1 for n in aa.nodes)
+    assert len(aa.edges) == len(ap.edges) == 12
+    for ea, ep in zip(aa.edges, ap.edges):
+        assert (ea.source, ea.target, ea.event) == (ep.source, ep.target, ep.event)
+        assert abs(ea.length - ep.length) <= 1e-9
+
+
 def test_json_model_and_outputs(tmp_path):
     path = tmp_path / "three.json"
     libkin.Assembly.threebar("RC").to_json(path)

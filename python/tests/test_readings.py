@@ -13,6 +13,7 @@ import pytest
 
 from libkin.assembly import Assembly
 from libkin.cli import main
+from libkin.errors import StateError
 from libkin.studies import readings as R
 
 STORED = pathlib.Path(__file__).resolve().parents[2] / "examples" / "sail_study" / "readings" / "readings.json"
@@ -87,6 +88,36 @@ def test_hub_held_planar_leaves_rb_rigid():
     held = Assembly(x, a.bars, fixed=fixed, lengths=a.rest_lengths)
     an = held.analyse()
     assert (an.rank, an.m_internal, an.m_rigid, an.s) == (36, 0, 0, 9)
+
+
+def test_bars_between_fixed_joints_add_no_equation():
+    """consecutive-zero keeps the hub bars V0-V1 and V1-V2 between fixed
+    joints (docs/generality.md, "Bars between fixed joints"): at R^B, s = 3
+    of which 2 their own; the second order is the structure's without them
+    (one Q, the same quadratic form), so R^B is honestly not isolated (m =
+    4, s = 1) instead of giving 'solutions' whose paths stop 2e-6 out."""
+    full = R.build(R.READINGS["consecutive-zero"])
+    x = R.rb_coords(full)
+    rb = full.clone()
+    rb.coords = x
+    an = rb.analyse()
+    assert (an.m_internal, an.s, an.s_trivial) == (4, 3, 2)
+    f = np.all(full.fixed, axis=1)
+    keep = [i for i, (u, v) in enumerate(full.bars) if not (f[u] and f[v])]
+    assert len(keep) == full.nbars - 2
+    bare = Assembly(x, full.bars[keep], fixed=full.fixed, lengths=full.rest_lengths[keep])
+    bn = bare.analyse()
+    assert (bn.m_internal, bn.s, bn.s_trivial) == (4, 1, 0)
+    Q, Qb = rb.second_order(), bare.second_order()
+    assert Q.shape == Qb.shape == (1, 4, 4)
+    assert rb.second_order(normalise=False).shape == (1, 4, 4)
+    # the quadratic forms in free coordinates, U Q U^T, independent of the mechanism basis
+    F = an.internal_mechanisms @ Q[0] @ an.internal_mechanisms.T
+    Fb = bn.internal_mechanisms @ Qb[0] @ bn.internal_mechanisms.T
+    F, Fb = (G * np.sign(G.flat[np.argmax(np.abs(Fb))]) for G in (F, Fb))  # Q's sign is the basis's
+    assert np.abs(F - Fb).max() <= 1e3 * np.finfo(float).eps
+    with pytest.raises(StateError, match="m = 4, s = 1"):
+        rb.branches(solver="homotopy", length=0.5, threads=1)
 
 
 def test_cli_reading(tmp_path, capsys):

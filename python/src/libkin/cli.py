@@ -45,10 +45,10 @@ def cmd_analyse(args: argparse.Namespace) -> int:
     an = a.analyse()
     print(f"{a.name}: dim {a.dim}, {a.njoints} joints, {a.nbars} bars, H is {a.nfree} x {a.nbars}")
     print(f"rank r = {an.rank}; mechanisms m = {an.m} (internal {an.m_internal}, rigid {an.m_rigid}); "
-          f"self-stress states s = {an.s}")
+          f"self-stress states s = {an.s}" + (f" ({an.s_trivial} of bars between fixed joints)" if an.s_trivial else ""))
     print(f"v_max = {an.v_max:.6g}, v_r (lowest non-zero) = {an.v_r:.6g}, max strain {a.max_strain:.3g}")
-    print("state:", "bifurcation point" if an.m_internal >= 2 else
-          "on a single path" if an.m_internal == 1 else "rigid (no internal mechanism)")
+    print("state:", ("bifurcation point" if an.s > an.s_trivial else "a mechanism of several freedoms")
+          if an.m_internal >= 2 else "on a single path" if an.m_internal == 1 else "rigid (no internal mechanism)")
     if args.singular_values:
         print("singular values:", " ".join(f"{v:.6g}" for v in an.singular_values))
     return 0

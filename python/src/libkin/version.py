@@ -5,6 +5,8 @@ A module of its own so that code below the package root (the studies' cache
 keys, the command line) can name the version without importing the root and
 everything it re-exports; ``libkin.__version__`` is this same string.
 """
+from typing import Any, Dict
+
 from ._native._lib import c_string, lib
 
 __version__: str = c_string(lib.kin_version_string())
@@ -12,7 +14,7 @@ __version__: str = c_string(lib.kin_version_string())
 __all__ = ["__version__", "blas", "blas_line"]
 
 
-def blas() -> dict:
+def blas() -> Dict[str, Any]:
     """The BLAS this process runs libkin on: {"library": path, "openblas":
     bool, "kernel": OpenBLAS's core name or None, "threads": int or None,
     "config": OpenBLAS's build string or None}. Times, and the last digits of
@@ -38,7 +40,7 @@ def blas() -> dict:
                         break
     except OSError:  # not Linux: nothing to say
         pass
-    out = {"library": path, "openblas": False, "kernel": None, "threads": None, "config": None}
+    out: Dict[str, Any] = {"library": path, "openblas": False, "kernel": None, "threads": None, "config": None}
     if path is None:
         return out
     try:

@@ -71,6 +71,7 @@ typedef struct kin_analysis {
     int s;
     double v_max;
     double v_r;
+    int s_trivial;
 } kin_analysis;
 int kin_analyse(kin_assembly *a, kin_analysis *out);
 int kin_get_analysis(const kin_assembly *a, kin_analysis *out);

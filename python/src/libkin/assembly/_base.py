@@ -56,6 +56,12 @@ class Analysis:
         Orthonormal rigid-body mechanisms.
     self_stresses : ndarray, shape (nbars, s)
         Orthonormal states of self-stress W_s.
+    s_trivial : int
+        Of the s, those of the bars with no free coordinate at either end
+        (each alone in tension; a zero column of H at every configuration).
+        The second order, `branches` and the explorer use the
+        s - s_trivial others (``docs/generality.md``, "Bars between fixed
+        joints").
     """
 
     rank: int
@@ -69,6 +75,7 @@ class Analysis:
     internal_mechanisms: FloatArray
     rigid_mechanisms: FloatArray
     self_stresses: FloatArray
+    s_trivial: int = 0
 
 
 class AssemblyBase:
@@ -299,4 +306,5 @@ class AssemblyBase:
         if an.s:
             self._check(lib.kin_get_self_stresses(self._h, write_ptr(ws, "double *"), nb, an.s))
         return Analysis(an.rank, an.m, an.m_rigid, an.m_internal, an.s, an.v_max, an.v_r, sv,
-                        mech(lib.KIN_MECH_INTERNAL, an.m_internal), mech(lib.KIN_MECH_RIGID, an.m_rigid), ws)
+                        mech(lib.KIN_MECH_INTERNAL, an.m_internal), mech(lib.KIN_MECH_RIGID, an.m_rigid), ws,
+                        int(an.s_trivial))

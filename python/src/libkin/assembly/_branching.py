@@ -271,8 +271,11 @@ class BranchingMixin(AssemblyBase):
 
         Returns
         -------
-        ndarray, shape (s, m_internal, m_internal)
-            Symmetric matrices, one per state of self-stress.
+        ndarray, shape (k, m_internal, m_internal)
+            Symmetric matrices, one per state of self-stress that the second
+            order uses: the s - s_trivial with no force in the bars between
+            fixed joints (`Analysis.s_trivial`); k = s - s_trivial, or fewer
+            after normalisation where some are dependent.
 
         Raises
         ------
@@ -280,14 +283,16 @@ class BranchingMixin(AssemblyBase):
             Unknown `weighting` (a ValueError).
         StateError
             Not a bifurcation point: fewer than 2 internal mechanisms or no
-            self-stress.
+            self-stress but those of bars between fixed joints.
         """
         if weighting not in _WEIGHTINGS:
             raise InvalidArgumentError(f"weighting: expected 'exact' or 'paper', got {weighting!r}")
         an = self.analyse()
-        m, s = an.m_internal, an.s
+        m, s = an.m_internal, an.s - an.s_trivial
         if m < 2 or s < 1:
-            raise StateError("not a bifurcation point: need at least 2 internal mechanisms and 1 self-stress")
+            raise StateError("not a bifurcation point: need at least 2 internal mechanisms and 1 self-stress "
+                             f"(here m = {m}, s = {an.s}" + (f", {an.s_trivial} of them of bars between fixed joints"
+                                                            if an.s_trivial else "") + ")")
         Q = np.zeros((s, m, m))
         s_out = ffi.new("int *")
         self._check(lib.kin_second_order(self._h, getattr(lib, _WEIGHTINGS[weighting]), int(bool(normalise)),

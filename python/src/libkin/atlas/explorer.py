@@ -212,7 +212,10 @@ class _Explorer:
         a = self._assembly_at(node)
         an = a.analyse()
         U = an.internal_mechanisms
-        m, s = an.m_internal, an.s
+        # the self-stresses of bars between fixed joints constrain nothing
+        # (Analysis.s_trivial): the second order has the others
+        m, s = an.m_internal, an.s - an.s_trivial
+        trivial = {"s_trivial": an.s_trivial} if an.s_trivial else {}
         if m == 0:
             return [], {"mode": "none", "reason": "no internal mechanism (rigid)"}
         if m == 1:
@@ -226,12 +229,12 @@ class _Explorer:
         if use_sym:
             P = [self.P[j] for j in fixing(self.syms, node.coords, tol, proper_only=True)]
             betas_or_none, rec = subspace_branches(U, Q, P, self.solve_system)
-            rec = {"m": m, "s": s, **rec}
+            rec = {"m": m, "s": s, **trivial, **rec}
         else:
             R = mechanism_action(U, [self.P[j] for j in fixing(self.syms, node.coords, tol)]) \
                 if self.symmetry else None
             R = R if useful_group(Q, R, self.seed) else None
-            rec = {"m": m, "s": s, "mode": "complete", **({} if R is None else {"solver_group": len(R)})}
+            rec = {"m": m, "s": s, **trivial, "mode": "complete", **({} if R is None else {"solver_group": len(R)})}
             betas_or_none, more = self.solve_system(Q, m, R)
             rec.update(more)
         if betas_or_none is None:

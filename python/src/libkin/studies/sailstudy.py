@@ -109,8 +109,8 @@ def _wraps_loop1(x, labels, n):
 def _branch_report(a, threads, length, max_s=12):
     """Complete solver + finite paths at a located bifurcation."""
     an = a.analyse()
-    if an.s > max_s:
-        return None, {"m": an.m_internal, "s": an.s, "skipped": f"s = {an.s} > {max_s}"}
+    if an.s - an.s_trivial > max_s:  # the equations: bars between fixed joints give none
+        return None, {"m": an.m_internal, "s": an.s, "skipped": f"s = {an.s - an.s_trivial} > {max_s}"}
     t0 = time.perf_counter()
     br = a.branches(solver="homotopy", length=length, threads=threads)
     ok = sum(p.exists and p.tangent_ok for p in br.paths)
