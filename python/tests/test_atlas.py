@@ -106,8 +106,9 @@ def test_threebar_and_regular_start(tmp_path):
     bif = [n for n in at.nodes if n.kind == atlas_mod.BIFURCATION]
     assert len(bif) == 3 and all((n.m, n.s) == (2, 1) for n in bif)
     assert len([e for e in at.edges if e.source == 0]) == 4
-    # every branch ends at one of the three bifurcations, with 2 samples along the way
-    assert all(e.event == "bifurcation" and len(e.samples) == 2 for e in at.edges)
+    # every branch ends at one of the three bifurcations, with at least 2 samples along the way (more where
+    # the viewer's curve through 2 would stretch a bar by over 1 %: atlas/frames.py)
+    assert all(e.event == "bifurcation" and len(e.samples) >= 2 for e in at.edges)
     # a regular start: a point on a path (a sample of the atlas above)
     at2 = libkin.explore("threebar:RC", start=at.edges[0].samples[0], depth=1)
     assert at2.nodes[0].kind == atlas_mod.REGULAR and at2.nodes[0].branches["mode"] == "regular"

@@ -89,3 +89,36 @@ def test_load_model_takes_builtin_names():
     b = libkin.Assembly.sail(4, 1)
     assert a.coords.shape == b.coords.shape and abs(a.coords - b.coords).max() == 0
     assert libkin.load_model("threebar:RC", engine="c").coords.shape == libkin.Assembly.threebar("RC").coords.shape
+
+
+def test_default_node_limit_lets_the_depth_bound_the_run():
+    """`libkin explore sail:6:2 --depth 2` stopped at depth 1 on --max-nodes'
+    default of 200 (its first level has 20,523 nodes; docs/atlas.md): the
+    default now exceeds every documented run (the hexagonal sail's whole
+    graph to depth 6: about 27,000 nodes), in the command and in explore()."""
+    import argparse
+    import inspect
+    from libkin.atlas import cli as atlas_cli
+    p = argparse.ArgumentParser()
+    atlas_cli.add_arguments(p)
+    args = p.parse_args(["sail:6:2", "--depth", "2", "--out", "x"])
+    assert args.max_nodes >= 100_000
+    assert inspect.signature(libkin.explore).parameters["max_nodes"].default == args.max_nodes
+
+
+def test_writing_the_atlas_reports_each_file(tmp_path, capsys):
+    """Long phases are not silent: report.write names each file as it starts
+    and says when it is done (a callable gets files done / in all); the
+    command prints them unless --quiet."""
+    from libkin.atlas import report
+    at = libkin.explore("threebar:RC", depth=1)
+    seen = []
+    report.write(at, tmp_path / "a", html="atlas.html",
+                 progress=lambda done, total, what: seen.append((done, total, what)))
+    files = ["atlas.json", "atlas.graphml", "atlas_map.png", "atlas_nodes.png", "atlas.html", "report.md"]
+    assert [d for d, _, _ in seen] == list(range(len(files) + 1)) and {t for _, t, _ in seen} == {len(files)}
+    assert [w.split(":")[0] for _, _, w in seen[:-1]] == files
+    assert main(["explore", "threebar:RC", "--out", str(tmp_path / "b"), "--html"]) == 0
+    err = capsys.readouterr().err
+    for f in files:  # a line as it starts and one as it ends
+        assert sum(line.startswith("[write] " + f) for line in err.splitlines()) == 2, err

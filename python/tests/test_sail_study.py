@@ -79,6 +79,10 @@ def test_hex_study_says_it_in_words(hex_run):
     res, out = hex_run
     said = res["_said"]
     assert "[R^C]" in said and not RAW.search(said), said
+    # the minutes of figures and files are not silent: each figure says when it starts and ends (issue 36 item 6)
+    figures = [line for line in said.splitlines() if line.startswith("[figures]")]
+    assert len(figures) >= 2 * 8 and len(figures) % 2 == 0, said
+    assert "[write] atlas.json" in said and "[write] atlas.html" in said, said
     run_time = float(re.search(r"Run time ([\d.]+) s", (out / "report.md").read_text()).group(1))
     # what lies outside the report's clock (the call, its imports) is well under a second idle;
     # a loaded machine stretches it with the rest, so the slack grows with the wall time

@@ -22,6 +22,7 @@ import sys
 import tempfile
 import time
 
+import numpy as np
 import pytest
 
 from libkin.atlas import Atlas, html as atlas_html
@@ -232,4 +233,81 @@ def test_the_23359_node_atlas_draws_every_node(driver, square, shots, tmp_path):
     _click(driver, *driver.execute_script("return libkinViewer.pixelOfNode(arguments[0])", i))
     _wait(driver, "return libkinViewer.selectedNode >= 0 && document.getElementById('view3d').data")
     driver.save_screenshot(str(shots / "big_node.png"))
+    assert _errors(driver) == []
+
+
+def test_a_turn_is_drawn_whole_and_the_shape_filters(driver, shots, tmp_path):
+    """The parallelogram four-bar to depth 3 (paths of a whole turn): every
+    frame the animation can show lies in the 3D box (fitted to the whole
+    curve, not to its keyframes); the nodes carry their names on the map;
+    the filters and colours by compactness (x-y extent, height) and by
+    contact narrow and colour what is drawn; the header says the depth
+    reached and why it stopped there."""
+    import libkin
+    from test_cli_reports import parallelogram
+    a = libkin.Assembly.from_json(parallelogram(tmp_path / "p.json"))
+    # the header: the depth reached and the limit that stopped it there
+    cut = libkin.explore(a, depth=3, max_nodes=2)
+    page = tmp_path / "cut.html"
+    atlas_html.write(cut, page)
+    got = _open(driver, page)
+    assert got["drawn"] == len(cut.nodes) and not got["errors"]
+    head = driver.execute_script("return [document.getElementById('summary').textContent,"
+                                 " document.getElementById('stopped').textContent]")
+    reached = max(n.depth for n in cut.nodes)
+    assert reached < 3 and f"reached depth {reached} of 3" in head[0] and "--max-nodes" in head[1]
+    # the whole atlas to depth 3: paths of whole turns
+    at = libkin.explore(a, depth=3)
+    page = tmp_path / "turn.html"
+    atlas_html.write(at, page)
+    got = _open(driver, page)
+    assert got["drawn"] == len(at.nodes) and not got["errors"]
+    assert driver.execute_script("return +document.body.dataset.namesDrawn") == len(at.nodes)
+    # every frame of every path's animation in its box
+    for e, edge in enumerate(at.edges):
+        driver.execute_script("libkinViewer.selectEdge(arguments[0])", e)
+        _wait(driver, f"return libkinViewer.selectedEdge === {e} && libkinViewer.box")
+        box, fr = driver.execute_script("return [libkinViewer.box, Array.from({length: 401}, "
+                                        "(_, k) => libkinViewer.frameAt(k / 400))]")
+        f = np.asarray(fr).reshape(401, -1, 3)
+        lo, hi = np.asarray(box)[:, 0], np.asarray(box)[:, 1]
+        assert (f >= lo).all() and (f <= hi).all(), (e, edge.length)
+    driver.save_screenshot(str(shots / "turn_path.png"))
+    assert _errors(driver) == []
+
+
+def test_filter_and_colour_by_shape_and_contact(driver, square, shots, tmp_path):
+    """The square sail: the filters and colours by compactness (x-y extent,
+    height) and by contact narrow and colour what is drawn (the page's own
+    values: atlas_html.shape; its folded states touch, its flat state not)."""
+    at = square
+    page = tmp_path / "square.html"
+    atlas_html.write(at, page)
+    _open(driver, page)
+    sh = atlas_html.shape(at)
+    want_contact = sum(1 for c in sh["contact"] if c)
+    assert 0 < want_contact < len(at.nodes)
+
+    def set_value(el, v):
+        driver.execute_script(f"const c = document.getElementById('{el}'); c.value = arguments[0];"
+                              "c.dispatchEvent(new Event('change', {bubbles: true}));", v)
+    set_value("f-contact", "contact")
+    _wait(driver, f"return +document.body.dataset.nodesDrawn === {want_contact}")
+    set_value("f-contact", "clear")
+    _wait(driver, f"return +document.body.dataset.nodesDrawn === {len(at.nodes) - want_contact}")
+    driver.execute_script("document.getElementById('f-reset').click()")
+    cut = float(np.median(sh["xy_extent"]))
+    set_value("f-xy-lo", cut + 1e-3)
+    _wait(driver, f"return +document.body.dataset.nodesDrawn === {sum(1 for v in sh['xy_extent'] if v > cut + 1e-3)}")
+    driver.execute_script("document.getElementById('f-reset').click()")
+    set_value("f-h-hi", 1.0)  # flat: the start only
+    _wait(driver, f"return +document.body.dataset.nodesDrawn === {sum(1 for v in sh['height'] if v <= 1.0)}")
+    driver.execute_script("document.getElementById('f-reset').click()")
+    set_value("f-colour", "xy_extent")
+    _wait(driver, "return libkinViewer.colourBy === 'xy_extent' && +document.body.dataset.nodesDrawn > 0")
+    colours = driver.execute_script("const g = document.getElementById('graph'); return g.data.filter("
+                                    "t => t.marker && Array.isArray(t.marker.color) && t.mode.startsWith('markers') "
+                                    "&& t.name && !t.name.startsWith('paths')).map(t => t.marker.color)")
+    assert sorted(np.concatenate(colours)) == pytest.approx(sorted(sh["xy_extent"]), rel=1e-3)
+    driver.save_screenshot(str(shots / "square_xy.png"))
     assert _errors(driver) == []

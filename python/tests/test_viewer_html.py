@@ -97,14 +97,18 @@ def test_page_is_self_contained_and_carries_the_atlas(square, tmp_path):
     got = _decode(ids["libkin-configs"], (N, J, D), grid)
     want = np.array([n.coords for n in square.nodes])
     assert np.abs(got - want).max() <= tol
-    samples = [np.asarray(s) for e in square.edges for s in e.samples]
+    # each edge's samples, then its own end where it reached a rigidly moved copy of its node (own_end)
+    drawn = [list(e.samples) + ([e.end] if e.end is not None else []) for e in square.edges]
+    samples = [np.asarray(s) for d in drawn for s in d]
+    assert any(e.end is not None for e in square.edges)
+    assert data["edges"]["own_end"] == [int(e.end is not None) for e in square.edges]
     assert samples and sum(data["edges"]["samples"]) == len(samples) and grid["samples_dropped"] == 0
     got = _decode(ids["libkin-samples"], (len(samples), J, D), grid)
     assert np.abs(got - np.array(samples)).max() <= tol
     k = 0
-    for i, e in enumerate(square.edges):  # each edge's samples where its record says
+    for i, d in enumerate(drawn):  # each edge's samples where its record says
         assert data["edges"]["sample_start"][i] == k
-        k += len(e.samples)
+        k += len(d)
 
 
 def test_text_cannot_end_a_script(square):
@@ -143,14 +147,18 @@ def test_layout_keeps_nodes_apart_on_their_rings(square):
 
 def test_samples_beyond_the_budget_are_thinned(square):
     J, D = square.nodes[0].coords.shape
+    # an edge's own end (Edge.end) is always kept: the path is drawn to where it went
     total = sum(len(e.samples) for e in square.edges)
-    per_edge = max(len(e.samples) for e in square.edges)
-    assert per_edge == 2
-    data, _, blob = atlas_html.payload(square, max_sample_values=len(square.edges) * J * D)  # room for one each
-    assert set(data["edges"]["samples"]) == {1} and data["grid"]["samples_dropped"] == total - len(square.edges)
-    assert len(blob) == len(square.edges) * J * D * 2
+    ends = [int(e.end is not None) for e in square.edges]
+    assert min(len(e.samples) for e in square.edges) >= 2 and 0 < sum(ends) < len(ends)
+    room = (len(square.edges) + sum(ends)) * J * D  # one sample each besides the ends
+    data, _, blob = atlas_html.payload(square, max_sample_values=room)
+    assert data["edges"]["samples"] == [1 + k for k in ends]
+    assert data["grid"]["samples_dropped"] == total - len(square.edges)
+    assert len(blob) == room * 2
     data, _, blob = atlas_html.payload(square, max_sample_values=0)
-    assert set(data["edges"]["samples"]) == {0} and blob == b"" and data["grid"]["samples_dropped"] == total
+    assert data["edges"]["samples"] == ends and len(blob) == sum(ends) * J * D * 2
+    assert data["grid"]["samples_dropped"] == total
 
 
 def test_write_is_whole_or_not_at_all(square, tmp_path, monkeypatch):

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any, Iterator, List
 from ..atomic import folder_lock
 from ..cliargs import count, load_model_spec, positive, require_extras
 from ..parallel import executor
+from .limits import MAX_NODES
 
 if TYPE_CHECKING:
     from ..assembly import Assembly
@@ -34,8 +35,9 @@ def cmd_explore(args: argparse.Namespace) -> int:
 def add_arguments(s: argparse.ArgumentParser) -> None:
     s.add_argument("model")
     s.add_argument("--depth", type=count(0), default=1, help="levels of bifurcations to expand (default 1)")
-    s.add_argument("--max-nodes", type=count(1), default=200,
-                   help="no node is expanded beyond this many (default 200)")
+    s.add_argument("--max-nodes", type=count(1), default=MAX_NODES,
+                   help=f"no node is expanded once the atlas has this many (default {MAX_NODES:,}: the depth "
+                        "bounds the run)")
     s.add_argument("--max-length", type=positive, default=None,
                    help="path-length budget of one branch (default 10 x the model size)")
     s.add_argument("--time-limit", type=positive, default=None,
@@ -50,6 +52,10 @@ def add_arguments(s: argparse.ArgumentParser) -> None:
     s.add_argument("--follow-orbits", action="store_true",
                    help="follow one branch per orbit of each node's symmetries, map the others (the default "
                         "unless --no-symmetry)")
+    s.add_argument("--samples", type=count(0), default=2,
+                   help="configurations stored along each path for the viewer: at least this many, evenly "
+                        "spread, and more where its animation through them would stretch a bar by over 1 %% "
+                        "(default 2; 0: none, the viewer then draws a straight move between the ends)")
     s.add_argument("--contact", action="store_true",
                    help="stop each branch at the first contact of two parts (the model's panels and thickness)")
     s.add_argument("--executor", default="serial", choices=["serial", "process", "dask"],
@@ -94,8 +100,9 @@ def _run(args: argparse.Namespace, assembly: Assembly) -> int:
                      time_limit=args.time_limit, symmetric=sym, executor=ex,
                      progress=None if args.quiet else True, follow_orbits=True if args.follow_orbits else None,
                      store=store, resume=args.resume, stop=lambda: bool(signalled), symmetry=not args.no_symmetry,
-                     contact=args.contact)
-    rep = atlas_report.write(at, args.out, html="atlas.html" if args.html else None)
+                     contact=args.contact, samples=args.samples)
+    rep = atlas_report.write(at, args.out, html="atlas.html" if args.html else None,
+                             progress=None if args.quiet else True)
     s = at.summary()
     kinds = ", ".join(f"{v} {k}" for k, v in sorted(s["edge_events"].items())) or "none"
     print(f"{s['nodes']} nodes, {s['edges']} directed paths ({kinds}); wrote {pathlib.Path(args.out) / 'atlas.json'}, "

@@ -45,6 +45,7 @@ from ..symmetry.automorphisms import same_symmetry, symmetries_at
 from ..symmetry.procrustes import aligned_distance
 from . import directions, levels, tasks
 from .index import GroupedIndex
+from .limits import MAX_NODES
 from .merge import merge_level
 from .model import BIFURCATION, SAME_TOL, Atlas, Edge, Node, node_kind, pair_window
 from .orbits import branch_orbits, follow_level
@@ -275,7 +276,7 @@ class _Explorer:
 
 
 def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start: Optional[ArrayLike] = None,
-            depth: int = 1, max_nodes: int = 200, max_length: Optional[float] = None,
+            depth: int = 1, max_nodes: int = MAX_NODES, max_length: Optional[float] = None,
             time_limit: Optional[float] = None, symmetric: Union[bool, str] = False, executor: Any = None,
             progress: Progress = None, seed: int = 1, threads: int = 1,
             symmetries: Optional[Sequence[Symmetry]] = None, max_steps: int = 2000, samples: int = 2,
@@ -294,7 +295,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     depth : int
         Levels of bifurcations to expand (1: only the start's branches).
     max_nodes : int
-        No node is expanded once the atlas has this many.
+        No node is expanded once the atlas has this many (default
+        limits.MAX_NODES, 1,000,000: the depth bounds the run).
     max_length : float, optional
         Path-length budget of one branch (default: 10 times the model size, the
         largest distance of a joint from the centroid, at least 1).
@@ -324,7 +326,10 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     max_steps : int
         Step budget of one branch.
     samples : int
-        Configurations recorded along each branch (besides its end), from its one follow.
+        Configurations recorded along each branch (besides its end), from its
+        one follow: at least this many, evenly spread by path length, and more
+        of the points the follower recorded where the viewer's curve through
+        them would stretch a bar by more than 1 % (atlas/frames.py); 0: none.
     shards : int, optional
         The complete solver's paths are tracked in this many tasks (default:
         about SHARD_PATHS paths a shard with an executor, one task without).

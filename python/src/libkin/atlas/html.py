@@ -6,16 +6,21 @@ package, never from a network), the viewer's own script and style (viewer.js
 and viewer.css next to this module) and the atlas itself as data:
 
 - the graph: per node its place on the map (computed here, layout()), kind,
-  m, s, depth, orbit, v_r and status; per edge its ends, event, length,
-  solution and sign;
-- the configurations (every node's, and the samples along every edge) as
-  16-bit integers on one grid (about 3e-5 of the model's extent), in base64;
+  m, s, depth, orbit, v_r, status, and its compactness and contact (shape():
+  x-y extent, height, clearance, contact); per edge its ends, event,
+  length, solution and sign; how deep the run went and why it stopped
+  (reach());
+- the configurations (every node's, and the samples along every edge, with
+  the edge's own end where it reached a rigidly moved copy of its target
+  node, Edge.end, flagged own_end) as 16-bit integers on one grid (about 3e-5 of the model's extent), in base64;
   the page decodes only what a click needs.
 
 The map is drawn with WebGL (plotly's scattergl), so tens of thousands of
 nodes and paths pan and zoom smoothly; a click on a node draws its
 configuration in 3D (rotatable), a click on a path animates the structure
-along it, from the source through the edge's samples to the target.
+along it, from the source through the edge's samples to the target (or
+to its own end), on the curve frames.py describes; the 3D box is fitted
+to every frame of that curve.
 """
 from __future__ import annotations
 
@@ -25,6 +30,8 @@ import html as _html
 import json
 import math
 import os
+import sys
+import time
 from importlib import resources
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
@@ -123,6 +130,93 @@ def layout(atlas: _atlas.Atlas) -> Tuple[NDArray[np.float64], NDArray[np.float64
     return x, y
 
 
+# a node whose smallest clearance between parts sharing no joint is at most
+# this times the RMS bar length is in contact (as the follower's contact events)
+CONTACT_TOL = 1e-6
+# clearances are resolved up to this times the model size (kin_clearance's
+# cutoff: much cheaper); larger ones are shown as "over" it
+CLEARANCE_CUTOFF = 0.25
+
+
+def shape(atlas: _atlas.Atlas, progress: bool = False) -> Dict[str, List[Optional[float]]]:
+    """Per node (by position): "xy_extent" (the radius of the package seen
+    from above: the largest distance of a joint from the vertical axis
+    through the start's x-y centroid, as the sail study measures it: its
+    hub is there), "height" (the z extent; 0 for
+    a plane model), "clearance" (the smallest clearance between parts that
+    share no joint, kin_clearance, None where above CLEARANCE_CUTOFF times
+    the model size or not measurable) and "contact" (1 where the clearance
+    is within CONTACT_TOL of the RMS bar length or a path ended there in
+    contact). progress: a line on stderr every few seconds (how many are done)."""
+    from ..assembly import Assembly
+    from ..errors import KinError
+    nodes = atlas.nodes
+    contact_in = {e.target for e in atlas.edges if e.event == tasks.CONTACT}
+    try:
+        a: Optional[Assembly] = Assembly.from_json(atlas.model)
+    except (KinError, ValueError, TypeError, KeyError):
+        a = None
+    rms = float(np.sqrt(np.mean(a.rest_lengths ** 2))) if a is not None and a.nbars else 0.0
+    size, axis = 1.0, np.zeros(2)
+    if nodes:
+        c0 = np.asarray(nodes[0].coords, dtype=float)
+        size = max(1e-300, float(np.abs(c0 - c0.mean(axis=0)).max()))
+        axis = c0[:, :2].mean(axis=0)
+    out: Dict[str, List[Optional[float]]] = {"xy_extent": [], "height": [], "clearance": [], "contact": []}
+    bar = _Ticker(progress, len(nodes), "the viewer's nodes measured (shape, clearance)")
+    for k, n in enumerate(nodes):
+        bar.update(k)
+        X = np.asarray(n.coords, dtype=float)
+        xy = X[:, :2]
+        out["xy_extent"].append(float(np.hypot(*(xy - axis).T).max()) if np.isfinite(xy).all() else None)
+        out["height"].append(float(np.ptp(X[:, 2])) if X.shape[1] > 2 and np.isfinite(X).all() else 0.0)
+        c: Optional[float] = None
+        if a is not None and np.isfinite(X).all():
+            try:
+                v = a.clearance(X, cutoff=CLEARANCE_CUTOFF * size).value
+                c = float(v) if math.isfinite(v) else None
+            except KinError:
+                c = None
+        out["clearance"].append(c)
+        touching = n.id in contact_in or (c is not None and c <= CONTACT_TOL * max(rms, 1e-300))
+        out["contact"].append(1.0 if touching else 0.0)
+    bar.close()
+    return out
+
+
+class _Ticker:
+    """Lines on stderr while a loop over many items runs: "k of N" at most
+    every TICK seconds (none for a loop that ends sooner), then the last."""
+    TICK = 5.0
+
+    def __init__(self, on: bool, total: int, what: str) -> None:
+        self.on, self.total, self.what = on, total, what
+        self.t = time.perf_counter()
+        self.said = False
+
+    def update(self, k: int) -> None:
+        if self.on and time.perf_counter() - self.t >= self.TICK:
+            print(f"[write] {self.what}: {k:,} of {self.total:,}", file=sys.stderr, flush=True)
+            self.t, self.said = time.perf_counter(), True
+
+    def close(self) -> None:
+        if self.on and self.said:
+            print(f"[write] {self.what}: {self.total:,} of {self.total:,}", file=sys.stderr, flush=True)
+
+
+def reach(atlas: _atlas.Atlas) -> Dict[str, Any]:
+    """How deep the run went and why it stopped there: "depth" asked for,
+    "reached" (the deepest node's depth), "stopped" (limits.limits_hit's
+    sentences: which limit stopped it and how to lift it, and whether it
+    was interrupted; empty when nothing did)."""
+    from .limits import limits_hit
+    stopped = list(limits_hit(atlas).values())
+    if atlas.stats.get("stopped_by") == "interrupted":  # a signal or a stop: no limit sentence says it
+        stopped.append("interrupted: the atlas so far (partial); continue with --resume")
+    return {"depth": atlas.settings.get("depth"), "reached": max((n.depth for n in atlas.nodes), default=0),
+            "stopped": stopped}
+
+
 def _quantise(arrays: Sequence[NDArray[np.float64]], centre: NDArray[np.float64], step: float) -> bytes:
     if not arrays:
         return b""
@@ -134,14 +228,15 @@ def _quantise(arrays: Sequence[NDArray[np.float64]], centre: NDArray[np.float64]
 def _samples_kept(edges: Sequence[_atlas.Edge], per_config: int, budget: int) -> int:
     """How many samples per edge fit the budget (the most any edge has if all fit)."""
     most = max((len(e.samples) for e in edges), default=0)
-    total = sum(len(e.samples) for e in edges) * per_config
+    total = sum(len(e.samples) + (e.end is not None) for e in edges) * per_config
     if total <= budget:
         return most
-    return int(budget // max(1, len(edges) * per_config))
+    ends = sum(e.end is not None for e in edges) * per_config  # always kept
+    return int(max(0, budget - ends) // max(1, len(edges) * per_config))
 
 
 def payload(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: Optional[str] = None,
-            max_sample_values: int = MAX_SAMPLE_VALUES) -> Tuple[Dict[str, Any], bytes, bytes]:
+            max_sample_values: int = MAX_SAMPLE_VALUES, progress: bool = False) -> Tuple[Dict[str, Any], bytes, bytes]:
     """(data, node configurations, edge samples): the page's JSON payload
     and the two binary blocks (little-endian int16, config after config,
     each joints x dimension values: coordinate = centre + step * value)."""
@@ -154,10 +249,14 @@ def payload(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: 
     samples: List[NDArray[np.float64]] = []
     s_start: List[int] = []
     s_count: List[int] = []
+    own_end: List[int] = []
     for e in edges:
         ss = e.samples
         if len(ss) > keep:
             ss = [ss[int(i)] for i in np.round(np.linspace(0, len(ss) - 1, keep))] if keep else []
+        if e.end is not None:  # the path went to a rigidly moved copy of its node: drawn to where it went
+            ss = list(ss) + [e.end]
+        own_end.append(int(e.end is not None))
         s_start.append(len(samples))
         s_count.append(len(ss))
         samples.extend(np.asarray(s, dtype=np.float64) for s in ss)
@@ -205,7 +304,9 @@ def payload(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: 
             "v_r": [num(n.v_r_rel, 3) for n in nodes],
             "expanded": [1 if n.expanded else 0 for n in nodes],
             "status": [statuses.setdefault(n.status, len(statuses)) for n in nodes],
+            **{k: [num(v, 4) if v is not None else None for v in vs] for k, vs in shape(atlas, progress).items()},
         },
+        "reach": reach(atlas),
         "statuses": list(statuses),
         "edges": {
             "id": [e.id for e in edges],
@@ -213,10 +314,10 @@ def payload(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: 
             "event": [events.index(e.event) for e in edges],
             "length": [num(e.length) for e in edges],
             "solution": [int(e.solution) for e in edges], "sign": [int(e.sign) for e in edges],
-            "sample_start": s_start, "samples": s_count,
+            "sample_start": s_start, "samples": s_count, "own_end": own_end,
         },
         "grid": {"centre": [float(v) for v in centre], "step": step,
-                 "samples_dropped": sum(len(e.samples) for e in edges) - len(samples)},
+                 "samples_dropped": sum(len(e.samples) + (e.end is not None) for e in edges) - len(samples)},
     }
     return data, _quantise(configs, centre, step), _quantise(samples, centre, step)
 
@@ -231,11 +332,11 @@ def _script_safe(text: str) -> str:
 
 
 def page(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: Optional[str] = None,
-         max_sample_values: int = MAX_SAMPLE_VALUES) -> str:
+         max_sample_values: int = MAX_SAMPLE_VALUES, progress: bool = False) -> str:
     """The whole HTML page as text (see write())."""
     require_plotly()
     from plotly.offline import get_plotlyjs
-    data, node_bytes, sample_bytes = payload(atlas, names, title, max_sample_values)
+    data, node_bytes, sample_bytes = payload(atlas, names, title, max_sample_values, progress)
     # "<" written as its JSON escape: no text of the atlas can open or close a tag
     text = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("<", "\\u003c")
     plotly_js = get_plotlyjs()
@@ -258,10 +359,11 @@ def page(atlas: _atlas.Atlas, names: Optional[Dict[int, str]] = None, title: Opt
 
 
 def write(atlas: _atlas.Atlas, path: Union[str, os.PathLike[str]], names: Optional[Dict[int, str]] = None,
-          title: Optional[str] = None, max_sample_values: int = MAX_SAMPLE_VALUES) -> None:
+          title: Optional[str] = None, max_sample_values: int = MAX_SAMPLE_VALUES, progress: bool = False) -> None:
     """Write the viewer page of atlas to path, whole or not at all
     (libkin.atomic). names: {node id: name} to show instead of N<id> (the
     sail study's R^A, R^B, ...); max_sample_values: how many sample
-    coordinates the page may carry (MAX_SAMPLE_VALUES). ImportError
-    without plotly, ValueError for an atlas without nodes."""
-    write_text(path, page(atlas, names, title, max_sample_values))
+    coordinates the page may carry (MAX_SAMPLE_VALUES); progress: lines
+    on stderr while it measures the nodes. ImportError without plotly,
+    ValueError for an atlas without nodes."""
+    write_text(path, page(atlas, names, title, max_sample_values, progress))

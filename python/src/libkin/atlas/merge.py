@@ -21,6 +21,11 @@ from . import tasks
 from .index import GroupedIndex
 from .model import Edge, arrival_rank, node_kind
 
+# an end further than this (times the model size) from its node's
+# coordinates (identified up to a rigid motion, or coarsely located) is
+# kept with its edge (Edge.end): the viewer draws the path to where it went
+END_SAME = 1e-4
+
 
 def merge_level(ex: Any, work: List[Any], got: Dict[int, Any], depth: int) -> None:
     """Identify the ends of one level's branches (got: work index ->
@@ -84,6 +89,9 @@ def merge_level(ex: Any, work: List[Any], got: Dict[int, Any], depth: int) -> No
         nid, sol, sign, _beta, direction = work[k][:5]
         res, t = got[k], target[k]
         t = ids[t[1]] if isinstance(t, tuple) else t
+        X = np.asarray(res["coords"], dtype=float)
+        own = np.abs(X - ex.nodes[t].coords).max() <= END_SAME * ex.scale
         ex.edges.append(Edge(len(ex.edges), nid, t, int(sol), int(sign), [float(v) for v in direction],
                                res["event"], float(res["length"]), float(res["accuracy"]), res["samples"],
-                               res["message"], int(res.get("steps", 0)), float(res.get("vr_tol", 0.0))))
+                               res["message"], int(res.get("steps", 0)), float(res.get("vr_tol", 0.0)),
+                               None if own else X.tolist()))

@@ -8,6 +8,7 @@ import dataclasses
 import json
 import math
 import os
+import re
 from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
@@ -141,6 +142,10 @@ class Edge:
     message: str = ""
     steps: int = 0
     vr_tol: float = 0.0  # BIFURCATION: the tolerance it was located to
+    # the configuration the path reached where it is not the target node's
+    # own coordinates (an end identified with the node up to a rigid motion
+    # the supports allow): the viewer draws the path to where it went
+    end: Optional[List[Any]] = None
 
     def to_dict(self) -> Dict[str, Any]:
         return dataclasses.asdict(self)
@@ -166,7 +171,25 @@ class Atlas:
                 "stats": self.stats}
 
     def to_json(self, path: Union[None, str, os.PathLike[str]] = None) -> str:
-        text = json.dumps(self.to_dict(), indent=1, default=_jsonable, allow_nan=True) + "\n"
+        """The atlas as JSON text (and written to path, whole or not at all):
+        indented one space a level, but each node's coordinates and each
+        edge's direction, samples and end on one line (the configurations are
+        most of a large atlas: one number a line took 1.5x the room)."""
+        d = self.to_dict()
+        held: List[str] = []
+        mark = f"\x00{os.urandom(8).hex()}:"  # no text of the atlas holds it
+
+        def hold(v: Any) -> str:
+            held.append(json.dumps(v, separators=(",", ":"), default=_jsonable, allow_nan=True))
+            return f"{mark}{len(held) - 1}"
+        for n in d["nodes"]:
+            n["coords"] = hold(n["coords"])
+        for e in d["edges"]:
+            for k in ("direction", "samples", "end"):
+                e[k] = hold(e[k])
+        text = json.dumps(d, indent=1, default=_jsonable, allow_nan=True) + "\n"
+        quoted = json.dumps(mark)[:-1]  # the mark as json.dumps writes it, without the closing quote
+        text = re.sub(re.escape(quoted) + r'(\d+)"', lambda m: held[int(m.group(1))], text)
         if path is not None:  # whole or not at all
             write_text(path, text)
         return text
@@ -191,7 +214,8 @@ class Atlas:
             G.add_edge(self.node_name(e.source), self.node_name(e.target), key=e.id, solution=e.solution,
                        sign=e.sign, event=e.event, length=e.length,
                        accuracy=e.accuracy if math.isfinite(e.accuracy) else -1.0,
-                       direction=json.dumps(e.direction), samples=json.dumps(e.samples), message=e.message)
+                       direction=json.dumps(e.direction), samples=json.dumps(e.samples), message=e.message,
+                       end=json.dumps(e.end))
         return G
 
     def to_graphml(self, path: Union[str, os.PathLike[str]]) -> None:

@@ -2,10 +2,13 @@
 from __future__ import annotations
 
 import collections
+import contextlib
 import math
 import os
 import pathlib
-from typing import Any, Dict, List, Optional, Tuple, Union
+import sys
+import time
+from typing import Any, Dict, Iterator, List, Optional, Tuple, Union
 
 import numpy as np
 
@@ -13,6 +16,7 @@ from ..atomic import staged_folder, write_text
 from ..cliargs import require_extras
 from . import model as _atlas
 from . import tasks
+from .limits import limits_hit as limits_hit  # noqa: F401 - `libkin explore` prints them
 
 
 def _f(v: Any, fmt: str = ".4g") -> str:
@@ -32,43 +36,43 @@ def require_output_modules() -> None:
     require_extras("the atlas's files", OUTPUT_MODULES)
 
 
-def limits_hit(atlas: _atlas.Atlas) -> Dict[str, str]:
-    """Where the run's limits bit: for each of max_nodes, time_limit and
-    max_length that stopped part of the run, one sentence saying how far it
-    got and which option lifts it (`libkin explore` prints them on stderr)."""
-    se, nodes, out = atlas.settings, atlas.nodes, {}
-    deepest = f" of {se['depth']}" if se.get("depth") is not None else ""
-    found = f"{len(nodes):,} node{'s' if len(nodes) != 1 else ''} found"
-    skipped = [n for n in nodes if n.status == "not expanded: max_nodes reached"]
-    if skipped:
-        d = min(n.depth for n in skipped)
-        out["max_nodes"] = (f"stopped at depth {d}{deepest}: --max-nodes {se.get('max_nodes')} reached ({found}; "
-                            f"{len(skipped):,} bifurcation{'s' if len(skipped) > 1 else ''} not expanded); "
-                            f"raise --max-nodes to go deeper")
-    late = [n for n in nodes if "time limit reached" in n.status]
-    if late or atlas.stats.get("stopped_by") == "time_limit":
-        d = min((n.depth for n in late), default=max((n.depth for n in nodes), default=0))
-        out["time_limit"] = (f"stopped at depth {d}{deepest}: --time-limit {_f(se.get('time_limit'), 'g')} s "
-                             f"reached ({found}; {len(late):,} not expanded or not all followed); the atlas so far "
-                             f"is partial: raise --time-limit, or continue with --resume")
-    budget = sum(1 for e in atlas.edges if e.event == tasks.BUDGET)
-    if budget:
-        out["max_length"] = (f"{budget:,} of {len(atlas.edges):,} paths ended at the path-length budget "
-                             f"(--max-length {_f(se.get('max_length'))}) before any event; raise --max-length to "
-                             f"follow them further")
-    return out
+class _Phases:
+    """Progress of write(): one phase per file. progress True: a line on
+    stderr as each file starts (what it holds) and as it is done (its size
+    and seconds), so a long write is never silent; a callable gets
+    (files done, files in all, what) before each file and at the end."""
+
+    def __init__(self, progress: Any, total: int) -> None:
+        self.progress, self.total, self.done = progress, total, 0
+
+    @contextlib.contextmanager
+    def phase(self, path: pathlib.Path, what: str) -> Iterator[None]:
+        if callable(self.progress):
+            self.progress(self.done, self.total, f"{path.name}: {what}")
+        elif self.progress is True:
+            print(f"[write] {path.name} ({self.done + 1}/{self.total}): {what} ...", file=sys.stderr, flush=True)
+        t = time.perf_counter()
+        yield
+        self.done += 1
+        if self.progress is True:
+            size = path.stat().st_size if path.exists() else 0
+            print(f"[write] {path.name}: {size / 1e6:,.1f} MB in {time.perf_counter() - t:.1f} s",
+                  file=sys.stderr, flush=True)
+        elif callable(self.progress) and self.done == self.total:
+            self.progress(self.done, self.total, "written")
 
 
 def write(atlas: _atlas.Atlas, out: Union[str, os.PathLike[str]], map_png: str = "atlas_map.png",
           nodes_png: str = "atlas_nodes.png", graphml: str = "atlas.graphml",
-          json_name: str = "atlas.json", html: Optional[str] = None) -> pathlib.Path:
+          json_name: str = "atlas.json", html: Optional[str] = None, progress: Any = None) -> pathlib.Path:
     """Write json_name, graphml, the PNGs, report.md and (if html names it)
     the viewer page (atlas/html.py, needs plotly) into the folder out,
     committed whole: written aside and made out's outputs in one step (a
     staging folder swapped with out, or in place the switch of a link; out's
     other files and folders are kept); on a failure out is as it was
     (libkin.atomic.staged_folder). Returns the path of report.md. ImportError (nothing written) without
-    networkx or matplotlib."""
+    networkx or matplotlib. progress: None, True (a line on stderr as each
+    file starts and ends) or a callable (files done, files in all, what)."""
     require_output_modules()
     if html:
         from .html import require_plotly
@@ -78,15 +82,24 @@ def write(atlas: _atlas.Atlas, out: Union[str, os.PathLike[str]], map_png: str =
     # the five files are written aside and take their place together: a
     # reader never sees a new atlas.json next to an old report, and a
     # failure leaves the folder as it was (libkin.atomic.staged_folder)
+    nsamples = sum(len(e.samples) for e in atlas.edges)
+    held = f"{len(atlas.nodes):,} nodes, {len(atlas.edges):,} paths, {nsamples:,} samples"
+    ph = _Phases(progress, 6 if html else 5)
     with staged_folder(out) as stage:
-        atlas.to_json(stage / json_name)
-        atlas.to_graphml(stage / graphml)
-        atlas_plot.draw_map(atlas, stage / map_png)
-        atlas_plot.draw_nodes(atlas, stage / nodes_png)
+        with ph.phase(stage / json_name, held):
+            atlas.to_json(stage / json_name)
+        with ph.phase(stage / graphml, held):
+            atlas.to_graphml(stage / graphml)
+        with ph.phase(stage / map_png, "the map"):
+            atlas_plot.draw_map(atlas, stage / map_png)
+        with ph.phase(stage / nodes_png, "the nodes' configurations"):
+            atlas_plot.draw_nodes(atlas, stage / nodes_png)
         if html:
             from . import html as atlas_html
-            atlas_html.write(atlas, stage / html)
-        write_text(stage / "report.md", text(atlas, map_png, nodes_png, graphml, json_name, html=html))
+            with ph.phase(stage / html, f"the viewer page, {held}"):
+                atlas_html.write(atlas, stage / html, progress=progress is True)
+        with ph.phase(stage / "report.md", "the report"):
+            write_text(stage / "report.md", text(atlas, map_png, nodes_png, graphml, json_name, html=html))
     return out / "report.md"
 
 

@@ -98,9 +98,11 @@ def follow_branch(task: Task) -> Dict[str, Any]:
     a loop "return_angle" (radians, its return direction to its own branch)
     and "return_tangent" (the path's direction at the end, where regular)}.
     The samples come from the same follow (kin_follow_event_ex records the
-    points its steps reach, up to SAMPLE_ROOM per sample asked for): for
-    k = 1..n the recorded point whose path length is nearest k/(n+1) of the
-    event's length; the branch is followed once."""
+    points its steps reach, record_room(n) of them): for k = 1..n the
+    recorded point whose path length is nearest k/(n+1) of the event's
+    length, and more of the recorded points where the viewer's curve
+    through the samples would strain a bar by more than 1 % (frames.py);
+    the branch is followed once."""
     from ..parallel import one_blas_thread
     with one_blas_thread():
         return _follow_branch(task)
@@ -123,7 +125,7 @@ def _follow_branch(task: Task) -> Dict[str, Any]:
     samples: list[Any] = []
     out: Dict[str, Any] = {"samples": samples, "message": ""}
     try:
-        ev = a.follow_event(d, max_length=float(task["max_length"]), samples=SAMPLE_ROOM * n,
+        ev = a.follow_event(d, max_length=float(task["max_length"]), samples=record_room(n),
                             branches=br, own_branch=own, **lim)
     except KinError as exc:
         out.update(_end_state(a, FAILURE))
@@ -146,7 +148,8 @@ def _follow_branch(task: Task) -> Dict[str, Any]:
         an = a.analyse() if own is None else None  # decided with every line: nothing to decide again
         if an is not None and an.m_internal == 1:  # the path's direction at the end, near the start
             out["return_tangent"] = [float(v) for v in an.internal_mechanisms[:, 0]]
-    samples.extend(_pick_samples(ev.samples, ev.sample_lengths, ev.length, n))
+    samples.extend(_pick_samples(ev.samples, ev.sample_lengths, ev.length, n, start=task["coords"], end=a.coords,
+                                 bars=a.bars, rest=a.rest_lengths))
     out["cpu_seconds"] = time.process_time() - cpu0
     return out
 
@@ -160,23 +163,38 @@ BRANCH_DIRECTIONS_MAX = 20000
 # recorded points per sample asked for: the follower keeps them evenly spread
 # by steps, so the one nearest each wanted length is within about a step of it
 SAMPLE_ROOM = 8
+# at least this many recorded points to pick from where samples are asked
+# for: where the viewer's curve through the evenly spread samples would
+# stretch a bar by more than frames.VIEW_STRAIN, more are stored from these
+VIEW_RECORD = 128
 
 
-def _pick_samples(recorded: Any, lengths: Any, total: float, n: int) -> list[Any]:
+def record_room(n: int) -> int:
+    """How many configurations the follower records along a path for n samples."""
+    return max(SAMPLE_ROOM * n, VIEW_RECORD) if n > 0 else 0
+
+
+def _pick_samples(recorded: Any, lengths: Any, total: float, n: int, start: Any = None, end: Any = None,
+                  bars: Any = None, rest: Any = None) -> list[Any]:
     """For k = 1..n the recorded configuration nearest k/(n+1) of the path
-    length (each used once; fewer when fewer were recorded)."""
+    length (each used once; fewer when fewer were recorded) and, given the
+    path's start and end and the model's bars, more of the recorded ones
+    where the viewer's curve through them strains a bar by more than
+    frames.VIEW_STRAIN (frames.choose); in path order."""
     if n <= 0 or recorded is None or len(recorded) == 0:
         return []
     lengths = np.asarray(lengths, dtype=float)
-    out, used = [], set()
+    used: list[int] = []
     for k in range(1, n + 1):
         order = np.argsort(np.abs(lengths - total * k / (n + 1)))
         i = next((int(j) for j in order if int(j) not in used), None)
         if i is None:
             break
-        used.add(i)
-        out.append((i, recorded[i].tolist()))
-    return [x for _, x in sorted(out, key=lambda p: p[0])]
+        used.append(i)
+    from .frames import choose
+    if start is not None and end is not None and bars is not None and rest is not None:
+        used = choose(start, recorded, end, used, bars, rest)
+    return [recorded[i].tolist() for i in sorted(used)]
 
 
 def _end_state(a: Assembly, kind: str, rank_tol: Optional[float] = None) -> Dict[str, Any]:

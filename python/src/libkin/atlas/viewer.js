@@ -89,10 +89,10 @@
     return out;
   }
   const nodeConfig = (i) => decode(B64C, i);
-  function keyframes(e) {
+  function keyframes(e) {  // the source, the samples, the target (or the path's own end, the last sample)
     const fr = [nodeConfig(src[e])];
     for (let k = 0; k < ed.samples[e]; k++) fr.push(decode(B64S, ed.sample_start[e] + k));
-    fr.push(nodeConfig(tgt[e]));
+    if (!(ed.own_end && ed.own_end[e])) fr.push(nodeConfig(tgt[e]));
     return fr;
   }
 
@@ -100,7 +100,12 @@
   const present = (arr, n) => { const c = new Int32Array(n); for (const v of arr) c[v]++; return c; };
   const kindCount = present(nd.kind, D.kinds.length), eventCount = present(ed.event, D.events.length);
   const range = (a) => [Math.min.apply(null, a), Math.max.apply(null, a)];
-  const R = { m: range(nd.m), s: range(nd.s), depth: range(nd.depth) };
+  const finiteRange = (a) => { const f = (a || []).filter((v) => v !== null && isFinite(v)); return f.length ? range(f) : [0, 0]; };
+  const R = { m: range(nd.m), s: range(nd.s), depth: range(nd.depth), xy_extent: finiteRange(nd.xy_extent),
+    height: finiteRange(nd.height), clearance: finiteRange(nd.clearance) };
+  const COLOUR_TITLE = { m: "m", s: "s", depth: "depth", xy_extent: "x-y extent", height: "height",
+    clearance: "clearance", contact: "contact" };
+  R.contact = [0, 1];
   const byName = new Map();
   for (let i = 0; i < N; i++) { byName.set(nd.name[i].toLowerCase(), i); byName.set(String(nd.id[i]), i); byName.set("n" + nd.id[i], i); }
   function checkboxes(box, names, counts, colours, cls) {
@@ -118,11 +123,18 @@
     [["m", "f-m"], ["s", "f-s"], ["depth", "f-d"]].forEach(function ([k, id]) {
       $(id + "-lo").value = R[k][0]; $(id + "-hi").value = R[k][1];
     });
+    [["xy_extent", "f-xy"], ["height", "f-h"]].forEach(function ([k, id]) {  // rounded outwards
+      $(id + "-lo").value = fmt(Math.floor(R[k][0] * 1000) / 1000, 4); $(id + "-hi").value = fmt(Math.ceil(R[k][1] * 1000) / 1000, 4);
+    });
+    $("f-contact").value = "any";
   }
   resetRanges();
   // markers on the paths: shown unless there are so many that they hide the map
   const HANDLES = E <= 5000;
   $("f-handles").checked = HANDLES;
+  // node names beside the markers: shown while they can be read
+  const NAMES = N <= 300;
+  $("f-names").checked = NAMES;
   function numberOr(id, dflt) { const v = parseFloat($(id).value); return isFinite(v) ? v : dflt; }
   function filters() {
     const kinds = new Set(), events = new Set();
@@ -133,15 +145,22 @@
     return { kinds: kinds, events: events, m: [numberOr("f-m-lo", -Infinity), numberOr("f-m-hi", Infinity)],
       s: [numberOr("f-s-lo", -Infinity), numberOr("f-s-hi", Infinity)],
       depth: [numberOr("f-d-lo", -Infinity), numberOr("f-d-hi", Infinity)],
+      xy: [numberOr("f-xy-lo", -Infinity), numberOr("f-xy-hi", Infinity)],
+      h: [numberOr("f-h-lo", -Infinity), numberOr("f-h-hi", Infinity)], contact: $("f-contact").value,
+      names: $("f-names").checked,
       orbit: orbitText ? (orbitNode === undefined ? -2 : nd.orbit[orbitNode]) : -1, reps: $("f-reps").checked,
       colour: $("f-colour").value, handles: $("f-handles").checked };
   }
+  // a node whose value is not known (null) is shown whatever the range
+  const inRange = (v, r) => v === null || v === undefined || (v >= r[0] && v <= r[1]);
   function visible(f) {
     const vn = new Uint8Array(N), ve = new Uint8Array(E);
     for (let i = 0; i < N; i++) {
       vn[i] = f.kinds.has(nd.kind[i]) && nd.m[i] >= f.m[0] && nd.m[i] <= f.m[1] && nd.s[i] >= f.s[0] &&
         nd.s[i] <= f.s[1] && nd.depth[i] >= f.depth[0] && nd.depth[i] <= f.depth[1] &&
-        (f.orbit === -1 || nd.orbit[i] === f.orbit) && (!f.reps || nd.orbit[i] === i) ? 1 : 0;
+        (f.orbit === -1 || nd.orbit[i] === f.orbit) && (!f.reps || nd.orbit[i] === i) &&
+        inRange(nd.xy_extent[i], f.xy) && inRange(nd.height[i], f.h) &&
+        (f.contact === "any" || (f.contact === "contact") === (nd.contact[i] === 1)) ? 1 : 0;
     }
     for (let e = 0; e < E; e++) ve[e] = f.events.has(ed.event[e]) && vn[src[e]] && vn[tgt[e]] ? 1 : 0;
     return [vn, ve];
@@ -153,7 +172,9 @@
   for (let i = 0; i < N; i++) {
     nodeText[i] = nd.name[i] + " \u00b7 " + word(kindOf(i)) + " \u00b7 m = " + nd.m[i] + ", s = " + nd.s[i] +
       "<br>depth " + nd.depth[i] + " \u00b7 orbit of " + nd.name[nd.orbit[i]] + " \u00b7 " +
-      (OUT[0][i + 1] - OUT[0][i]) + " paths out, " + (IN[0][i + 1] - IN[0][i]) + " in";
+      (OUT[0][i + 1] - OUT[0][i]) + " paths out, " + (IN[0][i + 1] - IN[0][i]) + " in<br>x-y extent " +
+      fmt(nd.xy_extent[i], 3) + ", height " + fmt(nd.height[i], 3) + " \u00b7 " + (nd.contact[i] ? "in contact" :
+      "clearance " + (nd.clearance[i] === null ? "large" : fmt(nd.clearance[i], 3)));
   }
   function edgeLabel(e) {  // built when its marker is drawn
     if (edgeText[e] === undefined) {
@@ -180,8 +201,9 @@
       marker: { size: Math.max(4, msize - 4), color: hi.map((e) => EVENT_COLOUR[D.events[ed.event[e]]] || "#444"),
         opacity: 0.55, symbol: "circle" } });
     roles.push(["handle", hi]);
-    const cvals = f.colour === "kind" ? null : f.colour === "depth" ? nd.depth : nd[f.colour];
+    const cvals = f.colour === "kind" ? null : nd[f.colour];
     const crange = f.colour === "kind" ? null : R[f.colour];
+    const showNames = f.names;
     let scale = true;
     D.kinds.forEach(function (k, j) {
       if (!kindCount[j]) return;
@@ -191,14 +213,16 @@
       const marker = { symbol: st[0], size: idx.map((i) => (nd.depth[i] === 0 ? 2 * msize : msize)),
         color: st[1], line: { color: "#222", width: msize > 6 ? 1 : 0.5 } };
       if (cvals) {
-        Object.assign(marker, { color: idx.map((i) => cvals[i]), colorscale: "Viridis", cmin: crange[0],
-          cmax: Math.max(crange[1], crange[0] + 1), showscale: scale,
-          colorbar: { title: { text: f.colour }, thickness: 12, len: 0.5, x: 1.0 } });
+        // unknown values (a clearance beyond the cutoff) take the top of the scale
+        Object.assign(marker, { color: idx.map((i) => (cvals[i] === null ? crange[1] : cvals[i])), colorscale: "Viridis",
+          cmin: crange[0], cmax: crange[1] > crange[0] ? crange[1] : crange[0] + 1, showscale: scale,
+          colorbar: { title: { text: COLOUR_TITLE[f.colour] || f.colour }, thickness: 12, len: 0.5, x: 1.0 } });
         scale = false;
       }
-      out.push({ type: "scattergl", mode: "markers", x: idx.map((i) => X[i]), y: idx.map((i) => Y[i]),
-        text: idx.map((i) => nodeText[i]), hoverinfo: "text", name: word(k) + " (" + idx.length.toLocaleString() + ")",
-        marker: marker, legendgroup: "n" });
+      out.push({ type: "scattergl", mode: showNames ? "markers+text" : "markers", x: idx.map((i) => X[i]),
+        y: idx.map((i) => Y[i]), text: idx.map((i) => nd.name[i]), hovertext: idx.map((i) => nodeText[i]),
+        hoverinfo: "text", textposition: "top center", textfont: { size: 10, color: "#333" },
+        name: word(k) + " (" + idx.length.toLocaleString() + ")", marker: marker, legendgroup: "n" });
       roles.push(["node", idx]);
     });
     out.push(highlightTrace());
@@ -245,6 +269,7 @@
   }
   function draw(first) {
     const f = filters();
+    V.colourBy = f.colour;
     const [vn, ve] = visible(f);
     let nve = 0;
     for (let e = 0; e < E; e++) nve += ve[e];
@@ -254,6 +279,7 @@
       modeBarButtonsToRemove: ["select2d", "lasso2d", "autoScale2d"] }).then(function () {
       const drawn = nodesDrawn();
       body.dataset.nodesDrawn = drawn; body.dataset.edgesDrawn = nve;
+      body.dataset.namesDrawn = f.names ? drawn : 0;
       $("counts").textContent = "showing " + drawn.toLocaleString() + " of " + N.toLocaleString() + " nodes, " +
         nve.toLocaleString() + " of " + E.toLocaleString() + " paths";
     });
@@ -348,6 +374,14 @@
   // ---- the 3D view
   const v3 = $("view3d");
   const BARS = M.bars;
+  function curveFrames(fr) {  // every frame the animation can show: each segment at SEG points
+    if (fr.length < 2) return fr;
+    const out = [], SEG = 24;
+    for (let k = 0; k < fr.length - 1; k++)
+      for (let q = 0; q < SEG; q++) out.push(segmentAt(fr, k, q / SEG, new Float64Array(J * 3)));
+    out.push(fr[fr.length - 1]);
+    return out;
+  }
   function bounds(frames) {
     const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
     frames.forEach(function (c) {
@@ -433,8 +467,29 @@
 
   // ---- selection: a path, animated from its samples
   let anim = null;
-  function catmull(fr, u, out) {  // uniform Catmull-Rom through the keyframes, u in [0, 1]
-    const K = fr.length - 1, x = Math.min(Math.max(u, 0) * K, K - 1e-9), k = Math.floor(x), t = x - k;
+  // the keyframes' places along the path: cumulative chord length, 0 to 1
+  // (the samples are denser where the path turns: the animation keeps a
+  // steady pace along the path)
+  function knots(fr) {
+    const u = [0];
+    for (let k = 1; k < fr.length; k++) {
+      let d = 0;
+      for (let q = 0; q < fr[k].length; q++) d += (fr[k][q] - fr[k - 1][q]) ** 2;
+      u.push(u[k - 1] + Math.sqrt(d));
+    }
+    const L = u[u.length - 1];
+    return u.map((v, k) => (L > 0 ? v / L : k / Math.max(1, fr.length - 1)));
+  }
+  function catmull(fr, u, out) {  // the uniform Catmull-Rom spline through the keyframes at u in [0, 1] of the path
+    const K = fr.length - 1, kn = anim && anim.frames === fr ? anim.knots : knots(fr);
+    const x = Math.min(Math.max(u, 0), 1);
+    let k = 0;
+    while (k < K - 1 && kn[k + 1] <= x) k++;
+    const t = kn[k + 1] > kn[k] ? Math.min(1, (x - kn[k]) / (kn[k + 1] - kn[k])) : 0;
+    return segmentAt(fr, k, t, out);
+  }
+  function segmentAt(fr, k, t, out) {  // segment k (keyframes k to k+1) at t in [0, 1]; atlas/frames.py catmull()
+    const K = fr.length - 1;
     const p0 = fr[Math.max(k - 1, 0)], p1 = fr[k], p2 = fr[k + 1], p3 = fr[Math.min(k + 2, K)];
     const t2 = t * t, t3 = t2 * t;
     for (let q = 0; q < out.length; q++) {
@@ -447,7 +502,7 @@
   function showAt(u) {
     catmull(anim.frames, u, anim.buf);
     $("a-pos").value = Math.round(1000 * u);
-    $("a-label").textContent = "l = " + fmt(u * (ed.length[anim.e] || 0), 3) + " of " + fmt(ed.length[anim.e], 3);
+    $("a-label").textContent = "l \u2248 " + fmt(u * (ed.length[anim.e] || 0), 3) + " of " + fmt(ed.length[anim.e], 3);
     return restyle3d(anim.buf);
   }
   function tick(now) {
@@ -471,20 +526,26 @@
     $("info").innerHTML = "<h3>path " + ed.id[e] + ": " + esc(nd.name[s]) + " \u2192 " + esc(nd.name[t]) + "</h3><table>" +
       row("ends in", word(D.events[ed.event[e]])) + row("length", fmt(ed.length[e])) +
       row("solution", ed.solution[e] + ", sense " + (ed.sign[e] > 0 ? "+" : "\u2212")) +
-      row("drawn from", ns ? ns + " sample" + (ns > 1 ? "s" : "") + " along the path (every 1/" + (ns + 1) +
-        " of its length) and its two ends, smoothly interpolated in between" :
+      row("drawn from", ns ? ns + " configuration" + (ns > 1 ? "s" : "") + " along the path" +
+        (ed.own_end && ed.own_end[e] ? " (the last its own end: a copy of " + esc(nd.name[t]) + " moved rigidly)" : "") +
+        " and its start, smoothly interpolated in between" :
         "its two ends only (no samples stored): a straight interpolation, not the path") + "</table>";
     document.querySelectorAll("#edgelist .row").forEach((r) => r.classList.toggle("sel", +r.dataset.edge === e));
     const frames = keyframes(e);
-    anim = { e: e, frames: frames, buf: new Float64Array(J * 3), playing: true, t0: performance.now(), busy: false };
+    anim = { e: e, frames: frames, knots: knots(frames), buf: new Float64Array(J * 3), playing: true,
+      t0: performance.now(), busy: false };
+    const box = bounds(curveFrames(frames));
+    V.box = box;
     V.animating = true;
     body.dataset.view3d = "path " + ed.id[e];
     $("anim").hidden = false; $("a-play").textContent = "pause";
     highlight();
-    return draw3d(frames[0], bounds(frames), nd.name[s] + " \u2192 " + nd.name[t] + " (" + word(D.events[ed.event[e]]) + ")")
+    return draw3d(frames[0], box, nd.name[s] + " \u2192 " + nd.name[t] + " (" + word(D.events[ed.event[e]]) + ")")
       .then(function () { if (anim && anim.e === e) anim.raf = requestAnimationFrame(tick); });
   }
   V.selectEdge = selectEdge;
+  // tests: the frame the animation shows at u (0..1 of the path), as joints x 3
+  V.frameAt = (u) => (anim ? Array.from(catmull(anim.frames, u, new Float64Array(J * 3))) : null);
   $("a-play").addEventListener("click", function () {
     if (!anim) return;
     anim.playing = !anim.playing; V.animating = anim.playing;
@@ -525,15 +586,21 @@
   $("f-goto").addEventListener("keydown", function (ev) { if (ev.key === "Enter") goTo(); });
   $("f-reset").addEventListener("click", function () {
     document.querySelectorAll("[data-kind],[data-event]").forEach((c) => { c.checked = true; });
-    resetRanges(); $("f-orbit").value = ""; $("f-reps").checked = false; $("f-handles").checked = HANDLES; draw(false);
+    resetRanges(); $("f-orbit").value = ""; $("f-reps").checked = false; $("f-handles").checked = HANDLES; $("f-names").checked = NAMES; draw(false);
   });
 
   $("title").textContent = D.title;
   const S = D.summary;
+  const RE = D.reach || {};
   $("summary").textContent = S.nodes.toLocaleString() + " nodes, " + S.edges.toLocaleString() + " directed paths; " +
-    M.joints + " joints, " + M.bars.length + " bars" + (D.settings.depth !== undefined && D.settings.depth !== null ?
-    "; explored to depth " + D.settings.depth : "") + (D.grid.samples_dropped ? "; " + D.grid.samples_dropped.toLocaleString() +
-    " samples left out of the page (size)" : "");
+    M.joints + " joints, " + M.bars.length + " bars" + (RE.reached !== undefined ? "; reached depth " + RE.reached +
+    (RE.depth !== undefined && RE.depth !== null ? " of " + RE.depth : "") : "") +
+    (D.grid.samples_dropped ? "; " + D.grid.samples_dropped.toLocaleString() + " samples left out of the page (size)" : "");
+  // why it stopped there: the limits that bit (limits.py), or that nothing was left to expand
+  $("stopped").textContent = (RE.stopped || []).length ? RE.stopped.join("; ") :
+    (RE.depth !== undefined && RE.depth !== null && RE.reached < RE.depth ? "complete: no new node past depth " + RE.reached :
+      RE.depth !== undefined && RE.depth !== null ? "complete to the depth asked for" : "");
+  $("stopped").classList.toggle("limit", (RE.stopped || []).length > 0);
   draw(true).then(function () {
     gd.on("plotly_click", onClick);
     requestAnimationFrame(function () {

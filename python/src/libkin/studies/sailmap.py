@@ -135,16 +135,16 @@ class SailMap:
                 primes += 0 if i in self.run else 1
         return out
 
-    def write_html(self, path: Any, title: Optional[str] = None) -> bool:
+    def write_html(self, path: Any, title: Optional[str] = None, progress: bool = False) -> bool:
         """The atlas as a page to walk in a browser (libkin.atlas.html), with
         the run's names; False (nothing written) when plotly, whose plotly.js
-        the page carries, is not installed."""
+        the page carries, is not installed. progress: a bar over the nodes."""
         from libkin.atlas import html
         try:
             html.require_plotly()
         except ImportError:
             return False
-        html.write(self.atlas, path, names=self.names(), title=title)
+        html.write(self.atlas, path, names=self.names(), title=title, progress=progress)
         return True
 
     @staticmethod

@@ -420,8 +420,12 @@ def _finish_hex(res, track, out, t_start, progress, stages=(), smap=None, snaps=
         with staged_folder(out) as stage:
             try:
                 if smap is not None:
+                    say(progress, f"[write] atlas.json: {len(smap.atlas.nodes):,} nodes, "
+                                  f"{len(smap.atlas.edges):,} paths ...")
                     smap.atlas.to_json(stage / "atlas.json")
-                    res["map_html"] = smap.write_html(stage / "atlas.html", f"Path map of the {res['model']}")
+                    say(progress, "[write] atlas.html: the path map to walk in a browser ...")
+                    res["map_html"] = smap.write_html(stage / "atlas.html", f"Path map of the {res['model']}",
+                                                      progress=bool(progress))
                     if not res["map_html"]:
                         say(progress, "atlas.html not written: it needs plotly (pip install plotly)")
                 if track is not None and track.l:
@@ -429,7 +433,7 @@ def _finish_hex(res, track, out, t_start, progress, stages=(), smap=None, snaps=
                         np.savez(f, l=np.array(track.l), sv=np.array(track.sv),
                                  strain=np.array(track.strain), hub_z=np.array(track.hub_z))
                     from . import studyreport
-                    studyreport.hexagonal(res, track, stages, stage, smap, snaps or {})
+                    studyreport.hexagonal(res, track, stages, stage, smap, snaps or {}, progress=progress)
             finally:  # with the figures' time when they were drawn
                 write_text(stage / "summary.json", json.dumps(res, indent=1, default=jsonable) + "\n")
         say(progress, f"wrote {out / 'report.md'}")

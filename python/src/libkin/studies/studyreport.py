@@ -25,39 +25,54 @@ def _event_row(name, ev, paper):
             f"{ev['hub_out_of_plane']:.3f} | {pcol} | {paper} |")
 
 
-def hexagonal(res, track, stages, out, smap=None, snaps=None):
+def hexagonal(res, track, stages, out, smap=None, snaps=None, progress=None):
     """Every figure (studyfigures.py) and report.md; res["seconds_figures"]
-    is the time the figures took (report.md's run time includes it)."""
+    is the time the figures took (report.md's run time includes it).
+    progress: a line on stderr as each figure starts and as it is done
+    (common.say), so the minutes of drawing are not silent."""
     import time
     t0 = time.perf_counter()
     from . import studyfigures as F
+    from .common import say
     M = F.Model(res["n_sides"], res["n_loops"])
     figs = {}
-    F.model_figure(M, out)
-    F.stages_2d(M, stages, out)
-    F.stages_3d(M, stages, out)
-    figs["sv_groups"] = F.singular_values(res, track, out)
-    F.strain_hub(res, track, out)
-    F.fold_measures(M, res, track, out)
+    steps = [("the model", lambda: F.model_figure(M, out)),
+             ("the stages in 2D", lambda: F.stages_2d(M, stages, out)),
+             ("the stages in 3D", lambda: F.stages_3d(M, stages, out)),
+             ("the singular values", lambda: figs.__setitem__("sv_groups", F.singular_values(res, track, out))),
+             ("bar strain and hub planarity", lambda: F.strain_hub(res, track, out)),
+             ("the fold measures", lambda: F.fold_measures(M, res, track, out))]
     if smap is not None and smap.nodes:
-        F.path_map(smap, out)
+        steps.append(("the path map", lambda: F.path_map(smap, out)))
     if smap is not None and smap.contact_atlas is not None:
-        from libkin.atlas.plot import draw_map
-        draw_map(smap.contact_atlas, out / "contact_map.png",
-                 title=f"The path map with contact as an event (t/a = {res['contact_map']['thickness']:g})")
-        figs["contact_map"] = "contact_map.png"
+        def contact_map():
+            from libkin.atlas.plot import draw_map
+            draw_map(smap.contact_atlas, out / "contact_map.png",
+                     title=f"The path map with contact as an event (t/a = {res['contact_map']['thickness']:g})")
+            figs["contact_map"] = "contact_map.png"
+        steps.append(("the path map with contact", contact_map))
     figs["grids"] = []
     for name, snap in (snaps or {}).items():
-        fname = f"branches_{name.replace('^', '')}.png"
-        factor = F.branch_grid(M, name, snap, snap["base"], out, fname)
-        figs["grids"].append((name, fname, snap, factor))
-    figs["gif_frames"] = F.animation(M, res, track, out)
-    # the run for origami software: every accepted step a FOLD frame
-    from libkin.io.fold import write_fold
-    doc = write_fold(out / "fold_run.fold", M.a, path_coords=track.coords, faces="triangles",
-                     title=f"libkin: {res['model']}, fold R^A-R^B-R^C and back",
-                     description="Lengths in units of the hub side a. One frame per accepted path step.")
-    figs["fold_frames"] = 1 + len(doc.get("file_frames", []))
+        def grid(name=name, snap=snap):
+            fname = f"branches_{name.replace('^', '')}.png"
+            factor = F.branch_grid(M, name, snap, snap["base"], out, fname)
+            figs["grids"].append((name, fname, snap, factor))
+        steps.append((f"the branches at {name}", grid))
+    steps.append(("the animation", lambda: figs.__setitem__("gif_frames", F.animation(M, res, track, out))))
+
+    def fold():
+        # the run for origami software: every accepted step a FOLD frame
+        from libkin.io.fold import write_fold
+        doc = write_fold(out / "fold_run.fold", M.a, path_coords=track.coords, faces="triangles",
+                         title=f"libkin: {res['model']}, fold R^A-R^B-R^C and back",
+                         description="Lengths in units of the hub side a. One frame per accepted path step.")
+        figs["fold_frames"] = 1 + len(doc.get("file_frames", []))
+    steps.append(("the FOLD file of the run", fold))
+    for k, (what, draw) in enumerate(steps):
+        say(progress, f"[figures] {k + 1}/{len(steps)}: {what} ...")
+        t = time.perf_counter()
+        draw()
+        say(progress, f"[figures] {what}: {time.perf_counter() - t:.1f} s")
     res["seconds_figures"] = round(time.perf_counter() - t0, 1)
     _write_hex_md(res, out, M, figs)
 
