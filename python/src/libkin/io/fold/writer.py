@@ -103,8 +103,9 @@ def write_fold(path: Union[None, str, "os.PathLike[str]"], assembly: Assembly,
         The text would be larger than read_fold reads by default (64 MiB).
     ModelFormatError (or the class read_fold raises)
         read_fold would reject the document (e.g. a face out of range or
-        degenerate). Nothing is written then: every file write_fold writes
-        reads back with read_fold (its key frame is read back before writing).
+        degenerate). Nothing is written or returned then: every document
+        write_fold returns or writes reads back with read_fold (its key
+        frame is read back first).
     """
     src: Optional[FoldSource] = getattr(assembly, "fold", None)
     nv = src.n_vertices if src is not None else assembly.njoints
@@ -139,6 +140,12 @@ def write_fold(path: Union[None, str, "os.PathLike[str]"], assembly: Assembly,
         face_list = _orient_ccw([t for t in graph_triangles(bars) if max(t) < nv], configs[0][:nv])
     else:
         face_list = [list(map(int, f)) for f in faces] if faces is not None else None
+
+    for i, f in enumerate(face_list or []):
+        # a face read_fold would refuse is refused here, returned or written
+        if len(f) < 3 or not all(0 <= v < nv for v in f):
+            raise ModelFormatError(f"write_fold: faces[{i}] = {f}: expected 3 or more vertex indices in "
+                                   f"0..{nv - 1}; not written")
 
     def coords_of(c: npt.NDArray[np.float64]) -> List[List[float]]:
         return [[float(v) for v in row] for row in c[:nv]]
@@ -191,20 +198,21 @@ def write_fold(path: Union[None, str, "os.PathLike[str]"], assembly: Assembly,
         doc["file_classes"] = ["animation"]
         doc["file_frames"] = [{"frame_parent": 0, "frame_inherit": True, "frame_classes": frame_classes,
                                "vertices_coords": coords_of(c)} for c in configs[1:]]
+    # returned or written, the document is one read_fold reads: its key
+    # frame is read back (a face whose vertices coincide, say, is refused)
+    _check_reads_back(doc)
     if path is not None:  # whole or not at all: the file saved before stays on a failure
         text = json.dumps(doc, separators=(",", ":"), allow_nan=False) + "\n"
-        _check_reads_back(doc, text)
+        size = len(text.encode("utf-8"))
+        if size > MAX_BYTES:
+            raise LimitError(f"write_fold: {size} bytes, more than read_fold reads by default ({MAX_BYTES}); "
+                             "not written")
         write_text(path, text)
     return doc
 
 
-def _check_reads_back(doc: FoldDoc, text: str) -> None:
-    """Raise what read_fold would raise on `text` (the serialised `doc`):
-    its size against the default limit, then the key frame read back."""
-    size = len(text.encode("utf-8"))
-    if size > MAX_BYTES:
-        raise LimitError(f"write_fold: {size} bytes, more than read_fold reads by default ({MAX_BYTES}); "
-                         "not written")
+def _check_reads_back(doc: FoldDoc) -> None:
+    """Raise what read_fold would raise on `doc`'s key frame."""
     try:
         read_fold(doc)
     except KinError as exc:
