@@ -287,8 +287,12 @@ KIN_API int kin_path_reset(kin_assembly *a);
  * sqrt(dim) * coord_resolution / min L0 if larger), e.g. to
  * clean up coordinates typed in or imported with few digits. Resets the
  * path state. residual (may be NULL) receives the final max |L-L0|/L0.
- * Returns KIN_OK; KIN_ENULL; KIN_EINVAL (max_iter < 1); KIN_ENOTCONVERGED
- * (assembly unchanged); LAPACK codes. */
+ * It stops where no damped step lowers the strain. Returns KIN_OK;
+ * KIN_ENULL; KIN_EINVAL (max_iter < 1); KIN_ENOTCONVERGED (assembly
+ * unchanged); KIN_EGEOM (assembly unchanged) when the iteration reaches a
+ * bar of zero length (a rest length the bars cannot take pulls its joints
+ * together: the bar has no direction there, and nothing goes to LAPACK);
+ * LAPACK codes. */
 KIN_API int kin_relax(kin_assembly *a, int max_iter, double *residual);
 
 #ifdef __cplusplus

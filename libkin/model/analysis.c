@@ -31,6 +31,7 @@ static int factorize(kin_assembly *a, const double *xyz, int idx)
     kin_factor *f = &a->fac[idx];
     int nf = a->nf, nb = a->nb, info = 0;
     f->valid = 0;
+    if ((rc = kin__check_bars(a, xyz))) return rc;
     kin__build_H(a, xyz, a->H, nf);
     memcpy(a->A, a->H, sizeof(double) * (size_t)nf * (size_t)nb);
     a->nfact++;
@@ -60,6 +61,7 @@ int kin__singular_values(kin_assembly *a, const double *xyz, double *sv)
     if (rc) return rc;
     int nf = a->nf, nb = a->nb, info = 0, one = 1;
     double dummy = 0.0;
+    if ((rc = kin__check_bars(a, xyz))) return rc;
     kin__build_H(a, xyz, a->H, nf);
     memcpy(a->A, a->H, sizeof(double) * (size_t)nf * (size_t)nb);
     /* not counted in nfact: the caller counts the point once, whether or

@@ -183,6 +183,19 @@ void kin__build_H(const kin_assembly *a, const double *xyz, double *H, int ldh)
     }
 }
 
+int kin__check_bars(kin_assembly *a, const double *xyz)
+{
+    for (int k = 0; k < a->nb; ++k) {
+        double L = bar_length(a, xyz, k);
+        if (!(L > 0.0 && isfinite(L)))
+            return kin__fail(a, KIN_EGEOM,
+                             "bar %d (joints %d-%d) has length %g at this configuration: its direction, and "
+                             "the equilibrium matrix, are undefined",
+                             k, a->bars[2 * k], a->bars[2 * k + 1], L);
+    }
+    return KIN_OK;
+}
+
 /* ---- validation ------------------------------------------------------- */
 
 static int cmp_pair(const void *p, const void *q)

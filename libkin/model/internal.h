@@ -240,6 +240,10 @@ double kin__rank_tolerance(const kin_assembly *a);
 double kin__extensions(const kin_assembly *a, const double *xyz, double *e);
 /* equilibrium matrix of configuration xyz into H (ld ldh) */
 void kin__build_H(const kin_assembly *a, const double *xyz, double *H, int ldh);
+/* KIN_OK when every bar of xyz has a finite length > 0 (H finite), else
+ * KIN_EGEOM naming the bar: checked before H goes to LAPACK, which would
+ * print its own message for a NaN (xerbla) instead of returning a status */
+int kin__check_bars(kin_assembly *a, const double *xyz);
 
 /* Check the caller's options (read as far as its size goes, defaults for
  * the rest) into *o; KIN_OK or KIN_EINVAL with the handle's message

@@ -15,6 +15,9 @@ int kin__bordered_solve(kin_assembly *a, const double *xyz, const double *t, con
     int nf = a->nf, nb = a->nb, m1 = t ? nb + 1 : nb, ldr = nb + 1 > nf ? nb + 1 : nf;
     int one = 1, rank = 0, info = kin__dense_ready(a);
     if (info) return info;
+    if ((info = kin__check_bars(a, xyz))) return info;
+    for (int k = 0; k < nb; ++k)
+        if (!isfinite(e[k])) return kin__fail(a, KIN_EGEOM, "the extension of bar %d is not finite", k);
     /* B = [C; t^T] (or just C when t is NULL), C = H^T built row by row (ld m1) */
     kin__build_H(a, xyz, a->H, nf);
     for (int k = 0; k < nb; ++k)

@@ -564,16 +564,27 @@ int kin_relax(kin_assembly *a, int max_iter, double *residual)
         /* damped Gauss-Newton: halve the correction until |e| decreases, so
          * a far start does not throw the assembly away */
         memcpy(a->x0, a->x, sizeof(double) * (size_t)nf);
-        double lambda = 1.0, m2 = merit;
-        for (int k = 0; k < RELAX_MAX_BACKTRACK; ++k, lambda *= 0.5) {
+        double lambda = 1.0, m2 = merit, r2 = r;
+        int better = 0;
+        for (int k = 0; k < RELAX_MAX_BACKTRACK && !better; ++k, lambda *= 0.5) {
             for (int i = 0; i < nf; ++i) a->x[i] = a->x0[i] + lambda * a->d[i];
             kin__scatter(a, a->x, xyz);
-            r = kin__extensions(a, xyz, a->e);
+            r2 = kin__extensions(a, xyz, a->e);
             m2 = kin__norm(a->nb, a->e);
-            if (m2 < merit) break;
+            better = m2 < merit;
+        }
+        ++it;
+        if (!better) {
+            /* no step along d lowers |e| (a rest length the bars cannot
+             * reach, joints driven together): stay at the best point, whose
+             * geometry is defined, instead of iterating from a worse one */
+            memcpy(a->x, a->x0, sizeof(double) * (size_t)nf);
+            kin__scatter(a, a->x, xyz);
+            r = kin__extensions(a, xyz, a->e);
+            break;
         }
         merit = m2;
-        ++it;
+        r = r2;
     }
     if (residual) *residual = r;
     if (!(r <= tol))

@@ -72,18 +72,22 @@ _FACE_MODES = ("rigid", "triangulate", "ignore")
 class FoldSource:
     """What read_fold() keeps of the file to write the mesh back: the first
     n_vertices joints and n_edges bars are the file's vertices and edges, in
-    order; the rest are what was added to keep faces rigid."""
+    order; the next n_sides bars are the sides of faces that the file gave
+    no edge for (a file may give faces only); the rest are what was added to
+    keep faces rigid (fan diagonals, apexes)."""
 
     def __init__(self, n_vertices: int, n_edges: int, assignment: Optional[List[str]],
-                 faces: Optional[List[List[int]]], frame_fields: FoldDoc) -> None:
+                 faces: Optional[List[List[int]]], frame_fields: FoldDoc, n_sides: int = 0) -> None:
         self.n_vertices = n_vertices
         self.n_edges = n_edges
+        self.n_sides = n_sides
         self.assignment = assignment
         self.faces = faces
         self.frame_fields = frame_fields
 
     def __repr__(self) -> str:
-        return f"FoldSource({self.n_vertices} vertices, {self.n_edges} edges, {len(self.faces or [])} faces)"
+        return (f"FoldSource({self.n_vertices} vertices, {self.n_edges} edges, {self.n_sides} face sides, "
+                f"{len(self.faces or [])} faces)")
 
 
 class FoldAssembly(Assembly):
@@ -366,6 +370,8 @@ def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: s
             for k in range(len(f)):
                 if f[k] != f[(k + 1) % len(f)]:
                     add_bar(f[k], f[(k + 1) % len(f)])
+    n_sides = len(bars) - len(edges)
+    if faces != "ignore" and face_list:
         for fi, f in enumerate(face_list):
             if len(f) < 3:
                 _fail(f"faces_vertices[{fi}]", f"a face needs 3 or more vertices, got {f!r}")
@@ -380,7 +386,7 @@ def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: s
                 nrm = np.zeros(3)
                 for k in range(len(f)):  # the face's vector area: a normal for non-planar faces too
                     nrm += np.cross(pts[k] - c, pts[(k + 1) % len(f)] - c)
-                if np.linalg.norm(nrm) < 1e-12 * side * side:
+                if not np.linalg.norm(nrm) > 1e-12 * side * side:  # all vertices coincident too
                     _fail(f"faces_vertices[{fi}]", "a degenerate face (its vertices are collinear)")
                 apex = len(coords)
                 coords.append(c + side * nrm / np.linalg.norm(nrm))
@@ -399,7 +405,8 @@ def read_fold(source: FoldSourceArg, fixed: Any = None, frame: int = 0, faces: s
                      lengths=lengths, labels=labels, name=name)
     n_edges = len(edges) if edges else 0
     keep = {k: v for k, v in fr.items() if k.startswith("frame_") and k not in ("frame_parent", "frame_inherit")}
-    a.fold = FoldSource(nv, n_edges, list(assignment) if assignment is not None else None, face_list, keep)
+    a.fold = FoldSource(nv, n_edges, list(assignment) if assignment is not None else None, face_list, keep,
+                        n_sides)
     if faces != "ignore" and face_list:
         # the faces are the model's panels (parts that can touch, docs/contact.md)
         a.panels = [f for f in face_list if len(set(f)) == len(f)]

@@ -80,8 +80,11 @@ def write_fold(path: Union[None, str, "os.PathLike[str]"], assembly: Assembly,
         further one a frame in file_frames inheriting the mesh. Without it,
         the single frame is the assembly's current configuration.
     faces : None, "triangles" or a list of vertex lists
-        None = the faces read from a FOLD file (if any); "triangles" = the
-        bar graph's triangles.
+        None = the faces read from a FOLD file (if any), else the
+        assembly's panels; "triangles" = the bar graph's triangles. Every
+        side of a face written is an edge: a side that is no bar (a panel
+        side, a face read with faces="ignore") is added after the bars, its
+        length that in the first configuration.
     title, description : str, optional
         file_title and file_description.
 
@@ -94,17 +97,21 @@ def write_fold(path: Union[None, str, "os.PathLike[str]"], assembly: Assembly,
     Raises
     ------
     GeometryError
-        A configuration holds a non-finite coordinate or one beyond 1e150.
+        A configuration holds a non-finite coordinate or one beyond 1e150,
+        or a face has a side that is no bar and has zero length.
     LimitError
         The text would be larger than read_fold reads by default (64 MiB).
     ModelFormatError (or the class read_fold raises)
         read_fold would reject the document (e.g. a face out of range or
-        degenerate). Nothing is written then: every file write_fold writes
-        reads back with read_fold (its key frame is read back before writing).
+        degenerate). Nothing is written or returned then: every document
+        write_fold returns or writes reads back with read_fold (its key
+        frame is read back first).
     """
     src: Optional[FoldSource] = getattr(assembly, "fold", None)
     nv = src.n_vertices if src is not None else assembly.njoints
-    ne = src.n_edges if src is not None and src.n_edges else assembly.nbars
+    # the file's edges and the face sides it gave no edge for; never the
+    # fan diagonals and apex bars added after them (an apex is no vertex)
+    ne = src.n_edges + getattr(src, "n_sides", 0) if src is not None else assembly.nbars
     bars = assembly.bars[:ne]
     dim = assembly.dim
     if path_coords is None:
@@ -134,6 +141,12 @@ def write_fold(path: Union[None, str, "os.PathLike[str]"], assembly: Assembly,
     else:
         face_list = [list(map(int, f)) for f in faces] if faces is not None else None
 
+    for i, f in enumerate(face_list or []):
+        # a face read_fold would refuse is refused here, returned or written
+        if len(f) < 3 or not all(0 <= v < nv for v in f):
+            raise ModelFormatError(f"write_fold: faces[{i}] = {f}: expected 3 or more vertex indices in "
+                                   f"0..{nv - 1}; not written")
+
     def coords_of(c: npt.NDArray[np.float64]) -> List[List[float]]:
         return [[float(v) for v in row] for row in c[:nv]]
 
@@ -147,19 +160,36 @@ def write_fold(path: Union[None, str, "os.PathLike[str]"], assembly: Assembly,
     doc["frame_classes"] = frame_classes
     doc["frame_attributes"] = ["3D" if dim == 3 else "2D"]
     doc["vertices_coords"] = coords_of(configs[0])
-    doc["edges_vertices"] = [[int(p), int(q)] for p, q in bars]
+    edges = [(int(p), int(q)) for p, q in bars]
+    lengths = [float(v) for v in assembly.rest_lengths[:ne]]
+    have = {frozenset(e) for e in edges}
+    count: Dict[frozenset[int], int] = {}
+    for f in face_list or []:
+        for k in range(len(f)):
+            p, q = f[k], f[(k + 1) % len(f)]
+            e = frozenset((p, q))
+            count[e] = count.get(e, 0) + 1
+            if p != q and e not in have:
+                # a face's side is an edge of the file (the spec's faces lie
+                # between edges; read_fold makes it a bar anyway): a panel
+                # side that is no bar, or a face read with faces="ignore",
+                # gets one at its length in the first frame
+                side = float(np.linalg.norm(configs[0][p] - configs[0][q]))
+                if not side > 0.0:
+                    raise GeometryError(f"write_fold: face {f}: its side {p}-{q} has no length (the joints "
+                                        "coincide) and is no bar to take a rest length from; not written")
+                have.add(e)
+                edges.append((p, q))
+                lengths.append(side)
+    doc["edges_vertices"] = [[p, q] for p, q in edges]
+    # an edge on one face is border, else a fold whose sense the geometry
+    # does not fix here: unassigned (the file's own letters kept)
+    letters = ["B" if count.get(frozenset(e), 0) == 1 else "U" for e in edges]
     if src is not None and src.assignment is not None:
-        doc["edges_assignment"] = list(src.assignment)
+        doc["edges_assignment"] = list(src.assignment) + letters[len(src.assignment):]
     elif face_list:
-        # an edge on one face is border, else a fold whose sense the
-        # geometry does not fix here: unassigned
-        count: Dict[frozenset[int], int] = {}
-        for f in face_list:
-            for k in range(len(f)):
-                e = frozenset((f[k], f[(k + 1) % len(f)]))
-                count[e] = count.get(e, 0) + 1
-        doc["edges_assignment"] = ["B" if count.get(frozenset((int(p), int(q))), 0) == 1 else "U" for p, q in bars]
-    doc["edges_length"] = [float(v) for v in assembly.rest_lengths[:ne]]
+        doc["edges_assignment"] = letters
+    doc["edges_length"] = lengths
     if face_list:
         doc["faces_vertices"] = [list(map(int, f)) for f in face_list]
     if fixed.any():
@@ -168,20 +198,21 @@ def write_fold(path: Union[None, str, "os.PathLike[str]"], assembly: Assembly,
         doc["file_classes"] = ["animation"]
         doc["file_frames"] = [{"frame_parent": 0, "frame_inherit": True, "frame_classes": frame_classes,
                                "vertices_coords": coords_of(c)} for c in configs[1:]]
+    # returned or written, the document is one read_fold reads: its key
+    # frame is read back (a face whose vertices coincide, say, is refused)
+    _check_reads_back(doc)
     if path is not None:  # whole or not at all: the file saved before stays on a failure
         text = json.dumps(doc, separators=(",", ":"), allow_nan=False) + "\n"
-        _check_reads_back(doc, text)
+        size = len(text.encode("utf-8"))
+        if size > MAX_BYTES:
+            raise LimitError(f"write_fold: {size} bytes, more than read_fold reads by default ({MAX_BYTES}); "
+                             "not written")
         write_text(path, text)
     return doc
 
 
-def _check_reads_back(doc: FoldDoc, text: str) -> None:
-    """Raise what read_fold would raise on `text` (the serialised `doc`):
-    its size against the default limit, then the key frame read back."""
-    size = len(text.encode("utf-8"))
-    if size > MAX_BYTES:
-        raise LimitError(f"write_fold: {size} bytes, more than read_fold reads by default ({MAX_BYTES}); "
-                         "not written")
+def _check_reads_back(doc: FoldDoc) -> None:
+    """Raise what read_fold would raise on `doc`'s key frame."""
     try:
         read_fold(doc)
     except KinError as exc:
