@@ -201,8 +201,9 @@ KIN_API int kin_hinge_angles(kin_assembly *a, const double *xyz, double *fold);
  * events (kin_nhinges entries): +1 or -1, the sign of psi while the hinge
  * was last folded past 90 degrees and open; 0 where it is unknown (open
  * wider than 90 degrees, or closed since the follow started and not yet
- * opened). A later follow from the configuration these were tracked to (a
- * clone of it included) starts from them: a hinge closed there that opens
+ * opened). A later follow from the configuration these were tracked to,
+ * or one within 1e-3 x the RMS rest length of it in every coordinate (a
+ * clone of it included), starts from them: a hinge closed there that opens
  * on the other side has passed through. KIN_OK, KIN_ENULL, KIN_ESTATE (no
  * follow with contact events has tracked them). */
 KIN_API int kin_hinge_sides(const kin_assembly *a, int *sides);

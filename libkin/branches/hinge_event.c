@@ -25,6 +25,10 @@ static const double HALF_PI = 1.57079632679489661923;
  * length (a bifurcation where a hinge closes is located to far better) */
 static const double CLOSED_AT_START = 1e-6;
 
+/* the sides a follow tracked hold for a start within this x the RMS rest
+ * length of where it ended (every coordinate) */
+static const double SIDES_NEAR = 1e-3;
+
 /* a panel's half thickness */
 static double half_t(const struct kin_contact *c, int p)
 {
@@ -55,11 +59,12 @@ void kin__hinge_event_arm(kin_assembly *a)
     int known = c->hg_side_ok;
     double closed = CLOSED_AT_START * a->rms_length;
     /* the sides tracked to this configuration: the end of the follow that
-     * reached it (a clone of that handle), or a point as near it as a
-     * closed hinge's gap (a contact located just before a bifurcation
-     * where a hinge closes, and the bifurcation itself) */
+     * reached it (a clone of that handle), or a point near it (a contact
+     * located just before a bifurcation where hinges close, and the
+     * bifurcation itself: 7.6e-7 to 2e-6 apart on the sails) */
+    double near = SIDES_NEAR * a->rms_length;
     for (int i = 0; known && i < n; ++i)
-        if (!(fabs(a->xyz[i] - c->hg_x[i]) <= closed)) known = 0;
+        if (!(fabs(a->xyz[i] - c->hg_x[i]) <= near)) known = 0;
     for (int h = 0; h < c->nh; ++h) {
         double delta;
         int sigma;
