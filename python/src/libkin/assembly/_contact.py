@@ -260,6 +260,11 @@ class ContactMixin:
         ----------
         coords : array_like, shape (njoints, 3), optional
             A configuration; None = the current one.
+
+        Returns
+        -------
+        ndarray, shape (nhinges,)
+            psi per hinge (NaN where a panel has zero height over the edge).
         """
         n = int(lib.kin_nhinges(self._h))
         out = np.zeros(max(n, 1))
@@ -272,6 +277,10 @@ class ContactMixin:
         """The fold side each hinge was tracked on by the last `follow_event`
         with contact events (+1, -1; 0 unknown: open wider than 90 degrees,
         or closed since the follow started).
+
+        Returns
+        -------
+        ndarray of int, shape (nhinges,)
 
         Raises
         ------
