@@ -142,7 +142,10 @@ class ContactMixin:
         return bool(lib.kin_has_contact_model(self._h) == 1)
 
     def clearance(self, coords: Optional[npt.ArrayLike] = None, cutoff: float = np.inf) -> Clearance:
-        """The smallest clearance between parts that share no joint.
+        """The smallest clearance between parts that share no joint, and,
+        with `hinge_contact` on (the default), of the hinges: two panels on
+        one fold line, named as their two panels, at 2 h sin(delta / 2) less
+        their half thicknesses (0 where the hinge is folded flat).
 
         Parameters
         ----------
