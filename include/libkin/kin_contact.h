@@ -13,8 +13,12 @@
  * THICKNESS. One model-wide default thickness t0 >= 0: a bar's radius is
  * t0/2 and a panel's thickness t0 unless set part by part.
  * ADJACENCY. Two parts that share a joint (a bar and a panel it borders, two
- * panels with a common edge or corner, two bars at a joint) never count as
- * touching: they are not compared.
+ * panels with a common edge or corner, two bars at a joint) are not
+ * compared as parts; two panels on a common edge are a hinge, seen by its
+ * angle (HINGES below). Bars marked as devices are no parts (DEVICES).
+ * Two parts whose exact distance is within 256 DBL_EPSILON x their largest
+ * |coordinate| of zero touch (distance 0): a bar crossing a panel in its
+ * plane is in contact, not 1e-17 away.
  * CLEARANCE of two parts = the distance between their centre geometries
  * (segments, triangles) minus r_a + r_b (a panel's r = t/2). Where the
  * centre geometries intersect (a bar through a panel, two panels crossing)
