@@ -13,8 +13,12 @@
  * THICKNESS. One model-wide default thickness t0 >= 0: a bar's radius is
  * t0/2 and a panel's thickness t0 unless set part by part.
  * ADJACENCY. Two parts that share a joint (a bar and a panel it borders, two
- * panels with a common edge or corner, two bars at a joint) never count as
- * touching: they are not compared.
+ * panels with a common edge or corner, two bars at a joint) are not
+ * compared as parts; two panels on a common edge are a hinge, seen by its
+ * angle (HINGES below). Bars marked as devices are no parts (DEVICES).
+ * Two parts whose exact distance is within 256 DBL_EPSILON x their largest
+ * |coordinate| of zero touch (distance 0): a bar crossing a panel in its
+ * plane is in contact, not 1e-17 away.
  * CLEARANCE of two parts = the distance between their centre geometries
  * (segments, triangles) minus r_a + r_b (a panel's r = t/2). Where the
  * centre geometries intersect (a bar through a panel, two panels crossing)
@@ -128,7 +132,13 @@ KIN_API int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, dou
  * RMS rest length (free coordinates); the assembly is left at the first
  * point in contact found (its path state reset, as by kin_relax). Off by
  * default (nothing changes for a handle that never calls this). A clone
- * keeps the setting. Returns KIN_OK, KIN_ENULL, KIN_EINVAL (tol not in
+ * keeps the setting. With hinge contact on (HINGES below), the follow also
+ * stops where a hinge closes (its clearance <= 0 on the side it was
+ * tracked on) or passes through flat-folded (its fold side changes while
+ * it is folded past 90 degrees), located as any contact; a hinge closed at
+ * the start (its gap at most 1e-6 x the RMS rest length) is watched from
+ * where it opens, on the side it was tracked on by the follow that
+ * reached the start (kin_hinge_sides), else on the side it opens to. Returns KIN_OK, KIN_ENULL, KIN_EINVAL (tol not in
  * (0, 1]), KIN_ENOMEM. */
 KIN_API int kin_set_contact_events(kin_assembly *a, int on, double tol);
 
@@ -138,6 +148,69 @@ KIN_API int kin_set_contact_events(kin_assembly *a, int on, double tol);
  * contact and the point reported). Any output may be NULL. Returns KIN_OK,
  * KIN_ENULL, KIN_ESTATE (no contact located by the last follow). */
 KIN_API int kin_last_contact(const kin_assembly *a, double *clearance, int *parts, double *points, double *bracket);
+
+/* DEVICES. Mark bars as modelling devices (a sail's spokes that hold the
+ * hub's shape): they are no parts that can touch, so kin_clearance and the
+ * contact event leave them out. bars: ndev bar indices (repeats allowed),
+ * replacing any marked before (ndev = 0: none). The clearance workspace is
+ * made again here (the panels, thicknesses and settings kept).
+ * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (ndev < 0 or > nbars), KIN_ERANGE
+ * (a bar index out of range), KIN_ENOMEM (nothing changed on failure). */
+KIN_API int kin_set_device_bars(kin_assembly *a, int ndev, const int *bars);
+
+/* The device bars: their number into *ndev and, if bars is not NULL, their
+ * indices in increasing order (room for kin_nbars). KIN_OK, KIN_ENULL. */
+KIN_API int kin_get_device_bars(const kin_assembly *a, int *ndev, int *bars);
+
+/* HINGES. In 3D, two panels that share an edge (a fold line) form a hinge;
+ * they share joints, so the clearance never compares them as parts. Hinge
+ * h is the edge (i < j) of panels pa < pb and the third joints a, b of the
+ * fan triangles of pa and pb that hold it. Its fold angle psi in (-pi, pi]
+ * is 0 where the hinge lies flat open and +-pi where it is folded flat
+ * (closed: the panels on each other); its sign is the sign of the signed
+ * volume of (x_i, x_j, x_a, x_b) (which side the fold goes). psi is
+ * continuous through flat open and jumps from pi to -pi where the hinge
+ * passes through flat-folded: the panels penetrate each other there.
+ * With hinge contact on (the default), kin_clearance counts each hinge as
+ * the pair (panel pa, panel pb) with clearance 2 h sin(delta/2) - (t_a +
+ * t_b)/2, delta = pi - |psi| and h the smaller panel's height over the
+ * edge (the distance of the points at h across the edge's middle on each
+ * panel): a closed hinge is in contact. And the contact event
+ * (kin_set_contact_events) tracks every hinge's fold side along the path
+ * and stops where a hinge closes or passes through flat-folded (below).
+ * No hinges in 2D. Hinges are found by kin_set_panels. */
+
+/* Count hinges in the clearance and the contact event (on != 0, the
+ * default) or not. A clone keeps the setting. KIN_OK, KIN_ENULL,
+ * KIN_ENOMEM. */
+KIN_API int kin_set_hinge_contact(kin_assembly *a, int on);
+
+/* 1 if hinge contact is on, 0 if not, -1 for NULL. */
+KIN_API int kin_get_hinge_contact(const kin_assembly *a);
+
+/* Number of hinges (0 without panels or in 2D), or -1 for NULL. */
+KIN_API int kin_nhinges(const kin_assembly *a);
+
+/* The hinges: joints (4 per hinge: i, j, a, b) and panels (2 per hinge:
+ * pa, pb); either may be NULL. KIN_OK, KIN_ENULL. */
+KIN_API int kin_get_hinges(const kin_assembly *a, int *joints, int *panels);
+
+/* The fold angle psi of every hinge (kin_nhinges entries, radians) at xyz
+ * (NULL: the current configuration); NaN for a hinge one of whose panels
+ * has zero height over the edge (such a hinge is never counted). KIN_OK, KIN_ENULL (fold NULL),
+ * KIN_EGEOM (a non-finite coordinate of a hinge's joints). */
+KIN_API int kin_hinge_angles(kin_assembly *a, const double *xyz, double *fold);
+
+/* The fold side each hinge was tracked on by the last follow with contact
+ * events (kin_nhinges entries): +1 or -1, the sign of psi while the hinge
+ * was last folded past 90 degrees and open; 0 where it is unknown (open
+ * wider than 90 degrees, or closed since the follow started and not yet
+ * opened). A later follow from the configuration these were tracked to,
+ * or one within 1e-3 x the RMS rest length of it in every coordinate (a
+ * clone of it included), starts from them: a hinge closed there that opens
+ * on the other side has passed through. KIN_OK, KIN_ENULL, KIN_ESTATE (no
+ * follow with contact events has tracked them). */
+KIN_API int kin_hinge_sides(const kin_assembly *a, int *sides);
 
 #ifdef __cplusplus
 }

@@ -17,13 +17,19 @@
  * bars met where they were coplanar; such a pair is located by bisection on
  * that sign along the path, then as any contact. (A panel that passes
  * through a bar or a panel overlaps it over a stretch, which the clearance
- * catches unless the stretch is shorter than a step.) */
+ * catches unless the stretch is shorter than a step.)
+ *
+ * Hinges (two panels on one fold line) are watched apart, by their fold
+ * sides (hinge_event.c): armed whenever the model has them, even where the
+ * start touches elsewhere, since a hinge closed at a start is no contact
+ * until it opens; the clearance checked here leaves them out. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "branches/contact_event.h"
+#include "branches/hinge_event.h"
 #include "contact/contact_internal.h"
 
 /* Contact at the handle's configuration: clearance <= 64 eps x the RMS rest
@@ -32,7 +38,11 @@
 static int in_contact(kin_assembly *a, double *clearance, int *parts, double *points)
 {
     double c = INFINITY, eps = 64.0 * DBL_EPSILON * a->rms_length;
-    if (kin_clearance(a, NULL, nextafter(eps, INFINITY), &c, parts, points) != KIN_OK) return 0;
+    int hinges = a->ct->hinge_on;
+    a->ct->hinge_on = 0; /* hinges: hinge_event.c */
+    int rc = kin_clearance(a, NULL, nextafter(eps, INFINITY), &c, parts, points);
+    a->ct->hinge_on = hinges;
+    if (rc != KIN_OK) return 0;
     if (clearance) *clearance = c;
     return c <= eps;
 }
@@ -117,10 +127,12 @@ static int crossed(kin_assembly *a, const double *P, const double *Q)
         int k = ct->ev_key[u].k;
         const double *bk = ct->ev_box + 6 * k;
         const int *jk = a->bars + 2 * k;
+        if (ct->dev && ct->dev[k]) continue; /* a device bar */
         for (int w = u + 1; w < nb && ct->ev_key[w].x <= bk[3]; ++w) {
             int l = ct->ev_key[w].k;
             const double *bl = ct->ev_box + 6 * l;
             const int *jl = a->bars + 2 * l;
+            if (ct->dev && ct->dev[l]) continue;
             if (bl[1] > bk[4] || bk[1] > bl[4] || bl[2] > bk[5] || bk[2] > bl[5]) continue;
             if (jk[0] == jl[0] || jk[0] == jl[1] || jk[1] == jl[0] || jk[1] == jl[1]) continue;
             int s0 = side(bar_orient(a, P, k, l), scale3), s1 = side(bar_orient(a, Q, k, l), scale3);
@@ -140,20 +152,29 @@ void kin__contact_event_arm(kin_assembly *a)
     ct->ev_have = 0;
     ct->ev_back = 0.0;
     ct->ev_armed = ct->ev_on && !in_contact(a, NULL, NULL, NULL);
+    kin__hinge_event_arm(a);
 }
 
 int kin__contact_event_check(kin_assembly *a, const double *xprev)
 {
     struct kin_contact *ct = a->ct;
-    if (!ct || !ct->ev_armed) return 0;
+    if (!ct || (!ct->ev_armed && !ct->hg_armed)) return 0;
     ct->ev_pair[0] = ct->ev_pair[1] = -1;
-    if (!in_contact(a, NULL, NULL, NULL)) {
+    int hit = ct->ev_armed && in_contact(a, NULL, NULL, NULL);
+    if (!hit && ct->ev_armed) {
         /* the point before the step, in full coordinates (the trial buffer) */
         int n = a->nj * a->dim;
         double *P = ct->ev_xyz + n;
         memcpy(P, a->xyz, sizeof(double) * (size_t)n);
         kin__scatter(a, xprev, P);
-        if (!crossed(a, P, a->xyz)) return 0;
+        hit = crossed(a, P, a->xyz);
+    }
+    /* the hinges too (the location finds whichever came first); their
+     * sides move on only with a step free of contact */
+    if (kin__hinge_event_check(a)) hit = 1;
+    if (!hit) {
+        kin__hinge_event_advance(a);
+        return 0;
     }
     memcpy(ct->ev_prev, xprev, sizeof(double) * (size_t)a->nf);
     return 1;
@@ -170,6 +191,8 @@ static double bar_radius(const struct kin_contact *ct, int k)
 static int reached(kin_assembly *a)
 {
     struct kin_contact *ct = a->ct;
+    if (kin__hinge_event_reached(a)) return 1;
+    if (!ct->ev_armed) return 0;
     if (ct->ev_pair[0] >= 0) {
         double s3 = a->rms_length * a->rms_length * a->rms_length;
         if (side(bar_orient(a, a->xyz, ct->ev_pair[0], ct->ev_pair[1]), s3) != (int)ct->ev_side) return 1;
@@ -208,7 +231,21 @@ int kin__contact_event_locate(kin_assembly *a)
     if ((rc = kin_set_coords(a, hi_xyz)) != KIN_OK) return rc;
     ct->ev_bracket = (hi - lo) * h;
     ct->ev_back = (1.0 - hi) * h;
-    ct->ev_have = in_contact(a, &ct->ev_clearance, ct->ev_parts, ct->ev_points);
+    ct->ev_have = 0;
+    if (kin__hinge_event_reached(a)) {
+        /* a hinge closed or through: its two panels, its signed clearance */
+        int h = ct->ev_hinge;
+        const int *g = ct->hg + 6 * h;
+        double delta;
+        int sigma;
+        kin__hinge_measure(a->xyz, g, &delta, &sigma, ct->ev_points);
+        ct->ev_clearance = kin__hinge_signed_clearance(a, a->xyz, h, ct->hg_side[h]);
+        ct->ev_parts[0] = KIN_PART_PANEL, ct->ev_parts[1] = g[4];
+        ct->ev_parts[2] = KIN_PART_PANEL, ct->ev_parts[3] = g[5];
+        ct->ev_have = 1;
+    }
+    if (!ct->ev_have && ct->ev_armed)
+        ct->ev_have = in_contact(a, &ct->ev_clearance, ct->ev_parts, ct->ev_points);
     if (!ct->ev_have && ct->ev_pair[0] >= 0) {
         /* bare bars that crossed: the first point found past the crossing,
          * their distance there at most the bracket's movement */
@@ -225,6 +262,11 @@ int kin__contact_event_locate(kin_assembly *a)
     }
     ct->ev_armed = 0;
     return KIN_OK;
+}
+
+void kin__contact_event_finish(kin_assembly *a)
+{
+    if (a->ct) kin__hinge_event_finish(a);
 }
 
 double kin__contact_event_back(const kin_assembly *a)

@@ -24,4 +24,8 @@ int kin__contact_event_locate(kin_assembly *a);
  * located point than to the end of the last step (along its chord). */
 double kin__contact_event_back(const kin_assembly *a);
 
+/* However a follow ended: keep the hinges' tracked sides with the
+ * configuration reached (kin_hinge_sides). */
+void kin__contact_event_finish(kin_assembly *a);
+
 #endif /* KIN_CONTACT_EVENT_H */

@@ -452,6 +452,7 @@ static int finish(follow_ctx *c, int rc)
         info->event = KIN_FOLLOW_FAILED;
     }
     info->status = rc;
+    kin__contact_event_finish(a);
     /* a contact located within the last step: the length to it */
     info->length = c->length - (rc == KIN_OK && info->event == KIN_FOLLOW_CONTACT ? kin__contact_event_back(a) : 0.0);
     {

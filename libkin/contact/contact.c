@@ -26,6 +26,7 @@ static void ct_release(struct kin_contact *c)
     free(c->prim_part), free(c->prim_v), free(c->prim_r), free(c->cen), free(c->scratch), free(c->skey), free(c->lr), free(c->jpos);
     free(c->order), free(c->node), free(c->lp), free(c->leaf), free(c->ev_prev), free(c->ev_x), free(c->ev_xyz), free(c->stack), free(c->sgap), free(c->pts);
     free(c->ev_box), free(c->ev_key), free(c->ax), free(c->ax_call), free(c->vl), free(c->vl_x0), free(c->vl_sk), free(c->vl_dl), free(c->vl_dj);
+    free(c->dev), free(c->hg), free(c->hg_side), free(c->hg_c0), free(c->hg_x);
     free(c);
 }
 
@@ -38,9 +39,10 @@ static void ct_free(kin_assembly *a)
 /* the clearance workspace of model (np, poff) on handle a, into c */
 static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
 {
-    int ntri = 0;
+    int ntri = 0, ndev = 0;
     for (int i = 0; i < c->np; ++i) ntri += c->poff[i + 1] - c->poff[i] - 2;
-    int n = a->nb + ntri;
+    for (int k = 0; c->dev && k < a->nb; ++k) ndev += c->dev[k] != 0;
+    int n = a->nb - ndev + ntri;
     c->nprim = n;
     /* tree depth <= log2(n) + 2 (each split within 4 of the median, and
      * 16 or fewer primitives split into two leaves: checked for every n up
@@ -91,12 +93,15 @@ static int ct_workspace(const kin_assembly *a, struct kin_contact *c)
         !c->stack || !c->sgap || !c->ax || !c->ax_call || !c->pts || !c->vl || !c->vl_x0 || !c->vl_sk || !c->vl_dl || !c->vl_dj || !c->ev_prev || !c->ev_x || !c->ev_xyz || !c->ev_box || !c->ev_key)
         return KIN_ENOMEM;
     int p = 0;
-    for (int k = 0; k < a->nb; ++k, ++p) {
+    for (int k = 0; k < a->nb; ++k) {
+        if (c->dev && c->dev[k]) continue; /* a device: not a part that can touch */
         c->prim_part[p] = k;
         c->prim_v[3 * p] = a->bars[2 * k];
         c->prim_v[3 * p + 1] = a->bars[2 * k + 1];
         c->prim_v[3 * p + 2] = -1;
+        ++p;
     }
+    c->nprim = p + ntri;
     for (int i = 0; i < c->np; ++i) {
         const int *j = c->pj + c->poff[i];
         for (int q = 1; q + 1 < c->poff[i + 1] - c->poff[i]; ++q, ++p) {
@@ -128,7 +133,7 @@ static void ct_radii(const kin_assembly *a, struct kin_contact *c)
 /* a new contact record: model (np, poff, pj, t0, rbar, tpan) copied, the
  * workspace made */
 static int ct_make(const kin_assembly *a, int np, const int *poff, const int *pj, double t0, const double *rbar,
-                   const double *tpan, struct kin_contact **out)
+                   const double *tpan, const unsigned char *dev, struct kin_contact **out)
 {
     struct kin_contact *c = calloc(1, sizeof *c);
     if (!c) return KIN_ENOMEM;
@@ -139,7 +144,13 @@ static int ct_make(const kin_assembly *a, int np, const int *poff, const int *pj
     c->pj = malloc(sizeof(int) * (nj ? nj : 1));
     c->rbar = malloc(sizeof(double) * (size_t)a->nb);
     c->tpan = malloc(sizeof(double) * (np ? (size_t)np : 1));
-    if (!c->poff || !c->pj || !c->rbar || !c->tpan) {
+    c->hg_x = malloc(sizeof(double) * 3 * ((size_t)a->nj + 1));
+    c->hinge_on = 1;
+    c->ev_hinge = -1;
+    int anydev = 0;
+    for (int k = 0; dev && k < a->nb; ++k) anydev |= dev[k] != 0;
+    if (anydev && (c->dev = malloc((size_t)a->nb)) != NULL) memcpy(c->dev, dev, (size_t)a->nb);
+    if (!c->poff || !c->pj || !c->rbar || !c->tpan || !c->hg_x || (anydev && !c->dev)) {
         ct_release(c);
         return KIN_ENOMEM;
     }
@@ -148,7 +159,7 @@ static int ct_make(const kin_assembly *a, int np, const int *poff, const int *pj
     if (nj) memcpy(c->pj, pj, sizeof(int) * nj);
     for (int k = 0; k < a->nb; ++k) c->rbar[k] = rbar ? rbar[k] : -1.0;
     for (int i = 0; i < np; ++i) c->tpan[i] = tpan ? tpan[i] : -1.0;
-    if (ct_workspace(a, c) != KIN_OK) {
+    if (ct_workspace(a, c) != KIN_OK || kin__hinges_make(a, c) != KIN_OK) {
         ct_release(c);
         return KIN_ENOMEM;
     }
@@ -161,9 +172,15 @@ static int ct_clone(kin_assembly *dst, const kin_assembly *src)
 {
     const struct kin_contact *s = src->ct;
     struct kin_contact *c;
-    int rc = ct_make(dst, s->np, s->poff, s->pj, s->t0, s->rbar, s->tpan, &c);
+    int rc = ct_make(dst, s->np, s->poff, s->pj, s->t0, s->rbar, s->tpan, s->dev, &c);
     if (rc) return rc;
-    c->ev_on = s->ev_on, c->ev_tol = s->ev_tol;
+    c->ev_on = s->ev_on, c->ev_tol = s->ev_tol, c->hinge_on = s->hinge_on;
+    /* the tracked fold sides go with the configuration they belong to */
+    if (s->hg_side_ok && c->nh == s->nh) {
+        memcpy(c->hg_side, s->hg_side, (size_t)c->nh);
+        memcpy(c->hg_x, s->hg_x, sizeof(double) * (size_t)src->nj * (size_t)src->dim);
+        c->hg_side_ok = 1;
+    }
     if (dst->ct_free) dst->ct_free(dst);
     dst->ct = c;
     dst->ct_free = ct_free;
@@ -173,7 +190,8 @@ static int ct_clone(kin_assembly *dst, const kin_assembly *src)
 
 static void ct_install(kin_assembly *a, struct kin_contact *c)
 {
-    if (a->ct) c->ev_on = a->ct->ev_on, c->ev_tol = a->ct->ev_tol; /* the event setting stays */
+    if (a->ct) /* the event and hinge settings stay */
+        c->ev_on = a->ct->ev_on, c->ev_tol = a->ct->ev_tol, c->hinge_on = a->ct->hinge_on;
     if (a->ct) ct_release(a->ct);
     a->ct = c;
     a->ct_free = ct_free;
@@ -185,7 +203,7 @@ int kin__contact_ensure(kin_assembly *a)
     if (a->ct) return KIN_OK;
     struct kin_contact *c;
     int zero = 0;
-    int rc = ct_make(a, 0, &zero, NULL, 0.0, NULL, NULL, &c);
+    int rc = ct_make(a, 0, &zero, NULL, 0.0, NULL, NULL, NULL, &c);
     if (rc) return kin__fail(a, rc, "clearance workspace for %d bars", a->nb);
     ct_install(a, c);
     return KIN_OK;
@@ -224,7 +242,8 @@ int kin_set_panels(kin_assembly *a, int np, const int *offsets, const int *joint
     struct kin_contact *c;
     double t0 = a->ct ? a->ct->t0 : 0.0;
     int zero = 0;
-    int rc = ct_make(a, np, np ? offsets : &zero, joints, t0, a->ct ? a->ct->rbar : NULL, NULL, &c);
+    int rc = ct_make(a, np, np ? offsets : &zero, joints, t0, a->ct ? a->ct->rbar : NULL, NULL,
+                     a->ct ? a->ct->dev : NULL, &c);
     if (rc) return kin__fail(a, rc, "panels and clearance workspace");
     ct_install(a, c);
     return KIN_OK;
@@ -363,6 +382,15 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
             if (N.ba >= 0) W.ba = N.ba, W.bb = N.bb, memcpy(W.bp, N.bp, sizeof W.bp), memcpy(W.bq, N.bq, sizeof W.bq);
         }
     }
+    /* the hinges (hinge.c): a closed hinge is in contact */
+    kin__hinge_best H = {.value = W.ba >= 0 ? W.best : INFINITY, .pa = W.ba, .pb = W.bb, .hinge = -1};
+    if (dim == 3) kin__hinge_closest(a, c, xyz, cutoff, &H);
+    if (H.hinge >= 0) {
+        W.best = H.value, W.ba = H.pa, W.bb = H.pb;
+        memcpy(W.bp, H.pts, sizeof W.bp);
+        memcpy(W.bq, H.pts + 3, sizeof W.bq);
+    }
+    *clearance = W.ba >= 0 ? W.best : INFINITY;
     if (W.ba >= 0) {
         if (parts) {
             parts[0] = W.ba < a->nb ? KIN_PART_BAR : KIN_PART_PANEL;
@@ -373,5 +401,105 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
         if (points)
             for (int k = 0; k < dim; ++k) points[k] = W.bp[k], points[dim + k] = W.bq[k];
     }
+    return KIN_OK;
+}
+
+/* ---- devices and hinges ------------------------------------------------- */
+
+int kin_set_device_bars(kin_assembly *a, int ndev, const int *bars)
+{
+    if (!a) return KIN_ENULL;
+    if (ndev < 0 || ndev > a->nb) return kin__fail(a, KIN_EINVAL, "device bars: %d not in 0..%d", ndev, a->nb);
+    if (ndev > 0 && !bars) return kin__fail(a, KIN_ENULL, "device bars is NULL");
+    unsigned char *dev = calloc((size_t)a->nb + 1, 1);
+    if (!dev) return kin__fail(a, KIN_ENOMEM, "device bars");
+    for (int q = 0; q < ndev; ++q) {
+        if (bars[q] < 0 || bars[q] >= a->nb) {
+            free(dev);
+            return kin__fail(a, KIN_ERANGE, "device bar %d out of range 0..%d", bars[q], a->nb - 1);
+        }
+        dev[bars[q]] = 1;
+    }
+    const struct kin_contact *o = a->ct;
+    struct kin_contact *c;
+    int zero = 0;
+    int rc = o ? ct_make(a, o->np, o->poff, o->pj, o->t0, o->rbar, o->tpan, dev, &c)
+               : ct_make(a, 0, &zero, NULL, 0.0, NULL, NULL, dev, &c);
+    free(dev);
+    if (rc) return kin__fail(a, rc, "device bars and clearance workspace");
+    ct_install(a, c);
+    return KIN_OK;
+}
+
+int kin_get_device_bars(const kin_assembly *a, int *ndev, int *bars)
+{
+    if (!a || !ndev) return KIN_ENULL;
+    const struct kin_contact *c = a->ct;
+    int n = 0;
+    for (int k = 0; c && c->dev && k < a->nb; ++k)
+        if (c->dev[k]) {
+            if (bars) bars[n] = k;
+            ++n;
+        }
+    *ndev = n;
+    return KIN_OK;
+}
+
+int kin_set_hinge_contact(kin_assembly *a, int on)
+{
+    if (!a) return KIN_ENULL;
+    int rc = kin__contact_ensure(a);
+    if (rc) return rc;
+    a->ct->hinge_on = on != 0;
+    return KIN_OK;
+}
+
+int kin_get_hinge_contact(const kin_assembly *a)
+{
+    if (!a) return -1;
+    return a->ct ? a->ct->hinge_on : 1;
+}
+
+int kin_nhinges(const kin_assembly *a) { return a ? (a->ct ? a->ct->nh : 0) : -1; }
+
+int kin_get_hinges(const kin_assembly *a, int *joints, int *panels)
+{
+    if (!a) return KIN_ENULL;
+    const struct kin_contact *c = a->ct;
+    for (int h = 0; c && h < c->nh; ++h) {
+        if (joints) memcpy(joints + 4 * h, c->hg + 6 * h, sizeof(int) * 4);
+        if (panels) panels[2 * h] = c->hg[6 * h + 4], panels[2 * h + 1] = c->hg[6 * h + 5];
+    }
+    return KIN_OK;
+}
+
+int kin_hinge_angles(kin_assembly *a, const double *xyz, double *fold)
+{
+    if (!a || !fold) return a ? kin__fail(a, KIN_ENULL, "hinge angles: fold is NULL") : KIN_ENULL;
+    if (!xyz) xyz = a->xyz;
+    const struct kin_contact *c = a->ct;
+    int nh = c ? c->nh : 0;
+    for (int h = 0; h < nh; ++h) {
+        const int *g = c->hg + 6 * h;
+        for (int q = 0; q < 4; ++q)
+            for (int k = 0; k < 3; ++k)
+                if (!isfinite(xyz[3 * g[q] + k]))
+                    return kin__fail(a, KIN_EGEOM, "hinge angles: joint %d: non-finite coordinate", g[q]);
+    }
+    for (int h = 0; h < nh; ++h) {
+        double delta;
+        int sigma;
+        kin__hinge_measure(xyz, c->hg + 6 * h, &delta, &sigma, NULL);
+        fold[h] = (sigma < 0 ? -1.0 : 1.0) * (3.14159265358979323846 - delta);
+    }
+    return KIN_OK;
+}
+
+int kin_hinge_sides(const kin_assembly *a, int *sides)
+{
+    if (!a || !sides) return KIN_ENULL;
+    const struct kin_contact *c = a->ct;
+    if (!c || !c->hg_side_ok) return KIN_ESTATE;
+    for (int h = 0; h < c->nh; ++h) sides[h] = c->hg_side[h];
     return KIN_OK;
 }

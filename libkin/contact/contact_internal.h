@@ -141,7 +141,49 @@ struct kin_contact {
     kin__sweepkey *ev_key; /* nb */
     int ev_pair[2];
     double ev_side;
+    /* bars a model marks as devices (kin_set_device_bars): 1 each, left out
+     * of contact (no primitive, no crossing check); NULL: none */
+    unsigned char *dev;
+    /* hinges (hinge.c): two panels that share an edge, in 3D; 6 ints each
+     * (i < j the edge, a and b the far joints of the fan triangles of
+     * panels pa < pb holding it, pa, pb) */
+    int hinge_on;       /* kin_set_hinge_contact: counted by the clearance and the event */
+    int nh;
+    int *hg;
+    /* the tracked fold side of each hinge (branches/hinge_event.c): +1 or
+     * -1, the sign sigma had while the hinge was last open and folded past
+     * 90 degrees; 0 unknown (open wider than 90 degrees, or closed since
+     * the follow started); valid at the configuration hg_x (nj*dim) when
+     * hg_side_ok */
+    signed char *hg_side;
+    unsigned char *hg_c0; /* per hinge: closed at the follow's start and not yet opened */
+    double *hg_x;
+    int hg_armed;       /* the follow watches its hinges */
+    int hg_side_ok;
+    int ev_hinge;       /* the hinge that closed or passed through in the last step, or -1 */
+    double ev_hinge_cl; /* its signed clearance at the located point */
 };
+
+/* hinge.c: the hinges of the panels of c (a 3D model; none in 2D) into
+ * c->hg, c->nh, the tracked sides forgotten; KIN_OK or KIN_ENOMEM */
+int kin__hinges_make(const kin_assembly *a, struct kin_contact *c);
+
+/* hinge.c: the hinge g (6 ints) at xyz (3D): the angle delta between its
+ * panels (pi flat open, 0 folded flat), sigma the sign of the signed
+ * volume of (i, j, a, b) (0 where it is zero), and the gap 2 h sin(delta /
+ * 2) returned (h the smaller panel's height over the edge); pts (may be
+ * NULL): the two points at h across the edge's middle on each panel */
+double kin__hinge_measure(const double *xyz, const int *g, double *delta, int *sigma, double *pts);
+
+/* hinge.c: the hinge of smallest clearance (gap less the two half
+ * thicknesses) at xyz, if below cutoff and below best->value (ties: the
+ * smaller pair of parts), into best; nothing when hinge contact is off */
+typedef struct kin__hinge_best {
+    double value, pts[6];
+    int pa, pb, hinge; /* parts (nb + panel), pa < 0: none */
+} kin__hinge_best;
+void kin__hinge_closest(const kin_assembly *a, const struct kin_contact *c, const double *xyz, double cutoff,
+                        kin__hinge_best *best);
 
 /* Make a->ct (empty: no panels, thickness 0) if it does not exist, with the
  * free and clone calls set; KIN_OK or KIN_ENOMEM. */

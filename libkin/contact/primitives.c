@@ -6,9 +6,14 @@
  * (kin__prim_far), and the exact clearance (kin__prim_clearance: the
  * distance tests of distance.c less the radii, the same bits whichever
  * tree hands the pair in, so that the answer does not depend on the tree). */
+#include <float.h>
 #include <math.h>
 
 #include "contact/clearance.h"
+
+/* distances at most this x the largest |coordinate| of the pair are
+ * contact (prim_distance) */
+static const double TOUCH_ROUNDING = 256.0 * DBL_EPSILON;
 
 /* the joints of a part */
 static int part_joints(const kin_assembly *a, int part, const int **j)
@@ -198,6 +203,18 @@ static double prim_distance(const double *P, const int *vp, const int *vq, doubl
         const double *A[3] = {P + 3 * vp[0], P + 3 * vp[1], P + 3 * vp[2]};
         const double *B[3] = {P + 3 * vq[0], P + 3 * vq[1], P + 3 * vq[2]};
         d = kin__dist_tri_tri(A, B, cp, cq);
+    }
+    /* within rounding of touching is touching: a bar that crosses a panel
+     * or another bar in their plane came out at 1e-17..5e-14 (the exact
+     * tests round at eps x the coordinates), which read as no contact */
+    double m = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        if (vp[i] >= 0) m = fmax(m, fmax(fabs(P[3 * vp[i]]), fmax(fabs(P[3 * vp[i] + 1]), fabs(P[3 * vp[i] + 2]))));
+        if (vq[i] >= 0) m = fmax(m, fmax(fabs(P[3 * vq[i]]), fmax(fabs(P[3 * vq[i] + 1]), fabs(P[3 * vq[i] + 2]))));
+    }
+    if (d > 0.0 && d <= TOUCH_ROUNDING * m) {
+        d = 0.0;
+        for (int i = 0; i < 3; ++i) cp[i] = cq[i] = 0.5 * (cp[i] + cq[i]);
     }
     return d;
 }

@@ -176,5 +176,16 @@ int kin_model_sail(const kin_sail_params *user, kin_assembly **out, char *eb, si
 #undef N_
     rc = kin_assembly_create(3, nj, xyz, fixed, nb, bars, NULL, out, eb, el);
     free(xyz); free(fixed); free(bars);
+    if (rc == KIN_OK && c) {
+        /* the spokes hold the hub's shape: a device of the model, not
+         * membrane, so no part that can touch (kin_set_device_bars) */
+        int spokes[64 / 2 + 1], ns = 0; /* n_sides <= 64 (sail_check) */
+        for (int k = 1; k < n; k += 2) spokes[ns] = ns, ++ns;
+        if ((rc = kin_set_device_bars(*out, ns, spokes)) != KIN_OK) {
+            kin__failbuf(eb, el, rc, "sail: device bars");
+            kin_assembly_free(*out);
+            *out = NULL;
+        }
+    }
     return rc;
 }

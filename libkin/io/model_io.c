@@ -79,6 +79,8 @@ typedef struct model_arrays {
     int np;
     int *poff, *pj;       /* np + 1, poff[np] */
     double *tpan;         /* np (< 0: default) */
+    int *device;          /* the bars marked "device": true (kin_set_device_bars) */
+    int ndev;
 } model_arrays;
 
 static void arrays_free(model_arrays *m)
@@ -91,6 +93,7 @@ static void arrays_free(model_arrays *m)
     free(m->poff);
     free(m->pj);
     free(m->tpan);
+    free(m->device);
 }
 
 /* An optional "index" must equal the element's position. */
@@ -251,6 +254,10 @@ static int read_bar(const io_err *e, const json_t *b, size_t k, model_arrays *m,
             return io_fail(e, KIN_EFORMAT, "bars[%zu].length: expected > 0, got %.17g", k, L);
         m->lengths[k] = L;
     }
+    const json_t *dev = json_object_get(b, "device");
+    if (dev && !json_is_boolean(dev))
+        return io_fail(e, KIN_EFORMAT, "bars[%zu].device: expected true or false, got %s", k, json_kind(dev));
+    if (dev && json_is_true(dev)) m->device[m->ndev++] = (int)k;
     return read_thickness(e, json_object_get(b, "radius"), "bars[%zu].radius: expected a finite number >= 0, got %s",
                           k, &m->radius[k]);
 }
@@ -296,7 +303,8 @@ static int read_model(const io_err *e, const json_t *doc, model_arrays *m)
     m->bars = malloc(sizeof(int) * 2 * nb);
     m->lengths = malloc(sizeof(double) * nb);
     m->radius = malloc(sizeof(double) * nb);
-    if (!m->bars || !m->lengths || !m->radius) return io_fail(e, KIN_ENOMEM, "bars: %zu bars", nb);
+    m->device = malloc(sizeof(int) * nb);
+    if (!m->bars || !m->lengths || !m->radius || !m->device) return io_fail(e, KIN_ENOMEM, "bars: %zu bars", nb);
     size_t with_length = 0, first_with = 0, first_without = 0;
     for (size_t k = 0; k < nb; ++k) {
         int has_length = 0;
@@ -393,7 +401,7 @@ static int load_text(const io_err *e, const char *text, size_t len, kin_assembly
         json_decref(doc);
         return io_fail(e, KIN_EFORMAT, "JSON text: lists or objects nested deeper than %d", MAX_DEPTH);
     }
-    model_arrays m = {0, 0, 0, NULL, NULL, NULL, NULL, 0, 0.0, NULL, 0, NULL, NULL, NULL};
+    model_arrays m = {0, 0, 0, NULL, NULL, NULL, NULL, 0, 0.0, NULL, 0, NULL, NULL, NULL, NULL, 0};
     int rc = read_model(e, doc, &m);
     json_decref(doc);
     if (rc == KIN_OK) {
@@ -406,11 +414,12 @@ static int load_text(const io_err *e, const char *text, size_t len, kin_assembly
         if (rc == KIN_OK && (m.np > 0 || any_r || m.t0 > 0.0)) {
             rc = kin_set_panels(*out, m.np, m.np ? m.poff : NULL, m.pj);
             if (rc == KIN_OK) rc = kin_set_thickness(*out, m.t0, m.radius, m.np ? m.tpan : NULL);
-            if (rc) {
-                snprintf(msg, sizeof msg, "%s", kin_last_error(*out));
-                kin_assembly_free(*out);
-                *out = NULL;
-            }
+        }
+        if (rc == KIN_OK && m.ndev > 0) rc = kin_set_device_bars(*out, m.ndev, m.device);
+        if (*out && rc) {
+            snprintf(msg, sizeof msg, "%s", kin_last_error(*out));
+            kin_assembly_free(*out);
+            *out = NULL;
         }
         if (rc && e->buf && e->len > 0) {
             if (e->path)
@@ -614,7 +623,7 @@ static json_t *joint_object(int i, int dim, const double *xyz, const unsigned ch
     return o;
 }
 
-static json_t *bar_object(int k, const int *bars, const double *L0, const double *radius, double t0)
+static json_t *bar_object(int k, const int *bars, const double *L0, const double *radius, double t0, int device)
 {
     json_t *o = json_object(), *ends = json_array();
     int bad = !o || !ends;
@@ -625,6 +634,7 @@ static json_t *bar_object(int k, const int *bars, const double *L0, const double
         bad |= json_object_set(o, "joints", ends) != 0;
         bad |= json_object_set_new(o, "length", json_real(L0[k])) != 0;
         if (radius[k] != 0.5 * t0) bad |= json_object_set_new(o, "radius", json_real(radius[k])) != 0;
+        if (device) bad |= json_object_set_new(o, "device", json_true()) != 0;
     }
     json_decref(ends);
     if (bad) {
@@ -663,6 +673,16 @@ static int render(const io_err *e, const kin_assembly *a, const char *name, text
     }
     kin_get_panels(a, poff, pj);
     kin_get_thickness(a, &t0, radius, tpan);
+    /* the device bars (kin_set_device_bars) as one flag a bar, in the
+     * bars' buffer's room: bars[] is read below */
+    int ndev = 0;
+    kin_get_device_bars(a, &ndev, bars);
+    unsigned char *isdev = calloc((size_t)nb + 1, 1);
+    if (!isdev) {
+        free(xyz), free(fixed), free(bars), free(radius), free(tpan), free(poff), free(pj);
+        return io_fail(e, KIN_ENOMEM, "save buffers");
+    }
+    for (int q = 0; q < ndev; ++q) isdev[bars[q]] = 1;
     kin_get_coords(a, xyz);
     kin_get_fixed(a, fixed);
     kin_get_bars(a, bars);
@@ -696,7 +716,7 @@ static int render(const io_err *e, const kin_assembly *a, const char *name, text
         tb_puts(t, " ],\n \"bars\": [\n");
         for (int k = 0; k < nb; ++k) {
             tb_puts(t, "  ");
-            tb_json(t, bar_object(k, bars, L0, radius, t0));
+            tb_json(t, bar_object(k, bars, L0, radius, t0, isdev[k]));
             tb_puts(t, k + 1 < nb ? ",\n" : "\n");
         }
         tb_puts(t, " ]");
@@ -724,7 +744,7 @@ static int render(const io_err *e, const kin_assembly *a, const char *name, text
         tb_puts(t, "\n}\n");
         if (t->failed) rc = io_fail(e, KIN_ENOMEM, "model text");
     }
-    free(radius), free(tpan), free(poff), free(pj);
+    free(radius), free(tpan), free(poff), free(pj), free(isdev);
     free(xyz);
     free(fixed);
     free(bars);

@@ -412,4 +412,12 @@ int kin_clearance(kin_assembly *a, const double *xyz, double cutoff, double *cle
                           double *points);
 int kin_set_contact_events(kin_assembly *a, int on, double tol);
 int kin_last_contact(const kin_assembly *a, double *clearance, int *parts, double *points, double *bracket);
+int kin_set_device_bars(kin_assembly *a, int ndev, const int *bars);
+int kin_get_device_bars(const kin_assembly *a, int *ndev, int *bars);
+int kin_set_hinge_contact(kin_assembly *a, int on);
+int kin_get_hinge_contact(const kin_assembly *a);
+int kin_nhinges(const kin_assembly *a);
+int kin_get_hinges(const kin_assembly *a, int *joints, int *panels);
+int kin_hinge_angles(kin_assembly *a, const double *xyz, double *fold);
+int kin_hinge_sides(const kin_assembly *a, int *sides);
 '''

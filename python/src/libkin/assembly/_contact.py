@@ -142,7 +142,10 @@ class ContactMixin:
         return bool(lib.kin_has_contact_model(self._h) == 1)
 
     def clearance(self, coords: Optional[npt.ArrayLike] = None, cutoff: float = np.inf) -> Clearance:
-        """The smallest clearance between parts that share no joint.
+        """The smallest clearance between parts that share no joint, and,
+        with `hinge_contact` on (the default), of the hinges: two panels on
+        one fold line, named as their two panels, at 2 h sin(delta / 2) less
+        their half thicknesses (0 where the hinge is folded flat).
 
         Parameters
         ----------
@@ -200,3 +203,94 @@ class ContactMixin:
         self._check(lib.kin_last_contact(self._h, c, parts, write_ptr(pts, "double *"), br), "last contact")
         named = ((PART_KINDS[parts[0]], int(parts[1])), (PART_KINDS[parts[2]], int(parts[3])))
         return Clearance(float(c[0]), named, pts)
+
+    @property
+    def device_bars(self) -> List[int]:
+        """The bars marked as modelling devices (a sail's spokes), which are
+        no parts that can touch: the clearance and the contact event leave
+        them out. Assigning replaces them ([] marks none)."""
+        n = ffi.new("int *")
+        self._check(lib.kin_get_device_bars(self._h, n, ffi.NULL))
+        out = np.zeros(max(int(n[0]), 1), dtype=np.int32)
+        self._check(lib.kin_get_device_bars(self._h, n, write_ptr(out, "int *")))
+        return out[:int(n[0])].tolist()
+
+    @device_bars.setter
+    def device_bars(self, value: Sequence[int]) -> None:
+        bars = list(value)
+        if not all(isinstance(k, (int, np.integer)) and not isinstance(k, bool) for k in bars):
+            raise InvalidArgumentError(f"device_bars: expected bar indices, got {bars!r}")
+        try:
+            arr = np.ascontiguousarray(bars or [0], dtype=np.int32)
+        except OverflowError:
+            raise InvalidArgumentError("device_bars: a bar index out of range") from None
+        self._check(lib.kin_set_device_bars(self._h, len(bars), read_ptr(arr, "int *")), "device bars")
+
+    @property
+    def hinge_contact(self) -> bool:
+        """Whether hinges (two panels on one fold line) count in the
+        clearance and the contact event (on by default; kin_contact.h)."""
+        return bool(lib.kin_get_hinge_contact(self._h) == 1)
+
+    @hinge_contact.setter
+    def hinge_contact(self, on: bool) -> None:
+        self._check(lib.kin_set_hinge_contact(self._h, int(bool(on))), "hinge contact")
+
+    def hinges(self) -> Tuple[npt.NDArray[np.int32], npt.NDArray[np.int32]]:
+        """The hinges: two panels that share an edge (3D models).
+
+        Returns
+        -------
+        joints : (nhinges, 4) int array
+            The edge i < j, then the far joints a, b of the two panels' fan
+            triangles that hold it.
+        panels : (nhinges, 2) int array
+            The two panels pa < pb.
+        """
+        n = int(lib.kin_nhinges(self._h))
+        j = np.zeros((max(n, 1), 4), dtype=np.int32)
+        p = np.zeros((max(n, 1), 2), dtype=np.int32)
+        self._check(lib.kin_get_hinges(self._h, write_ptr(j, "int *"), write_ptr(p, "int *")))
+        return j[:n], p[:n]
+
+    def hinge_angles(self, coords: Optional[npt.ArrayLike] = None) -> npt.NDArray[np.float64]:
+        """The fold angle psi of each hinge in (-pi, pi], radians: 0 flat
+        open, +-pi folded flat (closed); its sign is the sign of the signed
+        volume of (x_i, x_j, x_a, x_b). psi jumps from pi to -pi where a
+        hinge passes through flat-folded (the panels through each other).
+
+        Parameters
+        ----------
+        coords : array_like, shape (njoints, 3), optional
+            A configuration; None = the current one.
+
+        Returns
+        -------
+        ndarray, shape (nhinges,)
+            psi per hinge (NaN where a panel has zero height over the edge).
+        """
+        n = int(lib.kin_nhinges(self._h))
+        out = np.zeros(max(n, 1))
+        x = None if coords is None else as_c_array(coords, np.float64, (self.njoints, self.dim), "coords")
+        self._check(lib.kin_hinge_angles(self._h, ffi.NULL if x is None else read_ptr(x, "double *"),
+                                         write_ptr(out, "double *")), "hinge angles")
+        return out[:n]
+
+    def hinge_sides(self) -> npt.NDArray[np.int32]:
+        """The fold side each hinge was tracked on by the last `follow_event`
+        with contact events (+1, -1; 0 unknown: open wider than 90 degrees,
+        or closed since the follow started).
+
+        Returns
+        -------
+        ndarray of int, shape (nhinges,)
+
+        Raises
+        ------
+        StateError
+            No follow with contact events has tracked them.
+        """
+        n = int(lib.kin_nhinges(self._h))
+        out = np.zeros(max(n, 1), dtype=np.int32)
+        self._check(lib.kin_hinge_sides(self._h, write_ptr(out, "int *")), "hinge sides")
+        return out[:n]

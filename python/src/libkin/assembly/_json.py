@@ -284,8 +284,14 @@ def _contact_fields(doc: Dict[str, Any], nj: int, nb: int) -> Optional[Dict[str,
     t0 = _thick(doc["thickness"], "thickness") if "thickness" in doc else 0.0
     radii = [_thick(b["radius"], f"bars[{k}].radius") if "radius" in b else -1.0
              for k, b in enumerate(doc["bars"])]
+    devices = []
+    for k, b in enumerate(doc["bars"]):
+        if "device" in b and not isinstance(b["device"], bool):
+            _fail(f"bars[{k}].device", f"expected true or false, got {b['device']!r}")
+        if b.get("device") is True:
+            devices.append(k)
     panels_doc = doc.get("panels")
-    if panels_doc is None and t0 == 0.0 and all(r < 0 for r in radii):
+    if panels_doc is None and t0 == 0.0 and all(r < 0 for r in radii) and not devices:
         return None
     if panels_doc is not None and not isinstance(panels_doc, list):
         _fail("panels", f"expected a list, got {type(panels_doc).__name__}")
@@ -308,7 +314,8 @@ def _contact_fields(doc: Dict[str, Any], nj: int, nb: int) -> Optional[Dict[str,
                 _fail(f"panels[{i}].joints[{q}]", f"joint {j} repeated")
         panels.append([int(j) for j in js])
         thick.append(_thick(p["thickness"], f"panels[{i}].thickness") if "thickness" in p else -1.0)
-    return {"panels": panels, "thickness": t0, "bar_radii": radii, "panel_thicknesses": thick}
+    return {"panels": panels, "thickness": t0, "bar_radii": radii, "panel_thicknesses": thick,
+            "device_bars": devices}
 
 
 def apply_contact(a: Any, contact: Optional[Dict[str, Any]]) -> None:
@@ -318,6 +325,8 @@ def apply_contact(a: Any, contact: Optional[Dict[str, Any]]) -> None:
     if contact["panels"]:
         a.panels = contact["panels"]
     a.set_thickness(contact["thickness"], contact["bar_radii"], contact["panel_thicknesses"] or None)
+    if contact.get("device_bars"):
+        a.device_bars = contact["device_bars"]
 
 
 def read_json(source: ModelSource, max_bytes: Optional[int] = None) -> ParsedModel:
@@ -405,6 +414,8 @@ def to_json(self: AssemblyBase, path: Union[str, "os.PathLike[str]", None] = Non
                  for k in range(self.nbars)],
     }
     t0 = float(getattr(self, "thickness", 0.0))
+    for k in getattr(self, "device_bars", []):
+        doc["bars"][k]["device"] = True
     if getattr(self, "has_contact_model", False):
         for k, r in enumerate(getattr(self, "bar_radii")):
             if r != 0.5 * t0:
