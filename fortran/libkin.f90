@@ -179,6 +179,8 @@ module libkin
   public :: kin_symmetries, kin_mechanism_group
   public :: kin_set_panels, kin_npanels, kin_get_panels, kin_set_thickness, kin_get_thickness
   public :: kin_has_contact_model, kin_clearance, kin_set_contact_events, kin_last_contact
+  public :: kin_set_device_bars, kin_get_device_bars, kin_set_hinge_contact, kin_get_hinge_contact
+  public :: kin_nhinges, kin_get_hinges, kin_hinge_angles, kin_hinge_sides
   ! ---- Fortran strings and wrappers --------------------------------------
   public :: kin_version_string, kin_strerror, kin_status_name, kin_last_error
   public :: kinf_create, kinf_get_bars, kinf_get_fixed, kinf_free_index, kinf_model_sail
@@ -800,6 +802,54 @@ module libkin
       integer(c_int), intent(out) :: parts(4)
       real(c_double), intent(out) :: points(*)
       integer(c_int) :: kin_last_contact
+    end function
+    function kin_set_device_bars(a, ndev, bars) bind(C, name='kin_set_device_bars')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int), value :: ndev
+      integer(c_int), intent(in) :: bars(*)
+      integer(c_int) :: kin_set_device_bars
+    end function
+    function kin_get_device_bars(a, ndev, bars) bind(C, name='kin_get_device_bars')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int), intent(out) :: ndev
+      integer(c_int), intent(out) :: bars(*)
+      integer(c_int) :: kin_get_device_bars
+    end function
+    function kin_set_hinge_contact(a, on) bind(C, name='kin_set_hinge_contact')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int), value :: on
+      integer(c_int) :: kin_set_hinge_contact
+    end function
+    function kin_get_hinge_contact(a) bind(C, name='kin_get_hinge_contact')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int) :: kin_get_hinge_contact
+    end function
+    function kin_nhinges(a) bind(C, name='kin_nhinges')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int) :: kin_nhinges
+    end function
+    function kin_get_hinges(a, joints, panels) bind(C, name='kin_get_hinges')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int), intent(out) :: joints(*), panels(*)
+      integer(c_int) :: kin_get_hinges
+    end function
+    function kin_hinge_angles(a, xyz, fold) bind(C, name='kin_hinge_angles')
+      import :: c_int, c_double, c_ptr
+      type(c_ptr), value :: a, xyz
+      real(c_double), intent(out) :: fold(*)
+      integer(c_int) :: kin_hinge_angles
+    end function
+    function kin_hinge_sides(a, sides) bind(C, name='kin_hinge_sides')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int), intent(out) :: sides(*)
+      integer(c_int) :: kin_hinge_sides
     end function
   end interface
 
