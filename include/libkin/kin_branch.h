@@ -106,6 +106,19 @@ typedef struct kin_homotopy_info {
     int rechecks_failed;      /* kin_quadrics_homotopy_merge: imported certified records whose root
                                  did not certify again against Q, of the same kind and within the
                                  record's radius (their paths are tracked again); 0 elsewhere */
+    /* layout 3: the interval certificates (proofs in Arb's ball arithmetic, docs/branches.md
+       "What certified means"). A path's endpoint is proven when a Krawczyk test shows that a
+       box around it (in an affine chart, on the caller's Q) holds exactly one solution, a
+       simple one, real (the box is its own conjugate) or non-real (the box misses the reals),
+       and the box is shown disjoint from every other proven box */
+    int proven_real;    /* distinct real solutions proven so */
+    int proven_nonreal; /* distinct non-real solutions proven so */
+    int unproven;       /* paths whose endpoint is not proven: 2^s - proven_real - proven_nonreal */
+    int proven_all;     /* 1 when unproven = 0: 2^s distinct simple solutions proven, so by
+                           Bezout's bound these are all the solutions (none singular, no curve) */
+    int proven_refined; /* of the proven: boxes that needed 128 or 256-bit balls */
+    int proven_overlap; /* boxes proven but not shown disjoint from another proven box (two paths
+                           on one root): counted in unproven */
 } kin_homotopy_info;
 
 /* The complete solver: total-degree homotopy continuation for
@@ -168,6 +181,10 @@ typedef struct kin_homotopy_options {
                                  the paths scheduled for re-tracking so far; called
                                  from the calling thread every 50 ms of tracking */
     void *user;          /* passed to progress */
+    /* layout 2 (docs/abi.md) */
+    int prove;           /* 1: prove every endpoint with an interval certificate
+                            (kin_homotopy_info.proven_*, Arb's ball arithmetic); 0: do not
+                            (those fields stay 0). Default 1 */
 } kin_homotopy_options;
 
 /* Fill *o with the defaults above, for a struct of `size` bytes: pass

@@ -201,7 +201,7 @@ static void tally(const hom_solver *H, const hom_end *ends, const double *zr, co
     *nsol = nd < maxsol ? nd : maxsol;
 }
 
-int kin__hom_tally(const hom_solver *H, const hom_end *ends, const double *zr, const double *zi, int *parent,
+int kin__hom_tally(const hom_solver *H, const hom_end *ends, double *zr, double *zi, int *parent,
                    hom_checks ck, int retracked, double *betas, int maxsol, int *nsol, int *multiplicity,
                    kin_homotopy_info *info)
 {
@@ -209,7 +209,7 @@ int kin__hom_tally(const hom_solver *H, const hom_end *ends, const double *zr, c
     if (!size) return KIN_ENOMEM;
     tally(H, ends, zr, zi, parent, size, ck, retracked, betas, maxsol, nsol, multiplicity, info);
     free(size);
-    return KIN_OK;
+    return kin__hom_prove(H, ends, zr, zi, NULL, info);
 }
 
 int kin__hom_merge(hom_solver *H, hom_end *ends, double *zr, double *zi, hom_report *R, double *betas, int maxsol,
@@ -254,6 +254,10 @@ int kin__hom_merge(hom_solver *H, hom_end *ends, double *zr, double *zi, hom_rep
     }
 
     tally(H, ends, zr, zi, parent, size, ck, retracked, betas, maxsol, nsol, multiplicity, info);
+    if ((rc = kin__hom_prove(H, ends, zr, zi, R, info))) {
+        if (rc == KIN_ECANCELLED) goto cancelled;
+        goto done;
+    }
     if (R->fn) R->fn(R->user, R->total, R->total); /* finished: its answer no longer matters */
     goto done;
 

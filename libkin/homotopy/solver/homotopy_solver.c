@@ -180,6 +180,7 @@ static const kin_homotopy_options DEFAULTS = {
     .max_paths = KIN_HOMOTOPY_MAX_PATHS,
     .progress = NULL,
     .user = NULL,
+    .prove = 1,
 };
 
 int kin_homotopy_options_init(kin_homotopy_options *o, size_t size)
@@ -219,6 +220,8 @@ int kin__hom_solver_init(hom_solver *H, int m, int s, const double *Q, const kin
     for (size_t i = 0; i < (size_t)m * m * s; ++i)
         if (!isfinite(Q[i])) return KIN_EINVAL;
     H->npaths = 1 << s;
+    H->Qin = Q;
+    H->prove = o->prove != 0;
     int cpus = online_processors();
     int nthreads = o->nthreads == 0 || o->nthreads > cpus ? cpus : o->nthreads;
     if (work < 1) work = 1;

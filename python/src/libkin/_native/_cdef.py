@@ -198,6 +198,12 @@ typedef struct kin_homotopy_info {
     long long steps_total;
     long long rejected_total;
     int rechecks_failed;
+    int proven_real;
+    int proven_nonreal;
+    int unproven;
+    int proven_all;
+    int proven_refined;
+    int proven_overlap;
 } kin_homotopy_info;
 int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads,
                                   double *betas, int maxsol, int *nsol, int *multiplicity,
@@ -209,6 +215,7 @@ typedef struct kin_homotopy_options {
     long max_paths;
     kin_progress_fn progress;
     void *user;
+    int prove;
 } kin_homotopy_options;
 int kin_homotopy_options_init(kin_homotopy_options *o, size_t size);
 void kin_homotopy_options_default(kin_homotopy_options *o);
