@@ -41,9 +41,9 @@ static int solve(int plain, int prove, int m, int s, const double *Q, int ng, co
 
 static void row(const char *name, int prove, double w, double c, const kin_homotopy_info *h)
 {
-    printf("%-6s %5d %8.2f %8.2f %7d %6d %6d %5d | %7d %7d %7d %4d %7d %7d\n", name, prove, w, c, h->paths, h->real,
-           h->nonreal, h->singular, h->proven_real, h->proven_nonreal, h->unproven, h->proven_all, h->proven_refined,
-           h->proven_overlap);
+    printf("%-6s %5d %8.2f %8.2f %7d %6d %6d %5d %5d | %7d %7d %7d %4d %7d %7d %7d %7d\n", name, prove, w, c, h->paths,
+           h->real, h->nonreal, h->singular, h->failed, h->proven_real, h->proven_nonreal, h->unproven, h->proven_all,
+           h->proven_refined, h->proven_overlap, h->unproven_nopoint, h->unproven_refused);
 }
 
 int main(int argc, char **argv)
@@ -71,8 +71,9 @@ int main(int argc, char **argv)
            loops, m, s, N, ng, THREADS, core ? core : "(unset)");
     fflush(stdout);
     if (system("cat /proc/loadavg")) printf("\n");
-    printf("%-6s %5s %8s %8s %7s %6s %6s %5s | %7s %7s %7s %4s %7s %7s\n", "solver", "prove", "wall[s]", "cpu[s]",
-           "paths", "real", "cmplx", "sing", "p.real", "p.cmplx", "unprov", "all", "refined", "overlap");
+    printf("%-6s %5s %8s %8s %7s %6s %6s %5s %5s | %7s %7s %7s %4s %7s %7s %7s %7s\n", "solver", "prove", "wall[s]",
+           "cpu[s]", "paths", "real", "cmplx", "sing", "fail", "p.real", "p.cmplx", "unprov", "all", "refined",
+           "overlap", "nopoint", "refused");
     for (int run = 0; run < runs; ++run)
         for (int plain = 0; plain < 2; ++plain) {
             if ((plain && !strcmp(which, "sym")) || (!plain && !strcmp(which, "plain"))) continue;

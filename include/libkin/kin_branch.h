@@ -119,6 +119,12 @@ typedef struct kin_homotopy_info {
     int proven_refined; /* of the proven: boxes that needed 128 or 256-bit balls */
     int proven_overlap; /* boxes proven but not shown disjoint from another proven box (two paths
                            on one root): counted in unproven */
+    int unproven_nopoint; /* of unproven: paths with no point to test (lost by the tracker, or
+                             singular where Newton did not converge) */
+    int unproven_refused; /* of unproven: endpoints every test refused (53-bit double and ball,
+                             then 128 and 256 bits after Newton steps): singular or too
+                             ill-conditioned roots, or not near a root at all.
+                             unproven = unproven_nopoint + unproven_refused + proven_overlap */
 } kin_homotopy_info;
 
 /* The complete solver: total-degree homotopy continuation for
@@ -183,8 +189,10 @@ typedef struct kin_homotopy_options {
     void *user;          /* passed to progress */
     /* layout 2 (docs/abi.md) */
     int prove;           /* 1: prove every endpoint with an interval certificate
-                            (kin_homotopy_info.proven_*, Arb's ball arithmetic); 0: do not
-                            (those fields stay 0). Default 1 */
+                            (kin_homotopy_info.proven_*): a double-precision test with a priori
+                            rounding bounds first, Arb's balls (53, 128, 256 bits) for what it
+                            cannot prove; 2: Arb's balls only; 0: no proofs (those fields stay
+                            0). Default 1 */
 } kin_homotopy_options;
 
 /* Fill *o with the defaults above, for a struct of `size` bytes: pass

@@ -477,7 +477,9 @@ typedef char kin__abi_prefix_kin_follow_info_2_return_gap[offsetof(struct kin__k
     X(kin_homotopy_info, 3, kin_homotopy_info, unproven) \
     X(kin_homotopy_info, 3, kin_homotopy_info, proven_all) \
     X(kin_homotopy_info, 3, kin_homotopy_info, proven_refined) \
-    X(kin_homotopy_info, 3, kin_homotopy_info, proven_overlap)
+    X(kin_homotopy_info, 3, kin_homotopy_info, proven_overlap) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, unproven_nopoint) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, unproven_refused)
 #define KIN__ABI_FIELDS_kin_homotopy_options(X) \
     X(kin_homotopy_options, 1, struct kin__kin_homotopy_options_1, seed) \
     X(kin_homotopy_options, 1, struct kin__kin_homotopy_options_1, nthreads) \

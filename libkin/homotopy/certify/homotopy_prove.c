@@ -33,6 +33,7 @@
 #include <acb_mat.h>
 
 #include "homotopy/certify/homotopy_prove.h"
+#include "homotopy/certify/homotopy_prove_fast.h"
 
 struct hom_prover {
     int m, s;
@@ -46,6 +47,9 @@ struct hom_prover {
     acb_mat_t B, D;     /* s x 1: f's midpoints, the Newton step */
     acb_t one, t;
     mag_t eta, rho, L, r, tm, row, lhs;
+    hom_fast *fast;     /* the same test in double precision, tried first */
+    int use_fast;       /* 0: Arb's balls only */
+    double cr[HOM_PROVE_MAX_M], ci[HOM_PROVE_MAX_M]; /* the centre as doubles */
 };
 
 /* the free coordinate i of chart k */
@@ -58,6 +62,7 @@ hom_prover *kin__prove_new(int m, int s, const double *Q)
     if (!w) return NULL;
     size_t mm = (size_t)m * m;
     w->m = m, w->s = s;
+    w->use_fast = 1;
     w->Q = _arb_vec_init((slong)(mm * s));
     w->S = _mag_vec_init(s);
     w->x = _acb_vec_init(m);
@@ -84,8 +89,16 @@ hom_prover *kin__prove_new(int m, int s, const double *Q)
                 mag_add(w->S + j, w->S + j, w->tm);
             }
     arb_clear(a), arb_clear(b);
+    double S[HOM_PROVE_MAX_M];
+    for (int j = 0; j < s; ++j) S[j] = mag_get_d(w->S + j); /* an upper bound */
+    if (!(w->fast = kin__fast_new(m, s, Q, S))) {
+        kin__prove_free(w);
+        return NULL;
+    }
     return w;
 }
+
+void kin__prove_use_fast(hom_prover *w, int on) { w->use_fast = on != 0; }
 
 void kin__prove_free(hom_prover *w)
 {
@@ -101,6 +114,7 @@ void kin__prove_free(hom_prover *w)
     acb_clear(w->one), acb_clear(w->t);
     mag_clear(w->eta), mag_clear(w->rho), mag_clear(w->L), mag_clear(w->r);
     mag_clear(w->tm), mag_clear(w->row), mag_clear(w->lhs);
+    kin__fast_free(w->fast);
     free(w);
 }
 
@@ -197,7 +211,8 @@ static void centre(hom_prover *w, const double *zr, const double *zi, int k, int
     for (int c = 0; c < w->m; ++c) {
         double vr = (zr[c] * zr[k] + zi[c] * zi[k]) / d, vi = (zi[c] * zr[k] - zr[c] * zi[k]) / d;
         if (c == k) vr = 1.0, vi = 0.0;
-        acb_set_d_d(w->x + c, vr, real ? 0.0 : vi);
+        w->cr[c] = vr, w->ci[c] = real ? 0.0 : vi;
+        acb_set_d_d(w->x + c, w->cr[c], w->ci[c]);
     }
 }
 
@@ -206,23 +221,21 @@ static void centre(hom_prover *w, const double *zr, const double *zi, int k, int
 static void store(hom_prover *w, int k, int real, slong prec, double *zr, double *zi, hom_proof *out)
 {
     int m = w->m, misses = 0;
-    arb_t e;
-    arb_init(e);
+    arf_t e, d;
+    arf_init(e), arf_init(d);
     mag_zero(w->row);
-    for (int c = 0; c < m; ++c) {
-        acb_ptr xc = w->x + c;
-        zr[c] = arf_get_d(arb_midref(acb_realref(xc)), ARF_RND_NEAR);
-        zi[c] = real ? 0.0 : arf_get_d(arb_midref(acb_imagref(xc)), ARF_RND_NEAR);
-        arb_set_d(e, zr[c]);
-        arb_sub(e, acb_realref(xc), e, prec);
-        arb_get_mag(w->tm, e);
-        mag_max(w->row, w->row, w->tm);
-        arb_set_d(e, zi[c]);
-        arb_sub(e, acb_imagref(xc), e, prec);
-        arb_get_mag(w->tm, e);
-        mag_max(w->row, w->row, w->tm);
-    }
-    arb_clear(e);
+    for (int c = 0; c < m; ++c)
+        for (int part = 0; part < 2; ++part) {
+            arf_srcptr mid = arb_midref(part ? acb_imagref(w->x + c) : acb_realref(w->x + c));
+            double v = part && real ? 0.0 : arf_get_d(mid, ARF_RND_NEAR);
+            if (part) zi[c] = v;
+            else zr[c] = v;
+            arf_set_d(d, v);
+            arf_sub(e, mid, d, prec, ARF_RND_UP); /* |e| >= |mid - v| */
+            arf_get_mag(w->tm, e);
+            mag_max(w->row, w->row, w->tm);
+        }
+    arf_clear(e), arf_clear(d);
     /* |x - d| <= sqrt(2) max(|dRe|, |dIm|) <= 2 max */
     mag_mul_2exp_si(w->row, w->row, 1);
     mag_add(w->row, w->row, w->r);
@@ -257,7 +270,11 @@ void kin__prove_endpoint(hom_prover *w, double *zr, double *zi, int want_real, i
         centre(w, zr, zi, k, real);
         for (int p = 0; p < 3 && precs[p] <= max_prec; ++p) {
             if (p > 0 && !newton(w, k, precs[p], 3, real)) break;
-            if (!krawczyk(w, k, precs[p])) continue;
+            double rf;
+            if (p == 0 && w->use_fast && kin__fast_krawczyk(w->fast, w->cr, w->ci, k, real, &rf))
+                mag_set_d(w->r, rf); /* >= rf: only stored (store()), and a larger stored box is safe */
+            else if (!krawczyk(w, k, precs[p]))
+                continue;
             hom_proof got;
             double br[HOM_PROVE_MAX_M], bi[HOM_PROVE_MAX_M];
             store(w, k, real, precs[p], br, bi, &got);

@@ -47,6 +47,9 @@ typedef struct hom_prover hom_prover;
  * of memory. */
 hom_prover *kin__prove_new(int m, int s, const double *Q);
 void kin__prove_free(hom_prover *w);
+/* on (the default): try the double-precision test with a priori rounding
+ * bounds (homotopy_prove_fast.c) before Arb's balls; off: Arb's only */
+void kin__prove_use_fast(hom_prover *w, int on);
 
 /* Prove the endpoint zr + i zi (m coordinates, projective: any scale), if
  * `want_real` as a real solution first (centred on the real part). On

@@ -356,7 +356,8 @@ static int merge_impl(int m, int s, const double *Q, const kin_homotopy_options 
 {
     if (!Q || !recs || !z || !betas || !nsol) return KIN_ENULL;
     if (recs[0].size != KIN_HOMOTOPY_ENDPOINT_SIZE || sizeof *recs != KIN_HOMOTOPY_ENDPOINT_SIZE) return KIN_EINVAL;
-    if (maxsol < 1 || m < 2 || s != m - 1 || o->nthreads < 0 || o->max_paths < 1) return KIN_EINVAL;
+    if (maxsol < 1 || m < 2 || s != m - 1 || o->nthreads < 0 || o->max_paths < 1 || o->prove < 0 || o->prove > 2)
+        return KIN_EINVAL;
     if (m > HOM_MAX_M) return KIN_ERANGE;
     if ((1L << s) > o->max_paths) return KIN_ELIMIT;
     hom_solver H;

@@ -28,6 +28,10 @@ typedef struct prove_job {
     double last;
 } prove_job;
 
+/* an endpoint with a point to test: not lost, and if singular, Newton converged
+ * (a box cannot hold a root that is not simple alone) */
+static int tested(const hom_end *e) { return e->kind != HOM_FAILED && !(e->kind == HOM_SINGULAR && !e->converged); }
+
 static void prove_one(const prove_job *J, hom_prover *w, int p)
 {
     const hom_solver *H = J->H;
@@ -35,9 +39,7 @@ static void prove_one(const prove_job *J, hom_prover *w, int p)
     int m = H->P.m;
     double *zr = J->zr + (size_t)p * m, *zi = J->zi + (size_t)p * m;
     memset(&J->proof[p], 0, sizeof J->proof[p]);
-    /* a lost path has no point; a singular endpoint where Newton did not
-     * converge is no simple root (a box cannot hold one alone) */
-    if (e->kind == HOM_FAILED || (e->kind == HOM_SINGULAR && !e->converged)) return;
+    if (!tested(e)) return;
     if (H->U) { /* the equivariant route's x to the caller's beta = U x */
         double yr[HOM_MAX_M], yi[HOM_MAX_M];
         for (int r = 0; r < m; ++r) {
@@ -76,11 +78,17 @@ static int prove_progress(void *ctx, long done)
 }
 
 /* count the proven boxes into info (clash: boxes not shown disjoint) */
-static void count(int npaths, const hom_proof *proof, const unsigned char *clash, kin_homotopy_info *info)
+static void count(int npaths, const hom_end *ends, const hom_proof *proof, const unsigned char *clash,
+                  kin_homotopy_info *info)
 {
     info->proven_real = info->proven_nonreal = info->proven_refined = info->proven_overlap = 0;
+    info->unproven_nopoint = info->unproven_refused = 0;
     for (int p = 0; p < npaths; ++p) {
-        if (proof[p].kind == HOM_PROOF_NONE) continue;
+        if (proof[p].kind == HOM_PROOF_NONE) {
+            if (!tested(&ends[p])) info->unproven_nopoint++;
+            else info->unproven_refused++;
+            continue;
+        }
         if (clash[p]) {
             info->proven_overlap++;
             continue;
@@ -104,6 +112,7 @@ int kin__hom_prove(const hom_solver *H, const hom_end *ends, double *zr, double 
     if (!proof || !clash || !w) rc = KIN_ENOMEM;
     for (int t = 0; !rc && t < nt; ++t)
         if (!(w[t] = kin__prove_new(m, H->P.s, H->Qin))) rc = KIN_ENOMEM;
+        else kin__prove_use_fast(w[t], H->prove != 2);
     if (!rc) {
         prove_job J = {H, ends, zr, zi, proof, w, R, kin__hom_seconds()};
         hom_pool_job W = {prove_work, R && R->fn ? prove_progress : NULL, &J};
@@ -111,7 +120,7 @@ int kin__hom_prove(const hom_solver *H, const hom_end *ends, double *zr, double 
         if (R && R->cancelled) rc = KIN_ECANCELLED;
     }
     if (!rc && kin__prove_disjoint(m, npaths, zr, zi, proof, H->w, clash) < 0) rc = KIN_ENOMEM;
-    if (!rc) count(npaths, proof, clash, info);
+    if (!rc) count(npaths, ends, proof, clash, info);
     for (int t = 0; w && t < nt; ++t) kin__prove_free(w[t]);
     free(w), free(clash), free(proof);
     return rc;

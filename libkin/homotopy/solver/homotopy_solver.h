@@ -86,7 +86,7 @@ typedef struct hom_solver {
                             permuted, refined and certified) */
     const double *Qin;   /* the caller's system (not owned), which the interval certificates
                             prove the endpoints of (kin__hom_prove) */
-    int prove;           /* kin_homotopy_options.prove: run kin__hom_prove */
+    int prove;           /* kin_homotopy_options.prove: 0 none, 1 fast test then Arb, 2 Arb only */
     const double *U;     /* NULL, or the endpoints x are those of Qin at beta = U x (column-major
                             m x m: the equivariant route's rotated system) */
 } hom_solver;
@@ -150,7 +150,8 @@ int kin__hom_tally(const hom_solver *H, const hom_end *ends, double *zr, double 
  * H->npaths; homotopy_prove_run.c, on H's threads): each endpoint not lost
  * is proven by a Krawczyk test on H->Qin in ball arithmetic and the proven
  * boxes are shown disjoint; fills info's proven_real, proven_nonreal,
- * unproven, proven_all, proven_refined, proven_overlap. zr, zi are
+ * unproven, proven_all, proven_refined, proven_overlap, unproven_nopoint,
+ * unproven_refused. zr, zi are
  * overwritten (by the boxes' centres, in H->Qin's coordinates). R: NULL, or
  * the solve's progress (its callback asked for a cancel every
  * HOM_POOL_REPORT seconds). KIN_OK, KIN_ECANCELLED, KIN_ENOMEM. */

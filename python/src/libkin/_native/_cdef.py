@@ -204,6 +204,8 @@ typedef struct kin_homotopy_info {
     int proven_all;
     int proven_refined;
     int proven_overlap;
+    int unproven_nopoint;
+    int unproven_refused;
 } kin_homotopy_info;
 int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads,
                                   double *betas, int maxsol, int *nsol, int *multiplicity,
