@@ -141,7 +141,9 @@ typedef struct kin_homotopy_info {
  * theorem (in floating point with a rounding bound for the residual, not
  * interval arithmetic); certified roots are real (the conjugate root lies in
  * the root's uniqueness ball) or non-real (the existence ball misses the
- * reals); everything else is singular.
+ * reals); everything else is singular. Then every endpoint is proven (unless
+ * kin_homotopy_options.prove = 0) by a Krawczyk test on Q in outward-rounded
+ * arithmetic (info->proven_*, docs/branches.md "What certified means").
  * Checks: two paths on the same certified root (a path jumped), or a
  * non-real root whose conjugate no path reached (a path was lost), send the
  * paths concerned and failed ones to be tracked again with tolerances 10x

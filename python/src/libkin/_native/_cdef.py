@@ -318,6 +318,9 @@ typedef struct kin_locate_info {
     int path_kept;
     int m_internal, s;
     int zero_order;
+    double v_r_lo, v_r_hi;
+    double v_r_rel_hi;
+    int v_r_bounded;
 } kin_locate_info;
 int kin_locate_options_init(kin_locate_options *o, size_t size);
 void kin_locate_options_default(kin_locate_options *o);
