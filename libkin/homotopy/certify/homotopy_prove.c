@@ -100,6 +100,8 @@ hom_prover *kin__prove_new(int m, int s, const double *Q)
 
 void kin__prove_use_fast(hom_prover *w, int on) { w->use_fast = on != 0; }
 
+void kin__prove_thread_end(void) { flint_cleanup(); }
+
 void kin__prove_free(hom_prover *w)
 {
     if (!w) return;

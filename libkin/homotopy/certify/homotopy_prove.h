@@ -50,6 +50,9 @@ void kin__prove_free(hom_prover *w);
 /* on (the default): try the double-precision test with a priori rounding
  * bounds (homotopy_prove_fast.c) before Arb's balls; off: Arb's only */
 void kin__prove_use_fast(hom_prover *w, int on);
+/* a thread that ran proofs is done with them: FLINT's per-thread caches
+ * are released (a pool thread then exits without leaking them) */
+void kin__prove_thread_end(void);
 
 /* Prove the endpoint zr + i zi (m coordinates, projective: any scale), if
  * `want_real` as a real solution first (centred on the real part). On

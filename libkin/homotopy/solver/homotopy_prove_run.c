@@ -60,8 +60,10 @@ static void prove_work(void *ctx, int t)
     while ((k = kin__hom_pool_take(J->H->pool, PROVE_CHUNK, &first)) > 0)
         for (int p = first; p < first + k; ++p) {
             prove_one(J, J->w[t], p);
-            if (kin__hom_pool_done(J->H->pool, t)) return;
+            if (kin__hom_pool_done(J->H->pool, t)) goto end;
         }
+end:
+    kin__prove_thread_end();
 }
 
 /* the caller's cancel, asked every HOM_POOL_REPORT seconds (the counts it
