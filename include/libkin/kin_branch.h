@@ -158,7 +158,8 @@ typedef struct kin_homotopy_info {
  * their path counts to multiplicity (optional, maxsol ints; 1 unless a
  * duplicate remained). Q must be finite (each Q_j is scaled to unit
  * Frobenius norm, computed without overflow). Memory: about (16 m + 85)
- * bytes per path (2^20 paths at m = 21: 450 MB), time about 1.3 ms per path
+ * bytes per path (2^20 paths at m = 21: 450 MB), and 49 more while the
+ * endpoints are proven (prove != 0); time about 1.3 ms per path
  * and core at s = 15. On every failure, including the first argument
  * checks, *nsol = 0 and *info is zeroed (those that are not NULL); betas
  * and multiplicity are not written.
@@ -296,7 +297,7 @@ KIN_API int kin_quadrics_homotopy_range(int m, int s, const double *Q, const kin
  * paths re-tracked, total = the paths scheduled for re-tracking so far (0
  * when none is: the calls are then (0, 0) before and after).
  * opt->max_paths bounds 2^s (memory: about (16 m + 85) bytes per path
- * besides the input).
+ * besides the input, 49 more while proving).
  * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (as kin_quadrics_homotopy_ex; also
  * ends[0].size, a record whose path is not its index or whose kind, chart
  * or z is out of range), KIN_ERANGE, KIN_ELIMIT, KIN_ECANCELLED,

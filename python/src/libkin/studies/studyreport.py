@@ -143,7 +143,7 @@ def _write_hex_md(res, out, M, figs):
         if "proven_real" in c:
             L.append(f" Proven by interval certificates (docs/branches.md): {c['proven_real']} real and "
                      f"{c['proven_nonreal']} non-real solutions, {c['unproven']} unproven"
-                     + (", all 2^s: there are no others." if c.get("proven_all") else "."))
+                     + (f", all {c['paths']} of them: there are no others." if c.get("proven_all") else "."))
         if c.get("orbits", c["paths"]) < c["paths"]:
             L.append(f" By the sail's symmetry ({c['group']} rotations) {c['orbits']} of the paths were tracked, "
                      "one per orbit of start roots; the others' endpoints are theirs rotated, each refined "
