@@ -24,3 +24,18 @@ if(NOT TARGET kin_klu)
     INTERFACE_INCLUDE_DIRECTORIES "${KIN_KLU_INCLUDE_DIR}"
     INTERFACE_LINK_LIBRARIES "${KIN_KLU_LIBRARIES}")
 endif()
+# Arb (Debian 12's libflint-arb-dev: library flint-arb, headers arb.h, acb.h
+# in the include path) on FLINT: the ball arithmetic of the interval
+# certificates of the complete solver (libkin/homotopy/certify/) and of the
+# located bifurcations. Defines KIN_ARB_INCLUDE_DIR, KIN_ARB_LIBRARIES and the
+# target kin_arb.
+find_path(KIN_ARB_INCLUDE_DIR acb_mat.h PATH_SUFFIXES arb flint REQUIRED)
+find_library(KIN_ARB_LIB NAMES flint-arb arb REQUIRED)
+find_library(KIN_FLINT_LIB flint REQUIRED)
+set(KIN_ARB_LIBRARIES ${KIN_ARB_LIB} ${KIN_FLINT_LIB})
+if(NOT TARGET kin_arb)
+  add_library(kin_arb INTERFACE IMPORTED)
+  set_target_properties(kin_arb PROPERTIES
+    INTERFACE_INCLUDE_DIRECTORIES "${KIN_ARB_INCLUDE_DIR}"
+    INTERFACE_LINK_LIBRARIES "${KIN_ARB_LIBRARIES}")
+endif()

@@ -75,6 +75,8 @@ if(_l STREQUAL "gsl")
 endif()
 list(APPEND _kin_static ${_l})
 list(APPEND _kin_static ${JANSSON_STATIC_LIBRARIES} ${NAUTY_STATIC_LIBRARIES})
+# Arb and FLINT (no .pc in Debian 12): by name, then what FLINT needs
+list(APPEND _kin_static flint-arb flint mpfr gmp)
 
 # SuiteSparse: the libraries libkin names, then the SuiteSparse ones they
 # need, in dependency order, then the others they need (METIS, OpenMP, ...)

@@ -35,6 +35,19 @@ static void start(kin_assembly *a, int path, double th)
     CHECK_RC(kin_set_coords(a, x), KIN_OK);
 }
 
+/* The rigorous enclosure of v_r at a located point (issue 38 item 2): it
+ * holds the floating v_r, it is tight (the residual of the SVD is at the
+ * rounding level), and its bound on v_r / v_max proves the singular value
+ * below `proven` times the largest. */
+static void check_enclosure(const kin_locate_info *info, double proven)
+{
+    CHECK(info->v_r_bounded == 1);
+    CHECK(info->v_r_lo <= info->v_r && info->v_r <= info->v_r_hi && info->v_r_rel_hi >= info->v_r_rel);
+    double vmax = info->v_r_rel > 0.0 ? info->v_r / info->v_r_rel : 1.0;
+    CHECK(info->v_r_hi - info->v_r_lo <= 1e3 * DBL_EPSILON * vmax);
+    CHECK(info->v_r_rel_hi <= proven);
+}
+
 /* (J1x, J2x) of R^A, R^B, R^C */
 static const double THREEBAR_POINTS[3][2] = {{-1, 0}, {1, 0}, {1, 2}};
 
@@ -84,6 +97,7 @@ static void threebar(void)
                     CHECK(k == on_path[path][0] || k == on_path[path][1]);
                     if (k >= 0) reached[k][path][side] = 1;
                     CHECK(info.located && info.path_kept && info.v_r_rel <= 1e-10);
+                    check_enclosure(&info, 1e-10 + 1e-12);
                     CHECK(info.m_internal == 2 && info.s == 1);
                     if (o.method == KIN_LOCATE_FAST) {
                         CHECK(info.factorizations <= FAST_MAX_FACTORIZATIONS);
@@ -180,6 +194,9 @@ static void hex_rb(void)
                method_name(o.method), o.vr_tol, info.event, info.steps, info.factorizations, info.v_r_rel,
                info.m_internal, info.s, err);
         CHECK(info.located && info.path_kept && info.v_r_rel <= o.vr_tol);
+        printf("    v_r in [%.3e, %.3e] (floating %.3e), v_r/v_max <= %.3e proven\n", info.v_r_lo, info.v_r_hi, info.v_r,
+               info.v_r_rel_hi);
+        check_enclosure(&info, o.vr_tol + 1e-12);
         if (o.method == KIN_LOCATE_FAST) {
             CHECK(info.factorizations <= FAST_MAX_FACTORIZATIONS);
             CHECK(info.m_internal == 4 && info.s == 3);

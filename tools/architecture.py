@@ -45,7 +45,7 @@ C_LAYERS = [
 TOP = ""
 C_SUBLAYERS = {
     "homotopy": [
-        ["track"],             # the one-path tracker and certificate, its kernels, LU, Pade, lockstep lanes
+        ["track", "certify"],  # the one-path tracker and certificate, its kernels, LU, Pade, lockstep lanes | interval proofs (Arb)
         ["param", "solver"],   # the parameter tracker (and its lanes) | set-up, thread pool, runs, checks, merge
         ["symmetric"],         # the symmetric solver: group, equivariant start, monodromy (uses both above)
         [TOP],                 # homotopy/*.c: the entry points (plain, symmetric, orbit ranges)

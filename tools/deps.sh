@@ -2,6 +2,7 @@
 # Install what libkin needs on Debian 12 (idempotent): compiler, CMake,
 # LAPACK/BLAS (OpenBLAS and the reference libblas3 for tools/check_blas.sh),
 # GSL, jansson (JSON model files), SuiteSparse KLU (KIN_STEP_SPARSE), nauty (kin_symmetries), pkg-config, Python's venv module,
+# Arb (libflint-arb-dev: the interval certificates of the complete solver, libkin/certify/),
 # gfortran (the Fortran module), abigail-tools (tools/abi_check.sh) and clang
 # (the C suite built with clang, tools/build_clang.sh) with its runtime libraries
 # libclang-rt-14-dev (libFuzzer and the sanitizers: the fuzz targets, tests/fuzz),
@@ -15,7 +16,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source tools/stage.sh
 pkgs=(build-essential cmake pkg-config libopenblas-dev liblapack-dev libblas3 libgsl-dev libjansson-dev libsuitesparse-dev libnauty2-dev python3-venv python3-dev
-      gfortran abigail-tools clang libclang-rt-14-dev chromium chromium-driver)
+      gfortran abigail-tools clang libclang-rt-14-dev chromium chromium-driver libflint-arb-dev)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

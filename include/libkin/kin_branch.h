@@ -112,6 +112,25 @@ typedef struct kin_homotopy_info {
     int rechecks_failed;      /* kin_quadrics_homotopy_merge: imported certified records whose root
                                  did not certify again against Q, of the same kind and within the
                                  record's radius (their paths are tracked again); 0 elsewhere */
+    /* layout 3: the interval certificates (proofs in Arb's ball arithmetic, docs/branches.md
+       "What certified means"). A path's endpoint is proven when a Krawczyk test shows that a
+       box around it (in an affine chart, on the caller's Q) holds exactly one solution, a
+       simple one, real (the box is its own conjugate) or non-real (the box misses the reals),
+       and the box is shown disjoint from every other proven box */
+    int proven_real;    /* distinct real solutions proven so */
+    int proven_nonreal; /* distinct non-real solutions proven so */
+    int unproven;       /* paths whose endpoint is not proven: 2^s - proven_real - proven_nonreal */
+    int proven_all;     /* 1 when unproven = 0: 2^s distinct simple solutions proven, so by
+                           Bezout's bound these are all the solutions (none singular, no curve) */
+    int proven_refined; /* of the proven: boxes that needed 128 or 256-bit balls */
+    int proven_overlap; /* boxes proven but not shown disjoint from another proven box (two paths
+                           on one root): counted in unproven */
+    int unproven_nopoint; /* of unproven: paths with no point to test (lost by the tracker, or
+                             singular where Newton did not converge) */
+    int unproven_refused; /* of unproven: endpoints every test refused (53-bit double and ball,
+                             then 128 and 256 bits after Newton steps): singular or too
+                             ill-conditioned roots, or not near a root at all.
+                             unproven = unproven_nopoint + unproven_refused + proven_overlap */
 } kin_homotopy_info;
 
 /* The complete solver: total-degree homotopy continuation for
@@ -128,7 +147,9 @@ typedef struct kin_homotopy_info {
  * theorem (in floating point with a rounding bound for the residual, not
  * interval arithmetic); certified roots are real (the conjugate root lies in
  * the root's uniqueness ball) or non-real (the existence ball misses the
- * reals); everything else is singular.
+ * reals); everything else is singular. Then every endpoint is proven (unless
+ * kin_homotopy_options.prove = 0) by a Krawczyk test on Q in outward-rounded
+ * arithmetic (info->proven_*, docs/branches.md "What certified means").
  * Checks: two paths on the same certified root (a path jumped), or a
  * non-real root whose conjugate no path reached (a path was lost), send the
  * paths concerned and failed ones to be tracked again with tolerances 10x
@@ -143,7 +164,8 @@ typedef struct kin_homotopy_info {
  * their path counts to multiplicity (optional, maxsol ints; 1 unless a
  * duplicate remained). Q must be finite (each Q_j is scaled to unit
  * Frobenius norm, computed without overflow). Memory: about (16 m + 85)
- * bytes per path (2^20 paths at m = 21: 450 MB), time about 1.3 ms per path
+ * bytes per path (2^20 paths at m = 21: 450 MB), and 49 more while the
+ * endpoints are proven (prove != 0); time about 1.3 ms per path
  * and core at s = 15. On every failure, including the first argument
  * checks, *nsol = 0 and *info is zeroed (those that are not NULL); betas
  * and multiplicity are not written.
@@ -174,6 +196,12 @@ typedef struct kin_homotopy_options {
                                  the paths scheduled for re-tracking so far; called
                                  from the calling thread every 50 ms of tracking */
     void *user;          /* passed to progress */
+    /* layout 2 (docs/abi.md) */
+    int prove;           /* 1: prove every endpoint with an interval certificate
+                            (kin_homotopy_info.proven_*): a double-precision test with a priori
+                            rounding bounds first, Arb's balls (53, 128, 256 bits) for what it
+                            cannot prove; 2: Arb's balls only; 0: no proofs (those fields stay
+                            0). Default 1 */
 } kin_homotopy_options;
 
 /* Fill *o with the defaults above, for a struct of `size` bytes: pass
@@ -275,7 +303,7 @@ KIN_API int kin_quadrics_homotopy_range(int m, int s, const double *Q, const kin
  * paths re-tracked, total = the paths scheduled for re-tracking so far (0
  * when none is: the calls are then (0, 0) before and after).
  * opt->max_paths bounds 2^s (memory: about (16 m + 85) bytes per path
- * besides the input).
+ * besides the input, 49 more while proving).
  * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (as kin_quadrics_homotopy_ex; also
  * ends[0].size, a record whose path is not its index or whose kind, chart
  * or z is out of range), KIN_ERANGE, KIN_ELIMIT, KIN_ECANCELLED,

@@ -74,6 +74,15 @@ typedef struct kin_locate_info {
     int m_internal, s;    /* analysis at the final point */
     int zero_order;       /* fast method: how v_r vanishes along the path, ~|l - l*|^p:
                              1 a crossing, 2 a tangency (Figure 7(b)); 0 not estimated */
+    /* layout 2 (docs/abi.md): a rigorous enclosure of v_r at the final point, in Arb's ball
+       arithmetic: H evaluated exactly at the final (double) coordinates, Weyl's bound on the
+       residual of the floating SVD and on its factors' departure from orthogonality
+       (docs/locate.md "Certified bifurcations"). Valid when v_r_bounded = 1 */
+    double v_r_lo, v_r_hi; /* v_r_lo <= the exact singular value reported as v_r <= v_r_hi; the
+                              vanishing ones below it are <= v_r_hi too */
+    double v_r_rel_hi;     /* >= that singular value / the exact largest one */
+    int v_r_bounded;       /* 1: the three above hold; 0: not computed (no dense SVD at the
+                              final point, KIN_STEP_SPARSE, or H too large) */
 } kin_locate_info;
 
 /* Fill *o with the defaults above, for a struct of `size` bytes: pass

@@ -143,6 +143,26 @@ static void take_located(loc_ctx *c, kin_assembly *a, kin_locate_info *info)
     kin__copy_state(a, c->work);
 }
 
+/* v_r / v_max, and the rigorous enclosure of v_r (kin_locate_info layout
+ * 2): the index of the singular value reported as v_r, bounded by
+ * model/sv_enclosure.c */
+static void enclose_v_r(const kin_assembly *a, kin_locate_info *info)
+{
+    const kin_factor *f = kin__cur(a);
+    info->v_r_rel = f->an.v_max > 0 ? info->v_r / f->an.v_max : 0.0;
+    int p = a->nf < a->nb ? a->nf : a->nb, idx = -1;
+    double lo, hi, max_lo;
+    info->v_r_bounded = 0;
+    info->v_r_lo = info->v_r_hi = info->v_r_rel_hi = 0.0;
+    if (!f->valid || !f->sv) return;
+    for (int i = 0; i < p; ++i)
+        if (f->sv[i] == info->v_r) idx = i;
+    if (idx < 0 || !kin__sv_enclose(a, idx, &lo, &hi, &max_lo) || !(max_lo > 0.0)) return;
+    info->v_r_lo = lo, info->v_r_hi = hi;
+    info->v_r_rel_hi = hi / max_lo * (1.0 + 0x1p-50); /* rounded up */
+    info->v_r_bounded = 1;
+}
+
 static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,
                        void *hook_user, kin__locate_ws *ws)
 {
@@ -410,7 +430,7 @@ classify:
         (int)((a->nfact - fa) + (c.work->nfact - fw) + (c.probe ? c.probe->nfact - fp : 0) + (c.prev->nfact - fpv));
     info->located = rc == KIN_OK;
     info->v_r = kin__loc_group_top(a, o.vr_tol);
-    info->v_r_rel = kin__cur(a)->an.v_max > 0 ? info->v_r / kin__cur(a)->an.v_max : 0.0;
+    enclose_v_r(a, info); /* v_r / v_max and its enclosure */
     info->m_internal = kin__cur(a)->an.m_internal;
     info->s = kin__cur(a)->an.s;
     if (rc == KIN_ECANCELLED)

@@ -74,6 +74,51 @@ struct kin__kin_homotopy_info_1 {
     double max_residual;
     double max_cond;
 };
+/* kin_homotopy_info as a host compiled against layout 2 has it */
+struct kin__kin_homotopy_info_2 {
+    size_t size;
+    int paths;
+    int real;
+    int real_distinct;
+    int nonreal;
+    int singular;
+    int failed;
+    int uncertified;
+    int retracked;
+    int duplicates;
+    int unpaired;
+    int steps;
+    int rejected;
+    double max_residual;
+    double max_cond;
+    long long steps_total;
+    long long rejected_total;
+    int rechecks_failed;
+};
+/* kin_homotopy_options as a host compiled against layout 1 has it */
+struct kin__kin_homotopy_options_1 {
+    size_t size;
+    unsigned long seed;
+    int nthreads;
+    long max_paths;
+    kin_progress_fn progress;
+    void *user;
+};
+/* kin_locate_info as a host compiled against layout 1 has it */
+struct kin__kin_locate_info_1 {
+    size_t size;
+    int event;
+    int located;
+    int steps;
+    int factorizations;
+    int forward;
+    double v_r;
+    double v_r_rel;
+    double distance;
+    int path_kept;
+    int m_internal, s;
+    int zero_order;
+};
 /* kin_follow_options as a host compiled against layout 1 has it */
 struct kin__kin_follow_options_1 {
     size_t size;
@@ -156,11 +201,11 @@ typedef struct kin__kin_step_info_1 kin__kin_step_info_layout1;
 typedef kin_sail_params kin__kin_sail_params_layout1;
 typedef kin_solve_info kin__kin_solve_info_layout1;
 typedef struct kin__kin_homotopy_info_1 kin__kin_homotopy_info_layout1;
-typedef kin_homotopy_options kin__kin_homotopy_options_layout1;
+typedef struct kin__kin_homotopy_options_1 kin__kin_homotopy_options_layout1;
 typedef kin_homotopy_sym_info kin__kin_homotopy_sym_info_layout1;
 typedef kin_branch_path kin__kin_branch_path_layout1;
 typedef kin_locate_options kin__kin_locate_options_layout1;
-typedef kin_locate_info kin__kin_locate_info_layout1;
+typedef struct kin__kin_locate_info_1 kin__kin_locate_info_layout1;
 typedef struct kin__kin_follow_options_1 kin__kin_follow_options_layout1;
 typedef struct kin__kin_follow_info_1 kin__kin_follow_info_layout1;
 
@@ -191,12 +236,12 @@ enum kin__abi_id {
     {"kin_step_info", 2, {sizeof(struct kin__kin_step_info_1), sizeof(kin_step_info)}, {offsetof(struct kin__kin_step_info_1, m_internal) + sizeof(((struct kin__kin_step_info_1 *)0)->m_internal), sizeof(kin_step_info)}}, \
     {"kin_sail_params", 1, {sizeof(kin_sail_params)}, {sizeof(kin_sail_params)}}, \
     {"kin_solve_info", 1, {sizeof(kin_solve_info)}, {sizeof(kin_solve_info)}}, \
-    {"kin_homotopy_info", 2, {sizeof(struct kin__kin_homotopy_info_1), sizeof(kin_homotopy_info)}, {offsetof(struct kin__kin_homotopy_info_1, max_cond) + sizeof(((struct kin__kin_homotopy_info_1 *)0)->max_cond), sizeof(kin_homotopy_info)}}, \
-    {"kin_homotopy_options", 1, {sizeof(kin_homotopy_options)}, {sizeof(kin_homotopy_options)}}, \
+    {"kin_homotopy_info", 3, {sizeof(struct kin__kin_homotopy_info_1), sizeof(struct kin__kin_homotopy_info_2), sizeof(kin_homotopy_info)}, {offsetof(struct kin__kin_homotopy_info_1, max_cond) + sizeof(((struct kin__kin_homotopy_info_1 *)0)->max_cond), offsetof(struct kin__kin_homotopy_info_2, rechecks_failed) + sizeof(((struct kin__kin_homotopy_info_2 *)0)->rechecks_failed), sizeof(kin_homotopy_info)}}, \
+    {"kin_homotopy_options", 2, {sizeof(struct kin__kin_homotopy_options_1), sizeof(kin_homotopy_options)}, {offsetof(struct kin__kin_homotopy_options_1, user) + sizeof(((struct kin__kin_homotopy_options_1 *)0)->user), sizeof(kin_homotopy_options)}}, \
     {"kin_homotopy_sym_info", 1, {sizeof(kin_homotopy_sym_info)}, {sizeof(kin_homotopy_sym_info)}}, \
     {"kin_branch_path", 1, {sizeof(kin_branch_path)}, {sizeof(kin_branch_path)}}, \
     {"kin_locate_options", 1, {sizeof(kin_locate_options)}, {sizeof(kin_locate_options)}}, \
-    {"kin_locate_info", 1, {sizeof(kin_locate_info)}, {sizeof(kin_locate_info)}}, \
+    {"kin_locate_info", 2, {sizeof(struct kin__kin_locate_info_1), sizeof(kin_locate_info)}, {offsetof(struct kin__kin_locate_info_1, zero_order) + sizeof(((struct kin__kin_locate_info_1 *)0)->zero_order), sizeof(kin_locate_info)}}, \
     {"kin_follow_options", 3, {sizeof(struct kin__kin_follow_options_1), sizeof(struct kin__kin_follow_options_2), sizeof(kin_follow_options)}, {offsetof(struct kin__kin_follow_options_1, branch_cos) + sizeof(((struct kin__kin_follow_options_1 *)0)->branch_cos), offsetof(struct kin__kin_follow_options_2, branch_margin) + sizeof(((struct kin__kin_follow_options_2 *)0)->branch_margin), sizeof(kin_follow_options)}}, \
     {"kin_follow_info", 3, {sizeof(struct kin__kin_follow_info_1), sizeof(struct kin__kin_follow_info_2), sizeof(kin_follow_info)}, {offsetof(struct kin__kin_follow_info_1, tangent_cos) + sizeof(((struct kin__kin_follow_info_1 *)0)->tangent_cos), offsetof(struct kin__kin_follow_info_2, return_gap) + sizeof(((struct kin__kin_follow_info_2 *)0)->return_gap), sizeof(kin_follow_info)}}
 
@@ -237,22 +282,62 @@ typedef char kin__abi_prefix_kin_step_info_1_iterations[offsetof(struct kin__kin
 typedef char kin__abi_prefix_kin_step_info_1_halvings[offsetof(struct kin__kin_step_info_1, halvings) == offsetof(kin_step_info, halvings) ? 1 : -1];
 typedef char kin__abi_prefix_kin_step_info_1_factorizations[offsetof(struct kin__kin_step_info_1, factorizations) == offsetof(kin_step_info, factorizations) ? 1 : -1];
 typedef char kin__abi_prefix_kin_step_info_1_m_internal[offsetof(struct kin__kin_step_info_1, m_internal) == offsetof(kin_step_info, m_internal) ? 1 : -1];
-typedef char kin__abi_grows_kin_homotopy_info_1[sizeof(struct kin__kin_homotopy_info_1) < sizeof(kin_homotopy_info) ? 1 : -1];
-typedef char kin__abi_prefix_kin_homotopy_info_1_size[offsetof(struct kin__kin_homotopy_info_1, size) == offsetof(kin_homotopy_info, size) ? 1 : -1];
-typedef char kin__abi_prefix_kin_homotopy_info_1_paths[offsetof(struct kin__kin_homotopy_info_1, paths) == offsetof(kin_homotopy_info, paths) ? 1 : -1];
-typedef char kin__abi_prefix_kin_homotopy_info_1_real[offsetof(struct kin__kin_homotopy_info_1, real) == offsetof(kin_homotopy_info, real) ? 1 : -1];
-typedef char kin__abi_prefix_kin_homotopy_info_1_real_distinct[offsetof(struct kin__kin_homotopy_info_1, real_distinct) == offsetof(kin_homotopy_info, real_distinct) ? 1 : -1];
-typedef char kin__abi_prefix_kin_homotopy_info_1_nonreal[offsetof(struct kin__kin_homotopy_info_1, nonreal) == offsetof(kin_homotopy_info, nonreal) ? 1 : -1];
-typedef char kin__abi_prefix_kin_homotopy_info_1_singular[offsetof(struct kin__kin_homotopy_info_1, singular) == offsetof(kin_homotopy_info, singular) ? 1 : -1];
-typedef char kin__abi_prefix_kin_homotopy_info_1_failed[offsetof(struct kin__kin_homotopy_info_1, failed) == offsetof(kin_homotopy_info, failed) ? 1 : -1];
-typedef char kin__abi_prefix_kin_homotopy_info_1_uncertified[offsetof(struct kin__kin_homotopy_info_1, uncertified) == offsetof(kin_homotopy_info, uncertified) ? 1 : -1];
-typedef char kin__abi_prefix_kin_homotopy_info_1_retracked[offsetof(struct kin__kin_homotopy_info_1, retracked) == offsetof(kin_homotopy_info, retracked) ? 1 : -1];
-typedef char kin__abi_prefix_kin_homotopy_info_1_duplicates[offsetof(struct kin__kin_homotopy_info_1, duplicates) == offsetof(kin_homotopy_info, duplicates) ? 1 : -1];
-typedef char kin__abi_prefix_kin_homotopy_info_1_unpaired[offsetof(struct kin__kin_homotopy_info_1, unpaired) == offsetof(kin_homotopy_info, unpaired) ? 1 : -1];
-typedef char kin__abi_prefix_kin_homotopy_info_1_steps[offsetof(struct kin__kin_homotopy_info_1, steps) == offsetof(kin_homotopy_info, steps) ? 1 : -1];
-typedef char kin__abi_prefix_kin_homotopy_info_1_rejected[offsetof(struct kin__kin_homotopy_info_1, rejected) == offsetof(kin_homotopy_info, rejected) ? 1 : -1];
-typedef char kin__abi_prefix_kin_homotopy_info_1_max_residual[offsetof(struct kin__kin_homotopy_info_1, max_residual) == offsetof(kin_homotopy_info, max_residual) ? 1 : -1];
-typedef char kin__abi_prefix_kin_homotopy_info_1_max_cond[offsetof(struct kin__kin_homotopy_info_1, max_cond) == offsetof(kin_homotopy_info, max_cond) ? 1 : -1];
+typedef char kin__abi_grows_kin_homotopy_info_1[sizeof(struct kin__kin_homotopy_info_1) < sizeof(struct kin__kin_homotopy_info_2) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_size[offsetof(struct kin__kin_homotopy_info_1, size) == offsetof(struct kin__kin_homotopy_info_2, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_paths[offsetof(struct kin__kin_homotopy_info_1, paths) == offsetof(struct kin__kin_homotopy_info_2, paths) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_real[offsetof(struct kin__kin_homotopy_info_1, real) == offsetof(struct kin__kin_homotopy_info_2, real) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_real_distinct[offsetof(struct kin__kin_homotopy_info_1, real_distinct) == offsetof(struct kin__kin_homotopy_info_2, real_distinct) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_nonreal[offsetof(struct kin__kin_homotopy_info_1, nonreal) == offsetof(struct kin__kin_homotopy_info_2, nonreal) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_singular[offsetof(struct kin__kin_homotopy_info_1, singular) == offsetof(struct kin__kin_homotopy_info_2, singular) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_failed[offsetof(struct kin__kin_homotopy_info_1, failed) == offsetof(struct kin__kin_homotopy_info_2, failed) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_uncertified[offsetof(struct kin__kin_homotopy_info_1, uncertified) == offsetof(struct kin__kin_homotopy_info_2, uncertified) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_retracked[offsetof(struct kin__kin_homotopy_info_1, retracked) == offsetof(struct kin__kin_homotopy_info_2, retracked) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_duplicates[offsetof(struct kin__kin_homotopy_info_1, duplicates) == offsetof(struct kin__kin_homotopy_info_2, duplicates) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_unpaired[offsetof(struct kin__kin_homotopy_info_1, unpaired) == offsetof(struct kin__kin_homotopy_info_2, unpaired) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_steps[offsetof(struct kin__kin_homotopy_info_1, steps) == offsetof(struct kin__kin_homotopy_info_2, steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_rejected[offsetof(struct kin__kin_homotopy_info_1, rejected) == offsetof(struct kin__kin_homotopy_info_2, rejected) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_max_residual[offsetof(struct kin__kin_homotopy_info_1, max_residual) == offsetof(struct kin__kin_homotopy_info_2, max_residual) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_1_max_cond[offsetof(struct kin__kin_homotopy_info_1, max_cond) == offsetof(struct kin__kin_homotopy_info_2, max_cond) ? 1 : -1];
+typedef char kin__abi_grows_kin_homotopy_info_2[sizeof(struct kin__kin_homotopy_info_2) < sizeof(kin_homotopy_info) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_size[offsetof(struct kin__kin_homotopy_info_2, size) == offsetof(kin_homotopy_info, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_paths[offsetof(struct kin__kin_homotopy_info_2, paths) == offsetof(kin_homotopy_info, paths) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_real[offsetof(struct kin__kin_homotopy_info_2, real) == offsetof(kin_homotopy_info, real) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_real_distinct[offsetof(struct kin__kin_homotopy_info_2, real_distinct) == offsetof(kin_homotopy_info, real_distinct) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_nonreal[offsetof(struct kin__kin_homotopy_info_2, nonreal) == offsetof(kin_homotopy_info, nonreal) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_singular[offsetof(struct kin__kin_homotopy_info_2, singular) == offsetof(kin_homotopy_info, singular) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_failed[offsetof(struct kin__kin_homotopy_info_2, failed) == offsetof(kin_homotopy_info, failed) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_uncertified[offsetof(struct kin__kin_homotopy_info_2, uncertified) == offsetof(kin_homotopy_info, uncertified) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_retracked[offsetof(struct kin__kin_homotopy_info_2, retracked) == offsetof(kin_homotopy_info, retracked) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_duplicates[offsetof(struct kin__kin_homotopy_info_2, duplicates) == offsetof(kin_homotopy_info, duplicates) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_unpaired[offsetof(struct kin__kin_homotopy_info_2, unpaired) == offsetof(kin_homotopy_info, unpaired) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_steps[offsetof(struct kin__kin_homotopy_info_2, steps) == offsetof(kin_homotopy_info, steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_rejected[offsetof(struct kin__kin_homotopy_info_2, rejected) == offsetof(kin_homotopy_info, rejected) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_max_residual[offsetof(struct kin__kin_homotopy_info_2, max_residual) == offsetof(kin_homotopy_info, max_residual) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_max_cond[offsetof(struct kin__kin_homotopy_info_2, max_cond) == offsetof(kin_homotopy_info, max_cond) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_steps_total[offsetof(struct kin__kin_homotopy_info_2, steps_total) == offsetof(kin_homotopy_info, steps_total) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_rejected_total[offsetof(struct kin__kin_homotopy_info_2, rejected_total) == offsetof(kin_homotopy_info, rejected_total) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_info_2_rechecks_failed[offsetof(struct kin__kin_homotopy_info_2, rechecks_failed) == offsetof(kin_homotopy_info, rechecks_failed) ? 1 : -1];
+typedef char kin__abi_grows_kin_homotopy_options_1[sizeof(struct kin__kin_homotopy_options_1) < sizeof(kin_homotopy_options) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_options_1_size[offsetof(struct kin__kin_homotopy_options_1, size) == offsetof(kin_homotopy_options, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_options_1_seed[offsetof(struct kin__kin_homotopy_options_1, seed) == offsetof(kin_homotopy_options, seed) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_options_1_nthreads[offsetof(struct kin__kin_homotopy_options_1, nthreads) == offsetof(kin_homotopy_options, nthreads) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_options_1_max_paths[offsetof(struct kin__kin_homotopy_options_1, max_paths) == offsetof(kin_homotopy_options, max_paths) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_options_1_progress[offsetof(struct kin__kin_homotopy_options_1, progress) == offsetof(kin_homotopy_options, progress) ? 1 : -1];
+typedef char kin__abi_prefix_kin_homotopy_options_1_user[offsetof(struct kin__kin_homotopy_options_1, user) == offsetof(kin_homotopy_options, user) ? 1 : -1];
+typedef char kin__abi_grows_kin_locate_info_1[sizeof(struct kin__kin_locate_info_1) < sizeof(kin_locate_info) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_size[offsetof(struct kin__kin_locate_info_1, size) == offsetof(kin_locate_info, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_event[offsetof(struct kin__kin_locate_info_1, event) == offsetof(kin_locate_info, event) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_located[offsetof(struct kin__kin_locate_info_1, located) == offsetof(kin_locate_info, located) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_steps[offsetof(struct kin__kin_locate_info_1, steps) == offsetof(kin_locate_info, steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_factorizations[offsetof(struct kin__kin_locate_info_1, factorizations) == offsetof(kin_locate_info, factorizations) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_forward[offsetof(struct kin__kin_locate_info_1, forward) == offsetof(kin_locate_info, forward) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_v_r[offsetof(struct kin__kin_locate_info_1, v_r) == offsetof(kin_locate_info, v_r) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_v_r_rel[offsetof(struct kin__kin_locate_info_1, v_r_rel) == offsetof(kin_locate_info, v_r_rel) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_distance[offsetof(struct kin__kin_locate_info_1, distance) == offsetof(kin_locate_info, distance) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_path_kept[offsetof(struct kin__kin_locate_info_1, path_kept) == offsetof(kin_locate_info, path_kept) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_m_internal[offsetof(struct kin__kin_locate_info_1, m_internal) == offsetof(kin_locate_info, m_internal) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_s[offsetof(struct kin__kin_locate_info_1, s) == offsetof(kin_locate_info, s) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_zero_order[offsetof(struct kin__kin_locate_info_1, zero_order) == offsetof(kin_locate_info, zero_order) ? 1 : -1];
 typedef char kin__abi_grows_kin_follow_options_1[sizeof(struct kin__kin_follow_options_1) < sizeof(struct kin__kin_follow_options_2) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_options_1_size[offsetof(struct kin__kin_follow_options_1, size) == offsetof(struct kin__kin_follow_options_2, size) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_options_1_vr_tol[offsetof(struct kin__kin_follow_options_1, vr_tol) == offsetof(struct kin__kin_follow_options_2, vr_tol) ? 1 : -1];
@@ -410,29 +495,60 @@ typedef char kin__abi_prefix_kin_follow_info_2_return_gap[offsetof(struct kin__k
     X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, rejected) \
     X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, max_residual) \
     X(kin_homotopy_info, 1, struct kin__kin_homotopy_info_1, max_cond) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, paths) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, real) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, real_distinct) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, nonreal) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, singular) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, failed) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, uncertified) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, retracked) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, duplicates) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, unpaired) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, steps) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, rejected) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, max_residual) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, max_cond) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, steps_total) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, rejected_total) \
-    X(kin_homotopy_info, 2, kin_homotopy_info, rechecks_failed)
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, paths) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, real) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, real_distinct) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, nonreal) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, singular) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, failed) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, uncertified) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, retracked) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, duplicates) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, unpaired) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, steps) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, rejected) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, max_residual) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, max_cond) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, steps_total) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, rejected_total) \
+    X(kin_homotopy_info, 2, struct kin__kin_homotopy_info_2, rechecks_failed) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, paths) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, real) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, real_distinct) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, nonreal) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, singular) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, failed) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, uncertified) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, retracked) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, duplicates) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, unpaired) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, steps) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, rejected) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, max_residual) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, max_cond) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, steps_total) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, rejected_total) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, rechecks_failed) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, proven_real) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, proven_nonreal) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, unproven) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, proven_all) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, proven_refined) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, proven_overlap) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, unproven_nopoint) \
+    X(kin_homotopy_info, 3, kin_homotopy_info, unproven_refused)
 #define KIN__ABI_FIELDS_kin_homotopy_options(X) \
-    X(kin_homotopy_options, 1, kin_homotopy_options, seed) \
-    X(kin_homotopy_options, 1, kin_homotopy_options, nthreads) \
-    X(kin_homotopy_options, 1, kin_homotopy_options, max_paths) \
-    X(kin_homotopy_options, 1, kin_homotopy_options, progress) \
-    X(kin_homotopy_options, 1, kin_homotopy_options, user)
+    X(kin_homotopy_options, 1, struct kin__kin_homotopy_options_1, seed) \
+    X(kin_homotopy_options, 1, struct kin__kin_homotopy_options_1, nthreads) \
+    X(kin_homotopy_options, 1, struct kin__kin_homotopy_options_1, max_paths) \
+    X(kin_homotopy_options, 1, struct kin__kin_homotopy_options_1, progress) \
+    X(kin_homotopy_options, 1, struct kin__kin_homotopy_options_1, user) \
+    X(kin_homotopy_options, 2, kin_homotopy_options, seed) \
+    X(kin_homotopy_options, 2, kin_homotopy_options, nthreads) \
+    X(kin_homotopy_options, 2, kin_homotopy_options, max_paths) \
+    X(kin_homotopy_options, 2, kin_homotopy_options, progress) \
+    X(kin_homotopy_options, 2, kin_homotopy_options, user) \
+    X(kin_homotopy_options, 2, kin_homotopy_options, prove)
 #define KIN__ABI_FIELDS_kin_homotopy_sym_info(X) \
     X(kin_homotopy_sym_info, 1, kin_homotopy_sym_info, group) \
     X(kin_homotopy_sym_info, 1, kin_homotopy_sym_info, orbits) \
@@ -458,18 +574,34 @@ typedef char kin__abi_prefix_kin_follow_info_2_return_gap[offsetof(struct kin__k
     X(kin_locate_options, 1, kin_locate_options, max_iter) \
     X(kin_locate_options, 1, kin_locate_options, use_switch_rule)
 #define KIN__ABI_FIELDS_kin_locate_info(X) \
-    X(kin_locate_info, 1, kin_locate_info, event) \
-    X(kin_locate_info, 1, kin_locate_info, located) \
-    X(kin_locate_info, 1, kin_locate_info, steps) \
-    X(kin_locate_info, 1, kin_locate_info, factorizations) \
-    X(kin_locate_info, 1, kin_locate_info, forward) \
-    X(kin_locate_info, 1, kin_locate_info, v_r) \
-    X(kin_locate_info, 1, kin_locate_info, v_r_rel) \
-    X(kin_locate_info, 1, kin_locate_info, distance) \
-    X(kin_locate_info, 1, kin_locate_info, path_kept) \
-    X(kin_locate_info, 1, kin_locate_info, m_internal) \
-    X(kin_locate_info, 1, kin_locate_info, s) \
-    X(kin_locate_info, 1, kin_locate_info, zero_order)
+    X(kin_locate_info, 1, struct kin__kin_locate_info_1, event) \
+    X(kin_locate_info, 1, struct kin__kin_locate_info_1, located) \
+    X(kin_locate_info, 1, struct kin__kin_locate_info_1, steps) \
+    X(kin_locate_info, 1, struct kin__kin_locate_info_1, factorizations) \
+    X(kin_locate_info, 1, struct kin__kin_locate_info_1, forward) \
+    X(kin_locate_info, 1, struct kin__kin_locate_info_1, v_r) \
+    X(kin_locate_info, 1, struct kin__kin_locate_info_1, v_r_rel) \
+    X(kin_locate_info, 1, struct kin__kin_locate_info_1, distance) \
+    X(kin_locate_info, 1, struct kin__kin_locate_info_1, path_kept) \
+    X(kin_locate_info, 1, struct kin__kin_locate_info_1, m_internal) \
+    X(kin_locate_info, 1, struct kin__kin_locate_info_1, s) \
+    X(kin_locate_info, 1, struct kin__kin_locate_info_1, zero_order) \
+    X(kin_locate_info, 2, kin_locate_info, event) \
+    X(kin_locate_info, 2, kin_locate_info, located) \
+    X(kin_locate_info, 2, kin_locate_info, steps) \
+    X(kin_locate_info, 2, kin_locate_info, factorizations) \
+    X(kin_locate_info, 2, kin_locate_info, forward) \
+    X(kin_locate_info, 2, kin_locate_info, v_r) \
+    X(kin_locate_info, 2, kin_locate_info, v_r_rel) \
+    X(kin_locate_info, 2, kin_locate_info, distance) \
+    X(kin_locate_info, 2, kin_locate_info, path_kept) \
+    X(kin_locate_info, 2, kin_locate_info, m_internal) \
+    X(kin_locate_info, 2, kin_locate_info, s) \
+    X(kin_locate_info, 2, kin_locate_info, zero_order) \
+    X(kin_locate_info, 2, kin_locate_info, v_r_lo) \
+    X(kin_locate_info, 2, kin_locate_info, v_r_hi) \
+    X(kin_locate_info, 2, kin_locate_info, v_r_rel_hi) \
+    X(kin_locate_info, 2, kin_locate_info, v_r_bounded)
 #define KIN__ABI_FIELDS_kin_follow_options(X) \
     X(kin_follow_options, 1, struct kin__kin_follow_options_1, vr_tol) \
     X(kin_follow_options, 1, struct kin__kin_follow_options_1, vr_floor) \

@@ -239,6 +239,13 @@ double kin__rank_tolerance(const kin_assembly *a);
 /* e = L - L0, computed as (L^2 - L0^2)/(L + L0) for accuracy; returns max relative */
 double kin__extensions(const kin_assembly *a, const double *xyz, double *e);
 /* equilibrium matrix of configuration xyz into H (ld ldh) */
+/* Rigorous bounds (Arb's balls, model/sv_enclosure.c) at the current
+ * configuration, from the current dense analysis (fac[cur] with its SVD):
+ * *lo <= sigma_i(H) <= *hi for singular value i (descending order) and
+ * *max_lo <= sigma_0(H), H the exact equilibrium matrix at the current
+ * double coordinates. 1 if computed; 0 (nothing written) without a valid
+ * dense SVD or for matrices too large to bound in about a second. */
+int kin__sv_enclose(const kin_assembly *a, int i, double *lo, double *hi, double *max_lo);
 void kin__build_H(const kin_assembly *a, const double *xyz, double *H, int ldh);
 /* KIN_OK when every bar of xyz has a finite length > 0 (H finite), else
  * KIN_EGEOM naming the bar: checked before H goes to LAPACK, which would

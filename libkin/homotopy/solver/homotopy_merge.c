@@ -201,7 +201,7 @@ static void tally(const hom_solver *H, const hom_end *ends, const double *zr, co
     *nsol = nd < maxsol ? nd : maxsol;
 }
 
-int kin__hom_tally(const hom_solver *H, const hom_end *ends, const double *zr, const double *zi, int *parent,
+int kin__hom_tally(const hom_solver *H, const hom_end *ends, double *zr, double *zi, int *parent,
                    hom_checks ck, int retracked, double *betas, int maxsol, int *nsol, int *multiplicity,
                    kin_homotopy_info *info)
 {
@@ -209,7 +209,7 @@ int kin__hom_tally(const hom_solver *H, const hom_end *ends, const double *zr, c
     if (!size) return KIN_ENOMEM;
     tally(H, ends, zr, zi, parent, size, ck, retracked, betas, maxsol, nsol, multiplicity, info);
     free(size);
-    return KIN_OK;
+    return kin__hom_prove(H, ends, zr, zi, NULL, info);
 }
 
 int kin__hom_merge(hom_solver *H, hom_end *ends, double *zr, double *zi, hom_report *R, double *betas, int maxsol,
@@ -254,6 +254,10 @@ int kin__hom_merge(hom_solver *H, hom_end *ends, double *zr, double *zi, hom_rep
     }
 
     tally(H, ends, zr, zi, parent, size, ck, retracked, betas, maxsol, nsol, multiplicity, info);
+    if ((rc = kin__hom_prove(H, ends, zr, zi, R, info))) {
+        if (rc == KIN_ECANCELLED) goto cancelled;
+        goto done;
+    }
     if (R->fn) R->fn(R->user, R->total, R->total); /* finished: its answer no longer matters */
     goto done;
 
@@ -352,7 +356,8 @@ static int merge_impl(int m, int s, const double *Q, const kin_homotopy_options 
 {
     if (!Q || !recs || !z || !betas || !nsol) return KIN_ENULL;
     if (recs[0].size != KIN_HOMOTOPY_ENDPOINT_SIZE || sizeof *recs != KIN_HOMOTOPY_ENDPOINT_SIZE) return KIN_EINVAL;
-    if (maxsol < 1 || m < 2 || s != m - 1 || o->nthreads < 0 || o->max_paths < 1) return KIN_EINVAL;
+    if (maxsol < 1 || m < 2 || s != m - 1 || o->nthreads < 0 || o->max_paths < 1 || o->prove < 0 || o->prove > 2)
+        return KIN_EINVAL;
     if (m > HOM_MAX_M) return KIN_ERANGE;
     if ((1L << s) > o->max_paths) return KIN_ELIMIT;
     hom_solver H;

@@ -180,6 +180,7 @@ static const kin_homotopy_options DEFAULTS = {
     .max_paths = KIN_HOMOTOPY_MAX_PATHS,
     .progress = NULL,
     .user = NULL,
+    .prove = 1,
 };
 
 int kin_homotopy_options_init(kin_homotopy_options *o, size_t size)
@@ -214,11 +215,14 @@ int kin__hom_entry(const kin_homotopy_options *opt, kin_homotopy_options *o, kin
 int kin__hom_solver_init(hom_solver *H, int m, int s, const double *Q, const kin_homotopy_options *o, long work)
 {
     memset(H, 0, sizeof *H);
-    if (m < 2 || s != m - 1 || o->nthreads < 0 || o->max_paths < 1) return KIN_EINVAL;
+    if (m < 2 || s != m - 1 || o->nthreads < 0 || o->max_paths < 1 || o->prove < 0 || o->prove > 2)
+        return KIN_EINVAL;
     if (m > HOM_MAX_M) return KIN_ERANGE; /* so 2^s <= 2^23 and every size below fits */
     for (size_t i = 0; i < (size_t)m * m * s; ++i)
         if (!isfinite(Q[i])) return KIN_EINVAL;
     H->npaths = 1 << s;
+    H->Qin = Q;
+    H->prove = o->prove;
     int cpus = online_processors();
     int nthreads = o->nthreads == 0 || o->nthreads > cpus ? cpus : o->nthreads;
     if (work < 1) work = 1;

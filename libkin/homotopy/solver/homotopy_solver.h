@@ -84,6 +84,11 @@ typedef struct hom_solver {
     hom_orbits *orb;     /* NULL, or the start roots' orbits: kin__hom_run then tracks one path
                             per orbit and stores every member's endpoint (the representative's
                             permuted, refined and certified) */
+    const double *Qin;   /* the caller's system (not owned), which the interval certificates
+                            prove the endpoints of (kin__hom_prove) */
+    int prove;           /* kin_homotopy_options.prove: 0 none, 1 fast test then Arb, 2 Arb only */
+    const double *U;     /* NULL, or the endpoints x are those of Qin at beta = U x (column-major
+                            m x m: the equivariant route's rotated system) */
 } hom_solver;
 
 /* Check m, s, Q, the options (nthreads >= 0, max_paths >= 1) and set up the
@@ -135,9 +140,22 @@ int kin__hom_merge(hom_solver *H, hom_end *ends, double *zr, double *zi, hom_rep
 
 /* The accounting of kin__hom_merge after the checks (ck, parent: from
  * kin__hom_check over H->npaths endpoints): fills info, betas,
- * multiplicity, *nsol. KIN_OK or KIN_ENOMEM. */
-int kin__hom_tally(const hom_solver *H, const hom_end *ends, const double *zr, const double *zi, int *parent,
+ * multiplicity, *nsol, then the interval certificates (kin__hom_prove,
+ * which overwrites zr, zi). KIN_OK or KIN_ENOMEM. */
+int kin__hom_tally(const hom_solver *H, const hom_end *ends, double *zr, double *zi, int *parent,
                    hom_checks ck, int retracked, double *betas, int maxsol, int *nsol, int *multiplicity,
+                   kin_homotopy_info *info);
+
+/* The interval certificates of the endpoints of every path (ends, zr, zi:
+ * H->npaths; homotopy_prove_run.c, on H's threads): each endpoint not lost
+ * is proven by a Krawczyk test on H->Qin in ball arithmetic and the proven
+ * boxes are shown disjoint; fills info's proven_real, proven_nonreal,
+ * unproven, proven_all, proven_refined, proven_overlap, unproven_nopoint,
+ * unproven_refused. zr, zi are
+ * overwritten (by the boxes' centres, in H->Qin's coordinates). R: NULL, or
+ * the solve's progress (its callback asked for a cancel every
+ * HOM_POOL_REPORT seconds). KIN_OK, KIN_ECANCELLED, KIN_ENOMEM. */
+int kin__hom_prove(const hom_solver *H, const hom_end *ends, double *zr, double *zi, hom_report *R,
                    kin_homotopy_info *info);
 
 /* The endpoints of n paths: the tracker's records and their coordinates

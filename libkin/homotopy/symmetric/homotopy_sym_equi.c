@@ -60,6 +60,7 @@ int kin__sym_equi_solve(const hom_solver *H0, const sym_group *G, const kin_homo
     if ((rc = kin__orbits_init(&O, m, E.perm))) goto done;
     if ((rc = kin__hom_solver_init(&H, m, s, E.Qt, o, O.nreps))) goto done;
     H.orb = &O;
+    H.Qin = H0->Qin, H.U = E.U; /* proven on the caller's system */
     rc = kin__hom_solve(&H, O.reps, O.nreps, o, betas, maxsol, nsol, multiplicity, info, &tracked);
     if (rc) goto done;
     info->max_residual = fmax(info->max_residual, to_beta(m, s, E.U, H0->Qr, betas, *nsol));

@@ -323,11 +323,11 @@ def cmd_locate(args: argparse.Namespace) -> int:
         # the accuracy reachable (up to 1e-6) or says it is a near miss
         print(f"the fast locator gave up ({exc});\nfollowing on from the last regular point to the next event:")
         return _print_event(a, a.follow_event(vr_tol=args.vr_tol, delta=args.delta, max_steps=args.max_steps), args)
-    events = {1: "test function changed sign", 2: "paper's switch rule", 3: "a step landed on it",
-              4: "v_r turned near zero"}
+    events = {1: "test function changed sign", 2: "paper's switch rule", 3: "a step landed on it", 4: "v_r turned near zero"}
     print(f"bifurcation after {info.steps} steps ({events.get(info.event, info.event)}), located by the "
           f"{args.method} method with {info.factorizations} factorizations ({info.forward} forward "
-          f"calculations): v_r / v_max = {info.v_r_rel:.3g}, m = {info.m_internal}, s = {info.s}, "
+          f"calculations): v_r / v_max = {info.v_r_rel:.3g}"
+          f"{' (proven <= %.3g)' % info.v_r_bound[2] if info.v_r_bound else ''}, m = {info.m_internal}, s = {info.s}, "
           f"path kept: {'yes' if info.path_kept else 'no'}, path length {a.path_length:.9g}")
     if args.out:
         a.to_json(args.out)

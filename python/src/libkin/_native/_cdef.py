@@ -199,6 +199,14 @@ typedef struct kin_homotopy_info {
     long long steps_total;
     long long rejected_total;
     int rechecks_failed;
+    int proven_real;
+    int proven_nonreal;
+    int unproven;
+    int proven_all;
+    int proven_refined;
+    int proven_overlap;
+    int unproven_nopoint;
+    int unproven_refused;
 } kin_homotopy_info;
 int kin_quadrics_homotopy(int m, int s, const double *Q, unsigned long seed, int nthreads,
                                   double *betas, int maxsol, int *nsol, int *multiplicity,
@@ -210,6 +218,7 @@ typedef struct kin_homotopy_options {
     long max_paths;
     kin_progress_fn progress;
     void *user;
+    int prove;
 } kin_homotopy_options;
 int kin_homotopy_options_init(kin_homotopy_options *o, size_t size);
 void kin_homotopy_options_default(kin_homotopy_options *o);
@@ -310,6 +319,9 @@ typedef struct kin_locate_info {
     int path_kept;
     int m_internal, s;
     int zero_order;
+    double v_r_lo, v_r_hi;
+    double v_r_rel_hi;
+    int v_r_bounded;
 } kin_locate_info;
 int kin_locate_options_init(kin_locate_options *o, size_t size);
 void kin_locate_options_default(kin_locate_options *o);

@@ -92,6 +92,13 @@ _MAX_PATHS_DEFAULT = 1 << 20
 SYMMETRIC_SOLVE_MIN_S = 8
 
 
+# the complete solver's accounting (kin_homotopy_info): the tracker's counts,
+# then the interval certificates' (issue 38)
+HOMOTOPY_ACCOUNTING = ("paths", "real", "real_distinct", "nonreal", "singular", "failed", "duplicates", "unpaired",
+                       "retracked", "proven_real", "proven_nonreal", "unproven", "proven_all", "proven_refined",
+                       "proven_overlap", "unproven_nopoint", "unproven_refused")
+
+
 def equivariant_order(Q: FloatArray, R: FloatArray, seed: int = 1) -> int:
     """The order of the cyclic subgroup of R (k, m, m) that the symmetric
     solver's equivariant route uses on Q (kin_quadrics_equivariant_form);
@@ -164,7 +171,12 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
         order and with the canonical sign (`libkin.assembly.canonical_order`).
     accounting : dict
         'homotopy': paths, real, real_distinct, nonreal, singular, failed,
-        duplicates, unpaired, retracked; 'scan': starts, converged, distinct.
+        duplicates, unpaired, retracked, and the interval certificates
+        (kin_homotopy_info, docs/branches.md "What certified means"):
+        proven_real, proven_nonreal, unproven (= unproven_nopoint +
+        unproven_refused + proven_overlap), proven_all (1: all 2^s solutions
+        proven distinct and simple, so there are no others), proven_refined;
+        'scan': starts, converged, distinct.
 
     Raises
     ------
@@ -223,8 +235,7 @@ def solve_quadrics(Q: npt.ArrayLike, solver: str = "homotopy", starts: int = 102
             rc = lib.kin_quadrics_homotopy_ex(m, s, read_ptr(Qc, "double *"), opt, write_ptr(betas, "double *"),
                                               maxsol, nsol, ffi.NULL, info)
         check(rc, what="homotopy")
-        accounting = {k: getattr(info, k) for k in ("paths", "real", "real_distinct", "nonreal", "singular",
-                                                    "failed", "duplicates", "unpaired", "retracked")}
+        accounting = {k: getattr(info, k) for k in HOMOTOPY_ACCOUNTING}
     return canonical(betas[: nsol[0]], basis), accounting
 
 
@@ -248,8 +259,7 @@ def _solve_symmetric(Qc: FloatArray, R: FloatArray, seed: int, threads: int, pro
                                            opt, write_ptr(betas, "double *"), betas.shape[0], nsol, ffi.NULL,
                                            info, sinfo, err, 256)
     check(rc, what="homotopy with symmetry: " + ffi.string(err).decode(errors="replace"))
-    accounting = {k: getattr(info, k) for k in ("paths", "real", "real_distinct", "nonreal", "singular",
-                                                "failed", "duplicates", "unpaired", "retracked")}
+    accounting = {k: getattr(info, k) for k in HOMOTOPY_ACCOUNTING}
     accounting.update({k: getattr(sinfo, k) for k in ("group", "orbits", "found", "monodromy_paths",
                                                       "final_paths")})
     return betas[: nsol[0]].copy(), accounting

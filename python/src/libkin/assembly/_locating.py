@@ -5,7 +5,7 @@
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, Optional, Union
+from typing import Any, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -49,6 +49,12 @@ class LocateInfo:
         Internal mechanisms and self-stresses at the final point.
     zero_order : int
         How many singular values vanish there.
+    v_r_bound : tuple of float or None
+        A proven enclosure at the final point (Arb's ball arithmetic on the
+        exact H at the final coordinates, Weyl's bound on the SVD's
+        residual): (lo, hi, rel_hi) with lo <= v_r <= hi for the exact
+        singular value and rel_hi >= its ratio to the largest; None where it
+        was not computed (no dense SVD there).
     """
 
     event: int
@@ -63,6 +69,7 @@ class LocateInfo:
     m_internal: int
     s: int
     zero_order: int = 0
+    v_r_bound: Optional[Tuple[float, float, float]] = None
 
 
 #: kin_follow_event's events, by enum value
@@ -212,7 +219,8 @@ class LocatingMixin(AssemblyBase):
         self._check(rc, "locate")
         return LocateInfo(info.event, bool(info.located), info.steps, info.factorizations, info.forward,
                           info.v_r, info.v_r_rel, info.distance, bool(info.path_kept), info.m_internal, info.s,
-                          info.zero_order)
+                          info.zero_order,
+                          (info.v_r_lo, info.v_r_hi, info.v_r_rel_hi) if info.v_r_bounded else None)
 
     def follow_event(self, direction: Optional[npt.ArrayLike] = None, vr_tol: float = 1e-10,
                      vr_floor: float = 1e-6, delta: float = 0.0, max_steps: int = 1000,

@@ -183,6 +183,9 @@ def text(atlas: _atlas.Atlas, map_png: str = "atlas_map.png", nodes_png: str = "
         if acc:
             extra = (f"; homotopy: {acc.get('paths')} paths, {acc.get('real_distinct')} distinct real, "
                      f"{acc.get('nonreal')} non-real, {acc.get('singular')} singular, {acc.get('failed')} failed")
+            if "proven_real" in acc:
+                extra += (f" (proven: {acc['proven_real']} real, {acc['proven_nonreal']} non-real, "
+                          f"{acc['unproven']} unproven)")
         if b.get("combined"):
             extra += f"; more equations than unknowns: {b['combined']}, {b.get('candidates')} candidate(s) checked"
         if b.get("mode") == "symmetric":

@@ -24,7 +24,8 @@ from ..errors import InvalidArgumentError, StateError, check
 from ..assembly._canonical import canonical
 
 ACCOUNTING = ("paths", "real", "real_distinct", "nonreal", "singular", "failed", "duplicates", "unpaired",
-              "retracked")
+              "retracked", "proven_real", "proven_nonreal", "unproven", "proven_all", "proven_refined",
+              "proven_overlap", "unproven_nopoint", "unproven_refused")
 
 
 def _options(seed: int, threads: int) -> Any:

@@ -25,8 +25,12 @@ def say(progress, msg):
 
 def accounting_words(a):
     """The complete solver's accounting (Branches.accounting) as words."""
-    return (f"{a['paths']} homotopy paths: {a['real']} real ({a['real_distinct']} distinct), {a['nonreal']} complex, "
-            f"{a['singular']} singular, {a['failed']} failed")
+    words = (f"{a['paths']} homotopy paths: {a['real']} real ({a['real_distinct']} distinct), {a['nonreal']} complex, "
+             f"{a['singular']} singular, {a['failed']} failed")
+    if "proven_real" in a:  # the interval certificates (absent from results of older runs)
+        words += (f"; proven (interval certificates): {a['proven_real']} real, {a['proven_nonreal']} non-real, "
+                  f"{a['unproven']} unproven")
+    return words
 
 
 def branch_words(rep):

@@ -33,7 +33,8 @@ def cache_path(out: Union[str, "os.PathLike[str]"]) -> pathlib.Path:
 
 def _key(a: Any, Q: Any, group: Any) -> str:
     h = hashlib.sha256()
-    h.update(json.dumps({"model": a.to_json(), "solver": {"solver": "homotopy", "seed": SEED}, "version": __version__},
+    solver = {"solver": "homotopy", "seed": SEED, "prove": 1}
+    h.update(json.dumps({"model": a.to_json(), "solver": solver, "version": __version__},
                         sort_keys=True, default=str).encode())
     for arr in (Q, group):
         arr = np.ascontiguousarray(np.asarray(arr, dtype=float))

@@ -156,6 +156,10 @@ def _write_hex_md(res, out, M, figs):
         L.append(f" Complete solver over all {c['paths']} homotopy paths: {c['real']} real endpoints "
                  f"({c['real_distinct']} distinct), {c['nonreal']} complex, {c['singular']} singular, "
                  f"{c['failed']} failed, in {c['seconds']} s.")
+        if "proven_real" in c:
+            L.append(f" Proven by interval certificates (docs/branches.md): {c['proven_real']} real and "
+                     f"{c['proven_nonreal']} non-real solutions, {c['unproven']} unproven"
+                     + (f", all {c['paths']} of them: there are no others." if c.get("proven_all") else "."))
         if c.get("orbits", c["paths"]) < c["paths"]:
             L.append(f" By the sail's symmetry ({c['group']} rotations) {c['orbits']} of the paths were tracked, "
                      "one per orbit of start roots; the others' endpoints are theirs rotated, each refined "
