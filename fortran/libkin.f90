@@ -64,6 +64,9 @@ module libkin
     integer(c_int) :: event = 0, located = 0, steps = 0, factorizations = 0, forward = 0
     real(c_double) :: v_r = 0, v_r_rel = 0, distance = 0
     integer(c_int) :: path_kept = 0, m_internal = 0, s = 0, zero_order = 0
+    ! layout 2: a proven enclosure of v_r (valid when v_r_bounded = 1)
+    real(c_double) :: v_r_lo = 0, v_r_hi = 0, v_r_rel_hi = 0
+    integer(c_int) :: v_r_bounded = 0
   end type
 
   type, bind(C), public :: kin_solve_info
@@ -81,6 +84,9 @@ module libkin
     ! layout 2: 64-bit step totals, records that failed the merge's check
     integer(c_long_long) :: steps_total = 0, rejected_total = 0
     integer(c_int) :: rechecks_failed = 0
+    ! layout 3: the interval proofs (docs/branches.md "What certified means")
+    integer(c_int) :: proven_real = 0, proven_nonreal = 0, unproven = 0, proven_all = 0
+    integer(c_int) :: proven_refined = 0, proven_overlap = 0, unproven_nopoint = 0, unproven_refused = 0
   end type
 
   type, bind(C), public :: kin_homotopy_sym_info
@@ -99,6 +105,8 @@ module libkin
     integer(c_long) :: max_paths = 0
     type(c_funptr) :: progress = c_null_funptr
     type(c_ptr) :: user = c_null_ptr
+    ! layout 2: 1 prove every endpoint (double bounds, then Arb), 2 Arb only, 0 none
+    integer(c_int) :: prove = 1
   end type
 
   type, bind(C), public :: kin_branch_path
