@@ -182,13 +182,24 @@ typedef struct kin_analysis {
  * Ritz values of H itself: the same rank rule, counts, v_r and orthonormal
  * bases of the mechanisms (rigid, internal, all) and self-stresses as the
  * dense SVD to rounding (test_analysis_sparse). The decision is checked: a
- * singular value within its uncertainty of rank_tol * v_max, or an
- * iteration that does not settle, gives KIN_ENOTCONVERGED; more than about
- * 1000 mechanisms or self-stresses, KIN_ELIMIT. The full spectrum is not
- * computed: kin_get_singular_values then returns KIN_ESTATE. Progress:
- * 0 of 2 before the factorizations, 1 after them, 2 at the end. The
- * library's own loops (locating, second order, following) still analyse
- * with the dense SVD (KIN_ENOMEM where it cannot be had).
+ * count is answered once the gap at rank_tol * v_max is clear on both
+ * sides of it (v_r is then the Ritz value, within its residual of a
+ * singular value of H); a singular value within its uncertainty of
+ * rank_tol * v_max, or an iteration that does not settle, gives
+ * KIN_ENOTCONVERGED. Where the dense workspace fits in half the memory
+ * (and LAPACK's int sizes), the sparse analysis stops once its work (counted
+ * in operations, not timed) would pass the dense SVD's predicted cost, or at
+ * its limit of 1020 mechanisms or self-stresses, and the dense SVD answers
+ * (kin_get_analysis_route says which route did); where it does not fit,
+ * more than 1020 mechanisms or self-stresses give KIN_ELIMIT (at once where
+ * nfree - nbars or nbars - nfree says so). A sparse answer has no full
+ * spectrum: kin_get_singular_values then returns KIN_ESTATE. Progress:
+ * 0 of 2 before the factorizations, 1 after them, 2 at the end (again from
+ * 0 where the dense route takes over). The library's own loops (locating,
+ * second order, following) still analyse with the dense SVD (KIN_ENOMEM,
+ * saying so, where it cannot be had); kin_step in this mode confirms a
+ * point its LU estimates cannot call regular with the sparse analysis when
+ * the dense workspace does not fit (kin_path.h).
  * Returns KIN_OK, KIN_ENULL, KIN_ENOMEM (the dense workspace, made at the
  * first analysis, cannot be had; or, sparse mode, a factorization),
  * KIN_ELAPACK_ARG, KIN_ELAPACK_CONV, KIN_ECANCELLED; sparse mode also
@@ -200,6 +211,18 @@ KIN_API int kin_analyse(kin_assembly *a, kin_analysis *out);
  * default KIN_STEP_SVD mode; in KIN_STEP_LU mode only after a step that fell
  * back to the SVD, see kin_path.h). The same holds for the getters below. */
 KIN_API int kin_get_analysis(const kin_assembly *a, kin_analysis *out);
+
+/* Which computation answered the current analysis (kin_get_analysis_route). */
+enum kin_analysis_route {
+    KIN_ROUTE_DENSE = 0, /* the dense SVD of H (every mode; in KIN_STEP_SPARSE
+                            mode where it fits in memory and costs less) */
+    KIN_ROUTE_SPARSE = 1 /* the sparse analysis (KIN_STEP_SPARSE mode) */
+};
+
+/* *route := the enum kin_analysis_route of the current analysis (the one
+ * kin_get_analysis returns). KIN_OK, KIN_ENULL, KIN_ESTATE (no current
+ * analysis; *route untouched). */
+KIN_API int kin_get_analysis_route(const kin_assembly *a, int *route);
 
 /* All min(nfree, nbars) singular values, descending, into sv[0..n-1];
  * n must be >= min(nfree, nbars). KIN_OK, KIN_ENULL, KIN_ERANGE, KIN_ESTATE

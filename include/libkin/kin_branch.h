@@ -28,15 +28,16 @@ enum kin_q_weighting {
 };
 
 /* Second-order compatibility matrices at the current point, from the last
- * analysis (kin_analyse). Q receives s matrices of m x m (m = m_internal),
+ * analysis (kin_analyse: the SVD's, or in KIN_STEP_SPARSE mode the sparse
+ * analysis's bases of the internal mechanisms and self-stresses, the same
+ * matrices up to those bases' orthogonal freedom). Q receives s matrices of m x m (m = m_internal),
  * column-major, one after another (Q[j*m*m + r + c*m]); nq must be >= m*m*s.
  * normalise != 0 applies eq. 18: the matrices, as vectors of length m^2, are
  * orthonormalised by modified Gram-Schmidt (twice); *s_out receives how many
  * independent matrices remain (< s if some Q_j are dependent). Without
  * normalisation *s_out = s. On failure *s_out = 0 (if s_out is not NULL) and
  * Q is not written.
- * Returns KIN_OK, KIN_ENULL, KIN_ESTATE (no current SVD analysis: none,
- * or a sparse-mode one, which has no singular vectors), KIN_EINVAL
+ * Returns KIN_OK, KIN_ENULL, KIN_ESTATE (no current analysis), KIN_EINVAL
  * (weighting, or not a bifurcation: m_internal < 2 or s < 1), KIN_ERANGE
  * (nq < m*m*s, counted in size_t: m*m*s may exceed INT_MAX). */
 KIN_API int kin_second_order(const kin_assembly *a, int weighting, int normalise, double *Q, int nq,

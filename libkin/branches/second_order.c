@@ -25,15 +25,21 @@ int kin_second_order(const kin_assembly *a, int weighting, int normalise, double
 {
     if (s_out) *s_out = 0;
     if (!a || !Q || !s_out) return KIN_ENULL;
+    /* the internal mechanisms U (ld nf) and the self-stresses W_s(i, j) =
+     * W[i * wi + j * wj]: of the SVD analysis (W_s = the last rows of V^T),
+     * or of the sparse mode's analysis, which has both bases too */
     const kin_factor *f = kin__cur(a);
-    if (!f->valid && kin__sparse_an_current(a))
-        return kin__fail((kin_assembly *)a, KIN_ESTATE,
-                         "the current analysis is the sparse mode's (no singular vectors of H): the second order "
-                         "needs the SVD analysis (KIN_STEP_SVD, or kin_locate_next)");
-    if (!f->valid) return KIN_ESTATE;
+    const kin_sparse_an *sa = f->valid ? NULL : kin__sparse_an_current(a);
+    if (!f->valid && !sa) return kin__fail((kin_assembly *)a, KIN_ESTATE, "no current analysis (kin_analyse)");
+    const kin_analysis *an = sa ? &sa->an : &f->an;
+    const double *U = sa ? sa->Uint : f->Uint, *W = sa ? sa->Ws : f->VT + an->rank;
+    size_t wi = sa ? 1 : (size_t)a->nb, wj = sa ? (size_t)a->nb : 1;
     if (weighting != KIN_Q_EXACT && weighting != KIN_Q_PAPER_EQ17) return KIN_EINVAL;
-    int m = f->an.m_internal, s = f->an.s, nf = a->nf, nb = a->nb, d = a->dim, r = f->an.rank;
-    if (m < 2 || s < 1) return KIN_EINVAL;
+    int m = an->m_internal, s = an->s, nf = a->nf, nb = a->nb, d = a->dim;
+    if (m < 2 || s < 1)
+        return kin__fail((kin_assembly *)a, KIN_EINVAL,
+                         "not a bifurcation: %d internal mechanisms and %d self-stresses (the second order needs "
+                         "at least 2 and 1)", m, s);
     /* m^2 s can pass INT_MAX for a large enough structure: counted in size_t */
     size_t need;
     if (nq < 0 || !kin__mul_size3((size_t)m * (size_t)m, (size_t)s, sizeof(double), &need) ||
@@ -49,15 +55,13 @@ int kin_second_order(const kin_assembly *a, int weighting, int normalise, double
                 double g = 0.0;
                 for (int c = 0; c < d; ++c) {
                     int ra = a->free_index[ja * d + c], rb = a->free_index[jb * d + c];
-                    double dp = (ra >= 0 ? f->Uint[ra + (size_t)p * nf] : 0.0) -
-                                (rb >= 0 ? f->Uint[rb + (size_t)p * nf] : 0.0);
-                    double dq = (ra >= 0 ? f->Uint[ra + (size_t)q * nf] : 0.0) -
-                                (rb >= 0 ? f->Uint[rb + (size_t)q * nf] : 0.0);
+                    double dp = (ra >= 0 ? U[ra + (size_t)p * nf] : 0.0) - (rb >= 0 ? U[rb + (size_t)p * nf] : 0.0);
+                    double dq = (ra >= 0 ? U[ra + (size_t)q * nf] : 0.0) - (rb >= 0 ? U[rb + (size_t)q * nf] : 0.0);
                     g += dp * dq;
                 }
                 if (g == 0.0) continue;
                 for (int j = 0; j < s; ++j) {
-                    double t = f->VT[(r + j) + (size_t)i * nb]; /* W_s(i, j) */
+                    double t = W[(size_t)i * wi + (size_t)j * wj]; /* W_s(i, j) */
                     double v = t * w * g;
                     Q[(size_t)j * m * m + p + (size_t)q * m] += v;
                     if (p != q) Q[(size_t)j * m * m + q + (size_t)p * m] += v;
@@ -67,7 +71,7 @@ int kin_second_order(const kin_assembly *a, int weighting, int normalise, double
     *s_out = s;
     if (!normalise) return KIN_OK;
     /* eq. 18: orthonormalise vec(Q_j) */
-    int mm = m * m, kept = 0; /* m <= nfree and nfree^2 <= INT_MAX (kin_assembly_create) */
+    int mm = m * m, kept = 0; /* m^2 fits: m <= 1020 (sparse analysis) or nfree^2 <= INT_MAX (dense) */
     for (int j = 0; j < s; ++j) {
         double *v = Q + (size_t)j * mm;
         if (kin__gs_column(mm, Q, mm, kept, v) < Q_DEPENDENT_TOL) continue;

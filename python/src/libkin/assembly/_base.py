@@ -47,15 +47,20 @@ class Analysis:
     v_max, v_r : float
         Largest and lowest non-zero singular value of H.
     singular_values : ndarray, shape (min(nfree, nbars),) or (0,)
-        Singular values of H, descending; empty after an analysis in the
-        sparse mode (``factorization="sparse"``), which computes v_max and
-        v_r but not the whole spectrum.
+        Singular values of H, descending; empty after an analysis by the
+        sparse route (``route == "sparse"``), which computes v_max and v_r
+        but not the whole spectrum.
     internal_mechanisms : ndarray, shape (nfree, m_internal)
         Orthonormal internal mechanisms U_m (Fortran-ordered).
     rigid_mechanisms : ndarray, shape (nfree, m_rigid)
         Orthonormal rigid-body mechanisms.
     self_stresses : ndarray, shape (nbars, s)
         Orthonormal states of self-stress W_s.
+    route : str
+        Which computation answered (kin_get_analysis_route): ``"dense"``, the
+        SVD of H (every mode; in the sparse mode, ``factorization="sparse"``,
+        where it fits in memory and costs less than the sparse analysis), or
+        ``"sparse"``, the sparse analysis.
     """
 
     rank: int
@@ -69,6 +74,7 @@ class Analysis:
     internal_mechanisms: FloatArray
     rigid_mechanisms: FloatArray
     self_stresses: FloatArray
+    route: str = "dense"
 
 
 class AssemblyBase:
@@ -298,5 +304,8 @@ class AssemblyBase:
         ws = np.empty((nb, an.s), order="F")
         if an.s:
             self._check(lib.kin_get_self_stresses(self._h, write_ptr(ws, "double *"), nb, an.s))
+        route = ffi.new("int *")
+        self._check(lib.kin_get_analysis_route(self._h, route))
         return Analysis(an.rank, an.m, an.m_rigid, an.m_internal, an.s, an.v_max, an.v_r, sv,
-                        mech(lib.KIN_MECH_INTERNAL, an.m_internal), mech(lib.KIN_MECH_RIGID, an.m_rigid), ws)
+                        mech(lib.KIN_MECH_INTERNAL, an.m_internal), mech(lib.KIN_MECH_RIGID, an.m_rigid), ws,
+                        "sparse" if route[0] == lib.KIN_ROUTE_SPARSE else "dense")
