@@ -71,15 +71,16 @@ typedef struct kin_assembly kin_assembly;
  * arrays, queried then) is made once, by the first call that needs it
  * (kin_analyse, a step in the SVD or LU mode, a dense fallback of the
  * sparse mode), which returns KIN_ENOMEM before allocating anything if it
- * would exceed the machine's physical memory;
- * each dense matrix of the analysis (nfree^2, nbars^2, nfree*(nbars+7)
- * entries) must fit LAPACK's int sizes. Nothing is half-built: on failure
- * everything allocated is released.
+ * would exceed the machine's physical memory, or if a dense matrix of
+ * the analysis (nfree^2, nbars^2, nfree*(nbars+7) entries) would not fit
+ * LAPACK's int sizes (such a model is still made: the sparse mode,
+ * KIN_STEP_SPARSE, analyses and steps it without them). Nothing is
+ * half-built: on failure everything allocated is released.
  * Returns KIN_OK, or KIN_ENULL, KIN_EDIM, KIN_EINVAL (njoints < 2 or
  * nbars < 1), KIN_ERANGE (njoints*dim or 2*nbars exceed INT_MAX), KIN_EJOINT,
  * KIN_ESELFBAR, KIN_EDUPBAR, KIN_EGEOM (a non-finite or too large coordinate,
  * a bar shorter than 1e-150, a rest length out of range), KIN_ENOFREE,
- * KIN_ENOMEM (allocation failed, or a matrix or LAPACK workspace would
+ * KIN_ENOMEM (allocation failed, or the supports' LAPACK workspace would
  * exceed INT_MAX entries), KIN_ELAPACK_ARG. */
 KIN_API int kin_assembly_create(int dim, int njoints, const double *xyz,
                                 const unsigned char *fixed, int nbars, const int *bars,

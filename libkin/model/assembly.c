@@ -517,9 +517,9 @@ int kin__dense_affordable(const kin_assembly *a)
 static const char *dense_refusal_hint(const kin_assembly *a)
 {
     if (a->opt.factorization != KIN_STEP_SPARSE) return "the sparse mode, KIN_STEP_SPARSE, analyses and steps without it";
-    return "this call needs the dense SVD of H even in the sparse mode, which analyses (kin_analyse) and steps "
-           "between regular points without it; locating, second order, following and stepping through a point "
-           "whose regularity the sparse analysis cannot confirm do not";
+    return "this call needs the dense SVD of H even in the sparse mode, which analyses (kin_analyse), steps "
+           "between regular points and gives the second order without it; locating, following and stepping "
+           "through a point the sparse analysis finds singular do not";
 }
 
 int kin__dense_ready(kin_assembly *a)
