@@ -42,14 +42,20 @@
  *     m (s) counts the theta_i <= tau on the left (right); v_r is the
  *     smallest theta_i above tau on either side.
  *
- * The decision is checked, not assumed: an iteration stops only when the
- * counts held over two iterations, v_r moved by less than VR_STEADY, the
- * block holds PAD_MIN Ritz vectors beyond the null space (else it grows,
- * up to MAX_BLOCK), the residual of v_r's Ritz pair (a singular value of H
- * lies within it) keeps v_r above tau (the bracket's upper end), the largest null Ritz value lies
- * below tau by more than the rounding of the products (ROUNDING_UNITS
- * eps v_max), and the two sides agree (nf - m = nb - s). Otherwise
- * KIN_ENOTCONVERGED after MAX_ITER iterations. What no iteration can prove
+ * The decision is checked, not assumed: a count is decided when it held
+ * over two iterations, the block holds PAD_MIN Ritz vectors beyond the null
+ * space (else it grows, capped at MAX_BLOCK), the residual of v_r's Ritz
+ * pair (a singular value of H lies within it) keeps v_r above tau (the
+ * bracket's upper end), the largest null Ritz value lies below tau by more
+ * than the rounding of the products (ROUNDING_UNITS eps v_max), and the two
+ * sides agree (nf - m = nb - s). The iteration stops when, besides, v_r
+ * moved by less than VR_STEADY, or at MAX_ITER iterations or the budget
+ * (the count decided: answered). A count never decided: KIN_ENOTCONVERGED.
+ *
+ * The budget: where the dense analysis is affordable, the iteration's work
+ * is counted in operations against its predicted cost, and the sparse
+ * analysis gives up (*over) where it would cost more, so that kin_analyse
+ * takes the dense route (analysis.c). What no iteration can prove
  * is that a singular value the random start missed is not hiding below tau
  * (no inertia count is made): subspace iteration from a random block
  * misses one with probability zero, and the padding's Ritz values (all
