@@ -92,7 +92,8 @@ static const int MAX_BLOCK = 1024;
  * "undecided"). Likewise where the work passes the budget. */
 static const int MAX_ITER = 60;
 /* The iterations the prediction of a block's cost counts (a decision takes
- * two at least; the large blocks of sail:24:40 took about six) */
+ * two at least; with three, sail:24:40's 1024-column blocks were started
+ * and then cost twice the dense analysis) */
 static const int PREDICT_ITER = 6;
 /* The iteration's operations run at about half the rate of dgesdd's (block
  * solves and thin QR and SVD against blocked BLAS 3; measured on a 26 x 26
@@ -808,8 +809,8 @@ int kin__analyse_sparse(kin_assembly *a, const double *xyz, int report, double b
         if ((rc = scratch_alloc(a, &w, nf, nb, bmax)) != KIN_OK) goto out;
         if ((rc = side_start(a, &L, bl, 0, &seed, w.w, w.lw)) != KIN_OK) goto out;
         if ((rc = side_iterate(a, &g, &L, tau, tau_hi, vmax, &w, &seed, &bmax, &cost)) != KIN_OK) goto out;
-        /* the mechanisms' count says how many self-stresses to expect (the
-         * rank is one): the right block starts with room for them instead
+        /* the mechanisms' count says how many self-stresses to expect (one
+         * rank: nf - m = nb - s): the right block starts with room for them instead
          * of doubling up to it, and where that block would cost more than
          * the dense analysis, the dense one answers */
         int s_expect = nb - nf + L.k0;
