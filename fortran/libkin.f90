@@ -166,7 +166,7 @@ module libkin
   public :: kin_dim, kin_njoints, kin_nbars, kin_nfree, kin_free_index
   public :: kin_get_bars, kin_get_rest_lengths, kin_get_fixed, kin_get_coords, kin_set_coords
   public :: kin_get_lengths, kin_max_strain, kin_get_equilibrium_matrix
-  public :: kin_analyse, kin_get_analysis, kin_get_singular_values, kin_get_mechanisms
+  public :: kin_analyse, kin_get_analysis, kin_get_analysis_route, kin_get_singular_values, kin_get_mechanisms
   public :: kin_get_self_stresses
   public :: kin_options_default, kin_options_default_c, kin_options_init, kin_set_options, kin_get_options, kin_step
   public :: kin_path_set_direction, kin_get_tangent, kin_path_length, kin_path_reset, kin_relax
@@ -810,6 +810,12 @@ module libkin
       integer(c_int), intent(out) :: parts(4)
       real(c_double), intent(out) :: points(*)
       integer(c_int) :: kin_last_contact
+    end function
+    function kin_get_analysis_route(a, route) bind(C, name='kin_get_analysis_route')
+      import :: c_int, c_ptr
+      type(c_ptr), value :: a
+      integer(c_int), intent(out) :: route
+      integer(c_int) :: kin_get_analysis_route
     end function
     function kin_set_device_bars(a, ndev, bars) bind(C, name='kin_set_device_bars')
       import :: c_int, c_ptr

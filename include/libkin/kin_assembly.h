@@ -71,15 +71,16 @@ typedef struct kin_assembly kin_assembly;
  * arrays, queried then) is made once, by the first call that needs it
  * (kin_analyse, a step in the SVD or LU mode, a dense fallback of the
  * sparse mode), which returns KIN_ENOMEM before allocating anything if it
- * would exceed the machine's physical memory;
- * each dense matrix of the analysis (nfree^2, nbars^2, nfree*(nbars+7)
- * entries) must fit LAPACK's int sizes. Nothing is half-built: on failure
- * everything allocated is released.
+ * would exceed the machine's physical memory, or if a dense matrix of
+ * the analysis (nfree^2, nbars^2, nfree*(nbars+7) entries) would not fit
+ * LAPACK's int sizes (such a model is still made: the sparse mode,
+ * KIN_STEP_SPARSE, analyses and steps it without them). Nothing is
+ * half-built: on failure everything allocated is released.
  * Returns KIN_OK, or KIN_ENULL, KIN_EDIM, KIN_EINVAL (njoints < 2 or
  * nbars < 1), KIN_ERANGE (njoints*dim or 2*nbars exceed INT_MAX), KIN_EJOINT,
  * KIN_ESELFBAR, KIN_EDUPBAR, KIN_EGEOM (a non-finite or too large coordinate,
  * a bar shorter than 1e-150, a rest length out of range), KIN_ENOFREE,
- * KIN_ENOMEM (allocation failed, or a matrix or LAPACK workspace would
+ * KIN_ENOMEM (allocation failed, or the supports' LAPACK workspace would
  * exceed INT_MAX entries), KIN_ELAPACK_ARG. */
 KIN_API int kin_assembly_create(int dim, int njoints, const double *xyz,
                                 const unsigned char *fixed, int nbars, const int *bars,
@@ -188,13 +189,24 @@ typedef struct kin_analysis {
  * Ritz values of H itself: the same rank rule, counts, v_r and orthonormal
  * bases of the mechanisms (rigid, internal, all) and self-stresses as the
  * dense SVD to rounding (test_analysis_sparse). The decision is checked: a
- * singular value within its uncertainty of rank_tol * v_max, or an
- * iteration that does not settle, gives KIN_ENOTCONVERGED; more than about
- * 1000 mechanisms or self-stresses, KIN_ELIMIT. The full spectrum is not
- * computed: kin_get_singular_values then returns KIN_ESTATE. Progress:
- * 0 of 2 before the factorizations, 1 after them, 2 at the end. The
- * library's own loops (locating, second order, following) still analyse
- * with the dense SVD (KIN_ENOMEM where it cannot be had).
+ * count is answered once the gap at rank_tol * v_max is clear on both
+ * sides of it (v_r is then the Ritz value, within its residual of a
+ * singular value of H); a singular value within its uncertainty of
+ * rank_tol * v_max, or an iteration that does not settle, gives
+ * KIN_ENOTCONVERGED. Where the dense workspace fits in half the memory
+ * (and LAPACK's int sizes), the sparse analysis stops once its work (counted
+ * in operations, not timed) would pass the dense SVD's predicted cost, or at
+ * its limit of 1020 mechanisms or self-stresses, and the dense SVD answers
+ * (kin_get_analysis_route says which route did); where it does not fit,
+ * more than 1020 mechanisms or self-stresses give KIN_ELIMIT (at once where
+ * nfree - nbars or nbars - nfree says so). A sparse answer has no full
+ * spectrum: kin_get_singular_values then returns KIN_ESTATE. Progress:
+ * 0 of 2 before the factorizations, 1 after them, 2 at the end (again from
+ * 0 where the dense route takes over). The library's own loops (locating,
+ * second order, following) still analyse with the dense SVD (KIN_ENOMEM,
+ * saying so, where it cannot be had); kin_step in this mode confirms a
+ * point its LU estimates cannot call regular with the sparse analysis when
+ * the dense workspace does not fit (kin_path.h).
  * Returns KIN_OK, KIN_ENULL, KIN_ENOMEM (the dense workspace, made at the
  * first analysis, cannot be had; or, sparse mode, a factorization),
  * KIN_ELAPACK_ARG, KIN_ELAPACK_CONV, KIN_ECANCELLED; sparse mode also
@@ -206,6 +218,18 @@ KIN_API int kin_analyse(kin_assembly *a, kin_analysis *out);
  * default KIN_STEP_SVD mode; in KIN_STEP_LU mode only after a step that fell
  * back to the SVD, see kin_path.h). The same holds for the getters below. */
 KIN_API int kin_get_analysis(const kin_assembly *a, kin_analysis *out);
+
+/* Which computation answered the current analysis (kin_get_analysis_route). */
+enum kin_analysis_route {
+    KIN_ROUTE_DENSE = 0, /* the dense SVD of H (every mode; in KIN_STEP_SPARSE
+                            mode where it fits in memory and costs less) */
+    KIN_ROUTE_SPARSE = 1 /* the sparse analysis (KIN_STEP_SPARSE mode) */
+};
+
+/* *route := the enum kin_analysis_route of the current analysis (the one
+ * kin_get_analysis returns). KIN_OK, KIN_ENULL, KIN_ESTATE (no current
+ * analysis; *route untouched). */
+KIN_API int kin_get_analysis_route(const kin_assembly *a, int *route);
 
 /* All min(nfree, nbars) singular values, descending, into sv[0..n-1];
  * n must be >= min(nfree, nbars). KIN_OK, KIN_ENULL, KIN_ERANGE, KIN_ESTATE

@@ -28,20 +28,22 @@ enum kin_q_weighting {
 };
 
 /* Second-order compatibility matrices at the current point, from the last
- * analysis (kin_analyse). Q receives one m x m matrix (m = m_internal) per
- * self-stress that the second order uses, column-major, one after another
- * (Q[j*m*m + r + c*m]): the s - s_trivial self-stresses with no force in
- * the bars between fixed joints (kin_analysis.s_trivial; with none, the
- * analysis' own W_s), since such a bar's own self-stress gives 0 = 0;
- * nq must be >= m*m*(s - s_trivial). normalise != 0 applies eq. 18: the
- * matrices, as vectors of length m^2, are orthonormalised by modified
- * Gram-Schmidt (twice), a matrix whose part outside the previous ones'
- * span is below 1e-10 times the largest Q_j dropped as dependent;
- * *s_out receives how many remain (< s - s_trivial if some Q_j are
- * dependent or zero). Without normalisation *s_out = s - s_trivial. On
- * failure *s_out = 0 (if s_out is not NULL) and Q is not written.
- * Returns KIN_OK, KIN_ENULL, KIN_ESTATE (no current SVD analysis: none,
- * or a sparse-mode one, which has no singular vectors), KIN_EINVAL
+ * analysis (kin_analyse: the SVD's, or in KIN_STEP_SPARSE mode the sparse
+ * analysis's bases of the internal mechanisms and self-stresses, the same
+ * matrices up to those bases' orthogonal freedom). Q receives one m x m
+ * matrix (m = m_internal) per self-stress that the second order uses,
+ * column-major, one after another (Q[j*m*m + r + c*m]): the s - s_trivial
+ * self-stresses with no force in the bars between fixed joints
+ * (kin_analysis.s_trivial; with none, the analysis' own W_s), since such a
+ * bar's own self-stress gives 0 = 0; nq must be >= m*m*(s - s_trivial).
+ * normalise != 0 applies eq. 18: the matrices, as vectors of length m^2,
+ * are orthonormalised by modified Gram-Schmidt (twice), a matrix whose part
+ * outside the previous ones' span is below 1e-10 times the largest Q_j
+ * dropped as dependent; *s_out receives how many remain (< s - s_trivial
+ * if some Q_j are dependent or zero). Without normalisation *s_out = s -
+ * s_trivial. On failure *s_out = 0 (if s_out is not NULL) and Q is not
+ * written.
+ * Returns KIN_OK, KIN_ENULL, KIN_ESTATE (no current analysis), KIN_EINVAL
  * (weighting, or not a bifurcation: m_internal < 2 or s - s_trivial < 1),
  * KIN_ERANGE (nq < m*m*(s - s_trivial), counted in size_t: it may exceed
  * INT_MAX), KIN_ENOMEM. */

@@ -89,7 +89,14 @@
  *   tangent oriented like the SVD's (largest entry positive), so a large
  *   structure is followed without any dense factorization unless a point
  *   comes near a bifurcation. Everything else (estimates, fallback to the
- *   SVD, the analysis not being current) is as in KIN_STEP_LU. The dense
+ *   SVD, the analysis not being current) is as in KIN_STEP_LU, except where
+ *   the dense workspace does not fit (half the physical memory, or LAPACK's
+ *   int sizes): there a point whose estimates fall within the fallback's
+ *   margin is decided by the sparse analysis (kin_analyse's, at that point;
+ *   one internal mechanism: regular, stepped on from its KLU factors, and
+ *   the analysis is current there), so the 10^4-joint mast is stepped at
+ *   the default rank_tol (about 2 s a step); a point it finds singular, or
+ *   cannot decide, is refused with its status and message. The dense
  *   workspace of the SVD and of the dense LU (O(nf^2 + nb^2) doubles) is
  *   made only when such a fallback first needs it, so a sparse-mode handle
  *   of 10^4 joints stays within O(nf + nb) memory besides its KLU factors;

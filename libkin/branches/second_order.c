@@ -29,6 +29,16 @@ static const double Q_DEPENDENT_TOL = 1e-10;
  * (trivial) but for rounding: the midpoint decides */
 static const double KINEMATIC_SV_CUT = 0.5;
 
+/* the analysis the second order is built from: its counts, the internal
+ * mechanisms U (nf x m, ld nf) and the self-stresses W_s(i, j) =
+ * W[i * wi + j * wj] (the SVD's rows of V^T, or the sparse analysis's
+ * columns) */
+typedef struct second_basis {
+    const kin_analysis *an;
+    const double *U, *W;
+    size_t wi, wj;
+} second_basis;
+
 /* The self-stresses the second order uses, into W (nb x *sk, ld nb): with
  * no fixed bars, the analysis' W_s itself; with fixed bars, an orthonormal
  * basis of the self-stresses with no force in them (W_s with those rows
@@ -37,9 +47,9 @@ static const double KINEMATIC_SV_CUT = 0.5;
  * so the second-order equations lose nothing: a fixed bar's own equation
  * is 0 = 0 at every order. A status; W is allocated here (*W_out, the
  * caller frees it). */
-static int kinematic_self_stresses(const kin_assembly *a, const kin_factor *f, double **W_out, int *sk)
+static int kinematic_self_stresses(const kin_assembly *a, const second_basis *B, double **W_out, int *sk)
 {
-    int nb = a->nb, s = f->an.s, r = f->an.rank, info = 0, lwork = -1;
+    int nb = a->nb, s = B->an->s, info = 0, lwork = -1;
     *W_out = NULL;
     *sk = 0;
     size_t bytes;
@@ -47,9 +57,9 @@ static int kinematic_self_stresses(const kin_assembly *a, const kin_factor *f, d
     if (!W) return KIN_ENOMEM;
     for (int j = 0; j < s; ++j)
         for (int i = 0; i < nb; ++i)
-            W[i + (size_t)j * nb] = kin__bar_fixed(a, i) ? 0.0 : f->VT[(r + j) + (size_t)i * nb];
+            W[i + (size_t)j * nb] = kin__bar_fixed(a, i) ? 0.0 : B->W[(size_t)i * B->wi + (size_t)j * B->wj];
     *W_out = W;
-    if (f->an.s_trivial == 0) {
+    if (B->an->s_trivial == 0) {
         *sk = s;
         return KIN_OK;
     }
@@ -74,10 +84,11 @@ static int kinematic_self_stresses(const kin_assembly *a, const kin_factor *f, d
 }
 
 /* Q_j (m x m, j < sk) from the self-stresses W (nb x sk) */
-static void build_q(const kin_assembly *a, const kin_factor *f, int weighting, const double *W, int sk,
+static void build_q(const kin_assembly *a, const second_basis *B, int weighting, const double *W, int sk,
                     double *Q)
 {
-    int m = f->an.m_internal, nf = a->nf, nb = a->nb, d = a->dim;
+    int m = B->an->m_internal, nf = a->nf, nb = a->nb, d = a->dim;
+    const double *U = B->U;
     for (int i = 0; i < nb; ++i) {
         if (kin__bar_fixed(a, i)) continue; /* D_i = 0 */
         int ja = a->bars[2 * i], jb = a->bars[2 * i + 1];
@@ -88,10 +99,8 @@ static void build_q(const kin_assembly *a, const kin_factor *f, int weighting, c
                 double g = 0.0;
                 for (int c = 0; c < d; ++c) {
                     int ra = a->free_index[ja * d + c], rb = a->free_index[jb * d + c];
-                    double dp = (ra >= 0 ? f->Uint[ra + (size_t)p * nf] : 0.0) -
-                                (rb >= 0 ? f->Uint[rb + (size_t)p * nf] : 0.0);
-                    double dq = (ra >= 0 ? f->Uint[ra + (size_t)q * nf] : 0.0) -
-                                (rb >= 0 ? f->Uint[rb + (size_t)q * nf] : 0.0);
+                    double dp = (ra >= 0 ? U[ra + (size_t)p * nf] : 0.0) - (rb >= 0 ? U[rb + (size_t)p * nf] : 0.0);
+                    double dq = (ra >= 0 ? U[ra + (size_t)q * nf] : 0.0) - (rb >= 0 ? U[rb + (size_t)q * nf] : 0.0);
                     g += dp * dq;
                 }
                 if (g == 0.0) continue;
@@ -109,37 +118,40 @@ int kin_second_order(const kin_assembly *a, int weighting, int normalise, double
 {
     if (s_out) *s_out = 0;
     if (!a || !Q || !s_out) return KIN_ENULL;
+    /* the internal mechanisms U (ld nf) and the self-stresses W_s(i, j) =
+     * W[i * wi + j * wj]: of the SVD analysis (W_s = the last rows of V^T),
+     * or of the sparse mode's analysis, which has both bases too */
     const kin_factor *f = kin__cur(a);
-    if (!f->valid && kin__sparse_an_current(a))
-        return kin__fail((kin_assembly *)a, KIN_ESTATE,
-                         "the current analysis is the sparse mode's (no singular vectors of H): the second order "
-                         "needs the SVD analysis (KIN_STEP_SVD, or kin_locate_next)");
-    if (!f->valid) return KIN_ESTATE;
+    const kin_sparse_an *sa = f->valid ? NULL : kin__sparse_an_current(a);
+    if (!f->valid && !sa) return kin__fail((kin_assembly *)a, KIN_ESTATE, "no current analysis (kin_analyse)");
+    second_basis B = {.an = sa ? &sa->an : &f->an, .U = sa ? sa->Uint : f->Uint};
+    B.W = sa ? sa->Ws : f->VT + B.an->rank;
+    B.wi = sa ? 1 : (size_t)a->nb, B.wj = sa ? (size_t)a->nb : 1;
     if (weighting != KIN_Q_EXACT && weighting != KIN_Q_PAPER_EQ17) return KIN_EINVAL;
-    int m = f->an.m_internal, s = f->an.s - f->an.s_trivial;
+    int m = B.an->m_internal, s = B.an->s - B.an->s_trivial;
     if (m < 2 || s < 1)
         return kin__fail((kin_assembly *)a, KIN_EINVAL,
                          "not a bifurcation: m_internal = %d, s = %d of which %d of bars between fixed joints", m,
-                         f->an.s, f->an.s_trivial);
+                         B.an->s, B.an->s_trivial);
     /* m^2 s can pass INT_MAX for a large enough structure: counted in size_t */
     size_t need;
     if (nq < 0 || !kin__mul_size3((size_t)m * (size_t)m, (size_t)s, sizeof(double), &need) ||
         need / sizeof(double) > (size_t)nq)
         return KIN_ERANGE;
     double *W = NULL;
-    int rc = kinematic_self_stresses(a, f, &W, &s);
+    int rc = kinematic_self_stresses(a, &B, &W, &s);
     if (rc) {
         free(W);
         return kin__fail((kin_assembly *)a, rc, "second order: the self-stresses without the fixed bars' (%s)",
                          rc == KIN_ENOMEM ? "memory" : "dgesvd");
     }
     memset(Q, 0, sizeof(double) * (size_t)m * (size_t)m * (size_t)s);
-    build_q(a, f, weighting, W, s, Q);
+    build_q(a, &B, weighting, W, s, Q);
     free(W);
     *s_out = s;
     if (!normalise) return KIN_OK;
     /* eq. 18: orthonormalise vec(Q_j) */
-    int mm = m * m, kept = 0; /* m <= nfree and nfree^2 <= INT_MAX (kin_assembly_create) */
+    int mm = m * m, kept = 0; /* m^2 fits: m <= 1020 (sparse analysis) or nfree^2 <= INT_MAX (dense) */
     double qmax = 0.0;
     for (int j = 0; j < s; ++j) qmax = fmax(qmax, kin__norm(mm, Q + (size_t)j * mm));
     for (int j = 0; j < s; ++j) {

@@ -147,10 +147,16 @@ static int analyse_pinned(kin_assembly *a, kin_analysis *out, int report)
     }
     if (!a) return KIN_ENULL;
     if (report && a->opt.factorization == KIN_STEP_SPARSE) {
-        /* the public call in the sparse mode: no dense SVD (analysis_sparse.c) */
-        int rc = kin__analyse_sparse(a, 1);
+        /* the public call in the sparse mode: no dense SVD (analysis_sparse.c)
+         * unless the dense route fits in memory and costs less: the sparse
+         * analysis stops where its work would pass the dense one's predicted
+         * cost, or at its block limit, and the dense SVD answers instead */
+        int affordable = kin__dense_affordable(a), over = 0;
+        double budget = affordable ? kin__dense_analysis_flops(a) : INFINITY;
+        int rc = kin__analyse_sparse(a, a->xyz, 1, budget, &over);
         if (rc == KIN_OK && out) kin__abi_write(out, &a->san->an, KIN__ABI(kin_analysis));
-        return rc;
+        if (rc == KIN_OK || !(over && affordable)) return rc;
+        if (a->san) a->san->valid = 0;
     }
     if (report && kin__progress(a, 0.0, 2.0)) return kin__fail(a, KIN_ECANCELLED, "analysis cancelled before the SVD");
     int trial = 1 - a->cur;
@@ -188,6 +194,15 @@ int kin_get_analysis(const kin_assembly *a, kin_analysis *out)
     }
     if (need_analysis(a)) return KIN_ESTATE;
     kin__abi_write(out, &kin__cur(a)->an, KIN__ABI(kin_analysis));
+    return KIN_OK;
+}
+
+int kin_get_analysis_route(const kin_assembly *a, int *route)
+{
+    if (!a || !route) return KIN_ENULL;
+    if (kin__sparse_an_current(a)) *route = KIN_ROUTE_SPARSE;
+    else if (!need_analysis(a)) *route = KIN_ROUTE_DENSE;
+    else return KIN_ESTATE;
     return KIN_OK;
 }
 

@@ -42,14 +42,20 @@
  *     m (s) counts the theta_i <= tau on the left (right); v_r is the
  *     smallest theta_i above tau on either side.
  *
- * The decision is checked, not assumed: an iteration stops only when the
- * counts held over two iterations, v_r moved by less than VR_STEADY, the
- * block holds PAD_MIN Ritz vectors beyond the null space (else it grows,
- * up to MAX_BLOCK), the residual of v_r's Ritz pair (a singular value of H
- * lies within it) keeps v_r above tau (the bracket's upper end), the largest null Ritz value lies
- * below tau by more than the rounding of the products (ROUNDING_UNITS
- * eps v_max), and the two sides agree (nf - m = nb - s). Otherwise
- * KIN_ENOTCONVERGED after MAX_ITER iterations. What no iteration can prove
+ * The decision is checked, not assumed: a count is decided when it held
+ * over two iterations, the block holds PAD_MIN Ritz vectors beyond the null
+ * space (else it grows, capped at MAX_BLOCK), the residual of v_r's Ritz
+ * pair (a singular value of H lies within it) keeps v_r above tau (the
+ * bracket's upper end), the largest null Ritz value lies below tau by more
+ * than the rounding of the products (ROUNDING_UNITS eps v_max), and the two
+ * sides agree (nf - m = nb - s). The iteration stops when, besides, v_r
+ * moved by less than VR_STEADY, or at MAX_ITER iterations or the budget
+ * (the count decided: answered). A count never decided: KIN_ENOTCONVERGED.
+ *
+ * The budget: where the dense analysis is affordable, the iteration's work
+ * is counted in operations against its predicted cost, and the sparse
+ * analysis gives up (*over) where it would cost more, so that kin_analyse
+ * takes the dense route (analysis.c). What no iteration can prove
  * is that a singular value the random start missed is not hiding below tau
  * (no inertia count is made): subspace iteration from a random block
  * misses one with probability zero, and the padding's Ritz values (all
@@ -73,11 +79,27 @@
 static const int PAD = 8;
 static const int PAD_MIN = 4;
 /* Largest block of either side: the bases kept and the iteration's arrays
- * are nf (nb) times it. More mechanisms or self-stresses than this:
- * KIN_ELIMIT. */
+ * are nf (nb) times it. A block grows (doubles) up to it, never past it;
+ * more than MAX_BLOCK - PAD_MIN mechanisms or self-stresses: KIN_ELIMIT
+ * (at once where nf - nb or nb - nf already says so). */
 static const int MAX_BLOCK = 1024;
-/* Subspace iterations at most (each one solve per column of the block). */
+/* Subspace iterations at most (each one solve per column of the block).
+ * A count decided (the gap at tau clear on both sides of it, held over two
+ * iterations) whose v_r has not settled (VR_STEADY) by then is answered, v_r
+ * as the Ritz value it is (an upper bound of a singular value of H, within
+ * its residual): clustered singular values above tau settle slowly and do
+ * not make the count doubtful (a 2D chain's band at 0.22 v_max was called
+ * "undecided"). Likewise where the work passes the budget. */
 static const int MAX_ITER = 60;
+/* The iterations the prediction of a block's cost counts (a decision takes
+ * two at least; with three, sail:24:40's 1024-column blocks were started
+ * and then cost twice the dense analysis) */
+static const int PREDICT_ITER = 6;
+/* The iteration's operations run at about half the rate of dgesdd's (block
+ * solves and thin QR and SVD against blocked BLAS 3; measured on a 26 x 26
+ * plate and sail:24:40, one OpenBLAS thread, Haswell and SkylakeX kernels
+ * alike): each counts twice against the dense analysis's. */
+static const double SPARSE_FLOP_WEIGHT = 2.0;
 /* Lanczos steps at most for v_max, and the relative residual bound that
  * stops them. */
 static const int GKL_MAX = 40;
@@ -427,6 +449,27 @@ out:
     return rc;
 }
 
+/* The work of the iteration, counted in floating-point operations, against
+ * the budget (the dense analysis's predicted cost where the dense route is
+ * affordable): the route that costs less answers. Counted, not timed, so
+ * the route taken does not depend on the machine's load. */
+typedef struct {
+    double budget, spent;
+    double lu_nnz; /* entries of the augmented matrix's KLU factors */
+    double h_nnz;  /* entries of H */
+    int *over;     /* set where the budget or the block limit stopped the iteration */
+} cost_t;
+
+/* one iteration of a side with a block of b columns in R^dim (products in
+ * R^other): the block solve, the QR, the products with H, the Ritz SVD and
+ * the rotation */
+static double iter_flops(const cost_t *c, int dim, int other, int b)
+{
+    double bd = (double)b;
+    return SPARSE_FLOP_WEIGHT *
+           (bd * (4.0 * c->lu_nnz + 4.0 * c->h_nnz) + (6.0 * dim + 4.0 * other) * bd * bd + 8.0 * bd * bd * bd);
+}
+
 /* One side's subspace iteration (side 0: the left singular vectors, the
  * mechanisms, in R^nf; side 1: the right ones, the self-stresses, in
  * R^nb). Its block and results. */
@@ -549,9 +592,41 @@ static int side_start(kin_assembly *a, side_t *S, int b, int keep, unsigned long
     return orthonormalise(a, S->dim, b, X, w, lw);
 }
 
-/* The subspace iteration of one side to a decided, converged count. */
+/* The block of a side that has too few Ritz vectors beyond its null space
+ * grows: doubled, capped at MAX_BLOCK (and the dimension); a block already
+ * at the cap cannot grow (KIN_ELIMIT), nor one whose next iterations would
+ * take the work past the budget (KIN_ELIMIT too: the dense route answers). */
+static int side_grow(kin_assembly *a, aug_t *g, side_t *S, scratch_t *w, unsigned long long *seed, int *b_scratch,
+                     cost_t *cost)
+{
+    const char *what = S->side == 0 ? "mechanisms" : "self-stresses";
+    if (S->b >= MAX_BLOCK) {
+        *cost->over = 1;
+        return kin__fail(a, KIN_ELIMIT,
+                         "sparse analysis: more than %d %s (its block of singular vectors holds at most %d "
+                         "columns, %d of them beyond the null space)",
+                         MAX_BLOCK - PAD_MIN, what, MAX_BLOCK, PAD_MIN);
+    }
+    int nb2 = 2 * S->b, rc;
+    if (nb2 > S->dim) nb2 = S->dim;
+    if (nb2 > MAX_BLOCK) nb2 = MAX_BLOCK;
+    if (cost->spent + PREDICT_ITER * iter_flops(cost, S->dim, S->other, nb2) > cost->budget) {
+        *cost->over = 1;
+        return kin__fail(a, KIN_ELIMIT, "sparse analysis: at least %d %s; a block of %d columns would cost more "
+                         "than the dense analysis", S->k0, what, nb2);
+    }
+    if (nb2 > *b_scratch) {
+        if ((rc = scratch_alloc(a, w, g->nf, g->nb, nb2)) != KIN_OK) return rc;
+        *b_scratch = nb2;
+    }
+    return side_start(a, S, nb2, S->b, seed, w->w, w->lw);
+}
+
+/* The subspace iteration of one side to a decided count: the count held
+ * over two iterations with the gap at tau clear on both sides of it, and
+ * v_r settled (or MAX_ITER iterations, or the budget, reached). */
 static int side_iterate(kin_assembly *a, aug_t *g, side_t *S, double tau, double tau_hi, double vmax, scratch_t *w,
-                        unsigned long long *seed, int *b_scratch)
+                        unsigned long long *seed, int *b_scratch, cost_t *cost)
 {
     double round = ROUNDING_UNITS * DBL_EPSILON * vmax;
     int last_k0 = -1;
@@ -561,30 +636,25 @@ static int side_iterate(kin_assembly *a, aug_t *g, side_t *S, double tau, double
         if (!rc) rc = orthonormalise(a, S->dim, S->b, S->X, w->w, w->lw);
         if (!rc) rc = ritz(a, g, S, tau, w->G, w->V, w->T, w->s, w->w, w->lw, w->pv, w->hv);
         if (rc) return rc;
+        cost->spent += iter_flops(cost, S->dim, S->other, S->b);
         if (S->b < S->dim && S->k0 + PAD_MIN > S->b) {
             /* too few Ritz vectors beyond the null space: a larger block, the Ritz vectors kept */
-            int nb2 = 2 * S->b;
-            if (nb2 > S->dim) nb2 = S->dim;
-            if (nb2 > MAX_BLOCK)
-                return kin__fail(a, KIN_ELIMIT,
-                                 "sparse analysis: more than %d %s (the sparse analysis keeps at most %d); "
-                                 "analyse in KIN_STEP_SVD mode",
-                                 MAX_BLOCK - PAD_MIN, S->side == 0 ? "mechanisms" : "self-stresses", MAX_BLOCK);
-            if (nb2 > *b_scratch) {
-                if ((rc = scratch_alloc(a, w, g->nf, g->nb, nb2)) != KIN_OK) return rc;
-                *b_scratch = nb2;
-            }
-            if ((rc = side_start(a, S, nb2, S->b, seed, w->w, w->lw)) != KIN_OK) return rc;
+            if ((rc = side_grow(a, g, S, w, seed, b_scratch, cost)) != KIN_OK) return rc;
             last_k0 = -1;
             continue;
         }
         int whole = S->b == S->dim; /* the block is the whole space: Rayleigh-Ritz is exact */
-        int steady = whole || (S->k0 == last_k0 &&
-                               (S->k0 == S->b || fabs(S->vr - last_vr) <= VR_STEADY * S->vr + round));
         int decided = (S->k0 == 0 || S->theta[S->k0 - 1] <= tau - round) &&
                       (S->k0 == S->b || S->vr - fmax(S->res, round) > tau_hi);
-        if (steady && decided && it >= 1) return KIN_OK;
+        int counted = decided && (whole || S->k0 == last_k0);
+        int vr_settled = whole || S->k0 == S->b || fabs(S->vr - last_vr) <= VR_STEADY * S->vr + round;
+        if (counted && (vr_settled || it == MAX_ITER - 1 || cost->spent > cost->budget)) return KIN_OK;
         if (whole && !decided) break;
+        if (cost->spent > cost->budget) {
+            *cost->over = 1;
+            return kin__fail(a, KIN_ELIMIT, "sparse analysis: the %s count undecided after more work than the "
+                             "dense analysis takes", S->side == 0 ? "mechanism" : "self-stress");
+        }
         last_k0 = S->k0;
         last_vr = S->vr;
     }
@@ -635,12 +705,67 @@ const kin_sparse_an *kin__sparse_an_current(const kin_assembly *a)
 static int start_block(int dim, int least)
 {
     int b = least + PAD;
+    if (b > MAX_BLOCK) b = MAX_BLOCK;
     return b > dim ? dim : b;
 }
 
-int kin__analyse_sparse(kin_assembly *a, int report)
+double kin__dense_analysis_flops(const kin_assembly *a)
+{
+    /* dgesdd, jobz = 'A', on a p x q matrix (p >= q): the bidiagonalisation
+     * and the full p x p and q x q orthogonal factors, about
+     * 4 p q^2 + 4 p^2 q + 8 q^3 */
+    double p = fmax(a->nf, a->nb), q = fmin(a->nf, a->nb);
+    return 4.0 * p * q * q + 4.0 * p * p * q + 8.0 * q * q * q;
+}
+
+/* Refusals that need no factorization: a side whose least count
+ * (nf - nb mechanisms, nb - nf self-stresses) is beyond the block limit,
+ * or whose iterations with the start blocks would already cost more than
+ * the budget. */
+static int refuse_early(kin_assembly *a, int least_m, int least_s, cost_t *cost)
+{
+    int nf = a->nf, nb = a->nb;
+    if (least_m > MAX_BLOCK - PAD_MIN || least_s > MAX_BLOCK - PAD_MIN) {
+        *cost->over = 1;
+        return kin__fail(a, KIN_ELIMIT,
+                         "sparse analysis: at least %d %s (%d free coordinates, %d bars), more than the %d its "
+                         "block of singular vectors can hold",
+                         least_m > least_s ? least_m : least_s, least_m > least_s ? "mechanisms" : "self-stresses",
+                         nf, nb, MAX_BLOCK - PAD_MIN);
+    }
+    double predicted = PREDICT_ITER * (iter_flops(cost, nf, nb, start_block(nf, least_m + 1 + a->nrig)) +
+                                       iter_flops(cost, nb, nf, start_block(nb, least_s + 1)));
+    if (predicted > cost->budget) {
+        *cost->over = 1;
+        return kin__fail(a, KIN_ELIMIT, "sparse analysis: at least %d mechanisms and %d self-stresses; its blocks "
+                         "would cost more than the dense analysis", least_m, least_s);
+    }
+    return KIN_OK;
+}
+
+/* The right side's start block of b columns for s_expect self-stresses:
+ * within the block limit, and its iterations within the budget. */
+static int refuse_block(kin_assembly *a, const side_t *S, int b, int s_expect, cost_t *cost)
+{
+    if (s_expect > MAX_BLOCK - PAD_MIN || cost->spent + PREDICT_ITER * iter_flops(cost, S->dim, S->other, b) >
+                                              cost->budget) {
+        *cost->over = 1;
+        return kin__fail(a, KIN_ELIMIT, "sparse analysis: %d self-stresses (by the mechanisms' count), %s", s_expect,
+                         s_expect > MAX_BLOCK - PAD_MIN ? "more than its block of singular vectors can hold"
+                                                        : "a block that would cost more than the dense analysis");
+    }
+    return KIN_OK;
+}
+
+int kin__analyse_sparse(kin_assembly *a, const double *xyz, int report, double budget, int *over)
 {
     int nf = a->nf, nb = a->nb, rc;
+    *over = 0;
+    cost_t cost = {.budget = budget, .spent = 0.0, .lu_nnz = 0.0, .h_nnz = 2.0 * a->dim * (double)nb, .over = over};
+    /* at least nf - nb mechanisms and nb - nf self-stresses; the left start
+     * block has room for the rigid ones too */
+    int least_m = nf > nb ? nf - nb : 0, least_s = nb > nf ? nb - nf : 0;
+    if ((rc = refuse_early(a, least_m, least_s, &cost)) != KIN_OK) return rc;
     if (report && kin__progress(a, 0.0, 2.0))
         return kin__fail(a, KIN_ECANCELLED, "analysis cancelled before the factorization");
     aug_t g;
@@ -649,7 +774,7 @@ int kin__analyse_sparse(kin_assembly *a, int report)
     scratch_t w;
     memset(&w, 0, sizeof w);
     double vmax = 0.0, vres = 0.0, delta = 0.0, tol = kin__rank_tolerance(a);
-    if ((rc = aug_bars(a, a->xyz, &g)) != KIN_OK) goto out;
+    if ((rc = aug_bars(a, xyz, &g)) != KIN_OK) goto out;
     if ((rc = gkl_vmax(a, &g, &vmax, &vres)) != KIN_OK) goto out;
     /* v_max lies in [vmax, vmax (1 + delta)]: Lanczos's Ritz value is a lower bound, CHOLMOD certifies the upper */
     if (vmax > 0.0 && vres > 0.0 && (rc = vmax_bracket(a, &g, vmax, vres, &vmax, &delta)) != KIN_OK) goto out;
@@ -660,6 +785,7 @@ int kin__analyse_sparse(kin_assembly *a, int report)
         m = nf;
         s = nb;
         if (m > MAX_BLOCK || s > MAX_BLOCK) {
+            *over = 1;
             rc = kin__fail(a, KIN_ELIMIT, "sparse analysis: H = 0 with %d mechanisms and %d self-stresses", m, s);
             goto out;
         }
@@ -671,19 +797,31 @@ int kin__analyse_sparse(kin_assembly *a, int report)
         a->san->an.v_r = 0.0;
     } else {
         if ((rc = aug_factor(a, &g, tau)) != KIN_OK) goto out;
+        cost.lu_nnz = (double)g.num->lnz + (double)g.num->unz;
         if (report && kin__progress(a, 1.0, 2.0)) {
             rc = kin__fail(a, KIN_ECANCELLED, "analysis cancelled after the factorization");
             goto out;
         }
-        int bl = start_block(nf, (nf > nb ? nf - nb : 0) + 1 + a->nrig);
-        int br = start_block(nb, (nb > nf ? nb - nf : 0) + 1);
+        int bl = start_block(nf, least_m + 1 + a->nrig);
+        int br = start_block(nb, least_s + 1);
         int bmax = bl > br ? bl : br;
         unsigned long long seed = START_SEED;
         if ((rc = scratch_alloc(a, &w, nf, nb, bmax)) != KIN_OK) goto out;
         if ((rc = side_start(a, &L, bl, 0, &seed, w.w, w.lw)) != KIN_OK) goto out;
+        if ((rc = side_iterate(a, &g, &L, tau, tau_hi, vmax, &w, &seed, &bmax, &cost)) != KIN_OK) goto out;
+        /* the mechanisms' count says how many self-stresses to expect (one
+         * rank: nf - m = nb - s): the right block starts with room for them instead
+         * of doubling up to it, and where that block would cost more than
+         * the dense analysis, the dense one answers */
+        int s_expect = nb - nf + L.k0;
+        if (s_expect + 1 > least_s) br = start_block(nb, s_expect + 1);
+        if ((rc = refuse_block(a, &R, br, s_expect, &cost)) != KIN_OK) goto out;
+        if (br > bmax) {
+            if ((rc = scratch_alloc(a, &w, nf, nb, br)) != KIN_OK) goto out;
+            bmax = br;
+        }
         if ((rc = side_start(a, &R, br, 0, &seed, w.w, w.lw)) != KIN_OK) goto out;
-        if ((rc = side_iterate(a, &g, &L, tau, tau_hi, vmax, &w, &seed, &bmax)) != KIN_OK) goto out;
-        if ((rc = side_iterate(a, &g, &R, tau, tau_hi, vmax, &w, &seed, &bmax)) != KIN_OK) goto out;
+        if ((rc = side_iterate(a, &g, &R, tau, tau_hi, vmax, &w, &seed, &bmax, &cost)) != KIN_OK) goto out;
         m = L.k0;
         s = R.k0;
         if (nf - m != nb - s) {
@@ -712,13 +850,13 @@ int kin__analyse_sparse(kin_assembly *a, int report)
         rc = kin__fail(a, KIN_ENOMEM, "sparse analysis: mechanism split");
         goto out;
     }
-    rc = kin__split_basis(a, a->xyz, r->Um, m, r->Urig, r->Uint, &mr, sw);
+    rc = kin__split_basis(a, xyz, r->Um, m, r->Urig, r->Uint, &mr, sw);
     free(sw);
     if (rc) goto out;
     r->an.m_rigid = mr;
     r->an.m_internal = m - mr;
     r->tol = tol;
-    memcpy(r->xyz, a->xyz, sizeof(double) * (size_t)a->nj * (size_t)a->dim);
+    memcpy(r->xyz, xyz, sizeof(double) * (size_t)a->nj * (size_t)a->dim);
     r->valid = 1;
     if (report) (void)kin__progress(a, 2.0, 2.0);
 out:

@@ -226,27 +226,6 @@ static int check_counts(int dim, int nj, int nb, char *eb, size_t el)
     return KIN_OK;
 }
 
-static int product_fits_int(size_t a, size_t b)
-{
-    size_t e;
-    return kin__mul_size(a, b, &e) && e <= (size_t)INT_MAX;
-}
-
-/* Every dense matrix of the handle (H and its copy: nf x nb; U: nf x nf; VT:
- * nb x nb; the bordered systems: nf x (nb + 1 + nrig)) must have at most
- * INT_MAX entries: LAPACK takes sizes and workspace lengths as int. A larger
- * problem's workspace cannot be had: KIN_ENOMEM, like a failed allocation. */
-static int check_matrix_sizes(int dim, int nf, int nb, char *eb, size_t el)
-{
-    size_t nfs = (size_t)nf, nbs = (size_t)nb, cols = nbs + 1 + (dim == 2 ? 3 : 6);
-    if (!(product_fits_int(nfs, nfs) && product_fits_int(nbs, nbs) && product_fits_int(nfs, cols)))
-        return kin__failbuf(eb, el, KIN_ENOMEM,
-                       "workspace for %d free coordinates x %d bars: a dense matrix of the analysis would "
-                       "have more than INT_MAX entries",
-                       nf, nb);
-    return KIN_OK;
-}
-
 /* |x| within COORD_MAX for every coordinate; the first offender named */
 static int check_coords(int n, int dim, const double *xyz, char *eb, size_t el)
 {
@@ -298,7 +277,8 @@ static int validate(int dim, int nj, const double *xyz, const unsigned char *fix
     int nf = 0;
     for (int i = 0; i < nj * dim; ++i) nf += !(fixed && fixed[i]);
     if (nf == 0) return kin__failbuf(eb, el, KIN_ENOFREE, "every coordinate is fixed");
-    if ((rc = check_matrix_sizes(dim, nf, nb, eb, el))) return rc;
+    /* no limit from the dense matrices here: the sparse mode never makes
+     * them (kin__dense_ready checks their sizes when they are needed) */
     /* duplicates: sort normalised pairs */
     size_t npair;
     int *pairs = kin__mul_size3(3, (size_t)nb, sizeof(int), &npair) ? malloc(npair) : NULL;
@@ -485,6 +465,22 @@ static size_t dense_bytes(const kin_assembly *a)
     return total + part;
 }
 
+/* Every dense matrix of the workspace (H and its copy: nf x nb; U: nf x nf;
+ * VT: nb x nb; the bordered systems: nf x (nb + 1 + nrig)) must have at
+ * most INT_MAX entries: LAPACK takes sizes and workspace lengths as int. */
+static int product_fits_int(size_t a, size_t b)
+{
+    size_t e;
+    return kin__mul_size(a, b, &e) && e <= (size_t)INT_MAX;
+}
+
+static int dense_sizes_fit(const kin_assembly *a)
+{
+    size_t nfs = (size_t)a->nf, nbs = (size_t)a->nb, cols = nbs + 1 + (size_t)a->nrig;
+    return product_fits_int(nfs, nfs) && product_fits_int(nbs, nbs) && product_fits_int(nfs, cols) &&
+           product_fits_int(nfs, nbs);
+}
+
 /* physical memory of this machine in bytes (0 if unknown) */
 static size_t physical_bytes(void)
 {
@@ -521,18 +517,39 @@ static void release_dense(kin_assembly *a)
     }
 }
 
+int kin__dense_affordable(const kin_assembly *a)
+{
+    if (a->fault == KIN__FAULT_DENSE_UNAFFORDABLE) return 0;
+    if (a->H) return 1;
+    size_t need = dense_bytes(a), phys = physical_bytes();
+    return dense_sizes_fit(a) && need > 0 && (phys == 0 || need <= phys / 2);
+}
+
+/* what the refusal of the dense workspace tells the caller to do: outside
+ * the sparse mode, use it; inside it, what it covers and what it does not */
+static const char *dense_refusal_hint(const kin_assembly *a)
+{
+    if (a->opt.factorization != KIN_STEP_SPARSE) return "the sparse mode, KIN_STEP_SPARSE, analyses and steps without it";
+    return "this call needs the dense SVD of H even in the sparse mode, which analyses (kin_analyse), steps "
+           "between regular points and gives the second order without it; locating, following and stepping "
+           "through a point the sparse analysis finds singular do not";
+}
+
 int kin__dense_ready(kin_assembly *a)
 {
     if (a->H) return KIN_OK;
     size_t need = dense_bytes(a), phys = physical_bytes();
-    if (need == 0)
-        return kin__fail(a, KIN_ENOMEM, "dense workspace for %d free coordinates x %d bars: size overflows",
-                         a->nf, a->nb);
+    if (a->fault == KIN__FAULT_DENSE_UNAFFORDABLE) phys = need / 2; /* the test hook: too big for memory */
+    if (need == 0 || !dense_sizes_fit(a))
+        return kin__fail(a, KIN_ENOMEM,
+                         "dense workspace for %d free coordinates x %d bars: a dense matrix of the analysis would "
+                         "have more than INT_MAX entries (LAPACK's limit); %s",
+                         a->nf, a->nb, dense_refusal_hint(a));
     if (phys > 0 && need > phys)
         return kin__fail(a, KIN_ENOMEM,
                          "dense workspace for %d free coordinates x %d bars needs %.3g GB, more than the "
-                         "%.3g GB of memory (the sparse mode, KIN_STEP_SPARSE, steps without it)",
-                         a->nf, a->nb, (double)need / 1e9, (double)phys / 1e9);
+                         "%.3g GB of memory; %s",
+                         a->nf, a->nb, (double)need / 1e9, (double)phys / 1e9, dense_refusal_hint(a));
     size_t nb = (size_t)a->nb, nf = (size_t)a->nf, mn = nf < nb ? nf : nb, m1 = nb + 1;
     int bad = ALLOC_(a->H, nf * nb) | ALLOC_(a->A, nf * nb) | ALLOC_(a->mwork, 3 * nf * nf + 8 * nf) |
               ALLOC_(a->B, m1 * nf) | ALLOC_(a->svB, m1 < nf ? m1 : nf);

@@ -205,7 +205,13 @@ enum kin__fault { KIN__FAULT_NONE = 0, KIN__FAULT_SVD_ARG, KIN__FAULT_SVD_CONV, 
                   /* locate.c: a location on the bracket the follower's LU
                    * steps hand over (kin__locate_ws.direct_prev) fails, as
                    * if the Hermite method had not converged there */
-                  KIN__FAULT_LOCATE_DIRECT };
+                  KIN__FAULT_LOCATE_DIRECT,
+                  /* assembly.c: the dense workspace is judged too big for
+                   * memory (kin__dense_affordable 0, kin__dense_ready
+                   * KIN_ENOMEM unless it exists): the sparse mode's analysis
+                   * never hands over to the dense route, and its steps
+                   * confirm points with it */
+                  KIN__FAULT_DENSE_UNAFFORDABLE };
 void kin__set_fault(kin_assembly *a, int fault);
 
 /* Fault injection for the tests (io/model_io.c, not exported): the nth
@@ -265,10 +271,19 @@ int kin__analyse_into(kin_assembly *a, const double *xyz, int idx);
  * point once) */
 int kin__singular_values(kin_assembly *a, const double *xyz, double *sv);
 /* kin_analyse's route in KIN_STEP_SPARSE mode (model/analysis_sparse.c):
- * the analysis of the current configuration from sparse factorizations
- * into a->san, with the progress reports of kin_analyse when report is 1.
- * Never allocates anything of size nf x nb. */
-int kin__analyse_sparse(kin_assembly *a, int report);
+ * the analysis of configuration xyz from sparse factorizations into
+ * a->san, with the progress reports of kin_analyse when report is 1.
+ * Never allocates anything of size nf x nb. budget: the floating-point
+ * operations after which it stops (the dense analysis's predicted cost
+ * where the dense route is affordable, INFINITY where it is not); *over
+ * := 1 where it stopped on that budget or on its block limit (MAX_BLOCK
+ * mechanisms or self-stresses: KIN_ELIMIT), i.e. where the dense route
+ * could still answer, 0 otherwise. */
+int kin__analyse_sparse(kin_assembly *a, const double *xyz, int report, double budget, int *over);
+/* Predicted floating-point operations of the dense analysis (dgesdd of the
+ * nf x nb matrix H with all singular vectors), the sparse analysis's
+ * budget where the dense route is affordable. */
+double kin__dense_analysis_flops(const kin_assembly *a);
 /* a->san when it holds the analysis of the current configuration with the
  * current rank tolerance, else NULL */
 const kin_sparse_an *kin__sparse_an_current(const kin_assembly *a);
@@ -337,6 +352,10 @@ int kin__progress(const kin_assembly *a, double done, double total);
  * memory gives KIN_ENOMEM (with the handle's message) before anything is
  * allocated. KIN_OK at once if it exists. */
 int kin__dense_ready(kin_assembly *a);
+/* 1 if the dense workspace exists, or could be made: its matrices within
+ * LAPACK's int sizes and its bytes within half the physical memory (the
+ * sparse mode then may take the dense route); 0 otherwise. */
+int kin__dense_affordable(const kin_assembly *a);
 
 /* A configuration set from outside a path (kin_set_coords, kin_relax):
  * xyz (nj*dim) copied in, every analysis and factorization invalidated, the

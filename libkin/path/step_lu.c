@@ -259,6 +259,30 @@ static int lu_sign(int n, const double *LU, const int *ipiv)
  * from the vectors wr and wm (NULL: a fixed start). *regular = 1 when the
  * point needs no SVD; 0 when the caller must analyse by SVD (estimated
  * v_r / v_max small, J singular, or J wide). */
+/* Sparse mode: a point whose estimates are too close to rank_tol to call it
+ * regular, where the dense SVD that decides such points cannot be had (its
+ * workspace does not fit in memory, or LAPACK's int sizes; the 10^4-joint
+ * mast at the default rank_tol, v_r / v_max = 2.3e-7): the sparse analysis
+ * (model/analysis_sparse.c) decides instead. One internal mechanism and
+ * mr rigid ones there: the point is regular, with the analysis's v_r and
+ * v_max. Another count: not regular (the caller's dense route then refuses,
+ * saying why). A failed analysis: its status and message. Allocates (the
+ * analysis's workspace), only at such points. */
+static int confirm_sparse(kin_assembly *a, const double *xyz, kin_lufactor *T, int mr, int *regular)
+{
+    if (a->opt.factorization != KIN_STEP_SPARSE || !T->sparse || kin__dense_affordable(a)) return KIN_OK;
+    int over = 0, rc = kin__analyse_sparse(a, xyz, 0, INFINITY, &over);
+    if (rc) return rc;
+    const kin_analysis *an = &a->san->an;
+    if (an->m_internal == 1 && an->m_rigid == mr) {
+        T->v_r = an->v_r;
+        T->v_max = an->v_max;
+        T->valid = 1;
+        *regular = 1;
+    }
+    return KIN_OK;
+}
+
 static int factor_point(kin_assembly *a, const double *xyz, const double *border, int slot, const double *wr,
                         const double *wm, int *regular)
 {
@@ -373,8 +397,9 @@ static int factor_point(kin_assembly *a, const double *xyz, const double *border
     if (isfinite(vr) && vr > LU_SVD_MARGIN * a->opt.rank_tol * T->v_max) {
         T->valid = 1;
         *regular = 1;
+        return KIN_OK;
     }
-    return KIN_OK;
+    return confirm_sparse(a, xyz, T, mr, regular);
 }
 
 int kin__lu_refactor(kin_assembly *a, const double *border, int *regular)

@@ -75,6 +75,11 @@ typedef struct kin_analysis {
 } kin_analysis;
 int kin_analyse(kin_assembly *a, kin_analysis *out);
 int kin_get_analysis(const kin_assembly *a, kin_analysis *out);
+enum kin_analysis_route {
+    KIN_ROUTE_DENSE = 0,
+    KIN_ROUTE_SPARSE = 1
+};
+int kin_get_analysis_route(const kin_assembly *a, int *route);
 int kin_get_singular_values(const kin_assembly *a, double *sv, int n);
 enum kin_mech_kind {
     KIN_MECH_INTERNAL = 0,

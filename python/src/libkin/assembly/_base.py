@@ -47,9 +47,9 @@ class Analysis:
     v_max, v_r : float
         Largest and lowest non-zero singular value of H.
     singular_values : ndarray, shape (min(nfree, nbars),) or (0,)
-        Singular values of H, descending; empty after an analysis in the
-        sparse mode (``factorization="sparse"``), which computes v_max and
-        v_r but not the whole spectrum.
+        Singular values of H, descending; empty after an analysis by the
+        sparse route (``route == "sparse"``), which computes v_max and v_r
+        but not the whole spectrum.
     internal_mechanisms : ndarray, shape (nfree, m_internal)
         Orthonormal internal mechanisms U_m (Fortran-ordered).
     rigid_mechanisms : ndarray, shape (nfree, m_rigid)
@@ -62,6 +62,11 @@ class Analysis:
         The second order, `branches` and the explorer use the
         s - s_trivial others (``docs/generality.md``, "Bars between fixed
         joints").
+    route : str
+        Which computation answered (kin_get_analysis_route): ``"dense"``, the
+        SVD of H (every mode; in the sparse mode, ``factorization="sparse"``,
+        where it fits in memory and costs less than the sparse analysis), or
+        ``"sparse"``, the sparse analysis.
     """
 
     rank: int
@@ -76,6 +81,7 @@ class Analysis:
     rigid_mechanisms: FloatArray
     self_stresses: FloatArray
     s_trivial: int = 0
+    route: str = "dense"
 
 
 class AssemblyBase:
@@ -305,6 +311,8 @@ class AssemblyBase:
         ws = np.empty((nb, an.s), order="F")
         if an.s:
             self._check(lib.kin_get_self_stresses(self._h, write_ptr(ws, "double *"), nb, an.s))
+        route = ffi.new("int *")
+        self._check(lib.kin_get_analysis_route(self._h, route))
         return Analysis(an.rank, an.m, an.m_rigid, an.m_internal, an.s, an.v_max, an.v_r, sv,
                         mech(lib.KIN_MECH_INTERNAL, an.m_internal), mech(lib.KIN_MECH_RIGID, an.m_rigid), ws,
-                        int(an.s_trivial))
+                        int(an.s_trivial), "sparse" if route[0] == lib.KIN_ROUTE_SPARSE else "dense")

@@ -26,7 +26,7 @@ import numpy.typing as npt
 
 from ..atomic import write_text
 from .._bounded import decode_utf8, read_bounded
-from ..errors import ModelFormatError, OutOfMemoryError
+from ..errors import ModelFormatError
 from ._base import AssemblyBase
 
 #: What `parse` returns: name, coords, bars, fixed, lengths (or None), labels.
@@ -183,11 +183,14 @@ def _problems(doc: Any) -> List[_Problem]:
     return out
 
 
-#: The C library's bound on every dense matrix of the analysis (INT_MAX
-#: entries, libkin/model/assembly.c check_matrix_sizes): with nf free
-#: coordinates and nb bars, nf*nf, nb*nb and nf*(nb + 1 + 3 or 6) must all fit,
-#: so at most 46 340 bars and 46 340 free coordinates.
-_INT_MAX = 2**31 - 1
+#: A parsed model (a dict) with more joints and bars than this together is
+#: checked by the C loader (its JSON text, json.dumps, to
+#: kin_assembly_load_string) instead of jsonschema, as a long text is: the
+#: schema pass costs about 1 s a MB, the C loader about 30 ms. The library
+#: itself has no limit on the counts below its int indices (a model whose
+#: dense analysis would not fit is still made: the sparse mode needs no dense
+#: matrix; docs/model_format.md).
+LARGE_COUNT = 20000
 
 #: A JSON text longer than this (bytes) is checked by the C loader
 #: (kin_assembly_load_string: about 30 ms a MB) instead of jsonschema (about
@@ -195,32 +198,22 @@ _INT_MAX = 2**31 - 1
 LARGE_TEXT = 2 * 1024 * 1024
 
 
-def _check_counts(doc: Any) -> None:
-    """Refuse, before any per-field check, a model whose joint and bar counts
-    alone exceed the C library's matrix limits (what kin_assembly_create
-    would refuse only after the whole model was read and checked):
-    OutOfMemoryError naming the counts, as the C loader's KIN_ENOMEM. Counts
-    of a document too malformed to count are left to the schema."""
+def _large_checked_by_c(doc: Any) -> bool:
+    """For a dict with more than LARGE_COUNT joints and bars: check it with
+    the C loader (raising its verdict, e.g. ModelFormatError) and return
+    True, so that parse() builds it without the schema pass; False for a
+    smaller dict or one too malformed to count (left to the schema)."""
     if not isinstance(doc, dict):
-        return
-    dim, joints, bars = doc.get("dimension"), doc.get("joints"), doc.get("bars")
-    if dim not in (2, 3) or isinstance(dim, bool) or not isinstance(joints, list) or not isinstance(bars, list):
-        return
-    nb, cols = len(bars), len(bars) + 1 + (3 if dim == 2 else 6)
-
-    def over(nf: int) -> bool:
-        return nf * nf > _INT_MAX or nb * nb > _INT_MAX or nf * cols > _INT_MAX
-
-    if not over(len(joints) * dim):
-        return  # nf <= njoints*dim: within the limits whatever is free
-    nf = 0
-    for j in joints:
-        free = j.get("free") if isinstance(j, dict) else None
-        nf += sum(1 for f in free if f is True) if isinstance(free, list) else dim
-    if over(nf):
-        raise OutOfMemoryError(f"model of {len(joints)} joints ({nf} free coordinates) and {nb} bars: a dense "
-                               "matrix of the analysis would have more than INT_MAX entries (at most 46340 bars "
-                               "and 46340 free coordinates); refused before the model was checked")
+        return False
+    joints, bars = doc.get("joints"), doc.get("bars")
+    if not isinstance(joints, list) or not isinstance(bars, list) or len(joints) + len(bars) <= LARGE_COUNT:
+        return False
+    try:
+        data = json.dumps(doc, allow_nan=False).encode("utf-8", "surrogatepass")
+    except (TypeError, ValueError):
+        return False  # not a JSON document (NaN, objects): the Python loader's own verdict
+    _c_check(data)
+    return True
 
 
 def parse(doc: Any) -> ParsedModel:
@@ -245,7 +238,11 @@ def parse(doc: Any) -> ParsedModel:
         (of the first problem, in the order of the document's parts, the
         joints and the bars, each field in turn).
     """
-    _check_counts(doc)
+    if _large_checked_by_c(doc):
+        try:  # the C loader checked the same rules (docs/model_format.md): no schema pass
+            return _build(doc)
+        except (KeyError, TypeError, ValueError, IndexError, AttributeError):
+            pass  # the loaders disagree: the Python loader's own verdict
     problems = _problems(doc)
     if problems:
         _, where, msg = min(problems, key=lambda p: p[0])
@@ -376,8 +373,7 @@ def _parse_text(text: Any) -> ParsedModel:
 def _c_check(data: bytes) -> None:
     """Check a JSON model text with the C loader (kin_assembly_load_string:
     the same rules, in bounded time and memory) and raise its verdict (a
-    KinError: ModelFormatError, OutOfMemoryError for counts over the
-    library's limits, ...); nothing if the model is valid."""
+    KinError: ModelFormatError, ...); nothing if the model is valid."""
     from .._native._lib import c_string, ffi, lib
     from ..errors import error_class
     out, err = ffi.new("kin_assembly **"), ffi.new("char[512]")
