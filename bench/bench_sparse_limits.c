@@ -39,21 +39,6 @@ static double cpu_now(void)
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-/* OpenBLAS's kernel (openblas_get_corename, looked up at run time: the
- * BLAS is whatever libblas.so.3 points to) and the threads asked for */
-static void print_blas(void)
-{
-    const char *core = "(not OpenBLAS)";
-    void *self = dlopen(NULL, RTLD_LAZY);
-    if (self) {
-        char *(*corename)(void) = NULL;
-        *(void **)(&corename) = dlsym(self, "openblas_get_corename");
-        if (corename) core = corename();
-    }
-    const char *th = getenv("OPENBLAS_NUM_THREADS");
-    printf("[BLAS kernel: %s; OPENBLAS_NUM_THREADS=%s]\n", core, th ? th : "(unset)");
-}
-
 static kin_assembly *chain(int dim, int n)
 {
     double *xyz = malloc(sizeof(double) * 3 * (size_t)n);
