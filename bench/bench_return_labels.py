@@ -19,6 +19,7 @@ a loop is a return along the branch's own line.
 from __future__ import annotations
 
 import argparse
+import os
 import time
 
 import numpy as np
@@ -175,6 +176,7 @@ def main():
     ap.add_argument("--sample", type=int, default=0, help="also this many branches spread over the start's")
     ap.add_argument("--scales", type=float, nargs="*", default=[0.9, 1.0, 1.1])
     ap.add_argument("--numpy", action="store_true", help="the independent NumPy follow of the same branches")
+    ap.add_argument("--one-sense", action="store_true", help="each branch in its + sense only")
     args = ap.parse_args()
     t0 = time.time()
     a, sols, lines, item = flat_state()
@@ -185,8 +187,9 @@ def main():
     if args.sample:
         chosen += [int(k) for k in np.linspace(0, len(sols) - 1, args.sample).astype(int)]
     rows = []
+    senses = (1,) if args.one_sense else (1, -1)
     for k in chosen:
-        for sg in (1, -1):
+        for sg in senses:
             d = sg * lines[k]
             out = []
             for sc in args.scales:
@@ -203,8 +206,9 @@ def main():
         U = a.analyse().internal_mechanisms
         Q = a.second_order()
         print("independent NumPy follow (chords 0.02 RMS lengths, arrival by secants at 0.1 and 0.2):")
+        agree = {True: 0, False: 0}
         for k in dict.fromkeys(chosen):
-            for sg in (1, -1):
+            for sg in senses:
                 t0, length = numpy_return(fr, sg * lines[k])
                 if t0 is None:
                     print(f"solution {sols[k]:6d} sign {sg:+d}: no return within length {length:.2f}")
@@ -214,14 +218,20 @@ def main():
                 r = newton_root(Q, U.T @ t0)
                 root = None if r is None else line_angles(lines, U @ r)
                 j = None if root is None else int(np.argmin(root))
+                named = next((r[2][len(r[2]) // 2][2] for r in rows if r[0] == sols[k] and r[1] == sg), None)
+                agree[j is not None and named == sols[j]] += 1
                 print(f"solution {sols[k]:6d} sign {sg:+d}: back at length {length:.3f}; arrival nearest "
                       f"{sols[near[0]]} ({ang[near[0]]:.3g} rad, next {ang[near[1]]:.3g}), own {ang[k]:.3g} rad; "
                       f"Newton's root: " + ("none" if j is None else f"{sols[j]} ({root[j]:.2g} rad)")
                       + (" -> LOOP" if j == k else " -> a return along another branch"), flush=True)
+    if args.numpy:
+        print(f"libkin's return branch (middle scale) = the NumPy follow's: {agree[True]} of "
+              f"{agree[True] + agree[False]} returns")
     loops = {sc: sum(r[2][i][0] == "closed-loop" for r in rows) for i, sc in enumerate(args.scales)}
-    same = sum(len({(o[0], o[2]) for o in r[2]}) == 1 for r in rows)
-    print(f"loops by step scale: {loops}; branches with the same label at every scale: {same} of {len(rows)}")
-    print(f"OpenBLAS: {libkin.__version__ if hasattr(libkin, '__version__') else ''}")
+    same = sum(len({o[2] for o in r[2]}) == 1 for r in rows)
+    print(f"loops by step scale: {loops}; directed branches with the same return label at every scale: "
+          f"{same} of {len(rows)}")
+    print(f"libkin {libkin.__version__}; BLAS kernel: OPENBLAS_CORETYPE={os.environ.get('OPENBLAS_CORETYPE', 'auto')}")
 
 
 if __name__ == "__main__":

@@ -144,7 +144,7 @@ static int open_ctx(follow_ctx *c, kin_assembly *a, const double *dir, const kin
 #endif
     size_t nc = (size_t)(a->nj * a->dim);
     c->xs = malloc(sizeof(double) * (6 * (size_t)nf + 2 * (nc + (size_t)nf) + (size_t)nf + (size_t)a->nb + 2 * nc +
-                                     2 * (size_t)SLOPE_BLOCK * nf + 3 * (size_t)nf));
+                                     2 * (size_t)SLOPE_BLOCK * nf + (3 + ARRIVAL_KEEP) * (size_t)nf));
     if (!c->xs) return kin__fail(a, KIN_ENOMEM, "follow workspace");
     c->ts = c->xs + nf;
     c->xp = c->ts + nf;
@@ -162,6 +162,7 @@ static int open_ctx(follow_ctx *c, kin_assembly *a, const double *dir, const kin
     c->kept[0].border = c->blk + 2 * (size_t)SLOPE_BLOCK * nf;
     c->kept[1].border = c->kept[0].border + nf;
     c->tarr = c->kept[1].border + nf;
+    c->hist = c->tarr + nf;
     if (at_bif && (x->nbranch > 0 || o->return_fn)) {
         double ang = 0.0, gap = 0.0;
         c->own = o->return_fn ? o->return_own : kin__follow_nearest_branch(c, dir, &ang, &gap);

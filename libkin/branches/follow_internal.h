@@ -18,6 +18,16 @@
  * start's to this |cos| (another path through a nearby point does not),
  * where the caller gave no branch directions */
 static const double LOOP_TANGENT_COS = 0.9;
+/* a return's arrival direction: the secants to the start from the point
+ * before the closing chord (or the newest earlier one outside the loop_tol
+ * ball; at d1) and from the newest point before it at ARRIVAL_SPREAD d1
+ * or farther (of the last ARRIVAL_KEEP), extrapolated
+ * linearly to the start. On 25 of the hexagonal flat state's returns the
+ * nearer secant alone was 0.001-0.11 rad from the branch it led to (with the
+ * step 10% longer one return named another branch than at 0.9 and 1.0);
+ * extrapolated, docs/follow.md (bench/bench_return_labels.py) */
+static const double ARRIVAL_SPREAD = 1.25;
+enum { ARRIVAL_KEEP = 8 };
 /* each relaxation of the location tolerance multiplies it by this */
 static const double RELAX_FACTOR = 10.0;
 /* cheap stretches hand over to the SVD locator where the estimated
@@ -113,6 +123,11 @@ typedef struct follow_ctx {
     double *ret_U, *ret_Q, *ret_J, *ret_F, *ret_qb, *ret_beta, *ret_tr;
     int *ret_ipiv, ret_m;
     double *tarr;     /* nf: the direction a return arrives along */
+    /* the last ARRIVAL_KEEP points the steps reached before xp, newest at
+     * hist_pos - 1 (a return's farther arrival points: all on the path,
+     * whatever the locator or a cheap stretch's going back did to xp) */
+    double *hist;
+    int nhist, hist_pos;
     double scale;     /* RMS rest length */
     double length;    /* sum of chords */
     double len_pp;

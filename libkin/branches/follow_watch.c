@@ -103,20 +103,43 @@ int kin__follow_deliver_samples(const follow_ctx *c)
  * back along (kin__return_branch: Newton on the start's second-order
  * equations from the direction it arrives along) is dir's own. The arrival
  * direction is measured on the arriving side, never by a step through the
- * start (which can land on a neighbouring branch): the secant from the point
- * before the chord to the start where that point is outside the loop_tol
- * ball, else the tangent at the chord's end (within loop_tol of the start).
+ * start (which can land on a neighbouring branch): the secants to the start
+ * from the point before the chord and from an earlier one, extrapolated to
+ * the start; undecided (never a loop) without them.
  * -1: return_fn failed (c->hook_rc). */
 static int is_loop(follow_ctx *c, const kin_assembly *a)
 {
     int nf = a->nf;
     if (!c->at_bif || c->own < 0)
         return fabs(kin__dot(nf, a->t, c->ts)) >= LOOP_TANGENT_COS;
-    const double *t = a->t;
-    if (kin__follow_distance(nf, c->xp, c->xs) > c->o->loop_tol * c->scale) {
-        for (int i = 0; i < nf; ++i) c->tarr[i] = c->xs[i] - c->xp[i];
-        t = c->tarr;
+    /* the secants from the newest point outside the loop_tol ball (xp, or
+     * an earlier one where the locator left xp inside it; at d1) and from
+     * the newest point before it at d2 >= ARRIVAL_SPREAD d1, u(d) = b -
+     * kappa d / 2 + O(d^2) along a branch b, extrapolated linearly to d = 0;
+     * without two such points the return is undecided */
+    const double *near = NULL, *far = NULL;
+    double d1 = 0.0, d2 = 0.0;
+    for (int k = 0; k <= c->nhist && !far; ++k) {
+        const double *h = k == 0 ? c->xp : c->hist + (size_t)((c->hist_pos - k + ARRIVAL_KEEP) % ARRIVAL_KEEP) * nf;
+        double d = kin__follow_distance(nf, h, c->xs);
+        if (!near && d > c->o->loop_tol * c->scale) {
+            near = h;
+            d1 = d;
+        } else if (near && d >= ARRIVAL_SPREAD * d1) {
+            far = h;
+            d2 = d;
+        }
     }
+    if (!far) {
+        c->info->return_branch = KIN_FOLLOW_RETURN_UNDECIDED;
+        c->info->return_angle = c->info->return_gap = NAN;
+        return 0;
+    }
+    for (int i = 0; i < nf; ++i) {
+        double u1 = (c->xs[i] - near[i]) / d1, u2 = (c->xs[i] - far[i]) / d2;
+        c->tarr[i] = (d2 * u1 - d1 * u2) / (d2 - d1);
+    }
+    const double *t = c->tarr;
     double ang = 0.0, gap = 0.0;
     int j = kin__return_branch(c, t, &ang, &gap);
     if (j == -1) return -1;
@@ -155,7 +178,12 @@ int kin__follow_after_step(void *user, const kin_assembly *a)
     double tol = c->o->loop_tol * c->scale;
     int stop = 0, was_away = c->left; /* away from the start before this chord */
     if (kin__follow_distance(nf, c->xq, c->xs) > 2.0 * tol) c->left = 1;
-    int loop = was_away && segment_distance(nf, c->xp, c->xq, c->xs, NULL) <= tol ? is_loop(c, a) : 0;
+    int back = was_away && segment_distance(nf, c->xp, c->xq, c->xs, NULL) <= tol;
+    int loop = back ? is_loop(c, a) : 0;
+    /* with branch directions a return is decided once, as the path arrives:
+     * the next is counted only after the path has been 2 loop_tol away again
+     * (the chords after it, within loop_tol, have no arrival to measure) */
+    if (back && !loop && c->at_bif && c->own >= 0) c->left = kin__follow_distance(nf, c->xq, c->xs) > 2.0 * tol;
     if (loop) {
         c->reason = loop < 0 ? KIN_FOLLOW_FAILED : KIN_FOLLOW_CLOSED_LOOP;
         stop = 1;
@@ -166,6 +194,9 @@ int kin__follow_after_step(void *user, const kin_assembly *a)
         c->reason = KIN_FOLLOW_CONTACT;
         stop = 1;
     }
+    memcpy(c->hist + (size_t)c->hist_pos * nf, c->xp, sizeof(double) * (size_t)nf);
+    c->hist_pos = (c->hist_pos + 1) % ARRIVAL_KEEP;
+    if (c->nhist < ARRIVAL_KEEP) c->nhist++;
     memcpy(c->xp, c->xq, sizeof(double) * (size_t)nf);
     if (stop) return KIN__HOOK_STOP;
     if (c->watch) {
