@@ -50,6 +50,13 @@ enum kin_follow_event {
                                     there; kin_last_contact names the parts */
 };
 
+/* kin_follow_info.return_branch of a return to the start whose branch is not
+ * clear (no arrival direction measured before the start, the arrival
+ * direction not nearer one branch than any other by branch_margin, or Newton
+ * on the second-order equations not reaching that branch's exact solution):
+ * never a closed loop. */
+enum { KIN_FOLLOW_RETURN_UNDECIDED = -2 };
+
 /* kin_follow_options.return_fn: the start's branch lines held by the caller
  * (kin_follow_event_ex). Called at each return to the start with t, the
  * direction (nfree entries, not normalised) the path comes back along. It
@@ -142,10 +149,13 @@ typedef struct kin_follow_info {
     int handovers;       /* times the cheap steps handed over to the SVD locator */
     int samples;         /* kin_follow_event_ex: configurations written to its buffer */
     int return_branch;   /* kin_follow_event_ex with branch directions, at a return to the
-                            start: the index of the branch it came back along (nearest;
-                            with return_fn, in the caller's numbering), else -1 */
-    double return_angle; /* that return: angle (radians) between the return direction and
-                            that branch; the next nearest branch is return_gap farther */
+                            start: the index of the branch it came back along (the exact
+                            second-order solution Newton reaches from the arrival direction,
+                            docs/follow.md; with return_fn, in the caller's numbering);
+                            KIN_FOLLOW_RETURN_UNDECIDED where that is not clear; else -1 */
+    double return_angle; /* that return: angle (radians) between the arrival direction and
+                            the branch nearest it; the next nearest is return_gap farther
+                            (both NaN where no arrival direction could be measured) */
     double return_gap;
     /* layout 3 (docs/abi.md): a host compiled without these fields does not get them */
     double min_width;    /* NEAR_MISS with min_located: the interval of path length (/ RMS
@@ -205,10 +215,13 @@ KIN_API int kin_follow_event(kin_assembly *a, const double *dir, const kin_follo
  *        nfree, column-major: branch j at branches + j*nfree), e.g. U_m beta
  *        for every real second-order solution beta, any sign, dir among
  *        them (up to sign and scale). A return to the start then counts as a
- *        closed loop only when it comes back along dir's own branch (its
- *        direction nearer that branch than any other by branch_margin);
- *        along any other branch, or too close to call, following goes on and
- *        the start is located like any bifurcation (info->at_start).
+ *        closed loop only when it comes back along dir's own branch: its
+ *        arrival direction (measured before the start) nearer that branch
+ *        than any other by branch_margin, and Newton on the start's
+ *        second-order equations from it reaching that branch's exact
+ *        solution (docs/follow.md); along any other branch, or not clear
+ *        (KIN_FOLLOW_RETURN_UNDECIDED), following goes on and the start is
+ *        located like any bifurcation (info->at_start).
  *        Without them (nor o->return_fn, which gives the same decision from
  *        the caller's lines) a return with a tangent parallel to the
  *        start's (|cos| >= 0.9) is a loop. Ignored at a regular start.

@@ -121,8 +121,9 @@ static int check_start(kin_assembly *a, const double *dir, const kin_follow_opti
 }
 
 /* STAGE 2: the call's state (c zeroed by the caller): its workspace, dir's
- * own branch and a copy to measure returns on, the start point, the
- * progress budget. A status (nothing to free on failure). */
+ * own branch and the start's second-order equations for the returns
+ * (return_branch.c), the start point, the progress budget. A status
+ * (nothing to free on failure). */
 static int open_ctx(follow_ctx *c, kin_assembly *a, const double *dir, const kin_follow_options *o,
                     const follow_extra *x, kin_follow_info *info, int at_bif)
 {
@@ -143,7 +144,7 @@ static int open_ctx(follow_ctx *c, kin_assembly *a, const double *dir, const kin
 #endif
     size_t nc = (size_t)(a->nj * a->dim);
     c->xs = malloc(sizeof(double) * (6 * (size_t)nf + 2 * (nc + (size_t)nf) + (size_t)nf + (size_t)a->nb + 2 * nc +
-                                     2 * (size_t)SLOPE_BLOCK * nf + 2 * (size_t)nf));
+                                     2 * (size_t)SLOPE_BLOCK * nf + (3 + ARRIVAL_KEEP) * (size_t)nf));
     if (!c->xs) return kin__fail(a, KIN_ENOMEM, "follow workspace");
     c->ts = c->xs + nf;
     c->xp = c->ts + nf;
@@ -160,12 +161,15 @@ static int open_ctx(follow_ctx *c, kin_assembly *a, const double *dir, const kin
     c->blk = c->scr + 2 * nc;
     c->kept[0].border = c->blk + 2 * (size_t)SLOPE_BLOCK * nf;
     c->kept[1].border = c->kept[0].border + nf;
+    c->tarr = c->kept[1].border + nf;
+    c->hist = c->tarr + nf;
     if (at_bif && (x->nbranch > 0 || o->return_fn)) {
         double ang = 0.0, gap = 0.0;
         c->own = o->return_fn ? o->return_own : kin__follow_nearest_branch(c, dir, &ang, &gap);
-        if (kin_assembly_clone(a, &c->probe)) {
+        int rc = kin__return_open(c);
+        if (rc) {
             free(c->xs);
-            return kin__fail(a, KIN_ENOMEM, "follow: a copy for the return direction");
+            return rc;
         }
     }
     kin__gather(a, a->xyz, c->xs);
@@ -180,7 +184,7 @@ static int open_ctx(follow_ctx *c, kin_assembly *a, const double *dir, const kin
 static void close_ctx(follow_ctx *c)
 {
     free(c->xs);
-    kin_assembly_free(c->probe);
+    kin__return_close(c);
 }
 
 /* STAGE 3, at a regular point: orient the path along dir (or keep the

@@ -5,8 +5,9 @@
  * SVD locator; follow_watch.c the checks after every accepted step, in
  * both (the hook the locator calls too). Calls go one way only, so that no
  * two files call each other: follow.c -> follow_cheap.c, follow_watch.c;
- * follow_cheap.c -> follow_watch.c. The tuning constants are here, in one
- * place, with the measurements behind them. */
+ * follow_cheap.c -> follow_watch.c; return_branch.c (the branch a return
+ * comes back along) is called by follow.c and follow_watch.c. The tuning
+ * constants are here, in one place, with the measurements behind them. */
 #ifndef KIN_FOLLOW_INTERNAL_H
 #define KIN_FOLLOW_INTERNAL_H
 
@@ -17,6 +18,16 @@
  * start's to this |cos| (another path through a nearby point does not),
  * where the caller gave no branch directions */
 static const double LOOP_TANGENT_COS = 0.9;
+/* a return's arrival direction: the secants to the start from the point
+ * before the closing chord (or the newest earlier one outside the loop_tol
+ * ball; at d1) and from the newest point before it at ARRIVAL_SPREAD d1
+ * or farther (of the last ARRIVAL_KEEP), extrapolated
+ * linearly to the start. On 25 of the hexagonal flat state's returns the
+ * nearer secant alone was 0.001-0.11 rad from the branch it led to (with the
+ * step 10% longer one return named another branch than at 0.9 and 1.0);
+ * extrapolated, docs/follow.md (bench/bench_return_labels.py) */
+static const double ARRIVAL_SPREAD = 1.25;
+enum { ARRIVAL_KEEP = 8 };
 /* each relaxation of the location tolerance multiplies it by this */
 static const double RELAX_FACTOR = 10.0;
 /* cheap stretches hand over to the SVD locator where the estimated
@@ -106,7 +117,17 @@ typedef struct follow_ctx {
     double *u, *w, *scr; /* cheap stretch: singular vectors (nf, nb), scratch (2 nj dim) */
     double *blk;      /* ... the slope's subspace (2 SLOPE_BLOCK nf), its Ritz vectors kept where blk_warm */
     int blk_warm;
-    kin_assembly *probe; /* with branch directions: a copy to measure a return's direction on */
+    /* with branch directions at a bifurcation start (return_branch.c): the
+     * start's mechanisms U (nf x ret_m) and second-order matrices Q, Newton's
+     * workspace; ret_m 0 where the start has no isolated second-order roots */
+    double *ret_U, *ret_Q, *ret_J, *ret_F, *ret_qb, *ret_beta, *ret_tr;
+    int *ret_ipiv, ret_m;
+    double *tarr;     /* nf: the direction a return arrives along */
+    /* the last ARRIVAL_KEEP points the steps reached before xp, newest at
+     * hist_pos - 1 (a return's farther arrival points: all on the path,
+     * whatever the locator or a cheap stretch's going back did to xp) */
+    double *hist;
+    int nhist, hist_pos;
     double scale;     /* RMS rest length */
     double length;    /* sum of chords */
     double len_pp;
@@ -139,9 +160,6 @@ typedef struct follow_ctx {
 
 /* the distance of x and y (n entries) */
 double kin__follow_distance(int n, const double *x, const double *y);
-/* the branch nearest the line of t: its index, angle, and the gap to the
- * next nearest (INFINITY with one branch) */
-int kin__follow_nearest_branch(const follow_ctx *c, const double *t, double *angle, double *gap);
 /* the caller's samples from the record; returns their count */
 int kin__follow_deliver_samples(const follow_ctx *c);
 /* the hook after every accepted step (user: the follow_ctx), of the cheap
@@ -150,6 +168,24 @@ int kin__follow_after_step(void *user, const kin_assembly *a);
 /* after the locator returns: the length and the points from where it left
  * the handle */
 void kin__follow_resync(follow_ctx *c);
+
+/* ---- return_branch.c ---- */
+
+/* the branch nearest the line of t: its index, angle, and the gap to the
+ * next nearest (INFINITY with one branch) */
+int kin__follow_nearest_branch(const follow_ctx *c, const double *t, double *angle, double *gap);
+
+/* at the start (a bifurcation, with branch directions): the start's U_m and
+ * Q_j for the returns (c->ret_m 0 where m != s + 1 or the second order
+ * cannot be had). A status (KIN_ENOMEM) */
+int kin__return_open(follow_ctx *c);
+void kin__return_close(follow_ctx *c);
+/* the caller's line a return arriving along t0 comes back along: Newton on
+ * the start's second-order equations from t0, the root matched to a line
+ * (*angle, *gap: t0's angle to the nearest line, the next one gap farther);
+ * KIN_FOLLOW_RETURN_UNDECIDED where that is not clear; -1: return_fn failed
+ * (c->hook_rc) */
+int kin__return_branch(follow_ctx *c, const double *t0, double *angle, double *gap);
 
 /* ---- follow_cheap.c ---- */
 

@@ -3,8 +3,8 @@
  * locator alike, which calls kin__follow_after_step as its hook: the path
  * length by chords, the samples the caller asked for, a return to the
  * start and whether it is a closed loop (with the start's branch
- * directions if given: is_loop), the length budget, a contact, and after a
- * handover whether LU steps may resume; and, after the locator returns,
+ * directions if given: is_loop, with return_branch.c), the length budget,
+ * a contact, and after a handover whether LU steps may resume; and, after the locator returns,
  * the length and points from where it left the handle (kin__follow_resync).
  * A new kind of event belongs in kin__follow_after_step (a stop with its
  * own reason) and in follow.c's classification of how the path ended. */
@@ -43,38 +43,6 @@ double kin__follow_distance(int n, const double *x, const double *y)
     double r = 0.0;
     for (int i = 0; i < n; ++i) r += (x[i] - y[i]) * (x[i] - y[i]);
     return sqrt(r);
-}
-
-/* angle (radians, in [0, pi/2]) between the lines of u and v (n entries):
- * atan2 of the sine and |cosine|, accurate for nearly parallel lines */
-static double line_angle(int n, const double *u, const double *v)
-{
-    double uu = kin__dot(n, u, u), vv = kin__dot(n, v, v), uv = kin__dot(n, u, v);
-    if (!(uu > 0.0 && vv > 0.0)) return HALF_PI;
-    double s2 = 0.0, k = uv / vv;
-    for (int i = 0; i < n; ++i) s2 += (u[i] - k * v[i]) * (u[i] - k * v[i]);
-    return atan2(sqrt(s2 / uu), fabs(uv) / sqrt(uu * vv));
-}
-
-/* the branch nearest the line of t: its index, angle, and the gap to the
- * next nearest (INFINITY with one branch) */
-int kin__follow_nearest_branch(const follow_ctx *c, const double *t, double *angle, double *gap)
-{
-    int nf = c->a->nf, best = -1;
-    double b1 = INFINITY, b2 = INFINITY;
-    for (int j = 0; j < c->x->nbranch; ++j) {
-        double g = line_angle(nf, t, c->x->branches + (size_t)j * nf);
-        if (g < b1) {
-            b2 = b1;
-            b1 = g;
-            best = j;
-        } else if (g < b2) {
-            b2 = g;
-        }
-    }
-    *angle = b1;
-    *gap = b2 - b1;
-    return best;
 }
 
 /* SAMPLES. The points of the path's steps, by index p (the start 0): the
@@ -131,45 +99,54 @@ int kin__follow_deliver_samples(const follow_ctx *c)
 
 /* A return to the start (the last chord passes within loop_tol of it): is
  * it a closed loop? Without branch directions: the tangent parallel to the
- * start's. With them (or the caller's o->return_fn): the direction the path
- * comes back along, measured at the point of the path nearest the start (a
- * step back from the chord's end, on a copy), is nearest dir's own branch
- * by branch_margin. -1: return_fn failed (c->hook_rc). */
-static int is_loop(follow_ctx *c, const kin_assembly *a, double s)
+ * start's. With them (or the caller's o->return_fn): the branch it comes
+ * back along (kin__return_branch: Newton on the start's second-order
+ * equations from the direction it arrives along) is dir's own. The arrival
+ * direction is measured on the arriving side, never by a step through the
+ * start (which can land on a neighbouring branch): the secants to the start
+ * from the point before the chord and from an earlier one, extrapolated to
+ * the start; undecided (never a loop) without them.
+ * -1: return_fn failed (c->hook_rc). */
+static int is_loop(follow_ctx *c, const kin_assembly *a)
 {
     int nf = a->nf;
     if (!c->at_bif || c->own < 0)
         return fabs(kin__dot(nf, a->t, c->ts)) >= LOOP_TANGENT_COS;
-    const double *t = a->t;
-    kin_assembly *b = c->probe; /* made at the start of the call */
-    double back = (1.0 - s) * kin__follow_distance(nf, c->xp, c->xq);
-    if (back > 0.0 && b) {
-        kin__copy_state(b, a);
-        b->opt = a->opt;
-        b->opt.factorization = KIN_STEP_SVD;
-        kin_step_info si = {.size = sizeof si};
-        if (kin_step(b, -back, &si) == KIN_OK && si.m_internal == 1) t = b->t;
+    /* the secants from the newest point outside the loop_tol ball (xp, or
+     * an earlier one where the locator left xp inside it; at d1) and from
+     * the newest point before it at d2 >= ARRIVAL_SPREAD d1, u(d) = b -
+     * kappa d / 2 + O(d^2) along a branch b, extrapolated linearly to d = 0;
+     * without two such points the return is undecided */
+    const double *near = NULL, *far = NULL;
+    double d1 = 0.0, d2 = 0.0;
+    for (int k = 0; k <= c->nhist && !far; ++k) {
+        const double *h = k == 0 ? c->xp : c->hist + (size_t)((c->hist_pos - k + ARRIVAL_KEEP) % ARRIVAL_KEEP) * nf;
+        double d = kin__follow_distance(nf, h, c->xs);
+        if (!near && d > c->o->loop_tol * c->scale) {
+            near = h;
+            d1 = d;
+        } else if (near && d >= ARRIVAL_SPREAD * d1) {
+            far = h;
+            d2 = d;
+        }
     }
+    if (!far) {
+        c->info->return_branch = KIN_FOLLOW_RETURN_UNDECIDED;
+        c->info->return_angle = c->info->return_gap = NAN;
+        return 0;
+    }
+    for (int i = 0; i < nf; ++i) {
+        double u1 = (c->xs[i] - near[i]) / d1, u2 = (c->xs[i] - far[i]) / d2;
+        c->tarr[i] = (d2 * u1 - d1 * u2) / (d2 - d1);
+    }
+    const double *t = c->tarr;
     double ang = 0.0, gap = 0.0;
-    int j;
-    if (c->o->return_fn) {
-        ang = gap = NAN;
-        j = c->o->return_fn(c->o->return_user, t, nf, &ang, &gap);
-        if (j < 0) {
-            c->hook_rc = kin__fail(c->a, KIN_ECANCELLED, "follow: return_fn stopped the follow (returned %d)", j);
-            return -1;
-        }
-        if (!(ang >= 0.0 && ang <= HALF_PI * (1.0 + 1e-12)) || !(gap >= 0.0)) {
-            c->hook_rc = kin__fail(c->a, KIN_EINVAL, "follow: return_fn gave angle %g, gap %g", ang, gap);
-            return -1;
-        }
-    } else {
-        j = kin__follow_nearest_branch(c, t, &ang, &gap);
-    }
+    int j = kin__return_branch(c, t, &ang, &gap);
+    if (j == -1) return -1;
     c->info->return_branch = j;
     c->info->return_angle = ang;
     c->info->return_gap = gap;
-    return j == c->own && gap >= c->o->branch_margin;
+    return j == c->own;
 }
 
 /* the vanishing singular value of an SVD point is well separated from the
@@ -198,10 +175,15 @@ int kin__follow_after_step(void *user, const kin_assembly *a)
     c->length += kin__follow_distance(nf, c->xp, c->xq);
     c->p++;
     record_sample(c, a);
-    double tol = c->o->loop_tol * c->scale, s = 0.0;
+    double tol = c->o->loop_tol * c->scale;
     int stop = 0, was_away = c->left; /* away from the start before this chord */
     if (kin__follow_distance(nf, c->xq, c->xs) > 2.0 * tol) c->left = 1;
-    int loop = was_away && segment_distance(nf, c->xp, c->xq, c->xs, &s) <= tol ? is_loop(c, a, s) : 0;
+    int back = was_away && segment_distance(nf, c->xp, c->xq, c->xs, NULL) <= tol;
+    int loop = back ? is_loop(c, a) : 0;
+    /* with branch directions a return is decided once, as the path arrives:
+     * the next is counted only after the path has been 2 loop_tol away again
+     * (the chords after it, within loop_tol, have no arrival to measure) */
+    if (back && !loop && c->at_bif && c->own >= 0) c->left = kin__follow_distance(nf, c->xq, c->xs) > 2.0 * tol;
     if (loop) {
         c->reason = loop < 0 ? KIN_FOLLOW_FAILED : KIN_FOLLOW_CLOSED_LOOP;
         stop = 1;
@@ -212,6 +194,9 @@ int kin__follow_after_step(void *user, const kin_assembly *a)
         c->reason = KIN_FOLLOW_CONTACT;
         stop = 1;
     }
+    memcpy(c->hist + (size_t)c->hist_pos * nf, c->xp, sizeof(double) * (size_t)nf);
+    c->hist_pos = (c->hist_pos + 1) % ARRIVAL_KEEP;
+    if (c->nhist < ARRIVAL_KEEP) c->nhist++;
     memcpy(c->xp, c->xq, sizeof(double) * (size_t)nf);
     if (stop) return KIN__HOOK_STOP;
     if (c->watch) {

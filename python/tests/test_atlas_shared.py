@@ -27,7 +27,9 @@ def test_the_same_atlas_as_the_old_passes(many, monkeypatch):
         on_pool = libkin.explore(MODEL, executor=pool, **SETTINGS)
     monkeypatch.setattr(Sharing, "share", lambda self, array: None)  # workers that cannot get the lines
     old = libkin.explore(MODEL, **SETTINGS)
-    assert old.stats["returns_decided_again"].get("tasks", 0) >= 1  # the old passes ran
+    # the old passes (returns_decided_again) run only for loops with the own line alone: since
+    # issue 36 item 2 a return along another branch is not one (the follower's Newton root from
+    # its arrival is on another line), so here they may have nothing to decide again
     assert here.same_as(old, tol=0.0) and on_pool.same_as(old, tol=0.0)
     assert [e.event for e in here.edges] == [e.event for e in old.edges]
 

@@ -343,6 +343,7 @@ enum kin_follow_event {
     KIN_FOLLOW_FAILED = 6,
     KIN_FOLLOW_CONTACT = 7
 };
+enum { KIN_FOLLOW_RETURN_UNDECIDED = -2 };
 typedef int (*kin_follow_return_fn)(void *user, const double *t, int nfree, double *angle, double *gap);
 typedef struct kin_follow_options {
     size_t size;

@@ -36,7 +36,10 @@ decides exactly as with all:
   lines is a metric, so such a line k has angle(t, k) >= angle(dir, k) -
   angle(dir, t) >= b + margin.
 
-The passes: first S = {own} (a return ends the task as a loop). A loop not
+The passes: first S = {own} (a return ends the task as a loop where the
+follower's Newton root from its arrival direction is the own line; a root on
+another line, not in S, is undecided there and with all lines it is that
+line: not a loop either way). A loop not
 certain is followed again with the lines within RETURN_RADIUS of the
 path's direction at its end (the task's "return_tangent", near t): a
 return along another branch finds that branch among them and goes on, as
