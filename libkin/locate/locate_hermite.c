@@ -748,10 +748,27 @@ static double cluster_slope(const kin_assembly *st, const double *dir, int lo, i
     return dv / (hi - lo + 1);
 }
 
+/* A cluster monotone over the bracket whose tangent line at the nearer end
+ * reaches zero within this fraction of the bracket beyond that end vanishes
+ * just outside it: the detector's bracket is the lowest value's, and where
+ * that one is flat (the collapsed hub's three) it may turn a step after the
+ * steep pair crossed */
+static const double OUTSIDE_FRACTION = 0.5;
+
+/* the group's top cluster: its size, and where it vanishes outside the
+ * bracket (outside != 0), the predicted point: s along the unit chord from
+ * the start (negative: behind it) */
+typedef struct group_top_cluster {
+    int size, outside;
+    double s;
+} group_top_cluster;
+
 /* How many singular values above the lowest vanish with it over the
  * bracket [c->prev, c->a] (both analysed by SVD): the highest cluster below
- * switch_eps * v_max whose values vanish there (VANISH_MEET_FRACTION). */
-static int vanishing_group(loc_ctx *c, int *size)
+ * switch_eps * v_max whose values vanish there (VANISH_MEET_FRACTION) or
+ * just outside (OUTSIDE_FRACTION). The chord's unit direction is left in
+ * h->d. */
+static int vanishing_group(loc_ctx *c, group_top_cluster *tc)
 {
     hermite_ws *h = c->hw;
     const kin_assembly *p = c->prev, *a = c->a;
@@ -778,15 +795,58 @@ static int vanishing_group(loc_ctx *c, int *size)
         if (fmin(v0, v1) > cut) break;
         /* the tangent lines v0 + d0 s and v1 + d1 (s - w) meet at s* */
         double s = (v1 - v0 - d1 * w) / (d0 - d1), meet = v0 + d0 * s;
-        if (d0 < 0.0 && d1 > 0.0 && meet <= VANISH_MEET_FRACTION * fmin(v0, v1) && k - lo <= MAX_GROUP) {
+        int inside = d0 < 0.0 && d1 > 0.0 && meet <= VANISH_MEET_FRACTION * fmin(v0, v1);
+        /* monotone: the zero of the tangent line at the lower end */
+        double zs = v0 <= v1 ? -v0 / d0 : w - v1 / d1;
+        int outside = !inside && d0 * d1 > 0.0 && (v0 <= v1 ? zs < 0.0 : zs > w) &&
+                      fabs(v0 <= v1 ? zs : zs - w) <= OUTSIDE_FRACTION * w;
+        if ((inside || outside) && k - lo <= MAX_GROUP) {
             grp = k - lo;
-            *size = hi - lo + 1;
+            tc->size = hi - lo + 1;
+            tc->outside = outside;
+            tc->s = zs;
         }
         TRACE("  group: values %d..%d at %.3g / %.3g, slopes %.3g / %.3g, tangents meet at %.3g%s\n", lo, hi, v0, v1,
-              d0, d1, meet, grp == k - lo ? " (vanishing)" : "");
+              d0, d1, meet, grp == k - lo ? (outside ? " (vanishing outside)" : " (vanishing)") : "");
         hi = lo - 1;
     }
     return grp;
+}
+
+/* The corank-k mode where the top cluster vanishes just outside the
+ * bracket: from the point s along the unit chord h->d from c->prev (its
+ * tangent line's zero), the Newton of corank_refine alone. On success
+ * c->work sits on the bifurcation, analysed. KIN_OK, KIN_ENOTFOUND or a
+ * status. */
+static int corank_outside(loc_ctx *c, double s)
+{
+    hermite_ws *h = c->hw;
+    kin_assembly *w = c->work, *prev = c->prev;
+    int nf = h->nf, rc;
+    /* onto the path there: a forward calculation along prev's tangent */
+    double used = 0.0;
+    rc = kin__loc_forward(c, prev, w, s * kin__dot(nf, prev->t, h->d), &used);
+    if (rc == KIN_ENOTCONVERGED || rc == KIN_EPATHJUMP || rc == KIN_ENOMECH)
+        return kin__fail(c->a, KIN_ENOTFOUND, "the forward calculation to a corank-%d point failed", h->grp + 1);
+    if (rc) return rc;
+    kin__gather(w, w->xyz, h->xs);
+    if (!kin__cur(w)->valid && (rc = kin__analyse_into(w, w->xyz, w->cur)) != KIN_OK) return rc;
+    double vmax, vv = group_top(h, w, c->o->vr_tol, &vmax), strain = kin__lengths(w, w->xyz, NULL);
+    TRACE("  corank-k outside the bracket: from s = %.6g, group top %.3g\n", s, vv / vmax);
+    if ((rc = corank_refine(c, &vv, &vmax, &strain)) != KIN_OK) return rc;
+    if (!(vv <= c->o->vr_tol * vmax && strain <= kin__corrector_tol(w)))
+        return kin__fail(c->a, KIN_ENOTFOUND,
+                         "%d singular values vanish together here; their Newton reached only v_r = %.2g relative, "
+                         "above vr_tol = %.2g", h->grp + 1, vv / vmax, c->o->vr_tol);
+    kin__gather(w, prev->xyz, w->chord);
+    double z = 0.0;
+    for (int i = 0; i < nf; ++i) {
+        w->chord[i] = h->xs[i] - w->chord[i];
+        z += prev->t[i] * w->chord[i];
+    }
+    w->l = prev->l + (z < 0.0 ? -1.0 : 1.0) * kin__norm(nf, w->chord);
+    w->have_t = w->t_chosen = 0;
+    return KIN_OK;
 }
 
 /* Locate between c->prev and c->a (the bracketing step). On success c->work
@@ -809,7 +869,8 @@ int kin__locate_hermite(loc_ctx *c)
     int r2;
     if (!kin__cur(c->prev)->valid && (r2 = kin__analyse(c->prev, NULL)) != KIN_OK) return r2;
     if (!kin__cur(c->a)->valid && (r2 = kin__analyse(c->a, NULL)) != KIN_OK) return r2;
-    int gsz = 1, grp = vanishing_group(c, &gsz);
+    group_top_cluster tc = {1, 0, 0.0};
+    int grp = vanishing_group(c, &tc);
     if (grp == 0) return rc;
     if (rc == KIN_OK) {
         int k = kin__loc_vanishing_index(c->work);
@@ -820,10 +881,10 @@ int kin__locate_hermite(loc_ctx *c)
     int lu = c->lu_nodes, first = rc;
     double nonzero_min = c->nonzero_min;
     h->grp = grp;
-    h->gsz = gsz;
+    h->gsz = tc.size;
     c->lu_nodes = 0;
     c->nonzero_min = 0.0;
-    rc = hermite_run(c);
+    rc = tc.outside ? corank_outside(c, tc.s) : hermite_run(c);
     h->grp = 0;
     h->gsz = 1;
     c->lu_nodes = lu;
