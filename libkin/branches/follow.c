@@ -360,16 +360,6 @@ static int attempt_ends(follow_ctx *c, int *rc, const kin_locate_info *li, const
      * 1e-2) took all 5 attempts, each an SVD step, a start analysis
      * and a Hermite location: 4 of them for nothing */
     if (lws->nonzero_min > sqrt(o->vr_floor)) return 1;
-    /* ... nor where it gave up on a crossing (v_r ~ |l - l*|, order 1):
-     * there the nodes on both sides are accurate and a V through zero
-     * would have been reached (several vanishing together: the corank-k
-     * mode, docs/locate.md); what is left is a smooth non-zero minimum
-     * below sqrt(vr_tol), a near miss, which a relaxed tolerance used to
-     * accept as a bifurcation (51 of the depth-5 atlas's nodes, m = 2,
-     * s = 1 at 1e-9..1e-6, and the 45 first steps refused out of them;
-     * docs/atlas.md). Relaxing stays for a tangency (order 2), where the
-     * strain fixes the point only to sqrt of the tolerance. */
-    if (li->zero_order == 1) return 1;
     *tol *= RELAX_FACTOR;
     if (*tol > o->vr_floor * (1.0 + 1e-9)) return 1;
     return 0;
