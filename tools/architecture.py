@@ -334,7 +334,7 @@ def depth(nodes, edges, weight=lambda v: 1):
 MAX_FUNCTION_LINES = 120
 LONG_FUNCTIONS = {
     "locate/locate.c:locate_impl": 277,
-    "locate/locate_hermite.c:kin__locate_hermite": 195,
+    "locate/locate_hermite.c:hermite_run": 195,
     "homotopy/track/homotopy_batch.c:kin__hom_track_batch": 180,
     "path/sparse.c:kin__sparse_prepare": 160,
     "path/path.c:attempt": 155,

@@ -50,6 +50,8 @@ enum { MAX_ZERO_ORDER = 2 };
  * point away), at most POLISH_MAX_ITER times. */
 static const double POLISH_CUT = 1e3;
 enum { POLISH_MAX_ITER = 5 };
+/* corank-k Newton steps at a check point of the corank-k mode */
+enum { CORANK_NEWTON_ITER = 8 };
 /* bisection steps for the root of the interpolated signed singular value */
 enum { ROOT_BISECTIONS = 100 };
 /* LU nodes (loc_ctx.lu_nodes): the node's vanishing singular triple by
@@ -77,6 +79,11 @@ static const double LU_NODE_VECTOR_TOL = 1e-9;
  * interpolant, so it cannot slide onto a neighbouring branch). */
 struct hermite_ws {
     int n, nf;
+    /* the corank-k mode (kin__locate_hermite): the vanishing group is the
+     * lowest singular value and the grp above it; a node carries their sum
+     * and its derivative (0: the lowest alone, the corank-1 method) */
+    int grp, gsz; /* ... and the size of the top cluster, the node value */
+    kin__corank_ws *cw; /* the corank-k Newton's (locate_corank.c) */
     double z[HERMITE_MAX_NODES], v[HERMITE_MAX_NODES], dv[HERMITE_MAX_NODES];
     double err[HERMITE_MAX_NODES]; /* estimated position error of the node */
     double *x, *dx;   /* HERMITE_MAX_NODES * nf each: the nodes */
@@ -94,6 +101,7 @@ void kin__hermite_free(hermite_ws *h)
 {
     if (!h) return;
     free(h->x);
+    kin__corank_free(h->cw);
     free(h);
 }
 
@@ -107,8 +115,9 @@ hermite_ws *kin__hermite_alloc(const kin_assembly *a)
     size_t ny = nf > nb ? nf : nb;
     h->nf = a->nf;
     h->x = malloc(sizeof(double) * (K * nf * 6 + nf + nc + nb + ny + nf + 2 * nc + ny + 2 * LU_NODE_BLOCK * nf + nf + nb));
-    if (!h->x) {
-        free(h);
+    h->cw = kin__corank_alloc(a);
+    if (!h->x || !h->cw) {
+        kin__hermite_free(h);
         return NULL;
     }
     h->dx = h->x + K * nf;
@@ -207,11 +216,25 @@ static int hermite_add(hermite_ws *h, const kin_assembly *st, const kin_assembly
     double *x = h->x + (size_t)h->n * nf, *dx = h->dx + (size_t)h->n * nf;
     kin__gather(st, st->xyz, x);
     memcpy(h->xyz, st->xyz, sizeof(double) * (size_t)(st->nj * st->dim));
-    double corr = chord_polish(st, f, k + 1, x, h->xyz, h->e, h->y, h->d, NODE_POLISH_ITER);
+    /* in the corank-k mode not along the group: its values are small over
+     * the whole neighbourhood (the three of the collapsed hub stay at
+     * 1e-8 over +-3e-3), and dividing by them would call every node there
+     * inaccurate by what the strain cannot see */
+    int r = h->grp > 0 ? k - h->grp : k + 1;
+    double corr = chord_polish(st, f, r, x, h->xyz, h->e, h->y, h->d, NODE_POLISH_ITER);
     double floor = DBL_EPSILON * st->rms_length;
     if (!node_parameter(h, st, base, x, dx)) return 0;
-    h->v[h->n] = f->sv[k];
-    h->dv[h->n] = kin__sv_derivative(st, f, st->xyz, dx, k, h->scratch);
+    if (k < h->grp) return 0;
+    /* the top cluster's sum: smooth where the cluster is apart from the
+     * rest, its derivative (a trace) independent of the SVD's basis inside
+     * it. Not the values below it: those that vanish to a high order sit at
+     * the nodes' rounding (1e-8) over the whole neighbourhood and would add
+     * that noise to the zero */
+    h->v[h->n] = h->dv[h->n] = 0.0;
+    for (int i = k - h->grp; i < k - h->grp + h->gsz; ++i) {
+        h->v[h->n] += f->sv[i];
+        h->dv[h->n] += kin__sv_derivative(st, f, st->xyz, dx, i, h->scratch);
+    }
     h->err[h->n] = fmax(corr, floor);
     h->n++;
     return 1;
@@ -325,6 +348,24 @@ static void signed_sv(const hermite_ws *h, int i, int p, double *s, double *ds)
     }
 }
 
+/* The located test: the largest singular value of the vanishing group
+ * (detect.c's, by the ratio gap), and in the corank-k mode also the top of
+ * the group the bracket showed (h->grp above the lowest, k): every one of
+ * them must meet the tolerance. From singular values alone (descending). */
+static double group_top_sv(const hermite_ws *h, const double *sv, int k, double tol)
+{
+    double top = kin__loc_group_top_sv(sv, k, tol);
+    return h->grp > 0 && k >= h->grp ? fmax(top, sv[k - h->grp]) : top;
+}
+
+/* ... of the analysed a, its v_max into *vmax */
+static double group_top(const hermite_ws *h, const kin_assembly *a, double tol, double *vmax)
+{
+    int k = kin__loc_vanishing_index(a);
+    *vmax = kin__cur(a)->an.v_max;
+    return k < 0 ? kin__loc_group_top(a, tol) : group_top_sv(h, kin__cur(a)->sv, k, tol);
+}
+
 /* An estimate from the nodes with use[i] != 0: the adjacent pair (lo, hi)
  * between which v turns from decreasing to increasing in z, the order p of
  * the zero, z*, and (if want_x) x(z*) into h->xs with the x interpolant's
@@ -419,12 +460,54 @@ static double next_node(const hermite_ws *h, const int *good, const herm_est *E,
     return E->zs + (side ? off : -off);
 }
 
-/* Locate between c->prev and c->a (the bracketing step). On success c->work
- * sits on the bifurcation, analysed. Returns KIN_OK, KIN__HERMITE_NO_BRACKET
- * (the vanishing singular value does not turn within the step: the caller
- * may fall back on the test function), KIN_ENOTFOUND, or a step/LAPACK
- * code. */
-int kin__locate_hermite(loc_ctx *c)
+/* The corank-k mode's check point c->work (analysed; its free coordinates
+ * in h->xs) brought onto the bifurcation: Gauss-Newton steps on the group's
+ * k x k block (kin__corank_step), each followed by chord corrections along
+ * the singular values above the group (the strain the step made there) and
+ * an analysis, while the group's top shrinks, at most CORANK_NEWTON_ITER.
+ * *vv, *vmax, *strain: the point's located test, v_max and strain; a point
+ * that does not improve the test is not kept. A status. */
+static int corank_refine(loc_ctx *c, double *vv, double *vmax, double *strain)
+{
+    hermite_ws *h = c->hw;
+    kin_assembly *w = c->work;
+    int nf = h->nf;
+    double *x = h->sx, *x0 = h->sx + nf; /* the trial and the best point (nodes not in use now) */
+    memcpy(x0, h->xs, sizeof(double) * (size_t)nf);
+    /* a check that failed on its singular values alone has no vectors yet */
+    int rc0 = kin__cur(w)->valid ? KIN_OK : kin__analyse_into(w, w->xyz, w->cur);
+    if (rc0) return rc0;
+    *vv = group_top(h, w, c->o->vr_tol, vmax);
+    for (int it = 0; it < CORANK_NEWTON_ITER && !(*vv <= c->o->vr_tol * *vmax); ++it) {
+        double step = 0.0;
+        memcpy(x, x0, sizeof(double) * (size_t)nf);
+        int rc = kin__corank_step(w, h->grp, h->cw, x, &step);
+        if (rc == KIN_EINVAL) break;
+        if (rc) return rc;
+        int k = kin__loc_vanishing_index(w);
+        if (k < h->grp) break;
+        chord_polish(w, kin__cur(w), k - h->grp, x, w->xyz, h->e, h->y, h->d, POLISH_MAX_ITER);
+        if ((rc = kin__analyse_into(w, w->xyz, w->cur)) != KIN_OK) return rc;
+        double nm, nv = group_top(h, w, c->o->vr_tol, &nm), ns = kin__lengths(w, w->xyz, NULL);
+        TRACE("  corank Newton %d: step %.3g, group top %.3g, strain %.2g\n", it, step, nv / nm, ns);
+        if (!(nv / nm < *vv / *vmax)) break;
+        *vv = nv;
+        *vmax = nm;
+        *strain = ns;
+        memcpy(x0, x, sizeof(double) * (size_t)nf);
+    }
+    /* the state is the best point's: analyse it again where the last trial was worse */
+    memcpy(h->xs, x0, sizeof(double) * (size_t)nf);
+    kin__scatter(w, x0, w->xyz);
+    return kin__analyse_into(w, w->xyz, w->cur);
+}
+
+/* One Hermite location between c->prev and c->a (the bracketing step) on
+ * the node value h->grp selects. On success c->work sits on the
+ * bifurcation, analysed. Returns KIN_OK, KIN__HERMITE_NO_BRACKET (the
+ * vanishing singular value does not turn within the step: the caller may
+ * fall back on the test function), KIN_ENOTFOUND, or a step/LAPACK code. */
+static int hermite_run(loc_ctx *c)
 {
     hermite_ws *h = c->hw;
     kin_assembly *prev = c->prev, *w = c->work;
@@ -479,15 +562,14 @@ int kin__locate_hermite(loc_ctx *c)
             if (kv >= 0) {
                 if ((rc = kin__singular_values(w, w->xyz, h->sv)) != KIN_OK) return rc;
                 w->fac[w->cur].valid = 0; /* prev's analysis, not this point's */
-                vv = kin__loc_group_top_sv(h->sv, kv, c->o->vr_tol);
+                vv = group_top_sv(h, h->sv, kv, c->o->vr_tol);
                 vmax = h->sv[0];
             }
             if (kv >= 0 && !(vv <= c->o->vr_tol * vmax)) {
                 w->nfact++; /* this point's one factorization */
             } else {
                 if ((rc = kin__analyse_into(w, w->xyz, w->cur)) != KIN_OK) return rc;
-                vv = kin__loc_group_top(w, c->o->vr_tol);
-                vmax = kin__cur(w)->an.v_max;
+                vv = group_top(h, w, c->o->vr_tol, &vmax);
             }
             double strain = kin__lengths(w, w->xyz, NULL);
             TRACE("  check %d nodes (%d accurate): z* = %.12g (order %d), v_r %.3g, strain %.2g\n", h->n, ngood,
@@ -504,10 +586,11 @@ int kin__locate_hermite(loc_ctx *c)
                 chord_polish(w, f, r, h->xs, w->xyz, h->e, h->y, h->d, POLISH_MAX_ITER);
                 rc = kin__analyse_into(w, w->xyz, w->cur);
                 if (rc) return rc;
-                vv = kin__loc_group_top(w, c->o->vr_tol);
-                vmax = kin__cur(w)->an.v_max;
+                vv = group_top(h, w, c->o->vr_tol, &vmax);
                 strain = kin__lengths(w, w->xyz, NULL);
             }
+            if (h->grp > 0 && !(vv <= c->o->vr_tol * vmax) && (rc = corank_refine(c, &vv, &vmax, &strain)) != KIN_OK)
+                return rc;
             if (vv <= c->o->vr_tol * vmax && strain <= kin__corrector_tol(w)) {
                 /* the path length: chords from the last regular point */
                 double *ch = w->chord;
@@ -619,4 +702,195 @@ int kin__locate_hermite(loc_ctx *c)
     return kin__fail(c->a, KIN_ENOTFOUND,
                      "v_r has a non-zero minimum (%.3g relative) here: a near-singular but regular configuration",
                      best);
+}
+
+/* ---- several singular values vanishing together (corank k) -------------
+ *
+ * Where k > 1 singular values vanish at one point they need not vanish
+ * alike: on the hexagonal sail's collapsed-hub state three go like a high
+ * power of the distance (at or below 1e-8 of v_max over +-3e-3 of path, the
+ * rounding of the nodes' positions is larger than their values there) while
+ * a symmetric pair crosses zero linearly at the same point. The lowest alone
+ * then pins nothing: the corank-1 method wanders in the flat stretch and
+ * gives up ("located only to ..."), and a relaxed tolerance accepts a point
+ * up to 7.6e-3 away whose pair is still 6e-4. The corank-k mode finds the
+ * group from the bracket's two ends and locates the zero of its top
+ * cluster (the sum of the values of the highest cluster of the group, each
+ * >= 0, so the sum vanishes exactly where all of them do), the one that
+ * fixes the point sharply; the located test requires every value of the
+ * group below the tolerance. */
+
+/* Two singular values closer than this (relative) at a bracket's end are
+ * one cluster (a degenerate pair of a symmetric structure): a group never
+ * cuts through one, where the basis inside it would decide. */
+static const double CLUSTER_RTOL = 1e-6;
+/* A cluster vanishes over the bracket when it turns (falls at the start,
+ * rises at the end, in the chord's direction) and its two tangent lines
+ * meet at most this fraction of its lower end value high: a V through zero
+ * (their meeting point lies near or below zero) and not a smooth non-zero
+ * minimum (which its tangents meet just below the minimum). */
+static const double VANISH_MEET_FRACTION = 0.5;
+/* at most this many singular values above the lowest (the flat state of the
+ * hexagonal sail has 15 vanishing together) */
+enum { MAX_GROUP = 31 };
+
+/* The values d[i] (i in [lo, hi]) of the cluster's mean derivative along
+ * the unit chord dir at st; its mean value into *v */
+static double cluster_slope(const kin_assembly *st, const double *dir, int lo, int hi, double *v, double *scratch)
+{
+    const kin_factor *f = kin__cur(st);
+    double dv = 0.0;
+    *v = 0.0;
+    for (int i = lo; i <= hi; ++i) {
+        *v += f->sv[i];
+        dv += kin__sv_derivative(st, f, st->xyz, dir, i, scratch);
+    }
+    return dv / (hi - lo + 1);
+}
+
+/* A cluster monotone over the bracket whose tangent line at the nearer end
+ * reaches zero within this fraction of the bracket beyond that end vanishes
+ * just outside it: the detector's bracket is the lowest value's, and where
+ * that one is flat (the collapsed hub's three) it may turn a step after the
+ * steep pair crossed */
+static const double OUTSIDE_FRACTION = 0.5;
+
+/* the group's top cluster: its size, and where it vanishes outside the
+ * bracket (outside != 0), the predicted point: s along the unit chord from
+ * the start (negative: behind it) */
+typedef struct group_top_cluster {
+    int size, outside;
+    double s;
+} group_top_cluster;
+
+/* How many singular values above the lowest vanish with it over the
+ * bracket [c->prev, c->a] (both analysed by SVD): the highest cluster below
+ * switch_eps * v_max whose values vanish there (VANISH_MEET_FRACTION) or
+ * just outside (OUTSIDE_FRACTION). The chord's unit direction is left in
+ * h->d. */
+static int vanishing_group(loc_ctx *c, group_top_cluster *tc)
+{
+    hermite_ws *h = c->hw;
+    const kin_assembly *p = c->prev, *a = c->a;
+    const kin_factor *fp = kin__cur(p), *fa = kin__cur(a);
+    int k = kin__loc_vanishing_index(p), nf = h->nf, grp = 0;
+    if (k < 1 || k != kin__loc_vanishing_index(a)) return 0;
+    double *dir = h->d, *xa = h->xs;
+    kin__gather(p, p->xyz, dir);
+    kin__gather(a, a->xyz, xa);
+    for (int i = 0; i < nf; ++i) dir[i] = xa[i] - dir[i];
+    double w = kin__norm(nf, dir);
+    if (!(w > 0.0)) return 0;
+    for (int i = 0; i < nf; ++i) dir[i] /= w;
+    double cut = c->o->switch_eps * fmax(fp->an.v_max, fa->an.v_max);
+    for (int hi = k - 1; hi >= 0 && k - hi <= MAX_GROUP;) {
+        int lo = hi;
+        while (lo > 0 && fp->sv[lo - 1] - fp->sv[lo] <= CLUSTER_RTOL * fp->sv[lo - 1] &&
+               fa->sv[lo - 1] - fa->sv[lo] <= CLUSTER_RTOL * fa->sv[lo - 1])
+            --lo;
+        double v0, v1, d0 = cluster_slope(p, dir, lo, hi, &v0, h->scratch);
+        double d1 = cluster_slope(a, dir, lo, hi, &v1, h->scratch);
+        v0 /= hi - lo + 1;
+        v1 /= hi - lo + 1;
+        if (fmin(v0, v1) > cut) break;
+        /* the tangent lines v0 + d0 s and v1 + d1 (s - w) meet at s* */
+        double s = (v1 - v0 - d1 * w) / (d0 - d1), meet = v0 + d0 * s;
+        int inside = d0 < 0.0 && d1 > 0.0 && meet <= VANISH_MEET_FRACTION * fmin(v0, v1);
+        /* monotone: the zero of the tangent line at the lower end */
+        double zs = v0 <= v1 ? -v0 / d0 : w - v1 / d1;
+        int outside = !inside && d0 * d1 > 0.0 && (v0 <= v1 ? zs < 0.0 : zs > w) &&
+                      fabs(v0 <= v1 ? zs : zs - w) <= OUTSIDE_FRACTION * w;
+        if ((inside || outside) && k - lo <= MAX_GROUP) {
+            grp = k - lo;
+            tc->size = hi - lo + 1;
+            tc->outside = outside;
+            tc->s = zs;
+        }
+        TRACE("  group: values %d..%d at %.3g / %.3g, slopes %.3g / %.3g, tangents meet at %.3g%s\n", lo, hi, v0, v1,
+              d0, d1, meet, grp == k - lo ? (outside ? " (vanishing outside)" : " (vanishing)") : "");
+        hi = lo - 1;
+    }
+    return grp;
+}
+
+/* The corank-k mode where the top cluster vanishes just outside the
+ * bracket: from the point s along the unit chord h->d from c->prev (its
+ * tangent line's zero), the Newton of corank_refine alone. On success
+ * c->work sits on the bifurcation, analysed. KIN_OK, KIN_ENOTFOUND or a
+ * status. */
+static int corank_outside(loc_ctx *c, double s)
+{
+    hermite_ws *h = c->hw;
+    kin_assembly *w = c->work, *prev = c->prev;
+    int nf = h->nf, rc;
+    /* onto the path there: a forward calculation along prev's tangent */
+    double used = 0.0;
+    rc = kin__loc_forward(c, prev, w, s * kin__dot(nf, prev->t, h->d), &used);
+    if (rc == KIN_ENOTCONVERGED || rc == KIN_EPATHJUMP || rc == KIN_ENOMECH)
+        return kin__fail(c->a, KIN_ENOTFOUND, "the forward calculation to a corank-%d point failed", h->grp + 1);
+    if (rc) return rc;
+    kin__gather(w, w->xyz, h->xs);
+    if (!kin__cur(w)->valid && (rc = kin__analyse_into(w, w->xyz, w->cur)) != KIN_OK) return rc;
+    double vmax, vv = group_top(h, w, c->o->vr_tol, &vmax), strain = kin__lengths(w, w->xyz, NULL);
+    TRACE("  corank-k outside the bracket: from s = %.6g, group top %.3g\n", s, vv / vmax);
+    if ((rc = corank_refine(c, &vv, &vmax, &strain)) != KIN_OK) return rc;
+    if (!(vv <= c->o->vr_tol * vmax && strain <= kin__corrector_tol(w)))
+        return kin__fail(c->a, KIN_ENOTFOUND,
+                         "%d singular values vanish together here; their Newton reached only v_r = %.2g relative, "
+                         "above vr_tol = %.2g", h->grp + 1, vv / vmax, c->o->vr_tol);
+    kin__gather(w, prev->xyz, w->chord);
+    double z = 0.0;
+    for (int i = 0; i < nf; ++i) {
+        w->chord[i] = h->xs[i] - w->chord[i];
+        z += prev->t[i] * w->chord[i];
+    }
+    w->l = prev->l + (z < 0.0 ? -1.0 : 1.0) * kin__norm(nf, w->chord);
+    w->have_t = w->t_chosen = 0;
+    return KIN_OK;
+}
+
+/* Locate between c->prev and c->a (the bracketing step). On success c->work
+ * sits on the bifurcation, analysed. The corank-1 method first, as it
+ * always was; where the bracket shows more singular values vanishing with
+ * the lowest (vanishing_group) and that method gave up or left one of them
+ * above the tolerance, the corank-k mode on the group's sum, with SVD nodes.
+ * Returns KIN_OK, KIN__HERMITE_NO_BRACKET (the vanishing singular value does
+ * not turn within the step: the caller may fall back on the test function),
+ * KIN_ENOTFOUND, or a step/LAPACK code. */
+int kin__locate_hermite(loc_ctx *c)
+{
+    hermite_ws *h = c->hw;
+    h->grp = 0;
+    h->gsz = 1;
+    int rc = hermite_run(c);
+    if (rc != KIN_OK && rc != KIN_ENOTFOUND) return rc;
+    /* a corank-1 success from LU ends (the follower's cheap steps): as before */
+    if (rc == KIN_OK && !(kin__cur(c->prev)->valid && kin__cur(c->a)->valid)) return rc;
+    int r2;
+    if (!kin__cur(c->prev)->valid && (r2 = kin__analyse(c->prev, NULL)) != KIN_OK) return r2;
+    if (!kin__cur(c->a)->valid && (r2 = kin__analyse(c->a, NULL)) != KIN_OK) return r2;
+    group_top_cluster tc = {1, 0, 0.0};
+    int grp = vanishing_group(c, &tc);
+    if (grp == 0) return rc;
+    if (rc == KIN_OK) {
+        int k = kin__loc_vanishing_index(c->work);
+        const kin_factor *f = kin__cur(c->work);
+        if (k < grp || f->sv[k - grp] <= c->o->vr_tol * f->an.v_max) return rc;
+    }
+    TRACE("  corank-%d mode (the lowest and %d above it)\n", grp + 1, grp);
+    int lu = c->lu_nodes, first = rc;
+    double nonzero_min = c->nonzero_min;
+    h->grp = grp;
+    h->gsz = tc.size;
+    c->lu_nodes = 0;
+    c->nonzero_min = 0.0;
+    rc = tc.outside ? corank_outside(c, tc.s) : hermite_run(c);
+    h->grp = 0;
+    h->gsz = 1;
+    c->lu_nodes = lu;
+    if (rc == KIN_OK || rc != KIN_ENOTFOUND) return rc;
+    /* the group's sum did not reach the tolerance either: the corank-1
+     * answer stands (its point again, where it had one; its minimum) */
+    c->nonzero_min = nonzero_min;
+    return first == KIN_OK ? hermite_run(c) : rc;
 }

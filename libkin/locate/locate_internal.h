@@ -76,6 +76,17 @@ int kin__locate_hermite(loc_ctx *c);
  * and no SVD, and its slope *sl along dir * t, from those factors (subspace
  * iteration, in h's workspace); 0 where the iteration does not converge */
 int kin__hermite_lu_vanishing(hermite_ws *h, kin_assembly *st, double dir, double *v, double *sl);
+/* the corank-k Newton (locate_corank.c): its workspace, made with the
+ * Hermite one, for groups of at most CORANK_MAX_Q singular values */
+enum { CORANK_MAX_Q = 8 };
+typedef struct kin__corank_ws kin__corank_ws;
+kin__corank_ws *kin__corank_alloc(const kin_assembly *a);
+void kin__corank_free(kin__corank_ws *cw);
+/* one Gauss-Newton step on the k x k block of the group (the lowest
+ * non-zero singular value of the analysed a and the grp above it) within
+ * its null directions and the tangent: x (a's free coordinates) moved, the
+ * step's max-norm in *step. A status. */
+int kin__corank_step(const kin_assembly *a, int grp, kin__corank_ws *cw, double *x, double *step);
 /* Illinois on tau(delta) over [0, hi] from c->prev (tau_lo there) */
 int kin__locate_illinois(loc_ctx *c, double hi, double tau_lo, double tau_hi);
 /* the paper's quadratic (eq. 23-26) from the history (hl, hv) of nh points */

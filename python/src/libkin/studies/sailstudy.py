@@ -30,6 +30,7 @@ from libkin.symmetry import mechanism_group, sail_rotation
 
 # (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, paper_locate and record are
 # imported for the names this module has always had)
+from . import margin
 from .contactstudy import member_study
 from .common import (PAPER_VR_TOL, SAIL_VR_TOL, SAME_CONFIG_TOL, accounting_words, branch_words, follow_to_bifurcation,
                      jsonable, leave, paper_locate, record, say)
@@ -38,6 +39,7 @@ from .contactmap import contact_map
 from .sailmap import MAP_DEPTH, SailMap, explore_symmetric
 from .readings import MAIN_READING, reading_record
 from .sailmeasure import measures
+from .sequential import WRAP_TOL
 from .squarestudy import square_study as square_study
 
 # number of lowest singular values recorded (Figure 14)
@@ -182,9 +184,17 @@ def hexagonal_study(n_sides=6, n_loops=2, complete=True, threads=2, progress=Tru
             cands.append({"beta": e.solution, "sign": e.sign, "reached": None, "event": e.event})
             continue
         xy, alt = _wraps_loop1(tn.coords, a.labels, n_sides)
+        # the wrap test with its margin at the node's located accuracy
+        # (margin.py): "undecided" candidates are listed, not counted
+        u = margin.position_uncertainty(tn.located_tol)
         cands.append({"beta": e.solution, "sign": e.sign, "reached": e.length, "m": tn.m, "s": tn.s,
-                      "loop1_xy": float(xy), "alternating": alt, "centre_dz": float(d[0])})
-    wraps = [c for c in cands if c["reached"] and c["alternating"] and c["loop1_xy"] < 1e-5]
+                      "loop1_xy": float(xy), "alternating": alt, "centre_dz": float(d[0]),
+                      "located_tol": float(tn.located_tol), "loop1_xy_uncertainty": u,
+                      "wrap": margin.below(xy, WRAP_TOL, u) if alt else margin.NO})
+    wraps = [c for c in cands if c["reached"] and c["wrap"] == margin.YES]
+    res["flat"]["candidates_wrap_undecided"] = [
+        {k: c[k] for k in ("beta", "sign", "reached", "loop1_xy", "loop1_xy_uncertainty", "located_tol")}
+        for c in cands if c["reached"] and c.get("wrap") == margin.UNDECIDED]
     res["flat"]["candidates"] = len(cands)
     res["flat"]["candidates_reaching_bifurcation"] = sum(1 for c in cands if c["reached"])
     res["flat"]["candidates_wrapping_loop1"] = len(wraps)

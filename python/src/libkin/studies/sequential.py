@@ -29,6 +29,7 @@ import numpy as np
 from libkin.assembly import Assembly
 from libkin.symmetry import sail_rotation
 
+from . import margin
 from .common import follow_to_bifurcation, say
 from .sailmap import SailMap, explore_symmetric
 from .sailmeasure import loop_of
@@ -94,16 +95,34 @@ def loop_radii(x: np.ndarray, labels: List[str], n_loops: int, radius: float) ->
     return out
 
 
-def wraps_loop1(x: np.ndarray, labels: List[str], n_sides: int) -> bool:
-    """Loop 1's nodes directly over or under their hub vertices,
-    alternately up and down."""
+def wrap_verdict(x: np.ndarray, labels: List[str], n_sides: int, located_tol: float = 0.0) -> Dict[str, Any]:
+    """Whether loop 1's nodes lie directly over or under their hub vertices,
+    alternately up and down, at x (a point located to located_tol, 0: taken
+    as given): the x-y offset judged against WRAP_TOL with margin.below, so
+    an offset within the margin of it is "undecided" (margin.py). Returns
+    the numbers and "verdict" ("yes", "no", "undecided")."""
     V = [i for i, lab in enumerate(labels) if loop_of(lab) == 0]
     A = [i for i, lab in enumerate(labels) if loop_of(lab) == 1]
     if len(V) != n_sides or len(A) != n_sides:
-        return False
+        return margin.verdict_record(float("inf"), WRAP_TOL, 0.0, margin.NO)
     xy = float(np.abs(x[A, :2] - x[V, :2]).max())
     z = x[A, 2] - x[V, 2]
-    return xy < WRAP_TOL and all(z[k] * z[(k + 1) % n_sides] < 0 for k in range(n_sides))
+    u = margin.position_uncertainty(located_tol)
+    v = margin.below(xy, WRAP_TOL, u)
+    if not all(z[k] * z[(k + 1) % n_sides] < 0 for k in range(n_sides)):
+        v = margin.NO  # not alternating: decided by signs of z offsets of order 1
+    return margin.verdict_record(xy, WRAP_TOL, u, v)
+
+
+def wraps_loop1(x: np.ndarray, labels: List[str], n_sides: int, located_tol: float = 0.0) -> bool:
+    """Loop 1 wrapped (wrap_verdict "yes"). Raises ValueError where the
+    verdict is "undecided", with the numbers: a caller that must count it
+    either way has to say which."""
+    r = wrap_verdict(x, labels, n_sides, located_tol)
+    if r["verdict"] == margin.UNDECIDED:
+        raise ValueError(f"loop-1 wrap undecided: x-y offset {r['value']:.3g} against {WRAP_TOL:g} "
+                         f"(uncertainty {r['uncertainty']:.3g}, margin {margin.MARGIN:g}x)")
+    return r["verdict"] == margin.YES
 
 
 def _extent(x: np.ndarray) -> float:
@@ -117,7 +136,10 @@ def _first_leg(a: Assembly, labels: List[str], n_sides: int, executor: Any, thre
     for e, t in smap.paths_from(0):
         if e.event != "bifurcation" or t is None:
             continue
-        if not wraps_loop1(smap.nodes[t].coords, labels, n_sides):
+        tn = smap.nodes[t]
+        if wrap_verdict(tn.coords, labels, n_sides, tn.located_tol)["verdict"] != margin.YES:
+            # "undecided" is not a wrap: _first_leg picks among the decided
+            # ones only (the study's report lists the undecided, sailstudy.py)
             continue
         d = np.asarray(e.direction)
         key = (round(e.length, 6), d[0] > 0)  # shortest; then the centre moving down

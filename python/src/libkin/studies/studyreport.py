@@ -8,6 +8,17 @@ from .common import branch_words
 from .readingsreport import paper_rc_steps, reading_md
 
 
+
+def _undecided_words(und):
+    """The wrap test's undecided candidates (studies/margin.py), with their
+    numbers; nothing where there are none."""
+    if not und:
+        return ""
+    parts = [f"solution {c['beta']} sign {c['sign']:+d} (offset {c['loop1_xy']:.2g} +- "
+             f"{c['loop1_xy_uncertainty']:.1g})" for c in und]
+    return (f", and {len(und)} undecided (x-y offset within a factor 10 of the 1e-5 test at the accuracy "
+            f"their node was located to, counted neither way): " + "; ".join(parts))
+
 def _fmt(v, nd=3):
     return f"{v:.{nd}g}" if isinstance(v, float) else str(v)
 
@@ -180,7 +191,9 @@ def _write_hex_md(res, out, M, figs):
                  "those, the shortest. "
                  f"{flat['candidates']} symmetric directed candidates were followed: "
                  f"{flat['candidates_reaching_bifurcation']} reach a bifurcation, "
-                 f"{flat['candidates_wrapping_loop1']} wrap loop 1. Chosen: solution {ch['beta']}, sign "
+                 f"{flat['candidates_wrapping_loop1']} wrap loop 1"
+                 + _undecided_words(flat.get("candidates_wrap_undecided", []))
+                 + f". Chosen: solution {ch['beta']}, sign "
                  f"{ch['sign']:+d}, reaching R^B at l = {ch['reached']:.4f} a.\n")
     L.append("## Where the bifurcations are\n")
     L.append("Each point placed by what can be measured on the structure, as well as by path length: the "
