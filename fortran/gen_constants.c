@@ -48,6 +48,7 @@ static void constants(void)
     param("KIN_STATUS_COUNT", (long)KIN_STATUS_COUNT_);
     printf("! enum kin_mech_kind\n");
     P(KIN_MECH_INTERNAL) P(KIN_MECH_RIGID) P(KIN_MECH_ALL)
+    P(KIN_ROUTE_DENSE) P(KIN_ROUTE_SPARSE)
     printf("! enum kin_step_factorization\n");
     P(KIN_STEP_SVD) P(KIN_STEP_LU) P(KIN_STEP_SPARSE)
     printf("! enum kin_step_control\n");
