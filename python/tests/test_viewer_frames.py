@@ -11,6 +11,7 @@ import pathlib
 import sys
 
 import numpy as np
+import pytest
 
 import libkin
 from libkin.atlas import Atlas, frames, html as atlas_html
@@ -95,3 +96,29 @@ def test_cli_samples(tmp_path):
         assert main(["explore", str(model), "--depth", "2", "--samples", str(n), "--out", str(out), "--quiet"]) == 0
         edges = json.loads((out / "atlas.json").read_text())["edges"]
         assert edges and all((len(e["samples"]) == 0) if n == 0 else (len(e["samples"]) >= n) for e in edges)
+
+
+def test_viewer_samples_only_where_a_viewer_draws(tmp_path):
+    """The viewer's extra samples are stored for atlas.html (--html, or
+    explore(view_samples=True), the default of the API) and not otherwise:
+    without them `libkin explore` stores the evenly spread samples asked for
+    (the hexagonal flat state's depth-2 atlas: 151,000 samples instead of
+    1.19 million, docs/atlas.md)."""
+    import libkin
+    model = parallelogram(tmp_path / "p.json")
+    plain = libkin.explore(str(model), depth=2, samples=2, view_samples=False)
+    viewed = libkin.explore(str(model), depth=2, samples=2)
+    assert plain.settings["view_samples"] is False and viewed.settings["view_samples"] is True
+    assert all(len(e.samples) <= 2 for e in plain.edges)
+    assert sum(len(e.samples) for e in viewed.edges) > sum(len(e.samples) for e in plain.edges)
+    # the same paths either way: only what is stored along them differs
+    assert [(e.source, e.target, e.event) for e in plain.edges] == [(e.source, e.target, e.event) for e in viewed.edges]
+    from libkin.cli import main
+    for html in (False, True):
+        out = tmp_path / f"h{int(html)}"
+        if html:
+            pytest.importorskip("plotly")
+        args = ["explore", str(model), "--depth", "2", "--out", str(out), "--quiet"] + (["--html"] if html else [])
+        assert main(args) == 0
+        edges = json.loads((out / "atlas.json").read_text())["edges"]
+        assert (max(len(e["samples"]) for e in edges) > 2) == html

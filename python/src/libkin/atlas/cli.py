@@ -53,8 +53,8 @@ def add_arguments(s: argparse.ArgumentParser) -> None:
                    help="follow one branch per orbit of each node's symmetries, map the others (the default "
                         "unless --no-symmetry)")
     s.add_argument("--samples", type=count(0), default=2,
-                   help="configurations stored along each path for the viewer: at least this many, evenly "
-                        "spread, and more where its animation through them would stretch a bar by over 1 %% "
+                   help="configurations stored along each path: this many, evenly spread, and with --html "
+                        "more where the viewer's animation through them would stretch a bar by over 1 %% "
                         "(default 2; 0: none, the viewer then draws a straight move between the ends)")
     s.add_argument("--contact", action="store_true",
                    help="stop each branch at the first contact of two parts (the model's panels and thickness)")
@@ -100,7 +100,7 @@ def _run(args: argparse.Namespace, assembly: Assembly) -> int:
                      time_limit=args.time_limit, symmetric=sym, executor=ex,
                      progress=None if args.quiet else True, follow_orbits=True if args.follow_orbits else None,
                      store=store, resume=args.resume, stop=lambda: bool(signalled), symmetry=not args.no_symmetry,
-                     contact=args.contact, samples=args.samples)
+                     contact=args.contact, samples=args.samples, view_samples=bool(args.html))
     rep = atlas_report.write(at, args.out, html="atlas.html" if args.html else None,
                              progress=None if args.quiet else True)
     s = at.summary()

@@ -69,7 +69,8 @@ def _say(progress: Progress, msg: str) -> None:
 class _Explorer:
     def __init__(self, a: Assembly, symmetric: Union[bool, str], executor: Any, progress: Progress,
                  max_length: float, seed: int, threads: int, symmetries: Optional[Sequence[Symmetry]],
-                 max_steps: int, samples: int, shards: Optional[int], symmetry: bool, contact: bool) -> None:
+                 max_steps: int, samples: int, shards: Optional[int], symmetry: bool, contact: bool,
+                 view_samples: bool = True) -> None:
         from ..io.model_json import to_json
         self.a = a.clone()
         self.doc = to_json(a)
@@ -81,7 +82,7 @@ class _Explorer:
         self.symmetric, self.executor, self.progress = symmetric, executor, progress
         self.max_length, self.seed, self.threads = max_length, seed, threads
         self.max_steps, self.samples, self.shards = max_steps, samples, shards
-        self.symmetry, self.contact = symmetry, contact
+        self.symmetry, self.contact, self.view_samples = symmetry, contact, view_samples
         self.deadline: Optional[float] = None
         self.symmetry_note = ""
         # detect the symmetries at every expanded node (the C search), unless given
@@ -264,6 +265,8 @@ class _Explorer:
         branches; on_result(k, result) as each is at hand (directions.follow)."""
         def item(nid: int, d: NDArray[np.float64]) -> Dict[str, Any]:
             n, rest = self.nodes[nid], {"max_steps": self.max_steps, "samples": self.samples, "contact": self.contact}
+            if not self.view_samples:  # (absent when True: the tasks, and so the store's keys, of the default)
+                rest["view"] = False
             return {"model": self.text, "coords": n.coords, "rank_tol": self._rank_tol(n),
                     "direction": np.asarray(d, dtype=float), "max_length": self.max_length, **rest}
 
@@ -282,7 +285,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
             symmetries: Optional[Sequence[Symmetry]] = None, max_steps: int = 2000, samples: int = 2,
             shards: Optional[int] = None, follow_orbits: Optional[bool] = None, store: Any = None,
             resume: bool = False, stop: Optional[Callable[[], bool]] = None, symmetry: bool = True,
-            contact: bool = False) -> Atlas:
+            contact: bool = False, view_samples: bool = True) -> Atlas:
     """Map the paths out of `start` and out of every bifurcation they reach.
 
     Parameters
@@ -329,7 +332,15 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         Configurations recorded along each branch (besides its end), from its
         one follow: at least this many, evenly spread by path length, and more
         of the points the follower recorded where the viewer's curve through
-        them would stretch a bar by more than 1 % (atlas/frames.py); 0: none.
+        them would stretch a bar by more than 1 % (atlas/frames.py) unless
+        view_samples is False; 0: none.
+    view_samples : bool
+        True (default): store the extra samples the viewer (atlas.html) needs
+        to draw every path with bars strained by at most 1 %. False: only the
+        `samples` evenly spread ones (`libkin explore` without --html): the
+        hexagonal flat state's depth-2 atlas took 1.19 million samples with
+        them (1.45 GB of atlas.json, 12.8 GB peak memory) and 151,000
+        without.
     shards : int, optional
         The complete solver's paths are tracked in this many tasks (default:
         about SHARD_PATHS paths a shard with an executor, one task without).
@@ -390,7 +401,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     if max_length is None:
         max_length = 10.0 * scale
     ex = _Explorer(a, symmetric, executor, progress, float(max_length), seed, threads, symmetries, int(max_steps),
-                   int(samples), shards, symmetry, bool(contact))
+                   int(samples), shards, symmetry, bool(contact), bool(view_samples))
     ex.deadline = None if time_limit is None else t0 + float(time_limit)
     from .store import open_store
     # the settings that shape the results (not time_limit, nor depth: a deeper run resumes a shallower one's)
@@ -486,7 +497,7 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                     "; ".join(why[ev] for ev in sorted(arrived.get(n.id, ())) if ev in why) or "end point")
     settings = {"depth": depth, "max_nodes": max_nodes, "max_length": float(max_length), "time_limit": time_limit,
                 "symmetric": symmetric, "seed": seed, "same_tol": ex.tol, "max_steps": int(max_steps),
-                "samples": int(samples), "symmetries": ex.symmetry_note or f"{len(ex.syms)} detected",
+                "samples": int(samples), "view_samples": bool(view_samples), "symmetries": ex.symmetry_note or f"{len(ex.syms)} detected",
                 "follow_orbits": follow_orbits, "symmetry": symmetry, "contact": bool(contact),
                 "executor": None if executor is None else type(executor).__name__}
     stats = {"seconds": round(time.perf_counter() - t0, 3), "follow_cpu_seconds": round(ex.follow_cpu, 3),

@@ -125,7 +125,8 @@ def _follow_branch(task: Task) -> Dict[str, Any]:
     samples: list[Any] = []
     out: Dict[str, Any] = {"samples": samples, "message": ""}
     try:
-        ev = a.follow_event(d, max_length=float(task["max_length"]), samples=record_room(n),
+        view = bool(task.get("view", True))  # the viewer's extra samples (explore(view_samples))
+        ev = a.follow_event(d, max_length=float(task["max_length"]), samples=record_room(n) if view else SAMPLE_ROOM * n,
                             branches=br, own_branch=own, **lim)
     except KinError as exc:
         out.update(_end_state(a, FAILURE))
@@ -149,7 +150,7 @@ def _follow_branch(task: Task) -> Dict[str, Any]:
         if an is not None and an.m_internal == 1:  # the path's direction at the end, near the start
             out["return_tangent"] = [float(v) for v in an.internal_mechanisms[:, 0]]
     samples.extend(_pick_samples(ev.samples, ev.sample_lengths, ev.length, n, start=task["coords"], end=a.coords,
-                                 bars=a.bars, rest=a.rest_lengths))
+                                 bars=a.bars if view else None, rest=a.rest_lengths))
     out["cpu_seconds"] = time.process_time() - cpu0
     return out
 
