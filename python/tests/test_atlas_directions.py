@@ -186,7 +186,9 @@ def test_executors_and_resume(flat, tmp_path, monkeypatch, share):
                     assert store.recorded == 0 and store.reused == recorded
                 else:
                     recorded = store.recorded
-                    assert recorded == len(sample) if share else recorded > len(sample)  # returns ran twice
+                    # unshared, a return the subset could not decide runs again with every line
+                    # (none may need to: returns are decided by Newton on the start's equations)
+                    assert recorded == len(sample) if share else recorded >= len(sample)
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as client:

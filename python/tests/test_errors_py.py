@@ -129,8 +129,12 @@ def test_cli_interrupt_exits_130():
     import sys
     import time
 
+    # the child with SIGINT's default action, whatever this test runs under: a
+    # background job of a non-interactive shell inherits SIGINT ignored, and
+    # Python then installs no Ctrl-C handler (so the signal would do nothing)
     p = subprocess.Popen([sys.executable, "-m", "libkin", "follow", "sail:6:2", "--perturb", "0.3",
-                          "--steps", "1000000", "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                          "--steps", "1000000", "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     time.sleep(1.5)
     p.send_signal(signal.SIGINT)
     out, err = p.communicate(timeout=60)

@@ -72,7 +72,15 @@ def test_the_main_reading_fits_best_and_misses_rc_and_steps():
     stored = json.loads(STORED.read_text())
     assert [r["reading"] for r in stored] == [r["reading"] for r in rows]
     for got, exp in zip(rows, stored):
-        assert (got["verdicts"], got["steps"], got["score"]) == (exp["verdicts"], exp["steps"], exp["score"])
+        assert (got["verdicts"], got["score"]) == (exp["verdicts"], exp["score"])
+        # step counts are the step control's work (the paper's are compared as a statement, with
+        # its margin): a change of the follower may move them by a step or two, not the verdicts
+        assert (got["steps"] is None) == (exp["steps"] is None)
+        if got["steps"] is not None:
+            assert got["steps"].keys() == exp["steps"].keys()
+            for k, n in exp["steps"].items():
+                assert (got["steps"][k] is None) == (n is None)
+                assert n is None or abs(got["steps"][k] - n) <= max(2, 0.1 * n)
         for key in ("leg1", "RC"):
             if key in exp:
                 assert abs(got[key]["l"] - exp[key]["l"]) <= 1e-6 * max(1.0, exp[key]["l"])

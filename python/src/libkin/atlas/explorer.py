@@ -329,18 +329,9 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     max_steps : int
         Step budget of one branch.
     samples : int
-        Configurations recorded along each branch (besides its end), from its
-        one follow: at least this many, evenly spread by path length, and more
-        of the points the follower recorded where the viewer's curve through
-        them would stretch a bar by more than 1 % (atlas/frames.py) unless
-        view_samples is False; 0: none.
-    view_samples : bool
-        True (default): store the extra samples the viewer (atlas.html) needs
-        to draw every path with bars strained by at most 1 %. False: only the
-        `samples` evenly spread ones (`libkin explore` without --html): the
-        hexagonal flat state's depth-2 atlas took 1.19 million samples with
-        them (1.45 GB of atlas.json, 12.8 GB peak memory) and 151,000
-        without.
+        Configurations kept along each branch from its one follow: this many
+        evenly spread, and (view_samples) more where the viewer's curve would
+        strain a bar by over 1 % (atlas/frames.py, docs/atlas.md); 0: none.
     shards : int, optional
         The complete solver's paths are tracked in this many tasks (default:
         about SHARD_PATHS paths a shard with an executor, one task without).
@@ -350,20 +341,17 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
         where the image is certain (orbits.certain) and followed otherwise:
         the same atlas, up to |stabilizer| times less work. Default: symmetry.
     symmetry : bool
-        True (default): the structure's symmetries are used wherever they
-        save work without changing the atlas: the complete solve at a node
-        with its stabiliser's group (stabiliser.py: where s >= 8 and the
-        equivariant route applies; the same roots as the plain solver) and
-        follow_orbits. False: neither (the plain solver, every branch
-        followed). Symmetries are detected either way, for the orbits of
-        the nodes (pass symmetries=[] to use none).
+        True (default): symmetries save work without changing the atlas: the
+        complete solve with the node's stabiliser (stabiliser.py, s >= 8) and
+        follow_orbits. False: neither. Detected either way, for the nodes'
+        orbits (symmetries=[]: none).
     store, resume : path or store.Store, bool
         Record each solve and branch there as it completes; resume: reuse an
         earlier run's (same model and settings: the same atlas) (store.py).
     stop : callable, optional
         Once true nothing more is started: the atlas so far (stats partial).
-    contact : bool
-        Stop each branch at the first contact of two parts (event 'contact').
+    contact, view_samples : bool
+        Stop at the first contact of two parts; the viewer's samples (samples).
 
     Returns
     -------

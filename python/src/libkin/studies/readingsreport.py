@@ -1,9 +1,12 @@
 """The readings of the paper's hexagonal sail as Markdown (readings.py):
 the side-by-side table, one reading's statements with what was measured,
-and `libkin study --reading NAME|all`'s report."""
+and `libkin study --reading NAME|all`'s report; and the study report's model
+section (model_md)."""
 import json
 import pathlib
 from typing import Any, Dict, List, Optional, Sequence, Tuple
+
+import numpy as np
 
 from libkin.atomic import staged_folder, write_text
 
@@ -151,4 +154,39 @@ def reading_md(rec: Optional[Dict[str, Any]]) -> List[str]:
                     "values vanishing; this run's, the next bifurcation after R^B along the fold, does not, and "
                     "nothing measured at it (the step count above included) is a measurement of the paper's.")
                  + "\n")
+    return L
+
+
+def model_md(res: Dict[str, Any], M: Any) -> List[str]:
+    """The study report's model section (studyreport.py): unit, joints, bars,
+    supports, free coordinates; M: the model's labels, kinds, bars, fixed
+    flags and free map (studyreport's model drawing data)."""
+    from collections import Counter
+    n = res["n_sides"]
+    L = ["## The model\n"]
+    L.append("**Units.** Lengths (coordinates, bar lengths, path length l, extents) are in units of the hub "
+             "side **a**: the model is built with a = 1, so a sail with a 2 m hub side has every length here "
+             "times 2 m. Path length l is the Euclidean length of the path in the space of free coordinates, "
+             "so it is a length too. Angles are in degrees; strains and singular values of H (whose entries "
+             "are direction cosines) have no unit.\n")
+    kinds = Counter(M.kinds)
+    sk = ["pinned" if r.all() else "partial" if r.any() else "" for r in M.fixed]
+    pinned = [M.labels[i] for i, s in enumerate(sk) if s == "pinned"]
+    partial = [(M.labels[i], "".join(c for c, f in zip("xyz", M.fixed[i]) if f)) for i, s in enumerate(sk)
+               if s == "partial"]
+    L.append(f"{len(M.labels)} joints, {len(M.bars)} bars ("
+             + ", ".join(f"{kinds[k]} {k}s" for k in ("hub edge", "spoke", "fold", "ring", "diagonal") if kinds[k])
+             + f"). Joint names: C the hub centre, V0..V{n - 1} the hub vertices (counter-clockwise, "
+             f"V0-V1 the bottom edge), A0..A{n - 1} loop 1 and B0..B{n - 1} loop 2, Ak and Bk on the fold line "
+             f"that starts at Vk perpendicular to the hub edge V(k-1)-Vk. "
+             f"Supports: {', '.join(pinned)} pinned (x, y, z fixed)"
+             + "".join(f"; {lab} held in {c} (free in "
+                       f"{''.join(ch for ch in 'xyz' if ch not in c)})" for lab, c in partial)
+             + f". Free coordinates: {int((M.fmap >= 0).sum())} (the rows of H); every other joint is free "
+             f"in x, y and z. The hub is a regular {n}-gon of side a in the plane z = 0; the fold lines are "
+             f"divided into loops of width a tan(pi/{n}) = {np.tan(np.pi / n):.4f} a.\n")
+    L.append("![model](model.png)\n")
+    L.append("*Figure 1. The model, flat, seen from above. Each joint is marked 'index: label (free "
+             "coordinates)'; bar colours give the bar kinds; black triangles are pinned supports, the black "
+             "square the centre node, held in x and y.*\n")
     return L

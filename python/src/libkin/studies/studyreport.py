@@ -5,7 +5,7 @@ from libkin.atomic import write_text
 from libkin.plot import draw, pyplot
 
 from .common import branch_words
-from .readingsreport import paper_rc_steps, reading_md
+from .readingsreport import model_md, paper_rc_steps, reading_md
 
 
 
@@ -101,39 +101,6 @@ def _where_row(name, m, l_total, l_prev, mn):
             f"{_nz(m['z_min'], 3):+.3f} .. {_nz(m['z_max'], 3):+.3f} | {m['hub_out_of_plane']:.3f} | {folds} |")
 
 
-def _model_md(res, M):
-    """The model section: unit, joints, bars, supports, free coordinates."""
-    from collections import Counter
-    n = res["n_sides"]
-    L = ["## The model\n"]
-    L.append("**Units.** Lengths (coordinates, bar lengths, path length l, extents) are in units of the hub "
-             "side **a**: the model is built with a = 1, so a sail with a 2 m hub side has every length here "
-             "times 2 m. Path length l is the Euclidean length of the path in the space of free coordinates, "
-             "so it is a length too. Angles are in degrees; strains and singular values of H (whose entries "
-             "are direction cosines) have no unit.\n")
-    kinds = Counter(M.kinds)
-    sk = ["pinned" if r.all() else "partial" if r.any() else "" for r in M.fixed]
-    pinned = [M.labels[i] for i, s in enumerate(sk) if s == "pinned"]
-    partial = [(M.labels[i], "".join(c for c, f in zip("xyz", M.fixed[i]) if f)) for i, s in enumerate(sk)
-               if s == "partial"]
-    L.append(f"{len(M.labels)} joints, {len(M.bars)} bars ("
-             + ", ".join(f"{kinds[k]} {k}s" for k in ("hub edge", "spoke", "fold", "ring", "diagonal") if kinds[k])
-             + f"). Joint names: C the hub centre, V0..V{n - 1} the hub vertices (counter-clockwise, "
-             f"V0-V1 the bottom edge), A0..A{n - 1} loop 1 and B0..B{n - 1} loop 2, Ak and Bk on the fold line "
-             f"that starts at Vk perpendicular to the hub edge V(k-1)-Vk. "
-             f"Supports: {', '.join(pinned)} pinned (x, y, z fixed)"
-             + "".join(f"; {lab} held in {c} (free in "
-                       f"{''.join(ch for ch in 'xyz' if ch not in c)})" for lab, c in partial)
-             + f". Free coordinates: {int((M.fmap >= 0).sum())} (the rows of H); every other joint is free "
-             f"in x, y and z. The hub is a regular {n}-gon of side a in the plane z = 0; the fold lines are "
-             f"divided into loops of width a tan(pi/{n}) = {np.tan(np.pi / n):.4f} a.\n")
-    L.append("![model](model.png)\n")
-    L.append("*Figure 1. The model, flat, seen from above. Each joint is marked 'index: label (free "
-             "coordinates)'; bar colours give the bar kinds; black triangles are pinned supports, the black "
-             "square the centre node, held in x and y.*\n")
-    return L
-
-
 _FOLD_WORDS = {2: "two", 3: "three", 4: "four", 5: "five", 6: "six"}
 
 
@@ -158,7 +125,7 @@ def _write_hex_md(res, out, M, figs):
         L.append(f"The whole run is also in `fold_run.fold` ({figs['fold_frames']} frames, one per accepted step; "
                  "the FOLD format of origami software, faces = the sail's bar triangles, supports in "
                  "`vertices_libkin:fixed`; docs/fold.md).\n")
-    L += _model_md(res, M)
+    L += model_md(res, M)
     L.append("## The flat state R^A\n")
     L.append(f"H is {flat['nfree']} x {flat['nbars']}; m = {flat['m']} internal mechanisms, s = {flat['s']} "
              "self-stresses.")
