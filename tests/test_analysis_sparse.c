@@ -110,7 +110,12 @@ static void compare(const char *name, const kin_assembly *a, double rank_tol, ki
           as.s == ad.s);
     double tv = C_ROUND * DBL_EPSILON * ad.v_max;
     CHECK_CLOSE(as.v_max, ad.v_max, tv);
-    CHECK_CLOSE(as.v_r, ad.v_r, tv);
+    /* v_r: the sparse analysis's Rayleigh quotient on its null-space block
+     * against the dense SVD: each backward stable, to a few eps ||H||
+     * times the square root of the block's size (the braced K12, 36
+     * self-stresses: 162 eps v_max under OpenBLAS's Haswell and Zen kernels) */
+    int nblk = as.s > as.m ? as.s : as.m;
+    CHECK_CLOSE(as.v_r, ad.v_r, tv * fmax(1.0, sqrt((double)nblk)));
     int nf = kin_nfree(a), nb = kin_nbars(a);
     double ta = ad.v_r > 0 ? C_ROUND * DBL_EPSILON * ad.v_max / ad.v_r : 0.0, worst = 0.0;
     int kinds[4] = {KIN_MECH_ALL, KIN_MECH_RIGID, KIN_MECH_INTERNAL, -1};
