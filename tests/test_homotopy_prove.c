@@ -14,6 +14,7 @@
  *    root given twice. A proof may only say what is true: a box that is
  *    proven must hold a true root of the right kind, and two copies of one
  *    root never count as two. */
+#include <math.h>
 #include <string.h>
 
 #include "check.h"
@@ -222,8 +223,33 @@ static void wrong_endpoints(void)
     kin__prove_free(w);
 }
 
+/* A double root split by rounding: x0^2 - 2 x0 x1 + (1 + e) x1^2 = 0 has
+ * roots x0/x1 = 1 +- sqrt(-e), real for e < 0 and a conjugate pair for
+ * e > 0. With e at rounding level (what an SVD's last bits give a Q
+ * computed at a located point: the collapsed-hub node of the hexagonal
+ * sail's map, proven 2 real under one OpenBLAS kernel and 2 non-real under
+ * another before the input width) neither kind may be proven, whichever
+ * the sign; with e far above the width (1e-6) the kind is proven. */
+static void split_double_root(void)
+{
+    const double es[] = {-4e-16, -1e-16, 1e-16, 4e-16, -1e-6, 1e-6};
+    for (int i = 0; i < 6; ++i) {
+        double Q[4] = {1.0, -1.0, -1.0, 1.0 + es[i]};
+        kin_homotopy_info h;
+        solve(2, 1, Q, 1, 1, &h);
+        printf("split double root, e = %g: proven %d real + %d non-real, %d unproven\n", es[i], h.proven_real,
+               h.proven_nonreal, h.unproven);
+        if (fabs(es[i]) < 1e-12) {
+            CHECK(h.proven_real == 0 && h.proven_nonreal == 0 && h.unproven == 2);
+        } else {
+            CHECK(es[i] < 0 ? h.proven_real == 2 && h.proven_nonreal == 0 : h.proven_real == 0 && h.proven_nonreal == 2);
+        }
+    }
+}
+
 int main(void)
 {
+    split_double_root();
     figure5();
     sails();
     random_system();

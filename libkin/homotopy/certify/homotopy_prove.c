@@ -77,7 +77,7 @@ hom_prover *kin__prove_new(int m, int s, const double *Q)
     mag_init(w->tm), mag_init(w->row), mag_init(w->lhs);
     arb_t a, b;
     arb_init(a), arb_init(b);
-    for (int j = 0; j < s; ++j)
+    for (int j = 0; j < s; ++j) {
         for (int r = 0; r < m; ++r)
             for (int c = 0; c < m; ++c) {
                 arb_ptr q = w->Q + ((size_t)j * m + r) * m + c;
@@ -88,6 +88,14 @@ hom_prover *kin__prove_new(int m, int s, const double *Q)
                 arb_get_mag(w->tm, q);
                 mag_add(w->S + j, w->S + j, w->tm);
             }
+        /* the input's own uncertainty (HOM_PROVE_Q_WIDTH): every entry a
+         * ball of that radius more, S_j enlarged to cover it */
+        mag_set_d(w->tm, HOM_PROVE_Q_WIDTH);
+        mag_mul(w->row, w->S + j, w->tm);
+        for (size_t e = 0; e < mm; ++e) arb_add_error_mag(w->Q + (size_t)j * mm + e, w->row);
+        mag_mul_2exp_si(w->tm, w->row, 0);
+        for (size_t e = 0; e < mm; ++e) mag_add(w->S + j, w->S + j, w->tm);
+    }
     arb_clear(a), arb_clear(b);
     double S[HOM_PROVE_MAX_M];
     for (int j = 0; j < s; ++j) S[j] = mag_get_d(w->S + j); /* an upper bound */

@@ -21,6 +21,14 @@
 
 /* the most coordinates a proof handles (HOM_MAX_M of track/) */
 #define HOM_PROVE_MAX_M 24
+/* Every entry of Q_j is taken as known to within HOM_PROVE_Q_WIDTH S_j
+ * (S_j = sum |Q_j(r,c)|): a proof holds for every system that close. The
+ * Q_j a caller computes (from an analysis at a located point, through an
+ * SVD) carry rounding of about 1e-15..1e-13 S_j, so a root proven real on
+ * one machine is not proven non-real on another: a double root split by
+ * rounding (two roots 1e-8 apart, real or a conjugate pair by the sign of a
+ * 1e-16 discriminant) is not proven at all. 2^-50 = 8.9e-16. */
+#define HOM_PROVE_Q_WIDTH 0x1p-50
 
 enum hom_proof_kind {
     HOM_PROOF_NONE = 0,    /* not proven */
@@ -43,8 +51,8 @@ typedef struct hom_proof {
 typedef struct hom_prover hom_prover;
 
 /* The system sum_{r,c} Q[j m^2 + r + c m] x_r x_c = 0 (j < s, m = s + 1;
- * only the symmetric part counts, enclosed exactly as balls); NULL if out
- * of memory. */
+ * only the symmetric part counts, enclosed as balls widened by
+ * HOM_PROVE_Q_WIDTH S_j); NULL if out of memory. */
 hom_prover *kin__prove_new(int m, int s, const double *Q);
 void kin__prove_free(hom_prover *w);
 /* on (the default): try the double-precision test with a priori rounding

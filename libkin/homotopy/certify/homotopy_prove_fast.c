@@ -78,6 +78,9 @@ static void eval(hom_fast *F, const double *xr, const double *xi, const double *
     int m = F->m, s = F->s;
     /* Qs vs Qsym: <= u |Qs| (+ underflow); the dot: gamma_m; A's own rounding */
     const double gu = GAM(m + 4);
+    double X = 0.0; /* sum_c |x_c| */
+    for (int c = 0; c < m; ++c) X += xa[c];
+    X *= SLACK;
     for (int j = 0; j < s; ++j) {
         double fr = 0.0, fi = 0.0, fa = 0.0, fe = 0.0;
         for (int r = 0; r < m; ++r) {
@@ -91,7 +94,8 @@ static void eval(hom_fast *F, const double *xr, const double *xi, const double *
                 for (int c = 0; c < m; ++c) b += q[c] * xi[c];
             size_t jr = (size_t)j * m + r;
             F->ur[jr] = a, F->ui[jr] = b;
-            F->eU[jr] = gu * A + TINY;
+            /* + the input's uncertainty: each entry within HOM_PROVE_Q_WIDTH S_j */
+            F->eU[jr] = gu * A + HOM_PROVE_Q_WIDTH * F->S[j] * X + TINY;
             fr += xr[r] * a - xi[r] * b;
             fi += xr[r] * b + xi[r] * a;
             fa += xa[r] * (fabs(a) + fabs(b));
