@@ -26,7 +26,12 @@ Left out, with the reason:
   number, sign, event, length and target, which are compared, come from the
   physical direction U beta; docs/branches.md); storing U beta instead is
   open (issue 35);
-- the path of the run's store (each run has its own folder).
+- the path of the run's store (each run has its own folder);
+- why an unproven endpoint is unproven (`unproven_nopoint`: Newton did not
+  converge to a point to test, or `unproven_refused`: the test refused the
+  point): at a double root split by rounding that depends on where the
+  converging iteration stops; how many are unproven, and every proven count,
+  are compared.
 Numbers are compared as |a - b| <= 1e-5 max(1, |a|, |b|): relative above 1,
 absolute below, as the reports print lengths and angles to 4-6 digits. So
 numbers below 1e-5 are not compared: singular values at rounding level, and
@@ -40,7 +45,7 @@ import re
 import sys
 
 SKIP = re.compile(r"(seconds|wall|load|cpu|refinement_steps|factorizations|_steps_taken|time)"
-                  r"|^/interference/contacts\[0\]/(parts|part_ids)|^/stats/store/path")
+                  r"|^/interference/contacts\[0\]/(parts|part_ids)|^/stats/store/path|/unproven_(nopoint|refused)$")
 
 
 def same(a, b):
