@@ -123,14 +123,6 @@ class _Explorer:
         sqrt(tau), relative, of the true one)."""
         return pair_window(self.scale, located_a, located_b)
 
-    def find(self, X: NDArray[np.float64], located: float = 0.0) -> Optional[int]:
-        """The first node (in id order) that is the configuration X."""
-        for i in self.index.near(X, lambda worst: self.pair_tol(located, worst)):
-            n = self.nodes[i]
-            if self._distance(X, n.coords) <= self.pair_tol(located, n.located_tol):
-                return n.id
-        return None
-
     def orbit_of(self, X: NDArray[np.float64], located: float = 0.0,
                  before: Optional[int] = None) -> Optional[Tuple[int, int]]:
         """(node id, symmetry index) with g.node = X, if X is an image of a
@@ -491,7 +483,8 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     stats = {"seconds": round(time.perf_counter() - t0, 3), "follow_cpu_seconds": round(ex.follow_cpu, 3),
              "branches_followed": ex.followed, "branches_mapped": ex.mapped,
              "returns_decided_again": ex.redo, "stopped_by": stopped,
-             "partial": stopped in ("interrupted", "time_limit"), "levels": ex.levels.rows}
+             "partial": stopped in ("interrupted", "time_limit"), "levels": ex.levels.rows,
+             "identity_undecided": ex.levels.identity_undecided()}
     if ex.store is not None:
         stats["store"] = ex.store.finish(store is not ex.store)
     atlas = Atlas(ex.doc, ex.nodes, ex.edges, ex.syms, settings, stats)

@@ -55,6 +55,10 @@ class Levels:
         row["new_bifurcation_nodes_not_images"] = sum(1 for n in new if n.kind == "bifurcation"
                                                       and n.image_of is None)
 
+    def identity_undecided(self) -> int:
+        """Branch ends whose node was not decided with a margin (identity.py)."""
+        return sum(int(r.get("identity", {}).get("undecided", 0)) for r in self.rows)
+
 
 def by_depth(d: Dict[str, Any]) -> List[Dict[str, Any]]:
     """Per depth of a finished atlas (its to_dict() / atlas.json): the

@@ -8,16 +8,20 @@ result, in the order they arrived); the ends are sorted by their rank
 tolerance, the coordinates), so each new node's point is its best-located
 end, and two ends are one node within model.pair_window (SAME_TOL plus the
 error bound of each). Node ids follow the work order of each node's first
-branch, the edges the work order.
+branch, the edges the work order. How clearly each end's node was decided
+(identity.Judge: a factor IDENTITY_MARGIN of room on each side of the
+window, else "undecided" with the numbers) goes into the level's row.
 """
 from __future__ import annotations
 
+import math
 from typing import Any, Dict, List, Tuple
 
 import numpy as np
 from numpy.typing import NDArray
 
 from . import tasks
+from .identity import Judge, ratios
 from .index import GroupedIndex
 from .model import Edge, arrival_rank, node_kind
 
@@ -60,15 +64,22 @@ def merge_level(ex: Any, work: List[Any], got: Dict[int, Any], depth: int) -> No
     ends.sort(key=lambda e: (e[0], e[1]))
     fresh = GroupedIndex(ex.a.coords.shape, ex.rigid)  # this level's new nodes, by rank
     lead: List[Tuple[int, str, NDArray[np.float64], float]] = []  # per new node: (k, kind, point, located)
+    judge = Judge()
     for _, k, kind in ends:
         res = got[k]
         X, located = np.asarray(res["coords"], dtype=float), float(res.get("vr_tol", 0.0))
-        found = ex.find(X, located)
+        # the nodes within IDENTITY_MARGIN windows: the first (in id order)
+        # within one window is the node, the rest judge the margin
+        old = ratios(ex, X, located, ex.nodes, ex.index)
+        new = ratios(ex, X, located, [(p, tol) for _, _, p, tol in lead], fresh)
+        found = next((i for r, i in old if r <= 1.0), None)
+        c = None if found is not None else next((c for r, c in new if r <= 1.0), None)
+        join = next((r for r, i in old if i == found), next((r for r, i in new if i == c), math.nan))
+        judge.judge(ex, k, X, located, found if found is not None else c, join,
+                    [r for r, i in old if i != found] + [r for r, i in new if i != c])
         if found is not None:
             target[k] = ex.nodes[found].arrived(kind, res)
             continue
-        c = next((c for c in fresh.near(X, lambda worst: ex.pair_tol(located, worst))
-                  if ex._distance(X, lead[c][2]) <= ex.pair_tol(located, lead[c][3])), None)
         if c is None:
             c = len(lead)
             lead.append((k, kind, X, located))
@@ -85,6 +96,9 @@ def merge_level(ex: Any, work: List[Any], got: Dict[int, Any], depth: int) -> No
         X = X.copy()  # a mapped end (g applied) has its supports' coordinates to rounding only
         X[ex.fixed] = ex.a.coords[ex.fixed]
         ids[c] = ex.add_node(X, kind, got[k], depth)
+        judge.judge_image(ex, ex.nodes[ids[c]])
+    if ex.levels.rows:
+        ex.levels.rows[-1]["identity"] = judge.row()
     for k in sorted(got):
         nid, sol, sign, _beta, direction = work[k][:5]
         res, t = got[k], target[k]

@@ -29,6 +29,23 @@ def _f(v: Any, fmt: str = ".4g") -> str:
 OUTPUT_MODULES = {"networkx": "atlas", "matplotlib": "plot"}
 
 
+def identity_sentence(st: Dict[str, Any]) -> str:
+    """How clearly the ends were identified with nodes (identity.py)."""
+    rows = [r["identity"] for r in st.get("levels", []) if "identity" in r]
+    if not rows:
+        return ""
+    undecided = sum(r["undecided"] for r in rows)
+    margin = rows[0]["margin"]
+    if not undecided:
+        # no measured ratio in the words: they differ in the last digits between machines
+        return (f"Every one of the {sum(r['ends'] for r in rows):,} end points was identified with a margin of "
+                f"{margin:g} on both sides (each within 1/{margin:g} of its window of the node it joined, and "
+                f"every other node more than {margin:g} windows away).")
+    return (f"**{undecided} end point(s) were identified without that margin** (undecided: within "
+            f"{margin:g} windows of a node they did not join, or further than 1/{margin:g} of the window from "
+            "the node they joined); they are listed with their distances in the stats' levels (`identity`).")
+
+
 def require_output_modules() -> None:
     """Check that write() can write every file (atlas.graphml needs networkx,
     the PNGs matplotlib); ImportError naming the extras if not, before
@@ -140,9 +157,11 @@ def text(atlas: _atlas.Atlas, map_png: str = "atlas_map.png", nodes_png: str = "
              "budget ran out), *near-miss* (the follower stopped at a dip of v_r, but m = 1 here), "
              "*multi-dof* (m >= 2 with s = 0), *rigid* (m = 0), *failure* (following failed). Two "
              "end points are one node when their coordinates agree to "
-             f"{_f(se['same_tol'], '.1e')} (up to the rigid motions the supports allow); a node that is "
+             f"{_f(se['same_tol'], '.1e')} plus the error bound of each (10 sqrt(tol) times the model size for "
+             "a point located to v_r <= tol v_max; up to the rigid motions the supports allow); a node that is "
              "the image of an earlier one under a symmetry of the structure is marked so and not "
-             "expanded again (its paths are the images of the earlier node's).\n")
+             "expanded again (its paths are the images of the earlier node's). "
+             + identity_sentence(st) + "\n")
     nout = collections.Counter(e.source for e in atlas.edges)
     nin = collections.Counter(e.target for e in atlas.edges)
     listed = atlas.nodes

@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike
 
 from libkin.atlas import BIFURCATION, Atlas, Edge, Node, explore
 from libkin.atlas.model import pair_window
+from libkin.atlas.report import identity_sentence
 
 if TYPE_CHECKING:
     from libkin.assembly import Assembly
@@ -199,5 +200,6 @@ class SailMap:
             g["l"] = sorted(set(g["l"]))
         st = self.atlas.stats
         info = {"depth": self.atlas.settings["depth"], "nodes": st["nodes"], "edges": st["edges"],
-                "node_kinds": st["node_kinds"], "edge_events": st["edge_events"], "seconds": st["seconds"]}
+                "node_kinds": st["node_kinds"], "edge_events": st["edge_events"], "seconds": st["seconds"],
+                "identity": identity_sentence(st)}
         return {"nodes": nodes, "edges": list(agg.values()), "atlas": info}

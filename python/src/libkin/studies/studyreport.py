@@ -348,6 +348,7 @@ def _map_md(res, nfold):
              f"{at['nodes']} nodes ({kinds}), {at['edges']} directed paths (ending at: {events}); "
              f"{at['seconds']:.1f} s. A node's kind comes from the analysis at its point, not from how the "
              "path got there: a point that is not a bifurcation is never listed as one. "
+             + (f"{at['identity']} " if at.get("identity") else "")
              + (f"{relaxed} of the bifurcations were located only to a coarser v_r ('located only to' in the "
                 "node table), so their m and s are counted at ten times that rank tolerance and points reached "
                 "along different paths are one node when they agree to 10 sqrt(tolerance) x the model size; "
