@@ -18,9 +18,13 @@ from fractions import Fraction as F
 import numpy as np
 import pytest
 
-from libkin import Assembly
+import pathlib
+import sys
+
 from libkin.assembly import solve_quadrics
-from libkin.homotopy.shards import range_task
+
+sys.path.insert(0, str(pathlib.Path(__file__).parent))
+from homotopy_systems import FIG5B, endpoints, random_system, square_sail  # noqa: E402
 
 
 def _cabs(z):
@@ -110,19 +114,14 @@ def _disjoint(p, q):
 
 
 def _exact_counts(Q):
-    s, m = Q.shape[0], Q.shape[1]
-    n = 1 << s
-    part = range_task({"Q": Q, "first": 0, "count": n, "seed": 1})
-    z = np.frombuffer(part["z"]).reshape(n, 2, m)
-    from libkin._native._lib import ffi
-    ends = ffi.from_buffer("kin_homotopy_endpoint[]", bytearray(part["ends"]))
+    z, kinds = endpoints(Q)
     boxes = []
-    for p in range(n):
-        if ends[p].kind > 1:  # singular or lost: nothing to prove here
+    for p in range(len(z)):
+        if kinds[p] > 1:  # singular or lost: nothing to prove here
             continue
-        kind, k, c, r = _prove(Q, z[p, 0], z[p, 1], ends[p].kind == 0)
-        if kind is None and ends[p].kind == 1:
-            kind, k, c, r = _prove(Q, z[p, 0], z[p, 1], True)
+        kind, k, c, r = _prove(Q, z[p].real, z[p].imag, kinds[p] == 0)
+        if kind is None and kinds[p] == 1:
+            kind, k, c, r = _prove(Q, z[p].real, z[p].imag, True)
         if kind is not None:
             boxes.append((kind, k, c, r))
     clash = set()
@@ -135,23 +134,14 @@ def _exact_counts(Q):
     return real, nonreal
 
 
-def _random(s, seed):
-    rng = np.random.default_rng(seed)
-    A = rng.standard_normal((s, s + 1, s + 1))
-    return np.ascontiguousarray(A + A.transpose(0, 2, 1))
-
-
-FIG5B = np.array([[[1, 0, 0], [0, -1, 0], [0, 0, 0]], [[0, -0.5, 0], [-0.5, 0, 0], [0, 0, 1]]], dtype=float)
-
-
 @pytest.mark.parametrize("name", ["fig5b", "random3", "random4", "random5", "square_sail"])
 def test_proven_counts_equal_exact_rational_proofs(name):
     if name == "fig5b":
         Q = FIG5B
     elif name == "square_sail":
-        Q = np.ascontiguousarray(Assembly.sail(4, 1).second_order())
+        Q = square_sail()
     else:
-        Q = _random(int(name[-1]), 17)
+        Q = random_system(int(name[-1]), 17)
     s = Q.shape[0]
     _, acc = solve_quadrics(Q, "homotopy", seed=1, threads=1)
     real, nonreal = _exact_counts(Q)
