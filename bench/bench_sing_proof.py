@@ -2,7 +2,7 @@
 bifurcations (issue 38 item 2; docs/locate.md "The exactly singular point
 near it"): explore a path map, then kin_prove_singular at every node.
 
-usage: python bench/bench_sing_proof.py OUT.json [DEPTH] [sym|full] [TIME_LIMIT_S]
+usage: python bench/bench_sing_proof.py OUT.json [DEPTH] [sym|full] [TIME_LIMIT_S] [MODEL]
 (docs: 1 full 100). Prints the counts and percentiles and writes them, with
 the proven nodes, to OUT.json (bench/sing_proof_sail.json); timings are the
 best of five calls (one BLAS thread: set OPENBLAS_NUM_THREADS=1)."""
@@ -21,8 +21,9 @@ def main():
     depth = int(sys.argv[2]) if len(sys.argv) > 2 else 1
     sym = (sys.argv[3] if len(sys.argv) > 3 else "full") == "sym"
     limit = float(sys.argv[4]) if len(sys.argv) > 4 else 100.0
+    model = sys.argv[5] if len(sys.argv) > 5 else "sail:6:2"
     t0 = time.time()
-    atlas = libkin.explore("sail:6:2", depth=depth, symmetric=sym, time_limit=limit)
+    atlas = libkin.explore(model, depth=depth, symmetric=sym, time_limit=limit)
     print(f"explore: {len(atlas.nodes)} nodes in {time.time() - t0:.1f} s", flush=True)
     a = libkin.load_model(atlas.model)
     rows = []

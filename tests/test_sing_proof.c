@@ -6,6 +6,8 @@
  *  - a regular point far from any bifurcation: not proven;
  *  - the hexagonal sail's flat state (15 self-stresses) and R^B (3): not
  *    proven, corank reported;
+ *  - a four-bar pinned at one joint only (a rigid rotation, gauged): its
+ *    collinear state proven, also from a point 1e-9 off it, and located;
  *  - kin_prove_singular's argument checks. */
 #include <string.h>
 
@@ -114,10 +116,58 @@ static void corank(void)
     kin_assembly_free(a);
 }
 
+/* S1 = (0,0) pinned, J1, J2, S2 free; bars S1-J1, J1-J2, J2-S2, S2-S1, all of
+ * length 1: the rhombus turns freely about S1 (m_rigid = 1) */
+static kin_assembly *pinned_rhombus(double th)
+{
+    double xyz[8] = {0, 0, cos(th), sin(th), cos(th) + 1, sin(th), 1, 0};
+    const unsigned char fixed[8] = {1, 1, 0, 0, 0, 0, 0, 0};
+    const int bars[8] = {0, 1, 1, 2, 2, 3, 3, 0};
+    const double L0[4] = {1, 1, 1, 1};
+    kin_assembly *a = NULL;
+    CHECK_RC(kin_assembly_create(2, 4, xyz, fixed, 4, bars, L0, &a, NULL, 0), KIN_OK);
+    return a;
+}
+
+static void rigid(void)
+{
+    /* the collinear state J1 = (-1,0), J2 = (0,0), S2 = (1,0): exactly singular */
+    kin_assembly *a = pinned_rhombus(1.0);
+    if (!a) return;
+    double x[8] = {0, 0, -1, 0, 0, 0, 1, 0};
+    CHECK_RC(kin_set_coords(a, x), KIN_OK);
+    kin_analysis an = {.size = sizeof an};
+    CHECK_RC(kin_analyse(a, &an), KIN_OK);
+    CHECK(an.m_rigid == 1 && an.m_internal == 2 && an.s == 1);
+    kin_locate_info info = {.size = sizeof info};
+    CHECK_RC(kin_prove_singular(a, &info), KIN_OK);
+    CHECK(info.sing_proven == 1 && info.sing_corank == 1);
+    CHECK(info.sing_distance <= 64 * DBL_EPSILON && info.sing_dlength <= 64 * DBL_EPSILON);
+    /* 1e-9 off it, not along the rotation (which the gauge holds where the
+     * state has it: J1y or S2y, both 0): the state is the proven point */
+    x[5] = 1e-9;
+    CHECK_RC(kin_set_coords(a, x), KIN_OK);
+    CHECK_RC(kin_prove_singular(a, &info), KIN_OK);
+    printf("pinned rhombus, 1e-9 off the collinear state: proven %d, distance <= %.3e\n", info.sing_proven,
+           info.sing_distance);
+    CHECK(info.sing_proven == 1 && info.sing_distance >= 1e-9 && info.sing_distance <= 2e-9);
+    kin_assembly_free(a);
+    /* located along the rhombus's path */
+    a = pinned_rhombus(1.0);
+    kin_locate_options o = {.size = sizeof o};
+    kin_locate_options_default(&o);
+    CHECK_RC(kin_locate_next(a, &o, &info), KIN_OK);
+    printf("pinned rhombus located: v_r/v_max %.2e, proven %d, distance <= %.3e, |L* - L0| <= %.3e\n", info.v_r_rel,
+           info.sing_proven, info.sing_distance, info.sing_dlength);
+    CHECK(info.located && info.sing_proven == 1 && info.sing_distance <= 1e-8);
+    kin_assembly_free(a);
+}
+
 int main(void)
 {
     threebar();
     regular();
     corank();
+    rigid();
     TEST_REPORT("test_sing_proof");
 }

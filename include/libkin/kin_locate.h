@@ -94,9 +94,11 @@ typedef struct kin_locate_info {
     double sing_dlength;   /* the bound on max_k |L*_k - L0_k| (model units) */
     double sing_unique;    /* no other such singular point (with its self-stress and length
                               change) within this max-norm radius of the proof's centre */
-    int sing_proven;       /* 1: the three above hold; 0: not proven (sing_corank > 1, rigid
-                              mechanisms, no dense SVD, or the test failed: not a simple
-                              bifurcation, e.g. a tangency, or not near one) */
+    int sing_proven;       /* 1: the three above hold; 0: not proven (sing_corank > 1, no
+                              dense SVD, or the test failed: not a simple bifurcation, e.g. a
+                              tangency, or not near one). Rigid-body mechanisms are gauged by
+                              holding as many coordinates; the proof then assumes they are exact
+                              motions of the structure (docs/locate.md) */
     int sing_corank;       /* non-trivial self-stresses at the final point (s - s_trivial):
                               the proof needs 1 (or 0, then the lowest singular pair) */
 } kin_locate_info;

@@ -10,7 +10,8 @@
  * in z = (x, phi, mu): N = nf + nb + 1 equations and unknowns, A the
  * unnormalised equilibrium matrix (column k: x_a - x_b at joint a, minus it
  * at b), e the point's unit self-stress. Its Jacobian is regular where the
- * point has one self-stress, no rigid mechanism, and the stress's quadratic
+ * point has one self-stress, no rigid mechanism (those are gauged away:
+ * gauge() below), and the stress's quadratic
  * form on the mechanisms, U_m^T K(phi) U_m, is regular (two branches
  * crossing transversally): for a kernel vector (dx, dphi, dmu), phi* . (2 A^T dx
  * + e dmu) = dmu (A phi* = 0, e . phi* = 1), so dmu = 0 and dx is a mechanism;
@@ -52,7 +53,9 @@ enum { MAX_N = 4000 };
 static const double MAX_MOVE = 1e-4;
 
 typedef struct sp_ws {
-    int nf, nb, N, dim;
+    int nf, nb, N, dim; /* nf: the unknown coordinates (the free ones less the gauge's) */
+    int *fi;        /* nj dim: a coordinate's unknown, or -1 (fixed, or fixed by the gauge) */
+    int *coord;     /* nf: an unknown's coordinate (j dim + c) */
     int *bar;       /* nb: the bars used (not between fixed joints) */
     double s2;      /* scale: a power of two near the RMS rest length */
     double *xyz;    /* nj dim: scaled coordinates (fixed ones as given) */
@@ -66,14 +69,14 @@ typedef struct sp_ws {
 
 static void ws_free(sp_ws *w)
 {
-    free(w->bar), free(w->xyz), free(w->e), free(w->L0sq), free(w->x0);
+    free(w->bar), free(w->xyz), free(w->e), free(w->L0sq), free(w->x0), free(w->fi), free(w->coord);
     free(w->z), free(w->F), free(w->J), free(w->Y), free(w->dz), free(w->work), free(w->ipiv);
 }
 
-static int ws_alloc(const kin_assembly *a, sp_ws *w, int nb)
+static int ws_alloc(const kin_assembly *a, sp_ws *w, int nb, int mr)
 {
     memset(w, 0, sizeof *w);
-    w->nf = a->nf, w->nb = nb, w->dim = a->dim, w->N = a->nf + nb + 1;
+    w->nf = a->nf - mr, w->nb = nb, w->dim = a->dim, w->N = w->nf + nb + 1;
     size_t N = (size_t)w->N;
     w->lwork = 64 * w->N;
     w->bar = malloc(sizeof(int) * (size_t)(nb + 1));
@@ -81,10 +84,12 @@ static int ws_alloc(const kin_assembly *a, sp_ws *w, int nb)
     w->e = malloc(sizeof(double) * (size_t)(nb + 1));
     w->L0sq = malloc(sizeof(double) * (size_t)(nb + 1));
     w->x0 = malloc(sizeof(double) * (size_t)(a->nf + 1));
+    w->fi = malloc(sizeof(int) * (size_t)a->nj * a->dim), w->coord = malloc(sizeof(int) * (size_t)(a->nf + 1));
     w->z = malloc(sizeof(double) * N), w->F = malloc(sizeof(double) * N), w->dz = malloc(sizeof(double) * N);
-    w->J = malloc(sizeof(double) * N * N), w->Y = malloc(sizeof(double) * N * N);
+    size_t big = N * N > (size_t)a->nf * (mr + 1) ? N * N : (size_t)a->nf * (mr + 1); /* also gauge()'s scratch */
+    w->J = malloc(sizeof(double) * big), w->Y = malloc(sizeof(double) * big);
     w->work = malloc(sizeof(double) * (size_t)w->lwork), w->ipiv = malloc(sizeof(int) * N);
-    if (!w->bar || !w->xyz || !w->e || !w->L0sq || !w->x0 || !w->z || !w->F || !w->dz || !w->J || !w->Y ||
+    if (!w->bar || !w->xyz || !w->e || !w->L0sq || !w->x0 || !w->fi || !w->coord || !w->z || !w->F || !w->dz || !w->J || !w->Y ||
         !w->work || !w->ipiv) {
         ws_free(w);
         return 0;
@@ -96,7 +101,7 @@ static int ws_alloc(const kin_assembly *a, sp_ws *w, int nb)
 static void put_x(const kin_assembly *a, sp_ws *w, const double *z)
 {
     for (int i = 0; i < a->nj * a->dim; ++i) w->xyz[i] = a->xyz[i] / w->s2;
-    for (int i = 0; i < a->nf; ++i) w->xyz[a->free_coord[i]] = z[i];
+    for (int i = 0; i < w->nf; ++i) w->xyz[w->coord[i]] = z[i];
 }
 
 /* F(z) and its Jacobian (dense, column-major N x N) in double */
@@ -114,7 +119,7 @@ static void eval_double(const kin_assembly *a, sp_ws *w, const double *z, double
         double phi = z[nf + q], sq = 0.0;
         for (int c = 0; c < dim; ++c) {
             double d = w->xyz[ja * dim + c] - w->xyz[jb * dim + c];
-            int ra = a->free_index[ja * dim + c], rb = a->free_index[jb * dim + c];
+            int ra = w->fi[ja * dim + c], rb = w->fi[jb * dim + c];
             sq += d * d;
             if (ra >= 0) {
                 J[q + ra * ld] += 2.0 * d;
@@ -254,7 +259,7 @@ static void eval_balls(const kin_assembly *a, sp_ws *w, const arb_t *L0sq, arb_p
             arb_sub(d, d, u, PREC);
             arb_addmul(sq, d, d, PREC);
             arb_mul_2exp_si(two_d, d, 1);
-            int r[2] = {a->free_index[ja * dim + c], a->free_index[jb * dim + c]};
+            int r[2] = {w->fi[ja * dim + c], w->fi[jb * dim + c]};
             for (int end = 0; end < 2; ++end) {
                 if (r[end] < 0) continue;
                 int sg = end ? -1 : 1, row = nb + r[end];
@@ -421,6 +426,40 @@ static int test_balls(const kin_assembly *a, sp_ws *w, kin__sing_proof *p)
     return KIN_OK;
 }
 
+/* The gauge of the rigid mechanisms (columns of Urig, nf x mr): mr free
+ * coordinates held at their values, chosen by Gaussian elimination with row
+ * pivoting on Urig (the rows where the rigid motions move most
+ * independently). The structure so supported has no rigid motion; at its
+ * singular point the reactions there vanish for the given structure too,
+ * since r^T A(x) phi = 0 for each exact rigid field r and their mr x mr block
+ * on those coordinates is regular near the point (docs/locate.md). */
+static void gauge(const kin_assembly *a, sp_ws *w, const double *Urig, int mr)
+{
+    int nf = a->nf;
+    double *M = w->J; /* scratch: nf x mr <= N x N */
+    unsigned char *held = (unsigned char *)w->Y; /* scratch: nf flags */
+    memset(held, 0, (size_t)nf);
+    if (mr) memcpy(M, Urig, sizeof(double) * (size_t)nf * mr);
+    for (int j = 0; j < mr; ++j) {
+        int piv = -1;
+        for (int i = 0; i < nf; ++i)
+            if (!held[i] && (piv < 0 || fabs(M[i + (size_t)j * nf]) > fabs(M[piv + (size_t)j * nf]))) piv = i;
+        held[piv] = 1;
+        for (int k = j + 1; k < mr; ++k) {
+            double f = M[piv + (size_t)k * nf] / M[piv + (size_t)j * nf];
+            if (!isfinite(f)) continue;
+            for (int i = 0; i < nf; ++i) M[i + (size_t)k * nf] -= f * M[i + (size_t)j * nf];
+        }
+    }
+    for (int i = 0; i < a->nj * a->dim; ++i) w->fi[i] = -1;
+    int n = 0;
+    for (int i = 0; i < nf; ++i)
+        if (!held[i]) {
+            w->fi[a->free_coord[i]] = n;
+            w->coord[n++] = a->free_coord[i];
+        }
+}
+
 static int prove_ws(kin_assembly *a, sp_ws *w, kin__sing_proof *p)
 {
     int nf = w->nf, nb = w->nb, q = 0;
@@ -429,8 +468,7 @@ static int prove_ws(kin_assembly *a, sp_ws *w, kin__sing_proof *p)
     w->s2 = ldexp(1.0, (int)lround(log2(a->rms_length > 0.0 ? a->rms_length : 1.0)));
     p->reason = KIN__SING_FAR;
     if (!pick_stress(a, w)) return KIN_OK;
-    kin__gather(a, a->xyz, w->x0);
-    for (int i = 0; i < nf; ++i) w->x0[i] /= w->s2;
+    for (int i = 0; i < nf; ++i) w->x0[i] = a->xyz[w->coord[i]] / w->s2;
     memcpy(w->z, w->x0, sizeof(double) * (size_t)nf);
     memcpy(w->z + nf, w->e, sizeof(double) * (size_t)nb);
     w->z[w->N - 1] = 0.0;
@@ -453,7 +491,8 @@ int kin__sing_prove(kin_assembly *a, kin__sing_proof *p)
     const kin_factor *f = kin__cur(a);
     if (!f->valid || !f->VT || !f->sv) return KIN_OK;
     p->corank = f->an.s - f->an.s_trivial;
-    if (f->an.m_rigid > 0) {
+    int mr = f->an.m_rigid;
+    if (mr > 0 && (!f->Urig || mr >= a->nf)) {
         p->reason = KIN__SING_RIGID;
         return KIN_OK;
     }
@@ -467,7 +506,8 @@ int kin__sing_prove(kin_assembly *a, kin__sing_proof *p)
         return KIN_OK;
     }
     sp_ws w;
-    if (!ws_alloc(a, &w, nb)) return KIN_ENOMEM;
+    if (!ws_alloc(a, &w, nb, mr)) return KIN_ENOMEM;
+    gauge(a, &w, f->Urig, mr);
     int rc = prove_ws(a, &w, p);
     ws_free(&w);
     return rc;

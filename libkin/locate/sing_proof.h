@@ -9,7 +9,7 @@
 enum kin__sing_reason {
     KIN__SING_PROVEN = 0,
     KIN__SING_NO_SVD = 1,    /* no current dense analysis at the point */
-    KIN__SING_RIGID = 2,     /* rigid-body mechanisms: solutions not isolated */
+    KIN__SING_RIGID = 2,     /* rigid-body mechanisms without a basis to gauge them by */
     KIN__SING_CORANK = 3,    /* more than one non-trivial self-stress: the system is not square */
     KIN__SING_FAR = 4,       /* Newton on the extended system left the neighbourhood or failed */
     KIN__SING_KRAWCZYK = 5,  /* the test did not pass (not a simple bifurcation, or ill-conditioned) */

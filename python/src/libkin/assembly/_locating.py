@@ -264,9 +264,8 @@ class LocatingMixin(AssemblyBase):
         Returns
         -------
         SingularProof
-            `proven` False where no proof was found (corank > 1, rigid-body
-            mechanisms, or no simple bifurcation near); the configuration is
-            not changed.
+            `proven` False where no proof was found (corank > 1, or no
+            simple bifurcation near); the configuration is not changed.
         """
         info = new_struct("kin_locate_info")
         self._check(lib.kin_prove_singular(self._h, info), "prove_singular")
