@@ -155,9 +155,11 @@ KIN_API int kin_locate_next(kin_assembly *a, const kin_locate_options *o, kin_lo
  * and writes those five fields of *info only; info->size must be the
  * current sizeof(kin_locate_info) (an older layout has no room: KIN_EINVAL).
  * Not being provable is no error (sing_proven = 0). The configuration is not
- * changed. Cost: a few LU factorizations of an (nf + nb + 1)-square matrix
- * and O(N nb) ball operations (milliseconds for the sails). Returns KIN_OK,
- * KIN_ENULL, KIN_EINVAL, KIN_ENOMEM, analysis codes. */
+ * changed. Cost: up to 13 LU factorizations of an N = (nf + nb + 1)-square
+ * matrix and about 26 N nb ball operations in 3D (milliseconds for the
+ * sails); not attempted (sing_proven = 0) above 3e7 of those (about a
+ * second). Returns KIN_OK, KIN_ENULL, KIN_EINVAL, KIN_ENOMEM, analysis
+ * codes. */
 KIN_API int kin_prove_singular(kin_assembly *a, kin_locate_info *info);
 
 #ifdef __cplusplus

@@ -46,8 +46,11 @@
 #include "model/lapack.h"
 
 enum { PREC = 64, NEWTON_MAX = 12 };
-/* the proof is attempted for extended systems up to this size (N^2 doubles twice) */
+/* the proof is attempted for extended systems up to this size (N^2 doubles
+ * twice) and this many ball multiply-adds for rho (N times J's entries):
+ * about a second (the hexagonal sail: 92 and 1.1e5) */
 enum { MAX_N = 4000 };
+static const double MAX_WORK = 3e7;
 /* Newton may move the configuration this far (relative to the scale): farther
  * is no singular point near the given one */
 static const double MAX_MOVE = 1e-4;
@@ -222,7 +225,7 @@ static void addmul_dd(arb_t z, double x, const arb_t y, int sign, arb_t t)
     else arb_sub(z, z, t, PREC);
 }
 
-/* Y's row a times a column vector given as triplets: out[col] += Y[a, row] val */
+/* J(y)'s entries as (row, column, ball) triplets (repeated positions add up) */
 typedef struct trip {
     int n, cap;
     int *row, *col;
@@ -501,7 +504,8 @@ int kin__sing_prove(kin_assembly *a, kin__sing_proof *p)
         return KIN_OK;
     }
     int nb = a->nb - a->nfixed_bars;
-    if (nb < 1 || a->nf + nb + 1 > MAX_N) {
+    int N = a->nf - mr + nb + 1;
+    if (nb < 1 || N > MAX_N || (double)N * nb * (8 * a->dim + 2) > MAX_WORK) {
         p->reason = KIN__SING_TOO_LARGE;
         return KIN_OK;
     }
