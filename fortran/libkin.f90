@@ -67,6 +67,10 @@ module libkin
     ! layout 2: a proven enclosure of v_r (valid when v_r_bounded = 1)
     real(c_double) :: v_r_lo = 0, v_r_hi = 0, v_r_rel_hi = 0
     integer(c_int) :: v_r_bounded = 0
+    ! layout 3: a proven exactly singular configuration near the final point
+    ! (valid when sing_proven = 1; docs/locate.md "Certified bifurcations")
+    real(c_double) :: sing_distance = 0, sing_dlength = 0, sing_unique = 0
+    integer(c_int) :: sing_proven = 0, sing_corank = 0
   end type
 
   type, bind(C), public :: kin_solve_info
@@ -171,7 +175,7 @@ module libkin
   public :: kin_options_default, kin_options_default_c, kin_options_init, kin_set_options, kin_get_options, kin_step
   public :: kin_path_set_direction, kin_get_tangent, kin_path_length, kin_path_reset, kin_relax
   public :: kin_locate_options_default, kin_locate_options_default_c, kin_locate_options_init
-  public :: kin_test_function, kin_locate_next
+  public :: kin_test_function, kin_locate_next, kin_prove_singular
   public :: kin_second_order, kin_quadrics_scan, kin_quadrics_homotopy, kin_branch_paths
   public :: kin_homotopy_options_default, kin_homotopy_options_default_c, kin_homotopy_options_init
   public :: kin_quadrics_homotopy_ex
@@ -443,6 +447,12 @@ module libkin
       type(kin_locate_options), intent(in) :: o
       type(kin_locate_info), intent(out) :: info
       integer(c_int) :: kin_locate_next
+    end function
+    function kin_prove_singular(a, info) bind(C, name='kin_prove_singular')
+      import :: c_int, c_ptr, kin_locate_info
+      type(c_ptr), value :: a
+      type(kin_locate_info), intent(inout) :: info
+      integer(c_int) :: kin_prove_singular
     end function
 
     ! kin_branch.h (seed: the bits of a C unsigned long)

@@ -54,6 +54,7 @@ contains
     type(kin_options) :: o, o2
     type(kin_analysis) :: an
     type(kin_homotopy_info) :: hi
+    type(kin_locate_info) :: li
     character(len=:), allocatable :: msg
     ! R^C: J1 = (1,0), J2 = (2,0), supports S1 = (0,0), S2 = (1,0)
     xyz = reshape([1d0, 0d0, 2d0, 0d0, 0d0, 0d0, 1d0, 0d0], [2, 4])
@@ -85,6 +86,10 @@ contains
     call expect(kin_get_equilibrium_matrix(a, h, 3) == KIN_ERANGE, 'ldh < nfree')
     call expect(kin_analyse(a, an) == KIN_OK, 'analyse')
     call expect(an%rank == 2 .and. an%m_internal == 2 .and. an%s == 1, 'R^C analysis (eq. 27)')
+    ! the exact R^C: a proven singular point (kin_locate_info layout 3) within rounding
+    call expect(kin_prove_singular(a, li) == KIN_OK .and. li%sing_proven == 1 .and. li%sing_corank == 1, &
+                'R^C proven singular')
+    call expect(li%sing_distance < 1d-12 .and. li%sing_dlength < 1d-12, 'R^C: bounds at rounding level')
     ! options through the bind(C) type
     call kin_options_default(o)
     call expect(o%factorization == KIN_STEP_SVD .and. o%rank_tol == 1d-9, 'default options')

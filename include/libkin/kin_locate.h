@@ -83,6 +83,24 @@ typedef struct kin_locate_info {
     double v_r_rel_hi;     /* >= that singular value / the exact largest one */
     int v_r_bounded;       /* 1: the three above hold; 0: not computed (no dense SVD at the
                               final point, KIN_STEP_SPARSE, or H too large) */
+    /* layout 3 (docs/abi.md): a proven exactly singular configuration near the final point
+       (Krawczyk's test in Arb on Moore's extended system, docs/locate.md "Certified
+       bifurcations"). A backward-error statement: where sing_proven = 1, the structure whose
+       bar lengths L* differ from the given L0 by at most sing_dlength (each bar; L*^2 - L0^2 is
+       a multiple of the point's self-stress in force densities) is exactly singular (a
+       self-stress, one fewer rank) at a configuration x* with max_i |x*_i - x_i| <=
+       sing_distance over the free coordinates x of the final point. L* = L0 is not proven. */
+    double sing_distance;  /* the bound on |x* - x| (max norm, model units) */
+    double sing_dlength;   /* the bound on max_k |L*_k - L0_k| (model units) */
+    double sing_unique;    /* no other such singular point (with its self-stress and length
+                              change) within this max-norm radius of the proof's centre */
+    int sing_proven;       /* 1: the three above hold; 0: not proven (sing_corank > 1, no
+                              dense SVD, or the test failed: not a simple bifurcation, e.g. a
+                              tangency, or not near one). Rigid-body mechanisms are gauged by
+                              holding as many coordinates; the proof then assumes they are exact
+                              motions of the structure (docs/locate.md) */
+    int sing_corank;       /* non-trivial self-stresses at the final point (s - s_trivial):
+                              the proof needs 1 (or 0, then the lowest singular pair) */
 } kin_locate_info;
 
 /* Fill *o with the defaults above, for a struct of `size` bytes: pass
@@ -130,6 +148,19 @@ KIN_API int kin_test_function(kin_assembly *a, double *tau);
  * Returns KIN_OK, KIN_ENULL, KIN_EINVAL (options), KIN_EBIFURCATION (already
  * at one), KIN_ENOTFOUND, KIN_ECANCELLED, KIN_ENOMEM, step and LAPACK codes. */
 KIN_API int kin_locate_next(kin_assembly *a, const kin_locate_options *o, kin_locate_info *info);
+
+/* The proof of kin_locate_info's layout-3 fields (sing_*) at the assembly's
+ * current point, whatever brought it there (kin_locate_next fills them for
+ * its final point itself): runs the dense analysis if it is not current,
+ * and writes those five fields of *info only; info->size must be the
+ * current sizeof(kin_locate_info) (an older layout has no room: KIN_EINVAL).
+ * Not being provable is no error (sing_proven = 0). The configuration is not
+ * changed. Cost: up to 13 LU factorizations of an N = (nf + nb + 1)-square
+ * matrix and about 26 N nb ball operations in 3D (milliseconds for the
+ * sails); not attempted (sing_proven = 0) above 3e7 of those (about a
+ * second). Returns KIN_OK, KIN_ENULL, KIN_EINVAL, KIN_ENOMEM, analysis
+ * codes. */
+KIN_API int kin_prove_singular(kin_assembly *a, kin_locate_info *info);
 
 #ifdef __cplusplus
 }

@@ -15,6 +15,7 @@
 
 #include "locate/locate.h"
 #include "locate/locate_internal.h"
+#include "locate/sing_proof.h"
 
 /* while locating, singular values count as zero only below this fraction of
  * the target tolerance, so that the test function keeps its sign (and the
@@ -161,6 +162,43 @@ static void enclose_v_r(const kin_assembly *a, kin_locate_info *info)
     info->v_r_lo = lo, info->v_r_hi = hi;
     info->v_r_rel_hi = hi / max_lo * (1.0 + 0x1p-50); /* rounded up */
     info->v_r_bounded = 1;
+}
+
+/* kin_locate_info's layout-3 fields from locate/sing_proof.c */
+static int prove_singular(kin_assembly *a, kin_locate_info *info)
+{
+    kin__sing_proof p;
+    int rc = kin__sing_prove(a, &p);
+    info->sing_proven = p.proven;
+    info->sing_corank = p.corank;
+    info->sing_distance = p.distance;
+    info->sing_dlength = p.dlength;
+    info->sing_unique = p.unique;
+    return rc;
+}
+
+/* a location's final point (its analysis current): v_r's enclosure (layout
+ * 2) always, the singular point's proof (layout 3) where it was located,
+ * except for the follower (ws given), whose events do not report it and
+ * whose branches would pay ~10 ms each for it (kin_prove_singular proves
+ * one of its points on demand); returns rc, or the proof's error (out of
+ * memory) */
+static int certify(kin_assembly *a, kin_locate_info *info, int rc, const kin__locate_ws *ws)
+{
+    enclose_v_r(a, info);
+    if (rc != KIN_OK || ws) return rc;
+    return prove_singular(a, info);
+}
+
+int kin_prove_singular(kin_assembly *a, kin_locate_info *info)
+{
+    if (!a || !info) return a ? kin__fail(a, KIN_ENULL, "kin_prove_singular: info is NULL") : KIN_ENULL;
+    if (kin__abi_check(info, KIN__ABI(kin_locate_info)) || info->size < sizeof(kin_locate_info))
+        return kin__fail(a, KIN_EINVAL, "kin_prove_singular: info->size is not the current sizeof(kin_locate_info)");
+    int token = kin__blas_threads_small(a);
+    int rc = prove_singular(a, info);
+    kin__blas_threads_restore(token);
+    return rc;
 }
 
 static int locate_impl(kin_assembly *a, const kin_locate_options *opt, kin_locate_info *info, kin__step_hook hook,
@@ -430,7 +468,7 @@ classify:
         (int)((a->nfact - fa) + (c.work->nfact - fw) + (c.probe ? c.probe->nfact - fp : 0) + (c.prev->nfact - fpv));
     info->located = rc == KIN_OK;
     info->v_r = kin__loc_group_top(a, o.vr_tol);
-    enclose_v_r(a, info); /* v_r / v_max and its enclosure */
+    rc = certify(a, info, rc, ws); /* v_r / v_max, its enclosure, the proof of a singular point near */
     info->m_internal = kin__cur(a)->an.m_internal;
     info->s = kin__cur(a)->an.s;
     if (rc == KIN_ECANCELLED)

@@ -119,6 +119,24 @@ struct kin__kin_locate_info_1 {
     int m_internal, s;
     int zero_order;
 };
+/* kin_locate_info as a host compiled against layout 2 has it */
+struct kin__kin_locate_info_2 {
+    size_t size;
+    int event;
+    int located;
+    int steps;
+    int factorizations;
+    int forward;
+    double v_r;
+    double v_r_rel;
+    double distance;
+    int path_kept;
+    int m_internal, s;
+    int zero_order;
+    double v_r_lo, v_r_hi;
+    double v_r_rel_hi;
+    int v_r_bounded;
+};
 /* kin_follow_options as a host compiled against layout 1 has it */
 struct kin__kin_follow_options_1 {
     size_t size;
@@ -241,7 +259,7 @@ enum kin__abi_id {
     {"kin_homotopy_sym_info", 1, {sizeof(kin_homotopy_sym_info)}, {sizeof(kin_homotopy_sym_info)}}, \
     {"kin_branch_path", 1, {sizeof(kin_branch_path)}, {sizeof(kin_branch_path)}}, \
     {"kin_locate_options", 1, {sizeof(kin_locate_options)}, {sizeof(kin_locate_options)}}, \
-    {"kin_locate_info", 2, {sizeof(struct kin__kin_locate_info_1), sizeof(kin_locate_info)}, {offsetof(struct kin__kin_locate_info_1, zero_order) + sizeof(((struct kin__kin_locate_info_1 *)0)->zero_order), sizeof(kin_locate_info)}}, \
+    {"kin_locate_info", 3, {sizeof(struct kin__kin_locate_info_1), sizeof(struct kin__kin_locate_info_2), sizeof(kin_locate_info)}, {offsetof(struct kin__kin_locate_info_1, zero_order) + sizeof(((struct kin__kin_locate_info_1 *)0)->zero_order), offsetof(struct kin__kin_locate_info_2, v_r_bounded) + sizeof(((struct kin__kin_locate_info_2 *)0)->v_r_bounded), sizeof(kin_locate_info)}}, \
     {"kin_follow_options", 3, {sizeof(struct kin__kin_follow_options_1), sizeof(struct kin__kin_follow_options_2), sizeof(kin_follow_options)}, {offsetof(struct kin__kin_follow_options_1, branch_cos) + sizeof(((struct kin__kin_follow_options_1 *)0)->branch_cos), offsetof(struct kin__kin_follow_options_2, branch_margin) + sizeof(((struct kin__kin_follow_options_2 *)0)->branch_margin), sizeof(kin_follow_options)}}, \
     {"kin_follow_info", 3, {sizeof(struct kin__kin_follow_info_1), sizeof(struct kin__kin_follow_info_2), sizeof(kin_follow_info)}, {offsetof(struct kin__kin_follow_info_1, tangent_cos) + sizeof(((struct kin__kin_follow_info_1 *)0)->tangent_cos), offsetof(struct kin__kin_follow_info_2, return_gap) + sizeof(((struct kin__kin_follow_info_2 *)0)->return_gap), sizeof(kin_follow_info)}}
 
@@ -324,20 +342,38 @@ typedef char kin__abi_prefix_kin_homotopy_options_1_nthreads[offsetof(struct kin
 typedef char kin__abi_prefix_kin_homotopy_options_1_max_paths[offsetof(struct kin__kin_homotopy_options_1, max_paths) == offsetof(kin_homotopy_options, max_paths) ? 1 : -1];
 typedef char kin__abi_prefix_kin_homotopy_options_1_progress[offsetof(struct kin__kin_homotopy_options_1, progress) == offsetof(kin_homotopy_options, progress) ? 1 : -1];
 typedef char kin__abi_prefix_kin_homotopy_options_1_user[offsetof(struct kin__kin_homotopy_options_1, user) == offsetof(kin_homotopy_options, user) ? 1 : -1];
-typedef char kin__abi_grows_kin_locate_info_1[sizeof(struct kin__kin_locate_info_1) < sizeof(kin_locate_info) ? 1 : -1];
-typedef char kin__abi_prefix_kin_locate_info_1_size[offsetof(struct kin__kin_locate_info_1, size) == offsetof(kin_locate_info, size) ? 1 : -1];
-typedef char kin__abi_prefix_kin_locate_info_1_event[offsetof(struct kin__kin_locate_info_1, event) == offsetof(kin_locate_info, event) ? 1 : -1];
-typedef char kin__abi_prefix_kin_locate_info_1_located[offsetof(struct kin__kin_locate_info_1, located) == offsetof(kin_locate_info, located) ? 1 : -1];
-typedef char kin__abi_prefix_kin_locate_info_1_steps[offsetof(struct kin__kin_locate_info_1, steps) == offsetof(kin_locate_info, steps) ? 1 : -1];
-typedef char kin__abi_prefix_kin_locate_info_1_factorizations[offsetof(struct kin__kin_locate_info_1, factorizations) == offsetof(kin_locate_info, factorizations) ? 1 : -1];
-typedef char kin__abi_prefix_kin_locate_info_1_forward[offsetof(struct kin__kin_locate_info_1, forward) == offsetof(kin_locate_info, forward) ? 1 : -1];
-typedef char kin__abi_prefix_kin_locate_info_1_v_r[offsetof(struct kin__kin_locate_info_1, v_r) == offsetof(kin_locate_info, v_r) ? 1 : -1];
-typedef char kin__abi_prefix_kin_locate_info_1_v_r_rel[offsetof(struct kin__kin_locate_info_1, v_r_rel) == offsetof(kin_locate_info, v_r_rel) ? 1 : -1];
-typedef char kin__abi_prefix_kin_locate_info_1_distance[offsetof(struct kin__kin_locate_info_1, distance) == offsetof(kin_locate_info, distance) ? 1 : -1];
-typedef char kin__abi_prefix_kin_locate_info_1_path_kept[offsetof(struct kin__kin_locate_info_1, path_kept) == offsetof(kin_locate_info, path_kept) ? 1 : -1];
-typedef char kin__abi_prefix_kin_locate_info_1_m_internal[offsetof(struct kin__kin_locate_info_1, m_internal) == offsetof(kin_locate_info, m_internal) ? 1 : -1];
-typedef char kin__abi_prefix_kin_locate_info_1_s[offsetof(struct kin__kin_locate_info_1, s) == offsetof(kin_locate_info, s) ? 1 : -1];
-typedef char kin__abi_prefix_kin_locate_info_1_zero_order[offsetof(struct kin__kin_locate_info_1, zero_order) == offsetof(kin_locate_info, zero_order) ? 1 : -1];
+typedef char kin__abi_grows_kin_locate_info_1[sizeof(struct kin__kin_locate_info_1) < sizeof(struct kin__kin_locate_info_2) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_size[offsetof(struct kin__kin_locate_info_1, size) == offsetof(struct kin__kin_locate_info_2, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_event[offsetof(struct kin__kin_locate_info_1, event) == offsetof(struct kin__kin_locate_info_2, event) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_located[offsetof(struct kin__kin_locate_info_1, located) == offsetof(struct kin__kin_locate_info_2, located) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_steps[offsetof(struct kin__kin_locate_info_1, steps) == offsetof(struct kin__kin_locate_info_2, steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_factorizations[offsetof(struct kin__kin_locate_info_1, factorizations) == offsetof(struct kin__kin_locate_info_2, factorizations) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_forward[offsetof(struct kin__kin_locate_info_1, forward) == offsetof(struct kin__kin_locate_info_2, forward) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_v_r[offsetof(struct kin__kin_locate_info_1, v_r) == offsetof(struct kin__kin_locate_info_2, v_r) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_v_r_rel[offsetof(struct kin__kin_locate_info_1, v_r_rel) == offsetof(struct kin__kin_locate_info_2, v_r_rel) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_distance[offsetof(struct kin__kin_locate_info_1, distance) == offsetof(struct kin__kin_locate_info_2, distance) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_path_kept[offsetof(struct kin__kin_locate_info_1, path_kept) == offsetof(struct kin__kin_locate_info_2, path_kept) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_m_internal[offsetof(struct kin__kin_locate_info_1, m_internal) == offsetof(struct kin__kin_locate_info_2, m_internal) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_s[offsetof(struct kin__kin_locate_info_1, s) == offsetof(struct kin__kin_locate_info_2, s) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_1_zero_order[offsetof(struct kin__kin_locate_info_1, zero_order) == offsetof(struct kin__kin_locate_info_2, zero_order) ? 1 : -1];
+typedef char kin__abi_grows_kin_locate_info_2[sizeof(struct kin__kin_locate_info_2) < sizeof(kin_locate_info) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_size[offsetof(struct kin__kin_locate_info_2, size) == offsetof(kin_locate_info, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_event[offsetof(struct kin__kin_locate_info_2, event) == offsetof(kin_locate_info, event) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_located[offsetof(struct kin__kin_locate_info_2, located) == offsetof(kin_locate_info, located) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_steps[offsetof(struct kin__kin_locate_info_2, steps) == offsetof(kin_locate_info, steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_factorizations[offsetof(struct kin__kin_locate_info_2, factorizations) == offsetof(kin_locate_info, factorizations) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_forward[offsetof(struct kin__kin_locate_info_2, forward) == offsetof(kin_locate_info, forward) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_v_r[offsetof(struct kin__kin_locate_info_2, v_r) == offsetof(kin_locate_info, v_r) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_v_r_rel[offsetof(struct kin__kin_locate_info_2, v_r_rel) == offsetof(kin_locate_info, v_r_rel) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_distance[offsetof(struct kin__kin_locate_info_2, distance) == offsetof(kin_locate_info, distance) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_path_kept[offsetof(struct kin__kin_locate_info_2, path_kept) == offsetof(kin_locate_info, path_kept) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_m_internal[offsetof(struct kin__kin_locate_info_2, m_internal) == offsetof(kin_locate_info, m_internal) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_s[offsetof(struct kin__kin_locate_info_2, s) == offsetof(kin_locate_info, s) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_zero_order[offsetof(struct kin__kin_locate_info_2, zero_order) == offsetof(kin_locate_info, zero_order) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_v_r_lo[offsetof(struct kin__kin_locate_info_2, v_r_lo) == offsetof(kin_locate_info, v_r_lo) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_v_r_hi[offsetof(struct kin__kin_locate_info_2, v_r_hi) == offsetof(kin_locate_info, v_r_hi) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_v_r_rel_hi[offsetof(struct kin__kin_locate_info_2, v_r_rel_hi) == offsetof(kin_locate_info, v_r_rel_hi) ? 1 : -1];
+typedef char kin__abi_prefix_kin_locate_info_2_v_r_bounded[offsetof(struct kin__kin_locate_info_2, v_r_bounded) == offsetof(kin_locate_info, v_r_bounded) ? 1 : -1];
 typedef char kin__abi_grows_kin_follow_options_1[sizeof(struct kin__kin_follow_options_1) < sizeof(struct kin__kin_follow_options_2) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_options_1_size[offsetof(struct kin__kin_follow_options_1, size) == offsetof(struct kin__kin_follow_options_2, size) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_options_1_vr_tol[offsetof(struct kin__kin_follow_options_1, vr_tol) == offsetof(struct kin__kin_follow_options_2, vr_tol) ? 1 : -1];
@@ -586,22 +622,43 @@ typedef char kin__abi_prefix_kin_follow_info_2_return_gap[offsetof(struct kin__k
     X(kin_locate_info, 1, struct kin__kin_locate_info_1, m_internal) \
     X(kin_locate_info, 1, struct kin__kin_locate_info_1, s) \
     X(kin_locate_info, 1, struct kin__kin_locate_info_1, zero_order) \
-    X(kin_locate_info, 2, kin_locate_info, event) \
-    X(kin_locate_info, 2, kin_locate_info, located) \
-    X(kin_locate_info, 2, kin_locate_info, steps) \
-    X(kin_locate_info, 2, kin_locate_info, factorizations) \
-    X(kin_locate_info, 2, kin_locate_info, forward) \
-    X(kin_locate_info, 2, kin_locate_info, v_r) \
-    X(kin_locate_info, 2, kin_locate_info, v_r_rel) \
-    X(kin_locate_info, 2, kin_locate_info, distance) \
-    X(kin_locate_info, 2, kin_locate_info, path_kept) \
-    X(kin_locate_info, 2, kin_locate_info, m_internal) \
-    X(kin_locate_info, 2, kin_locate_info, s) \
-    X(kin_locate_info, 2, kin_locate_info, zero_order) \
-    X(kin_locate_info, 2, kin_locate_info, v_r_lo) \
-    X(kin_locate_info, 2, kin_locate_info, v_r_hi) \
-    X(kin_locate_info, 2, kin_locate_info, v_r_rel_hi) \
-    X(kin_locate_info, 2, kin_locate_info, v_r_bounded)
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, event) \
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, located) \
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, steps) \
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, factorizations) \
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, forward) \
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, v_r) \
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, v_r_rel) \
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, distance) \
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, path_kept) \
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, m_internal) \
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, s) \
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, zero_order) \
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, v_r_lo) \
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, v_r_hi) \
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, v_r_rel_hi) \
+    X(kin_locate_info, 2, struct kin__kin_locate_info_2, v_r_bounded) \
+    X(kin_locate_info, 3, kin_locate_info, event) \
+    X(kin_locate_info, 3, kin_locate_info, located) \
+    X(kin_locate_info, 3, kin_locate_info, steps) \
+    X(kin_locate_info, 3, kin_locate_info, factorizations) \
+    X(kin_locate_info, 3, kin_locate_info, forward) \
+    X(kin_locate_info, 3, kin_locate_info, v_r) \
+    X(kin_locate_info, 3, kin_locate_info, v_r_rel) \
+    X(kin_locate_info, 3, kin_locate_info, distance) \
+    X(kin_locate_info, 3, kin_locate_info, path_kept) \
+    X(kin_locate_info, 3, kin_locate_info, m_internal) \
+    X(kin_locate_info, 3, kin_locate_info, s) \
+    X(kin_locate_info, 3, kin_locate_info, zero_order) \
+    X(kin_locate_info, 3, kin_locate_info, v_r_lo) \
+    X(kin_locate_info, 3, kin_locate_info, v_r_hi) \
+    X(kin_locate_info, 3, kin_locate_info, v_r_rel_hi) \
+    X(kin_locate_info, 3, kin_locate_info, v_r_bounded) \
+    X(kin_locate_info, 3, kin_locate_info, sing_distance) \
+    X(kin_locate_info, 3, kin_locate_info, sing_dlength) \
+    X(kin_locate_info, 3, kin_locate_info, sing_unique) \
+    X(kin_locate_info, 3, kin_locate_info, sing_proven) \
+    X(kin_locate_info, 3, kin_locate_info, sing_corank)
 #define KIN__ABI_FIELDS_kin_follow_options(X) \
     X(kin_follow_options, 1, struct kin__kin_follow_options_1, vr_tol) \
     X(kin_follow_options, 1, struct kin__kin_follow_options_1, vr_floor) \

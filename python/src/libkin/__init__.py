@@ -25,8 +25,8 @@ except ImportError as _exc:  # no usable C library: the command line says so in 
 
     exit_if_command(_exc)
     raise
-from .assembly import (Analysis, Assembly, BranchPath, Branches, FollowEvent, LocateInfo, Options, StepInfo,
-                       solve_quadrics)
+from .assembly import (Analysis, Assembly, BranchPath, Branches, FollowEvent, LocateInfo, Options, SingularProof,
+                       StepInfo, solve_quadrics)
 from .errors import KinError, ModelFormatError
 from .io.model_json import load_json, load_model, to_json
 from .atlas import Atlas, explore
@@ -34,7 +34,8 @@ from .atlas import Atlas, explore
 from .version import __version__
 
 __all__ = ["Assembly", "Analysis", "Options", "StepInfo", "Branches", "BranchPath", "LocateInfo", "FollowEvent",
-           "solve_quadrics", "KinError", "ModelFormatError", "errors", "load_json", "load_model", "to_json", "lib",
+           "SingularProof", "solve_quadrics", "KinError", "ModelFormatError", "errors", "load_json", "load_model",
+           "to_json", "lib",
            "library_path", "__version__", "explore", "Atlas"]
 
 

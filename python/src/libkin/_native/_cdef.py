@@ -327,11 +327,17 @@ typedef struct kin_locate_info {
     double v_r_lo, v_r_hi;
     double v_r_rel_hi;
     int v_r_bounded;
+    double sing_distance;
+    double sing_dlength;
+    double sing_unique;
+    int sing_proven;
+    int sing_corank;
 } kin_locate_info;
 int kin_locate_options_init(kin_locate_options *o, size_t size);
 void kin_locate_options_default(kin_locate_options *o);
 int kin_test_function(kin_assembly *a, double *tau);
 int kin_locate_next(kin_assembly *a, const kin_locate_options *o, kin_locate_info *info);
+int kin_prove_singular(kin_assembly *a, kin_locate_info *info);
 
 enum kin_follow_event {
     KIN_FOLLOW_NONE = 0,

@@ -16,9 +16,9 @@ from ._base import Analysis
 from ._branch_lines import BranchLines
 from ._branching import BranchPath, Branches, solve_quadrics
 from ._canonical import canonical, canonical_order
-from ._locating import FollowEvent, LocateInfo
+from ._locating import FollowEvent, LocateInfo, SingularProof
 from ._path import Options, StepInfo
 from .core import Assembly
 
 __all__ = ["Assembly", "Analysis", "StepInfo", "Options", "BranchPath", "Branches", "LocateInfo", "FollowEvent",
-           "solve_quadrics", "BranchLines", "canonical", "canonical_order"]
+           "SingularProof", "solve_quadrics", "BranchLines", "canonical", "canonical_order"]

@@ -70,6 +70,41 @@ class LocateInfo:
     s: int
     zero_order: int = 0
     v_r_bound: Optional[Tuple[float, float, float]] = None
+    singular: Optional["SingularProof"] = None
+
+
+@dataclasses.dataclass(frozen=True)
+class SingularProof:
+    """A proven exactly singular configuration near a point (kin_prove_singular).
+
+    Krawczyk's test in Arb's ball arithmetic on Moore's extended system
+    (docs/locate.md, "Certified bifurcations"). A backward-error theorem:
+    where `proven`, the structure whose bar lengths differ from the given
+    ones by at most `dlength` is exactly singular at a configuration within
+    `distance` (max norm over the free coordinates) of the point; that the
+    given structure itself is singular there is not proven.
+
+    Attributes
+    ----------
+    proven : bool
+        The bounds below hold.
+    corank : int
+        Non-trivial self-stresses at the point; a proof needs at most 1.
+    distance, dlength, unique : float
+        Bounds (model units) on the distance to the singular configuration
+        and on the bar-length change; no other such point within `unique`.
+    """
+
+    proven: bool
+    corank: int
+    distance: float
+    dlength: float
+    unique: float
+
+
+def _singular(info: Any) -> SingularProof:
+    return SingularProof(bool(info.sing_proven), int(info.sing_corank), float(info.sing_distance),
+                         float(info.sing_dlength), float(info.sing_unique))
 
 
 #: kin_follow_event's events, by enum value
@@ -220,7 +255,21 @@ class LocatingMixin(AssemblyBase):
         return LocateInfo(info.event, bool(info.located), info.steps, info.factorizations, info.forward,
                           info.v_r, info.v_r_rel, info.distance, bool(info.path_kept), info.m_internal, info.s,
                           info.zero_order,
-                          (info.v_r_lo, info.v_r_hi, info.v_r_rel_hi) if info.v_r_bounded else None)
+                          (info.v_r_lo, info.v_r_hi, info.v_r_rel_hi) if info.v_r_bounded else None,
+                          _singular(info) if info.located else None)
+
+    def prove_singular(self) -> SingularProof:
+        """Prove an exactly singular configuration near the current point (kin_prove_singular).
+
+        Returns
+        -------
+        SingularProof
+            `proven` False where no proof was found (corank > 1, or no
+            simple bifurcation near); the configuration is not changed.
+        """
+        info = new_struct("kin_locate_info")
+        self._check(lib.kin_prove_singular(self._h, info), "prove_singular")
+        return _singular(info)
 
     def follow_event(self, direction: Optional[npt.ArrayLike] = None, vr_tol: float = 1e-10,
                      vr_floor: float = 1e-6, delta: float = 0.0, max_steps: int = 1000,
