@@ -259,6 +259,35 @@ static int leave_start(follow_ctx *c, const double *dir)
     return KIN_OK;
 }
 
+/* STAGE 3 with held hinges, leaving along the held motion the holds found
+ * (hinge_hold.c; not a direction of the caller's): a first-order motion.
+ * Where it is no path of the structure (the first step's chord leaves it:
+ * KIN_EPATHJUMP) the other sign is tried; where neither is a path the held
+ * structure has no motion (at second order): *rigid, the assembly back at
+ * the start. */
+static int leave_held(follow_ctx *c, double *dir, int *rigid)
+{
+    kin_assembly *a = c->a, *save = NULL;
+    if (kin_assembly_clone(a, &save)) return kin__fail(a, KIN_ENOMEM, "follow: a copy of the start");
+    int rc = leave_start(c, dir);
+    if (rc == KIN_EPATHJUMP) {
+        kin__copy_state(a, save);
+        for (int i = 0; i < a->nf; ++i) dir[i] = -dir[i];
+        c->info->steps = 0;
+        rc = leave_start(c, dir);
+    }
+    if (rc == KIN_EPATHJUMP) {
+        kin__copy_state(a, save);
+        c->info->steps = 0;
+        c->info->event = KIN_FOLLOW_HELD_RIGID;
+        kin__hold_mark_rigid(a);
+        *rigid = 1;
+        rc = KIN_OK;
+    }
+    kin_assembly_free(save);
+    return rc;
+}
+
 /* STAGE 4 (KIN_FOLLOW_STEPS_CHEAP): regular stretches by LU steps, until
  * something may happen. *stop: the follow ends (a status, or an event) */
 static int first_stretch(follow_ctx *c, int *stop)
@@ -486,7 +515,8 @@ static int finish(follow_ctx *c, int rc)
 static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_options *o, const follow_extra *x,
                        kin_follow_info *info)
 {
-    int at_bif = 0, held_event = 0;
+    int at_bif = 0, held_event = 0, rigid = 0;
+    const double *user_dir = dir;
     info->hinge = -1, info->held_m = -1;
     int rc = check_start(a, dir, o, &at_bif);
     if (rc) return rc;
@@ -515,8 +545,9 @@ static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_opti
     }
     /* the start: orient (regular point) or leave the bifurcation */
     info->tangent_cos = 1.0;
-    rc = at_bif ? leave_start(&c, dir) : orient_start(&c, dir);
-    int stop = rc != KIN_OK;
+    if (at_bif && dir != user_dir) rc = leave_held(&c, (double *)dir, &rigid); /* the holds' buffer */
+    else rc = at_bif ? leave_start(&c, dir) : orient_start(&c, dir);
+    int stop = rc != KIN_OK || rigid;
     if (!stop) {
         info->event = KIN_FOLLOW_FAILED;
         if (o->steps_mode == KIN_FOLLOW_STEPS_CHEAP) rc = first_stretch(&c, &stop);

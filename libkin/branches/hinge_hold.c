@@ -200,6 +200,7 @@ int kin__hold_start(kin_assembly *a, const kin_follow_options *o, const double *
     struct kin_contact *c = a->ct;
     *use_dir = dir, *event = 0, *reopened = 0;
     if (!c) return KIN_OK;
+    c->hold_rigid = 0;
     c->hold_on = o->hold_hinges && c->ev_on && c->hinge_on && c->nh > 0;
     if (!c->hold_on || !holds_here(a)) return KIN_OK;
     int nf = a->nf;
@@ -273,13 +274,19 @@ void kin__hold_finish(kin_assembly *a, const kin_follow_options *o, kin_follow_i
         }
         info->held += c->hg_held[h] != 0;
     }
-    if (info->held) info->held_m = kin__hold_analyse(a, o->hold_rate_tol, NULL);
+    if (info->held) info->held_m = c->hold_rigid ? 0 : kin__hold_analyse(a, o->hold_rate_tol, NULL);
+    c->hold_rigid = 0;
     if (fresh >= 0) {
         info->hinge = fresh;
         if (info->event == KIN_FOLLOW_CONTACT)
             info->event = info->held_m == 0 ? KIN_FOLLOW_HELD_RIGID : KIN_FOLLOW_HINGE_CLOSED;
     }
     c->hold_on = 0;
+}
+
+void kin__hold_mark_rigid(kin_assembly *a)
+{
+    if (a->ct) a->ct->hold_rigid = 1;
 }
 
 int kin__hold_abort(kin_assembly *a)

@@ -32,6 +32,10 @@ int kin__hold_start(kin_assembly *a, const kin_follow_options *o, const double *
  * (a contact becomes HINGE_CLOSED or HELD_RIGID); info's hold fields. */
 void kin__hold_finish(kin_assembly *a, const kin_follow_options *o, kin_follow_info *info);
 
+/* The held motion the follow left along is no path of the structure,
+ * either sign (follow.c): the held structure is rigid at second order. */
+void kin__hold_mark_rigid(kin_assembly *a);
+
 /* A follow that ends before following (or never armed): its holds are
  * watched no more; returns the number held. */
 int kin__hold_abort(kin_assembly *a);

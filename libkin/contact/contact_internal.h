@@ -168,6 +168,7 @@ struct kin_contact {
      * with the hinges: nothing is allocated while following) */
     signed char *hg_held;
     int hold_on;        /* the follow under way holds hinges (its option) */
+    int hold_rigid;     /* ... and found the held motion no path (second order) */
     double *hg_ws;      /* kin__hold_ws_size doubles */
     double ev_hinge_cl; /* its signed clearance at the located point */
 };
