@@ -80,6 +80,12 @@ static void one_hinge(void)
     CHECK(plain.hold_hinges == 0 && plain.hold_rate_tol == 1e-6);
     o.hold_rate_tol = 0.0;
     CHECK_RC(kin_follow_event(a, open_dir, &o, &fi), KIN_EINVAL);
+    /* holds need contact events: without them the option changes nothing */
+    o.hold_rate_tol = 1e-6;
+    CHECK_RC(kin_set_contact_events(a, 0, 1e-9), KIN_OK);
+    CHECK_RC(kin_follow_event(a, close_dir, &o, &fi), KIN_OK);
+    CHECK(fi.event != KIN_FOLLOW_HELD_RIGID && fi.event != KIN_FOLLOW_HINGE_CLOSED && fi.held == 0 &&
+          fi.held_m == -1 && fi.hinge == -1);
     kin_assembly_free(a);
 }
 
