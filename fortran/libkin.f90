@@ -139,6 +139,8 @@ module libkin
     type(c_funptr) :: return_fn = c_null_funptr
     type(c_ptr) :: return_user = c_null_ptr
     integer(c_int) :: return_own = 0
+    integer(c_int) :: hold_hinges = 0
+    real(c_double) :: hold_rate_tol = 0
   end type
 
   type, bind(C), public :: kin_follow_info
@@ -152,6 +154,7 @@ module libkin
     real(c_double) :: return_angle = 0, return_gap = 0
     real(c_double) :: min_width = 0
     integer(c_int) :: min_located = 0, min_evals = 0
+    integer(c_int) :: hinge = 0, held = 0, held_m = 0, reopened = 0
   end type
 
   ! widths: c_loc of a target array of n_loops reals, or c_null_ptr (the

@@ -44,11 +44,45 @@ enum kin_follow_event {
     KIN_FOLLOW_FAILED = 6,       /* the call failed after it started following: status and
                                     kin_last_error() say why; the assembly is at the last
                                     regular point reached (stepping can resume) */
-    KIN_FOLLOW_CONTACT = 7       /* two parts that share no joint touched (only with
+    KIN_FOLLOW_CONTACT = 7,      /* two parts that share no joint touched (only with
                                     kin_set_contact_events, kin_contact.h): the assembly at
                                     the first point in contact, located to the tolerance set
                                     there; kin_last_contact names the parts */
+    /* with hold_hinges (HELD HINGES below): */
+    KIN_FOLLOW_HINGE_CLOSED = 8, /* a hinge closed (located as a contact) and is now held
+                                    closed; the held structure still moves (held_m >= 1):
+                                    the next follow goes on with it held */
+    KIN_FOLLOW_HELD_RIGID = 9,   /* a hinge closed and the structure with its closed
+                                    hinges held has no motion (held_m = 0), or a follow
+                                    from a held state whose only motion presses a held
+                                    hinge through (nothing moved) */
+    KIN_FOLLOW_HINGE_REOPENED = 10 /* the motion along a held path opened a held hinge (on
+                                    its own side): located where its gap passes the closed
+                                    threshold; the hold released */
 };
+
+/* HELD HINGES (kin_follow_options.hold_hinges, docs/contact.md "Held
+ * hinges"). With contact events and hinge contact on (kin_contact.h), a
+ * follow that reaches a point where hinges close (a contact event, or a
+ * bifurcation, with a hinge's gap at most 1e-6 x the RMS rest length and
+ * its fold side tracked) holds them closed there: the membrane cannot pass
+ * through, it stays closed. The hold is the unilateral constraint
+ * delta_h >= 0 on the angle between the hinge's panels, linearised by the
+ * gradient of its signed volume (the far-corner distance, a bar, is
+ * stationary at closure: no first-order constraint). The held structure's
+ * first-order motions are the mechanisms (singular values up to 1e-3
+ * v_max, so that a bifurcation the closure was located next to counts)
+ * along which no held hinge's angle moves: info->held_m of them (0: rigid,
+ * event HELD_RIGID). A later follow from there with hold_hinges (the holds
+ * kept with the configuration, as kin_hinge_sides) decides by the rate
+ * of each held hinge's angle along its direction (dir, else the held
+ * motion where there is one, else the path's tangent): opening on its own
+ * side releases the hold (the motion reopens it: info->reopened);
+ * pressing it through refuses the direction (at a bifurcation KIN_EINVAL,
+ * at a regular point event HELD_RIGID, nothing moved); zero (to
+ * hold_rate_tol) follows with it held: each step checks that it stays
+ * closed, and where the path opens it the follow ends with
+ * HINGE_REOPENED, where it would pass through with CONTACT. */
 
 /* kin_follow_info.return_branch of a return to the start whose branch is not
  * clear (no arrival direction measured before the start, the arrival
@@ -104,6 +138,12 @@ typedef struct kin_follow_options {
     void *return_user;  /* passed to return_fn unchanged. Default NULL */
     int return_own;     /* with return_fn: the index (>= 0) of dir's own branch among the
                            caller's lines (the one nearest dir). Default -1 */
+    /* layout 4 (docs/abi.md): a host compiled without these fields gets their defaults */
+    int hold_hinges;    /* 1: hold closed hinges closed (HELD HINGES above; needs contact
+                           events with hinge contact on); 0: no holds. Default 0 */
+    double hold_rate_tol; /* a held hinge's angle rate (radians per unit of free-coordinate
+                           motion, x the RMS rest length) below this is zero: the motion
+                           keeps it closed. Default 1e-6 */
 } kin_follow_options;
 
 /* How kin_follow_event steps between events (kin_follow_options.steps_mode). */
@@ -165,6 +205,14 @@ typedef struct kin_follow_info {
                             along the path (Brent's method over the step where v_r turned),
                             0 when it is the regular point before the dip */
     int min_evals;       /* NEAR_MISS: points computed to locate that minimum */
+    /* layout 4 (docs/abi.md): a host compiled without these fields does not get them */
+    int hinge;           /* HINGE_CLOSED / HELD_RIGID: the first hinge held there;
+                            HINGE_REOPENED: the hinge reopened; else -1 */
+    int held;            /* hinges held at the end point (hold_hinges) */
+    int held_m;          /* motions of the structure with them held, at the end point (0:
+                            rigid); -1 where none is held or it was not analysed (no dense
+                            analysis, or more than 16 near-zero singular values) */
+    int reopened;        /* holds released at the start: dir opens those hinges */
 } kin_follow_info;
 
 /* Fill *o with the defaults above, for a struct of `size` bytes: pass

@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "branches/contact_event.h"
+#include "branches/hinge_hold.h"
 #include "model/internal.h"
 #include "path/path.h"
 #include "locate/locate.h"
@@ -45,6 +46,8 @@ static const kin_follow_options DEFAULTS = {
     .return_fn = NULL,
     .return_user = NULL,
     .return_own = -1,
+    .hold_hinges = 0,
+    .hold_rate_tol = 1e-6,
 };
 
 int kin_follow_options_init(kin_follow_options *o, size_t size)
@@ -74,7 +77,8 @@ static int options_ok(const kin_follow_options *o)
            o->max_iter >= 1 && o->max_length >= 0.0 && isfinite(o->max_length) && o->loop_tol > 0.0 &&
            isfinite(o->loop_tol) && o->first_step > 0.0 && o->first_step <= 1.0 && o->branch_cos >= 0.0 &&
            o->branch_cos <= 1.0 && (o->steps_mode == KIN_FOLLOW_STEPS_CHEAP || o->steps_mode == KIN_FOLLOW_STEPS_SVD) &&
-           o->branch_margin >= 0.0 && o->branch_margin <= HALF_PI && (!o->return_fn || o->return_own >= 0);
+           o->branch_margin >= 0.0 && o->branch_margin <= HALF_PI && (!o->return_fn || o->return_own >= 0) &&
+           (o->hold_hinges == 0 || o->hold_hinges == 1) && o->hold_rate_tol > 0.0 && o->hold_rate_tol < 1.0;
 }
 
 /* number of location attempts: vr_tol, then relaxed tenfold up to vr_floor */
@@ -112,7 +116,7 @@ static int check_start(kin_assembly *a, const double *dir, const kin_follow_opti
     int m = kin__cur(a)->an.m_internal;
     *at_bif = m >= 2;
     if (m == 0) return kin__fail(a, KIN_ENOMECH, "no internal mechanism to follow");
-    if (*at_bif && !dir)
+    if (*at_bif && !dir && !o->hold_hinges) /* with holds: hinge_hold.c may find the direction */
         return kin__fail(a, KIN_EBIFURCATION, "at a bifurcation (m_internal = %d): give a branch direction", m);
     if (dir)
         for (int i = 0; i < nf; ++i)
@@ -253,6 +257,35 @@ static int leave_start(follow_ctx *c, const double *dir)
     memcpy(c->ts, a->t, sizeof(double) * (size_t)nf);
     (void)kin__follow_after_step(c, a); /* count the first chord */
     return KIN_OK;
+}
+
+/* STAGE 3 with held hinges, leaving along the held motion the holds found
+ * (hinge_hold.c; not a direction of the caller's): a first-order motion.
+ * Where it is no path of the structure (the first step's chord leaves it:
+ * KIN_EPATHJUMP) the other sign is tried; where neither is a path the held
+ * structure has no motion (at second order): *rigid, the assembly back at
+ * the start. */
+static int leave_held(follow_ctx *c, double *dir, int *rigid)
+{
+    kin_assembly *a = c->a, *save = NULL;
+    if (kin_assembly_clone(a, &save)) return kin__fail(a, KIN_ENOMEM, "follow: a copy of the start");
+    int rc = leave_start(c, dir);
+    if (rc == KIN_EPATHJUMP) {
+        kin__copy_state(a, save);
+        for (int i = 0; i < a->nf; ++i) dir[i] = -dir[i];
+        c->info->steps = 0;
+        rc = leave_start(c, dir);
+    }
+    if (rc == KIN_EPATHJUMP) {
+        kin__copy_state(a, save);
+        c->info->steps = 0;
+        c->info->event = KIN_FOLLOW_HELD_RIGID;
+        kin__hold_mark_rigid(a);
+        *rigid = 1;
+        rc = KIN_OK;
+    }
+    kin_assembly_free(save);
+    return rc;
 }
 
 /* STAGE 4 (KIN_FOLLOW_STEPS_CHEAP): regular stretches by LU steps, until
@@ -473,6 +506,7 @@ static int finish(follow_ctx *c, int rc)
         info->s = kin__cur(a)->an.s;
         info->v_r_rel = kin__cur(a)->an.v_max > 0 ? kin__cur(a)->an.v_r / kin__cur(a)->an.v_max : 0.0;
     }
+    kin__hold_finish(a, o, info); /* held hinges: new holds, reopenings, the held analysis */
     return rc;
 }
 
@@ -481,15 +515,39 @@ static int finish(follow_ctx *c, int rc)
 static int follow_impl(kin_assembly *a, const double *dir, const kin_follow_options *o, const follow_extra *x,
                        kin_follow_info *info)
 {
-    int at_bif = 0;
+    int at_bif = 0, held_event = 0, rigid = 0;
+    const double *user_dir = dir;
+    info->hinge = -1, info->held_m = -1;
     int rc = check_start(a, dir, o, &at_bif);
     if (rc) return rc;
+    /* held hinges (hinge_hold.c): the direction they leave, or none */
+    if ((rc = kin__hold_start(a, o, dir, &at_bif, &dir, &held_event, &info->reopened)) != KIN_OK) {
+        kin__hold_abort(a);
+        return rc;
+    }
+    if (!held_event && at_bif && !dir) {
+        kin__hold_abort(a);
+        return kin__fail(a, KIN_EBIFURCATION, "at a bifurcation (m_internal = %d): give a branch direction",
+                         kin__cur(a)->an.m_internal);
+    }
+    if (held_event) {
+        /* nothing to follow: the structure with its holds is rigid here */
+        info->event = held_event;
+        info->held = kin__hold_abort(a);
+        info->held_m = 0;
+        info->m_internal = kin__cur(a)->an.m_internal, info->s = kin__cur(a)->an.s;
+        return KIN_OK;
+    }
     follow_ctx c = {0};
-    if ((rc = open_ctx(&c, a, dir, o, x, info, at_bif)) != KIN_OK) return rc;
+    if ((rc = open_ctx(&c, a, dir, o, x, info, at_bif)) != KIN_OK) {
+        kin__hold_abort(a);
+        return rc;
+    }
     /* the start: orient (regular point) or leave the bifurcation */
     info->tangent_cos = 1.0;
-    rc = at_bif ? leave_start(&c, dir) : orient_start(&c, dir);
-    int stop = rc != KIN_OK;
+    if (at_bif && dir != user_dir) rc = leave_held(&c, (double *)dir, &rigid); /* the holds' buffer */
+    else rc = at_bif ? leave_start(&c, dir) : orient_start(&c, dir);
+    int stop = rc != KIN_OK || rigid;
     if (!stop) {
         info->event = KIN_FOLLOW_FAILED;
         if (o->steps_mode == KIN_FOLLOW_STEPS_CHEAP) rc = first_stretch(&c, &stop);

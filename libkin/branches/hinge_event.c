@@ -53,6 +53,7 @@ void kin__hinge_event_arm(kin_assembly *a)
 {
     struct kin_contact *c = a->ct;
     c->ev_hinge = -1;
+    c->ev_reopen = 0;
     c->hg_armed = c->ev_on && c->hinge_on && c->nh > 0;
     if (!c->hg_armed) return;
     int n = a->nj * a->dim;
@@ -94,6 +95,12 @@ int kin__hinge_event_check(kin_assembly *a)
                 c->ev_hinge = h;
                 return 1;
             }
+            if (c->hold_on && c->hg_held[h]) {
+                /* a held hinge the path opened on its own side: reopened */
+                c->ev_hinge = h;
+                c->ev_reopen = 1;
+                return 1;
+            }
             continue;
         }
         if (s != 0 && kin__hinge_signed_clearance(a, a->xyz, h, s) <= eps) {
@@ -125,6 +132,12 @@ int kin__hinge_event_reached(const kin_assembly *a)
 {
     const struct kin_contact *c = a->ct;
     int h = c->ev_hinge;
+    if (h >= 0 && c->ev_reopen) {
+        /* reopened: its gap past the closed threshold */
+        double delta;
+        int sigma;
+        return kin__hinge_measure(a->xyz, c->hg + 6 * h, &delta, &sigma, NULL) > CLOSED_AT_START * a->rms_length;
+    }
     return h >= 0 && kin__hinge_signed_clearance(a, a->xyz, h, c->hg_side[h]) <= touch(a);
 }
 

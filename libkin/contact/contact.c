@@ -26,7 +26,7 @@ static void ct_release(struct kin_contact *c)
     free(c->prim_part), free(c->prim_v), free(c->prim_r), free(c->cen), free(c->scratch), free(c->skey), free(c->lr), free(c->jpos);
     free(c->order), free(c->node), free(c->lp), free(c->leaf), free(c->ev_prev), free(c->ev_x), free(c->ev_xyz), free(c->stack), free(c->sgap), free(c->pts);
     free(c->ev_box), free(c->ev_key), free(c->ax), free(c->ax_call), free(c->vl), free(c->vl_x0), free(c->vl_sk), free(c->vl_dl), free(c->vl_dj);
-    free(c->dev), free(c->hg), free(c->hg_side), free(c->hg_c0), free(c->hg_x);
+    free(c->dev), free(c->hg), free(c->hg_side), free(c->hg_c0), free(c->hg_x), free(c->hg_held), free(c->hg_ws);
     free(c);
 }
 
@@ -178,6 +178,7 @@ static int ct_clone(kin_assembly *dst, const kin_assembly *src)
     /* the tracked fold sides go with the configuration they belong to */
     if (s->hg_side_ok && c->nh == s->nh) {
         memcpy(c->hg_side, s->hg_side, (size_t)c->nh);
+        memcpy(c->hg_held, s->hg_held, (size_t)c->nh);
         memcpy(c->hg_x, s->hg_x, sizeof(double) * (size_t)src->nj * (size_t)src->dim);
         c->hg_side_ok = 1;
     }

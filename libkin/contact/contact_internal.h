@@ -161,8 +161,30 @@ struct kin_contact {
     int hg_armed;       /* the follow watches its hinges */
     int hg_side_ok;
     int ev_hinge;       /* the hinge that closed or passed through in the last step, or -1 */
+    int ev_reopen;      /* ev_hinge is a held hinge the path opened (branches/hinge_hold.c) */
+    /* held hinges (kin_follow_options.hold_hinges, branches/hinge_hold.c):
+     * per hinge 0, or the side (+-1) it closed from and is held on; valid
+     * at hg_x as the sides; the workspace of the held analysis (made here,
+     * with the hinges: nothing is allocated while following) */
+    signed char *hg_held;
+    int hold_on;        /* the follow under way holds hinges (its option) */
+    int hold_rigid;     /* ... and found the held motion no path (second order) */
+    double *hg_ws;      /* kin__hold_ws_size doubles */
     double ev_hinge_cl; /* its signed clearance at the located point */
 };
+
+/* the held analysis looks at this many near-zero singular values at most */
+#define KIN__HOLD_MAX_M 16
+
+/* the held analysis's workspace (doubles): a basis of the near-zero
+ * mechanisms (nf x (MAX_M + 6), the rigid ones first), the held hinges'
+ * rates on it (nh x MAX_M), their row basis and a null vector (MAX_M x
+ * (MAX_M + 1)), a direction (nf) and a velocity (3 nj) */
+static inline size_t kin__hold_ws_size(const kin_assembly *a, int nh)
+{
+    return (size_t)a->nf * (KIN__HOLD_MAX_M + 6) + (size_t)nh * KIN__HOLD_MAX_M +
+           (size_t)KIN__HOLD_MAX_M * (KIN__HOLD_MAX_M + 1) + (size_t)a->nf + 3 * (size_t)a->nj;
+}
 
 /* hinge.c: the hinges of the panels of c (a 3D model; none in 2D) into
  * c->hg, c->nh, the tracked sides forgotten; KIN_OK or KIN_ENOMEM */

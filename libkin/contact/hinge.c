@@ -44,8 +44,8 @@ static int cmp_hedge(const void *p, const void *q)
 int kin__hinges_make(const kin_assembly *a, struct kin_contact *c)
 {
     c->nh = 0;
-    free(c->hg), free(c->hg_side), free(c->hg_c0);
-    c->hg = NULL, c->hg_side = NULL, c->hg_c0 = NULL;
+    free(c->hg), free(c->hg_side), free(c->hg_c0), free(c->hg_held), free(c->hg_ws);
+    c->hg = NULL, c->hg_side = NULL, c->hg_c0 = NULL, c->hg_held = NULL, c->hg_ws = NULL;
     c->hg_side_ok = 0;
     if (a->dim != 3 || c->np < 2) return KIN_OK;
     size_t ne = (size_t)c->poff[c->np];
@@ -73,7 +73,9 @@ int kin__hinges_make(const kin_assembly *a, struct kin_contact *c)
     c->hg = malloc(sizeof(int) * 6 * (size_t)(nh ? nh : 1));
     c->hg_side = calloc((size_t)(nh ? nh : 1), 1);
     c->hg_c0 = calloc((size_t)(nh ? nh : 1), 1);
-    if (!c->hg || !c->hg_side || !c->hg_c0) {
+    c->hg_held = calloc((size_t)(nh ? nh : 1), 1);
+    c->hg_ws = malloc(sizeof(double) * kin__hold_ws_size(a, nh));
+    if (!c->hg || !c->hg_side || !c->hg_c0 || !c->hg_held || !c->hg_ws) {
         free(E);
         return KIN_ENOMEM;
     }

@@ -167,6 +167,25 @@ struct kin__kin_follow_options_2 {
     int steps_mode;
     double branch_margin;
 };
+/* kin_follow_options as a host compiled against layout 3 has it */
+struct kin__kin_follow_options_3 {
+    size_t size;
+    double vr_tol;
+    double vr_floor;
+    double switch_eps;
+    double delta;
+    int max_steps;
+    int max_iter;
+    double max_length;
+    double loop_tol;
+    double first_step;
+    double branch_cos;
+    int steps_mode;
+    double branch_margin;
+    kin_follow_return_fn return_fn;
+    void *return_user;
+    int return_own;
+};
 /* kin_follow_info as a host compiled against layout 1 has it */
 struct kin__kin_follow_info_1 {
     size_t size;
@@ -211,6 +230,34 @@ struct kin__kin_follow_info_2 {
     double return_angle;
     double return_gap;
 };
+/* kin_follow_info as a host compiled against layout 3 has it */
+struct kin__kin_follow_info_3 {
+    size_t size;
+    int event;
+    int status;
+    int steps;
+    int forward;
+    int factorizations;
+    int attempts;
+    double length;
+    double vr_tol_used;
+    double v_r_rel;
+    int m_internal, s;
+    int zero_order;
+    int path_kept;
+    int at_start;
+    double start_distance;
+    double tangent_cos;
+    int cheap_steps;
+    int handovers;
+    int samples;
+    int return_branch;
+    double return_angle;
+    double return_gap;
+    double min_width;
+    int min_located;
+    int min_evals;
+};
 
 /* each struct as a host compiled against its first layout has it */
 typedef struct kin__kin_analysis_1 kin__kin_analysis_layout1;
@@ -244,7 +291,7 @@ enum kin__abi_id {
     KIN__ABI_ID_kin_follow_info,
     KIN__ABI_NTYPES
 };
-#define KIN__ABI_MAX_LAYOUTS 3
+#define KIN__ABI_MAX_LAYOUTS 4
 
 /* {name, layouts, {sizeof each layout}, {where its fields end}}, oldest first;
  * the last layout is the struct of today's header */
@@ -260,8 +307,8 @@ enum kin__abi_id {
     {"kin_branch_path", 1, {sizeof(kin_branch_path)}, {sizeof(kin_branch_path)}}, \
     {"kin_locate_options", 1, {sizeof(kin_locate_options)}, {sizeof(kin_locate_options)}}, \
     {"kin_locate_info", 3, {sizeof(struct kin__kin_locate_info_1), sizeof(struct kin__kin_locate_info_2), sizeof(kin_locate_info)}, {offsetof(struct kin__kin_locate_info_1, zero_order) + sizeof(((struct kin__kin_locate_info_1 *)0)->zero_order), offsetof(struct kin__kin_locate_info_2, v_r_bounded) + sizeof(((struct kin__kin_locate_info_2 *)0)->v_r_bounded), sizeof(kin_locate_info)}}, \
-    {"kin_follow_options", 3, {sizeof(struct kin__kin_follow_options_1), sizeof(struct kin__kin_follow_options_2), sizeof(kin_follow_options)}, {offsetof(struct kin__kin_follow_options_1, branch_cos) + sizeof(((struct kin__kin_follow_options_1 *)0)->branch_cos), offsetof(struct kin__kin_follow_options_2, branch_margin) + sizeof(((struct kin__kin_follow_options_2 *)0)->branch_margin), sizeof(kin_follow_options)}}, \
-    {"kin_follow_info", 3, {sizeof(struct kin__kin_follow_info_1), sizeof(struct kin__kin_follow_info_2), sizeof(kin_follow_info)}, {offsetof(struct kin__kin_follow_info_1, tangent_cos) + sizeof(((struct kin__kin_follow_info_1 *)0)->tangent_cos), offsetof(struct kin__kin_follow_info_2, return_gap) + sizeof(((struct kin__kin_follow_info_2 *)0)->return_gap), sizeof(kin_follow_info)}}
+    {"kin_follow_options", 4, {sizeof(struct kin__kin_follow_options_1), sizeof(struct kin__kin_follow_options_2), sizeof(struct kin__kin_follow_options_3), sizeof(kin_follow_options)}, {offsetof(struct kin__kin_follow_options_1, branch_cos) + sizeof(((struct kin__kin_follow_options_1 *)0)->branch_cos), offsetof(struct kin__kin_follow_options_2, branch_margin) + sizeof(((struct kin__kin_follow_options_2 *)0)->branch_margin), offsetof(struct kin__kin_follow_options_3, return_own) + sizeof(((struct kin__kin_follow_options_3 *)0)->return_own), sizeof(kin_follow_options)}}, \
+    {"kin_follow_info", 4, {sizeof(struct kin__kin_follow_info_1), sizeof(struct kin__kin_follow_info_2), sizeof(struct kin__kin_follow_info_3), sizeof(kin_follow_info)}, {offsetof(struct kin__kin_follow_info_1, tangent_cos) + sizeof(((struct kin__kin_follow_info_1 *)0)->tangent_cos), offsetof(struct kin__kin_follow_info_2, return_gap) + sizeof(((struct kin__kin_follow_info_2 *)0)->return_gap), offsetof(struct kin__kin_follow_info_3, min_evals) + sizeof(((struct kin__kin_follow_info_3 *)0)->min_evals), sizeof(kin_follow_info)}}
 
 /* compile-time checks (C99: a negative array size is an error). Each older
  * layout is a prefix of the next, and each layout's sizeof is larger than
@@ -386,20 +433,37 @@ typedef char kin__abi_prefix_kin_follow_options_1_max_length[offsetof(struct kin
 typedef char kin__abi_prefix_kin_follow_options_1_loop_tol[offsetof(struct kin__kin_follow_options_1, loop_tol) == offsetof(struct kin__kin_follow_options_2, loop_tol) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_options_1_first_step[offsetof(struct kin__kin_follow_options_1, first_step) == offsetof(struct kin__kin_follow_options_2, first_step) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_options_1_branch_cos[offsetof(struct kin__kin_follow_options_1, branch_cos) == offsetof(struct kin__kin_follow_options_2, branch_cos) ? 1 : -1];
-typedef char kin__abi_grows_kin_follow_options_2[sizeof(struct kin__kin_follow_options_2) < sizeof(kin_follow_options) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_2_size[offsetof(struct kin__kin_follow_options_2, size) == offsetof(kin_follow_options, size) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_2_vr_tol[offsetof(struct kin__kin_follow_options_2, vr_tol) == offsetof(kin_follow_options, vr_tol) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_2_vr_floor[offsetof(struct kin__kin_follow_options_2, vr_floor) == offsetof(kin_follow_options, vr_floor) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_2_switch_eps[offsetof(struct kin__kin_follow_options_2, switch_eps) == offsetof(kin_follow_options, switch_eps) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_2_delta[offsetof(struct kin__kin_follow_options_2, delta) == offsetof(kin_follow_options, delta) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_2_max_steps[offsetof(struct kin__kin_follow_options_2, max_steps) == offsetof(kin_follow_options, max_steps) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_2_max_iter[offsetof(struct kin__kin_follow_options_2, max_iter) == offsetof(kin_follow_options, max_iter) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_2_max_length[offsetof(struct kin__kin_follow_options_2, max_length) == offsetof(kin_follow_options, max_length) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_2_loop_tol[offsetof(struct kin__kin_follow_options_2, loop_tol) == offsetof(kin_follow_options, loop_tol) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_2_first_step[offsetof(struct kin__kin_follow_options_2, first_step) == offsetof(kin_follow_options, first_step) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_2_branch_cos[offsetof(struct kin__kin_follow_options_2, branch_cos) == offsetof(kin_follow_options, branch_cos) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_2_steps_mode[offsetof(struct kin__kin_follow_options_2, steps_mode) == offsetof(kin_follow_options, steps_mode) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_options_2_branch_margin[offsetof(struct kin__kin_follow_options_2, branch_margin) == offsetof(kin_follow_options, branch_margin) ? 1 : -1];
+typedef char kin__abi_grows_kin_follow_options_2[sizeof(struct kin__kin_follow_options_2) < sizeof(struct kin__kin_follow_options_3) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_size[offsetof(struct kin__kin_follow_options_2, size) == offsetof(struct kin__kin_follow_options_3, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_vr_tol[offsetof(struct kin__kin_follow_options_2, vr_tol) == offsetof(struct kin__kin_follow_options_3, vr_tol) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_vr_floor[offsetof(struct kin__kin_follow_options_2, vr_floor) == offsetof(struct kin__kin_follow_options_3, vr_floor) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_switch_eps[offsetof(struct kin__kin_follow_options_2, switch_eps) == offsetof(struct kin__kin_follow_options_3, switch_eps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_delta[offsetof(struct kin__kin_follow_options_2, delta) == offsetof(struct kin__kin_follow_options_3, delta) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_max_steps[offsetof(struct kin__kin_follow_options_2, max_steps) == offsetof(struct kin__kin_follow_options_3, max_steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_max_iter[offsetof(struct kin__kin_follow_options_2, max_iter) == offsetof(struct kin__kin_follow_options_3, max_iter) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_max_length[offsetof(struct kin__kin_follow_options_2, max_length) == offsetof(struct kin__kin_follow_options_3, max_length) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_loop_tol[offsetof(struct kin__kin_follow_options_2, loop_tol) == offsetof(struct kin__kin_follow_options_3, loop_tol) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_first_step[offsetof(struct kin__kin_follow_options_2, first_step) == offsetof(struct kin__kin_follow_options_3, first_step) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_branch_cos[offsetof(struct kin__kin_follow_options_2, branch_cos) == offsetof(struct kin__kin_follow_options_3, branch_cos) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_steps_mode[offsetof(struct kin__kin_follow_options_2, steps_mode) == offsetof(struct kin__kin_follow_options_3, steps_mode) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_2_branch_margin[offsetof(struct kin__kin_follow_options_2, branch_margin) == offsetof(struct kin__kin_follow_options_3, branch_margin) ? 1 : -1];
+typedef char kin__abi_grows_kin_follow_options_3[sizeof(struct kin__kin_follow_options_3) < sizeof(kin_follow_options) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_size[offsetof(struct kin__kin_follow_options_3, size) == offsetof(kin_follow_options, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_vr_tol[offsetof(struct kin__kin_follow_options_3, vr_tol) == offsetof(kin_follow_options, vr_tol) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_vr_floor[offsetof(struct kin__kin_follow_options_3, vr_floor) == offsetof(kin_follow_options, vr_floor) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_switch_eps[offsetof(struct kin__kin_follow_options_3, switch_eps) == offsetof(kin_follow_options, switch_eps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_delta[offsetof(struct kin__kin_follow_options_3, delta) == offsetof(kin_follow_options, delta) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_max_steps[offsetof(struct kin__kin_follow_options_3, max_steps) == offsetof(kin_follow_options, max_steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_max_iter[offsetof(struct kin__kin_follow_options_3, max_iter) == offsetof(kin_follow_options, max_iter) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_max_length[offsetof(struct kin__kin_follow_options_3, max_length) == offsetof(kin_follow_options, max_length) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_loop_tol[offsetof(struct kin__kin_follow_options_3, loop_tol) == offsetof(kin_follow_options, loop_tol) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_first_step[offsetof(struct kin__kin_follow_options_3, first_step) == offsetof(kin_follow_options, first_step) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_branch_cos[offsetof(struct kin__kin_follow_options_3, branch_cos) == offsetof(kin_follow_options, branch_cos) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_steps_mode[offsetof(struct kin__kin_follow_options_3, steps_mode) == offsetof(kin_follow_options, steps_mode) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_branch_margin[offsetof(struct kin__kin_follow_options_3, branch_margin) == offsetof(kin_follow_options, branch_margin) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_return_fn[offsetof(struct kin__kin_follow_options_3, return_fn) == offsetof(kin_follow_options, return_fn) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_return_user[offsetof(struct kin__kin_follow_options_3, return_user) == offsetof(kin_follow_options, return_user) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_options_3_return_own[offsetof(struct kin__kin_follow_options_3, return_own) == offsetof(kin_follow_options, return_own) ? 1 : -1];
 typedef char kin__abi_grows_kin_follow_info_1[sizeof(struct kin__kin_follow_info_1) < sizeof(struct kin__kin_follow_info_2) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_info_1_size[offsetof(struct kin__kin_follow_info_1, size) == offsetof(struct kin__kin_follow_info_2, size) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_info_1_event[offsetof(struct kin__kin_follow_info_1, event) == offsetof(struct kin__kin_follow_info_2, event) ? 1 : -1];
@@ -418,30 +482,57 @@ typedef char kin__abi_prefix_kin_follow_info_1_path_kept[offsetof(struct kin__ki
 typedef char kin__abi_prefix_kin_follow_info_1_at_start[offsetof(struct kin__kin_follow_info_1, at_start) == offsetof(struct kin__kin_follow_info_2, at_start) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_info_1_start_distance[offsetof(struct kin__kin_follow_info_1, start_distance) == offsetof(struct kin__kin_follow_info_2, start_distance) ? 1 : -1];
 typedef char kin__abi_prefix_kin_follow_info_1_tangent_cos[offsetof(struct kin__kin_follow_info_1, tangent_cos) == offsetof(struct kin__kin_follow_info_2, tangent_cos) ? 1 : -1];
-typedef char kin__abi_grows_kin_follow_info_2[sizeof(struct kin__kin_follow_info_2) < sizeof(kin_follow_info) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_size[offsetof(struct kin__kin_follow_info_2, size) == offsetof(kin_follow_info, size) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_event[offsetof(struct kin__kin_follow_info_2, event) == offsetof(kin_follow_info, event) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_status[offsetof(struct kin__kin_follow_info_2, status) == offsetof(kin_follow_info, status) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_steps[offsetof(struct kin__kin_follow_info_2, steps) == offsetof(kin_follow_info, steps) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_forward[offsetof(struct kin__kin_follow_info_2, forward) == offsetof(kin_follow_info, forward) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_factorizations[offsetof(struct kin__kin_follow_info_2, factorizations) == offsetof(kin_follow_info, factorizations) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_attempts[offsetof(struct kin__kin_follow_info_2, attempts) == offsetof(kin_follow_info, attempts) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_length[offsetof(struct kin__kin_follow_info_2, length) == offsetof(kin_follow_info, length) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_vr_tol_used[offsetof(struct kin__kin_follow_info_2, vr_tol_used) == offsetof(kin_follow_info, vr_tol_used) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_v_r_rel[offsetof(struct kin__kin_follow_info_2, v_r_rel) == offsetof(kin_follow_info, v_r_rel) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_m_internal[offsetof(struct kin__kin_follow_info_2, m_internal) == offsetof(kin_follow_info, m_internal) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_s[offsetof(struct kin__kin_follow_info_2, s) == offsetof(kin_follow_info, s) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_zero_order[offsetof(struct kin__kin_follow_info_2, zero_order) == offsetof(kin_follow_info, zero_order) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_path_kept[offsetof(struct kin__kin_follow_info_2, path_kept) == offsetof(kin_follow_info, path_kept) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_at_start[offsetof(struct kin__kin_follow_info_2, at_start) == offsetof(kin_follow_info, at_start) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_start_distance[offsetof(struct kin__kin_follow_info_2, start_distance) == offsetof(kin_follow_info, start_distance) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_tangent_cos[offsetof(struct kin__kin_follow_info_2, tangent_cos) == offsetof(kin_follow_info, tangent_cos) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_cheap_steps[offsetof(struct kin__kin_follow_info_2, cheap_steps) == offsetof(kin_follow_info, cheap_steps) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_handovers[offsetof(struct kin__kin_follow_info_2, handovers) == offsetof(kin_follow_info, handovers) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_samples[offsetof(struct kin__kin_follow_info_2, samples) == offsetof(kin_follow_info, samples) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_return_branch[offsetof(struct kin__kin_follow_info_2, return_branch) == offsetof(kin_follow_info, return_branch) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_return_angle[offsetof(struct kin__kin_follow_info_2, return_angle) == offsetof(kin_follow_info, return_angle) ? 1 : -1];
-typedef char kin__abi_prefix_kin_follow_info_2_return_gap[offsetof(struct kin__kin_follow_info_2, return_gap) == offsetof(kin_follow_info, return_gap) ? 1 : -1];
+typedef char kin__abi_grows_kin_follow_info_2[sizeof(struct kin__kin_follow_info_2) < sizeof(struct kin__kin_follow_info_3) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_size[offsetof(struct kin__kin_follow_info_2, size) == offsetof(struct kin__kin_follow_info_3, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_event[offsetof(struct kin__kin_follow_info_2, event) == offsetof(struct kin__kin_follow_info_3, event) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_status[offsetof(struct kin__kin_follow_info_2, status) == offsetof(struct kin__kin_follow_info_3, status) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_steps[offsetof(struct kin__kin_follow_info_2, steps) == offsetof(struct kin__kin_follow_info_3, steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_forward[offsetof(struct kin__kin_follow_info_2, forward) == offsetof(struct kin__kin_follow_info_3, forward) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_factorizations[offsetof(struct kin__kin_follow_info_2, factorizations) == offsetof(struct kin__kin_follow_info_3, factorizations) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_attempts[offsetof(struct kin__kin_follow_info_2, attempts) == offsetof(struct kin__kin_follow_info_3, attempts) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_length[offsetof(struct kin__kin_follow_info_2, length) == offsetof(struct kin__kin_follow_info_3, length) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_vr_tol_used[offsetof(struct kin__kin_follow_info_2, vr_tol_used) == offsetof(struct kin__kin_follow_info_3, vr_tol_used) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_v_r_rel[offsetof(struct kin__kin_follow_info_2, v_r_rel) == offsetof(struct kin__kin_follow_info_3, v_r_rel) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_m_internal[offsetof(struct kin__kin_follow_info_2, m_internal) == offsetof(struct kin__kin_follow_info_3, m_internal) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_s[offsetof(struct kin__kin_follow_info_2, s) == offsetof(struct kin__kin_follow_info_3, s) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_zero_order[offsetof(struct kin__kin_follow_info_2, zero_order) == offsetof(struct kin__kin_follow_info_3, zero_order) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_path_kept[offsetof(struct kin__kin_follow_info_2, path_kept) == offsetof(struct kin__kin_follow_info_3, path_kept) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_at_start[offsetof(struct kin__kin_follow_info_2, at_start) == offsetof(struct kin__kin_follow_info_3, at_start) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_start_distance[offsetof(struct kin__kin_follow_info_2, start_distance) == offsetof(struct kin__kin_follow_info_3, start_distance) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_tangent_cos[offsetof(struct kin__kin_follow_info_2, tangent_cos) == offsetof(struct kin__kin_follow_info_3, tangent_cos) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_cheap_steps[offsetof(struct kin__kin_follow_info_2, cheap_steps) == offsetof(struct kin__kin_follow_info_3, cheap_steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_handovers[offsetof(struct kin__kin_follow_info_2, handovers) == offsetof(struct kin__kin_follow_info_3, handovers) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_samples[offsetof(struct kin__kin_follow_info_2, samples) == offsetof(struct kin__kin_follow_info_3, samples) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_return_branch[offsetof(struct kin__kin_follow_info_2, return_branch) == offsetof(struct kin__kin_follow_info_3, return_branch) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_return_angle[offsetof(struct kin__kin_follow_info_2, return_angle) == offsetof(struct kin__kin_follow_info_3, return_angle) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_2_return_gap[offsetof(struct kin__kin_follow_info_2, return_gap) == offsetof(struct kin__kin_follow_info_3, return_gap) ? 1 : -1];
+typedef char kin__abi_grows_kin_follow_info_3[sizeof(struct kin__kin_follow_info_3) < sizeof(kin_follow_info) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_size[offsetof(struct kin__kin_follow_info_3, size) == offsetof(kin_follow_info, size) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_event[offsetof(struct kin__kin_follow_info_3, event) == offsetof(kin_follow_info, event) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_status[offsetof(struct kin__kin_follow_info_3, status) == offsetof(kin_follow_info, status) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_steps[offsetof(struct kin__kin_follow_info_3, steps) == offsetof(kin_follow_info, steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_forward[offsetof(struct kin__kin_follow_info_3, forward) == offsetof(kin_follow_info, forward) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_factorizations[offsetof(struct kin__kin_follow_info_3, factorizations) == offsetof(kin_follow_info, factorizations) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_attempts[offsetof(struct kin__kin_follow_info_3, attempts) == offsetof(kin_follow_info, attempts) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_length[offsetof(struct kin__kin_follow_info_3, length) == offsetof(kin_follow_info, length) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_vr_tol_used[offsetof(struct kin__kin_follow_info_3, vr_tol_used) == offsetof(kin_follow_info, vr_tol_used) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_v_r_rel[offsetof(struct kin__kin_follow_info_3, v_r_rel) == offsetof(kin_follow_info, v_r_rel) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_m_internal[offsetof(struct kin__kin_follow_info_3, m_internal) == offsetof(kin_follow_info, m_internal) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_s[offsetof(struct kin__kin_follow_info_3, s) == offsetof(kin_follow_info, s) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_zero_order[offsetof(struct kin__kin_follow_info_3, zero_order) == offsetof(kin_follow_info, zero_order) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_path_kept[offsetof(struct kin__kin_follow_info_3, path_kept) == offsetof(kin_follow_info, path_kept) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_at_start[offsetof(struct kin__kin_follow_info_3, at_start) == offsetof(kin_follow_info, at_start) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_start_distance[offsetof(struct kin__kin_follow_info_3, start_distance) == offsetof(kin_follow_info, start_distance) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_tangent_cos[offsetof(struct kin__kin_follow_info_3, tangent_cos) == offsetof(kin_follow_info, tangent_cos) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_cheap_steps[offsetof(struct kin__kin_follow_info_3, cheap_steps) == offsetof(kin_follow_info, cheap_steps) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_handovers[offsetof(struct kin__kin_follow_info_3, handovers) == offsetof(kin_follow_info, handovers) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_samples[offsetof(struct kin__kin_follow_info_3, samples) == offsetof(kin_follow_info, samples) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_return_branch[offsetof(struct kin__kin_follow_info_3, return_branch) == offsetof(kin_follow_info, return_branch) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_return_angle[offsetof(struct kin__kin_follow_info_3, return_angle) == offsetof(kin_follow_info, return_angle) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_return_gap[offsetof(struct kin__kin_follow_info_3, return_gap) == offsetof(kin_follow_info, return_gap) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_min_width[offsetof(struct kin__kin_follow_info_3, min_width) == offsetof(kin_follow_info, min_width) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_min_located[offsetof(struct kin__kin_follow_info_3, min_located) == offsetof(kin_follow_info, min_located) ? 1 : -1];
+typedef char kin__abi_prefix_kin_follow_info_3_min_evals[offsetof(struct kin__kin_follow_info_3, min_evals) == offsetof(kin_follow_info, min_evals) ? 1 : -1];
 
 /* every field of every layout: X(struct, layout, the layout's type, field),
  * per struct and all together; the old-host test sets each through its
@@ -682,21 +773,38 @@ typedef char kin__abi_prefix_kin_follow_info_2_return_gap[offsetof(struct kin__k
     X(kin_follow_options, 2, struct kin__kin_follow_options_2, branch_cos) \
     X(kin_follow_options, 2, struct kin__kin_follow_options_2, steps_mode) \
     X(kin_follow_options, 2, struct kin__kin_follow_options_2, branch_margin) \
-    X(kin_follow_options, 3, kin_follow_options, vr_tol) \
-    X(kin_follow_options, 3, kin_follow_options, vr_floor) \
-    X(kin_follow_options, 3, kin_follow_options, switch_eps) \
-    X(kin_follow_options, 3, kin_follow_options, delta) \
-    X(kin_follow_options, 3, kin_follow_options, max_steps) \
-    X(kin_follow_options, 3, kin_follow_options, max_iter) \
-    X(kin_follow_options, 3, kin_follow_options, max_length) \
-    X(kin_follow_options, 3, kin_follow_options, loop_tol) \
-    X(kin_follow_options, 3, kin_follow_options, first_step) \
-    X(kin_follow_options, 3, kin_follow_options, branch_cos) \
-    X(kin_follow_options, 3, kin_follow_options, steps_mode) \
-    X(kin_follow_options, 3, kin_follow_options, branch_margin) \
-    X(kin_follow_options, 3, kin_follow_options, return_fn) \
-    X(kin_follow_options, 3, kin_follow_options, return_user) \
-    X(kin_follow_options, 3, kin_follow_options, return_own)
+    X(kin_follow_options, 3, struct kin__kin_follow_options_3, vr_tol) \
+    X(kin_follow_options, 3, struct kin__kin_follow_options_3, vr_floor) \
+    X(kin_follow_options, 3, struct kin__kin_follow_options_3, switch_eps) \
+    X(kin_follow_options, 3, struct kin__kin_follow_options_3, delta) \
+    X(kin_follow_options, 3, struct kin__kin_follow_options_3, max_steps) \
+    X(kin_follow_options, 3, struct kin__kin_follow_options_3, max_iter) \
+    X(kin_follow_options, 3, struct kin__kin_follow_options_3, max_length) \
+    X(kin_follow_options, 3, struct kin__kin_follow_options_3, loop_tol) \
+    X(kin_follow_options, 3, struct kin__kin_follow_options_3, first_step) \
+    X(kin_follow_options, 3, struct kin__kin_follow_options_3, branch_cos) \
+    X(kin_follow_options, 3, struct kin__kin_follow_options_3, steps_mode) \
+    X(kin_follow_options, 3, struct kin__kin_follow_options_3, branch_margin) \
+    X(kin_follow_options, 3, struct kin__kin_follow_options_3, return_fn) \
+    X(kin_follow_options, 3, struct kin__kin_follow_options_3, return_user) \
+    X(kin_follow_options, 3, struct kin__kin_follow_options_3, return_own) \
+    X(kin_follow_options, 4, kin_follow_options, vr_tol) \
+    X(kin_follow_options, 4, kin_follow_options, vr_floor) \
+    X(kin_follow_options, 4, kin_follow_options, switch_eps) \
+    X(kin_follow_options, 4, kin_follow_options, delta) \
+    X(kin_follow_options, 4, kin_follow_options, max_steps) \
+    X(kin_follow_options, 4, kin_follow_options, max_iter) \
+    X(kin_follow_options, 4, kin_follow_options, max_length) \
+    X(kin_follow_options, 4, kin_follow_options, loop_tol) \
+    X(kin_follow_options, 4, kin_follow_options, first_step) \
+    X(kin_follow_options, 4, kin_follow_options, branch_cos) \
+    X(kin_follow_options, 4, kin_follow_options, steps_mode) \
+    X(kin_follow_options, 4, kin_follow_options, branch_margin) \
+    X(kin_follow_options, 4, kin_follow_options, return_fn) \
+    X(kin_follow_options, 4, kin_follow_options, return_user) \
+    X(kin_follow_options, 4, kin_follow_options, return_own) \
+    X(kin_follow_options, 4, kin_follow_options, hold_hinges) \
+    X(kin_follow_options, 4, kin_follow_options, hold_rate_tol)
 #define KIN__ABI_FIELDS_kin_follow_info(X) \
     X(kin_follow_info, 1, struct kin__kin_follow_info_1, event) \
     X(kin_follow_info, 1, struct kin__kin_follow_info_1, status) \
@@ -736,31 +844,60 @@ typedef char kin__abi_prefix_kin_follow_info_2_return_gap[offsetof(struct kin__k
     X(kin_follow_info, 2, struct kin__kin_follow_info_2, return_branch) \
     X(kin_follow_info, 2, struct kin__kin_follow_info_2, return_angle) \
     X(kin_follow_info, 2, struct kin__kin_follow_info_2, return_gap) \
-    X(kin_follow_info, 3, kin_follow_info, event) \
-    X(kin_follow_info, 3, kin_follow_info, status) \
-    X(kin_follow_info, 3, kin_follow_info, steps) \
-    X(kin_follow_info, 3, kin_follow_info, forward) \
-    X(kin_follow_info, 3, kin_follow_info, factorizations) \
-    X(kin_follow_info, 3, kin_follow_info, attempts) \
-    X(kin_follow_info, 3, kin_follow_info, length) \
-    X(kin_follow_info, 3, kin_follow_info, vr_tol_used) \
-    X(kin_follow_info, 3, kin_follow_info, v_r_rel) \
-    X(kin_follow_info, 3, kin_follow_info, m_internal) \
-    X(kin_follow_info, 3, kin_follow_info, s) \
-    X(kin_follow_info, 3, kin_follow_info, zero_order) \
-    X(kin_follow_info, 3, kin_follow_info, path_kept) \
-    X(kin_follow_info, 3, kin_follow_info, at_start) \
-    X(kin_follow_info, 3, kin_follow_info, start_distance) \
-    X(kin_follow_info, 3, kin_follow_info, tangent_cos) \
-    X(kin_follow_info, 3, kin_follow_info, cheap_steps) \
-    X(kin_follow_info, 3, kin_follow_info, handovers) \
-    X(kin_follow_info, 3, kin_follow_info, samples) \
-    X(kin_follow_info, 3, kin_follow_info, return_branch) \
-    X(kin_follow_info, 3, kin_follow_info, return_angle) \
-    X(kin_follow_info, 3, kin_follow_info, return_gap) \
-    X(kin_follow_info, 3, kin_follow_info, min_width) \
-    X(kin_follow_info, 3, kin_follow_info, min_located) \
-    X(kin_follow_info, 3, kin_follow_info, min_evals)
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, event) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, status) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, steps) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, forward) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, factorizations) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, attempts) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, length) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, vr_tol_used) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, v_r_rel) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, m_internal) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, s) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, zero_order) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, path_kept) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, at_start) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, start_distance) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, tangent_cos) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, cheap_steps) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, handovers) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, samples) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, return_branch) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, return_angle) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, return_gap) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, min_width) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, min_located) \
+    X(kin_follow_info, 3, struct kin__kin_follow_info_3, min_evals) \
+    X(kin_follow_info, 4, kin_follow_info, event) \
+    X(kin_follow_info, 4, kin_follow_info, status) \
+    X(kin_follow_info, 4, kin_follow_info, steps) \
+    X(kin_follow_info, 4, kin_follow_info, forward) \
+    X(kin_follow_info, 4, kin_follow_info, factorizations) \
+    X(kin_follow_info, 4, kin_follow_info, attempts) \
+    X(kin_follow_info, 4, kin_follow_info, length) \
+    X(kin_follow_info, 4, kin_follow_info, vr_tol_used) \
+    X(kin_follow_info, 4, kin_follow_info, v_r_rel) \
+    X(kin_follow_info, 4, kin_follow_info, m_internal) \
+    X(kin_follow_info, 4, kin_follow_info, s) \
+    X(kin_follow_info, 4, kin_follow_info, zero_order) \
+    X(kin_follow_info, 4, kin_follow_info, path_kept) \
+    X(kin_follow_info, 4, kin_follow_info, at_start) \
+    X(kin_follow_info, 4, kin_follow_info, start_distance) \
+    X(kin_follow_info, 4, kin_follow_info, tangent_cos) \
+    X(kin_follow_info, 4, kin_follow_info, cheap_steps) \
+    X(kin_follow_info, 4, kin_follow_info, handovers) \
+    X(kin_follow_info, 4, kin_follow_info, samples) \
+    X(kin_follow_info, 4, kin_follow_info, return_branch) \
+    X(kin_follow_info, 4, kin_follow_info, return_angle) \
+    X(kin_follow_info, 4, kin_follow_info, return_gap) \
+    X(kin_follow_info, 4, kin_follow_info, min_width) \
+    X(kin_follow_info, 4, kin_follow_info, min_located) \
+    X(kin_follow_info, 4, kin_follow_info, min_evals) \
+    X(kin_follow_info, 4, kin_follow_info, hinge) \
+    X(kin_follow_info, 4, kin_follow_info, held) \
+    X(kin_follow_info, 4, kin_follow_info, held_m) \
+    X(kin_follow_info, 4, kin_follow_info, reopened)
 #define KIN__ABI_FIELDS(X) \
     KIN__ABI_FIELDS_kin_analysis(X) \
     KIN__ABI_FIELDS_kin_options(X) \

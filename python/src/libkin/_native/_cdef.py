@@ -347,7 +347,10 @@ enum kin_follow_event {
     KIN_FOLLOW_LENGTH_LIMIT = 4,
     KIN_FOLLOW_STEP_LIMIT = 5,
     KIN_FOLLOW_FAILED = 6,
-    KIN_FOLLOW_CONTACT = 7
+    KIN_FOLLOW_CONTACT = 7,
+    KIN_FOLLOW_HINGE_CLOSED = 8,
+    KIN_FOLLOW_HELD_RIGID = 9,
+    KIN_FOLLOW_HINGE_REOPENED = 10
 };
 enum { KIN_FOLLOW_RETURN_UNDECIDED = -2 };
 typedef int (*kin_follow_return_fn)(void *user, const double *t, int nfree, double *angle, double *gap);
@@ -368,6 +371,8 @@ typedef struct kin_follow_options {
     kin_follow_return_fn return_fn;
     void *return_user;
     int return_own;
+    int hold_hinges;
+    double hold_rate_tol;
 } kin_follow_options;
 enum kin_follow_steps {
     KIN_FOLLOW_STEPS_SVD = 0,
@@ -399,6 +404,10 @@ typedef struct kin_follow_info {
     double min_width;
     int min_located;
     int min_evals;
+    int hinge;
+    int held;
+    int held_m;
+    int reopened;
 } kin_follow_info;
 int kin_follow_options_init(kin_follow_options *o, size_t size);
 void kin_follow_options_default(kin_follow_options *o);

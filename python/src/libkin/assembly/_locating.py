@@ -109,7 +109,7 @@ def _singular(info: Any) -> SingularProof:
 
 #: kin_follow_event's events, by enum value
 FOLLOW_EVENTS = ("none", "bifurcation", "near-miss", "closed-loop", "length-limit", "step-limit", "failed",
-                 "contact")
+                 "contact", "hinge-closed", "held-rigid", "hinge-reopened")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -123,7 +123,11 @@ class FollowEvent:
         non-zero minimum), 'closed-loop' (back at the start), 'length-limit',
         'step-limit', 'failed' (see `status` and `message`) or 'contact' (two
         parts touched: only after `set_contact_events`; `last_contact()`
-        names them).
+        names them); with ``hold_hinges``: 'hinge-closed' (a hinge closed
+        and is held; the held structure still moves), 'held-rigid' (it
+        closed and the held structure has no motion, or the motion asked
+        for presses a held hinge through: nothing moved), 'hinge-reopened'
+        (the motion opened a held hinge; the hold released).
     status : str
         The C status name ('KIN_OK' unless failed).
     message : str
@@ -163,6 +167,16 @@ class FollowEvent:
         length (0.0 where not located).
     min_evals : int
         Points computed to locate it.
+    hinge : int
+        'hinge-closed' / 'held-rigid': the first hinge held there;
+        'hinge-reopened': the hinge reopened; else -1.
+    held : int
+        Hinges held at the end point.
+    held_m : int
+        Motions of the structure with those hinges held (0: rigid), -1 where
+        none is held or it was not analysed.
+    reopened : int
+        Holds the direction released at the start (it opens those hinges).
     samples : numpy.ndarray, shape (k, njoints, dim)
         With ``samples > 0``: configurations the steps reached, evenly spread
         by steps over the path (start and end excluded).
@@ -197,6 +211,10 @@ class FollowEvent:
     min_located: bool = False
     min_width: float = 0.0
     min_evals: int = 0
+    hinge: int = -1
+    held: int = 0
+    held_m: int = -1
+    reopened: int = 0
 
 
 class LocatingMixin(AssemblyBase):
@@ -275,7 +293,8 @@ class LocatingMixin(AssemblyBase):
                      vr_floor: float = 1e-6, delta: float = 0.0, max_steps: int = 1000,
                      max_length: float = 0.0, loop_tol: float = 1e-2,
                      progress: Progress = None, branches: Union[None, npt.ArrayLike, BranchLines] = None,
-                     samples: int = 0, steps_mode: str = "cheap", own_branch: Optional[int] = None) -> FollowEvent:
+                     samples: int = 0, steps_mode: str = "cheap", own_branch: Optional[int] = None,
+                     hold_hinges: bool = False, hold_rate_tol: float = 1e-6) -> FollowEvent:
         """Follow the path to its next event and say what it was (kin_follow_event).
 
         Parameters
@@ -315,6 +334,13 @@ class LocatingMixin(AssemblyBase):
         own_branch : int, optional
             With `branches` a `BranchLines`: the index of `direction`'s own
             line among them (`direction` along it, to OWN_BRANCH_TOL rad).
+        hold_hinges : bool, optional
+            Hold hinges that close closed, and release them only where the
+            motion opens them (needs `set_contact_events` with hinge contact
+            on; ``docs/contact.md``, "Held hinges"). The holds stay with the
+            configuration: the next follow from it goes on with them.
+        hold_rate_tol : float, optional
+            A held hinge's angle rate (x the RMS rest length) below this is zero.
 
         Returns
         -------
@@ -337,6 +363,7 @@ class LocatingMixin(AssemblyBase):
         if steps_mode not in ("cheap", "svd"):
             raise InvalidArgumentError(f"steps_mode must be 'cheap' or 'svd', not {steps_mode!r}")
         o.steps_mode = lib.KIN_FOLLOW_STEPS_CHEAP if steps_mode == "cheap" else lib.KIN_FOLLOW_STEPS_SVD
+        o.hold_hinges, o.hold_rate_tol = int(bool(hold_hinges)), float(hold_rate_tol)
         d = ffi.NULL
         if direction is not None:
             arr = as_c_array(direction, np.float64, (self.nfree,), "direction")
@@ -384,7 +411,8 @@ class LocatingMixin(AssemblyBase):
                            info.start_distance, info.tangent_cos, info.cheap_steps, info.handovers,
                            info.return_branch, info.return_angle, info.return_gap, sbuf[:count[0]].copy(),
                            lbuf[:count[0]].copy(), bool(info.min_located), float(info.min_width),
-                           int(info.min_evals))
+                           int(info.min_evals), int(info.hinge), int(info.held), int(info.held_m),
+                           int(info.reopened))
 
     def test_function(self) -> float:
         """The signed test function here.
