@@ -40,19 +40,23 @@ class Judge:
         self.nearest_other = math.inf   # the smallest d / w of an end to a node it did not join
         self.undecided: List[Dict[str, Any]] = []
 
-    def judge(self, ex: Any, k: int, X: NDArray[np.float64], located: float, joined: Optional[int],
-              join_ratio: float, others: List[float]) -> None:
-        """End k (point X, located to `located`) joined node `joined` at
-        d / w = join_ratio (None, nan: it started a node); others: d / w to
-        every other node within IDENTITY_MARGIN windows."""
+    def judge(self, ex: Any, k: int, located: float, joined: Optional[int], join_ratio: float,
+              others: List[Tuple[float, Optional[int]]]) -> None:
+        """End k (located to `located`) joined node `joined` (an earlier
+        node's id; -1: one of this level's new nodes; None: it started one)
+        at d / w = join_ratio; others: (d / w, node id or None for a new
+        node of this level) of every other node within IDENTITY_MARGIN
+        windows."""
         self.ends += 1
         if joined is not None:
             self.worst_join = max(self.worst_join, join_ratio)
-        near = min(others, default=math.inf)
+        near, near_id = min(others, key=lambda o: o[0], default=(math.inf, None))
         self.nearest_other = min(self.nearest_other, near)
         if (joined is not None and join_ratio > 1.0 / IDENTITY_MARGIN) or near <= IDENTITY_MARGIN:
-            self.undecided.append({"work": int(k), "joined_ratio": None if joined is None else float(join_ratio),
-                                   "nearest_other_ratio": float(near), "located_tol": float(located)})
+            self.undecided.append({"work": int(k), "joined": joined,
+                                   "joined_ratio": None if joined is None else float(join_ratio),
+                                   "nearest_other": near_id, "nearest_other_ratio": float(near),
+                                   "located_tol": float(located)})
 
     def judge_image(self, ex: Any, node: Any) -> None:
         """A new node's symmetry identification (explorer.orbit_of: the node
@@ -63,22 +67,23 @@ class Judge:
         every node of k's orbit)."""
         if len(ex.syms) <= 1:
             return
-        best: Dict[int, float] = {}
+        best: Dict[int, Tuple[float, int]] = {}
         for i, j in ex.images.near(node.coords, lambda worst: IDENTITY_MARGIN * ex.pair_tol(node.located_tol, worst)):
             if i >= node.id:
                 continue
             k = ex.nodes[i]
             r = ex._distance(ex.syms[j].apply(k.coords), node.coords) / ex.pair_tol(node.located_tol, k.located_tol)
-            best[k.orbit] = min(best.get(k.orbit, math.inf), r)
+            best[k.orbit] = min(best.get(k.orbit, (math.inf, -1)), (r, k.id))
         own = node.orbit if node.image_of is not None else None
-        join = best.pop(own, math.nan) if own is not None else math.nan
+        join = best.pop(own, (math.nan, -1))[0] if own is not None else math.nan
         self.images += 1
-        near = min(best.values(), default=math.inf)
+        near, near_id = min(best.values(), default=(math.inf, None))
         self.nearest_other = min(self.nearest_other, near)
         if own is not None:
             self.worst_join = max(self.worst_join, join)
         if (own is not None and join > 1.0 / IDENTITY_MARGIN) or near <= IDENTITY_MARGIN:
-            self.undecided.append({"node": int(node.id), "image_of_ratio": None if own is None else float(join),
+            self.undecided.append({"node": int(node.id), "image_of": None if own is None else node.image_of["node"],
+                                   "image_of_ratio": None if own is None else float(join), "nearest_other": near_id,
                                    "nearest_other_ratio": float(near), "located_tol": float(node.located_tol)})
 
     def row(self) -> Dict[str, Any]:

@@ -75,8 +75,8 @@ def merge_level(ex: Any, work: List[Any], got: Dict[int, Any], depth: int) -> No
         found = next((i for r, i in old if r <= 1.0), None)
         c = None if found is not None else next((c for r, c in new if r <= 1.0), None)
         join = next((r for r, i in old if i == found), next((r for r, i in new if i == c), math.nan))
-        judge.judge(ex, k, X, located, found if found is not None else c, join,
-                    [r for r, i in old if i != found] + [r for r, i in new if i != c])
+        judge.judge(ex, k, located, found if found is not None else None if c is None else -1, join,
+                    [(r, i) for r, i in old if i != found] + [(r, None) for r, i in new if i != c])
         if found is not None:
             target[k] = ex.nodes[found].arrived(kind, res)
             continue
