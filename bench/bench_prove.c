@@ -5,12 +5,17 @@
  * the fairer number on a loaded machine: the load average is printed), the
  * ratio of the two runs, and the proven counts.
  * Optionally the plain solver (kin_quadrics_homotopy_ex) as well.
- * The run with proofs also splits its own CPU time: the proofs start when
+ * Both proof routes run: prove = 1 (the default: the double-precision test
+ * with a-priori rounding bounds first) and prove = 2 (Arb and FLINT only:
+ * exact integer products, Arb's balls and mags).
+ * Each run with proofs also splits its own CPU time: the proofs start when
  * the tracking (re-tracks included) has reported every path done for the
  * last time (the progress callback, every 50 ms: the split is good to
  * ~0.1 s); "split" as the 5th argument runs only that (for the octagonal
  * sail, whose solve takes minutes).
- * usage: bench_prove [n_sides (6)] [loops (2)] [runs (1)] [sym|plain|both (sym)] [split] */
+ * The 6th argument picks the routes: "12" (both; the default, but "1" with
+ * "split"), "1" or "2".
+ * usage: bench_prove [n_sides (6)] [loops (2)] [runs (1)] [sym|plain|both (sym)] [split|all] [12|1|2] */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
 #include <stdlib.h>
@@ -74,8 +79,9 @@ int main(int argc, char **argv)
     int runs = argc > 3 ? atoi(argv[3]) : 1;
     const char *which = argc > 4 ? argv[4] : "sym";
     int only_split = argc > 5 && !strcmp(argv[5], "split");
+    const char *routes = argc > 6 ? argv[6] : only_split ? "1" : "12";
     if (strcmp(which, "sym") && strcmp(which, "plain") && strcmp(which, "both")) {
-        fprintf(stderr, "usage: bench_prove [n_sides] [loops] [runs] [sym|plain|both]\n");
+        fprintf(stderr, "usage: bench_prove [n_sides] [loops] [runs] [sym|plain|both] [split|all] [12|1|2]\n");
         return 1;
     }
     kin_assembly *a = test_sail(sides, loops);
@@ -108,16 +114,20 @@ int main(int argc, char **argv)
                 if (solve(plain, 0, m, s, Q, ng, R, b, N, &h0, &w0, &c0, &sp0)) continue;
                 row(name, 0, w0, c0, &h0);
             }
-            t0 = cpu();
-            if (solve(plain, 1, m, s, Q, ng, R, b, N, &h1, &w1, &c1, &sp)) continue;
-            row(name, 1, w1, c1, &h1);
-            double track = sp.at - t0, proofs = c1 - track;
-            printf("%s, run with proofs: tracking %.2f s CPU, then proofs %.2f s CPU: proving adds %.1f %% CPU\n", name,
-                   track, proofs, 100.0 * proofs / track);
-            if (!only_split)
-                printf("%s: proving adds %.1f %% wall, %.1f %% CPU (ratio with/without: wall %.3f, CPU %.3f)\n", name,
-                       100.0 * (w1 - w0) / w0, 100.0 * (c1 - c0) / c0, w1 / w0, c1 / c0);
-            fflush(stdout);
+            for (int prove = 1; prove <= 2; ++prove) {
+                if (!strchr(routes, '0' + prove)) continue;
+                sp = (split){-1.0, 0.0, 0};
+                t0 = cpu();
+                if (solve(plain, prove, m, s, Q, ng, R, b, N, &h1, &w1, &c1, &sp)) continue;
+                row(name, prove, w1, c1, &h1);
+                double track = sp.at - t0, proofs = c1 - track;
+                printf("%s, prove %d: tracking %.2f s CPU, then proofs %.2f s CPU (%.1f us per path): proving adds "
+                       "%.1f %% CPU\n", name, prove, track, proofs, 1e6 * proofs / h1.paths, 100.0 * proofs / track);
+                if (!only_split)
+                    printf("%s, prove %d: proving adds %.1f %% wall, %.1f %% CPU (ratio with/without: wall %.3f, CPU "
+                           "%.3f)\n", name, prove, 100.0 * (w1 - w0) / w0, 100.0 * (c1 - c0) / c0, w1 / w0, c1 / c0);
+                fflush(stdout);
+            }
         }
     free(Q), free(R), free(b);
     kin_assembly_free(a);

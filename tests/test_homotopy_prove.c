@@ -146,7 +146,10 @@ static int holds_a_root(const kin_homotopy_endpoint *ge, const double *gz, const
     return 0;
 }
 
-static void wrong_endpoints(void)
+/* fast: the default chain (the double-precision test first); 0: Arb and
+ * FLINT only (kin_homotopy_options.prove = 2), whose exact-integer test
+ * then sees every endpoint first */
+static void wrong_endpoints(int fast)
 {
     static double Q[M * M * S], Q2[M * M * S], z[2 * M * N], z2[2 * M * N];
     static kin_homotopy_endpoint e[N], e2[N];
@@ -157,6 +160,7 @@ static void wrong_endpoints(void)
     hom_prover *w = kin__prove_new(M, S, Q);
     CHECK(w != NULL);
     if (!w) return;
+    kin__prove_use_fast(w, fast);
     unsigned long long st = 5;
     int tried[4] = {0}, refused[4] = {0};
     for (int p = 0; p < N; ++p) {
@@ -199,9 +203,9 @@ static void wrong_endpoints(void)
             if (pr.kind != HOM_PROOF_NONREAL) refused[3]++;
         }
     }
-    printf("wrong endpoints refused: perturbed %d of %d, another system's roots %d of %d, non-real claimed real %d"
-           " of %d, real never non-real %d of %d\n", refused[0], tried[0], refused[1], tried[1], refused[2], tried[2],
-           refused[3], tried[3]);
+    printf("%s: wrong endpoints refused: perturbed %d of %d, another system's roots %d of %d, non-real claimed real %d"
+           " of %d, real never non-real %d of %d\n", fast ? "default" : "Arb only", refused[0], tried[0], refused[1],
+           tried[1], refused[2], tried[2], refused[3], tried[3]);
     CHECK(tried[0] == N && tried[1] == N && tried[2] > 0 && tried[3] > 0);
     CHECK(refused[0] > N / 2 && refused[1] > N / 2);
 
@@ -229,20 +233,21 @@ static void wrong_endpoints(void)
  * computed at a located point: the collapsed-hub node of the hexagonal
  * sail's map, proven 2 real under one OpenBLAS kernel and 2 non-real under
  * another before the input width) neither kind may be proven, whichever
- * the sign; with e far above the width (1e-6) the kind is proven. */
+ * the sign; with e far above the width (1e-6) the kind is proven. Both
+ * proof routes (prove = 1, 2). */
 static void split_double_root(void)
 {
     const double es[] = {-4e-16, -1e-16, 1e-16, 4e-16, -1e-6, 1e-6};
-    for (int i = 0; i < 6; ++i) {
-        double Q[4] = {1.0, -1.0, -1.0, 1.0 + es[i]};
+    for (int i = 0; i < 12; ++i) {
+        double e = es[i % 6], Q[4] = {1.0, -1.0, -1.0, 1.0 + e};
         kin_homotopy_info h;
-        solve(2, 1, Q, 1, 1, &h);
-        printf("split double root, e = %g: proven %d real + %d non-real, %d unproven\n", es[i], h.proven_real,
-               h.proven_nonreal, h.unproven);
-        if (fabs(es[i]) < 1e-12) {
+        solve(2, 1, Q, 1 + i / 6, 1, &h);
+        printf("split double root, e = %g, prove %d: proven %d real + %d non-real, %d unproven\n", e, 1 + i / 6,
+               h.proven_real, h.proven_nonreal, h.unproven);
+        if (fabs(e) < 1e-12) {
             CHECK(h.proven_real == 0 && h.proven_nonreal == 0 && h.unproven == 2);
         } else {
-            CHECK(es[i] < 0 ? h.proven_real == 2 && h.proven_nonreal == 0 : h.proven_real == 0 && h.proven_nonreal == 2);
+            CHECK(e < 0 ? h.proven_real == 2 && h.proven_nonreal == 0 : h.proven_real == 0 && h.proven_nonreal == 2);
         }
     }
 }
@@ -253,6 +258,7 @@ int main(void)
     figure5();
     sails();
     random_system();
-    wrong_endpoints();
+    wrong_endpoints(1);
+    wrong_endpoints(0);
     TEST_REPORT("test_homotopy_prove");
 }

@@ -114,8 +114,9 @@ typedef struct kin_homotopy_info {
     int rechecks_failed;      /* kin_quadrics_homotopy_merge: imported certified records whose root
                                  did not certify again against Q, of the same kind and within the
                                  record's radius (their paths are tracked again); 0 elsewhere */
-    /* layout 3: the interval certificates (proofs in Arb's ball arithmetic, docs/branches.md
-       "What certified means"). A path's endpoint is proven when a Krawczyk test shows that a
+    /* layout 3: the interval certificates (proofs in outward-rounded arithmetic: Arb and FLINT,
+       and by default first a double-precision test with a priori rounding bounds;
+       docs/branches.md "What certified means"). A path's endpoint is proven when a Krawczyk test shows that a
        box around it (in an affine chart, on the caller's Q) holds exactly one solution, a
        simple one, real (the box is its own conjugate) or non-real (the box misses the reals),
        and the box is shown disjoint from every other proven box */
@@ -129,8 +130,8 @@ typedef struct kin_homotopy_info {
                            on one root): counted in unproven */
     int unproven_nopoint; /* of unproven: paths with no point to test (lost by the tracker, or
                              singular where Newton did not converge) */
-    int unproven_refused; /* of unproven: endpoints every test refused (53-bit double and ball,
-                             then 128 and 256 bits after Newton steps): singular or too
+    int unproven_refused; /* of unproven: endpoints every test refused (53-bit double, exact
+                             integer and ball, then 128 and 256 bits after Newton steps): singular or too
                              ill-conditioned roots, or not near a root at all.
                              unproven = unproven_nopoint + unproven_refused + proven_overlap */
 } kin_homotopy_info;
@@ -201,9 +202,12 @@ typedef struct kin_homotopy_options {
     /* layout 2 (docs/abi.md) */
     int prove;           /* 1: prove every endpoint with an interval certificate
                             (kin_homotopy_info.proven_*): a double-precision test with a priori
-                            rounding bounds first, Arb's balls (53, 128, 256 bits) for what it
-                            cannot prove; 2: Arb's balls only; 0: no proofs (those fields stay
-                            0). Default 1 */
+                            rounding bounds first (~+10 % CPU on the hexagonal sail's flat
+                            state), then for what it cannot prove the same test with exact
+                            integer products (FLINT) and Arb's mags, then Arb's balls (53, 128,
+                            256 bits); 2: those last two only, so that no hand-derived rounding
+                            bound decides a proof (~+21-25 % CPU there); 0: no proofs (those
+                            fields stay 0). The same counts either way there. Default 1 */
 } kin_homotopy_options;
 
 /* Fill *o with the defaults above, for a struct of `size` bytes: pass

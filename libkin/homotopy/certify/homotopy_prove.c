@@ -33,6 +33,7 @@
 #include <acb_mat.h>
 
 #include "homotopy/certify/homotopy_prove.h"
+#include "homotopy/certify/homotopy_prove_exact.h"
 #include "homotopy/certify/homotopy_prove_fast.h"
 
 struct hom_prover {
@@ -47,8 +48,9 @@ struct hom_prover {
     acb_mat_t B, D;     /* s x 1: f's midpoints, the Newton step */
     acb_t one, t;
     mag_t eta, rho, L, r, tm, row, lhs;
-    hom_fast *fast;     /* the same test in double precision, tried first */
-    int use_fast;       /* 0: Arb's balls only */
+    hom_fast *fast;     /* the test in double precision, tried first if use_fast */
+    hom_exact *exact;   /* the bounds by exact integer products, tried next */
+    int use_fast;       /* 0: no double-precision test (Arb and FLINT only) */
     double cr[HOM_PROVE_MAX_M], ci[HOM_PROVE_MAX_M]; /* the centre as doubles */
 };
 
@@ -99,7 +101,7 @@ hom_prover *kin__prove_new(int m, int s, const double *Q)
     arb_clear(a), arb_clear(b);
     double S[HOM_PROVE_MAX_M];
     for (int j = 0; j < s; ++j) S[j] = mag_get_d(w->S + j); /* an upper bound */
-    if (!(w->fast = kin__fast_new(m, s, Q, S))) {
+    if (!(w->fast = kin__fast_new(m, s, Q, S)) || !(w->exact = kin__exact_new(m, s, w->Q, w->S))) {
         kin__prove_free(w);
         return NULL;
     }
@@ -125,6 +127,7 @@ void kin__prove_free(hom_prover *w)
     mag_clear(w->eta), mag_clear(w->rho), mag_clear(w->L), mag_clear(w->r);
     mag_clear(w->tm), mag_clear(w->row), mag_clear(w->lhs);
     kin__fast_free(w->fast);
+    kin__exact_free(w->exact);
     free(w);
 }
 
@@ -167,6 +170,24 @@ static int newton(hom_prover *w, int k, slong prec, int steps, int real)
     return 1;
 }
 
+/* the test on w->eta, rho, L (module comment): 1 and w->r, or 0 */
+static int conclude(hom_prover *w, slong prec)
+{
+    if (mag_cmp_2exp_si(w->rho, 0) >= 0) return 0; /* rho >= 1 */
+    mag_one(w->tm);
+    mag_sub_lower(w->tm, w->tm, w->rho); /* <= 1 - rho */
+    if (mag_is_zero(w->tm)) return 0;
+    if (mag_is_zero(w->eta)) mag_set_ui_2exp_si(w->eta, 1, -2 * prec); /* an exact root: any small box */
+    mag_mul_2exp_si(w->r, w->eta, 1);
+    mag_div(w->r, w->r, w->tm); /* r = 2 eta / (1 - rho), rounded up: any r will do */
+    /* eta + rho r + L r^2 < r */
+    mag_mul(w->lhs, w->L, w->r);
+    mag_add(w->lhs, w->lhs, w->rho);
+    mag_mul(w->lhs, w->lhs, w->r);
+    mag_add(w->lhs, w->lhs, w->eta);
+    return mag_cmp(w->lhs, w->r) < 0;
+}
+
 /* The Krawczyk test at x (module comment): 1 and w->r = the radius of a
  * box holding exactly one solution, or 0. */
 static int krawczyk(hom_prover *w, int k, slong prec)
@@ -199,22 +220,11 @@ static int krawczyk(hom_prover *w, int k, slong prec)
         mag_max(w->L, w->L, w->row);
     }
     mag_mul_2exp_si(w->L, w->L, 1);
-    if (mag_cmp_2exp_si(w->rho, 0) >= 0) return 0; /* rho >= 1 */
-    mag_one(w->tm);
-    mag_sub_lower(w->tm, w->tm, w->rho); /* <= 1 - rho */
-    if (mag_is_zero(w->tm)) return 0;
-    if (mag_is_zero(w->eta)) mag_set_ui_2exp_si(w->eta, 1, -2 * prec); /* an exact root: any small box */
-    mag_mul_2exp_si(w->r, w->eta, 1);
-    mag_div(w->r, w->r, w->tm); /* r = 2 eta / (1 - rho), rounded up: any r will do */
-    /* eta + rho r + L r^2 < r */
-    mag_mul(w->lhs, w->L, w->r);
-    mag_add(w->lhs, w->lhs, w->rho);
-    mag_mul(w->lhs, w->lhs, w->r);
-    mag_add(w->lhs, w->lhs, w->eta);
-    return mag_cmp(w->lhs, w->r) < 0;
+    return conclude(w, prec);
 }
 
-/* the centre from the endpoint, in chart k (real: its real part) */
+/* the centre from the endpoint, in chart k (real: its real part), made a
+ * multiple of 2^-60 and written to x exactly (kin__exact_centre) */
 static void centre(hom_prover *w, const double *zr, const double *zi, int k, int real)
 {
     double d = zr[k] * zr[k] + zi[k] * zi[k];
@@ -222,8 +232,9 @@ static void centre(hom_prover *w, const double *zr, const double *zi, int k, int
         double vr = (zr[c] * zr[k] + zi[c] * zi[k]) / d, vi = (zi[c] * zr[k] - zr[c] * zi[k]) / d;
         if (c == k) vr = 1.0, vi = 0.0;
         w->cr[c] = vr, w->ci[c] = real ? 0.0 : vi;
-        acb_set_d_d(w->x + c, w->cr[c], w->ci[c]);
     }
+    if (!kin__exact_centre(w->exact, w->cr, w->ci, real, w->x))
+        for (int c = 0; c < w->m; ++c) acb_set_d_d(w->x + c, w->cr[c], w->ci[c]); /* NaN: no proof */
 }
 
 /* the proven box written out: centre rounded to doubles, r enlarged by the
@@ -267,8 +278,10 @@ void kin__prove_endpoint(hom_prover *w, double *zr, double *zi, int want_real, i
         if (a > big) big = a, k = c;
     }
     if (!(big > 0.0) || !isfinite(big)) return;
-    centre(w, zr, zi, k, 0);
-    for (int c = 0; c < m; ++c) imag = fmax(imag, fabs(arf_get_d(arb_midref(acb_imagref(w->x + c)), ARF_RND_NEAR)));
+    if (!want_real) {
+        centre(w, zr, zi, k, 0);
+        for (int c = 0; c < m; ++c) imag = fmax(imag, fabs(w->ci[c]));
+    }
     /* a real centre only for a root within 1e-6 of the reals (in chart
      * coordinates, each at most 1 in modulus) */
     int tries[2], ntries = 0;
@@ -281,9 +294,14 @@ void kin__prove_endpoint(hom_prover *w, double *zr, double *zi, int want_real, i
         for (int p = 0; p < 3 && precs[p] <= max_prec; ++p) {
             if (p > 0 && !newton(w, k, precs[p], 3, real)) break;
             double rf;
-            if (p == 0 && w->use_fast && kin__fast_krawczyk(w->fast, w->cr, w->ci, k, real, &rf))
+            int ok = 0;
+            if (p == 0 && w->use_fast && kin__fast_krawczyk(w->fast, w->cr, w->ci, k, real, &rf)) {
                 mag_set_d(w->r, rf); /* >= rf: only stored (store()), and a larger stored box is safe */
-            else if (!krawczyk(w, k, precs[p]))
+                ok = 1;
+            }
+            if (!ok && p == 0)
+                ok = kin__exact_bounds(w->exact, k, real, w->eta, w->rho, w->L) && conclude(w, precs[p]);
+            if (!ok && !krawczyk(w, k, precs[p]))
                 continue;
             hom_proof got;
             double br[HOM_PROVE_MAX_M], bi[HOM_PROVE_MAX_M];

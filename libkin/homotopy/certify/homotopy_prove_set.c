@@ -40,20 +40,19 @@ static void box(int m, const double *zr, const double *zi, const hom_proof *p, a
     }
 }
 
-static void key(int m, acb_srcptr X, const double *w, arb_t num, arb_t den, acb_t t, key_iv *out)
+/* the key's interval over box X: |w.x|^2 / |x|^2 by arb_dot (wa: w as
+ * exact balls), in balls at 53 bits */
+static void key(int m, acb_srcptr X, arb_srcptr wa, arb_t num, arb_t den, acb_t t, key_iv *out)
 {
     arf_t b;
     arf_init(b);
-    acb_zero(t);
-    arb_zero(den);
-    for (int c = 0; c < m; ++c) {
-        arb_set_d(num, w[c]);
-        acb_addmul_arb(t, X + c, num, 53);
-        arb_addmul(den, acb_realref(X + c), acb_realref(X + c), 53);
-        arb_addmul(den, acb_imagref(X + c), acb_imagref(X + c), 53);
-    }
-    acb_abs(num, t, 53);
-    arb_sqr(num, num, 53);
+    arb_srcptr xr = (arb_srcptr)X, xi = xr + 1; /* an acb is its real then imaginary arb */
+    arb_dot(acb_realref(t), NULL, 0, xr, 2, wa, 1, m, 53);
+    arb_dot(acb_imagref(t), NULL, 0, xi, 2, wa, 1, m, 53);
+    arb_dot(den, NULL, 0, xr, 2, xr, 2, m, 53);
+    arb_dot(den, den, 0, xi, 2, xi, 2, m, 53);
+    arb_sqr(num, acb_realref(t), 53);
+    arb_addmul(num, acb_imagref(t), acb_imagref(t), 53);
     arb_div(num, num, den, 53); /* den > 0: the chart coordinate is 1 */
     arb_get_lbound_arf(b, num, 53);
     out->lo = arf_get_d(b, ARF_RND_FLOOR);
@@ -79,10 +78,13 @@ int kin__prove_disjoint(int m, int n, const double *zr, const double *zi, const 
 {
     key_iv *K = malloc(sizeof *K * (size_t)(n > 0 ? n : 1));
     acb_ptr A = _acb_vec_init(2 * m), B = A + m;
+    arb_ptr wa = _arb_vec_init(m);
     if (!K) {
         _acb_vec_clear(A, 2 * m);
+        _arb_vec_clear(wa, m);
         return -1;
     }
+    for (int c = 0; c < m; ++c) arb_set_d(wa + c, w[c]);
     arb_t num, den;
     acb_t t;
     arb_init(num), arb_init(den), acb_init(t);
@@ -91,13 +93,14 @@ int kin__prove_disjoint(int m, int n, const double *zr, const double *zi, const 
         clash[i] = 0;
         if (proof[i].kind == HOM_PROOF_NONE) continue;
         box(m, zr + (size_t)i * m, zi + (size_t)i * m, &proof[i], A);
-        key(m, A, w, num, den, t, &K[nk]);
+        key(m, A, wa, num, den, t, &K[nk]);
         K[nk++].i = i;
     }
     qsort(K, (size_t)nk, sizeof *K, lo_cmp);
     for (int a = 0; a < nk; ++a) {
         int i = K[a].i;
-        box(m, zr + (size_t)i * m, zi + (size_t)i * m, &proof[i], A);
+        if (a + 1 < nk && K[a + 1].lo <= K[a].hi) /* some box to compare with */
+            box(m, zr + (size_t)i * m, zi + (size_t)i * m, &proof[i], A);
         for (int b = a + 1; b < nk && K[b].lo <= K[a].hi; ++b) {
             int j = K[b].i;
             box(m, zr + (size_t)j * m, zi + (size_t)j * m, &proof[j], B);
@@ -107,6 +110,7 @@ int kin__prove_disjoint(int m, int n, const double *zr, const double *zi, const 
     for (int i = 0; i < n; ++i) flagged += clash[i];
     arb_clear(num), arb_clear(den), acb_clear(t);
     _acb_vec_clear(A, 2 * m);
+    _arb_vec_clear(wa, m);
     free(K);
     return flagged;
 }
