@@ -293,15 +293,16 @@ static void fix_j(hom_exact *F, int k, int nc)
     fmpz_mat_struct *V = nc == 1 ? F->V1 : F->V2;
     _fmpz_mat_mul_small_1(V, F->Ql, nc == 1 ? F->L1 : F->L2); /* |Ql| <= 2^26, |L| <= 2^27: sums < 2^58 */
     mag_zero(F->row);
-    for (int i = 0; i < s; ++i) {
-        int c = col(k, i);
-        slong e = WORD_MIN;
+    slong e = WORD_MIN; /* one scale for every column: |I - Y J|'s rows summed as integers */
+    for (int i = 0; i < s; ++i)
         for (int j = 0; j < s; ++j)
             for (int p = 0; p < nc; ++p) {
-                const fmpz *z = fmpz_mat_entry(V, j * m + c, p);
+                const fmpz *z = fmpz_mat_entry(V, j * m + col(k, i), p);
                 if (!fmpz_is_zero(z)) e = FLINT_MAX(e, (slong)fmpz_bits(z) + F->qe[j] + 2 * LO - FX + 1);
             }
-        if (e == WORD_MIN) e = 0;
+    if (e == WORD_MIN) e = 0;
+    for (int i = 0; i < s; ++i) {
+        int c = col(k, i);
         F->ec[i] = e;
         double sc = ldexp(1.0, (int)(e - YB));
         for (int j = 0; j < s; ++j)
@@ -448,30 +449,26 @@ static int fix_f(hom_exact *F, int nc)
  * exact until the mags (rounded up); |P| < 2^59 (a slong) */
 static void rho_row(hom_exact *F, int a, int nc)
 {
-    mag_zero(F->row);
-    for (int i = 0; i < F->s; ++i) {
-        slong e = F->ec[i] - YB - F->ya[a], p = fmpz_get_si(fmpz_mat_entry(F->Pr, a, i));
-        if (a != i)
-            mag_set_ui_2exp_si(F->tm, (ulong)labs(p), e);
-        else { /* 1 - p 2^e exactly */
-            fmpz_set_si(F->v, p);
-            if (e <= 0) {
-                fmpz_one_2exp(F->t, (ulong)-e);
-                fmpz_sub(F->t, F->t, F->v);
-            } else {
-                fmpz_mul_2exp(F->t, F->v, (ulong)e);
-                fmpz_sub_ui(F->t, F->t, 1);
-                e = 0;
-            }
-            mag_set_fmpz(F->tm, F->t);
-            mag_mul_2exp_si(F->tm, F->tm, e);
-        }
-        mag_add(F->row, F->row, F->tm);
-        if (nc == 2) {
-            mag_set_ui_2exp_si(F->tm, (ulong)labs(fmpz_get_si(fmpz_mat_entry(F->Pi, a, i))), F->ec[i] - YB - F->ya[a]);
-            mag_add(F->row, F->row, F->tm);
-        }
+    slong e = F->ec[0] - YB - F->ya[a]; /* one column scale (fix_j) */
+    fmpz_zero(F->t);
+    for (int i = 0; i < F->s; ++i) { /* the moduli off the diagonal (re and im), exactly */
+        if (i != a) fmpz_add_ui(F->t, F->t, (ulong)labs(fmpz_get_si(fmpz_mat_entry(F->Pr, a, i))));
+        if (nc == 2) fmpz_add_ui(F->t, F->t, (ulong)labs(fmpz_get_si(fmpz_mat_entry(F->Pi, a, i))));
     }
+    mag_set_fmpz(F->row, F->t);
+    mag_mul_2exp_si(F->row, F->row, e);
+    fmpz_set(F->v, fmpz_mat_entry(F->Pr, a, a)); /* 1 - p 2^e exactly */
+    if (e <= 0) {
+        fmpz_one_2exp(F->t, (ulong)-e);
+        fmpz_sub(F->t, F->t, F->v);
+    } else {
+        fmpz_mul_2exp(F->t, F->v, (ulong)e);
+        fmpz_sub_ui(F->t, F->t, 1);
+        e = 0;
+    }
+    mag_set_fmpz(F->tm, F->t);
+    mag_mul_2exp_si(F->tm, F->tm, e);
+    mag_add(F->row, F->row, F->tm);
 }
 
 int kin__exact_bounds(hom_exact *F, int k, int real, mag_t eta, mag_t rho, mag_t L)
