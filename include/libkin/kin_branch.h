@@ -206,7 +206,7 @@ typedef struct kin_homotopy_options {
                             state), then for what it cannot prove the same test with exact
                             integer products (FLINT) and Arb's mags, then Arb's balls (53, 128,
                             256 bits); 2: those last two only, so that no hand-derived rounding
-                            bound decides a proof (~+21-25 % CPU there); 0: no proofs (those
+                            bound decides a proof (~+20-22 % CPU there); 0: no proofs (those
                             fields stay 0). The same counts either way there. Default 1 */
 } kin_homotopy_options;
 
