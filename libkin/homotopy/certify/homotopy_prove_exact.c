@@ -18,10 +18,12 @@
  * the same way (integer blocks, then balls); done here once per endpoint
  * it is ~7 times cheaper than arb_dot at every entry.
  * The products: FLINT 2.9's exported _fmpz_mat_mul_small_1 (one-word
- * inputs and sums) and _fmpz_mat_mul_double_word_internal (inputs below
- * 2^127, sums below 2^bits), whose contracts the fixed-point formats
- * guarantee; fmpz_mat_mul would rescan Q's entries for their size at every
- * endpoint (a third of the time). */
+ * inputs and sums), _small_2b (one-word inputs, three-word sums) and
+ * _fmpz_mat_mul_double_word_internal (inputs below 2^127, sums below
+ * 2^bits), whose contracts the fixed-point formats guarantee; fmpz_mat_mul
+ * would rescan Q's entries for their size at every endpoint (a third of
+ * the time). J's columns share one scale so that each row of |I - Y J| is
+ * one integer sum (a root with very unequal columns then needs balls). */
 #include <math.h>
 #include <stdlib.h>
 
