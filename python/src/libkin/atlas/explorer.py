@@ -475,10 +475,11 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
             break
     ex.final_orbits()
     arrived: Dict[int, set[str]] = {}
-    [arrived.setdefault(e.target, set()).add(e.event) for e in ex.edges]
-    why = {tasks.BUDGET: "the path-length budget ran out here", tasks.CONTACT: "two parts touch here",
-           tasks.NEAR_MISS: "the follower stopped at a dip of v_r here", tasks.FAILURE: "following failed here",
-           tasks.BIFURCATION: "located as a bifurcation, but regular at the rank tolerance"}
+    for e in ex.edges:
+        arrived.setdefault(e.target, set()).add(e.event)
+    why = {tasks.BUDGET: "the path-length budget ran out here", tasks.CONTACT: "two parts touch here", tasks.NEAR_MISS:
+           "the follower stopped at a dip of v_r here", tasks.FAILURE: "following failed here", tasks.BIFURCATION:
+           "located as a bifurcation, but regular at the rank tolerance"}
     for n in (n for n in ex.nodes if not n.expanded and not n.status):
         n.status = ("not expanded: depth reached" if n.kind == BIFURCATION else tasks.UNDECIDED_WHY
                     if n.kind == UNDECIDED else "; ".join(why[ev] for ev in sorted(arrived.get(n.id, ())) if ev in why) or "end point")
