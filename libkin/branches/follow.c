@@ -374,14 +374,24 @@ static int attempt_ends(follow_ctx *c, int *rc, const kin_locate_info *li, const
  * a smooth minimum of v_r above the strict tolerance (a near miss): the
  * relaxed floor cannot tell them apart (issue 35). Where the strict
  * attempt left its bracket (sb: start, end) the handle goes back there and
- * the minimum of v_r decides (near_minimum). 1: done, the event is to be a
+ * the minimum of v_r decides (near_minimum; the relaxed point kept in sb[2]
+ * and its v_r / v_max, tolerance in relaxed). 1: done, the event is to be a
  * near miss until then */
-static int relaxed_to_minimum(follow_ctx *c, kin__locate_ws *lws, kin_assembly *const sb[2])
+static int relaxed_to_minimum(follow_ctx *c, kin__locate_ws *lws, kin_assembly *sb[3], double relaxed[2])
 {
     kin_follow_info *info = c->info;
     if (info->event != KIN_FOLLOW_BIFURCATION || !sb[0] || info->m_internal != 2 ||
         !(info->vr_tol_used > c->o->vr_tol * (1.0 + 1e-9)))
         return 0;
+    if (info->v_r_rel <= c->o->vr_tol) { /* the relaxed point is at the strict tolerance itself */
+        info->vr_tol_used = c->o->vr_tol;
+        return 0;
+    }
+    /* the relaxed point itself, for near_minimum */
+    if (!sb[2] && kin_assembly_clone(c->a, &sb[2])) return 0;
+    kin__copy_state(sb[2], c->a);
+    relaxed[0] = info->v_r_rel;
+    relaxed[1] = info->vr_tol_used;
     kin__copy_state(c->a, sb[0]);
     kin__copy_state(lws->work, sb[1]);
     lws->near_bracket = 1;
@@ -397,7 +407,7 @@ static int relaxed_to_minimum(follow_ctx *c, kin__locate_ws *lws, kin_assembly *
  * the locator's points are); otherwise a near miss whose vr_tol_used is the
  * floor a crossing would leave at that width (the caller calls it a near
  * miss only where v_r_rel is 10 x above it, else undecided). A status */
-static int near_minimum(follow_ctx *c, kin__locate_ws *lws)
+static int near_minimum(follow_ctx *c, kin__locate_ws *lws, kin_assembly *relaxed_pt, const double relaxed[2])
 {
     kin_assembly *a = c->a;
     kin_follow_info *info = c->info;
@@ -410,6 +420,18 @@ static int near_minimum(follow_ctx *c, kin__locate_ws *lws)
     if (rc) {
         info->event = KIN_FOLLOW_FAILED;
         return rc;
+    }
+    /* a relaxed point (relaxed_pt, its v_r / v_max and tolerance) lower than
+     * the minimum found: that minimum is not the one the relaxed location
+     * reached (several small singular values: v_r is not one smooth
+     * function there). Undecided: the relaxed point, not located
+     * (min_located 0), its tolerance as the floor */
+    if (relaxed_pt && !(nm.located && nm.v_rel <= c->o->vr_tol) && (!nm.located || !(nm.v_rel <= relaxed[0]))) {
+        kin__copy_state(a, relaxed_pt);
+        info->min_located = 0;
+        info->min_width = 0.0;
+        info->vr_tol_used = relaxed[1];
+        return KIN_OK;
     }
     if (nm.located && nm.v_rel <= c->o->vr_tol) {
         kin_options user = a->opt;
@@ -451,7 +473,7 @@ static int locate_events(follow_ctx *c)
      * handovers of this call (1.1 handovers and 1.0 attempts per branch on
      * the flat state: 5 clones at each was 4% of the time) */
     kin__locate_ws lws = {0};
-    kin_assembly *sb[2] = {NULL, NULL}; /* where the strict attempt gave up on a turn of v_r */
+    kin_assembly *sb[3] = {NULL, NULL, NULL}; /* the strict attempt's bracket; a relaxed point */
     /* cheap steps: the Hermite nodes from LU steps too (locate.h) */
     lws.lu_nodes = o->steps_mode == KIN_FOLLOW_STEPS_CHEAP;
     for (int k = 0; k < c->attempts; ++k) {
@@ -490,14 +512,19 @@ static int locate_events(follow_ctx *c)
     }
     /* a corank-1 point accepted only at a relaxed tolerance is decided at
      * the minimum of v_r over the strict attempt's bracket instead */
-    if (rc == KIN_OK && relaxed_to_minimum(c, &lws, sb)) info->event = KIN_FOLLOW_NEAR_MISS;
+    double relaxed[2] = {0.0, 0.0};
+    int conv = rc == KIN_OK && relaxed_to_minimum(c, &lws, sb, relaxed);
+    if (conv) info->event = KIN_FOLLOW_NEAR_MISS;
     /* a near miss ends at the minimum of v_r / v_max along the path, found
      * within the bracket the last location attempt gave up on */
-    if (rc == KIN_OK && info->event == KIN_FOLLOW_NEAR_MISS && lws.near_bracket) rc = near_minimum(c, &lws);
-    for (int i = 0; i < 2; ++i) kin_assembly_free(sb[i]);
+    if (rc == KIN_OK && info->event == KIN_FOLLOW_NEAR_MISS && lws.near_bracket)
+        rc = near_minimum(c, &lws, conv ? sb[2] : NULL, relaxed);
+    for (int i = 0; i < 3; ++i) kin_assembly_free(sb[i]);
     kin__locate_ws_free(&lws);
     user_progress(c);
-    if (info->event == KIN_FOLLOW_NEAR_MISS && kin__cur(a)->valid)
+    if (conv && info->event == KIN_FOLLOW_NEAR_MISS && !info->min_located)
+        info->v_r_rel = relaxed[0]; /* undecided: the relaxed point's own value */
+    else if (info->event == KIN_FOLLOW_NEAR_MISS && kin__cur(a)->valid)
         info->v_r_rel = kin__cur(a)->an.v_r / kin__cur(a)->an.v_max;
     if (rc == KIN_OK) (void)kin__progress(a, c->total, c->total);
     return rc;

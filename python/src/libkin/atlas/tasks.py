@@ -212,9 +212,10 @@ UNDECIDED_WHY = ("undecided: the minimum of v_r / v_max here is neither at the s
 
 def near_verdict(v_rel: float, floor: float, located: bool) -> Dict[str, Any]:
     """The near miss's floor and whether it is undecided: a minimum not
-    located, or not NEAR_MARGIN x above its floor, is reported with its
-    numbers rather than called a near miss or a bifurcation."""
-    return {"floor": floor, "undecided": bool(located and not v_rel > NEAR_MARGIN * floor)}
+    NEAR_MARGIN x above its floor, or a point not located with a floor (the
+    follower's relaxed point that no minimum of v_r explained), is reported
+    with its numbers rather than called a near miss or a bifurcation."""
+    return {"floor": floor, "undecided": bool(floor > 0 and (not located or not v_rel > NEAR_MARGIN * floor))}
 
 
 def _end_state(a: Assembly, kind: str, rank_tol: Optional[float] = None) -> Dict[str, Any]:
