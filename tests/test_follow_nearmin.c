@@ -62,6 +62,36 @@ static double dist(const double *x, const double *y)
     return d;
 }
 
+/* the decision at the minimum of v_r, with a margin (issue 35 item 4):
+ * the middle bar 1e-10 too long gives a minimum near 7.6e-6 of v_max, above
+ * vr_floor: a near miss, its value far above its floor; the exact rhombus
+ * (a true crossing, where the flat state's two paths meet) a bifurcation
+ * located to the strict tolerance */
+static void margins(void)
+{
+    const double excess[2] = {1e-10, 0.0};
+    for (int k = 0; k < 2; ++k) {
+        double len[3] = {1.0, 1.0 + excess[k], 1.0};
+        kin_assembly *a = NULL;
+        CHECK_RC(kin_assembly_create(2, 4, XYZ, FIXED, 3, BARS, len, &a, NULL, 0), KIN_OK);
+        CHECK_RC(kin_relax(a, 100, NULL), KIN_OK);
+        kin_follow_options o;
+        kin_follow_options_default(&o);
+        kin_follow_info fi = {.size = sizeof fi};
+        CHECK_RC(kin_follow_event(a, NULL, &o, &fi), KIN_OK);
+        printf("excess %.0e: event %d, v_r/v_max %.3g, vr_tol_used %.3g, m %d\n", excess[k], fi.event, fi.v_r_rel,
+               fi.vr_tol_used, fi.m_internal);
+        if (k == 0) {
+            CHECK(fi.event == KIN_FOLLOW_NEAR_MISS && fi.min_located && fi.m_internal == 1);
+            CHECK(fi.v_r_rel > o.vr_floor && fi.v_r_rel > 10.0 * fi.vr_tol_used && fi.vr_tol_used > 0.0);
+        } else {
+            CHECK(fi.event == KIN_FOLLOW_BIFURCATION && fi.m_internal == 2 && fi.s == 1);
+            CHECK(fi.vr_tol_used == o.vr_tol && fi.v_r_rel <= o.vr_tol);
+        }
+        kin_assembly_free(a);
+    }
+}
+
 int main(void)
 {
     /* the start's tangent, to give the mirror start its image */
@@ -89,6 +119,9 @@ int main(void)
                fi[k].min_width, fi[k].min_evals);
         CHECK(fi[k].event == KIN_FOLLOW_NEAR_MISS && fi[k].min_located && fi[k].m_internal == 1);
         CHECK(fi[k].min_width > 0.0 && fi[k].min_width <= 1e-8);
+        /* decided with a margin: the minimum 10 x above the floor a crossing
+         * would leave at that width (vr_tol_used for a near miss) */
+        CHECK(fi[k].vr_tol_used > 0.0 && fi[k].v_r_rel > 10.0 * fi[k].vr_tol_used);
     }
     /* the reported value is v_r / v_max at the end, on the path */
     CHECK(kin_max_strain(a) <= 1e-12);
@@ -116,5 +149,6 @@ int main(void)
     CHECK(dist(gm, e[2]) <= tol);
     CHECK(fabs(fi[0].v_r_rel - fi[2].v_r_rel) <= 1e-12);
     kin_assembly_free(a);
+    margins();
     TEST_REPORT("test_follow_nearmin");
 }

@@ -171,7 +171,14 @@ typedef struct kin_follow_info {
     int factorizations;  /* factorizations while locating */
     int attempts;        /* location attempts (1 + the relaxations of vr_tol) */
     double length;       /* path length travelled (sum of chords, >= 0) */
-    double vr_tol_used;  /* BIFURCATION: the tolerance it was located to (vr_tol ... vr_floor) */
+    double vr_tol_used;  /* BIFURCATION: the tolerance it was located to (vr_tol ... vr_floor;
+                            vr_tol for one vanishing singular value: a corank-1 point that
+                            only a relaxed tolerance accepts is decided at the minimum of
+                            v_r instead, as a NEAR_MISS or a BIFURCATION at v_r_rel <= vr_tol).
+                            NEAR_MISS with min_located: the floor, the v_r / v_max a crossing
+                            inside the minimum's final interval could still show (the secant
+                            slope x the width, >= 64 eps); a minimum not 10 x above it is
+                            undecided (docs/follow.md). 0 otherwise */
     double v_r_rel;      /* at the end point: the vanishing singular values' largest / v_max
                             (kin_locate_info.v_r_rel); NEAR_MISS: v_r / v_max there (at the
                             minimum where min_located) */

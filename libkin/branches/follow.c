@@ -402,6 +402,88 @@ static int attempt_ends(follow_ctx *c, int *rc, const kin_locate_info *li, const
     return 0;
 }
 
+/* A bifurcation accepted only at a relaxed tolerance with one vanishing
+ * singular value (m = 2) is a point within sqrt(tol) of either a crossing or
+ * a smooth minimum of v_r above the strict tolerance (a near miss): the
+ * relaxed floor cannot tell them apart (issue 35). Where the strict
+ * attempt left its bracket (sb: start, end) the handle goes back there and
+ * the minimum of v_r decides (near_minimum; the relaxed point kept in sb[2]
+ * and its v_r / v_max, tolerance in relaxed). 1: done, the event is to be a
+ * near miss until then */
+static int relaxed_to_minimum(follow_ctx *c, kin__locate_ws *lws, kin_assembly *sb[3], double relaxed[2])
+{
+    kin_follow_info *info = c->info;
+    if (info->event != KIN_FOLLOW_BIFURCATION || !sb[0] || info->m_internal != 2 ||
+        !(info->vr_tol_used > c->o->vr_tol * (1.0 + 1e-9)))
+        return 0;
+    if (info->v_r_rel <= c->o->vr_tol) { /* the relaxed point is at the strict tolerance itself */
+        info->vr_tol_used = c->o->vr_tol;
+        return 0;
+    }
+    /* the relaxed point itself, for near_minimum */
+    if (!sb[2] && kin_assembly_clone(c->a, &sb[2])) return 0;
+    kin__copy_state(sb[2], c->a);
+    relaxed[0] = info->v_r_rel;
+    relaxed[1] = info->vr_tol_used;
+    kin__copy_state(c->a, sb[0]);
+    kin__copy_state(lws->work, sb[1]);
+    lws->near_bracket = 1;
+    info->vr_tol_used = 0.0;
+    info->zero_order = 0;
+    info->path_kept = 0;
+    return 1;
+}
+
+/* the near miss's end at the minimum of v_r / v_max (locate_nearmin.c) and
+ * the decision there, with a margin (issue 35 item 4): v_r_rel <= vr_tol is
+ * a bifurcation located to the strict tolerance (m, s counted at 10 x it, as
+ * the locator's points are); otherwise a near miss whose vr_tol_used is the
+ * floor a crossing would leave at that width (the caller calls it a near
+ * miss only where v_r_rel is 10 x above it, else undecided). A status */
+static int near_minimum(follow_ctx *c, kin__locate_ws *lws, kin_assembly *relaxed_pt, const double relaxed[2])
+{
+    kin_assembly *a = c->a;
+    kin_follow_info *info = c->info;
+    kin__near_min nm;
+    int rc = kin__locate_near_minimum(a, lws, &nm);
+    info->min_located = nm.located;
+    info->min_width = nm.located ? nm.width : 0.0;
+    info->min_evals = nm.evals;
+    info->vr_tol_used = nm.located ? nm.floor : 0.0;
+    if (rc) {
+        info->event = KIN_FOLLOW_FAILED;
+        return rc;
+    }
+    /* a relaxed point (relaxed_pt, its v_r / v_max and tolerance) lower than
+     * the minimum found: that minimum is not the one the relaxed location
+     * reached (several small singular values: v_r is not one smooth
+     * function there). Undecided: the relaxed point, not located
+     * (min_located 0), its tolerance as the floor */
+    if (relaxed_pt && !(nm.located && nm.v_rel <= c->o->vr_tol) && (!nm.located || !(nm.v_rel <= relaxed[0]))) {
+        kin__copy_state(a, relaxed_pt);
+        info->min_located = 0;
+        info->min_width = 0.0;
+        info->vr_tol_used = relaxed[1];
+        return KIN_OK;
+    }
+    if (nm.located && nm.v_rel <= c->o->vr_tol) {
+        kin_options user = a->opt;
+        a->opt.rank_tol = fmax(user.rank_tol, 10.0 * c->o->vr_tol);
+        rc = kin__reclassify(a, a->xyz, a->cur);
+        a->opt = user;
+        if (rc) {
+            info->event = KIN_FOLLOW_FAILED;
+            return rc;
+        }
+        info->event = KIN_FOLLOW_BIFURCATION;
+        info->vr_tol_used = c->o->vr_tol;
+        info->v_r_rel = nm.v_rel;
+        info->m_internal = kin__cur(a)->an.m_internal;
+        info->s = kin__cur(a)->an.s;
+    }
+    return KIN_OK;
+}
+
 /* STAGE 5: follow and locate, relaxing the tolerance where it is out of
  * reach; a near miss ends at the minimum of v_r / v_max along the path. A
  * status. */
@@ -424,6 +506,7 @@ static int locate_events(follow_ctx *c)
      * handovers of this call (1.1 handovers and 1.0 attempts per branch on
      * the flat state: 5 clones at each was 4% of the time) */
     kin__locate_ws lws = {0};
+    kin_assembly *sb[3] = {NULL, NULL, NULL}; /* the strict attempt's bracket; a relaxed point */
     /* cheap steps: the Hermite nodes from LU steps too (locate.h) */
     lws.lu_nodes = o->steps_mode == KIN_FOLLOW_STEPS_CHEAP;
     for (int k = 0; k < c->attempts; ++k) {
@@ -451,21 +534,30 @@ static int locate_events(follow_ctx *c)
             --k; /* not an attempt */
             continue;
         }
+        /* the strict attempt's bracket, kept for relaxed_to_minimum */
+        if (rc == KIN_ENOTFOUND && tol == o->vr_tol && lws.near_bracket && !sb[0]) {
+            if (kin_assembly_clone(a, &sb[0]) || kin_assembly_clone(lws.work, &sb[1])) {
+                rc = kin__fail(a, KIN_ENOMEM, "follow: a copy of the bracket");
+                break;
+            }
+        }
         if (attempt_ends(c, &rc, &li, &lws, &tol)) break;
     }
+    /* a corank-1 point accepted only at a relaxed tolerance is decided at
+     * the minimum of v_r over the strict attempt's bracket instead */
+    double relaxed[2] = {0.0, 0.0};
+    int conv = rc == KIN_OK && relaxed_to_minimum(c, &lws, sb, relaxed);
+    if (conv) info->event = KIN_FOLLOW_NEAR_MISS;
     /* a near miss ends at the minimum of v_r / v_max along the path, found
      * within the bracket the last location attempt gave up on */
-    if (rc == KIN_OK && info->event == KIN_FOLLOW_NEAR_MISS && lws.near_bracket) {
-        kin__near_min nm;
-        rc = kin__locate_near_minimum(a, &lws, &nm);
-        info->min_located = nm.located;
-        info->min_width = nm.located ? nm.width : 0.0;
-        info->min_evals = nm.evals;
-        if (rc) info->event = KIN_FOLLOW_FAILED;
-    }
+    if (rc == KIN_OK && info->event == KIN_FOLLOW_NEAR_MISS && lws.near_bracket)
+        rc = near_minimum(c, &lws, conv ? sb[2] : NULL, relaxed);
+    for (int i = 0; i < 3; ++i) kin_assembly_free(sb[i]);
     kin__locate_ws_free(&lws);
     user_progress(c);
-    if (info->event == KIN_FOLLOW_NEAR_MISS && kin__cur(a)->valid)
+    if (conv && info->event == KIN_FOLLOW_NEAR_MISS && !info->min_located)
+        info->v_r_rel = relaxed[0]; /* undecided: the relaxed point's own value */
+    else if (info->event == KIN_FOLLOW_NEAR_MISS && kin__cur(a)->valid)
         info->v_r_rel = kin__cur(a)->an.v_r / kin__cur(a)->an.v_max;
     if (rc == KIN_OK) (void)kin__progress(a, c->total, c->total);
     return rc;

@@ -81,6 +81,11 @@ int kin__locate_hooked(kin_assembly *a, const kin_locate_options *opt, kin_locat
 typedef struct kin__near_min {
     int located, evals; /* the minimum located to its tolerance; trial points computed */
     double z, width, v_rel;
+    /* the v_r / v_max a crossing inside the final interval could still
+     * show there (the steeper side's secant slope x the width, at least the
+     * rounding of v_r): a minimum NEAR_MIN_MARGIN (10) x above it is a near
+     * miss; one not above it was narrowed to 1e-13 of the RMS length */
+    double floor;
 } kin__near_min;
 int kin__locate_near_minimum(kin_assembly *a, kin__locate_ws *ws, kin__near_min *out);
 

@@ -34,6 +34,17 @@ static const double NEAR_MIN_PROBES[] = {0.5, 0.25, 0.75, 0.125, 0.875};
 /* ... and where none is, the bracket moves a step the way v_r falls, at
  * most this many times */
 enum { NEAR_MIN_EXTEND = 3 };
+/* a minimum not clearly above the floor a crossing would leave at Brent's
+ * width (kin__near_min.floor: its value not NEAR_MIN_MARGIN x above) is
+ * narrowed further by golden sections, to this fraction of the RMS rest
+ * length: a crossing (v_r linear in the distance to it) then shows v_r at
+ * the strict tolerance, a smooth minimum keeps its value (issue 35 item 4) */
+static const double NEAR_MIN_FINE = 1e-13;
+static const double NEAR_MIN_MARGIN = 10.0;
+enum { NEAR_MIN_FINE_ITER = 80 };
+/* the relative accuracy of a computed v_r / v_max (the SVD's rounding):
+ * the floor is never taken below it */
+static const double NEAR_MIN_NOISE = 64.0 * 2.220446049250313e-16;
 
 typedef struct nm_ctx {
     kin_assembly *start, *trial;
@@ -108,6 +119,44 @@ static int set_bracket(nm_ctx *c, kin_assembly *st, const kin_assembly *end, dou
     if (!(fabs(tt) > 0.0) || !(fabs(t00 - 1.0) < 1e-6) || !(c->z1 > 0.0)) return 0;
     for (int i = 0; i < nf; ++i) d1[i] = end->t[i] / tt;
     return 1;
+}
+
+/* the floor at the minimum (zm, fm) located to the width w, in the bracket
+ * [0, z1] with end values f0, f1: the v_r / v_max a crossing within w of zm
+ * could still show there. A crossing's v_r is linear in the distance to it
+ * (|z - z*| times a slope that the secants from the bracket's ends to zm
+ * bound), so it shows at most the steeper secant x w; never below the
+ * rounding of v_r */
+static double near_floor(double z1, double f0, double f1, double zm, double fm, double w)
+{
+    double slope = 0.0;
+    if (zm > 0.0 && isfinite(f0)) slope = fmax(slope, (f0 - fm) / zm);
+    if (z1 > zm && isfinite(f1)) slope = fmax(slope, (f1 - fm) / (z1 - zm));
+    return fmax(slope * w, NEAR_MIN_NOISE);
+}
+
+/* golden sections of [*lo, *hi] about its lowest point (*zm, *fm) down to
+ * the width xtol, or until the minimum is NEAR_MIN_MARGIN x above its floor
+ * (f0, f1: the bracket [0, c->z1]'s end values): where the minimum may be a
+ * crossing Brent could not resolve (its steps stop at sqrt(eps) |z|) */
+static void golden_refine(nm_ctx *c, double f0, double f1, double xtol, double *lo, double *zm, double *fm,
+                          double *hi)
+{
+    const double g = 0.3819660112501051;
+    for (int it = 0; it < NEAR_MIN_FINE_ITER && *hi - *lo > xtol; ++it) {
+        if (near_floor(c->z1, f0, f1, *zm, *fm, *hi - *lo) * NEAR_MIN_MARGIN < *fm) break;
+        int right = *hi - *zm > *zm - *lo;
+        double x = right ? *zm + g * (*hi - *zm) : *zm - g * (*zm - *lo);
+        if (!(x > *lo && x < *hi) || x == *zm) break; /* the bracket at the resolution of z */
+        double fx = trial_value(x, c);
+        if (fx < *fm) {
+            *(right ? lo : hi) = *zm;
+            *zm = x;
+            *fm = fx;
+        } else {
+            *(right ? hi : lo) = x;
+        }
+    }
 }
 
 int kin__locate_near_minimum(kin_assembly *a, kin__locate_ws *ws, kin__near_min *out)
@@ -203,6 +252,10 @@ int kin__locate_near_minimum(kin_assembly *a, kin__locate_ws *ws, kin__near_min 
         }
     }
     zm = gsl_min_fminimizer_x_minimum(s);
+    fm = gsl_min_fminimizer_f_minimum(s);
+    golden_refine(&c, f0, f1, NEAR_MIN_FINE * a->rms_length, &lo, &zm, &fm, &hi);
+    conv = conv || hi - lo <= xtol;
+    out->floor = near_floor(c.z1, f0, f1, zm, fm, hi - lo);
     fm = trial_value(zm, &c); /* the trial copy onto the minimum */
     if (c.failed && !(fm < c.bad)) return KIN_OK;
     /* the end analysed in full, as the handle's points are (its value from that analysis) */

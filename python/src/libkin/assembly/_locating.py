@@ -137,7 +137,11 @@ class FollowEvent:
     length : float
         Path length travelled.
     vr_tol_used : float
-        The tolerance a bifurcation was located to (vr_tol up to vr_floor).
+        The tolerance a bifurcation was located to (vr_tol up to vr_floor;
+        a corank-1 point only a relaxed tolerance accepts is decided at the
+        minimum of v_r instead). For a near miss whose minimum was located:
+        the floor a crossing would leave at that width; the minimum is
+        undecided where v_r_rel is not 10 x above it (atlas.tasks.near_verdict).
     v_r_rel : float
         v_r / v_max at the end point.
     m_internal, s : int

@@ -47,7 +47,7 @@ from . import directions, levels, tasks
 from .index import GroupedIndex
 from .limits import MAX_NODES
 from .merge import merge_level
-from .model import BIFURCATION, SAME_TOL, Atlas, Edge, Node, node_kind, pair_window
+from .model import BIFURCATION, SAME_TOL, UNDECIDED, Atlas, Edge, Node, node_kind, pair_window
 from .orbits import branch_orbits, follow_level
 from .solving import complete_solve, numbered, solve_system
 from .stabiliser import fixing, mechanism_action, subspace_branches, useful_group
@@ -469,12 +469,12 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
     arrived: Dict[int, set[str]] = {}
     for e in ex.edges:
         arrived.setdefault(e.target, set()).add(e.event)
-    why = {tasks.BUDGET: "the path-length budget ran out here", tasks.CONTACT: "two parts touch here",
-           tasks.NEAR_MISS: "the follower stopped at a dip of v_r here", tasks.FAILURE: "following failed here",
-           tasks.BIFURCATION: "located as a bifurcation, but regular at the rank tolerance"}
+    why = {tasks.BUDGET: "the path-length budget ran out here", tasks.CONTACT: "two parts touch here", tasks.NEAR_MISS:
+           "the follower stopped at a dip of v_r here", tasks.FAILURE: "following failed here", tasks.BIFURCATION:
+           "located as a bifurcation, but regular at the rank tolerance"}
     for n in (n for n in ex.nodes if not n.expanded and not n.status):
-        n.status = ("not expanded: depth reached" if n.kind == BIFURCATION else
-                    "; ".join(why[ev] for ev in sorted(arrived.get(n.id, ())) if ev in why) or "end point")
+        n.status = ("not expanded: depth reached" if n.kind == BIFURCATION else tasks.UNDECIDED_WHY
+                    if n.kind == UNDECIDED else "; ".join(why[ev] for ev in sorted(arrived.get(n.id, ())) if ev in why) or "end point")
     settings = {"depth": depth, "max_nodes": max_nodes, "max_length": float(max_length), "time_limit": time_limit,
                 "symmetric": symmetric, "seed": seed, "same_tol": ex.tol, "max_steps": int(max_steps),
                 "samples": int(samples), "view_samples": bool(view_samples), "symmetries": ex.symmetry_note or f"{len(ex.syms)} detected",

@@ -27,7 +27,9 @@ NEAR_MISS = "near_miss"      # a v_r dip the follower stopped at, but regular he
 MULTI_DOF = "multi_dof"      # m_internal >= 2 with s = 0: a mechanism of several freedoms
 RIGID = "rigid"              # m_internal = 0
 FAILURE = "failure"          # where following failed
-NODE_KINDS = (BIFURCATION, REGULAR, NEAR_MISS, MULTI_DOF, RIGID, FAILURE)
+UNDECIDED = "undecided"      # a minimum of v_r neither at the strict tolerance nor clearly above
+                             # the floor a crossing would leave there (tasks.NEAR_MARGIN): not expanded
+NODE_KINDS = (BIFURCATION, REGULAR, NEAR_MISS, MULTI_DOF, RIGID, FAILURE, UNDECIDED)
 
 # two configurations are one node when they agree to this times the model size
 SAME_TOL = 1e-6
@@ -59,7 +61,7 @@ def pair_window(scale: float, located_a: float, located_b: float) -> float:
 # the rank of a branch end as its node's point: the node kinds in this order
 # (a located bifurcation before a near miss at the same point: the node is
 # then a bifurcation whichever arrived first), then the better located
-_KIND_RANK = {BIFURCATION: 0, NEAR_MISS: 1, MULTI_DOF: 2, RIGID: 2, REGULAR: 2, FAILURE: 3}
+_KIND_RANK = {BIFURCATION: 0, UNDECIDED: 1, NEAR_MISS: 1, MULTI_DOF: 2, RIGID: 2, REGULAR: 2, FAILURE: 3}
 
 
 def arrival_rank(kind: str, res: Dict[str, Any]) -> Tuple[int, float, float, Tuple[float, ...]]:
@@ -101,7 +103,7 @@ class Node:
         analysis, so the kind does not depend on which branch came first.
         Only before the node is expanded; its coordinates and location
         tolerance (its index entry) stay. Returns the node's id."""
-        if kind == BIFURCATION and self.kind == NEAR_MISS and not self.expanded:
+        if kind == BIFURCATION and self.kind in (NEAR_MISS, UNDECIDED) and not self.expanded:
             self.kind, self.m, self.m_rigid, self.s = kind, int(res["m"]), int(res["m_rigid"]), int(res["s"])
             self.v_r_rel, self.located_v_r = float(res["v_r_rel"]), float(res.get("accuracy", 0.0))
         return self.id
@@ -275,6 +277,10 @@ def node_kind(event: str, res: Dict[str, Any]) -> str:
     if event == tasks.FAILURE:
         return FAILURE
     m, s = res["m"], res["s"]
+    if event == tasks.NEAR_MISS and m >= 1:
+        # the follower's minimum of v_r, decided with a margin (tasks.near_verdict): never a
+        # bifurcation to expand, whatever a rank tolerance counts there (issue 35 item 4)
+        return UNDECIDED if res.get("undecided") else NEAR_MISS
     if m == 0:
         return RIGID
     if m >= 2:

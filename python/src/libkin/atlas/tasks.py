@@ -139,11 +139,14 @@ def _follow_branch(task: Task) -> Dict[str, Any]:
     if kind == CONTACT:
         out["message"] = "contact: " + " / ".join(f"{k} {i}" for k, i in a.last_contact().parts)
     rank_tol = max(float(task.get("rank_tol") or 1e-9), 10.0 * ev.vr_tol_used) if kind == BIFURCATION else None
+    if kind == NEAR_MISS and ev.v_r_rel > 0:  # counted as the follower decided: v_r is not zero there
+        rank_tol = min(float(task.get("rank_tol") or 1e-9), 0.1 * float(ev.v_r_rel))
     out.update(_end_state(a, kind, rank_tol))
-    out.update({"accuracy": float(ev.v_r_rel), "vr_tol": float(ev.vr_tol_used), "steps": int(ev.steps),
-                "length": float(ev.length), "at_start": bool(ev.at_start)})
+    out.update({"accuracy": float(ev.v_r_rel), "vr_tol": float(ev.vr_tol_used) if kind == BIFURCATION else 0.0,
+                "steps": int(ev.steps), "length": float(ev.length), "at_start": bool(ev.at_start)})
     if kind == NEAR_MISS:  # the end is the located minimum of v_r / v_max, to min_width (orbits.certain)
         out.update({"min_located": bool(ev.min_located), "min_width": float(ev.min_width)})
+        out.update(near_verdict(float(ev.v_r_rel), float(ev.vr_tol_used), bool(ev.min_located)))
     if kind == LOOP and br is not None:  # for atlas/directions.py
         out["return_angle"] = float(ev.return_angle)  # to the own branch
         an = a.analyse() if own is None else None  # decided with every line: nothing to decide again
@@ -196,6 +199,23 @@ def _pick_samples(recorded: Any, lengths: Any, total: float, n: int, start: Any 
     if start is not None and end is not None and bars is not None and rest is not None:
         used = choose(start, recorded, end, used, bars, rest)
     return [recorded[i].tolist() for i in sorted(used)]
+
+
+# a near miss is one where the located minimum of v_r / v_max is this many
+# times above the floor a crossing would leave at the width it was located
+# to (the follower's vr_tol_used for a near miss, docs/follow.md); below that
+# margin it is undecided (issue 35 item 4)
+NEAR_MARGIN = 10.0
+UNDECIDED_WHY = ("undecided: the minimum of v_r / v_max here is neither at the strict tolerance nor "
+                 f"{NEAR_MARGIN:g} x above the floor a crossing would leave at its located width")
+
+
+def near_verdict(v_rel: float, floor: float, located: bool) -> Dict[str, Any]:
+    """The near miss's floor and whether it is undecided: a minimum not
+    NEAR_MARGIN x above its floor, or a point not located with a floor (the
+    follower's relaxed point that no minimum of v_r explained), is reported
+    with its numbers rather than called a near miss or a bifurcation."""
+    return {"floor": floor, "undecided": bool(floor > 0 and (not located or not v_rel > NEAR_MARGIN * floor))}
 
 
 def _end_state(a: Assembly, kind: str, rank_tol: Optional[float] = None) -> Dict[str, Any]:

@@ -19,7 +19,8 @@
 
   const STYLE = {  // kind: [symbol, colour]; the colours of the PNG map (atlas/plot.py)
     bifurcation: ["diamond", "#d62728"], regular: ["circle", "#a0a0a0"], near_miss: ["triangle-up", "#ff7f0e"],
-    multi_dof: ["square", "#9467bd"], rigid: ["cross", "#333333"], failure: ["x", "#8c564b"] };
+    multi_dof: ["square", "#9467bd"], rigid: ["cross", "#333333"], failure: ["x", "#8c564b"],
+    undecided: ["triangle-down", "#bcbd22"] };
   const EVENT_COLOUR = { bifurcation: "#d62728", near_miss: "#ff7f0e", loop: "#2ca02c", budget: "#7f7f7f",
     failure: "#8c564b", contact: "#e377c2" };
   const word = (k) => String(k).replace(/_/g, "-");
