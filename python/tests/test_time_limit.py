@@ -60,9 +60,11 @@ def test_run_tasks_cancels_what_is_not_started(kind):
         # the results received are the tasks' own, in order; the others
         # were cancelled: at most what 2 workers do by the deadline and the
         # tasks in flight then (a process pool holds one more queued), far
-        # fewer than all (the old one-at-a-time cancel ran all TASKS)
+        # fewer than all (the old one-at-a-time cancel ran all TASKS). How
+        # many finished by the deadline grows with the machine's load (none,
+        # on a Dask cluster under two CI runs at once): not bounded below.
         assert all(out[r] == r for r in done)
-        assert 0 < len(done) < TASKS // 2
+        assert len(done) < TASKS // 2
         if ex is not None:  # the executor is still usable
             assert parallel.run_tasks(_nap, [7, 8], ex) == [7, 8]
 
