@@ -78,4 +78,11 @@ void kin__prove_endpoint(hom_prover *w, double *zr, double *zi, int want_real, i
 int kin__prove_disjoint(int m, int n, const double *zr, const double *zi, const hom_proof *proof, const double *w,
                         unsigned char *clash);
 
+/* [J | I] (s rows of 2s doubles, real parts Ar, imaginary Ai; J in the
+ * left half, the right half is set here) -> [I | Y], Y ~ J^-1, by
+ * Gauss-Jordan with partial pivoting (homotopy_prove_gj.c). cx = 0: J is
+ * taken as real (Ai's entries are ignored, and Ai is used as scratch). The
+ * left half is left as scratch, not I. 0 if a pivot is zero or not finite. */
+int kin__prove_gauss_jordan(int s, double *Ar, double *Ai, int cx);
+
 #endif /* KIN_HOMOTOPY_PROVE_H */

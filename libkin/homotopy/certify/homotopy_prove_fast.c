@@ -115,47 +115,16 @@ static void eval(hom_fast *F, const double *xr, const double *xi, const double *
     }
 }
 
-/* Y ~ J^-1 by Gauss-Jordan with partial pivoting (|re| + |im|); 0 if a
- * pivot is zero or not finite */
+/* Y ~ J^-1 (kin__prove_gauss_jordan); 0 if a pivot is zero or not finite */
 static int invert(hom_fast *F)
 {
     int s = F->s, w = 2 * s;
-    double *Ar = F->Ar, *Ai = F->Ai;
     for (int r = 0; r < s; ++r)
-        for (int c = 0; c < w; ++c) {
-            Ar[r * w + c] = c < s ? F->Jr[r * s + c] : (c - s == r);
-            Ai[r * w + c] = c < s ? F->Ji[r * s + c] : 0.0;
-        }
-    for (int p = 0; p < s; ++p) {
-        int best = p;
-        for (int r = p + 1; r < s; ++r)
-            if (fabs(Ar[r * w + p]) + fabs(Ai[r * w + p]) > fabs(Ar[best * w + p]) + fabs(Ai[best * w + p])) best = r;
-        if (best != p)
-            for (int c = 0; c < w; ++c) {
-                double t = Ar[p * w + c];
-                Ar[p * w + c] = Ar[best * w + c], Ar[best * w + c] = t;
-                t = Ai[p * w + c];
-                Ai[p * w + c] = Ai[best * w + c], Ai[best * w + c] = t;
-            }
-        double pr = Ar[p * w + p], pi = Ai[p * w + p], d = pr * pr + pi * pi;
-        if (!(d > 0.0) || !isfinite(d)) return 0;
-        double ir = pr / d, ii = -pi / d; /* 1 / pivot */
-        for (int c = 0; c < w; ++c) {
-            double a = Ar[p * w + c], b = Ai[p * w + c];
-            Ar[p * w + c] = a * ir - b * ii, Ai[p * w + c] = a * ii + b * ir;
-        }
-        for (int r = 0; r < s; ++r) {
-            if (r == p) continue;
-            double gr = Ar[r * w + p], gi = Ai[r * w + p];
-            if (gr == 0.0 && gi == 0.0) continue;
-            for (int c = 0; c < w; ++c) {
-                double a = Ar[p * w + c], b = Ai[p * w + c];
-                Ar[r * w + c] -= gr * a - gi * b, Ai[r * w + c] -= gr * b + gi * a;
-            }
-        }
-    }
+        for (int c = 0; c < s; ++c) F->Ar[r * w + c] = F->Jr[r * s + c], F->Ai[r * w + c] = F->Ji[r * s + c];
+    if (!kin__prove_gauss_jordan(s, F->Ar, F->Ai, 1)) return 0;
     for (int r = 0; r < s; ++r)
-        for (int c = 0; c < s; ++c) F->Yr[r * s + c] = Ar[r * w + s + c], F->Yi[r * s + c] = Ai[r * w + s + c];
+        for (int c = 0; c < s; ++c)
+            F->Yr[r * s + c] = F->Ar[r * w + s + c], F->Yi[r * s + c] = F->Ai[r * w + s + c];
     return 1;
 }
 
