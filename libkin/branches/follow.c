@@ -25,6 +25,8 @@
 #include "model/internal.h"
 #include "path/path.h"
 #include "locate/locate.h"
+#include "locate/locate_internal.h"
+#include "locate/sing_proof.h"
 #include "branches/branches_internal.h"
 #include "branches/follow_internal.h"
 
@@ -434,6 +436,65 @@ static int relaxed_to_minimum(follow_ctx *c, kin__locate_ws *lws, kin_assembly *
     return 1;
 }
 
+/* bar lengths within this fraction of the RMS length of the given ones are
+ * the given structure to the rounding of its model (the proofs of the
+ * hexagonal sail's located crossings need 4e-16 .. 1.4e-14, docs/atlas.md) */
+static const double ROUNDING_DLENGTH = 1e-12;
+
+/* A corank-1 end whose v_r / v_max stays above the strict tolerance (a near
+ * miss below vr_floor, or undecided) may be a crossing that the model's
+ * rounding broke: a structure with bar lengths off by d from an exactly
+ * singular one passes the crossing at v_r / v_max ~ sqrt(d) (the unfolding
+ * of an imperfect bifurcation: 1e-8 for d ~ 1e-16), which neither a
+ * minimum nor a relaxed point can bring to the strict tolerance, and which
+ * side of it the path passes on follows rounding (issue 35). Moore's
+ * extended system decides it (locate/sing_proof.c): where it proves an
+ * exactly singular configuration of a structure whose bar lengths are within
+ * ROUNDING_DLENGTH x the RMS length of the given ones, the end is the
+ * proof's centre (a bifurcation of the structure as given, to its rounding;
+ * v_r / v_max there at the strict tolerance, m and s counted at 10 x it).
+ * 1 if so; otherwise the handle is back where it was (0), or a status < 0
+ * on failure (out of memory) */
+static int rounding_crossing(follow_ctx *c)
+{
+    kin_assembly *a = c->a;
+    kin_follow_info *info = c->info;
+    size_t n = (size_t)a->nj * a->dim;
+    double *xyz = malloc(sizeof(double) * 2 * n), *keep = xyz + n;
+    if (!xyz) return -KIN_ENOMEM;
+    memcpy(keep, a->xyz, sizeof(double) * n);
+    kin__sing_proof p;
+    int rc = kin__sing_prove_centre(a, &p, xyz), ok = 0;
+    if (rc == KIN_OK && p.proven && p.corank <= 1 && p.dlength <= ROUNDING_DLENGTH * a->rms_length) {
+        kin__set_configuration(a, xyz);
+        if ((rc = kin__analyse(a, NULL)) == KIN_OK) {
+            double vmax = kin__cur(a)->an.v_max, v = vmax > 0.0 ? kin__loc_vanishing_sv(a) / vmax : NAN;
+            if (v <= c->o->vr_tol) {
+                kin_options user = a->opt;
+                a->opt.rank_tol = fmax(user.rank_tol, 10.0 * c->o->vr_tol);
+                rc = kin__reclassify(a, a->xyz, a->cur);
+                a->opt = user;
+                if (rc == KIN_OK) {
+                    info->event = KIN_FOLLOW_BIFURCATION;
+                    info->vr_tol_used = c->o->vr_tol;
+                    info->v_r_rel = v;
+                    info->min_located = 1;
+                    info->min_width = p.distance / a->rms_length;
+                    info->m_internal = kin__cur(a)->an.m_internal;
+                    info->s = kin__cur(a)->an.s;
+                    ok = 1;
+                }
+            }
+        }
+        if (!ok) { /* back to the end as it was */
+            kin__set_configuration(a, keep);
+            if (rc == KIN_OK) rc = kin__analyse(a, NULL);
+        }
+    }
+    free(xyz);
+    return rc == KIN_ENOMEM ? -KIN_ENOMEM : ok;
+}
+
 /* the near miss's end at the minimum of v_r / v_max (locate_nearmin.c) and
  * the decision there, with a margin (issue 35 item 4): v_r_rel <= vr_tol is
  * a bifurcation located to the strict tolerance (m, s counted at 10 x it, as
@@ -464,7 +525,8 @@ static int near_minimum(follow_ctx *c, kin__locate_ws *lws, kin_assembly *relaxe
         info->min_located = 0;
         info->min_width = 0.0;
         info->vr_tol_used = relaxed[1];
-        return KIN_OK;
+        int r = rounding_crossing(c);
+        return r < 0 ? kin__fail(a, -r, "follow: the extended system at an undecided point") : KIN_OK;
     }
     if (nm.located && nm.v_rel <= c->o->vr_tol) {
         kin_options user = a->opt;
@@ -480,6 +542,9 @@ static int near_minimum(follow_ctx *c, kin__locate_ws *lws, kin_assembly *relaxe
         info->v_r_rel = nm.v_rel;
         info->m_internal = kin__cur(a)->an.m_internal;
         info->s = kin__cur(a)->an.s;
+    } else if (nm.located && nm.v_rel <= c->o->vr_floor) { /* a near miss low enough to be rounding's */
+        int r = rounding_crossing(c);
+        if (r < 0) return kin__fail(a, -r, "follow: the extended system at a near miss");
     }
     return KIN_OK;
 }
@@ -557,8 +622,9 @@ static int locate_events(follow_ctx *c)
     user_progress(c);
     if (conv && info->event == KIN_FOLLOW_NEAR_MISS && !info->min_located)
         info->v_r_rel = relaxed[0]; /* undecided: the relaxed point's own value */
-    else if (info->event == KIN_FOLLOW_NEAR_MISS && kin__cur(a)->valid)
-        info->v_r_rel = kin__cur(a)->an.v_r / kin__cur(a)->an.v_max;
+    else if (info->event == KIN_FOLLOW_NEAR_MISS && kin__cur(a)->valid) /* the path's own singular value,
+        which the rank tolerance may count as zero (then an.v_r is the next one up) */
+        info->v_r_rel = kin__loc_vanishing_sv(a) / kin__cur(a)->an.v_max;
     if (rc == KIN_OK) (void)kin__progress(a, c->total, c->total);
     return rc;
 }

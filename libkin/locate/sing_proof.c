@@ -463,7 +463,7 @@ static void gauge(const kin_assembly *a, sp_ws *w, const double *Urig, int mr)
         }
 }
 
-static int prove_ws(kin_assembly *a, sp_ws *w, kin__sing_proof *p)
+static int prove_ws(kin_assembly *a, sp_ws *w, kin__sing_proof *p, double *centre)
 {
     int nf = w->nf, nb = w->nb, q = 0;
     for (int k = 0; k < a->nb; ++k)
@@ -480,10 +480,17 @@ static int prove_ws(kin_assembly *a, sp_ws *w, kin__sing_proof *p)
         w->L0sq[k] = l * l;
     }
     if (!newton(a, w)) return KIN_OK;
-    return test_balls(a, w, p);
+    int rc = test_balls(a, w, p);
+    if (rc == KIN_OK && p->proven && centre) { /* the centre y, in model units (the gauge's coordinates as given) */
+        memcpy(centre, a->xyz, sizeof(double) * (size_t)a->nj * a->dim);
+        for (int i = 0; i < nf; ++i) centre[w->coord[i]] = w->z[i] * w->s2;
+    }
+    return rc;
 }
 
-int kin__sing_prove(kin_assembly *a, kin__sing_proof *p)
+int kin__sing_prove(kin_assembly *a, kin__sing_proof *p) { return kin__sing_prove_centre(a, p, NULL); }
+
+int kin__sing_prove_centre(kin_assembly *a, kin__sing_proof *p, double *centre)
 {
     memset(p, 0, sizeof *p);
     p->reason = KIN__SING_NO_SVD;
@@ -512,7 +519,7 @@ int kin__sing_prove(kin_assembly *a, kin__sing_proof *p)
     sp_ws w;
     if (!ws_alloc(a, &w, nb, mr)) return KIN_ENOMEM;
     gauge(a, &w, f->Urig, mr);
-    int rc = prove_ws(a, &w, p);
+    int rc = prove_ws(a, &w, p, centre);
     ws_free(&w);
     return rc;
 }

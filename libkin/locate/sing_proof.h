@@ -34,4 +34,11 @@ typedef struct kin__sing_proof {
  * KIN_ENOMEM, or the analysis's code. */
 int kin__sing_prove(kin_assembly *a, kin__sing_proof *p);
 
+/* As kin__sing_prove; where proven and centre is not NULL, also the proof's
+ * centre (nj dim coordinates, model units): a configuration within
+ * p->distance of the exactly singular x*, whose bar lengths are within
+ * p->dlength of the given ones to the rounding of its coordinates (the
+ * follower ends a crossing broken by rounding there; follow.c). */
+int kin__sing_prove_centre(kin_assembly *a, kin__sing_proof *p, double *centre);
+
 #endif /* KIN_SING_PROOF_H */
