@@ -521,11 +521,14 @@ static int near_minimum(follow_ctx *c, kin__locate_ws *lws, kin_assembly *relaxe
      * function there). Undecided: the relaxed point, not located
      * (min_located 0), its tolerance as the floor */
     if (relaxed_pt && !(nm.located && nm.v_rel <= c->o->vr_tol) && (!nm.located || !(nm.v_rel <= relaxed[0]))) {
+        /* Moore's system from the minimum first (the handle is there), then from the relaxed point */
+        int r = nm.located && nm.v_rel <= c->o->vr_floor ? rounding_crossing(c) : 0;
+        if (r) return r < 0 ? kin__fail(a, -r, "follow: the extended system at an undecided point") : KIN_OK;
         kin__copy_state(a, relaxed_pt);
         info->min_located = 0;
         info->min_width = 0.0;
         info->vr_tol_used = relaxed[1];
-        int r = rounding_crossing(c);
+        r = rounding_crossing(c);
         return r < 0 ? kin__fail(a, -r, "follow: the extended system at an undecided point") : KIN_OK;
     }
     if (nm.located && nm.v_rel <= c->o->vr_tol) {

@@ -12,8 +12,9 @@
 #include "locate/locate_internal.h"
 
 /* LAPACK dgelsd's workspace for the largest system (CORANK_MAX_Q^2 rows,
- * CORANK_MAX_Q + 1 columns, one right-hand side), generously */
-enum { LWORK = 8192, LIWORK = 1024 };
+ * CORANK_MAX_Q + 1 columns, one right-hand side), generously: its minimum
+ * for 1024 x 33 is ~3e3 doubles and ~4e2 integers */
+enum { LWORK = 16384, LIWORK = 2048 };
 /* singular values of the Jacobian below this fraction of its largest are
  * treated as zero (the least-squares step ignores those directions) */
 static const double JACOBIAN_RCOND = 1e-10;

@@ -77,8 +77,11 @@ int kin__locate_hermite(loc_ctx *c);
  * iteration, in h's workspace); 0 where the iteration does not converge */
 int kin__hermite_lu_vanishing(hermite_ws *h, kin_assembly *st, double dir, double *v, double *sl);
 /* the corank-k Newton (locate_corank.c): its workspace, made with the
- * Hermite one, for groups of at most CORANK_MAX_Q singular values */
-enum { CORANK_MAX_Q = 8 };
+ * Hermite one, for groups of at most CORANK_MAX_Q singular values: as many
+ * as the Hermite method's groups (MAX_GROUP + 1 in locate_hermite.c). It was
+ * 8, and paths returning to the hexagonal sail's flat state (15 vanishing
+ * together) then stopped 2e-6..2e-5 short of it as near misses */
+enum { CORANK_MAX_Q = 32 };
 typedef struct kin__corank_ws kin__corank_ws;
 kin__corank_ws *kin__corank_alloc(const kin_assembly *a);
 void kin__corank_free(kin__corank_ws *cw);

@@ -145,6 +145,8 @@ class _Explorer:
         i = len(self.nodes)
         n = Node(i, kind, np.asarray(X, dtype=float), an["m"], an["m_rigid"], an["s"], an["v_r_rel"], depth,
                  located_v_r=float(an.get("accuracy", 0.0)), located_tol=float(an.get("vr_tol", 0.0)), orbit=i)
+        if kind == UNDECIDED:
+            n.status = tasks.undecided_why(an)
         img = self.orbit_of(n.coords, n.located_tol) if len(self.syms) > 1 else None
         if img is not None:
             n.image_of = {"node": img[0], "symmetry": img[1]}

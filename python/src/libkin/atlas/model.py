@@ -106,6 +106,7 @@ class Node:
         if kind == BIFURCATION and self.kind in (NEAR_MISS, UNDECIDED) and not self.expanded:
             self.kind, self.m, self.m_rigid, self.s = kind, int(res["m"]), int(res["m_rigid"]), int(res["s"])
             self.v_r_rel, self.located_v_r = float(res["v_r_rel"]), float(res.get("accuracy", 0.0))
+            self.status = ""  # an undecided node's reason no longer applies
         return self.id
 
     def to_dict(self) -> Dict[str, Any]:

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import functools
 import json
+import math
 import time
 from typing import TYPE_CHECKING, Any, Dict, List, Optional
 
@@ -210,6 +211,19 @@ UNDECIDED_WHY = ("undecided: the minimum of v_r / v_max here is neither at the s
                  f"{NEAR_MARGIN:g} x above the floor a crossing would leave at its located width")
 
 
+def undecided_why(res: Dict[str, Any]) -> str:
+    """An undecided end's reason, with its numbers (a node's status): a
+    located minimum without the margin, or a relaxed point lower than the
+    minimum found (docs/follow.md, "Tolerance out of reach")."""
+    v, floor = float(res.get("accuracy", math.nan)), float(res.get("floor", math.nan))
+    if res.get("min_located"):
+        return (f"undecided: the minimum of v_r / v_max here, {v:.2g}, is neither at the strict tolerance nor "
+                f"{NEAR_MARGIN:g} x above the floor a crossing would leave at its located width, {floor:.2g}")
+    return (f"undecided: a relaxed location reached v_r / v_max = {v:.2g} here (accepted at {floor:.2g}), lower than "
+            "the minimum of v_r found around it; Moore's extended system did not prove a singular structure within "
+            "the model's rounding near it")
+
+
 def near_verdict(v_rel: float, floor: float, located: bool) -> Dict[str, Any]:
     """The near miss's floor and whether it is undecided: a minimum not
     NEAR_MARGIN x above its floor, or a point not located with a floor (the
@@ -225,11 +239,12 @@ def _end_state(a: Assembly, kind: str, rank_tol: Optional[float] = None) -> Dict
         o = a.options
         o.rank_tol = min(0.5, rank_tol)
         a.options = o
-    elif kind != FAILURE:
+    elif kind not in (FAILURE, NEAR_MISS):
         # the follower's own analysis of the end, where current (0.3 ms a task saved, 4% of
         # a branch): the same analysis to the bit where the rank tolerance is the handle's
         # (399 of 400 flat-state branches; the other a bifurcation located to 1e-8, which
-        # the branch above analyses at 1e-7)
+        # the branch above analyses at 1e-7). Not a near miss's (or undecided) end: the
+        # follower's analysis there may be a relaxed attempt's, at its coarser tolerance
         an = a.current_analysis()
     if an is None:
         an = a.analyse()
