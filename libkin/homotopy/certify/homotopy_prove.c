@@ -234,7 +234,9 @@ static void centre(hom_prover *w, const double *zr, const double *zi, int k, int
         w->cr[c] = vr, w->ci[c] = real ? 0.0 : vi;
     }
     if (!kin__exact_centre(w->exact, w->cr, w->ci, real, w->x))
-        for (int c = 0; c < w->m; ++c) acb_set_d_d(w->x + c, w->cr[c], w->ci[c]); /* NaN: no proof */
+        for (int c = 0; c < w->m; ++c) /* NaN: no proof; a part >= 1.25 (rounding cannot give that in a
+                                          chart of the largest coordinate): the doubles, exact, for the balls */
+            acb_set_d_d(w->x + c, w->cr[c], w->ci[c]);
 }
 
 /* the proven box written out: centre rounded to doubles, r enlarged by the
