@@ -64,7 +64,7 @@ hom_prover *kin__prove_new(int m, int s, const double *Q)
     if (!w) return NULL;
     size_t mm = (size_t)m * m;
     w->m = m, w->s = s;
-    w->use_fast = 1;
+    w->use_fast = 0; /* kin_homotopy_options.prove's default: Arb and FLINT only */
     w->Q = _arb_vec_init((slong)(mm * s));
     w->S = _mag_vec_init(s);
     w->x = _acb_vec_init(m);
