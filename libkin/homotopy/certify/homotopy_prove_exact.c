@@ -289,7 +289,8 @@ static void fix_j(hom_exact *F, int k, int nc)
             for (int p = 0; p < nc; ++p) {
                 int neg = abs2(F->uh[p][j * m + col(k, i)], F->ul[p][j * m + col(k, i)], &mh, &ml);
                 ulong v;
-                if (sh >= 0) v = ml << sh; /* then |u| < 2^(27 - sh): one word, no overflow */
+                if (sh >= 64) v = 0; /* |u| < 2^(27 - sh) < 1: u = 0 (a row of zeros) */
+                else if (sh >= 0) v = ml << sh; /* then |u| < 2^(27 - sh): one word, no overflow */
                 else if (sh <= -128) v = 0;
                 else if (sh <= -64) v = mh >> (-sh - 64);
                 else v = (ml >> -sh) | (mh << (64 + sh)); /* 0 < -sh < 64 */
