@@ -5,16 +5,16 @@
  * the fairer number on a loaded machine: the load average is printed), the
  * ratio of the two runs, and the proven counts.
  * Optionally the plain solver (kin_quadrics_homotopy_ex) as well.
- * Both proof routes run: prove = 1 (the default: the double-precision test
- * with a-priori rounding bounds first) and prove = 2 (Arb and FLINT only:
- * exact integer products, Arb's balls and mags).
+ * Both proof routes run: prove = 2 (the default: Arb and FLINT only, exact
+ * integer products, Arb's balls and mags) and prove = 1 (the
+ * double-precision test with a-priori rounding bounds first).
  * Each run with proofs also splits its own CPU time: the proofs start when
  * the tracking (re-tracks included) has reported every path done for the
  * last time (the progress callback, every 50 ms: the split is good to
  * ~0.1 s); "split" as the 5th argument runs only that (for the octagonal
  * sail, whose solve takes minutes).
- * The 6th argument picks the routes: "12" (both; the default, but "1" with
- * "split"), "1" or "2".
+ * The 6th argument picks the routes: "12" (both; the default, but "2", the
+ * library's default route, with "split"), "1" or "2".
  * usage: bench_prove [n_sides (6)] [loops (2)] [runs (1)] [sym|plain|both (sym)] [split|all] [12|1|2] */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
@@ -79,7 +79,7 @@ int main(int argc, char **argv)
     int runs = argc > 3 ? atoi(argv[3]) : 1;
     const char *which = argc > 4 ? argv[4] : "sym";
     int only_split = argc > 5 && !strcmp(argv[5], "split");
-    const char *routes = argc > 6 ? argv[6] : only_split ? "1" : "12";
+    const char *routes = argc > 6 ? argv[6] : only_split ? "2" : "12";
     if (strcmp(which, "sym") && strcmp(which, "plain") && strcmp(which, "both")) {
         fprintf(stderr, "usage: bench_prove [n_sides] [loops] [runs] [sym|plain|both] [split|all] [12|1|2]\n");
         return 1;

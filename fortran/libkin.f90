@@ -109,8 +109,9 @@ module libkin
     integer(c_long) :: max_paths = 0
     type(c_funptr) :: progress = c_null_funptr
     type(c_ptr) :: user = c_null_ptr
-    ! layout 2: 1 prove every endpoint (double bounds, then Arb), 2 Arb only, 0 none
-    integer(c_int) :: prove = 1
+    ! layout 2: 2 prove every endpoint (exact integers and Arb only; the default),
+    ! 1 a double-precision test with a priori bounds first, then those, 0 none
+    integer(c_int) :: prove = 2
   end type
 
   type, bind(C), public :: kin_branch_path

@@ -146,8 +146,8 @@ static int holds_a_root(const kin_homotopy_endpoint *ge, const double *gz, const
     return 0;
 }
 
-/* fast: the default chain (the double-precision test first); 0: Arb and
- * FLINT only (kin_homotopy_options.prove = 2), whose exact-integer test
+/* fast: the double-precision test first (kin_homotopy_options.prove = 1);
+ * 0: Arb and FLINT only (prove = 2, the default), whose exact-integer test
  * then sees every endpoint first */
 static void wrong_endpoints(int fast)
 {

@@ -114,9 +114,10 @@ typedef struct kin_homotopy_info {
     int rechecks_failed;      /* kin_quadrics_homotopy_merge: imported certified records whose root
                                  did not certify again against Q, of the same kind and within the
                                  record's radius (their paths are tracked again); 0 elsewhere */
-    /* layout 3: the interval certificates (proofs in outward-rounded arithmetic: Arb and FLINT,
-       and by default first a double-precision test with a priori rounding bounds;
-       docs/branches.md "What certified means"). A path's endpoint is proven when a Krawczyk test shows that a
+    /* layout 3: the interval certificates (proofs by exact integer arithmetic (FLINT) and
+       outward-rounded arithmetic (Arb); with kin_homotopy_options.prove = 1 first a
+       double-precision test with a priori rounding bounds; docs/branches.md "What certified
+       means"). A path's endpoint is proven when a Krawczyk test shows that a
        box around it (in an affine chart, on the caller's Q) holds exactly one solution, a
        simple one, real (the box is its own conjugate) or non-real (the box misses the reals),
        and the box is shown disjoint from every other proven box */
@@ -200,14 +201,16 @@ typedef struct kin_homotopy_options {
                                  from the calling thread every 50 ms of tracking */
     void *user;          /* passed to progress */
     /* layout 2 (docs/abi.md) */
-    int prove;           /* 1: prove every endpoint with an interval certificate
-                            (kin_homotopy_info.proven_*): a double-precision test with a priori
-                            rounding bounds first (~+10 % CPU on the hexagonal sail's flat
-                            state), then for what it cannot prove the same test with exact
-                            integer products (FLINT) and Arb's mags, then Arb's balls (53, 128,
-                            256 bits); 2: those last two only, so that no hand-derived rounding
-                            bound decides a proof (~+20-22 % CPU there); 0: no proofs (those
-                            fields stay 0). The same counts either way there. Default 1 */
+    int prove;           /* 2: prove every endpoint with an interval certificate
+                            (kin_homotopy_info.proven_*): a Krawczyk test with exact integer
+                            products (FLINT) and Arb's mags, then for what it cannot prove
+                            Arb's balls (53, 128, 256 bits), so that no hand-derived rounding
+                            bound decides a proof (~+12-14 % CPU on the hexagonal sail's flat
+                            state); 1: a double-precision test with a priori rounding bounds
+                            first, then those two for what it cannot prove (~+9-10 % CPU
+                            there; the proofs then also rest on IEEE 754 rounding and those
+                            bounds); 0: no proofs (those fields stay 0). The same counts either
+                            way there. Default 2 (it was 1 while the exact test cost ~+20 %) */
 } kin_homotopy_options;
 
 /* Fill *o with the defaults above, for a struct of `size` bytes: pass

@@ -64,7 +64,7 @@ hom_prover *kin__prove_new(int m, int s, const double *Q)
     if (!w) return NULL;
     size_t mm = (size_t)m * m;
     w->m = m, w->s = s;
-    w->use_fast = 1;
+    w->use_fast = 0; /* kin_homotopy_options.prove's default: Arb and FLINT only */
     w->Q = _arb_vec_init((slong)(mm * s));
     w->S = _mag_vec_init(s);
     w->x = _acb_vec_init(m);
@@ -234,7 +234,9 @@ static void centre(hom_prover *w, const double *zr, const double *zi, int k, int
         w->cr[c] = vr, w->ci[c] = real ? 0.0 : vi;
     }
     if (!kin__exact_centre(w->exact, w->cr, w->ci, real, w->x))
-        for (int c = 0; c < w->m; ++c) acb_set_d_d(w->x + c, w->cr[c], w->ci[c]); /* NaN: no proof */
+        for (int c = 0; c < w->m; ++c) /* NaN: no proof; a part >= 1.25 (rounding cannot give that in a
+                                          chart of the largest coordinate): the doubles, exact, for the balls */
+            acb_set_d_d(w->x + c, w->cr[c], w->ci[c]);
 }
 
 /* the proven box written out: centre rounded to doubles, r enlarged by the

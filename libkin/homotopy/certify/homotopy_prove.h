@@ -55,8 +55,10 @@ typedef struct hom_prover hom_prover;
  * HOM_PROVE_Q_WIDTH S_j); NULL if out of memory. */
 hom_prover *kin__prove_new(int m, int s, const double *Q);
 void kin__prove_free(hom_prover *w);
-/* on (the default): try the double-precision test with a priori rounding
- * bounds (homotopy_prove_fast.c) before Arb's balls; off: Arb's only */
+/* on: try the double-precision test with a priori rounding bounds
+ * (homotopy_prove_fast.c) before the exact test and Arb's balls
+ * (kin_homotopy_options.prove = 1); off (the default, prove = 2): Arb's and
+ * FLINT's only */
 void kin__prove_use_fast(hom_prover *w, int on);
 /* a thread that ran proofs is done with them: FLINT's per-thread caches
  * are released (a pool thread then exits without leaking them) */

@@ -1,7 +1,8 @@
 /* Private to homotopy/certify/: the bounds eta, rho, L of the Krawczyk test
- * of homotopy_prove.c computed with exact integer matrix products (FLINT's
- * fmpz_mat_mul) and Arb's mag and arb_dot (homotopy_prove_exact.c), tried
- * first at every endpoint; what it cannot prove goes to arb_dot balls. */
+ * of homotopy_prove.c computed with exact integer products (64-bit
+ * integers, FLINT's limb arithmetic) and Arb's mags (homotopy_prove_exact.c),
+ * tried before arb_dot balls at every endpoint (after the double-precision
+ * test where prove = 1); what it cannot prove goes to the balls. */
 #ifndef KIN_HOMOTOPY_PROVE_EXACT_H
 #define KIN_HOMOTOPY_PROVE_EXACT_H
 
@@ -15,11 +16,12 @@ typedef struct hom_exact hom_exact;
 hom_exact *kin__exact_new(int m, int s, arb_srcptr Q, mag_srcptr S);
 void kin__exact_free(hom_exact *F);
 
-/* The centre x_c = vr_c + i vi_c (vi all 0 if real), |x_c| < 2 (a chart
- * of the largest coordinate): vr, vi are truncated in place to multiples of
- * 2^-60 (still doubles, for homotopy_prove_fast.c's test), kept for the
- * next kin__exact_bounds, and written to x exactly (from the integers, in
- * Arb). 0 (x untouched, no bounds) if some |x_c| is not below 2 or NaN. */
+/* The centre x_c = vr_c + i vi_c (vi all 0 if real), |vr_c|, |vi_c| < 1.25
+ * (a chart of the largest coordinate: |x_c| <= 1 up to rounding): vr, vi
+ * are truncated in place to multiples of 2^-60 (still doubles, for
+ * homotopy_prove_fast.c's test), kept for the next kin__exact_bounds, and
+ * written to x exactly (from the integers, in Arb). 0 (x untouched, no
+ * bounds) if some |vr_c| or |vi_c| is not below 1.25 or is NaN. */
 int kin__exact_centre(hom_exact *F, double *vr, double *vi, int real, acb_ptr x);
 
 /* At that centre in chart k: upper bounds eta >= |Y f(x)|,

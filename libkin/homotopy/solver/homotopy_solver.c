@@ -180,7 +180,7 @@ static const kin_homotopy_options DEFAULTS = {
     .max_paths = KIN_HOMOTOPY_MAX_PATHS,
     .progress = NULL,
     .user = NULL,
-    .prove = 1,
+    .prove = 2, /* Arb and FLINT only: no hand-derived rounding bound (kin_branch.h) */
 };
 
 int kin_homotopy_options_init(kin_homotopy_options *o, size_t size)

@@ -86,7 +86,7 @@ typedef struct hom_solver {
                             permuted, refined and certified) */
     const double *Qin;   /* the caller's system (not owned), which the interval certificates
                             prove the endpoints of (kin__hom_prove) */
-    int prove;           /* kin_homotopy_options.prove: 0 none, 1 fast test then Arb, 2 Arb only */
+    int prove;           /* kin_homotopy_options.prove: 0 none, 1 fast test then Arb, 2 Arb only (default) */
     const double *U;     /* NULL, or the endpoints x are those of Qin at beta = U x (column-major
                             m x m: the equivariant route's rotated system) */
 } hom_solver;

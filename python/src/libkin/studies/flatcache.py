@@ -33,7 +33,7 @@ def cache_path(out: Union[str, "os.PathLike[str]"]) -> pathlib.Path:
 
 def _key(a: Any, Q: Any, group: Any) -> str:
     h = hashlib.sha256()
-    solver = {"solver": "homotopy", "seed": SEED, "prove": 1}
+    solver = {"solver": "homotopy", "seed": SEED, "prove": 2}  # the C default (Arb and FLINT only)
     h.update(json.dumps({"model": a.to_json(), "solver": solver, "version": __version__},
                         sort_keys=True, default=str).encode())
     for arr in (Q, group):
