@@ -184,6 +184,7 @@ module libkin
   public :: kin_homotopy_options_default, kin_homotopy_options_default_c, kin_homotopy_options_init
   public :: kin_quadrics_homotopy_ex
   public :: kin_quadrics_homotopy_range, kin_quadrics_homotopy_merge, kin_quadrics_homotopy_sym
+  public :: kin_quadrics_homotopy_merge_equivariant
   public :: kin_quadrics_equivariant_form, kin_quadrics_homotopy_orbit_range
   public :: kin_follow_options_default, kin_follow_options_default_c, kin_follow_options_init
   public :: kin_follow_event, kin_follow_event_ex
@@ -599,6 +600,21 @@ module libkin
       integer(c_int), intent(out) :: multiplicity(*)
       type(kin_homotopy_info), intent(out) :: info
       integer(c_int) :: kin_quadrics_homotopy_merge
+    end function
+    ! the proofs about q itself at beta = u x (qt, u: kin_quadrics_equivariant_form's)
+    function kin_quadrics_homotopy_merge_equivariant(m, s, q, qt, u, opt, ends, z, betas, maxsol, nsol, &
+        multiplicity, info) bind(C, name='kin_quadrics_homotopy_merge_equivariant')
+      import :: c_int, c_double, kin_homotopy_options, kin_homotopy_endpoint, kin_homotopy_info
+      integer(c_int), value :: m, s, maxsol
+      real(c_double), intent(in) :: q(*), qt(*), u(*)
+      type(kin_homotopy_options), intent(in) :: opt
+      type(kin_homotopy_endpoint), intent(in) :: ends(*)
+      real(c_double), intent(in) :: z(*)
+      real(c_double), intent(out) :: betas(*)
+      integer(c_int), intent(out) :: nsol
+      integer(c_int), intent(out) :: multiplicity(*)
+      type(kin_homotopy_info), intent(out) :: info
+      integer(c_int) :: kin_quadrics_homotopy_merge_equivariant
     end function
 
     ! kin_follow.h. dir: c_loc of a real array of nfree, or c_null_ptr

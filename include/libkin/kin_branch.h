@@ -455,6 +455,24 @@ KIN_API int kin_quadrics_homotopy_orbit_range(int m, int s, const double *Qt, co
                                               const kin_homotopy_options *opt, long first_orbit, long norbits,
                                               long maxends, kin_homotopy_endpoint *ends, double *z, long *nends);
 
+/* kin_quadrics_homotopy_merge on the equivariant form (Qt and U of
+ * kin_quadrics_equivariant_form, records of kin_quadrics_homotopy_orbit_range)
+ * with the interval certificates (opt->prove) about the caller's own system
+ * Q, as kin_quadrics_homotopy_sym proves them: each root x of Qt is proven
+ * as a root of Q at beta = U x (Q: s*m*m doubles as for
+ * kin_quadrics_homotopy_ex; U: m*m, column-major, as that function wrote
+ * it). The proven counts are then a theorem about Q, whatever Qt's rounding;
+ * a Q or U that does not belong to Qt leaves its roots unproven (refused),
+ * never proven wrong. Everything else (betas in Qt's coordinates x, the
+ * accounting, progress, memory) as kin_quadrics_homotopy_merge(m, s, Qt, ...).
+ * Returns as kin_quadrics_homotopy_merge; also KIN_ENULL (Q or U NULL) and
+ * KIN_EINVAL (a NaN or infinity in Q or U). */
+KIN_API int kin_quadrics_homotopy_merge_equivariant(int m, int s, const double *Q, const double *Qt, const double *U,
+                                                    const kin_homotopy_options *opt,
+                                                    const kin_homotopy_endpoint *ends, const double *z,
+                                                    double *betas, int maxsol, int *nsol, int *multiplicity,
+                                                    kin_homotopy_info *info);
+
 /* One candidate path out of a bifurcation (paper 3.4). */
 typedef struct kin_branch_path {
     size_t size; /* sizeof(kin_branch_path) as the caller compiled it (docs/abi.md) */

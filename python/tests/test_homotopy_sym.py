@@ -87,6 +87,52 @@ def test_sharded_with_group():
     assert homotopy_shards.equivariant_form(Q, np.eye(Q.shape[1])[None]) is None
 
 
+def test_sharded_proofs_are_about_q():
+    """issue 38: the sharded equivariant route proves the caller's Q (not the
+    rotated form Qt) at beta = U x: the same proven counts as the one call,
+    every root; with a U that does not belong to the form no root of Q is
+    proven (refused), none wrongly; bad Q, U refused with an error"""
+    from libkin.homotopy import shards as homotopy_shards
+    from libkin._native._lib import ffi
+    a = libkin.Assembly.sail(6, 1)
+    Q = a.second_order()
+    R = mechanism_group(a, method="c")
+    _, acc0 = solve_quadrics(Q, "homotopy", group=R)
+    _, acc1 = homotopy_shards.solve_sharded(Q, None, shards=2, group=R)
+    keys = ("proven_real", "proven_nonreal", "unproven", "proven_all")
+    assert [acc1[k] for k in keys] == [acc0[k] for k in keys]
+    assert acc1["proven_all"] == 1 and acc1["proven_real"] + acc1["proven_nonreal"] == 2 ** Q.shape[0]
+    # the same records merged with a wrong U (the form's with two columns swapped)
+    Qt, U, perm, order, norbits = homotopy_shards.equivariant_form(Q, R, 1)
+    m, s = Q.shape[1], Q.shape[0]
+    items = {"Qt": Qt.tolist(), "perm": perm.tolist(), "order": order, "seed": 1, "threads": 1, "first": 0,
+             "count": norbits}
+    part = homotopy_shards.orbit_task(items)
+    n = 1 << s
+    rec = ffi.sizeof("kin_homotopy_endpoint")
+    off = ffi.offsetof("kin_homotopy_endpoint", "path")
+    raw = np.frombuffer(part["ends"], dtype=np.uint8).reshape(-1, rec)
+    paths = raw[:, off:off + 4].copy().view(np.intc).ravel()
+    table = np.zeros((n, rec), dtype=np.uint8)
+    table[paths] = raw
+    z = np.zeros((n, 2 * m))
+    z[paths] = np.frombuffer(part["z"], dtype=np.float64).reshape(-1, 2 * m)
+    ends = ffi.new("kin_homotopy_endpoint[]", n)
+    ffi.buffer(ends)[:] = table.tobytes()
+    z = z.ravel()
+    good = homotopy_shards._merge(Qt, m, s, 1, 1, ends, z, proven_on=(Q, np.ascontiguousarray(U.T)))[1]
+    assert [good[k] for k in keys] == [acc0[k] for k in keys]
+    wrong = U.copy()
+    wrong[:, [1, 2]] = wrong[:, [2, 1]]
+    bad = homotopy_shards._merge(Qt, m, s, 1, 1, ends, z, proven_on=(Q, np.ascontiguousarray(wrong.T)))[1]
+    assert bad["proven_all"] == 0 and bad["proven_real"] + bad["proven_nonreal"] < good["proven_real"]
+    assert bad["real"] == good["real"]  # the solve itself is Qt's, unchanged
+    nan = Q.copy()
+    nan[0, 0, 0] = np.nan
+    with pytest.raises(InvalidArgumentError):
+        homotopy_shards._merge(Qt, m, s, 1, 1, ends, z, proven_on=(nan, np.ascontiguousarray(U.T)))
+
+
 def test_branches_with_group():
     """Assembly.branches(group=...): the same solutions and paths as without it."""
     a = libkin.Assembly.sail(6, 1)

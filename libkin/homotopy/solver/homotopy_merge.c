@@ -350,9 +350,11 @@ static int recheck(const hom_problem *P, hom_ws *w, const hom_end *e, const doub
     return sqrt(d2) <= e->rminus + f.rminus;
 }
 
-static int merge_impl(int m, int s, const double *Q, const kin_homotopy_options *o, const kin_homotopy_endpoint *recs,
-                      const double *z, double *betas, int maxsol, int *nsol, int *multiplicity,
-                      kin_homotopy_info *info)
+/* Qin, U: NULL, or the proofs are about Qin's roots at beta = U x (the
+ * equivariant form's merge, kin_quadrics_homotopy_merge_equivariant) */
+static int merge_impl(int m, int s, const double *Q, const double *Qin, const double *U, const kin_homotopy_options *o,
+                      const kin_homotopy_endpoint *recs, const double *z, double *betas, int maxsol, int *nsol,
+                      int *multiplicity, kin_homotopy_info *info)
 {
     if (!Q || !recs || !z || !betas || !nsol) return KIN_ENULL;
     if (recs[0].size != KIN_HOMOTOPY_ENDPOINT_SIZE || sizeof *recs != KIN_HOMOTOPY_ENDPOINT_SIZE) return KIN_EINVAL;
@@ -360,8 +362,12 @@ static int merge_impl(int m, int s, const double *Q, const kin_homotopy_options 
         return KIN_EINVAL;
     if (m > HOM_MAX_M) return KIN_ERANGE;
     if ((1L << s) > o->max_paths) return KIN_ELIMIT;
+    if (Qin) /* a system the proofs are to be about: finite, as Q */
+        for (size_t i = 0; i < (size_t)s * m * m + (size_t)m * m; ++i)
+            if (!isfinite(i < (size_t)s * m * m ? Qin[i] : U[i - (size_t)s * m * m])) return KIN_EINVAL;
     hom_solver H;
     int rc = kin__hom_solver_init(&H, m, s, Q, o, 1L << s);
+    if (Qin) H.Qin = Qin, H.U = U; /* proven on the caller's system, as kin_quadrics_homotopy_sym */
     int npaths = H.npaths;
     hom_endset E = {NULL, NULL, NULL};
     if (!rc) rc = kin__hom_endset_alloc(&E, npaths, m);
@@ -398,7 +404,26 @@ int kin_quadrics_homotopy_merge(int m, int s, const double *Q, const kin_homotop
     int rc = kin__hom_entry(opt, &o, info, nsol);
     if (rc) return rc;
     kin_homotopy_info local = {.size = sizeof local};
-    rc = merge_impl(m, s, Q, &o, ends, z, betas, maxsol, nsol, multiplicity, &local);
+    rc = merge_impl(m, s, Q, NULL, NULL, &o, ends, z, betas, maxsol, nsol, multiplicity, &local);
+    if (rc) {
+        memset(&local, 0, sizeof local);
+        local.size = sizeof local;
+        if (nsol) *nsol = 0;
+    }
+    kin__abi_write(info, &local, KIN__ABI(kin_homotopy_info));
+    return rc;
+}
+
+int kin_quadrics_homotopy_merge_equivariant(int m, int s, const double *Q, const double *Qt, const double *U,
+                                            const kin_homotopy_options *opt, const kin_homotopy_endpoint *ends,
+                                            const double *z, double *betas, int maxsol, int *nsol,
+                                            int *multiplicity, kin_homotopy_info *info)
+{
+    kin_homotopy_options o;
+    int rc = kin__hom_entry(opt, &o, info, nsol);
+    if (rc) return rc;
+    kin_homotopy_info local = {.size = sizeof local};
+    rc = !Q || !U ? KIN_ENULL : merge_impl(m, s, Qt, Q, U, &o, ends, z, betas, maxsol, nsol, multiplicity, &local);
     if (rc) {
         memset(&local, 0, sizeof local);
         local.size = sizeof local;

@@ -276,6 +276,11 @@ int kin_quadrics_equivariant_form(int m, int s, const double *Q, int ngroup, con
 int kin_quadrics_homotopy_orbit_range(int m, int s, const double *Qt, const int *perm,
                                               const kin_homotopy_options *opt, long first_orbit, long norbits,
                                               long maxends, kin_homotopy_endpoint *ends, double *z, long *nends);
+int kin_quadrics_homotopy_merge_equivariant(int m, int s, const double *Q, const double *Qt, const double *U,
+                                                    const kin_homotopy_options *opt,
+                                                    const kin_homotopy_endpoint *ends, const double *z,
+                                                    double *betas, int maxsol, int *nsol, int *multiplicity,
+                                                    kin_homotopy_info *info);
 typedef struct kin_branch_path {
     size_t size;
     int beta;

@@ -158,16 +158,26 @@ def equivariant_form(Q: ArrayLike, group: ArrayLike,
 
 
 def _merge(Qm: NDArray[np.float64], m: int, s: int, seed: int, threads: int, ends: Any,
-           z: NDArray[np.float64]) -> Tuple[NDArray[np.float64], Dict[str, int]]:
+           z: NDArray[np.float64], proven_on: Optional[Tuple[NDArray[np.float64], NDArray[np.float64]]] = None
+           ) -> Tuple[NDArray[np.float64], Dict[str, int]]:
+    """The merge on Qm; proven_on (Q, U column-major): the equivariant
+    form's merge, its proofs about the caller's Q at beta = U x"""
     from .._native._arrays import read_ptr, write_ptr
     from .._native._lib import ffi, lib, new_struct
     maxsol = 1 << s  # every real solution (pages not written are never touched)
     betas = np.empty((maxsol, m))
     nsol = ffi.new("int *")
     info = new_struct("kin_homotopy_info")
-    rc = lib.kin_quadrics_homotopy_merge(m, s, read_ptr(Qm, "double *"), _options(seed, threads), ends,
-                                         read_ptr(z, "double *"), write_ptr(betas, "double *"), maxsol, nsol,
-                                         ffi.NULL, info)
+    if proven_on is None:
+        rc = lib.kin_quadrics_homotopy_merge(m, s, read_ptr(Qm, "double *"), _options(seed, threads), ends,
+                                             read_ptr(z, "double *"), write_ptr(betas, "double *"), maxsol, nsol,
+                                             ffi.NULL, info)
+    else:
+        Q, Uc = proven_on
+        rc = lib.kin_quadrics_homotopy_merge_equivariant(
+            m, s, read_ptr(Q, "double *"), read_ptr(Qm, "double *"), read_ptr(Uc, "double *"),
+            _options(seed, threads), ends, read_ptr(z, "double *"), write_ptr(betas, "double *"), maxsol, nsol,
+            ffi.NULL, info)
     check(rc, what="homotopy merge")
     return betas[: nsol[0]].copy(), {k: int(getattr(info, k)) for k in ACCOUNTING}
 
@@ -237,7 +247,8 @@ def solve_sharded(Q: ArrayLike, executor: Optional[Any] = None, shards: int = 4,
         raise StateError(f"orbit ranges: {int((count == 0).sum())} paths missing, "
                          f"{int((count > 1).sum())} reported twice")
     buf[:] = table.tobytes()
-    x, acc = _merge(Qt, m, s, seed, threads, ends, z)
+    # the proofs about Q itself at beta = U x, as the one-call symmetric solver's
+    x, acc = _merge(Qt, m, s, seed, threads, ends, z, proven_on=(Q, np.ascontiguousarray(U.T)))
     betas = x @ U.T  # beta = U x, row by row
     betas /= np.linalg.norm(betas, axis=1, keepdims=True)
     acc.update({"order": order, "orbits": norbits})
