@@ -396,15 +396,18 @@ static int merge_impl(int m, int s, const double *Q, const double *Qin, const do
     return rc;
 }
 
-int kin_quadrics_homotopy_merge(int m, int s, const double *Q, const kin_homotopy_options *opt,
-                                const kin_homotopy_endpoint *ends, const double *z, double *betas, int maxsol,
-                                int *nsol, int *multiplicity, kin_homotopy_info *info)
+/* the public merges' entry: options read by the caller's size, info written
+ * by it, zeroed on failure. Qin, U: as merge_impl; need_u: both required */
+static int merge_entry(int m, int s, const double *Q, const double *Qin, const double *U, int need_u,
+                       const kin_homotopy_options *opt, const kin_homotopy_endpoint *ends, const double *z,
+                       double *betas, int maxsol, int *nsol, int *multiplicity, kin_homotopy_info *info)
 {
     kin_homotopy_options o;
     int rc = kin__hom_entry(opt, &o, info, nsol);
     if (rc) return rc;
     kin_homotopy_info local = {.size = sizeof local};
-    rc = merge_impl(m, s, Q, NULL, NULL, &o, ends, z, betas, maxsol, nsol, multiplicity, &local);
+    rc = need_u && (!Qin || !U) ? KIN_ENULL
+                                : merge_impl(m, s, Q, Qin, U, &o, ends, z, betas, maxsol, nsol, multiplicity, &local);
     if (rc) {
         memset(&local, 0, sizeof local);
         local.size = sizeof local;
@@ -414,21 +417,17 @@ int kin_quadrics_homotopy_merge(int m, int s, const double *Q, const kin_homotop
     return rc;
 }
 
+int kin_quadrics_homotopy_merge(int m, int s, const double *Q, const kin_homotopy_options *opt,
+                                const kin_homotopy_endpoint *ends, const double *z, double *betas, int maxsol,
+                                int *nsol, int *multiplicity, kin_homotopy_info *info)
+{
+    return merge_entry(m, s, Q, NULL, NULL, 0, opt, ends, z, betas, maxsol, nsol, multiplicity, info);
+}
+
 int kin_quadrics_homotopy_merge_equivariant(int m, int s, const double *Q, const double *Qt, const double *U,
                                             const kin_homotopy_options *opt, const kin_homotopy_endpoint *ends,
                                             const double *z, double *betas, int maxsol, int *nsol,
                                             int *multiplicity, kin_homotopy_info *info)
 {
-    kin_homotopy_options o;
-    int rc = kin__hom_entry(opt, &o, info, nsol);
-    if (rc) return rc;
-    kin_homotopy_info local = {.size = sizeof local};
-    rc = !Q || !U ? KIN_ENULL : merge_impl(m, s, Qt, Q, U, &o, ends, z, betas, maxsol, nsol, multiplicity, &local);
-    if (rc) {
-        memset(&local, 0, sizeof local);
-        local.size = sizeof local;
-        if (nsol) *nsol = 0;
-    }
-    kin__abi_write(info, &local, KIN__ABI(kin_homotopy_info));
-    return rc;
+    return merge_entry(m, s, Qt, Q, U, 1, opt, ends, z, betas, maxsol, nsol, multiplicity, info);
 }
