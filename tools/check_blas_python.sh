@@ -4,7 +4,8 @@
 # kernels where this CPU can run them, and one OpenBLAS thread — run
 #   1. the tests whose answers an SVD basis or the arrival order could decide
 #      (atlas directions, the sail study against its stored runs, canonical
-#      solutions, arrival order),
+#      solutions, arrival order, and the follow ends of the depth-5 atlas that
+#      rounding decides: tangent branches, broken crossings, flat-state returns),
 #   2. the main job itself (`libkin study --contact`, what tools/run_main.sh
 #      runs: the complete solve, the fold, the path map, contact), and
 #   3. a symmetric depth-2 explore of sail:6:2,
@@ -30,7 +31,8 @@ case "$flags" in *avx512f*) settings+=("SkylakeX|OPENBLAS_CORETYPE=SkylakeX");; 
 settings+=("one thread|OPENBLAS_NUM_THREADS=1")
 tests=(python/tests/test_atlas_directions.py python/tests/test_sail_study.py
        python/tests/test_canonical_solutions.py python/tests/test_atlas_arrival_order.py
-       python/tests/test_readings.py)
+       python/tests/test_readings.py python/tests/test_atlas_tangent.py
+       python/tests/test_follow_rounding_crossing.py python/tests/test_follow_flat_return.py)
 out="$build/blas_python"
 rm -rf "$out"
 mkdir -p "$out"

@@ -386,10 +386,12 @@ def explore(model: Union[Assembly, str, os.PathLike[str], Dict[str, Any]], start
                    int(samples), shards, symmetry, bool(contact), bool(view_samples))
     ex.deadline = None if time_limit is None else t0 + float(time_limit)
     from .store import open_store
-    # the settings that shape the results (not time_limit, nor depth: a deeper run resumes a shallower one's)
+    # the settings that shape the results (not time_limit, nor depth: a deeper run resumes a shallower one's),
+    # and the rules that decide them
     ex.store, ex.stop = open_store(store, resume, ex.text, [max_nodes, float(max_length), symmetric,
                                    seed, threads, symmetries is None and len(ex.syms), max_steps, samples, shards,
-                                   follow_orbits, symmetry] + ([True] if contact else [])), stop
+                                   follow_orbits, symmetry] + ([True] if contact else [])
+                                   + [{"rules": tasks.RESULT_RULES}]), stop
     an = a.analyse()
     rec0 = {"m": an.m_internal, "m_rigid": an.m_rigid, "s": an.s,
             "v_r_rel": float(an.v_r / an.v_max) if an.v_max > 0 else 0.0}

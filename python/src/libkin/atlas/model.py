@@ -28,7 +28,8 @@ MULTI_DOF = "multi_dof"      # m_internal >= 2 with s = 0: a mechanism of severa
 RIGID = "rigid"              # m_internal = 0
 FAILURE = "failure"          # where following failed
 UNDECIDED = "undecided"      # a minimum of v_r neither at the strict tolerance nor clearly above
-                             # the floor a crossing would leave there (tasks.NEAR_MARGIN): not expanded
+                             # the floor a crossing would leave there (tasks.NEAR_MARGIN), or a corank-1
+                             # point whose branches may be tangent (tasks.crossing_verdict): not expanded
 NODE_KINDS = (BIFURCATION, REGULAR, NEAR_MISS, MULTI_DOF, RIGID, FAILURE, UNDECIDED)
 
 # two configurations are one node when they agree to this times the model size
@@ -282,6 +283,8 @@ def node_kind(event: str, res: Dict[str, Any]) -> str:
         # the follower's minimum of v_r, decided with a margin (tasks.near_verdict): never a
         # bifurcation to expand, whatever a rank tolerance counts there (issue 35 item 4)
         return UNDECIDED if res.get("undecided") else NEAR_MISS
+    if event == tasks.BIFURCATION and res.get("undecided"):
+        return UNDECIDED  # tangent branches (tasks.crossing_verdict): never expanded
     if m == 0:
         return RIGID
     if m >= 2:

@@ -26,7 +26,7 @@ STYLE = {  # kind: (marker, face colour, size, legend text)
     _atlas.MULTI_DOF: ("s", "#9467bd", 80, "several freedoms (s = 0)"),
     _atlas.RIGID: ("P", "#333333", 80, "rigid"),
     _atlas.FAILURE: ("X", "#8c564b", 90, "following failed"),
-    _atlas.UNDECIDED: ("v", "#bcbd22", 80, "undecided (v_r near its floor)"),
+    _atlas.UNDECIDED: ("v", "#bcbd22", 80, "undecided (v_r near its floor, or tangent branches)"),
 }
 EVENT_COLOUR = {"bifurcation": "#d62728", "near_miss": "#ff7f0e", "loop": "#2ca02c", "budget": "#999999",
                 "failure": "#8c564b", "contact": "#e377c2"}

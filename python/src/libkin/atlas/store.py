@@ -175,8 +175,9 @@ class Store:
             raise sqlite3.DatabaseError(f"its tables are not a libkin store's ({cols})")
         row = db.execute("SELECT value FROM meta WHERE key = 'fingerprint'").fetchone()
         if row is not None and row[0] != fingerprint:
-            raise StoreMismatchError(f"the store {self.path} belongs to another run (another model or "
-                                     "other settings); give another --store or the same model and settings")
+            raise StoreMismatchError(f"the store {self.path} belongs to another run (another model, "
+                                     "other settings, or results decided by another libkin's rules); give another "
+                                     "--store or the same model and settings")
         with db:
             db.execute("BEGIN IMMEDIATE")
             if not resume:

@@ -148,6 +148,8 @@ def _follow_branch(task: Task) -> Dict[str, Any]:
     if kind == NEAR_MISS:  # the end is the located minimum of v_r / v_max, to min_width (orbits.certain)
         out.update({"min_located": bool(ev.min_located), "min_width": float(ev.min_width)})
         out.update(near_verdict(float(ev.v_r_rel), float(ev.vr_tol_used), bool(ev.min_located)))
+    if kind == BIFURCATION and out["m"] == 2 and out["s"] == 1:
+        out.update(crossing_verdict(a, float(ev.vr_tol_used)))
     if kind == LOOP and br is not None:  # for atlas/directions.py
         out["return_angle"] = float(ev.return_angle)  # to the own branch
         an = a.analyse() if own is None else None  # decided with every line: nothing to decide again
@@ -216,6 +218,11 @@ def undecided_why(res: Dict[str, Any]) -> str:
     located minimum without the margin, or a relaxed point lower than the
     minimum found (docs/follow.md, "Tolerance out of reach")."""
     v, floor = float(res.get("accuracy", math.nan)), float(res.get("floor", math.nan))
+    if res.get("event") == BIFURCATION and "crossing_ratio" in res:
+        rho, tol = float(res["crossing_ratio"]), math.sqrt(float(res.get("vr_tol", 1e-10)))
+        return (f"undecided: tangent branches? The second-order form's eigenvalues here have the ratio {rho:.2g} "
+                f"(located to v_r / v_max = {v:.2g}); a crossing needs it below -{tol:.2g}, the square root of the "
+                "tolerance located to, as second order cannot tell a crossing from a tangency within that")
     if res.get("min_located"):
         return (f"undecided: the minimum of v_r / v_max here, {v:.2g}, is neither at the strict tolerance nor "
                 f"{NEAR_MARGIN:g} x above the floor a crossing would leave at its located width, {floor:.2g}")
@@ -230,6 +237,46 @@ def near_verdict(v_rel: float, floor: float, located: bool) -> Dict[str, Any]:
     follower's relaxed point that no minimum of v_r explained), is reported
     with its numbers rather than called a near miss or a bifurcation."""
     return {"floor": floor, "undecided": bool(floor > 0 and (not located or not v_rel > NEAR_MARGIN * floor))}
+
+
+# the rules that decide a branch task's result (its kind, its verdicts): part
+# of a store's identity (explorer.explore), so that a run resumed under other
+# rules recomputes nothing silently from results decided the old way. 2:
+# crossing_verdict below
+RESULT_RULES = 2
+
+# A corank-1 bifurcation (m = 2, s = 1) is two branches crossing where its
+# second-order form Q (2 x 2) is indefinite: its eigenvalues l_small, l_large
+# (by magnitude) of opposite signs, the branches at 2 atan sqrt(|l_small /
+# l_large|) to each other. Where the ratio rho = l_small / l_large is not
+# below -sqrt(tau) (tau the tolerance the point was located to: 1e-5 at the
+# default 1e-10), second order cannot tell a crossing from a tangency there:
+# at a tangency v_r grows like the square of the path length, so a point
+# located to tau lies anywhere within about sqrt(tau) of the RMS length of
+# the exact one, and l_small / l_large moves by as much over that stretch.
+# Such an end is undecided (issue 35 item 4), with its ratio; never a
+# bifurcation to expand. Measured on the depth-5 atlas of sail:6:2
+# (docs/atlas.md, "Tangent branches"): the crossings have rho <= -2e-4, the
+# others |rho| <= 1.3e-7: on both sides the margin is more than 10
+def crossing_verdict(a: Assembly, tau: float) -> Dict[str, Any]:
+    """The crossing test of a corank-1 bifurcation end, the assembly at it
+    and analysed with m = 2, s = 1: {"crossing_ratio": rho} and, where rho is
+    not below -sqrt(tau), "undecided": True. Nothing where second order has
+    no form here (the self-stress is one of bars between fixed joints)."""
+    from ..errors import StateError
+    try:
+        Q = a.second_order(normalise=False)
+    except StateError:
+        return {}
+    if len(Q) == 0:
+        return {}
+    lam = np.linalg.eigvalsh(0.5 * (Q[0] + Q[0].T))
+    small, big = lam[np.argsort(np.abs(lam), kind="stable")]  # two distinct ones, even for -l, l
+    rho = float(small / big) if big != 0.0 else 0.0
+    out: Dict[str, Any] = {"crossing_ratio": rho}
+    if not rho <= -math.sqrt(tau):
+        out["undecided"] = True
+    return out
 
 
 def _end_state(a: Assembly, kind: str, rank_tol: Optional[float] = None) -> Dict[str, Any]:

@@ -310,7 +310,7 @@ def _write_hex_md(res, out, M, figs):
 
 _KIND_WORDS = {"bifurcation": "bifurcation", "near_miss": "near-miss (m = 1)", "regular": "regular point (m = 1)",
                "multi_dof": "several freedoms (s = 0)", "rigid": "rigid (m = 0)", "failure": "following failed",
-               "undecided": "undecided (v_r near its floor)"}
+               "undecided": "undecided (v_r near its floor, or tangent branches)"}
 _EVENT_WORDS = {"bifurcation": "bifurcation", "near_miss": "near-miss (m = 1)", "loop": "closed loop",
                 "budget": "length budget", "failure": "failure"}
 
