@@ -87,7 +87,7 @@ def test_square_sail_process_pool(square):
 def test_square_sail_dask(square):
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+                                  dashboard_address=":0") as cluster, distributed.Client(cluster) as client:
         at = libkin.explore("sail:4:1", depth=1, executor=client)
     _check_square(at)
     assert at.same_as(square)

@@ -191,7 +191,7 @@ def test_executors_and_resume(flat, tmp_path, monkeypatch, share):
                     assert recorded == len(sample) if share else recorded >= len(sample)
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+                                  dashboard_address=":0") as cluster, distributed.Client(cluster) as client:
         got = directions.follow(sample, work, item, lambda items: run_tasks(tasks.follow_branch, items, client),
                                 None, client)
     assert all(_same(r, s) for r, s in zip(ref, got))

@@ -58,6 +58,6 @@ def test_dask_broadcast_with_a_store(many, tmp_path):
     distributed = pytest.importorskip("distributed")
     here = libkin.explore(MODEL, **SETTINGS)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+                                  dashboard_address=":0") as cluster, distributed.Client(cluster) as client:
         on_dask = libkin.explore(MODEL, executor=client, store=tmp_path / "run.sqlite", **SETTINGS)
     assert on_dask.stats["returns_decided_again"] == {} and on_dask.same_as(here, tol=0.0)

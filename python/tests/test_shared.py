@@ -69,7 +69,7 @@ def test_dask_broadcast():
     distributed = pytest.importorskip("distributed")
     x = _array()
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+                                  dashboard_address=":0") as cluster, distributed.Client(cluster) as client:
         with shared.Sharing(client) as s:
             r = s.share(x)
             assert _hash({"b": r}) == _hash({"b": shared.Sharing(None).share(x)})

@@ -216,6 +216,6 @@ def test_dask_survives_a_killed_worker(tmp_path):
         return x * x
 
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+                                  dashboard_address=":0") as cluster, distributed.Client(cluster) as client:
         got = run_tasks(kill_once, list(range(8)), client)
     assert got == [x * x for x in range(8)] and os.path.exists(marker)
