@@ -61,9 +61,10 @@ def _end():
             "accuracy": 1e-12, "vr_tol": 1e-10, "coords": [[0.0, 0.0]]}
 
 
-@pytest.mark.parametrize("lam,decided", [((-0.3, 0.4), True), ((-0.4, 0.4), True), ((0.4, -0.4), True), ((-4e-5, 0.4), True), ((-4e-7, 0.4), False),
-                                         ((0.0, 0.4), False), ((4e-11, 0.37), False), ((0.3, 0.4), False),
-                                         ((-0.4, 4e-6), True), ((-0.4, 4e-7), False)])
+@pytest.mark.parametrize("lam,decided", [((-0.3, 0.4), True), ((-0.4, 0.4), True), ((0.4, -0.4), True),
+                                         ((-4e-5, 0.4), True), ((-4e-7, 0.4), False), ((0.0, 0.4), False),
+                                         ((4e-11, 0.37), False), ((0.3, 0.4), False), ((-0.4, 4e-6), True),
+                                         ((-0.4, 4e-7), False)])
 def test_crossing_verdict_decides_on_the_ratio(lam, decided):
     """the verdict on a given form: a crossing needs opposite signs and the
     smaller eigenvalue at least sqrt(tau) = 1e-5 of the larger, whichever

@@ -268,8 +268,6 @@ def crossing_verdict(a: Assembly, tau: float) -> Dict[str, Any]:
         Q = a.second_order(normalise=False)
     except StateError:
         return {}
-    if len(Q) == 0:
-        return {}
     lam = np.linalg.eigvalsh(0.5 * (Q[0] + Q[0].T))
     small, big = lam[np.argsort(np.abs(lam), kind="stable")]  # two distinct ones, even for -l, l
     rho = float(small / big) if big != 0.0 else 0.0
